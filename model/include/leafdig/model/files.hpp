@@ -1,0 +1,17 @@
+#pragma once
+// Reading and writing files. Every write goes to a temporary name in the destination's
+// folder, is flushed to disk, then renamed over the destination: a failure (disk full,
+// crash) never leaves a partial file under the real name.
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace leafdig::model {
+
+// Throws IoError naming the path and the operating system's reason.
+void writeFileAtomically(const std::filesystem::path& path, std::string_view bytes);
+
+// Throws IoError naming the path and the operating system's reason.
+[[nodiscard]] std::string readFile(const std::filesystem::path& path);
+
+}  // namespace leafdig::model

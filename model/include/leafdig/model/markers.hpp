@@ -1,0 +1,76 @@
+#pragma once
+// The marker set of SPEC §1 and the thickness rule. All lengths in millimetres.
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace leafdig::model {
+
+inline constexpr int kMarkersPerRow = 7;
+inline constexpr int kMidribColumn = 3;  // 0-based index of the 4th marker
+
+enum class ThicknessMode { Standard, Full, Small };
+
+[[nodiscard]] const char* toString(ThicknessMode mode);
+// Throws InputError naming the accepted words.
+[[nodiscard]] ThicknessMode thicknessModeFromString(const std::string& word);
+
+// One row i of markers: P_i1..P_i7 right to left, the 4th on the midrib, with the
+// back-side caliper thicknesses (diameters, mm) taken for it.
+struct MarkerRow {
+  std::array<Eigen::Vector3d, kMarkersPerRow> pointsMm;
+  std::optional<double> midribThicknessMm;      // r_i4^1
+  std::optional<double> veinOriginThicknessMm;  // r_i4^2
+  std::optional<double> edgeThicknessMm;        // per-row margin thickness
+  std::array<std::optional<double>, kMarkersPerRow> measuredThicknessMm;  // overrides
+};
+
+struct LeafInfo {
+  std::string id;
+  std::string plant;
+  std::optional<int> position;
+  std::string type;
+  std::optional<double> measuredAreaMm2;
+};
+
+struct MarkerSet {
+  LeafInfo leaf;
+  Eigen::Vector3d tipMm = Eigen::Vector3d::Zero();
+  std::vector<MarkerRow> rows;               // i = 1..N from tip to base
+  std::optional<double> edgeThicknessMm;     // d, per leaf
+  std::optional<ThicknessMode> mode;         // absent: inferred (see inferThicknessMode)
+};
+
+// Thickness (diameter, mm) of every marker after the thickness rule.
+struct RowThickness {
+  std::array<double, kMarkersPerRow> lateralMm;  // t_i1..t_i7; t_i4 = lateral vein origin
+  double midribMm;                               // r_i4^1
+};
+struct LeafThickness {
+  ThicknessMode mode;
+  double tipMm;  // d (the tip is on the margin)
+  std::vector<RowThickness> rows;
+};
+
+// The declared mode, or: no row has vein_origin_thickness -> small; every row has all 7
+// measured thicknesses -> full; otherwise standard.
+[[nodiscard]] ThicknessMode inferThicknessMode(const MarkerSet& markers);
+
+// SPEC §1: t_1 = t_7 = d, t_2 = t_6 = (2d + r2)/3, t_3 = t_5 = (d + 2 r2)/3, t_4 = r2,
+// midrib r1; small mode r2 := r1; a measured value replaces the interpolated one. A
+// per-row edge thickness replaces d for that row. Throws InputError naming the row and
+// the missing or invalid thickness.
+[[nodiscard]] LeafThickness applyThicknessRule(const MarkerSet& markers);
+
+// Geometry checks of SPEC §1 input: at least one row, finite coordinates, no coincident
+// consecutive markers along any vein or the blade's columns. Throws InputError naming the
+// row and point (numbered from 1 as in the spec) and what to do.
+void validateMarkerGeometry(const MarkerSet& markers);
+
+// The blade's grid Q_kl, k = 0..N (k = 0 is the tip repeated 7 times), l = 0..6.
+using MarkerGrid = std::vector<std::array<Eigen::Vector3d, kMarkersPerRow>>;
+[[nodiscard]] MarkerGrid markerGrid(const MarkerSet& markers);
+
+}  // namespace leafdig::model

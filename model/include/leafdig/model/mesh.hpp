@@ -1,0 +1,79 @@
+#pragma once
+// Triangle meshes of the leaf's organs, with named resolution parameters (SPEC §2.4).
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/leaf_model.hpp"
+
+namespace leafdig::model {
+
+// positions/normals: one entry per vertex (normals unit length); triangles index them,
+// counter-clockwise seen from outside (veins) or from the adaxial side (blade).
+struct Mesh {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::size_t quads = 0;  // quadrilateral faces before triangulation (the seed counts these)
+};
+
+enum class OrganKind { Vein, Blade };
+
+struct Organ {
+  std::string name;  // the vein's name, or "blade"
+  OrganKind kind;
+  Mesh mesh;
+};
+
+enum class CapStyle { None, Sphere };
+
+struct MeshResolution {
+  std::string name;
+  int ringVertices;           // vertices around a vein
+  int lateralSegments;        // along one half-lateral vein (3 marker spans)
+  int midribSegmentsPerRow;   // along the midrib, per marker span
+  int contourSegmentsPerRow;  // along the contour, per marker span
+  int bladeSegmentsAcross;    // across the blade (6 marker spans)
+  int bladeSegmentsPerRow;    // along the blade, per marker row span
+  CapStyle caps;              // hemispherical vein end caps
+  int capRings;               // latitude steps of a cap
+
+  // "paper": reproduces the seed's Table 1 (ring 5, lateral 20, midrib and contour 10 per
+  // row, blade 30 across and 5 per row, open ends): veins 360 N + 10 vertices, 350 N quads;
+  // blade (5 N + 1) x 31 vertices, 150 N quads. "preview": light, for live display.
+  // "export": fine, for rendering and simulation. Throws InputError for other names.
+  [[nodiscard]] static MeshResolution preset(const std::string& name);
+};
+
+struct LeafMesh {
+  std::vector<Organ> organs;  // veins in model order, then "blade"
+  std::vector<ModelWarning> warnings;
+};
+
+// Vein tube on the exact envelope of SPEC §2.1, rings at `ts` (increasing, in [0, 1]).
+[[nodiscard]] Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices,
+                            CapStyle caps, int capRings, std::vector<ModelWarning>& warnings);
+
+// The blade sampled on `segmentsPerRow` per marker-row span and `segmentsAcross` over the
+// whole width, vertex grid rows at the marker rows. Triangles of zero area (the tip row,
+// where the tip repeats) are left out; the quad count is the seed's.
+[[nodiscard]] Mesh meshBlade(const BladeSurface& blade, int segmentsPerRow, int segmentsAcross);
+
+[[nodiscard]] LeafMesh meshLeaf(const LeafModel& model, const MeshResolution& resolution);
+
+// Parameters subdividing consecutive breaks: `segments` in total, spread over the spans as
+// evenly as whole numbers allow; every break is included.
+[[nodiscard]] std::vector<double> subdivideSpans(const std::vector<double>& breaks, int segments);
+
+struct MeshCounts {
+  std::size_t vertices = 0;
+  std::size_t quads = 0;
+  std::size_t triangles = 0;
+};
+[[nodiscard]] MeshCounts countVeins(const LeafMesh& mesh);
+[[nodiscard]] MeshCounts countBlade(const LeafMesh& mesh);
+
+}  // namespace leafdig::model

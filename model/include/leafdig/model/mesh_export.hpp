@@ -1,0 +1,33 @@
+#pragma once
+// Mesh exports of SPEC §5. Bytes are produced in memory; callers write them with
+// writeFileAtomically. Millimetres and the model's axes for OBJ/PLY/STL (stated in each
+// file's header); glTF in metres with the frame's +Z mapped to glTF's +Y (up).
+#include <filesystem>
+#include <string>
+
+#include "leafdig/model/mesh.hpp"
+
+namespace leafdig::model {
+
+enum class MeshFormat { Glb, Obj, Ply, Stl };
+
+// From the file extension (.glb .obj .ply .stl, any case). Throws InputError otherwise.
+[[nodiscard]] MeshFormat meshFormatForPath(const std::filesystem::path& path);
+
+struct ExportHeader {
+  std::string leafId;     // may be empty
+  std::string frame;      // "digitizer" or "leaf"
+  std::string generator;  // "leafdig 0.1.0"
+};
+
+// OBJ: one `o` group per organ, vertex normals, a header comment with unit, frame, up axis.
+// PLY: binary little endian, float position and normal per vertex, per-face `organ_id`
+// (the organ's index, listed in header comments). STL: binary, facet normals.
+// GLB: glTF 2.0 binary, one named node per organ under a node named after the leaf.
+[[nodiscard]] std::string encodeMesh(const LeafMesh& mesh, MeshFormat format,
+                                     const ExportHeader& header);
+
+// The rotation from a leafdig frame (+Z up) to glTF's (+Y up): (x, y, z) -> (x, z, -y).
+[[nodiscard]] Eigen::Vector3d toGltfAxes(const Eigen::Vector3d& p);
+
+}  // namespace leafdig::model

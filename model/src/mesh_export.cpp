@@ -1,0 +1,150 @@
+#include "leafdig/model/mesh_export.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <sstream>
+
+#include "leafdig/model/errors.hpp"
+
+namespace leafdig::model {
+
+std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header);  // gltf_export.cpp
+
+MeshFormat meshFormatForPath(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".glb") return MeshFormat::Glb;
+  if (ext == ".obj") return MeshFormat::Obj;
+  if (ext == ".ply") return MeshFormat::Ply;
+  if (ext == ".stl") return MeshFormat::Stl;
+  throw InputError("output " + path.string() + ": unknown mesh format \"" + ext +
+                   "\"; name the file .glb, .obj, .ply or .stl");
+}
+
+Eigen::Vector3d toGltfAxes(const Eigen::Vector3d& p) { return {p.x(), p.z(), -p.y()}; }
+
+namespace {
+
+std::string frameDescription(const ExportHeader& h) {
+  if (h.frame == "leaf") {
+    return "leaf frame: origin at the last midrib marker P_N4, +Y towards the tip, +Z the mean "
+           "adaxial blade normal";
+  }
+  return "digitizer frame: the digitizer's own axes, +Z taken as up";
+}
+
+std::string encodeObj(const LeafMesh& mesh, const ExportHeader& h) {
+  std::ostringstream out;
+  out.precision(9);
+  out << "# " << h.generator << (h.leafId.empty() ? "" : " leaf " + h.leafId) << "\n"
+      << "# units: mm\n# up: +Z\n# " << frameDescription(h) << "\n"
+      << "# vein radii are caliper thickness / 2\n";
+  std::size_t base = 1;
+  for (const Organ& o : mesh.organs) {
+    out << "o " << o.name << "\n";
+    for (const auto& p : o.mesh.positions) out << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+    for (const auto& n : o.mesh.normals) out << "vn " << n.x() << " " << n.y() << " " << n.z() << "\n";
+    for (const auto& t : o.mesh.triangles) {
+      out << "f";
+      for (auto idx : t) out << " " << base + idx << "//" << base + idx;
+      out << "\n";
+    }
+    base += o.mesh.positions.size();
+  }
+  return out.str();
+}
+
+template <typename T>
+void putLittleEndian(std::string& out, T value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));  // x86-64 and aarch64 Linux are little endian
+  out.append(bytes, sizeof(T));
+}
+
+void putVector(std::string& out, const Eigen::Vector3d& v) {
+  for (int i = 0; i < 3; ++i) putLittleEndian(out, static_cast<float>(v[i]));
+}
+
+std::string encodePly(const LeafMesh& mesh, const ExportHeader& h) {
+  std::size_t vertices = 0;
+  std::size_t faces = 0;
+  for (const Organ& o : mesh.organs) {
+    vertices += o.mesh.positions.size();
+    faces += o.mesh.triangles.size();
+  }
+  std::ostringstream head;
+  head << "ply\nformat binary_little_endian 1.0\n"
+       << "comment " << h.generator << (h.leafId.empty() ? "" : " leaf " + h.leafId) << "\n"
+       << "comment units mm, up +Z, " << frameDescription(h) << "\n";
+  for (std::size_t i = 0; i < mesh.organs.size(); ++i) {
+    head << "comment organ_id " << i << " " << mesh.organs[i].name << "\n";
+  }
+  head << "element vertex " << vertices << "\n"
+       << "property float x\nproperty float y\nproperty float z\n"
+       << "property float nx\nproperty float ny\nproperty float nz\n"
+       << "element face " << faces << "\n"
+       << "property list uchar int vertex_indices\nproperty int organ_id\nend_header\n";
+  std::string out = head.str();
+  for (const Organ& o : mesh.organs) {
+    for (std::size_t v = 0; v < o.mesh.positions.size(); ++v) {
+      putVector(out, o.mesh.positions[v]);
+      putVector(out, o.mesh.normals[v]);
+    }
+  }
+  std::int32_t base = 0;
+  for (std::size_t i = 0; i < mesh.organs.size(); ++i) {
+    const Mesh& m = mesh.organs[i].mesh;
+    for (const auto& t : m.triangles) {
+      putLittleEndian(out, static_cast<std::uint8_t>(3));
+      for (auto idx : t) putLittleEndian(out, static_cast<std::int32_t>(base + static_cast<std::int32_t>(idx)));
+      putLittleEndian(out, static_cast<std::int32_t>(i));
+    }
+    base += static_cast<std::int32_t>(m.positions.size());
+  }
+  return out;
+}
+
+std::string encodeStl(const LeafMesh& mesh, const ExportHeader& h) {
+  std::string header = h.generator + " leaf " + h.leafId + " units=mm up=+Z frame=" + h.frame;
+  header.resize(80, ' ');
+  // An STL header must not start with "solid" (readers would take it for ASCII STL).
+  std::string out = header;
+  std::uint32_t count = 0;
+  for (const Organ& o : mesh.organs) count += static_cast<std::uint32_t>(o.mesh.triangles.size());
+  putLittleEndian(out, count);
+  for (const Organ& o : mesh.organs) {
+    for (const auto& t : o.mesh.triangles) {
+      const Eigen::Vector3d& a = o.mesh.positions[t[0]];
+      const Eigen::Vector3d& b = o.mesh.positions[t[1]];
+      const Eigen::Vector3d& c = o.mesh.positions[t[2]];
+      Eigen::Vector3d n = (b - a).cross(c - a);
+      n = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
+      putVector(out, n);
+      putVector(out, a);
+      putVector(out, b);
+      putVector(out, c);
+      putLittleEndian(out, static_cast<std::uint16_t>(0));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string encodeMesh(const LeafMesh& mesh, MeshFormat format, const ExportHeader& header) {
+  switch (format) {
+    case MeshFormat::Obj:
+      return encodeObj(mesh, header);
+    case MeshFormat::Ply:
+      return encodePly(mesh, header);
+    case MeshFormat::Stl:
+      return encodeStl(mesh, header);
+    case MeshFormat::Glb:
+      return encodeGlb(mesh, header);
+  }
+  return {};
+}
+
+}  // namespace leafdig::model

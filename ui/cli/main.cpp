@@ -1,0 +1,41 @@
+// leafdig: the command line front end. A thin composition root over the modules.
+//
+// Exit codes: 0 success; 2 bad input (a file or option the user must fix; nothing was
+// written); 1 any other failure (I/O, internal error).
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "leafdig/version.hpp"
+#include "model_build.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"leafdig: digitizer-and-caliper acquisition station for plant morphology labs",
+               "leafdig"};
+  app.set_version_flag("--version", std::string("leafdig ") + leafdig::kVersion);
+  app.require_subcommand(1);
+  app.footer(
+      "Exit codes: 0 success, 2 bad input (nothing written; the message says what to fix), "
+      "1 other failures.");
+
+  CLI::App* model = app.add_subcommand("model", "Build leaf models from marker files");
+  model->require_subcommand(1);
+  leafdig::cli::ModelBuildOptions buildOptions;
+  leafdig::cli::addModelBuildCommand(*model, buildOptions);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "leafdig: " << e.what() << "\nRun 'leafdig --help' for usage.\n";
+    return 2;
+  }
+
+  if (model->got_subcommand("build")) return leafdig::cli::runModelBuild(buildOptions);
+  return 1;
+}

@@ -1,0 +1,165 @@
+#include "model_build.hpp"
+
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/leaf_model.hpp"
+#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/mesh.hpp"
+#include "leafdig/model/mesh_export.hpp"
+#include "leafdig/model/metrics.hpp"
+#include "leafdig/model/model_json.hpp"
+#include "leafdig/version.hpp"
+
+namespace leafdig::cli {
+
+namespace m = leafdig::model;
+
+void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
+  CLI::App* build = model.add_subcommand(
+      "build", "Build the BBSC veins and blade from a leafdig.markers/1 file and export them");
+  build->add_option("markers", o.markersPath, "Marker file (leafdig.markers/1 JSON)")->required();
+  build->add_option("-o,--output", o.outputs,
+                    "Mesh file to write; the format follows the extension: .glb .obj .ply .stl "
+                    "(repeat for several)");
+  build->add_option("--model-json", o.modelJsonPath, "Write the leafdig.model/1 document here");
+  build->add_option("--blade", o.blade, "Blade surface: interp (default), approx, bezier, nurbs")
+      ->check(CLI::IsMember({"interp", "approx", "bezier", "nurbs"}));
+  build->add_option("--resolution", o.resolution,
+                    "Mesh resolution preset: paper (the seed's Table 1 counts), preview, export "
+                    "(default)")
+      ->check(CLI::IsMember({"paper", "preview", "export"}));
+  build->add_option("--caps", o.caps, "Vein end caps: none or sphere (default: the preset's; paper "
+                                      "has none)")
+      ->check(CLI::IsMember({"none", "sphere"}));
+  build->add_option("--frame", o.frame, "Frame of the exports: digitizer (default) or leaf")
+      ->check(CLI::IsMember({"digitizer", "leaf"}));
+  build->add_option("--light", o.light,
+                    "Light direction x,y,z in the export frame for the projected area (default "
+                    "0,0,1)");
+  build->add_option("--measured-area", o.measuredAreaMm2,
+                    "Measured leaf area in mm^2 (leaf area meter or image); compared with the "
+                    "model's (overrides leaf.measured_area_mm2 of the file)");
+  build->add_option("--area-threshold", o.areaThresholdPercent,
+                    "Flag a model/measured area difference above this percentage (default 5)");
+  build->add_flag("--json", o.json, "Print metrics and mesh counts as one JSON object");
+}
+
+namespace {
+
+Eigen::Vector3d parseLight(const std::string& text) {
+  std::stringstream in(text);
+  Eigen::Vector3d d;
+  char comma1 = 0;
+  char comma2 = 0;
+  in >> d.x() >> comma1 >> d.y() >> comma2 >> d.z();
+  if (!in || comma1 != ',' || comma2 != ',' || !in.eof() || !d.allFinite() || d.norm() == 0.0) {
+    throw m::InputError("--light \"" + text + "\": expected three numbers x,y,z, not all zero, "
+                        "e.g. --light 0,0,1");
+  }
+  return d;
+}
+
+nlohmann::json countsJson(const m::MeshCounts& c) {
+  return {{"vertices", c.vertices}, {"quads", c.quads}, {"triangles", c.triangles}};
+}
+
+}  // namespace
+
+int runModelBuild(const ModelBuildOptions& o) {
+  try {
+    // Everything the user typed is checked before any work or any file is touched.
+    std::vector<m::MeshFormat> formats;
+    for (const std::string& out : o.outputs) formats.push_back(m::meshFormatForPath(out));
+    const Eigen::Vector3d light = parseLight(o.light);
+    if (o.measuredAreaMm2 && !(*o.measuredAreaMm2 > 0.0)) {
+      throw m::InputError("--measured-area must be a positive area in mm^2");
+    }
+    m::MeshResolution resolution = m::MeshResolution::preset(o.resolution);
+    if (!o.caps.empty()) {
+      resolution.caps = o.caps == "sphere" ? m::CapStyle::Sphere : m::CapStyle::None;
+      if (resolution.caps == m::CapStyle::Sphere && resolution.capRings == 0) resolution.capRings = 3;
+    }
+
+    m::MarkerSet markers = m::readMarkersFile(o.markersPath);
+    if (o.measuredAreaMm2) markers.leaf.measuredAreaMm2 = o.measuredAreaMm2;
+    m::LeafModel leaf = m::buildLeafModel(markers, {m::bladeKindFromString(o.blade), nullptr});
+    if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
+
+    const m::LeafMesh mesh = m::meshLeaf(leaf, resolution);
+    const m::LeafMetrics metrics = m::computeLeafMetrics(leaf, light, o.areaThresholdPercent);
+    const m::ExportHeader header{leaf.markers.leaf.id, o.frame,
+                                 std::string("leafdig ") + leafdig::kVersion};
+
+    // Encode everything first, then write: a build error never leaves some files written.
+    std::vector<std::pair<std::string, std::string>> files;
+    for (std::size_t i = 0; i < o.outputs.size(); ++i) {
+      files.emplace_back(o.outputs[i], m::encodeMesh(mesh, formats[i], header));
+    }
+    if (!o.modelJsonPath.empty()) {
+      files.emplace_back(o.modelJsonPath, m::modelToJson(leaf, o.frame, metrics));
+    }
+    for (const auto& [path, bytes] : files) m::writeFileAtomically(path, bytes);
+
+    const m::MeshCounts veins = m::countVeins(mesh);
+    const m::MeshCounts blade = m::countBlade(mesh);
+    if (o.json) {
+      nlohmann::json out;
+      out["leaf"] = leaf.markers.leaf.id;
+      out["rows"] = leaf.markers.rows.size();
+      out["points"] = 7 * leaf.markers.rows.size() + 1;
+      out["thickness_mode"] = m::toString(leaf.thickness.mode);
+      out["blade"] = o.blade;
+      out["resolution"] = resolution.name;
+      out["frame"] = o.frame;
+      out["metrics"] = nlohmann::json::parse(m::metricsToJson(metrics));
+      out["mesh"] = {{"veins", countsJson(veins)}, {"blade", countsJson(blade)}};
+      nlohmann::json warnings = nlohmann::json::array();
+      for (const auto& w : mesh.warnings) {
+        warnings.push_back({{"organ", w.organ}, {"parameter", w.parameter}, {"message", w.message}});
+      }
+      out["warnings"] = warnings;
+      nlohmann::json written = nlohmann::json::array();
+      for (const auto& f : files) written.push_back(f.first);
+      out["outputs"] = written;
+      std::cout << out.dump() << "\n";
+    } else {
+      std::cout << "leaf " << (leaf.markers.leaf.id.empty() ? "(no id)" : leaf.markers.leaf.id)
+                << ": " << leaf.markers.rows.size() << " rows, "
+                << 7 * leaf.markers.rows.size() + 1 << " points, "
+                << m::toString(leaf.thickness.mode) << " thickness mode\n"
+                << "  veins: " << veins.vertices << " vertices, " << veins.quads << " quads, "
+                << veins.triangles << " triangles\n"
+                << "  blade: " << blade.vertices << " vertices, " << blade.quads << " quads, "
+                << blade.triangles << " triangles (" << o.blade << ", " << resolution.name
+                << ")\n"
+                << "  blade area " << metrics.blade.areaMm2 << " mm^2, projected "
+                << metrics.blade.projectedAreaMm2 << " mm^2\n";
+      if (metrics.areaConstraint) {
+        const auto& a = *metrics.areaConstraint;
+        std::cout << "  measured area " << a.measuredMm2 << " mm^2: model differs by "
+                  << a.differencePercent << " %" << (a.exceeded ? " — ABOVE the threshold" : "")
+                  << "\n";
+      }
+      for (const auto& w : mesh.warnings) {
+        std::cout << "  warning: " << w.organ << " at t=" << w.parameter << ": " << w.message << "\n";
+      }
+      for (const auto& f : files) std::cout << "  wrote " << f.first << "\n";
+    }
+    return 0;
+  } catch (const m::InputError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const m::IoError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "leafdig: internal error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace leafdig::cli

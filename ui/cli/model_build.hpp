@@ -1,0 +1,30 @@
+#pragma once
+// `leafdig model build`: markers file -> veins + blade -> mesh and model exports.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace leafdig::cli {
+
+struct ModelBuildOptions {
+  std::string markersPath;
+  std::vector<std::string> outputs;
+  std::string modelJsonPath;
+  std::string blade = "interp";
+  std::string resolution = "export";
+  std::string caps;  // empty: the resolution preset's own
+  std::string frame = "digitizer";
+  std::string light = "0,0,1";
+  std::optional<double> measuredAreaMm2;
+  double areaThresholdPercent = 5.0;
+  bool json = false;
+};
+
+void addModelBuildCommand(CLI::App& model, ModelBuildOptions& options);
+
+// Runs the command; returns the process exit code (0 ok, 2 bad input, 1 other failure).
+int runModelBuild(const ModelBuildOptions& options);
+
+}  // namespace leafdig::cli
