@@ -92,7 +92,7 @@ m::MarkerSet makeLeaf(const LeafShape& s) {
 
   for (int i = 0; i < s.rows; ++i) {
     const double q = s.rows == 1 ? 0.5 : static_cast<double>(i) / (s.rows - 1);
-    const double x = 0.09 + 0.83 * std::pow(q, 1.08);  // row position, 0 tip .. 1 base
+    const double x = 0.07 + 0.88 * std::pow(q, 1.08);  // row position, 0 tip .. 1 base
     const double arc = x * s.lengthMm;
     const double angle =
         (s.veinAngleTipDeg + (s.veinAngleBaseDeg - s.veinAngleTipDeg) * q) * std::numbers::pi / 180;

@@ -1,5 +1,10 @@
 #include "json_text.hpp"
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
 #include "leafdig/model/errors.hpp"
 
 namespace leafdig::model::detail {
@@ -26,6 +31,24 @@ std::string replaceNonFiniteTokens(std::string_view text) {
     if (c == '"') {
       inString = true;
       out += c;
+      continue;
+    }
+    // A number too large for a double (1e999) becomes +-Infinity, reported like one.
+    if (c == '-' || (c >= '0' && c <= '9')) {
+      std::size_t end = i + 1;
+      while (end < text.size() && std::strchr("0123456789+-.eE", text[end]) != nullptr) ++end;
+      const std::string number(text.substr(i, end - i));
+      errno = 0;
+      const double value = std::strtod(number.c_str(), nullptr);
+      if (errno == ERANGE && std::isinf(value)) {
+        out += "\"";
+        out += kNonFinitePrefix;
+        out += value > 0 ? "Infinity" : "-Infinity";
+        out += "\"";
+      } else {
+        out += number;
+      }
+      i = end - 1;
       continue;
     }
     bool replaced = false;

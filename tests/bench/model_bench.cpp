@@ -1,0 +1,89 @@
+// Model rebuild and interpolation benchmarks. Results and the command that made them:
+// docs/benchmarks.md.
+#include <benchmark/benchmark.h>
+
+#include <unsupported/Eigen/Splines>
+
+#include "leafdig/model/interpolation.hpp"
+#include "leafdig/model/leaf_model.hpp"
+#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/mesh.hpp"
+#include "leafdig/model/metrics.hpp"
+
+namespace {
+
+namespace m = leafdig::model;
+
+const char* const kSamples[] = {"lower-leaf-n10.markers.json", "upper-small-leaf-n17.markers.json",
+                                "upper-curved-leaf-n14.markers.json"};
+
+m::MarkerSet loadSample(int index) {
+  return m::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/" + kSamples[index]);
+}
+
+// Markers -> veins + blade mesh: what a front end does after every accepted point.
+void rebuild(benchmark::State& state, const char* preset) {
+  const m::MarkerSet markers = loadSample(static_cast<int>(state.range(0)));
+  const m::MeshResolution resolution = m::MeshResolution::preset(preset);
+  std::size_t vertices = 0;
+  for (auto _ : state) {
+    const m::LeafModel leaf = m::buildLeafModel(markers);
+    const m::LeafMesh mesh = m::meshLeaf(leaf, resolution);
+    vertices = m::countVeins(mesh).vertices + m::countBlade(mesh).vertices;
+    benchmark::DoNotOptimize(vertices);
+  }
+  state.SetLabel(std::string(kSamples[state.range(0)]) + " " + preset);
+  state.counters["rows"] = static_cast<double>(markers.rows.size());
+  state.counters["vertices"] = static_cast<double>(vertices);
+}
+
+void BM_RebuildPreview(benchmark::State& state) { rebuild(state, "preview"); }
+void BM_RebuildPaper(benchmark::State& state) { rebuild(state, "paper"); }
+void BM_RebuildExport(benchmark::State& state) { rebuild(state, "export"); }
+BENCHMARK(BM_RebuildPreview)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RebuildPaper)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RebuildExport)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+
+void BM_ConvergedMetrics(benchmark::State& state) {
+  const m::LeafModel leaf = m::buildLeafModel(loadSample(static_cast<int>(state.range(0))));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m::computeLeafMetrics(leaf, {0, 0, 1}));
+  }
+  state.SetLabel(kSamples[state.range(0)]);
+}
+BENCHMARK(BM_ConvergedMetrics)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// The contour of the 17-row leaf as 4-D data balls (2N + 1 = 35 points), and longer
+// synthetic curves to show how each solver scales.
+Eigen::MatrixXd interpolationData(int count) {
+  Eigen::MatrixXd pts(count, 4);
+  for (int k = 0; k < count; ++k) {
+    const double t = 0.37 * k;
+    pts.row(k) << 10 * k + 3 * std::sin(t), 20 * std::cos(0.5 * t), 5 * std::sin(0.3 * t), 1 + 0.2 * std::sin(t);
+  }
+  return pts;
+}
+
+void BM_InterpolateBandedNatural(benchmark::State& state) {
+  const Eigen::MatrixXd pts = interpolationData(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    const std::vector<double> params = m::chordLengthParameters(pts, 3);
+    benchmark::DoNotOptimize(m::interpolateNaturalCubic(params, pts));
+  }
+}
+
+void BM_InterpolateEigenSplineFitting(benchmark::State& state) {
+  using Spline4 = Eigen::Spline<double, 4>;
+  const Eigen::MatrixXd pts = interpolationData(static_cast<int>(state.range(0))).transpose();
+  for (auto _ : state) {
+    Eigen::RowVectorXd params;
+    Eigen::ChordLengths(pts.topRows(3), params);
+    benchmark::DoNotOptimize(Eigen::SplineFitting<Spline4>::Interpolate(pts, 3, params));
+  }
+}
+BENCHMARK(BM_InterpolateBandedNatural)->Arg(4)->Arg(11)->Arg(35)->Arg(200)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_InterpolateEigenSplineFitting)->Arg(4)->Arg(11)->Arg(35)->Arg(200)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
