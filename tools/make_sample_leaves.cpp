@@ -14,6 +14,8 @@
 #include <iostream>
 #include <numbers>
 
+#include <Eigen/Geometry>
+
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/markers_json.hpp"
 

@@ -2,6 +2,7 @@
 // Ball B-spline curves (SPEC §2.1): a B-spline centre curve c(t) and a B-spline radius
 // r(t) held as one 4-D B-spline over (x, y, z, r), t in [0, 1].
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products
 #include <vector>
 
 #include "leafdig/model/bspline.hpp"

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs what leafdig needs on Debian 12 (only what is missing), then configures and
+# builds one preset. Usage: scripts/setup.sh [PRESET]   (default: release)
+#
+# Debian packages: build tools (cmake, ninja-build, g++, ccache), libraries (libeigen3-dev,
+# nlohmann-json3-dev, libcli11-dev, libtinygltf-dev, libgtest-dev, libgmock-dev,
+# libbenchmark-dev, libsqlite3-dev), checkers used by the tests (assimp-utils, nodejs,
+# npm). npm: the Khronos glTF validator and Ajv (JSON Schema), pinned by tests/tools/package-lock.json.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+preset=${1:-release}
+
+packages=(cmake ninja-build g++ ccache pkg-config libeigen3-dev nlohmann-json3-dev libcli11-dev
+          libtinygltf-dev libgtest-dev libgmock-dev libbenchmark-dev libsqlite3-dev assimp-utils)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+# Node.js may come from Debian (nodejs + npm) or already be on the machine.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then missing+=(nodejs npm); fi
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+if [ ! -d "$root/tests/tools/node_modules/gltf-validator" ] || [ ! -d "$root/tests/tools/node_modules/ajv" ]; then
+  echo "setup: installing the Khronos glTF validator and Ajv (npm)"
+  (cd "$root/tests/tools" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+
+cd "$root"
+cmake --preset "$preset" >/dev/null
+cmake --build --preset "$preset" -j"$(nproc)"
