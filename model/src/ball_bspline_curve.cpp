@@ -53,7 +53,10 @@ Eigen::Vector3d BallBSplineCurve::center(double t) const {
 double BallBSplineCurve::radius(double t) const { return spline_.evaluate(t)(3); }
 
 BallBSplineCurve::Circle BallBSplineCurve::envelopeCircle(double t) const {
-  const Jet j = jet(t);
+  return envelopeCircle(jet(t));
+}
+
+BallBSplineCurve::Circle BallBSplineCurve::envelopeCircle(const Jet& j) {
   const double speed2 = j.dc.squaredNorm();
   if (!(j.r > 0.0) || !(speed2 > j.dr * j.dr)) {
     // No envelope here: fall back to the ball's great circle so the mesh stays finite.
@@ -78,8 +81,7 @@ Eigen::Vector3d leastAlignedAxis(const Eigen::Vector3d& tangent) {
   return Eigen::Vector3d::Unit(axis);
 }
 
-Eigen::Vector3d unitTangent(const BallBSplineCurve& curve, double t) {
-  const Eigen::Vector3d d = curve.jet(t).dc;
+Eigen::Vector3d unitTangent(const Eigen::Vector3d& d) {
   const double n = d.norm();
   return n > 0.0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::UnitX();
 }
@@ -89,11 +91,24 @@ Eigen::Vector3d unitTangent(const BallBSplineCurve& curve, double t) {
 std::vector<Frame> rotationMinimisingFrames(const BallBSplineCurve& curve,
                                             const std::vector<double>& ts,
                                             const Eigen::Vector3d* firstNormalHint) {
-  std::vector<Frame> frames;
-  if (ts.empty()) return frames;
-  frames.reserve(ts.size());
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> derivatives;
+  for (double t : ts) {
+    const auto j = curve.jet(t);
+    points.push_back(j.c);
+    derivatives.push_back(j.dc);
+  }
+  return rotationMinimisingFrames(points, derivatives, firstNormalHint);
+}
 
-  Eigen::Vector3d t0 = unitTangent(curve, ts.front());
+std::vector<Frame> rotationMinimisingFrames(const std::vector<Eigen::Vector3d>& points,
+                                            const std::vector<Eigen::Vector3d>& derivatives,
+                                            const Eigen::Vector3d* firstNormalHint) {
+  std::vector<Frame> frames;
+  if (points.empty()) return frames;
+  frames.reserve(points.size());
+
+  Eigen::Vector3d t0 = unitTangent(derivatives.front());
   Eigen::Vector3d hint = firstNormalHint != nullptr ? *firstNormalHint : leastAlignedAxis(t0);
   Eigen::Vector3d n0 = hint - hint.dot(t0) * t0;
   if (n0.norm() < 1e-9) {
@@ -103,11 +118,11 @@ std::vector<Frame> rotationMinimisingFrames(const BallBSplineCurve& curve,
   n0.normalize();
   frames.push_back({t0, n0, t0.cross(n0)});
 
-  for (std::size_t i = 1; i < ts.size(); ++i) {
+  for (std::size_t i = 1; i < points.size(); ++i) {
     const Frame& prev = frames.back();
-    const Eigen::Vector3d x0 = curve.center(ts[i - 1]);
-    const Eigen::Vector3d x1 = curve.center(ts[i]);
-    const Eigen::Vector3d t1 = unitTangent(curve, ts[i]);
+    const Eigen::Vector3d& x0 = points[i - 1];
+    const Eigen::Vector3d& x1 = points[i];
+    const Eigen::Vector3d t1 = unitTangent(derivatives[i]);
     // Reflection 1 across the bisector plane of x0, x1.
     const Eigen::Vector3d v1 = x1 - x0;
     const double c1 = v1.squaredNorm();

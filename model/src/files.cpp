@@ -23,8 +23,10 @@ namespace {
 void writeFileAtomically(const std::filesystem::path& path, std::string_view bytes) {
   std::filesystem::path dir = path.parent_path();
   if (dir.empty()) dir = ".";
-  const std::filesystem::path temp =
-      dir / ("." + path.filename().string() + ".tmp." + std::to_string(::getpid()));
+  // Appended piecewise: GCC 12 at -O3 raises a false -Wrestrict on "." + std::string.
+  std::string tempName(1, '.');
+  tempName.append(path.filename().string()).append(".tmp.").append(std::to_string(::getpid()));
+  const std::filesystem::path temp = dir / tempName;
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail("cannot create", temp, errno);
   std::size_t written = 0;

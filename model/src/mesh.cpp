@@ -107,12 +107,25 @@ void addCap(Mesh& mesh, const Vein& vein, double t, const Frame& frame, const Ei
 Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices, CapStyle caps,
               int capRings, std::vector<ModelWarning>& warnings) {
   Mesh mesh;
-  const std::vector<Frame> frames = rotationMinimisingFrames(vein.curve, ts);
+  // Each parameter is evaluated once; frames, circles and checks share the jets.
+  std::vector<BallBSplineCurve::Jet> jets;
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<Eigen::Vector3d> derivatives;
+  jets.reserve(ts.size());
+  for (double t : ts) {
+    jets.push_back(vein.curve.jet(t));
+    centres.push_back(jets.back().c);
+    derivatives.push_back(jets.back().dc);
+  }
+  const std::vector<Frame> frames = rotationMinimisingFrames(centres, derivatives);
   const auto k = static_cast<std::uint32_t>(ringVertices);
+  mesh.positions.reserve(ts.size() * k);
+  mesh.normals.reserve(ts.size() * k);
+  mesh.triangles.reserve(2 * ts.size() * k);
   for (std::size_t s = 0; s < ts.size(); ++s) {
     const double t = ts[s];
-    const auto jet = vein.curve.jet(t);
-    const auto circle = vein.curve.envelopeCircle(t);
+    const auto& jet = jets[s];
+    const auto circle = BallBSplineCurve::envelopeCircle(jet);
     if (jet.r <= 0.0) {
       std::ostringstream msg;
       msg << "radius spline overshoots to " << jet.r

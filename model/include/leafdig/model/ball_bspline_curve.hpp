@@ -54,6 +54,8 @@ class BallBSplineCurve {
     bool exists;
   };
   [[nodiscard]] Circle envelopeCircle(double t) const;
+  // The same from an already evaluated jet (meshing evaluates each parameter once).
+  [[nodiscard]] static Circle envelopeCircle(const Jet& jet);
 
   // S(t, theta) on the envelope, with the frame's N and B spanning the circle's plane.
   [[nodiscard]] Eigen::Vector3d envelopePoint(double t, double theta, const Frame& frame) const;
@@ -71,6 +73,11 @@ class BallBSplineCurve {
 // straight veins.
 [[nodiscard]] std::vector<Frame> rotationMinimisingFrames(
     const BallBSplineCurve& curve, const std::vector<double>& ts,
+    const Eigen::Vector3d* firstNormalHint = nullptr);
+
+// The same from points x_i on the curve and its derivatives there (any length).
+[[nodiscard]] std::vector<Frame> rotationMinimisingFrames(
+    const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& derivatives,
     const Eigen::Vector3d* firstNormalHint = nullptr);
 
 }  // namespace leafdig::model
