@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "leafdig/version.hpp"
+#include "devices_cmd.hpp"
 #include "model_build.hpp"
 
 int main(int argc, char** argv) {
@@ -23,6 +24,9 @@ int main(int argc, char** argv) {
   leafdig::cli::ModelBuildOptions buildOptions;
   leafdig::cli::addModelBuildCommand(*model, buildOptions);
 
+  leafdig::cli::DevicesOptions deviceOptions;
+  leafdig::cli::addDevicesCommands(app, deviceOptions);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -36,6 +40,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  if (model->got_subcommand("build")) return leafdig::cli::runModelBuild(buildOptions);
+  if (model->parsed() && model->got_subcommand("build")) return leafdig::cli::runModelBuild(buildOptions);
+  if (const int rc = leafdig::cli::runDevicesCommands(app, deviceOptions); rc >= 0) return rc;
   return 1;
 }

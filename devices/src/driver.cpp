@@ -1,0 +1,219 @@
+#include "leafdig/devices/driver.hpp"
+
+#include <cmath>
+
+namespace leafdig::devices {
+
+const char* toString(LinkState s) {
+  switch (s) {
+    case LinkState::Disconnected: return "disconnected";
+    case LinkState::Connecting: return "connecting";
+    case LinkState::Streaming: return "streaming";
+    case LinkState::Warning: return "warning";
+    case LinkState::Error: return "error";
+  }
+  return "unknown";
+}
+
+namespace {
+double distance(const Vec3& a, const Vec3& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+DecodeStats add(const DecodeStats& a, const DecodeStats& b) {
+  return {a.records + b.records, a.dropped + b.dropped, a.discardedBytes + b.discardedBytes,
+          a.statusWarnings + b.statusWarnings, a.replies + b.replies};
+}
+}  // namespace
+
+// ---- StylusFilter -------------------------------------------------------------------------
+void StylusFilter::push(StylusSample s, std::vector<StylusSample>& out) {
+  if (!window_.empty() && window_.back().station != s.station) {
+    // Several stations interleave: filter only station by station (keep it simple: pass
+    // other stations through unfiltered).
+    out.push_back(std::move(s));
+    return;
+  }
+  window_.push_back(std::move(s));
+  if (window_.size() < 3) {
+    if (window_.size() == 2) return;  // wait for the right neighbour of the first sample
+    return;
+  }
+  StylusSample& prev = window_[0];
+  StylusSample& cur = window_[1];
+  const StylusSample& next = window_[2];
+  Vec3 mid{};
+  for (std::size_t k = 0; k < 3; ++k) mid[k] = 0.5 * (prev.positionMm[k] + next.positionMm[k]);
+  const bool spike = distance(cur.positionMm, mid) > spikeMm_;
+  if (spike) {
+    ++rejected_;
+  } else {
+    // Debounce the button: it changes only when two consecutive kept samples agree.
+    if (cur.button != button_) {
+      if (agree_ > 0 && candidate_ == cur.button) {
+        button_ = cur.button;
+        agree_ = 0;
+      } else {
+        candidate_ = cur.button;
+        agree_ = 1;
+      }
+    } else {
+      agree_ = 0;
+    }
+    StylusSample copy = cur;
+    copy.button = button_;
+    out.push_back(std::move(copy));
+  }
+  window_.pop_front();
+}
+
+void StylusFilter::reset() {
+  window_.clear();
+  agree_ = 0;
+  // The button is released by a reconnect: a press must be seen again after it.
+  button_ = false;
+  candidate_ = false;
+}
+
+// ---- Driver -------------------------------------------------------------------------------
+Driver::Driver(std::unique_ptr<DeviceLink> link, Callbacks callbacks, DriverOptions options)
+    : link_(std::move(link)), callbacks_(std::move(callbacks)), options_(options), filter_(options.spikeMm) {
+  status_.device = link_->name();
+  status_.where = link_->where();
+  status_.message = "not started";
+}
+
+Driver::~Driver() { stop(); }
+
+void Driver::start() {
+  if (thread_.joinable()) return;
+  stop_ = false;
+  thread_ = std::thread([this] { run(); });
+}
+
+void Driver::stop() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+void Driver::trigger() { trigger_ = true; }
+
+DeviceStatus Driver::status() const {
+  std::lock_guard lock(mutex_);
+  DeviceStatus s = status_;
+  if (lastEvent_ != Clock::time_point{})
+    s.lastSampleAgeS = std::chrono::duration<double>(Clock::now() - lastEvent_).count();
+  return s;
+}
+
+void Driver::setState(LinkState state, std::string message, std::string remedy) {
+  DeviceStatus copy;
+  {
+    std::lock_guard lock(mutex_);
+    if (status_.state == state && status_.message == message) return;
+    status_.state = state;
+    status_.message = std::move(message);
+    status_.remedy = std::move(remedy);
+    copy = status_;
+  }
+  if (callbacks_.onStatus) callbacks_.onStatus(copy);
+}
+
+void Driver::run() {
+  using namespace std::chrono;
+  bool connected = false;
+  auto retry = options_.retryMin;
+  auto lastPoll = Clock::now();
+  std::vector<DeviceEvent> events;
+  std::vector<StylusSample> kept;
+  std::string lastWarning;
+  while (!stop_) {
+    if (!connected) {
+      setState(LinkState::Connecting, "connecting to " + link_->name() + " on " + link_->where());
+      try {
+        link_->open();
+        connected = true;
+        retry = options_.retryMin;
+        filter_.reset();
+        {
+          std::lock_guard lock(mutex_);
+          lastEvent_ = Clock::now();
+        }
+        setState(LinkState::Streaming, link_->name() + " ready on " + link_->where());
+      } catch (const DeviceError& e) {
+        link_->close();
+        setState(e.kind() == DeviceErrorKind::Io || e.kind() == DeviceErrorKind::NotFound ? LinkState::Disconnected
+                                                                                           : LinkState::Error,
+                 e.what(), e.remedy());
+        for (auto waited = milliseconds(0); waited < retry && !stop_; waited += milliseconds(20))
+          std::this_thread::sleep_for(milliseconds(20));
+        retry = std::min(retry * 2, options_.retryMax);
+        continue;
+      }
+    }
+    try {
+      if (options_.pollEvery.count() > 0 && Clock::now() - lastPoll >= options_.pollEvery) {
+        lastPoll = Clock::now();
+        trigger_ = true;
+      }
+      if (trigger_.exchange(false)) link_->trigger();
+      events.clear();
+      link_->pump(milliseconds(50), events);
+      const auto now = Clock::now();
+      std::size_t delivered = 0;
+      for (auto& ev : events) {
+        if (auto* s = std::get_if<StylusSample>(&ev); s && options_.filterStylus) {
+          kept.clear();
+          filter_.push(std::move(*s), kept);
+          for (auto& k : kept) {
+            if (callbacks_.onEvent) callbacks_.onEvent(DeviceEvent(std::move(k)));
+            ++delivered;
+          }
+        } else {
+          if (callbacks_.onEvent) callbacks_.onEvent(ev);
+          ++delivered;
+        }
+      }
+      const std::string warning = link_->warning();
+      {
+        std::lock_guard lock(mutex_);
+        if (!events.empty()) lastEvent_ = now;
+        for (std::size_t i = 0; i < delivered; ++i) recent_.push_back(now);
+        while (!recent_.empty() && now - recent_.front() > seconds(1)) recent_.pop_front();
+        status_.rateHz = static_cast<double>(recent_.size());
+        status_.stats = add(previousStats_, link_->stats());
+        status_.filtered = filter_.rejected();
+      }
+      if (warning != lastWarning) {
+        lastWarning = warning;
+        if (!warning.empty()) setState(LinkState::Warning, warning, "see docs/devices.md, 'Status codes'");
+        else setState(LinkState::Streaming, link_->name() + " streaming on " + link_->where());
+      }
+      if (link_->streams() && now - lastEvent_ > link_->stallTimeout()) {
+        setState(LinkState::Warning,
+                 link_->name() + " sent no data for " +
+                     std::to_string(duration_cast<milliseconds>(now - lastEvent_).count()) + " ms: re-initialising",
+                 "if this repeats, check the cable and that the device is powered");
+        previousStats_ = add(previousStats_, link_->stats());
+        link_->close();
+        connected = false;
+        lastWarning.clear();
+        std::lock_guard lock(mutex_);
+        ++status_.reconnects;
+      }
+    } catch (const DeviceError& e) {
+      previousStats_ = add(previousStats_, link_->stats());
+      link_->close();
+      connected = false;
+      lastWarning.clear();
+      {
+        std::lock_guard lock(mutex_);
+        ++status_.reconnects;
+      }
+      setState(LinkState::Disconnected, e.what(), e.remedy());
+    }
+  }
+  if (connected) link_->close();
+  setState(LinkState::Disconnected, "stopped");
+}
+
+}  // namespace leafdig::devices

@@ -1,0 +1,518 @@
+// Byte-vector tests for every codec, including the records quoted in the research notes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "leafdig/devices/calipers.hpp"
+#include "leafdig/devices/fastrak.hpp"
+#include "leafdig/devices/line_digitizer.hpp"
+#include "leafdig/devices/microscribe.hpp"
+#include "leafdig/devices/polhemus.hpp"
+
+namespace dev = leafdig::devices;
+namespace {
+
+std::vector<std::uint8_t> bytes(const std::string& s) { return {s.begin(), s.end()}; }
+std::vector<std::uint8_t> hex(std::initializer_list<int> v) {
+  std::vector<std::uint8_t> b;
+  for (int x : v) b.push_back(static_cast<std::uint8_t>(x));
+  return b;
+}
+
+template <class State, class Out>
+void feed(State& st, const std::string& s, Out& out, void (*fn)(State&, std::span<const std::uint8_t>, Out&)) {
+  const auto b = bytes(s);
+  fn(st, b, out);
+}
+
+// ---- FASTRAK ------------------------------------------------------------------------------
+dev::fastrak::DecoderState fastrakDefault() {
+  dev::fastrak::DecoderState st;
+  st.format.items = {2, 4, 1};
+  st.format.stations = 4;
+  return st;
+}
+
+TEST(FastrakAscii, DecodesTheDefaultListRecordWhoseFieldsTouch) {
+  // SoundScapeRenderer's record (research/digitizers.md §2.4): "30.01-150.70" touch.
+  auto st = fastrakDefault();
+  std::vector<dev::StylusSample> out;
+  feed(st, "02   20.40 -61.06  30.01-150.70 -42.08 156.93\r\n", out, dev::fastrak::decode);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].station, 2);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[0], 518.16);  // 20.40 in
+  EXPECT_DOUBLE_EQ(out[0].positionMm[1], -1550.924);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[2], 762.254);
+  ASSERT_TRUE(out[0].orientationDeg);
+  EXPECT_DOUBLE_EQ((*out[0].orientationDeg)[0], -150.70);
+  EXPECT_DOUBLE_EQ((*out[0].orientationDeg)[1], -42.08);
+  EXPECT_DOUBLE_EQ((*out[0].orientationDeg)[2], 156.93);
+  EXPECT_EQ(out[0].status, "ok");
+  EXPECT_EQ(out[0].rawUnit, "in");
+  EXPECT_EQ(out[0].raw.size(), 47u);
+  EXPECT_EQ(st.stats.records, 1u);
+}
+
+TEST(FastrakAscii, DecodesRecordsSplitAtEveryByte) {
+  auto st = fastrakDefault();
+  std::vector<dev::StylusSample> out;
+  const std::string rec = "01    1.00   2.00   3.00   0.00   0.00   0.00\r\n";
+  for (char c : rec + rec) feed(st, std::string(1, c), out, dev::fastrak::decode);
+  EXPECT_EQ(out.size(), 2u);
+  EXPECT_EQ(st.stats.dropped + st.stats.discardedBytes, 0u);
+}
+
+TEST(FastrakAscii, KeepsAStatusLetterAsAWarningNotAnError) {
+  auto st = fastrakDefault();
+  std::vector<dev::StylusSample> out;
+  feed(st, "01x   1.00   2.00   3.00   0.00   0.00   0.00\r\n", out, dev::fastrak::decode);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].status, "x");
+  EXPECT_EQ(st.stats.statusWarnings, 1u);
+}
+
+TEST(FastrakAscii, ResynchronisesAfterGarbageAndATruncatedRecord) {
+  auto st = fastrakDefault();
+  std::vector<dev::StylusSample> out;
+  const std::string good = "01    1.00   2.00   3.00   0.00   0.00   0.00\r\n";
+  feed(st, "\xff\x13garbage 01 0\r\n" + good + good.substr(0, 20) + good + good, out, dev::fastrak::decode);
+  ASSERT_EQ(out.size(), 3u);
+  for (const auto& s : out) EXPECT_DOUBLE_EQ(s.positionMm[0], 25.4);
+  EXPECT_GE(st.stats.dropped + st.stats.discardedBytes, 1u);
+}
+
+TEST(FastrakAscii, NeverTurnsACorruptColumnIntoAPoint) {
+  auto st = fastrakDefault();
+  std::vector<dev::StylusSample> out;
+  // a digit replaced by a letter, a sign in the middle, a missing decimal point
+  feed(st, "01    1.0a   2.00   3.00   0.00   0.00   0.00\r\n", out, dev::fastrak::decode);
+  feed(st, "01    1-00   2.00   3.00   0.00   0.00   0.00\r\n", out, dev::fastrak::decode);
+  feed(st, "01    1000   2.00   3.00   0.00   0.00   0.00\r\n", out, dev::fastrak::decode);
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(st.stats.dropped, 3u);
+}
+
+TEST(FastrakAscii, SkipsCommandRepliesBetweenRecords) {
+  auto st = fastrakDefault();
+  std::vector<dev::StylusSample> out;
+  const std::string good = "01    1.00   2.00   3.00   0.00   0.00   0.00\r\n";
+  dev::fastrak::Status status{1, false, true, false, true};
+  feed(st, good + dev::fastrak::encodeStatus(status) + "2 E*ERROR* Q *ERROR* EC -99\r\n" + good, out, dev::fastrak::decode);
+  EXPECT_EQ(out.size(), 2u);
+  EXPECT_EQ(st.stats.replies, 2u);
+  EXPECT_EQ(st.stats.dropped, 0u);
+}
+
+TEST(FastrakAscii, ReadsTheStylusFromItem16) {
+  dev::fastrak::DecoderState st;
+  st.format.items = {2, 4, 16, 1};
+  st.format.centimetres = true;
+  std::vector<dev::StylusSample> out;
+  feed(st, "01   -0.09  -0.16   0.03  10.03 -45.46   0.16 1\r\n", out, dev::fastrak::decode);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].button);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[0], -0.9);
+  EXPECT_EQ(out[0].rawUnit, "cm");
+  EXPECT_EQ(dev::fastrak::recordLength(st.format), 49u);
+  EXPECT_EQ(dev::fastrak::outputListCommand(st.format), "O1,2,4,16,1\r");
+}
+
+TEST(FastrakBinary, DecodesTheResearchNotesExample) {
+  // x=10.0 y=-5.5 z=3.25 q=(1,0,0,0), list 2,11,0 (research/digitizers.md §2.4)
+  dev::fastrak::DecoderState st;
+  st.format.items = {2, 11, 0};
+  st.format.binary = true;
+  std::vector<dev::StylusSample> out;
+  const auto b = hex({0x30, 0x31, 0x20, 0x00, 0x00, 0x20, 0x41, 0x00, 0x00, 0xb0, 0xc0, 0x00, 0x00, 0x50, 0x40,
+                      0x00, 0x00, 0x80, 0x3f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x20});
+  ASSERT_EQ(b.size(), 32u);
+  dev::fastrak::decode(st, b, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[0], 254.0);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[1], -139.7);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[2], 82.55);
+  ASSERT_TRUE(out[0].quaternion);
+  EXPECT_DOUBLE_EQ((*out[0].quaternion)[0], 1.0);
+}
+
+TEST(FastrakBinary, RejectsAFlippedQuaternionAndATrailerMismatch) {
+  dev::fastrak::Format f;
+  f.items = {2, 11, 16, 0};
+  f.binary = true;
+  dev::StylusSample s;
+  s.positionMm = {10, 20, 30};
+  s.quaternion = std::array<double, 4>{0.5, 0.5, 0.5, 0.5};
+  const std::string rec = dev::fastrak::encode(f, s);
+  EXPECT_EQ(rec.size(), 34u);
+  dev::fastrak::DecoderState st;
+  st.format = f;
+  std::vector<dev::StylusSample> out;
+  std::string flipped = rec;
+  flipped[17] ^= 0x40;  // inside the quaternion: the norm is no longer 1
+  std::string trailer = rec;
+  trailer.back() = 'X';
+  feed(st, flipped, out, dev::fastrak::decode);
+  feed(st, trailer, out, dev::fastrak::decode);
+  feed(st, rec, out, dev::fastrak::decode);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NEAR(out[0].positionMm[0], 10.0, 1e-4);
+}
+
+TEST(FastrakEncode, RoundTripsEveryItemInAsciiAndBinary) {
+  for (bool binary : {false, true}) {
+    dev::fastrak::Format f;
+    f.items = {2, 4, 11, 16, 52, 54, 0, 1};
+    f.binary = binary;
+    f.centimetres = true;
+    dev::StylusSample s;
+    s.positionMm = {123.4, -56.7, 8.9};
+    s.orientationDeg = dev::Vec3{-170.25, 45.5, 3.0};
+    s.quaternion = std::array<double, 4>{0.7071, 0.7071, 0, 0};
+    s.button = true;
+    const std::string rec = dev::fastrak::encode(f, s);
+    EXPECT_EQ(rec.size(), dev::fastrak::recordLength(f));
+    dev::fastrak::DecoderState st;
+    st.format = f;
+    std::vector<dev::StylusSample> out;
+    feed(st, rec, out, dev::fastrak::decode);
+    ASSERT_EQ(out.size(), 1u) << (binary ? "binary" : "ascii");
+    EXPECT_NEAR(out[0].positionMm[0], 123.4, 1e-3);
+    EXPECT_NEAR(out[0].positionMm[1], -56.7, 1e-3);
+    EXPECT_TRUE(out[0].button);
+  }
+}
+
+TEST(FastrakStatus, ParsesTheFlags) {
+  dev::fastrak::Status in{1, true, true, false, true}, out;
+  const std::string line = dev::fastrak::encodeStatus(in);
+  EXPECT_EQ(line.size(), 55u);
+  ASSERT_TRUE(dev::fastrak::parseStatus(line, out));
+  EXPECT_TRUE(out.binary);
+  EXPECT_TRUE(out.centimetres);
+  EXPECT_TRUE(out.continuous);
+  EXPECT_FALSE(dev::fastrak::parseStatus("21Q00A", out));
+}
+
+TEST(FastrakFormat, RejectsUnknownItems) {
+  dev::fastrak::Format f;
+  f.items = {2, 99};
+  EXPECT_THROW((void)dev::fastrak::recordLength(f), std::invalid_argument);
+}
+
+// ---- Patriot / Liberty --------------------------------------------------------------------
+TEST(LibertyBinary, DecodesTheVrpnFrame) {
+  // "LY" station 1 'C' err 0, size 33; x=10 y=-5.5 z=3.25 q=(1,0,0,0) ts=123456 ms, ' '
+  dev::polhemus::DecoderState st;
+  st.format.model = dev::polhemus::Model::Liberty;
+  st.format.items = {2, 7, 8, 0};
+  st.format.binary = true;
+  st.format.centimetres = false;
+  const auto b = hex({0x4c, 0x59, 0x01, 0x43, 0x00, 0x00, 0x21, 0x00, 0x00, 0x00, 0x20, 0x41, 0x00, 0x00, 0xb0, 0xc0,
+                      0x00, 0x00, 0x50, 0x40, 0x00, 0x00, 0x80, 0x3f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                      0x40, 0xe2, 0x01, 0x00, 0x20});
+  ASSERT_EQ(b.size(), 41u);
+  std::vector<dev::StylusSample> out;
+  dev::polhemus::decode(st, b, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[0], 254.0);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[1], -139.7);
+  EXPECT_EQ(out[0].station, 1);
+  // The same frame tagged "PA" is not a Liberty frame.
+  auto pa = b;
+  pa[0] = 'P';
+  pa[1] = 'A';
+  dev::polhemus::decode(st, pa, out);
+  EXPECT_EQ(out.size(), 1u);
+}
+
+TEST(PatriotAscii, RoundTripsAndSkipsTextLines) {
+  dev::polhemus::Format f;
+  dev::StylusSample s;
+  s.positionMm = {-1234.5, 67.8, 0.0};
+  s.orientationDeg = dev::Vec3{10, 20, 30};
+  s.button = true;
+  const std::string rec = dev::polhemus::encode(f, s, 7, 1000);
+  EXPECT_EQ(rec.size(), dev::polhemus::asciiLength(f));
+  dev::polhemus::DecoderState st;
+  st.format = f;
+  std::vector<dev::StylusSample> out;
+  feed(st, "patriot ready!\r\n" + rec + "\x01\x02zz" + rec.substr(0, 30) + "\r\n" + rec, out, dev::polhemus::decode);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_NEAR(out[0].positionMm[0], -1234.5, 0.01);
+  EXPECT_TRUE(out[0].button);
+  EXPECT_EQ(st.stats.replies, 1u);
+}
+
+TEST(PolhemusBinary, ResynchronisesOnTheTag) {
+  dev::polhemus::Format f;
+  f.binary = true;
+  f.items = {2, 5, 10, 0};
+  dev::StylusSample s;
+  s.positionMm = {1, 2, 3};
+  const std::string rec = dev::polhemus::encode(f, s, 1, 2);
+  EXPECT_EQ(rec.substr(0, 2), "PA");
+  dev::polhemus::DecoderState st;
+  st.format = f;
+  std::vector<dev::StylusSample> out;
+  std::string bad = rec;
+  bad[6] = 5;  // wrong payload size
+  feed(st, "PAPA" + rec + bad + rec.substr(0, 10) + rec, out, dev::polhemus::decode);
+  EXPECT_EQ(out.size(), 2u);
+}
+
+// ---- MicroScribe --------------------------------------------------------------------------
+TEST(MicroScribe, DecodesTheResearchNotesPacket) {
+  // Host sends 03; the arm answers 83 01 7C 53 …: right pedal, angle0 = (0x7C<<7)|0x53 = 15955.
+  dev::microscribe::DecoderState st;
+  st.arm = dev::microscribe::referenceArm();
+  const auto b = hex({0x83, 0x01, 0x7C, 0x53, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  std::vector<dev::StylusSample> out;
+  dev::microscribe::decode(st, b, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].button);
+  std::array<double, 6> j{360.0 * 15955 / 16384, 0, 0, 0, 0, 0};
+  const auto p = dev::microscribe::forwardKinematics(st.arm, j);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[0], p[0]);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[2], p[2]);
+}
+
+TEST(MicroScribe, DhParametersRoundTripAndKinematicsInvert) {
+  const auto arm = dev::microscribe::referenceArm();
+  dev::microscribe::Arm back;
+  ASSERT_TRUE(dev::microscribe::decodeDhParams(dev::microscribe::encodeDhParams(arm), back));
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_DOUBLE_EQ(back.alphaDeg[i], arm.alphaDeg[i]);
+    EXPECT_DOUBLE_EQ(back.dMm[i], arm.dMm[i]);
+  }
+  std::array<double, 6> j{0, -30, 60, 0, 60, 0};
+  const dev::Vec3 target{420, 35, -20};
+  ASSERT_TRUE(dev::microscribe::inverseKinematics(arm, target, j));
+  const auto p = dev::microscribe::forwardKinematics(arm, j);
+  EXPECT_NEAR(p[0], 420, 0.01);
+  EXPECT_NEAR(p[1], 35, 0.01);
+  EXPECT_NEAR(p[2], -20, 0.01);
+}
+
+TEST(MicroScribe, DropsATruncatedPacketAndKeepsTheNext) {
+  dev::microscribe::DecoderState st;
+  st.arm = dev::microscribe::referenceArm();
+  dev::microscribe::Packet p;
+  p.counts = {100, 200, 300, 400, 500, 600};
+  const auto full = dev::microscribe::encodePacket(p);
+  std::vector<std::uint8_t> b(full.begin(), full.begin() + 6);
+  b.insert(b.end(), full.begin(), full.end());
+  std::vector<dev::StylusSample> out;
+  dev::microscribe::decode(st, b, out);
+  EXPECT_EQ(out.size(), 1u);
+  EXPECT_EQ(st.stats.dropped, 1u);
+}
+
+// ---- generic line digitizer ---------------------------------------------------------------
+TEST(LineDigitizer, ColumnsWithAxisMapAndUnits) {
+  dev::line::DecoderState st;
+  st.config = dev::line::parseConfig(R"({"fields": {"mode": "columns", "x": [3,7], "y": [10,7], "z": [17,7],
+      "button": [25,1]}, "unit": "cm", "axes": ["x", "-z", "y"]})");
+  std::vector<dev::StylusSample> out;
+  feed(st, "01   -0.09  -0.16   0.03 1\r\n", out, dev::line::decode);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[0], -0.9);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[1], -0.3);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[2], -1.6);
+  EXPECT_TRUE(out[0].button);
+}
+
+TEST(LineDigitizer, TokensAndRegexAndSyncFraming) {
+  dev::line::DecoderState tok;
+  tok.config = dev::line::parseConfig(R"({"fields": {"mode": "tokens", "x": 1, "y": 2, "z": 3, "button": 0}})");
+  std::vector<dev::StylusSample> out;
+  feed(tok, "1, 10.5, -2, 3e1\r\nnot a record\r\n", out, dev::line::decode);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[2], 30.0);
+  EXPECT_EQ(tok.stats.dropped, 1u);
+
+  dev::line::DecoderState rx;
+  rx.config = dev::line::parseConfig(
+      R"J({"framing": {"terminator": "\n", "sync": "#"}, "fields": {"mode": "regex",
+          "regex": "X=(-?[0-9.]+) Y=(-?[0-9.]+) Z=(-?[0-9.]+)", "x": 1, "y": 2, "z": 3}, "unit": "in"})J");
+  out.clear();
+  feed(rx, "junk#X=1 Y=2 Z=3\n#X=1 Y=oops Z=3\n", out, dev::line::decode);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].positionMm[0], 25.4);
+}
+
+TEST(LineDigitizer, BadConfigurationsNameTheProblem) {
+  const auto message = [](const char* json) {
+    try {
+      (void)dev::line::parseConfig(json);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message(R"({"unit": "furlong"})").find("unit"), std::string::npos);
+  EXPECT_NE(message(R"({"fields": {"mode": "columns"}})").find("x, y and z"), std::string::npos);
+  EXPECT_NE(message(R"J({"fields": {"mode": "regex", "regex": "("}})J").find("regex"), std::string::npos);
+  EXPECT_NE(message(R"({"axes": ["x", "x", "z"]})").find("twice"), std::string::npos);
+  EXPECT_NE(message("{not json").find("JSON"), std::string::npos);
+}
+
+// ---- calipers -----------------------------------------------------------------------------
+TEST(HidKeyboard, DecodesTheResearchNotesReportsForMinus12_34) {
+  const std::vector<std::vector<int>> keys = {{0x2D}, {0x1E}, {0x1F}, {0x37}, {0x20}, {0x21}, {0x28}};
+  dev::calipers::HidKeyboardState st;
+  std::vector<dev::CaliperReading> out;
+  int reports = 0;
+  for (const auto& k : keys) {
+    std::vector<std::uint8_t> press(8, 0), release(8, 0);
+    press[2] = static_cast<std::uint8_t>(k[0]);
+    dev::calipers::decodeHidReport(st, press, out);
+    dev::calipers::decodeHidReport(st, release, out);
+    reports += 2;
+  }
+  EXPECT_EQ(reports, 14);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].valueMm, -12.34);
+  EXPECT_EQ(out[0].raw, "-12.34");
+}
+
+TEST(HidKeyboard, IsEdgeTriggeredSoRepeatedDigitsNeedARelease) {
+  dev::calipers::HidKeyboardState st;
+  std::vector<dev::CaliperReading> out;
+  std::vector<std::uint8_t> one(8, 0), enter(8, 0), none(8, 0);
+  one[2] = 0x1E;
+  enter[2] = 0x28;
+  dev::calipers::decodeHidReport(st, one, out);
+  dev::calipers::decodeHidReport(st, one, out);  // held: still one '1'
+  dev::calipers::decodeHidReport(st, none, out);
+  dev::calipers::decodeHidReport(st, one, out);  // pressed again: '11'
+  dev::calipers::decodeHidReport(st, enter, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].valueMm, 11.0);
+}
+
+TEST(HidKeyboard, KeypadCommaTabReportIdAndUnitSuffix) {
+  for (bool reportId : {false, true}) {
+    dev::calipers::HidKeyboardState st;
+    st.reportId = reportId;
+    std::vector<dev::CaliperReading> out;
+    for (const auto& r : dev::calipers::encodeHidText("0,125\t", true, reportId)) dev::calipers::decodeHidReport(st, r, out);
+    for (const auto& r : dev::calipers::encodeHidText("+1.5in\n", false, reportId)) dev::calipers::decodeHidReport(st, r, out);
+    ASSERT_EQ(out.size(), 2u);
+    EXPECT_DOUBLE_EQ(out[0].valueMm, 0.125);
+    EXPECT_EQ(out[1].unit, "in");
+    EXPECT_DOUBLE_EQ(out[1].valueMm, 38.1);
+  }
+}
+
+TEST(HidKeyboard, DropsTextThatIsNotANumber) {
+  dev::calipers::HidKeyboardState st;
+  std::vector<dev::CaliperReading> out;
+  for (const auto& r : dev::calipers::encodeHidText("1.2.3\nab\n-\n", false, false)) dev::calipers::decodeHidReport(st, r, out);
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(st.stats.dropped, 3u);
+}
+
+TEST(MitutoyoAscii, DecodesDataAndErrors) {
+  dev::calipers::MitutoyoState st;
+  std::vector<dev::CaliperReading> out;
+  feed(st, "01A+0000.123\r01A-0012.500\r911\r01A+00.0.123\r", out, dev::calipers::decodeMitutoyo);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_DOUBLE_EQ(out[0].valueMm, 0.123);
+  EXPECT_DOUBLE_EQ(out[1].valueMm, -12.5);
+  ASSERT_EQ(st.errors.size(), 1u);
+  EXPECT_EQ(st.errors[0], "911");
+  EXPECT_EQ(st.stats.dropped, 1u);
+  EXPECT_EQ(dev::calipers::encodeMitutoyo(0.123, 3), "01A+0000.123\r");
+}
+
+TEST(MitutoyoAscii, AutoUnitReadsFiveDecimalsAsInches) {
+  dev::calipers::MitutoyoState st;
+  st.unit = "auto";
+  std::vector<dev::CaliperReading> out;
+  feed(st, "01A+00.12345\r", out, dev::calipers::decodeMitutoyo);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].unit, "in");
+  EXPECT_NEAR(out[0].valueMm, 0.12345 * 25.4, 1e-9);
+}
+
+TEST(UWave, DecodesMeasurementLines) {
+  dev::calipers::UWaveState st;
+  std::vector<dev::CaliperReading> out;
+  feed(st, "DT10005+00000020.06M\rST1000051\rDT10005-00000000.50I\rDT1000X+1M\r", out, dev::calipers::decodeUWave);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_DOUBLE_EQ(out[0].valueMm, 20.06);
+  EXPECT_DOUBLE_EQ(out[1].valueMm, -12.7);
+  EXPECT_EQ(st.stats.replies, 1u);
+  EXPECT_EQ(st.stats.dropped, 1u);
+  EXPECT_EQ(dev::calipers::encodeUWave(20.06, "mm"), "DT10005+00000020.06M\r");
+}
+
+TEST(Digimatic, DecodesTheResearchNotesFrame) {
+  const std::vector<std::uint8_t> n{0xF, 0xF, 0xF, 0xF, 8, 0, 1, 2, 3, 4, 5, 3, 0};
+  const auto r = dev::calipers::decodeDigimatic(n);
+  ASSERT_TRUE(r);
+  EXPECT_DOUBLE_EQ(r->valueMm, -12.345);
+  std::array<std::uint8_t, 13> a{};
+  std::copy(n.begin(), n.end(), a.begin());
+  const auto bits = dev::calipers::digimaticBits(a);
+  ASSERT_EQ(bits.size(), 52u);
+  EXPECT_EQ((std::vector<std::uint8_t>(bits.begin() + 16, bits.begin() + 20)), (std::vector<std::uint8_t>{0, 0, 0, 1}));
+  EXPECT_EQ(dev::calipers::digimaticNibbles(bits), a);
+  EXPECT_EQ(dev::calipers::encodeDigimatic(-12.345, 3, false), a);
+}
+
+TEST(Digimatic, RejectsInvalidFrames) {
+  std::vector<std::uint8_t> n{0xF, 0xF, 0xF, 0xF, 0, 0, 1, 2, 3, 4, 5, 3, 0};
+  auto bad = n;
+  bad[0] = 0xE;
+  EXPECT_FALSE(dev::calipers::decodeDigimatic(bad));
+  bad = n;
+  bad[4] = 1;
+  EXPECT_FALSE(dev::calipers::decodeDigimatic(bad));
+  bad = n;
+  bad[7] = 10;
+  EXPECT_FALSE(dev::calipers::decodeDigimatic(bad));
+  bad = n;
+  bad[11] = 6;
+  EXPECT_FALSE(dev::calipers::decodeDigimatic(bad));
+  bad = n;
+  bad[12] = 2;
+  EXPECT_FALSE(dev::calipers::decodeDigimatic(bad));
+  EXPECT_FALSE(dev::calipers::decodeDigimatic(std::vector<std::uint8_t>(12, 0xF)));
+  const auto inch = dev::calipers::decodeDigimatic(std::vector<std::uint8_t>{0xF, 0xF, 0xF, 0xF, 0, 0, 0, 1, 0, 0, 0, 4, 1});
+  ASSERT_TRUE(inch);
+  EXPECT_EQ(inch->unit, "in");
+  EXPECT_NEAR(inch->valueMm, 0.1 * 25.4, 1e-9);
+}
+
+TEST(Sylvac, DecodesValuesEchoesErrorsAndUnits) {
+  dev::calipers::SylvacState st;
+  std::vector<dev::CaliperReading> out;
+  feed(st, "SY304.0\r?\r+012.345\r 001.500\r-000.100=\rERR2\rIN\r+00.12345\rBAT?\rhello\r", out, dev::calipers::decodeSylvac);
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_DOUBLE_EQ(out[0].valueMm, 12.345);
+  EXPECT_DOUBLE_EQ(out[1].valueMm, 1.5);
+  EXPECT_DOUBLE_EQ(out[2].valueMm, -0.1);
+  EXPECT_EQ(out[2].flag, "=");
+  EXPECT_EQ(out[3].unit, "in");
+  EXPECT_NEAR(out[3].valueMm, 3.13563, 1e-9);
+  EXPECT_EQ(st.identification, "SY304.0");
+  ASSERT_EQ(st.errors.size(), 1u);
+  EXPECT_STREQ(dev::calipers::sylvacErrorMeaning(st.errors[0][3]), "parity error (the port must be 4800 7E2)");
+  EXPECT_EQ(st.stats.dropped, 1u);
+  EXPECT_EQ(dev::calipers::encodeSylvac(12.345, 3), "+012.345\r");
+}
+
+TEST(CaliperNumbers, ParsesWhatGaugesTypeAndNothingElse) {
+  EXPECT_DOUBLE_EQ(dev::calipers::parseNumber(" -0,50 mm")->value, -0.5);
+  EXPECT_EQ(dev::calipers::parseNumber("1.5\"")->unit, "in");
+  EXPECT_FALSE(dev::calipers::parseNumber("1e3"));
+  EXPECT_FALSE(dev::calipers::parseNumber("--1"));
+  EXPECT_FALSE(dev::calipers::parseNumber("nan"));
+  EXPECT_FALSE(dev::calipers::parseNumber(""));
+  EXPECT_FALSE(std::signbit(dev::calipers::parseNumber("-0.000")->value));
+}
+
+}  // namespace

@@ -1,0 +1,26 @@
+// leafdig devices list|listen, leafdig sim, leafdig doctor.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace leafdig::cli {
+
+struct DevicesOptions {
+  bool json = false;
+  // listen
+  std::string digitizer, caliper, port, hid, unit = "mm", lineConfig;
+  int baud = 0, count = 0, pollMs = 0;
+  double seconds = 0;
+  bool binary = false, dtrTrigger = false, noGrab = false, noFilter = false;
+  // sim
+  std::string simKind, markers, faults, link;
+  double rate = 0, pressEvery = 0, simSeconds = 0, sigma = 0.3;
+  std::uint64_t seed = 1;
+};
+
+void addDevicesCommands(CLI::App& app, DevicesOptions& options);
+// Returns the exit code, or -1 when none of these commands was chosen.
+int runDevicesCommands(CLI::App& app, const DevicesOptions& options);
+
+}  // namespace leafdig::cli
