@@ -55,7 +55,7 @@ class FastrakEmulator final : public Emulator {
     lastButton_ = false;
   }
   double nativeRateHz() const override { return 120.0; }
-  bool streaming() const override { return continuous_ || buttonMode_ == 1; }
+  bool streaming() const override { return continuous_ || (buttonMode_ == 1 && !bursting()); }
   void onInput(const std::string& bytes) override {
     for (char c : bytes) {
       if (!cmd_.empty()) {
@@ -166,7 +166,7 @@ class PolhemusEmulator final : public Emulator {
     frame_ = 0;
   }
   double nativeRateHz() const override { return model_ == polhemus::Model::Patriot ? 60.0 : 240.0; }
-  bool streaming() const override { return continuous_ || buttonMode_ == 1; }
+  bool streaming() const override { return continuous_ || (buttonMode_ == 1 && !bursting()); }
   void onInput(const std::string& bytes) override {
     for (char c : bytes) {
       if (line_.empty() && (c == 'P' || c == 'p')) {  // single record; ends continuous output

@@ -282,7 +282,10 @@ void Emulator::run() {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
         continue;
       }
-      for (int i = 0; i < 32; ++i, ++k) produce(static_cast<double>(k) / rate, k);
+      for (int i = 0; i < 32; ++i, ++k) {
+        if (options_.burstRecords > 0 && recordsSent() >= options_.burstRecords) break;
+        produce(static_cast<double>(k) / rate, k);
+      }
       continue;
     }
     const double tn = now();

@@ -153,6 +153,7 @@ class Emulator {
   void sendRecord(const std::string& bytes, const Vec3& truth, bool button);
   void sendReply(const std::string& bytes);
   [[nodiscard]] double now() const;  // seconds since start
+  [[nodiscard]] bool bursting() const { return options_.burst; }
   bool logRecords_ = true;
 
  private:
