@@ -2,7 +2,8 @@
 # The whole test suite: set up and build the `ci` preset, run every test (unit, CLI,
 # exports checked by the Khronos glTF validator and assimp, samples, layering), then the
 # same suite under AddressSanitizer + UndefinedBehaviorSanitizer.
-# Set LEAFDIG_SKIP_ASAN=1 to skip the sanitizer pass when iterating locally.
+# Then the threaded device tests under ThreadSanitizer, and every codec's fuzzer for 15 s.
+# Set LEAFDIG_SKIP_ASAN=1 / LEAFDIG_SKIP_TSAN=1 / LEAFDIG_SKIP_FUZZ=1 to skip a pass locally.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -14,6 +15,17 @@ if [ "${LEAFDIG_SKIP_ASAN:-0}" != "1" ]; then
   cmake --build --preset asan -j"$(nproc)"
   ctest --preset asan -j"$(nproc)"
 fi
+# The device drivers and emulators are threaded: their tests again under ThreadSanitizer.
+if [ "${LEAFDIG_SKIP_TSAN:-0}" != "1" ]; then
+  cmake --preset tsan >/dev/null
+  cmake --build --preset tsan -j"$(nproc)"
+  ctest --preset tsan -j"$(nproc)"
+fi
+# Every codec's libFuzzer target, for a bounded time from the seed corpus.
+if [ "${LEAFDIG_SKIP_FUZZ:-0}" != "1" ]; then
+  "$root/scripts/fuzz.sh" "${LEAFDIG_FUZZ_SECONDS:-15}"
+fi
 # The benchmarks must still run (a quick smoke pass; numbers live in docs/benchmarks.md).
 build/ci/tests/leafdig_bench --benchmark_min_time=0.01 --benchmark_filter='Rebuild(Preview|Paper)/1' >/dev/null
+build/ci/tests/leafdig_codec_bench --benchmark_min_time=0.01 >/dev/null
 echo "leafdig: all tests passed"

@@ -46,8 +46,8 @@ bool parseRecord(const Format& fmt, std::string_view r, StylusSample& s) {
       !validStatus(r[2]))
     return false;
   s.station = r[1] - '0';
-  s.status = r[2] == ' ' ? std::string("ok") : std::string(1, r[2]);
-  s.rawUnit = fmt.centimetres ? "cm" : "in";
+  if (r[2] != ' ') s.status.assign(1, r[2]);
+  s.rawUnit.assign(fmt.centimetres ? "cm" : "in", 2);
   const double scale = unitScale(fmt);
   std::size_t off = 3;
   bool havePosition = false;

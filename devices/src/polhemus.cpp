@@ -72,11 +72,12 @@ bool parseBinary(const Format& fmt, std::string_view r, StylusSample& s) {
   const int station = static_cast<unsigned char>(r[2]);
   if (station < 1 || station > fmt.stations || (r[3] != 'C' && r[3] != 'P')) return false;
   const auto err = static_cast<unsigned char>(r[4]);
-  if (err != 0 && err != ' ') s.status = detail::isLetter(static_cast<char>(err))
-                                              ? std::string(1, static_cast<char>(err))
-                                              : "E" + std::to_string(err);
+  if (err != 0 && err != ' ') {
+    if (detail::isLetter(static_cast<char>(err))) s.status.assign(1, static_cast<char>(err));
+    else s.status = "E" + std::to_string(err);
+  }
   s.station = station;
-  s.rawUnit = fmt.centimetres ? "cm" : "in";
+  s.rawUnit.assign(fmt.centimetres ? "cm" : "in", 2);
   std::size_t off = 8;
   for (int item : fmt.items) {
     const char* d = r.data() + off;
@@ -118,9 +119,9 @@ bool parseAscii(const Format& fmt, std::string_view r, StylusSample& s) {
   if (station < 1 || station > fmt.stations) return false;
   if (r[2] != ' ' && !detail::isLetter(r[2])) return false;
   if (r[3] != ' ') return false;
-  if (r[2] != ' ') s.status = std::string(1, r[2]);
+  if (r[2] != ' ') s.status.assign(1, r[2]);
   s.station = station;
-  s.rawUnit = fmt.centimetres ? "cm" : "in";
+  s.rawUnit.assign(fmt.centimetres ? "cm" : "in", 2);
   std::size_t off = 4;
   for (int item : fmt.items) {
     const std::string_view f = r.substr(off, asciiItem(item));

@@ -230,15 +230,19 @@ int runListen(const DevicesOptions& o) {
     if (o.seconds > 0 && std::chrono::duration<double>(dev::Clock::now() - t0).count() >= o.seconds) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+  dev::DeviceStatus lastBeforeStop;
+  {
+    std::lock_guard lock(sm);
+    lastBeforeStop = last;
+  }
   driver.stop();
   const dev::DeviceStatus st = driver.status();
   std::cerr << "leafdig: " << printed << " samples; " << st.stats.records << " records decoded, " << st.stats.dropped
             << " corrupt records dropped, " << st.stats.discardedBytes << " stray bytes skipped, " << st.filtered
             << " samples withheld by the spike filter, " << st.reconnects << " reconnects\n";
   if (printed == 0 && !interrupted) {
-    std::lock_guard lock(sm);
-    std::cerr << "leafdig: no samples received. Last state: " << last.message
-              << (last.remedy.empty() ? "" : "\n  what to do: " + last.remedy) << "\n";
+    std::cerr << "leafdig: no samples received. Last state: " << lastBeforeStop.message
+              << (lastBeforeStop.remedy.empty() ? "" : "\n  what to do: " + lastBeforeStop.remedy) << "\n";
     return 1;
   }
   return 0;

@@ -176,7 +176,6 @@ class Emulator {
   std::mt19937_64 rng_;
   double stalledUntil_ = -1;
   double start_ = 0;
-  std::uint64_t recordIndex_ = 0;
 };
 
 [[nodiscard]] std::unique_ptr<Emulator> makeFastrak(VirtualStylus stylus, EmulatorOptions options);

@@ -1,0 +1,101 @@
+// The command-line test fixture: runs `leafdig` as a user would (shell, files, exit codes).
+#pragma once
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Result {
+  int exitCode;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("leafdig-cli-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result run(const std::string& commandLine) {
+    const fs::path out = dir_ / "stdout.txt";
+    const fs::path err = dir_ / "stderr.txt";
+    const std::string cmd = commandLine + " >" + quote(out) + " 2>" + quote(err);
+    const int status = std::system(cmd.c_str());
+    const Result r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+  }
+
+  Result leafdig(const std::string& args) { return run(quote(LEAFDIG_CLI) + " " + args); }
+
+  static std::string sample(const std::string& name) {
+    return std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/" + name;
+  }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+  json sampleJson() { return json::parse(slurp(sample("lower-leaf-n10.markers.json"))); }
+
+  // Runs `model build` on a bad file and checks it fails with exit code 2, a message that
+  // names `where` and `what`, and writes nothing.
+  void expectBadInput(const std::string& text, const std::string& where, const std::string& what) {
+    const fs::path in = write("bad.markers.json", text);
+    const fs::path out = dir_ / "out.glb";
+    const fs::path model = dir_ / "out.model.json";
+    const Result r = leafdig("model build " + quote(in) + " -o " + quote(out) + " --model-json " +
+                             quote(model));
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find(where), std::string::npos) << "message should name \"" << where
+                                                    << "\": " << r.err;
+    EXPECT_NE(r.err.find(what), std::string::npos) << "message should say \"" << what
+                                                   << "\": " << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(model));
+    std::size_t files = 0;
+    for (const auto& e : fs::directory_iterator(dir_)) files += e.path().filename() != "bad.markers.json";
+    EXPECT_EQ(files, 0u) << "nothing may be written on bad input";
+  }
+
+  fs::path dir_;
+};
+
+}  // namespace
