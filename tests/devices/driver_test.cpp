@@ -43,6 +43,8 @@ struct DigitizerCase {
   double toleranceMm;
 };
 
+void PrintTo(const DigitizerCase& c, std::ostream* os) { *os << c.name; }
+
 class DigitizerAgainstEmulator : public ::testing::TestWithParam<DigitizerCase> {};
 
 TEST_P(DigitizerAgainstEmulator, DeliversEveryRecordWithButtonPresses) {

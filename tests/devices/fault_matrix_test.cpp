@@ -23,6 +23,8 @@ struct FaultCase {
   bool binary;
 };
 
+void PrintTo(const FaultCase& c, std::ostream* os) { *os << c.name; }
+
 class FaultMatrix : public ::testing::TestWithParam<FaultCase> {};
 
 TEST_P(FaultMatrix, NoCorruptSampleAndTheLinkRecovers) {
