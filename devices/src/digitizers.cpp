@@ -41,6 +41,16 @@ const char* bitMeaning(char c) {
   }
 }
 
+const char* bitRemedy(char c) {
+  switch (c) {
+    case 'j': return "keep the stylus at least 10 cm from the source; points taken now are flagged";
+    case 'k': return "bring the leaf closer to the source (FASTRAK: within about 75 cm)";
+    case 'x': return "keep the stylus inside the tracked volume";
+    case 'y': return "hold the stylus less steeply";
+    default: return "check for metal near the source and receiver; power-cycle the tracker if it persists";
+  }
+}
+
 // Common state of the serial digitizer links.
 class SerialDigitizer : public DeviceLink {
  public:
@@ -55,10 +65,17 @@ class SerialDigitizer : public DeviceLink {
     }
     port_.reset();
   }
+  // A bad status stays reported for a second after the last record that carried it, so the
+  // operator sees a steady warning rather than a flicker.
   std::string warning() const override {
-    if (!lastStatus_.empty() && lastStatus_ != "ok")
-      return name() + " status '" + lastStatus_ + "': " + (lastStatus_.size() == 1 ? bitMeaning(lastStatus_[0]) : "device warning");
+    if (!badStatus_.empty() && Clock::now() - badStatusAt_ < std::chrono::seconds(1))
+      return name() + " status '" + badStatus_ + "': " + (badStatus_.size() == 1 ? bitMeaning(badStatus_[0]) : "device warning");
     return baudNote_;
+  }
+  std::string warningRemedy() const override {
+    if (!badStatus_.empty() && Clock::now() - badStatusAt_ < std::chrono::seconds(1))
+      return badStatus_.size() == 1 ? bitRemedy(badStatus_[0]) : bitRemedy('?');
+    return baudNote_.empty() ? std::string() : "set the rate in the station's settings or with --baud";
   }
 
  protected:
@@ -86,7 +103,10 @@ class SerialDigitizer : public DeviceLink {
   }
   void noteStatus(const std::vector<DeviceEvent>& out, std::size_t from) {
     for (std::size_t i = from; i < out.size(); ++i)
-      if (auto* s = std::get_if<StylusSample>(&out[i])) lastStatus_ = s->status;
+      if (auto* s = std::get_if<StylusSample>(&out[i]); s && s->status != "ok") {
+        badStatus_ = s->status;
+        badStatusAt_ = s->t;
+      }
   }
   template <class DecodeFn>
   void pumpStream(std::chrono::milliseconds timeout, std::vector<DeviceEvent>& out, DecodeFn decode) {
@@ -106,7 +126,8 @@ class SerialDigitizer : public DeviceLink {
   DigitizerConfig cfg_;
   detail::PortOpener open_;
   std::unique_ptr<SerialPort> port_;
-  std::string lastStatus_, baudNote_;
+  std::string badStatus_, baudNote_;
+  Clock::time_point badStatusAt_{};
   std::vector<StylusSample> samples_;
 };
 
@@ -116,7 +137,7 @@ class FastrakLink final : public SerialDigitizer {
   using SerialDigitizer::SerialDigitizer;
   std::string name() const override { return "FASTRAK"; }
   void open() override {
-    lastStatus_.clear();
+    badStatus_.clear();
     openProbing(defaultSettings(DigitizerKind::Fastrak), "FASTRAK",
                 "check the baud rate (rear-panel I/O switches), the null-modem cable, that the "
                 "system is on and finished its self-test, and that it is a FASTRAK (else try "
@@ -177,7 +198,7 @@ class PolhemusLink final : public SerialDigitizer {
   PolhemusLink(DigitizerConfig c, polhemus::Model m) : SerialDigitizer(std::move(c)), model_(m) {}
   std::string name() const override { return model_ == polhemus::Model::Patriot ? "Patriot" : "Liberty"; }
   void open() override {
-    lastStatus_.clear();
+    badStatus_.clear();
     const std::string me = name();
     const std::string other = model_ == polhemus::Model::Patriot ? "Liberty" : "Patriot";
     std::string who;

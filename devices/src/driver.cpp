@@ -185,7 +185,7 @@ void Driver::run() {
       }
       if (warning != lastWarning) {
         lastWarning = warning;
-        if (!warning.empty()) setState(LinkState::Warning, warning, "see docs/devices.md, 'Status codes'");
+        if (!warning.empty()) setState(LinkState::Warning, warning, link_->warningRemedy());
         else setState(LinkState::Streaming, link_->name() + " streaming on " + link_->where());
       }
       if (link_->streams() && now - lastEvent_ > link_->stallTimeout()) {

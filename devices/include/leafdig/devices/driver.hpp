@@ -61,6 +61,7 @@ class DeviceLink {
   [[nodiscard]] virtual std::chrono::milliseconds stallTimeout() const { return std::chrono::milliseconds(1000); }
   // The latest device-side warning (status letter, gauge error), empty when none.
   [[nodiscard]] virtual std::string warning() const { return {}; }
+  [[nodiscard]] virtual std::string warningRemedy() const { return {}; }  // what to do about it
 };
 
 // Withholds stylus samples that cannot be right: a sample further than `spikeMm` from the
