@@ -419,7 +419,31 @@ class MitutoyoEmulator final : public GaugeEmulator {
   std::string format(double mm) override { return calipers::encodeMitutoyo(mm, 3); }
 };
 
+// U-WAVE-R receiver: measurement lines arrive when a transmitter's DATA is pressed; the
+// info dialogue answers IR requests (research/calipers.md §1.3).
+class UWaveEmulator final : public GaugeEmulator {
+ public:
+  UWaveEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) : GaugeEmulator(std::move(c), o) {
+    pressEvery_ = o.pressEveryS;
+    nextPress_ = o.pressEveryS;
+  }
+  ~UWaveEmulator() override { stop(); }
+  std::string kind() const override { return "uwave"; }
+
+ protected:
+  void powerOn() override { line_.clear(); }
+  void command(const std::string& l) override {
+    if (l.rfind("IR1", 0) == 0) sendReply("RI1" + l.substr(3) + "00\r");
+    else sendReply("ST1000051\r");
+  }
+  std::string format(double mm) override { return calipers::encodeUWave(mm, "mm"); }
+};
+
 }  // namespace
+
+std::unique_ptr<Emulator> makeUWave(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) {
+  return std::make_unique<UWaveEmulator>(std::move(c), std::move(o));
+}
 
 std::unique_ptr<Emulator> makeFastrak(VirtualStylus s, EmulatorOptions o) {
   return std::make_unique<FastrakEmulator>(std::move(s), std::move(o));

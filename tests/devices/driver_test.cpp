@@ -324,6 +324,40 @@ TEST(MitutoyoAscii, DataButtonPressesArriveUnasked) {
   }
 }
 
+TEST(UWave, TransmitterPressesArriveThroughTheReceiver) {
+  auto cal = caliper();
+  dev::sim::EmulatorOptions eo;
+  eo.pressEveryS = 0.05;
+  auto emu = dev::sim::makeUWave(cal, eo);
+  emu->start();
+  dev::CaliperConfig cfg;
+  cfg.kind = dev::CaliperKind::UWave;
+  cfg.port = emu->path();
+  Collector col;
+  dev::Driver driver(dev::makeCaliperLink(cfg), col.callbacks());
+  driver.start();
+  ASSERT_TRUE(col.waitFor([](Collector& k) { return k.caliper.size() >= 4; })) << col.statusLog();
+  driver.stop();
+  emu->stop();
+  std::lock_guard lock(col.mutex);
+  const auto sent = emu->sentRecords();
+  for (const auto& r : col.caliper) {
+    bool found = false;
+    for (const auto& s : sent) found |= s.original == r.raw && std::abs(s.truthMm[0] - r.valueMm) < 0.006;
+    EXPECT_TRUE(found) << r.raw;
+  }
+}
+
+TEST(DeviceErrors, PermissionProblemsSayHowToGetAccess) {
+  const auto e = dev::errorFromErrno(EACCES, "cannot open", "/dev/ttyUSB0");
+  EXPECT_EQ(e.kind(), dev::DeviceErrorKind::Permission);
+  EXPECT_NE(std::string(e.what()).find("/dev/ttyUSB0"), std::string::npos);
+  EXPECT_NE(e.remedy().find("udev rule"), std::string::npos);
+  EXPECT_NE(e.remedy().find("dialout"), std::string::npos);
+  EXPECT_EQ(dev::errorFromErrno(EBUSY, "cannot open", "/dev/ttyUSB0").kind(), dev::DeviceErrorKind::Busy);
+  EXPECT_EQ(dev::errorFromErrno(ENOENT, "cannot open", "/dev/ttyUSB0").kind(), dev::DeviceErrorKind::NotFound);
+}
+
 class HidProxy final : public dev::HidDevice {
  public:
   explicit HidProxy(std::shared_ptr<dev::MemoryHidDevice> d) : d_(std::move(d)) {}

@@ -291,8 +291,9 @@ int runSim(const DevicesOptions& o) {
   else if (o.simKind == "microscribe") emu = dev::sim::makeMicroScribe(stylus, eo);
   else if (o.simKind == "sylvac") emu = dev::sim::makeSylvac(caliper, eo);
   else if (o.simKind == "mitutoyo") emu = dev::sim::makeMitutoyo(caliper, eo);
+  else if (o.simKind == "uwave") emu = dev::sim::makeUWave(caliper, eo);
   else {
-    std::cerr << "leafdig: unknown simulator '" << o.simKind << "': use fastrak, patriot, liberty, microscribe, sylvac or mitutoyo\n";
+    std::cerr << "leafdig: unknown simulator '" << o.simKind << "': use fastrak, patriot, liberty, microscribe, sylvac, mitutoyo or uwave\n";
     return 2;
   }
   try {
@@ -365,7 +366,7 @@ void addDevicesCommands(CLI::App& app, DevicesOptions& o) {
   listen->add_flag("--json", o.json, "JSON lines (SPEC §5)");
 
   CLI::App* sim = app.add_subcommand("sim", "Run a simulated device on a pseudo-terminal");
-  sim->add_option("device", o.simKind, "fastrak, patriot, liberty, microscribe, sylvac or mitutoyo")->required();
+  sim->add_option("device", o.simKind, "fastrak, patriot, liberty, microscribe, sylvac, mitutoyo or uwave")->required();
   sim->add_option("--markers", o.markers, "leafdig.markers/1 file the virtual stylus and caliper walk")->required();
   sim->add_option("--faults", o.faults,
                   "Fault script, e.g. garbage=0.01,bitflip=0.005,truncate=0.01,stall=0.002:1.5,reset=0.001,"

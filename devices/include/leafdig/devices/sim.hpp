@@ -186,6 +186,7 @@ class Emulator {
 [[nodiscard]] std::unique_ptr<Emulator> makeMicroScribe(VirtualStylus stylus, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeSylvac(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeMitutoyo(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makeUWave(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);
 constexpr Vec3 kMicroScribeLeafOffset{380.0, 0.0, 0.0};
 
 // ---- HID and USB back ends ----------------------------------------------------------------
