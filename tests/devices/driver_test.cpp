@@ -87,6 +87,8 @@ INSTANTIATE_TEST_SUITE_P(Devices, DigitizerAgainstEmulator,
                          ::testing::Values(DigitizerCase{"FastrakAscii", dev::DigitizerKind::Fastrak, false, 0.087},
                                            DigitizerCase{"FastrakBinary", dev::DigitizerKind::Fastrak, true, 1e-3},
                                            DigitizerCase{"PatriotAscii", dev::DigitizerKind::Patriot, false, 0.0087},
+                                           DigitizerCase{"PatriotBinary", dev::DigitizerKind::Patriot, true, 1e-3},
+                                           DigitizerCase{"LibertyAscii", dev::DigitizerKind::Liberty, false, 0.0087},
                                            DigitizerCase{"LibertyBinary", dev::DigitizerKind::Liberty, true, 1e-3},
                                            DigitizerCase{"MicroScribe", dev::DigitizerKind::MicroScribe, false, 1e-5}),
                          [](const auto& info) { return std::string(info.param.name); });
