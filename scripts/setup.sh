@@ -4,7 +4,8 @@
 #
 # Debian packages: build tools (cmake, ninja-build, g++, ccache), libraries (libeigen3-dev,
 # nlohmann-json3-dev, libcli11-dev, libtinygltf-dev, libgtest-dev, libgmock-dev,
-# libbenchmark-dev, libsqlite3-dev, libserialport-dev, libhidapi-dev, libusb-1.0-0-dev),
+# libbenchmark-dev, libsqlite3-dev, libsqlitecpp-dev, libssl-dev, libserialport-dev,
+# libhidapi-dev, libusb-1.0-0-dev),
 # clang + libclang-rt-14-dev (libFuzzer targets), checkers used by the tests (assimp-utils,
 # nodejs, npm). npm: the Khronos glTF validator and Ajv (JSON Schema), pinned by tests/tools/package-lock.json.
 set -euo pipefail
@@ -13,7 +14,8 @@ preset=${1:-release}
 
 packages=(cmake ninja-build g++ ccache pkg-config libeigen3-dev nlohmann-json3-dev libcli11-dev
           libtinygltf-dev libgtest-dev libgmock-dev libbenchmark-dev libsqlite3-dev assimp-utils
-          libserialport-dev libhidapi-dev libusb-1.0-0-dev clang libclang-rt-14-dev)
+          libserialport-dev libhidapi-dev libusb-1.0-0-dev clang libclang-rt-14-dev
+          libsqlitecpp-dev libssl-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

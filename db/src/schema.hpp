@@ -1,0 +1,106 @@
+// Schema migrations (private). Migration N takes a database from user_version N-1 to N.
+// docs/schema.md documents the result for people who open the file in other tools.
+#pragma once
+
+#include <array>
+
+namespace leafdig::db::detail {
+
+inline constexpr std::array<const char*, 1> kMigrations = {
+    // ---- 1: the entities of SPEC §4 ----------------------------------------------------
+    R"SQL(
+CREATE TABLE operators (
+  id      INTEGER PRIMARY KEY,
+  name    TEXT NOT NULL UNIQUE,
+  role    TEXT NOT NULL CHECK (role IN ('technician', 'curator'))
+);
+CREATE TABLE projects (
+  id      INTEGER PRIMARY KEY,
+  name    TEXT NOT NULL UNIQUE
+);
+CREATE TABLE plants (
+  id         INTEGER PRIMARY KEY,
+  project_id INTEGER NOT NULL REFERENCES projects(id),
+  name       TEXT NOT NULL,
+  UNIQUE (project_id, name)
+);
+CREATE TABLE leaves (
+  id                INTEGER PRIMARY KEY,
+  plant_id          INTEGER NOT NULL REFERENCES plants(id),
+  position          INTEGER NOT NULL CHECK (position >= 1),
+  type              TEXT NOT NULL DEFAULT '',
+  measured_area_mm2 REAL CHECK (measured_area_mm2 IS NULL OR measured_area_mm2 > 0),
+  UNIQUE (plant_id, position)
+);
+CREATE TABLE devices (
+  id          INTEGER PRIMARY KEY,
+  kind        TEXT NOT NULL,
+  port        TEXT NOT NULL,
+  description TEXT NOT NULL DEFAULT '',
+  UNIQUE (kind, port)
+);
+CREATE TABLE sessions (
+  id            INTEGER PRIMARY KEY,
+  leaf_id       INTEGER NOT NULL REFERENCES leaves(id),
+  operator_id   INTEGER NOT NULL REFERENCES operators(id),
+  station       TEXT NOT NULL,
+  status        TEXT NOT NULL DEFAULT 'open'
+                CHECK (status IN ('open', 'complete', 'approved', 'rejected', 'abandoned')),
+  mode          TEXT NOT NULL CHECK (mode IN ('standard', 'full', 'small')),
+  capture_order TEXT NOT NULL CHECK (capture_order IN ('sequential', 'interleaved')),
+  settings_json TEXT NOT NULL DEFAULT '{}',
+  created_utc   TEXT NOT NULL,
+  genesis_hash  TEXT NOT NULL,
+  head_seq      INTEGER NOT NULL DEFAULT 0,
+  head_hash     TEXT NOT NULL
+);
+CREATE TABLE events (
+  session_id   INTEGER NOT NULL REFERENCES sessions(id),
+  seq          INTEGER NOT NULL CHECK (seq >= 1),
+  utc          TEXT NOT NULL,
+  mono_ns      INTEGER NOT NULL,
+  kind         TEXT NOT NULL,
+  payload_json TEXT NOT NULL,
+  raw          TEXT NOT NULL DEFAULT '',
+  prev_hash    TEXT NOT NULL,
+  hash         TEXT NOT NULL,
+  PRIMARY KEY (session_id, seq)
+) WITHOUT ROWID;
+CREATE TRIGGER events_no_update BEFORE UPDATE ON events
+  BEGIN SELECT RAISE(ABORT, 'events are append-only: record a correction event instead'); END;
+CREATE TRIGGER events_no_delete BEFORE DELETE ON events
+  BEGIN SELECT RAISE(ABORT, 'events are append-only: record a correction event instead'); END;
+CREATE TABLE markers (
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  seq        INTEGER NOT NULL,
+  what       TEXT NOT NULL,
+  row        INTEGER,
+  col        INTEGER,
+  x_mm REAL NOT NULL, y_mm REAL NOT NULL, z_mm REAL NOT NULL,
+  PRIMARY KEY (session_id, seq),
+  FOREIGN KEY (session_id, seq) REFERENCES events(session_id, seq)
+);
+CREATE TABLE thickness_readings (
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  seq        INTEGER NOT NULL,
+  what       TEXT NOT NULL,
+  row        INTEGER,
+  col        INTEGER,
+  value_mm   REAL NOT NULL CHECK (value_mm > 0),
+  raw        TEXT NOT NULL DEFAULT '',
+  PRIMARY KEY (session_id, seq),
+  FOREIGN KEY (session_id, seq) REFERENCES events(session_id, seq)
+);
+CREATE TABLE exports (
+  id         INTEGER PRIMARY KEY,
+  session_id INTEGER NOT NULL REFERENCES sessions(id),
+  path       TEXT NOT NULL,
+  format     TEXT NOT NULL,
+  utc        TEXT NOT NULL
+);
+CREATE INDEX sessions_by_leaf ON sessions(leaf_id);
+CREATE INDEX leaves_by_plant ON leaves(plant_id);
+)SQL",
+};
+
+}  // namespace leafdig::db::detail

@@ -1,0 +1,520 @@
+#include "leafdig/db/store.hpp"
+
+#include <openssl/evp.h>
+#include <sqlite3.h>
+
+#include <SQLiteCpp/SQLiteCpp.h>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+
+#include "schema.hpp"
+
+namespace leafdig::db {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string utcNow() {
+  const auto now = std::chrono::system_clock::now();
+  const std::time_t t = std::chrono::system_clock::to_time_t(now);
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
+  std::tm tm{};
+  ::gmtime_r(&t, &tm);
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%03lldZ", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<long long>(ms));
+  return buf;
+}
+
+// Maps SQLite failures to what an operator can act on.
+[[noreturn]] void rethrow(const SQLite::Exception& e, const std::string& path, const std::string& doing) {
+  const int code = e.getErrorCode() & 0xff;
+  const std::string what = doing + " " + path + ": " + e.what();
+  switch (code) {
+    case SQLITE_FULL:
+      throw StoreError(StoreErrorKind::DiskFull, what,
+                       "the disk holding " + path + " is full: free some space; nothing acknowledged was lost and "
+                       "capture continues when space returns");
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+      throw StoreError(StoreErrorKind::Busy, what, "another program is writing to the database; try again in a moment");
+    case SQLITE_NOTADB:
+      throw StoreError(StoreErrorKind::NotLeafdig, what, "this file is not a SQLite database; give a leafdig database path");
+    case SQLITE_CORRUPT:
+      throw StoreError(StoreErrorKind::Corrupt, what,
+                       "the database is damaged; it was not modified. Restore it from a backup, or give another --db path");
+    case SQLITE_CONSTRAINT:
+      throw StoreError(StoreErrorKind::Input, what, "the change breaks a rule of the database (see docs/schema.md)");
+    default:
+      throw StoreError(StoreErrorKind::Io, what, "check that the folder exists and is writable");
+  }
+}
+
+std::string chainInput(const std::string& prev, std::int64_t session, std::int64_t seq, const std::string& utc,
+                       std::int64_t mono, const std::string& kind, const std::string& payload, const std::string& raw) {
+  std::string s = prev;
+  s += '\n' + std::to_string(session) + '\n' + std::to_string(seq) + '\n' + utc + '\n' + std::to_string(mono) + '\n' +
+       kind + '\n' + std::to_string(payload.size()) + ':' + payload + '\n' + std::to_string(raw.size()) + ':' + raw;
+  return s;
+}
+
+}  // namespace
+
+std::string sha256Hex(const std::string& data) {
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned int n = 0;
+  EVP_Digest(data.data(), data.size(), md, &n, EVP_sha256(), nullptr);
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (unsigned int i = 0; i < n; ++i) {
+    out += hex[md[i] >> 4];
+    out += hex[md[i] & 15];
+  }
+  return out;
+}
+
+struct Store::Impl {
+  std::unique_ptr<SQLite::Database> db;
+};
+
+std::string Store::defaultPath() {
+  const char* xdg = std::getenv("XDG_DATA_HOME");
+  const char* home = std::getenv("HOME");
+  const fs::path base = (xdg && *xdg) ? fs::path(xdg) : fs::path(home ? home : ".") / ".local/share";
+  return (base / "leafdig" / "station.sqlite").string();
+}
+
+Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Impl>()), path_(path) {
+  std::error_code ec;
+  const bool exists = fs::exists(path, ec) && fs::file_size(path, ec) > 0;
+  try {
+    if (exists) {
+      // Look before touching: a foreign, damaged or newer file is refused unmodified.
+      SQLite::Database probe(path, SQLite::OPEN_READONLY);
+      const int appId = probe.execAndGet("PRAGMA application_id").getInt();
+      const int version = probe.execAndGet("PRAGMA user_version").getInt();
+      const int tables = probe.execAndGet("SELECT count(*) FROM sqlite_master").getInt();
+      if (appId != kApplicationId && tables > 0)
+        throw StoreError(StoreErrorKind::NotLeafdig, path + " is a SQLite database, but not a leafdig one",
+                         "give the path of a leafdig database, or a new file name to start one; this file was not modified");
+      if (version > kSchemaVersion)
+        throw StoreError(StoreErrorKind::TooNew,
+                         path + " was written by a newer leafdig (schema " + std::to_string(version) +
+                             "; this program knows up to " + std::to_string(kSchemaVersion) + ")",
+                         "install a newer leafdig to open it; the file was not modified");
+      const std::string check = probe.execAndGet("PRAGMA quick_check").getString();
+      if (check != "ok")
+        throw StoreError(StoreErrorKind::Corrupt, path + " is damaged (" + check + ")",
+                         "restore it from a backup; the file was not modified");
+    } else if (readOnly) {
+      throw StoreError(StoreErrorKind::Io, "no database at " + path, "check the --db path");
+    } else if (const fs::path dir = fs::path(path).parent_path(); !dir.empty()) {
+      fs::create_directories(dir, ec);
+    }
+    impl_->db = std::make_unique<SQLite::Database>(
+        path, readOnly ? SQLite::OPEN_READONLY : (SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE), 5000);
+    if (!readOnly) {
+      impl_->db->exec("PRAGMA journal_mode=WAL");
+      impl_->db->exec("PRAGMA synchronous=FULL");
+    }
+    impl_->db->exec("PRAGMA foreign_keys=ON");
+    if (!readOnly) {
+      int version = impl_->db->execAndGet("PRAGMA user_version").getInt();
+      for (; version < kSchemaVersion; ++version) {
+        SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
+        impl_->db->exec(detail::kMigrations[static_cast<std::size_t>(version)]);
+        impl_->db->exec("PRAGMA user_version=" + std::to_string(version + 1));
+        impl_->db->exec("PRAGMA application_id=" + std::to_string(kApplicationId));
+        tx.commit();
+      }
+    }
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path, "cannot open");
+  }
+}
+
+Store::~Store() = default;
+
+int Store::schemaVersion() const { return impl_->db->execAndGet("PRAGMA user_version").getInt(); }
+
+namespace {
+std::int64_t upsertId(SQLite::Database& db, const std::string& select, const std::string& insert,
+                      const std::vector<std::string>& args) {
+  SQLite::Statement q(db, select);
+  for (int i = 0; i < q.getBindParameterCount(); ++i) q.bind(i + 1, args[static_cast<std::size_t>(i)]);
+  if (q.executeStep()) return q.getColumn(0).getInt64();
+  SQLite::Statement ins(db, insert);
+  for (std::size_t i = 0; i < args.size(); ++i) ins.bind(static_cast<int>(i + 1), args[i]);
+  ins.exec();
+  return db.getLastInsertRowid();
+}
+}  // namespace
+
+std::int64_t Store::ensureOperator(const std::string& name, const std::string& role) {
+  try {
+    const auto id = upsertId(*impl_->db, "SELECT id FROM operators WHERE name=?1", "INSERT INTO operators(name, role) VALUES (?1, ?2)",
+                             {name, role});
+    return id;
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot record operator '" + name + "' in");
+  }
+}
+
+std::int64_t Store::ensureProject(const std::string& name) {
+  try {
+    return upsertId(*impl_->db, "SELECT id FROM projects WHERE name=?1", "INSERT INTO projects(name) VALUES (?1)", {name});
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot record project in");
+  }
+}
+
+std::int64_t Store::ensurePlant(std::int64_t projectId, const std::string& name) {
+  try {
+    return upsertId(*impl_->db, "SELECT id FROM plants WHERE project_id=?1 AND name=?2",
+                    "INSERT INTO plants(project_id, name) VALUES (?1, ?2)", {std::to_string(projectId), name});
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot record plant in");
+  }
+}
+
+std::int64_t Store::ensureLeaf(std::int64_t plantId, int position, const std::string& type,
+                               std::optional<double> area) {
+  try {
+    SQLite::Statement q(*impl_->db, "SELECT id FROM leaves WHERE plant_id=?1 AND position=?2");
+    q.bind(1, plantId);
+    q.bind(2, position);
+    if (q.executeStep()) return q.getColumn(0).getInt64();
+    SQLite::Statement ins(*impl_->db, "INSERT INTO leaves(plant_id, position, type, measured_area_mm2) VALUES (?1, ?2, ?3, ?4)");
+    ins.bind(1, plantId);
+    ins.bind(2, position);
+    ins.bind(3, type);
+    if (area) ins.bind(4, *area);
+    else ins.bind(4);
+    ins.exec();
+    return impl_->db->getLastInsertRowid();
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot record leaf in");
+  }
+}
+
+std::int64_t Store::ensureDevice(const std::string& kind, const std::string& port, const std::string& description) {
+  try {
+    return upsertId(*impl_->db, "SELECT id FROM devices WHERE kind=?1 AND port=?2",
+                    "INSERT INTO devices(kind, port, description) VALUES (?1, ?2, ?3)", {kind, port, description});
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot record device in");
+  }
+}
+
+std::int64_t Store::createSession(std::int64_t leafId, std::int64_t operatorId, const std::string& station,
+                                  const std::string& mode, const std::string& order, const std::string& settingsJson) {
+  try {
+    SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
+    const std::string created = utcNow();
+    SQLite::Statement ins(*impl_->db,
+                          "INSERT INTO sessions(leaf_id, operator_id, station, mode, capture_order, settings_json, "
+                          "created_utc, genesis_hash, head_hash) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, '', '')");
+    ins.bind(1, leafId);
+    ins.bind(2, operatorId);
+    ins.bind(3, station);
+    ins.bind(4, mode);
+    ins.bind(5, order);
+    ins.bind(6, settingsJson);
+    ins.bind(7, created);
+    ins.exec();
+    const std::int64_t id = impl_->db->getLastInsertRowid();
+    const std::string genesis = sha256Hex("leafdig session " + std::to_string(id) + " " + created + " " + settingsJson);
+    SQLite::Statement up(*impl_->db, "UPDATE sessions SET genesis_hash=?1, head_hash=?1 WHERE id=?2");
+    up.bind(1, genesis);
+    up.bind(2, id);
+    up.exec();
+    tx.commit();
+    return id;
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot create a session in");
+  }
+}
+
+std::int64_t Store::append(std::int64_t session, const EventInput& ev) {
+  try {
+    SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
+    SQLite::Statement head(*impl_->db, "SELECT head_seq, head_hash FROM sessions WHERE id=?1");
+    head.bind(1, session);
+    if (!head.executeStep())
+      throw StoreError(StoreErrorKind::Input, "no session " + std::to_string(session) + " in " + path_,
+                       "'leafdig sessions list' shows the sessions");
+    const std::int64_t seq = head.getColumn(0).getInt64() + 1;
+    const std::string prev = head.getColumn(1).getString();
+    const std::string utc = utcNow();
+    const std::string hash = sha256Hex(chainInput(prev, session, seq, utc, ev.monoNs, ev.kind, ev.payloadJson, ev.raw));
+    SQLite::Statement ins(*impl_->db,
+                          "INSERT INTO events(session_id, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+                          "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)");
+    ins.bind(1, session);
+    ins.bind(2, seq);
+    ins.bind(3, utc);
+    ins.bind(4, ev.monoNs);
+    ins.bind(5, ev.kind);
+    ins.bind(6, ev.payloadJson);
+    ins.bind(7, ev.raw);
+    ins.bind(8, prev);
+    ins.bind(9, hash);
+    ins.exec();
+    if (ev.projection) {
+      const Projection& p = *ev.projection;
+      const bool marker = p.kind == Projection::Kind::Marker;
+      SQLite::Statement pr(*impl_->db, marker ? "INSERT INTO markers(session_id, seq, what, row, col, x_mm, y_mm, z_mm) "
+                                                "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"
+                                              : "INSERT INTO thickness_readings(session_id, seq, what, row, col, value_mm, raw) "
+                                                "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
+      pr.bind(1, session);
+      pr.bind(2, seq);
+      pr.bind(3, p.what);
+      if (p.row) pr.bind(4, *p.row);
+      else pr.bind(4);
+      if (p.col) pr.bind(5, *p.col);
+      else pr.bind(5);
+      if (marker) {
+        pr.bind(6, p.positionMm[0]);
+        pr.bind(7, p.positionMm[1]);
+        pr.bind(8, p.positionMm[2]);
+      } else {
+        pr.bind(6, p.valueMm);
+        pr.bind(7, p.raw);
+      }
+      pr.exec();
+    }
+    if (ev.retracts) {
+      for (const char* sql : {"DELETE FROM markers WHERE session_id=?1 AND seq=?2",
+                              "DELETE FROM thickness_readings WHERE session_id=?1 AND seq=?2"}) {
+        SQLite::Statement del(*impl_->db, sql);
+        del.bind(1, session);
+        del.bind(2, *ev.retracts);
+        del.exec();
+      }
+    }
+    SQLite::Statement up(*impl_->db, "UPDATE sessions SET head_seq=?1, head_hash=?2 WHERE id=?3");
+    up.bind(1, seq);
+    up.bind(2, hash);
+    up.bind(3, session);
+    up.exec();
+    tx.commit();  // synchronous=FULL: durable when this returns
+    return seq;
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot record an event in");
+  }
+}
+
+std::int64_t Store::setStatus(std::int64_t session, const std::string& status, const std::string& who,
+                              const std::string& why) {
+  static const char* const kAllowed[] = {"open", "complete", "approved", "rejected", "abandoned"};
+  if (std::find(std::begin(kAllowed), std::end(kAllowed), status) == std::end(kAllowed))
+    throw StoreError(StoreErrorKind::Input, "unknown session status '" + status + "'",
+                     "use open, complete, approved, rejected or abandoned");
+  std::string payload = "{\"status\":\"" + status + "\",\"who\":" + "\"" + who + "\",\"why\":\"";
+  for (char c : why) {
+    if (c == '"' || c == '\\') payload += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) payload += c;
+  }
+  payload += "\"}";
+  EventInput ev;
+  ev.kind = "status";
+  ev.payloadJson = payload;
+  const std::int64_t seq = append(session, ev);
+  try {
+    SQLite::Statement up(*impl_->db, "UPDATE sessions SET status=?1 WHERE id=?2");
+    up.bind(1, status);
+    up.bind(2, session);
+    up.exec();
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot change the session status in");
+  }
+  return seq;
+}
+
+std::vector<Event> Store::events(std::int64_t session, std::int64_t fromSeq) const {
+  std::vector<Event> out;
+  try {
+    SQLite::Statement q(*impl_->db,
+                        "SELECT seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash FROM events "
+                        "WHERE session_id=?1 AND seq>=?2 ORDER BY seq");
+    q.bind(1, session);
+    q.bind(2, fromSeq);
+    while (q.executeStep()) {
+      Event e;
+      e.session = session;
+      e.seq = q.getColumn(0).getInt64();
+      e.utc = q.getColumn(1).getString();
+      e.monoNs = q.getColumn(2).getInt64();
+      e.kind = q.getColumn(3).getString();
+      e.payloadJson = q.getColumn(4).getString();
+      e.raw = q.getColumn(5).getString();
+      e.prevHash = q.getColumn(6).getString();
+      e.hash = q.getColumn(7).getString();
+      out.push_back(std::move(e));
+    }
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot read events from");
+  }
+  return out;
+}
+
+std::vector<MarkerRow> Store::markers(std::int64_t session) const {
+  std::vector<MarkerRow> out;
+  try {
+    SQLite::Statement q(*impl_->db, "SELECT seq, what, row, col, x_mm, y_mm, z_mm FROM markers WHERE session_id=?1 ORDER BY seq");
+    q.bind(1, session);
+    while (q.executeStep()) {
+      MarkerRow m;
+      m.seq = q.getColumn(0).getInt64();
+      m.what = q.getColumn(1).getString();
+      if (!q.getColumn(2).isNull()) m.row = q.getColumn(2).getInt();
+      if (!q.getColumn(3).isNull()) m.col = q.getColumn(3).getInt();
+      m.positionMm = {q.getColumn(4).getDouble(), q.getColumn(5).getDouble(), q.getColumn(6).getDouble()};
+      out.push_back(m);
+    }
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot read markers from");
+  }
+  return out;
+}
+
+std::vector<ThicknessRow> Store::thickness(std::int64_t session) const {
+  std::vector<ThicknessRow> out;
+  try {
+    SQLite::Statement q(*impl_->db,
+                        "SELECT seq, what, row, col, value_mm, raw FROM thickness_readings WHERE session_id=?1 ORDER BY seq");
+    q.bind(1, session);
+    while (q.executeStep()) {
+      ThicknessRow t;
+      t.seq = q.getColumn(0).getInt64();
+      t.what = q.getColumn(1).getString();
+      if (!q.getColumn(2).isNull()) t.row = q.getColumn(2).getInt();
+      if (!q.getColumn(3).isNull()) t.col = q.getColumn(3).getInt();
+      t.valueMm = q.getColumn(4).getDouble();
+      t.raw = q.getColumn(5).getString();
+      out.push_back(t);
+    }
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot read thickness readings from");
+  }
+  return out;
+}
+
+namespace {
+constexpr const char* kSessionSelect =
+    "SELECT s.id, s.leaf_id, pr.name, pl.name, l.position, o.name, s.station, s.status, s.mode, s.capture_order, "
+    "s.settings_json, s.created_utc, s.head_seq, s.head_hash FROM sessions s JOIN leaves l ON l.id = s.leaf_id "
+    "JOIN plants pl ON pl.id = l.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = s.operator_id ";
+SessionInfo readSession(SQLite::Statement& q) {
+  SessionInfo s;
+  s.id = q.getColumn(0).getInt64();
+  s.leafId = q.getColumn(1).getInt64();
+  s.project = q.getColumn(2).getString();
+  s.plant = q.getColumn(3).getString();
+  s.leafPosition = q.getColumn(4).getInt();
+  s.operatorName = q.getColumn(5).getString();
+  s.station = q.getColumn(6).getString();
+  s.status = q.getColumn(7).getString();
+  s.mode = q.getColumn(8).getString();
+  s.order = q.getColumn(9).getString();
+  s.settingsJson = q.getColumn(10).getString();
+  s.createdUtc = q.getColumn(11).getString();
+  s.headSeq = q.getColumn(12).getInt64();
+  s.headHash = q.getColumn(13).getString();
+  return s;
+}
+}  // namespace
+
+std::optional<SessionInfo> Store::session(std::int64_t id) const {
+  try {
+    SQLite::Statement q(*impl_->db, std::string(kSessionSelect) + "WHERE s.id=?1");
+    q.bind(1, id);
+    if (q.executeStep()) return readSession(q);
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot read sessions from");
+  }
+  return std::nullopt;
+}
+
+std::vector<SessionInfo> Store::sessions() const {
+  std::vector<SessionInfo> out;
+  try {
+    SQLite::Statement q(*impl_->db, std::string(kSessionSelect) + "ORDER BY s.id");
+    while (q.executeStep()) out.push_back(readSession(q));
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot read sessions from");
+  }
+  return out;
+}
+
+ChainReport Store::verify(std::int64_t session) const {
+  ChainReport r;
+  std::string genesis;
+  std::int64_t headSeq = 0;
+  std::string headHash;
+  try {
+    SQLite::Statement q(*impl_->db, "SELECT genesis_hash, head_seq, head_hash FROM sessions WHERE id=?1");
+    q.bind(1, session);
+    if (!q.executeStep()) {
+      r.ok = false;
+      r.problem = "no session " + std::to_string(session);
+      return r;
+    }
+    genesis = q.getColumn(0).getString();
+    headSeq = q.getColumn(1).getInt64();
+    headHash = q.getColumn(2).getString();
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot verify");
+  }
+  std::string prev = genesis;
+  std::int64_t expected = 1;
+  for (const Event& e : events(session)) {
+    ++r.events;
+    const auto fail = [&](const std::string& why) {
+      r.ok = false;
+      r.firstBadSeq = e.seq;
+      r.problem = why;
+    };
+    if (e.seq != expected) fail("event " + std::to_string(expected) + " is missing");
+    else if (e.prevHash != prev) fail("event " + std::to_string(e.seq) + " does not follow the previous one");
+    else if (sha256Hex(chainInput(prev, session, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw)) != e.hash)
+      fail("event " + std::to_string(e.seq) + " was changed after it was written");
+    if (!r.ok) return r;
+    prev = e.hash;
+    ++expected;
+  }
+  if (expected - 1 != headSeq || prev != headHash) {
+    r.ok = false;
+    r.firstBadSeq = expected;
+    r.problem = "the log ends at event " + std::to_string(expected - 1) + " but the session recorded " +
+                std::to_string(headSeq) + " events: events were removed";
+  }
+  return r;
+}
+
+std::int64_t Store::recordExport(std::int64_t session, const std::string& path, const std::string& format) {
+  try {
+    SQLite::Statement ins(*impl_->db, "INSERT INTO exports(session_id, path, format, utc) VALUES (?1, ?2, ?3, ?4)");
+    ins.bind(1, session);
+    ins.bind(2, path);
+    ins.bind(3, format);
+    ins.bind(4, utcNow());
+    ins.exec();
+    return impl_->db->getLastInsertRowid();
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot record an export in");
+  }
+}
+
+void Store::setMaxPages(std::int64_t pages) {
+  impl_->db->exec("PRAGMA max_page_count=" + std::to_string(pages > 0 ? pages : 4294967294LL));
+}
+
+std::int64_t Store::pageCount() const { return impl_->db->execAndGet("PRAGMA page_count").getInt64(); }
+
+}  // namespace leafdig::db

@@ -1,0 +1,270 @@
+// The SQLite store through its public interface, and the file through SQLite's own API
+// (as a person with the sqlite3 tool would tamper with it).
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "leafdig/db/store.hpp"
+
+namespace fs = std::filesystem;
+using leafdig::db::EventInput;
+using leafdig::db::Projection;
+using leafdig::db::Store;
+using leafdig::db::StoreError;
+using leafdig::db::StoreErrorKind;
+
+namespace {
+
+class StoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("leafdig-db-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    path_ = (dir_ / "station.sqlite").string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::int64_t newSession(Store& s) {
+    const auto op = s.ensureOperator("ana");
+    const auto leaf = s.ensureLeaf(s.ensurePlant(s.ensureProject("tobacco-2026"), "P07"), 5, "middle");
+    return s.createSession(leaf, op, "bench-1", "standard", "sequential", R"({"still_mm":0.5})");
+  }
+  static EventInput marker(int row, int col, double x) {
+    EventInput e;
+    e.kind = "accepted";
+    e.payloadJson = R"({"what":"marker"})";
+    e.raw = "01   1.00   2.00   3.00\\r\\n";
+    e.monoNs = 123456789;
+    e.projection = Projection{Projection::Kind::Marker, row, col, "marker", {x, 2, 3}, 0, ""};
+    return e;
+  }
+  static void sql(const std::string& path, const std::string& statement, bool expectOk = true) {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    char* err = nullptr;
+    const int rc = sqlite3_exec(db, statement.c_str(), nullptr, nullptr, &err);
+    if (expectOk) EXPECT_EQ(rc, SQLITE_OK) << (err ? err : "");
+    else EXPECT_NE(rc, SQLITE_OK);
+    sqlite3_free(err);
+    sqlite3_close(db);
+  }
+  static std::string bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  void expectRefusedUnchanged(StoreErrorKind kind, const std::string& messagePart) {
+    const std::string before = bytes(path_);
+    try {
+      Store s(path_);
+      FAIL() << "opened";
+    } catch (const StoreError& e) {
+      EXPECT_EQ(e.kind(), kind) << e.what();
+      EXPECT_NE(std::string(e.what()).find(messagePart), std::string::npos) << e.what();
+      EXPECT_NE(e.remedy().find("not modified"), std::string::npos) << e.remedy();
+    }
+    // (a read-only look at a WAL file may leave -shm/-wal beside it; the file itself is intact)
+    EXPECT_EQ(leafdig::db::sha256Hex(bytes(path_)), leafdig::db::sha256Hex(before));
+  }
+
+  fs::path dir_;
+  std::string path_;
+};
+
+TEST_F(StoreTest, CreatesAVersionedWalDatabase) {
+  {
+    Store s(path_);
+    EXPECT_EQ(s.schemaVersion(), leafdig::db::kSchemaVersion);
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path_.c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  sqlite3_prepare_v2(db, "PRAGMA journal_mode", -1, &st, nullptr);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+  EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)), "wal");
+  sqlite3_finalize(st);
+  sqlite3_prepare_v2(db, "PRAGMA application_id", -1, &st, nullptr);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+  EXPECT_EQ(sqlite3_column_int(st, 0), leafdig::db::kApplicationId);
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  Store again(path_);  // reopening migrates nothing and works
+  EXPECT_EQ(again.schemaVersion(), 1);
+}
+
+TEST_F(StoreTest, AppendsEventsWithProjectionsAndUndo) {
+  Store s(path_);
+  const auto id = newSession(s);
+  EXPECT_EQ(s.append(id, marker(1, 1, 10)), 1);
+  EXPECT_EQ(s.append(id, marker(1, 2, 20)), 2);
+  EventInput t;
+  t.kind = "accepted";
+  t.projection = Projection{Projection::Kind::Thickness, 1, 4, "midrib_thickness", {}, 1.25, "+001.250\\r"};
+  EXPECT_EQ(s.append(id, t), 3);
+  EventInput undo;
+  undo.kind = "undone";
+  undo.retracts = 2;
+  EXPECT_EQ(s.append(id, undo), 4);
+  const auto m = s.markers(id);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(*m[0].col, 1);
+  EXPECT_DOUBLE_EQ(m[0].positionMm[0], 10);
+  const auto th = s.thickness(id);
+  ASSERT_EQ(th.size(), 1u);
+  EXPECT_DOUBLE_EQ(th[0].valueMm, 1.25);
+  EXPECT_EQ(th[0].raw, "+001.250\\r");
+  EXPECT_EQ(s.events(id).size(), 4u);
+  const auto info = s.session(id);
+  ASSERT_TRUE(info);
+  EXPECT_EQ(info->headSeq, 4);
+  EXPECT_EQ(info->plant, "P07");
+  EXPECT_EQ(info->leafPosition, 5);
+  EXPECT_TRUE(s.verify(id).ok);
+  s.setStatus(id, "complete", "ana", "all rows done");
+  EXPECT_EQ(s.session(id)->status, "complete");
+  EXPECT_TRUE(s.verify(id).ok);
+  EXPECT_THROW(s.setStatus(id, "finished", "ana", ""), StoreError);
+}
+
+TEST_F(StoreTest, EventsCannotBeEditedAndTamperingIsFound) {
+  std::int64_t id = 0;
+  {
+    Store s(path_);
+    id = newSession(s);
+    for (int i = 1; i <= 5; ++i) s.append(id, marker(1, i, i));
+  }
+  sql(path_, "UPDATE events SET payload_json='{}' WHERE seq=3", false);  // the trigger refuses
+  sql(path_, "DELETE FROM events WHERE seq=5", false);
+  // Someone drops the triggers and edits event 3 anyway.
+  sql(path_, "DROP TRIGGER events_no_update; UPDATE events SET raw='01 9.99' WHERE session_id=" + std::to_string(id) + " AND seq=3");
+  {
+    Store s(path_);
+    const auto r = s.verify(id);
+    EXPECT_FALSE(r.ok);
+    EXPECT_EQ(*r.firstBadSeq, 3);
+    EXPECT_NE(r.problem.find("changed"), std::string::npos);
+  }
+}
+
+TEST_F(StoreTest, TruncationIsFound) {
+  std::int64_t id = 0;
+  {
+    Store s(path_);
+    id = newSession(s);
+    for (int i = 1; i <= 5; ++i) s.append(id, marker(1, i, i));
+  }
+  sql(path_, "DROP TRIGGER events_no_delete; DELETE FROM markers WHERE seq=5; DELETE FROM events WHERE seq=5");
+  Store s(path_);
+  const auto r = s.verify(id);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.problem.find("removed"), std::string::npos) << r.problem;
+}
+
+TEST_F(StoreTest, AForeignDatabaseIsRefusedUnmodified) {
+  sql(path_, "CREATE TABLE birds(name TEXT); INSERT INTO birds VALUES ('wren');");
+  expectRefusedUnchanged(StoreErrorKind::NotLeafdig, "not a leafdig one");
+}
+
+TEST_F(StoreTest, ATextFileIsRefusedUnmodified) {
+  std::ofstream(path_) << "leaf,x,y,z\n1,2,3,4\n";
+  try {
+    Store s(path_);
+    FAIL();
+  } catch (const StoreError& e) {
+    EXPECT_EQ(e.kind(), StoreErrorKind::NotLeafdig) << e.what();
+  }
+  EXPECT_EQ(bytes(path_), "leaf,x,y,z\n1,2,3,4\n");
+}
+
+TEST_F(StoreTest, ANewerSchemaIsRefusedUnmodified) {
+  { Store s(path_); }
+  sql(path_, "PRAGMA user_version=7");
+  expectRefusedUnchanged(StoreErrorKind::TooNew, "newer leafdig (schema 7");
+}
+
+TEST_F(StoreTest, ADamagedFileIsRefusedUnmodified) {
+  {
+    Store s(path_);
+    const auto id = newSession(s);
+    for (int i = 1; i <= 300; ++i) s.append(id, marker(1 + i / 7, 1 + i % 7, i));
+  }
+  sql(path_, "PRAGMA wal_checkpoint(TRUNCATE); PRAGMA journal_mode=DELETE");
+  std::string b = bytes(path_);
+  ASSERT_GT(b.size(), 4096u * 6);
+  for (std::size_t page = 1; page < 6; ++page)  // b-tree page headers of pages 2..6
+    for (std::size_t i = 0; i < 24; ++i) b[4096 * page + i] = static_cast<char>(0x5a);
+  std::ofstream(path_, std::ios::binary | std::ios::trunc) << b;
+  const std::string before = leafdig::db::sha256Hex(bytes(path_));
+  try {
+    Store s(path_);
+    FAIL() << "opened a damaged file";
+  } catch (const StoreError& e) {
+    EXPECT_TRUE(e.kind() == StoreErrorKind::Corrupt || e.kind() == StoreErrorKind::NotLeafdig) << e.what();
+    EXPECT_NE(e.remedy().find("not modified"), std::string::npos) << e.remedy();
+  }
+  EXPECT_EQ(leafdig::db::sha256Hex(bytes(path_)), before);
+}
+
+TEST_F(StoreTest, AFullDiskLosesNothingAndCaptureContinuesAfterwards) {
+  Store s(path_);
+  const auto id = newSession(s);
+  s.append(id, marker(1, 1, 1));
+  s.setMaxPages(s.pageCount());
+  std::int64_t last = 1;
+  bool full = false;
+  for (int i = 2; i < 5000 && !full; ++i) {
+    try {
+      last = s.append(id, marker(1 + i / 7, 1 + i % 7, i));
+    } catch (const StoreError& e) {
+      EXPECT_EQ(e.kind(), StoreErrorKind::DiskFull);
+      EXPECT_NE(e.remedy().find("free some space"), std::string::npos);
+      full = true;
+    }
+  }
+  ASSERT_TRUE(full);
+  EXPECT_EQ(s.session(id)->headSeq, last);
+  EXPECT_EQ(static_cast<std::int64_t>(s.events(id).size()), last);
+  s.setMaxPages(0);
+  EXPECT_EQ(s.append(id, marker(9, 9, 9)), last + 1);
+  EXPECT_TRUE(s.verify(id).ok);
+}
+
+TEST_F(StoreTest, AReaderAndAWriterDoNotBlockEachOther) {
+  Store writer(path_);
+  const auto id = newSession(writer);
+  for (int i = 1; i <= 3; ++i) writer.append(id, marker(1, i, i));
+  Store reader(path_, true);
+  const auto before = reader.events(id);
+  // Hold a read transaction open through SQLite directly, as a curator's tool would.
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(path_.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db, "SELECT seq FROM events ORDER BY seq", -1, &st, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);  // read transaction open
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(writer.append(id, marker(1, 4, 4)), 4);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  EXPECT_EQ(before.size(), 3u);
+  EXPECT_EQ(reader.events(id).size(), 4u);
+}
+
+TEST_F(StoreTest, DefaultPathFollowsXdg) {
+  ::setenv("XDG_DATA_HOME", dir_.c_str(), 1);
+  EXPECT_EQ(Store::defaultPath(), (dir_ / "leafdig" / "station.sqlite").string());
+  ::unsetenv("XDG_DATA_HOME");
+}
+
+TEST(Sha256, KnownVector) {
+  EXPECT_EQ(leafdig::db::sha256Hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+}
+
+}  // namespace
