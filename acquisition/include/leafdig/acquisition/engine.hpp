@@ -1,0 +1,123 @@
+// The marker-protocol engine (SPEC §1): a state machine fed with timestamped stylus samples,
+// caliper readings and operator commands. It decides (accept / reject with a reason in the
+// operator's words) and applies decisions; replaying the applied decisions of a stored
+// session rebuilds its state exactly (crash recovery and review share that path).
+//
+// Thread contract: one thread owns an Engine (the capture thread); it never blocks.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+namespace leafdig::acquisition {
+
+using Vec3 = std::array<double, 3>;
+
+enum class Mode { Standard, Full, Small };
+enum class Order { Sequential, Interleaved };
+[[nodiscard]] const char* toString(Mode m);
+[[nodiscard]] const char* toString(Order o);
+[[nodiscard]] Mode modeFromString(const std::string& s);    // throws std::invalid_argument
+[[nodiscard]] Order orderFromString(const std::string& s);
+
+struct Settings {
+  Mode mode = Mode::Standard;
+  Order order = Order::Sequential;
+  double doubleTapMm = 2.0;                     // closer to the previous point…
+  std::int64_t doubleTapNs = 500'000'000;       // …and pressed this soon after it: a double tap
+  double stillToleranceMm = 1.5;                // samples around a press within this of their mean
+  std::int64_t stillWindowNs = 250'000'000;     // …taken over this long before the press
+  std::int64_t longPressNs = 1'200'000'000;     // a press this long ends the rows
+  double minThicknessMm = 0.02, maxThicknessMm = 20.0;
+  std::int64_t repeatWindowNs = 2'000'000'000;  // same reading again this soon: flagged
+  double spacingTolerance = 0.6;                // neighbours within ±60 % of the row's spacing
+  double midribToleranceMm = 15.0;              // 4th point off the midrib's local line by more: rejected
+  int minRows = 2;                              // rows before the end-of-rows gesture counts
+};
+
+enum class What { Tip, Marker, MidribThickness, VeinOriginThickness, EdgeThickness, PointThickness, Done };
+[[nodiscard]] const char* toString(What w);  // "tip", "marker", "midrib_thickness", …
+
+struct Step {
+  What what = What::Tip;
+  int row = 0, col = 0;  // 1-based as in SPEC §1; 0 where it does not apply
+  friend bool operator==(const Step&, const Step&) = default;
+};
+
+struct Item {
+  What what = What::Tip;
+  int row = 0, col = 0;
+  Vec3 positionMm{};  // stylus items
+  double valueMm = 0; // caliper items (thickness)
+  std::string raw;
+  std::string flag;   // e.g. "repeated reading"; empty when clean
+};
+
+struct Decision {
+  enum class Kind { Ignored, Accepted, Rejected, Undone, RowsEnded, RowsReopened };
+  Kind kind = Kind::Ignored;
+  Item item;           // Accepted / Undone
+  std::string reason;  // Rejected: what was wrong and what to do
+};
+
+struct StylusInput {
+  std::int64_t tNs = 0;  // monotonic
+  Vec3 positionMm{};
+  bool button = false;
+  std::string status = "ok";
+  std::string raw;
+};
+struct CaliperInput {
+  std::int64_t tNs = 0;
+  double valueMm = 0;
+  std::string raw;
+};
+
+class Engine {
+ public:
+  explicit Engine(Settings settings = {});
+
+  // Inputs. A point is decided when the stylus button is released: the mean of the still
+  // samples before the press; a long press ends the rows instead.
+  Decision onStylus(const StylusInput& s);
+  Decision onCaliper(const CaliperInput& c);
+  // Commands; like the inputs, they decide and apply (the returned decision is what to store).
+  Decision undo();      // the last accepted item (or the end of rows)
+  Decision endRows();   // the key equivalent of the long press
+
+  // Applies a decision (what onStylus/onCaliper/undo/endRows did, or one read back from
+  // the store). Rejected and Ignored decisions change nothing.
+  void apply(const Decision& d);
+
+  [[nodiscard]] Step step() const;
+  [[nodiscard]] std::string prompt() const;
+  [[nodiscard]] const std::vector<Item>& items() const { return items_; }
+  [[nodiscard]] int completeRows() const;
+  [[nodiscard]] bool rowsEnded() const { return rowsEnded_; }
+  [[nodiscard]] bool complete() const { return step().what == What::Done; }
+  [[nodiscard]] const Settings& settings() const { return settings_; }
+
+ private:
+  Decision decidePoint(const StylusInput& release);
+  Decision decideEndRows() const;
+  Decision reject(std::string reason) const;
+  [[nodiscard]] const Item* find(What w, int row, int col) const;
+  [[nodiscard]] int markersInRow(int row) const;
+  [[nodiscard]] std::vector<Step> thicknessSteps(int row) const;
+
+  Settings settings_;
+  std::vector<Item> items_;
+  std::vector<int> actions_;  // applied actions in order: index into items_, or -1 = rows ended
+  bool rowsEnded_ = false;
+  std::deque<StylusInput> recent_;
+  bool pressed_ = false;
+  std::int64_t pressedAt_ = 0;
+  std::int64_t lastAcceptedReleaseNs_ = -1;
+  std::int64_t lastReadingAt_ = -1;
+  double lastReading_ = -1;
+};
+
+}  // namespace leafdig::acquisition

@@ -1,0 +1,236 @@
+// The protocol engine driven as a technician drives it: still stylus, press, release;
+// caliper readings; undo; the end-of-rows long press. Then replay of what was decided.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "leafdig/acquisition/engine.hpp"
+#include "leafdig/model/markers_json.hpp"
+
+namespace acq = leafdig::acquisition;
+using Kind = acq::Decision::Kind;
+
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+struct Operator {
+  explicit Operator(acq::Engine& e) : engine(e) {}
+  acq::Engine& engine;
+  std::int64_t t = 0;
+  std::mt19937 rng{7};
+  std::vector<acq::Decision> log;  // what a front end would store
+
+  // Holds the stylus on p for 0.4 s, presses for `pressMs`, releases. `shakeMm` moves it.
+  acq::Decision press(const acq::Vec3& p, std::int64_t pressMs = 200, double shakeMm = 0.0, std::string status = "ok",
+                      int stillSamples = 75) {
+    std::normal_distribution<double> noise(0.0, 0.1);
+    acq::Decision last;
+    const auto sample = [&](bool button, double shake) {
+      acq::StylusInput s;
+      s.tNs = (t += 8 * kMs);
+      s.positionMm = {p[0] + noise(rng) + shake, p[1] + noise(rng), p[2] + noise(rng)};
+      s.button = button;
+      s.status = status;
+      s.raw = "01 …";
+      const auto d = engine.onStylus(s);
+      if (d.kind != Kind::Ignored) last = d;
+    };
+    for (int i = 0; i < stillSamples; ++i) sample(false, 0);
+    for (std::int64_t i = 0; i < pressMs / 8; ++i) sample(true, shakeMm * std::sin(static_cast<double>(i)));
+    sample(false, 0);
+    if (last.kind != Kind::Rejected && last.kind != Kind::Ignored) log.push_back(last);
+    return last;
+  }
+  acq::Decision read(double mm) {
+    const auto d = engine.onCaliper({t += 500 * kMs, mm, "+" + std::to_string(mm) + "\r"});
+    if (d.kind == Kind::Accepted) log.push_back(d);
+    return d;
+  }
+};
+
+acq::Vec3 v(const Eigen::Vector3d& e) { return {e.x(), e.y(), e.z()}; }
+
+class EngineSample : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(EngineSample, CapturesAWholeLeafWithoutKeyboardAndReplaysItExactly) {
+  const auto leaf =
+      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/" + GetParam() + ".markers.json");
+  const std::size_t n = leaf.rows.size();
+  acq::Engine engine;
+  Operator op{engine};
+  EXPECT_EQ(engine.prompt(), "Tip: touch the leaf tip and press");
+  EXPECT_EQ(op.press(v(leaf.tipMm)).kind, Kind::Accepted);
+  for (std::size_t r = 0; r < leaf.rows.size(); ++r)
+    for (int c = 0; c < 7; ++c) {
+      const acq::Step s = engine.step();
+      ASSERT_EQ(s.what, acq::What::Marker);
+      ASSERT_EQ(s.row, static_cast<int>(r) + 1);
+      ASSERT_EQ(s.col, c + 1);
+      const auto d = op.press(v(leaf.rows[r].pointsMm[static_cast<std::size_t>(c)]));
+      ASSERT_EQ(d.kind, Kind::Accepted) << d.reason << " at row " << r + 1 << " point " << c + 1;
+    }
+  EXPECT_NE(engine.prompt().find("hold the button to end the rows"), std::string::npos);
+  EXPECT_EQ(op.press({500, 500, 500}, 1500).kind, Kind::RowsEnded);  // long press, anywhere
+  EXPECT_EQ(engine.completeRows(), static_cast<int>(n));
+  for (std::size_t r = 0; r < leaf.rows.size(); ++r) {
+    EXPECT_EQ(engine.step().what, acq::What::MidribThickness);
+    EXPECT_EQ(op.read(*leaf.rows[r].midribThicknessMm).kind, Kind::Accepted);
+    EXPECT_EQ(engine.step().what, acq::What::VeinOriginThickness);
+    EXPECT_EQ(op.read(*leaf.rows[r].veinOriginThicknessMm).kind, Kind::Accepted);
+  }
+  EXPECT_EQ(engine.step().what, acq::What::EdgeThickness);
+  EXPECT_EQ(op.read(*leaf.edgeThicknessMm).kind, Kind::Accepted);
+  EXPECT_TRUE(engine.complete());
+  // Positions are the means of the still samples: within the noise of the truth.
+  const auto& items = engine.items();
+  ASSERT_EQ(items.size(), 1 + 7 * n + 2 * n + 1);
+  for (std::size_t r = 0; r < n; ++r)
+    for (std::size_t c = 0; c < 7; ++c) {
+      const auto& it = items[1 + 7 * r + c];
+      EXPECT_NEAR(it.positionMm[0], leaf.rows[r].pointsMm[c].x(), 0.1);
+    }
+  // Replaying the stored decisions rebuilds the same state.
+  acq::Engine replay;
+  for (const auto& d : op.log) replay.apply(d);
+  EXPECT_TRUE(replay.complete());
+  ASSERT_EQ(replay.items().size(), items.size());
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    EXPECT_EQ(replay.items()[i].positionMm, items[i].positionMm);
+    EXPECT_EQ(replay.items()[i].valueMm, items[i].valueMm);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Samples, EngineSample,
+                         ::testing::Values("lower-leaf-n10", "upper-small-leaf-n17", "upper-curved-leaf-n14"),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
+
+class EngineRow : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_EQ(op.press({0, 0, 0}).kind, Kind::Accepted);  // tip at the origin, rows below it
+    for (int c = 1; c <= 7; ++c) ASSERT_EQ(op.press(pt(1, c)).kind, Kind::Accepted);
+  }
+  static acq::Vec3 pt(int row, int col) { return {40.0 - 12.0 * (col - 1), -30.0 * row, 0.0}; }
+  acq::Engine engine;
+  Operator op{engine};
+};
+
+TEST_F(EngineRow, RejectsADoubleTapAMovingStylusAndAStatusLetter) {
+  ASSERT_EQ(op.press(pt(2, 1)).kind, Kind::Accepted);
+  auto d = op.press({pt(2, 1)[0] + 0.5, pt(2, 1)[1], 0}, 200, 0.0, "ok", 20);  // pressed again at once
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("double press"), std::string::npos) << d.reason;
+  d = op.press(pt(2, 2), 200, 4.0);
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("moved"), std::string::npos) << d.reason;
+  d = op.press(pt(2, 2), 200, 0.0, "x");
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("status 'x'"), std::string::npos) << d.reason;
+  EXPECT_EQ(op.press(pt(2, 2)).kind, Kind::Accepted);  // the step was kept
+}
+
+TEST_F(EngineRow, RejectsOrderSpacingAndMidribMistakes) {
+  ASSERT_EQ(op.press(pt(2, 1)).kind, Kind::Accepted);
+  ASSERT_EQ(op.press(pt(2, 2)).kind, Kind::Accepted);
+  ASSERT_EQ(op.press(pt(2, 3)).kind, Kind::Accepted);
+  auto d = op.press({pt(2, 2)[0] + 3, pt(2, 2)[1], 0});  // back towards point 2
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("goes back"), std::string::npos) << d.reason;
+  ASSERT_EQ(engine.undo().kind, Kind::Undone);
+  d = op.press(pt(2, 5));  // skipped two markers
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("uneven spacing"), std::string::npos) << d.reason;
+  ASSERT_EQ(op.press(pt(2, 3)).kind, Kind::Accepted);
+  d = op.press({pt(2, 4)[0], pt(2, 4)[1], 25.0});  // 25 mm above the midrib line, same spacing-ish
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_EQ(op.press(pt(2, 4)).kind, Kind::Accepted);
+}
+
+TEST_F(EngineRow, UndoGoesBackOneStepAndEndingRowsNeedsEnoughRows) {
+  auto d = engine.endRows();
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("at least 2 rows"), std::string::npos);
+  ASSERT_EQ(op.press(pt(2, 1)).kind, Kind::Accepted);
+  EXPECT_EQ(engine.step(), (acq::Step{acq::What::Marker, 2, 2}));
+  d = engine.undo();
+  EXPECT_EQ(d.kind, Kind::Undone);
+  EXPECT_EQ(d.item.row, 2);
+  EXPECT_EQ(engine.step(), (acq::Step{acq::What::Marker, 2, 1}));
+  for (int c = 1; c <= 7; ++c) ASSERT_EQ(op.press(pt(2, c)).kind, Kind::Accepted);
+  EXPECT_EQ(engine.endRows().kind, Kind::RowsEnded);
+  engine.apply(engine.endRows());  // a second end is rejected and changes nothing
+  EXPECT_EQ(engine.step().what, acq::What::MidribThickness);
+  EXPECT_EQ(engine.undo().kind, Kind::RowsReopened);
+  EXPECT_EQ(engine.step(), (acq::Step{acq::What::Marker, 3, 1}));
+}
+
+TEST_F(EngineRow, CaliperReadingsAreCheckedAndRepeatsFlaggedNotDropped) {
+  for (int c = 1; c <= 7; ++c) ASSERT_EQ(op.press(pt(2, c)).kind, Kind::Accepted);
+  auto d = op.read(0.5);
+  EXPECT_EQ(d.kind, Kind::Rejected);  // a stylus step: point first
+  EXPECT_EQ(engine.endRows().kind, Kind::RowsEnded);
+  d = op.read(25.4 * 10);  // an inch-mode gauge mistaken for mm
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("check the unit"), std::string::npos);
+  d = op.read(0.8);
+  EXPECT_EQ(d.kind, Kind::Accepted);
+  EXPECT_TRUE(d.item.flag.empty());
+  d = op.read(0.8);
+  EXPECT_EQ(d.kind, Kind::Accepted);
+  EXPECT_EQ(d.item.flag, "repeated reading");
+  EXPECT_EQ(d.item.what, acq::What::VeinOriginThickness);
+}
+
+TEST(EngineModes, StepsFollowModeAndOrder) {
+  for (auto [mode, order] : {std::pair{acq::Mode::Small, acq::Order::Interleaved}, std::pair{acq::Mode::Full, acq::Order::Sequential}}) {
+    acq::Settings s;
+    s.mode = mode;
+    s.order = order;
+    acq::Engine engine(s);
+    Operator op{engine};
+    ASSERT_EQ(op.press({0, 0, 0}).kind, Kind::Accepted);
+    for (int c = 1; c <= 7; ++c) ASSERT_EQ(op.press({40.0 - 12.0 * (c - 1), -30.0, 0}).kind, Kind::Accepted);
+    if (order == acq::Order::Interleaved) {
+      EXPECT_EQ(engine.step(), (acq::Step{acq::What::MidribThickness, 1, 4}));  // right after the row
+      EXPECT_EQ(op.read(0.9).kind, Kind::Accepted);
+      EXPECT_EQ(engine.step(), (acq::Step{acq::What::Marker, 2, 1}));  // small: r¹ only
+    } else {
+      for (int c = 1; c <= 7; ++c) ASSERT_EQ(op.press({40.0 - 12.0 * (c - 1), -60.0, 0}).kind, Kind::Accepted);
+      EXPECT_EQ(engine.endRows().kind, Kind::RowsEnded);
+      EXPECT_EQ(engine.step(), (acq::Step{acq::What::MidribThickness, 1, 4}));
+      EXPECT_EQ(op.read(0.9).kind, Kind::Accepted);
+      EXPECT_EQ(engine.step(), (acq::Step{acq::What::PointThickness, 1, 1}));  // full: every point
+    }
+  }
+  EXPECT_THROW((void)acq::modeFromString("huge"), std::invalid_argument);
+  EXPECT_EQ(acq::orderFromString("interleaved"), acq::Order::Interleaved);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(EngineMidrib, AFourthPointOffTheMidribIsRejectedWithTheDistance) {
+  acq::Settings s;
+  s.spacingTolerance = 10.0;  // only the midrib rule is under test here
+  acq::Engine engine(s);
+  Operator op(engine);
+  const auto pt = [](int row, int col) { return acq::Vec3{40.0 - 12.0 * (col - 1), -30.0 * row, 0.0}; };
+  ASSERT_EQ(op.press({0, 0, 0}).kind, Kind::Accepted);
+  for (int c = 1; c <= 7; ++c) ASSERT_EQ(op.press(pt(1, c)).kind, Kind::Accepted);
+  for (int c = 1; c <= 3; ++c) ASSERT_EQ(op.press(pt(2, c)).kind, Kind::Accepted);
+  const auto d = op.press({pt(2, 4)[0], pt(2, 4)[1], 20.0});
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("should be on the midrib: it is 20."), std::string::npos) << d.reason;
+  const auto closer = op.press({0.0, -20.0, 0.0});  // on the line but not below row 1
+  EXPECT_EQ(closer.kind, Kind::Rejected);
+  EXPECT_NE(closer.reason.find("farther from the tip"), std::string::npos) << closer.reason;
+}
+
+}  // namespace
