@@ -9,6 +9,9 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
+
+#include "leafdig/devices/sample.hpp"
 
 namespace leafdig::devices::detail {
 
@@ -78,6 +81,14 @@ inline std::string fmt(const char* format, double v) {
   char buf[64];
   const int n = std::snprintf(buf, sizeof buf, format, v);
   return std::string(buf, n > 0 ? static_cast<std::size_t>(n) : 0);
+}
+
+// Delivers a validated stylus record: keeps its raw bytes and counts it.
+inline void deliver(StylusSample&& s, std::string raw, DecodeStats& stats, std::vector<StylusSample>& out) {
+  s.raw = std::move(raw);
+  if (s.status != "ok") ++stats.statusWarnings;
+  ++stats.records;
+  out.push_back(std::move(s));
 }
 
 inline bool plausibleAngles(double az, double el, double roll) {

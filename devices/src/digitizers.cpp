@@ -295,7 +295,6 @@ class MicroScribeLink final : public SerialDigitizer {
     if (out.size() > before) outstanding_ = false;
   }
   DecodeStats stats() const override { return dec_.stats; }
-  std::string warning() const override { return SerialDigitizer::warning(); }
 
  private:
   void sayGoodbye() override {

@@ -34,10 +34,7 @@ void StylusFilter::push(StylusSample s, std::vector<StylusSample>& out) {
     return;
   }
   window_.push_back(std::move(s));
-  if (window_.size() < 3) {
-    if (window_.size() == 2) return;  // wait for the right neighbour of the first sample
-    return;
-  }
+  if (window_.size() < 3) return;  // a sample is judged once both neighbours are known
   StylusSample& prev = window_[0];
   StylusSample& cur = window_[1];
   const StylusSample& next = window_[2];
@@ -126,6 +123,15 @@ void Driver::run() {
   std::vector<DeviceEvent> events;
   std::vector<StylusSample> kept;
   std::string lastWarning;
+  // Drops the connection (unplug, stall): keeps the codec's counters, counts a reconnect.
+  const auto dropConnection = [&] {
+    previousStats_ = add(previousStats_, link_->stats());
+    link_->close();
+    connected = false;
+    lastWarning.clear();
+    std::lock_guard lock(mutex_);
+    ++status_.reconnects;
+  };
   while (!stop_) {
     if (!connected) {
       setState(LinkState::Connecting, "connecting to " + link_->name() + " on " + link_->where());
@@ -193,22 +199,10 @@ void Driver::run() {
                  link_->name() + " sent no data for " +
                      std::to_string(duration_cast<milliseconds>(now - lastEvent_).count()) + " ms: re-initialising",
                  "if this repeats, check the cable and that the device is powered");
-        previousStats_ = add(previousStats_, link_->stats());
-        link_->close();
-        connected = false;
-        lastWarning.clear();
-        std::lock_guard lock(mutex_);
-        ++status_.reconnects;
+        dropConnection();
       }
     } catch (const DeviceError& e) {
-      previousStats_ = add(previousStats_, link_->stats());
-      link_->close();
-      connected = false;
-      lastWarning.clear();
-      {
-        std::lock_guard lock(mutex_);
-        ++status_.reconnects;
-      }
+      dropConnection();
       setState(LinkState::Disconnected, e.what(), e.remedy());
     }
   }

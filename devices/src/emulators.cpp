@@ -7,6 +7,7 @@
 #include "leafdig/devices/calipers.hpp"
 #include "leafdig/devices/errors.hpp"
 #include "leafdig/devices/fastrak.hpp"
+#include "leafdig/devices/microscribe.hpp"
 #include "leafdig/devices/polhemus.hpp"
 #include "leafdig/devices/sim.hpp"
 

@@ -154,10 +154,7 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
         if (avail < len) break;  // wait for the whole record
         StylusSample s;
         if (parseRecord(st.format, std::string_view(p).substr(pos, len), s)) {
-          s.raw = p.substr(pos, len);
-          if (s.status != "ok") ++st.stats.statusWarnings;
-          ++st.stats.records;
-          out.push_back(std::move(s));
+          detail::deliver(std::move(s), p.substr(pos, len), st.stats, out);
           pos += len;
           st.synced = true;
           continue;

@@ -205,10 +205,7 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes, std::vector<S
   const auto emit = [&](const std::string& body, std::string raw) {
     StylusSample s;
     if (parseRecord(st, body, s)) {
-      s.raw = std::move(raw);
-      if (s.status != "ok") ++st.stats.statusWarnings;
-      ++st.stats.records;
-      out.push_back(std::move(s));
+      detail::deliver(std::move(s), std::move(raw), st.stats, out);
     } else {
       ++st.stats.dropped;
     }

@@ -200,10 +200,7 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
         const std::size_t size = detail::readU16(p.data() + pos + 6);
         StylusSample s;
         if (size == len - 8 && parseBinary(fmt, std::string_view(p).substr(pos, len), s)) {
-          s.raw = p.substr(pos, len);
-          if (s.status != "ok") ++st.stats.statusWarnings;
-          ++st.stats.records;
-          out.push_back(std::move(s));
+          detail::deliver(std::move(s), p.substr(pos, len), st.stats, out);
           pos += len;
           st.synced = true;
           continue;
@@ -231,10 +228,7 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
         if (avail < len) break;
         StylusSample s;
         if (parseAscii(fmt, std::string_view(p).substr(pos, len), s)) {
-          s.raw = p.substr(pos, len);
-          if (s.status != "ok") ++st.stats.statusWarnings;
-          ++st.stats.records;
-          out.push_back(std::move(s));
+          detail::deliver(std::move(s), p.substr(pos, len), st.stats, out);
           pos += len;
           st.synced = true;
           continue;

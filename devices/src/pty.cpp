@@ -13,26 +13,13 @@
 
 #include "leafdig/devices/errors.hpp"
 #include "leafdig/devices/sim.hpp"
+#include "termios_speed.hpp"
 
 namespace leafdig::devices::sim {
 namespace {
 
 double monotonicSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-speed_t speedFor(int baud) {
-  switch (baud) {
-    case 1200: return B1200;
-    case 2400: return B2400;
-    case 4800: return B4800;
-    case 9600: return B9600;
-    case 19200: return B19200;
-    case 38400: return B38400;
-    case 57600: return B57600;
-    case 115200: return B115200;
-    default: return B0;
-  }
 }
 
 std::atomic<int> counter{0};
@@ -129,7 +116,7 @@ bool Emulator::baudMismatch() const {
   if (want <= 0 || master_ < 0) return false;
   termios t{};
   if (::tcgetattr(master_, &t) != 0) return false;  // on Linux this is the slave's termios
-  return ::cfgetospeed(&t) != speedFor(want);
+  return ::cfgetospeed(&t) != detail::termiosSpeed(want).value_or(B0);
 }
 
 std::string Emulator::garble(const std::string& bytes) {

@@ -10,27 +10,15 @@
 
 #include "leafdig/devices/errors.hpp"
 #include "leafdig/devices/serial_port.hpp"
+#include "termios_speed.hpp"
 
 namespace leafdig::devices {
 namespace {
 
 speed_t speedFor(int baud) {
-  switch (baud) {
-    case 1200: return B1200;
-    case 2400: return B2400;
-    case 4800: return B4800;
-    case 9600: return B9600;
-    case 19200: return B19200;
-    case 38400: return B38400;
-    case 57600: return B57600;
-    case 115200: return B115200;
-    case 230400: return B230400;
-    case 460800: return B460800;
-    case 921600: return B921600;
-    default:
-      throw DeviceError(DeviceErrorKind::Config, "unsupported baud rate " + std::to_string(baud),
-                        "use one of 1200 2400 4800 9600 19200 38400 57600 115200 230400 460800 921600");
-  }
+  if (const auto sp = detail::termiosSpeed(baud)) return *sp;
+  throw DeviceError(DeviceErrorKind::Config, "unsupported baud rate " + std::to_string(baud),
+                    "use one of 1200 2400 4800 9600 19200 38400 57600 115200 230400 460800 921600");
 }
 
 class TtyPort final : public SerialPort {

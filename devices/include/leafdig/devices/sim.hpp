@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "leafdig/devices/hid.hpp"
-#include "leafdig/devices/microscribe.hpp"
 #include "leafdig/devices/sample.hpp"
 #include "leafdig/devices/usb.hpp"
 
