@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "schema.hpp"
 
@@ -315,12 +316,7 @@ std::int64_t Store::setStatus(std::int64_t session, const std::string& status, c
   if (std::find(std::begin(kAllowed), std::end(kAllowed), status) == std::end(kAllowed))
     throw StoreError(StoreErrorKind::Input, "unknown session status '" + status + "'",
                      "use open, complete, approved, rejected or abandoned");
-  std::string payload = "{\"status\":\"" + status + "\",\"who\":" + "\"" + who + "\",\"why\":\"";
-  for (char c : why) {
-    if (c == '"' || c == '\\') payload += '\\';
-    if (static_cast<unsigned char>(c) >= 0x20) payload += c;
-  }
-  payload += "\"}";
+  const std::string payload = nlohmann::json{{"status", status}, {"who", who}, {"why", why}}.dump();
   EventInput ev;
   ev.kind = "status";
   ev.payloadJson = payload;

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "leafdig/db/store.hpp"
 
 namespace fs = std::filesystem;
@@ -255,6 +257,18 @@ TEST_F(StoreTest, AReaderAndAWriterDoNotBlockEachOther) {
   sqlite3_close(db);
   EXPECT_EQ(before.size(), 3u);
   EXPECT_EQ(reader.events(id).size(), 4u);
+}
+
+TEST_F(StoreTest, StatusEventsKeepWhoAndWhyExactly) {
+  Store s(path_);
+  const auto id = newSession(s);
+  const std::string who = "Sean \"Ó\" Neil\\lab";
+  const std::string why = "row 3 midrib\nretaken: \"jaws slipped\"";
+  const auto seq = s.setStatus(id, "rejected", who, why);
+  const auto payload = nlohmann::json::parse(s.events(id).at(static_cast<std::size_t>(seq - 1)).payloadJson);
+  EXPECT_EQ(payload["status"], "rejected");
+  EXPECT_EQ(payload["who"], who);
+  EXPECT_EQ(payload["why"], why);
 }
 
 TEST_F(StoreTest, DefaultPathFollowsXdg) {
