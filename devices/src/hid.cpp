@@ -138,10 +138,6 @@ bool MemoryHidDevice::plugged() const {
   std::lock_guard lock(mutex_);
   return plugged_;
 }
-std::size_t MemoryHidDevice::pending() const {
-  std::lock_guard lock(mutex_);
-  return queue_.size();
-}
 
 // ---- evdev grab ---------------------------------------------------------------------------
 std::vector<std::string> evdevNodesFor(const std::string& hidrawPath, const std::string& sysRoot) {

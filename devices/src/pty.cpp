@@ -265,7 +265,6 @@ void Emulator::run() {
     if (!streaming()) continue;
     if (options_.burst) {
       if (options_.burstRecords > 0 && recordsSent() >= options_.burstRecords) {
-        burstDone_ = true;
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
         continue;
       }

@@ -271,6 +271,21 @@ TEST_F(StoreTest, StatusEventsKeepWhoAndWhyExactly) {
   EXPECT_EQ(payload["why"], why);
 }
 
+TEST_F(StoreTest, DevicesAndExportsAreRecorded) {
+  Store s(path_);
+  const auto id = newSession(s);
+  const auto fastrak = s.ensureDevice("fastrak", "/dev/ttyUSB0", "Polhemus FASTRAK");
+  EXPECT_EQ(s.ensureDevice("fastrak", "/dev/ttyUSB0"), fastrak);  // the same device once
+  EXPECT_NE(s.ensureDevice("sylvac", "/dev/ttyUSB1"), fastrak);
+  EXPECT_GE(s.recordExport(id, "/tmp/leaf.glb", "glb"), 1);
+  try {
+    (void)s.recordExport(id + 99, "/tmp/x.glb", "glb");
+    FAIL() << "an export of a session that does not exist was recorded";
+  } catch (const StoreError& e) {
+    EXPECT_EQ(e.kind(), StoreErrorKind::Input) << e.what();
+  }
+}
+
 TEST_F(StoreTest, DefaultPathFollowsXdg) {
   ::setenv("XDG_DATA_HOME", dir_.c_str(), 1);
   EXPECT_EQ(Store::defaultPath(), (dir_ / "leafdig" / "station.sqlite").string());

@@ -445,7 +445,11 @@ TEST(UsbAndHid, EnumerationOnAMachineWithoutDevicesIsEmptyNotAnError) {
 
 TEST(UsbHotplug, WatcherStartsAndStopsCleanly) {
   int calls = 0;
-  { dev::UsbHotplugWatcher w([&] { ++calls; }, 100ms); std::this_thread::sleep_for(250ms); }
+  {
+    dev::UsbHotplugWatcher w([&] { ++calls; }, 100ms);
+    EXPECT_EQ(w.usingHotplug(), dev::usbHotplugSupported());  // libusb hotplug where it exists, else polling
+    std::this_thread::sleep_for(250ms);
+  }
   EXPECT_EQ(calls, 0);  // nothing was plugged in
 }
 

@@ -53,7 +53,6 @@ class MemoryHidDevice final : public HidDevice {
   void unplug();
   void replug();
   [[nodiscard]] bool plugged() const;
-  [[nodiscard]] std::size_t pending() const;
 
  private:
   HidInfo info_;

@@ -130,7 +130,6 @@ class Emulator {
   [[nodiscard]] FaultLog faultLog() const;
   [[nodiscard]] std::vector<SentRecord> sentRecords() const;
   [[nodiscard]] std::uint64_t recordsSent() const;
-  [[nodiscard]] bool streamingDone() const { return burstDone_; }
   void unplugFor(double seconds);               // scripted unplug (any thread)
   [[nodiscard]] virtual std::string kind() const = 0;
 
@@ -165,7 +164,7 @@ class Emulator {
 
   EmulatorOptions options_;
   std::thread thread_;
-  std::atomic<bool> stop_{false}, burstDone_{false};
+  std::atomic<bool> stop_{false};
   std::atomic<double> unplugRequest_{0};
   mutable std::mutex mutex_;
   int master_ = -1;
