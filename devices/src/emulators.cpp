@@ -326,7 +326,8 @@ class MicroScribeEmulator final : public Emulator {
 // ---- serial gauges ------------------------------------------------------------------------
 class GaugeEmulator : public Emulator {
  public:
-  GaugeEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) : Emulator(std::move(o)), caliper_(std::move(c)) {}
+  GaugeEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o)
+      : Emulator(o), caliper_(std::move(c)), pressEvery_(o.pressEveryS), nextPress_(o.pressEveryS) {}
 
  protected:
   bool streaming() const override { return false; }
@@ -364,10 +365,7 @@ class GaugeEmulator : public Emulator {
 
 class SylvacEmulator final : public GaugeEmulator {
  public:
-  SylvacEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) : GaugeEmulator(std::move(c), o) {
-    pressEvery_ = o.pressEveryS;
-    nextPress_ = o.pressEveryS;
-  }
+  SylvacEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) : GaugeEmulator(std::move(c), std::move(o)) {}
   ~SylvacEmulator() override { stop(); }
   std::string kind() const override { return "sylvac"; }
 
@@ -403,10 +401,7 @@ class SylvacEmulator final : public GaugeEmulator {
 
 class MitutoyoEmulator final : public GaugeEmulator {
  public:
-  MitutoyoEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) : GaugeEmulator(std::move(c), o) {
-    pressEvery_ = o.pressEveryS;
-    nextPress_ = o.pressEveryS;
-  }
+  MitutoyoEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) : GaugeEmulator(std::move(c), std::move(o)) {}
   ~MitutoyoEmulator() override { stop(); }
   std::string kind() const override { return "mitutoyo"; }
 
@@ -424,10 +419,7 @@ class MitutoyoEmulator final : public GaugeEmulator {
 // info dialogue answers IR requests (research/calipers.md §1.3).
 class UWaveEmulator final : public GaugeEmulator {
  public:
-  UWaveEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) : GaugeEmulator(std::move(c), o) {
-    pressEvery_ = o.pressEveryS;
-    nextPress_ = o.pressEveryS;
-  }
+  UWaveEmulator(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) : GaugeEmulator(std::move(c), std::move(o)) {}
   ~UWaveEmulator() override { stop(); }
   std::string kind() const override { return "uwave"; }
 
