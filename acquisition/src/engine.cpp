@@ -40,8 +40,13 @@ const char* colName(int col) {
   }
 }
 
-bool isStylusStep(What w) { return w == What::Tip || w == What::Marker; }
+const char* boardName(int col) { return col == 1 ? "origin" : col == 2 ? "+X direction" : "+Y side"; }
 
+}  // namespace
+
+bool isStylusItem(What w) { return w == What::Board || w == What::Tip || w == What::Marker; }
+namespace {
+bool isStylusStep(What w) { return isStylusItem(w); }
 }  // namespace
 
 const char* toString(Mode m) { return m == Mode::Standard ? "standard" : m == Mode::Full ? "full" : "small"; }
@@ -59,6 +64,7 @@ Order orderFromString(const std::string& s) {
 
 const char* toString(What w) {
   switch (w) {
+    case What::Board: return "board";
     case What::Tip: return "tip";
     case What::Marker: return "marker";
     case What::MidribThickness: return "midrib_thickness";
@@ -68,6 +74,15 @@ const char* toString(What w) {
     case What::Done: return "done";
   }
   return "?";
+}
+
+What whatFromString(const std::string& s) {
+  for (What w : {What::Board, What::Tip, What::Marker, What::MidribThickness, What::VeinOriginThickness,
+                 What::EdgeThickness, What::PointThickness})
+    if (s == toString(w)) return w;
+  throw std::invalid_argument("unknown item '" + s +
+                              "': use board, tip, marker, midrib_thickness, vein_origin_thickness, edge_thickness or "
+                              "point_thickness");
 }
 
 Engine::Engine(Settings s) : settings_(s) {}
@@ -107,6 +122,10 @@ std::vector<Step> Engine::thicknessSteps(int row) const {
 }
 
 Step Engine::step() const {
+  if (retake_) return *retake_;
+  if (settings_.boardFrame)
+    for (int c = 1; c <= 3; ++c)
+      if (!find(What::Board, 0, c)) return {What::Board, 0, c};
   if (!find(What::Tip, 0, 0)) return {What::Tip, 0, 0};
   const int rows = completeRows();
   const bool interleaved = settings_.order == Order::Interleaved;
@@ -128,18 +147,21 @@ Step Engine::step() const {
 std::string Engine::prompt() const {
   const Step s = step();
   const std::string row = "Row " + std::to_string(s.row) + " · ";
+  const std::string again = retake_ ? "Retake · " : "";
   switch (s.what) {
-    case What::Tip: return "Tip: touch the leaf tip and press";
+    case What::Board:
+      return again + "Board frame · point " + std::to_string(s.col) + " of 3 · " + boardName(s.col) + " of the board";
+    case What::Tip: return again + "Tip: touch the leaf tip and press";
     case What::Marker: {
-      std::string p = row + "point " + std::to_string(s.col) + " of 7 · " + colName(s.col);
-      if (s.col == 1 && s.row > settings_.minRows) p += "  (or hold the button to end the rows)";
+      std::string p = again + row + "point " + std::to_string(s.col) + " of 7 · " + colName(s.col);
+      if (!retake_ && s.col == 1 && s.row > settings_.minRows) p += "  (or hold the button to end the rows)";
       return p;
     }
-    case What::MidribThickness: return row + "back side · midrib thickness (r¹) with the caliper";
-    case What::VeinOriginThickness: return row + "back side · lateral vein origin thickness (r²) with the caliper";
+    case What::MidribThickness: return again + row + "back side · midrib thickness (r¹) with the caliper";
+    case What::VeinOriginThickness: return again + row + "back side · lateral vein origin thickness (r²) with the caliper";
     case What::PointThickness:
-      return row + "back side · thickness at point " + std::to_string(s.col) + " (" + colName(s.col) + ")";
-    case What::EdgeThickness: return "Margin thickness (d) with the caliper";
+      return again + row + "back side · thickness at point " + std::to_string(s.col) + " (" + colName(s.col) + ")";
+    case What::EdgeThickness: return again + "Margin thickness (d) with the caliper";
     case What::Done: return "Leaf complete";
   }
   return "";
@@ -162,7 +184,9 @@ Decision Engine::onStylus(const StylusInput& s) {
     pressedAt_ = s.tNs;
   } else if (!s.button && pressed_) {
     pressed_ = false;
-    if (s.tNs - pressedAt_ >= settings_.longPressNs) d = decideEndRows();
+    const std::int64_t held = s.tNs - pressedAt_;
+    if (held >= settings_.undoPressNs) return undo();
+    if (held >= settings_.longPressNs) d = decideEndRows();
     else d = decidePoint(s);
     if (d.kind == Decision::Kind::Accepted || d.kind == Decision::Kind::RowsEnded) apply(d);
     if (d.kind == Decision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
@@ -203,12 +227,22 @@ Decision Engine::decidePoint(const StylusInput& release) {
   // Double tap: close to the previous accepted point and pressed right after it. (Distance
   // alone would refuse the 2 mm rows near the tip of a small leaf.)
   for (auto it = items_.rbegin(); it != items_.rend(); ++it) {
-    if (it->what != What::Tip && it->what != What::Marker) continue;
+    if (!isStylusItem(it->what)) continue;
     const double d = dist(it->positionMm, mean);
     if (d < settings_.doubleTapMm && lastAcceptedReleaseNs_ >= 0 &&
         pressedAt_ - lastAcceptedReleaseNs_ < settings_.doubleTapNs)
       return reject("this point is " + mm(d) + " from the previous one: a double press? Move to the next marker");
     break;
+  }
+  if (st.what == What::Board && st.col >= 2) {
+    const Item* origin = find(What::Board, 0, 1);
+    const Item* xAxis = find(What::Board, 0, 2);
+    if (st.col == 2 && origin && dist(mean, origin->positionMm) < settings_.boardMinMm)
+      return reject("the +X point is only " + mm(dist(mean, origin->positionMm)) + " from the origin: take it at least " +
+                    mm(settings_.boardMinMm) + " away along the board's X edge");
+    if (st.col == 3 && origin && xAxis && lineDistance(mean, origin->positionMm, xAxis->positionMm) < settings_.boardMinMm)
+      return reject("the +Y point is only " + mm(lineDistance(mean, origin->positionMm, xAxis->positionMm)) +
+                    " off the X axis: take it at least " + mm(settings_.boardMinMm) + " to the side");
   }
   if (st.what == What::Marker) {
     const Item* prev = st.col > 1 ? find(What::Marker, st.row, st.col - 1) : nullptr;
@@ -260,8 +294,12 @@ Decision Engine::onCaliper(const CaliperInput& c) {
   if (isStylusStep(st.what)) return reject("a caliper reading now? " + prompt() + " first");
   if (st.what == What::Done) return reject("the leaf is complete: the reading was not used");
   if (!(c.valueMm >= settings_.minThicknessMm && c.valueMm <= settings_.maxThicknessMm))
-    return reject("a thickness of " + std::to_string(c.valueMm) + " mm is outside " + std::to_string(settings_.minThicknessMm) +
-                  "–" + std::to_string(settings_.maxThicknessMm) + " mm: check the unit and the jaws, measure again");
+  {
+    char b[160];
+    std::snprintf(b, sizeof b, "a thickness of %.3f mm is outside %g–%g mm: check the unit and the jaws, measure again",
+                  c.valueMm, settings_.minThicknessMm, settings_.maxThicknessMm);
+    return reject(b);
+  }
   Decision d;
   d.kind = Decision::Kind::Accepted;
   d.item.what = st.what;
@@ -279,6 +317,12 @@ Decision Engine::onCaliper(const CaliperInput& c) {
 
 Decision Engine::undo() {
   Decision d;
+  if (retake_) {
+    d.kind = Decision::Kind::RetakeCancelled;
+    d.item = retakeOld_;
+    apply(d);
+    return d;
+  }
   if (actions_.empty()) return reject("nothing to undo");
   if (actions_.back() < 0) {
     d.kind = Decision::Kind::RowsReopened;
@@ -290,6 +334,32 @@ Decision Engine::undo() {
   return d;
 }
 
+Decision Engine::retake(What what, int row, int col) {
+  if (retake_) return reject("finish the retake in progress first (or undo it)");
+  const Item* old = find(what, row, col);
+  if (!old) {
+    std::string where = toString(what);
+    if (row > 0) where += " row " + std::to_string(row);
+    if (col > 0) where += " point " + std::to_string(col);
+    return reject("nothing was captured as " + where + " yet: there is nothing to retake");
+  }
+  Decision d;
+  d.kind = Decision::Kind::RetakeStarted;
+  d.item = *old;
+  apply(d);
+  return d;
+}
+
+void Engine::erase(std::size_t index) {
+  items_.erase(items_.begin() + static_cast<std::ptrdiff_t>(index));
+  std::vector<int> kept;
+  for (int a : actions_) {
+    if (a == static_cast<int>(index)) continue;
+    kept.push_back(a > static_cast<int>(index) ? a - 1 : a);
+  }
+  actions_ = std::move(kept);
+}
+
 Decision Engine::endRows() {
   const Decision d = decideEndRows();
   apply(d);
@@ -297,6 +367,7 @@ Decision Engine::endRows() {
 }
 
 Decision Engine::decideEndRows() const {
+  if (retake_) return reject("finish the retake first: " + prompt());
   const Step st = step();
   if (st.what != What::Marker) return reject("the rows are already ended");
   if (st.col != 1) return reject("finish row " + std::to_string(st.row) + " first (point " + std::to_string(st.col) + " of 7)");
@@ -312,6 +383,24 @@ void Engine::apply(const Decision& d) {
     case Decision::Kind::Accepted:
       items_.push_back(d.item);
       actions_.push_back(static_cast<int>(items_.size()) - 1);
+      if (retake_ && retake_->what == d.item.what && retake_->row == d.item.row && retake_->col == d.item.col)
+        retake_.reset();
+      break;
+    case Decision::Kind::RetakeStarted:
+      for (std::size_t i = 0; i < items_.size(); ++i)
+        if (items_[i].what == d.item.what && items_[i].row == d.item.row && items_[i].col == d.item.col) {
+          erase(i);
+          retake_ = Step{d.item.what, d.item.row, d.item.col};
+          retakeOld_ = d.item;
+          break;
+        }
+      break;
+    case Decision::Kind::RetakeCancelled:
+      if (retake_) {
+        items_.push_back(d.item);
+        actions_.push_back(static_cast<int>(items_.size()) - 1);
+        retake_.reset();
+      }
       break;
     case Decision::Kind::RowsEnded:
       rowsEnded_ = true;
@@ -322,10 +411,7 @@ void Engine::apply(const Decision& d) {
       if (!actions_.empty() && actions_.back() < 0) actions_.pop_back();
       break;
     case Decision::Kind::Undone:
-      if (!actions_.empty() && actions_.back() >= 0) {
-        items_.erase(items_.begin() + actions_.back());
-        actions_.pop_back();
-      }
+      if (!actions_.empty() && actions_.back() >= 0) erase(static_cast<std::size_t>(actions_.back()));
       break;
     default: break;
   }

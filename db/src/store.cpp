@@ -298,10 +298,12 @@ std::int64_t Store::append(std::int64_t session, const EventInput& ev) {
         del.exec();
       }
     }
-    SQLite::Statement up(*impl_->db, "UPDATE sessions SET head_seq=?1, head_hash=?2 WHERE id=?3");
+    SQLite::Statement up(*impl_->db, ev.setsStatus ? "UPDATE sessions SET head_seq=?1, head_hash=?2, status=?4 WHERE id=?3"
+                                                   : "UPDATE sessions SET head_seq=?1, head_hash=?2 WHERE id=?3");
     up.bind(1, seq);
     up.bind(2, hash);
     up.bind(3, session);
+    if (ev.setsStatus) up.bind(4, *ev.setsStatus);
     up.exec();
     tx.commit();  // synchronous=FULL: durable when this returns
     return seq;
@@ -320,16 +322,8 @@ std::int64_t Store::setStatus(std::int64_t session, const std::string& status, c
   EventInput ev;
   ev.kind = "status";
   ev.payloadJson = payload;
-  const std::int64_t seq = append(session, ev);
-  try {
-    SQLite::Statement up(*impl_->db, "UPDATE sessions SET status=?1 WHERE id=?2");
-    up.bind(1, status);
-    up.bind(2, session);
-    up.exec();
-  } catch (const SQLite::Exception& e) {
-    rethrow(e, path_, "cannot change the session status in");
-  }
-  return seq;
+  ev.setsStatus = status;  // the event and the session row change together
+  return append(session, ev);
 }
 
 std::vector<Event> Store::events(std::int64_t session, std::int64_t fromSeq) const {

@@ -30,7 +30,7 @@ std::vector<int> parseInts(const std::string& s, std::size_t from) {
   return v;
 }
 
-StylusSample sampleFrom(const VirtualStylus::State& st, char status) {
+StylusSample sampleFrom(const StylusMotion::State& st, char status) {
   StylusSample s;
   s.station = 1;
   s.positionMm = st.positionMm;
@@ -43,7 +43,7 @@ StylusSample sampleFrom(const VirtualStylus::State& st, char status) {
 // ---- FASTRAK ------------------------------------------------------------------------------
 class FastrakEmulator final : public Emulator {
  public:
-  FastrakEmulator(VirtualStylus stylus, EmulatorOptions o) : Emulator(std::move(o)), stylus_(std::move(stylus)) {}
+  FastrakEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o) : Emulator(std::move(o)), stylus_(std::move(stylus)) {}
   ~FastrakEmulator() override { stop(); }
   std::string kind() const override { return "fastrak"; }
 
@@ -71,7 +71,7 @@ class FastrakEmulator final : public Emulator {
       switch (c) {
         case 'c': continuous_ = false; break;
         case 'C': continuous_ = true; break;
-        case 'P': record(stylus_.at(now(), k_++)); break;
+        case 'P': record(stylus_->at(now(), k_++)); break;
         case 'F': format_.binary = false; break;
         case 'f': format_.binary = true; break;
         case 'U': format_.centimetres = false; break;
@@ -97,7 +97,7 @@ class FastrakEmulator final : public Emulator {
     }
   }
   void produce(double t, std::uint64_t k) override {
-    const auto st = stylus_.at(t, k);
+    const auto st = stylus_->at(t, k);
     if (buttonMode_ == 1 && st.button && !lastButton_) {
       // The default button mode: a press toggles continuous output, or sends one record.
       if (continuous_) continuous_ = false;
@@ -108,7 +108,7 @@ class FastrakEmulator final : public Emulator {
   }
 
  private:
-  void record(const VirtualStylus::State& st) {
+  void record(const StylusMotion::State& st) {
     const RecordFaults f = beginRecord();
     if (f.skip) return;
     sendRecord(fastrak::encode(format_, sampleFrom(st, f.status)), st.positionMm, st.button);
@@ -137,7 +137,7 @@ class FastrakEmulator final : public Emulator {
     }
     // H, l, A, I, R, B, b, x, v, X, o, T, G: accepted; they do not change what we emulate.
   }
-  VirtualStylus stylus_;
+  std::shared_ptr<const StylusMotion> stylus_;
   fastrak::Format format_;
   bool continuous_ = false, lastButton_ = false;
   int buttonMode_ = 1;
@@ -148,7 +148,7 @@ class FastrakEmulator final : public Emulator {
 // ---- Patriot / Liberty --------------------------------------------------------------------
 class PolhemusEmulator final : public Emulator {
  public:
-  PolhemusEmulator(VirtualStylus stylus, EmulatorOptions o, polhemus::Model m)
+  PolhemusEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o, polhemus::Model m)
       : Emulator(std::move(o)), stylus_(std::move(stylus)), model_(m) {}
   ~PolhemusEmulator() override { stop(); }
   std::string kind() const override { return polhemus::toString(model_); }
@@ -172,7 +172,7 @@ class PolhemusEmulator final : public Emulator {
     for (char c : bytes) {
       if (line_.empty() && (c == 'P' || c == 'p')) {  // single record; ends continuous output
         continuous_ = false;
-        record(stylus_.at(now(), k_++), 'P');
+        record(stylus_->at(now(), k_++), 'P');
         continue;
       }
       if (c == '\n') continue;
@@ -185,7 +185,7 @@ class PolhemusEmulator final : public Emulator {
     }
   }
   void produce(double t, std::uint64_t k) override {
-    const auto st = stylus_.at(t, k);
+    const auto st = stylus_->at(t, k);
     if (buttonMode_ == 1 && st.button && !lastButton_) {
       if (continuous_) continuous_ = false;
       else record(st, 'P');
@@ -195,7 +195,7 @@ class PolhemusEmulator final : public Emulator {
   }
 
  private:
-  void record(const VirtualStylus::State& st, char command) {
+  void record(const StylusMotion::State& st, char command) {
     const RecordFaults f = beginRecord();
     if (f.skip) return;
     const auto ms = static_cast<std::uint32_t>(now() * 1000.0);
@@ -229,7 +229,7 @@ class PolhemusEmulator final : public Emulator {
       sendReply("*ERROR* unknown command\r\n");
     }
   }
-  VirtualStylus stylus_;
+  std::shared_ptr<const StylusMotion> stylus_;
   polhemus::Model model_;
   polhemus::Format format_;
   bool continuous_ = false, lastButton_ = false;
@@ -242,7 +242,7 @@ class PolhemusEmulator final : public Emulator {
 // ---- MicroScribe --------------------------------------------------------------------------
 class MicroScribeEmulator final : public Emulator {
  public:
-  MicroScribeEmulator(VirtualStylus stylus, EmulatorOptions o)
+  MicroScribeEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o)
       : Emulator(std::move(o)), stylus_(std::move(stylus)), arm_(microscribe::referenceArm()) {}
   ~MicroScribeEmulator() override { stop(); }
   std::string kind() const override { return "microscribe"; }
@@ -301,7 +301,7 @@ class MicroScribeEmulator final : public Emulator {
   void packet() {
     const RecordFaults f = beginRecord();
     if (f.skip) return;
-    const auto st = stylus_.at(now(), k_++);
+    const auto st = stylus_->at(now(), k_++);
     (void)microscribe::inverseKinematics(arm_, st.positionMm, joints_);
     microscribe::Packet p;
     p.buttons = st.button ? 1 : 0;
@@ -315,7 +315,7 @@ class MicroScribeEmulator final : public Emulator {
     const auto bytes = microscribe::encodePacket(p);
     sendRecord(std::string(bytes.begin(), bytes.end()), microscribe::forwardKinematics(arm_, quantised), st.button);
   }
-  VirtualStylus stylus_;
+  std::shared_ptr<const StylusMotion> stylus_;
   microscribe::Arm arm_;
   Phase phase_ = Phase::Detect;
   std::string buf_;
@@ -338,6 +338,7 @@ class GaugeEmulator : public Emulator {
       nextPress_ = t + pressEvery_;
       reading();
     }
+    for (int n = dataPresses_.exchange(0); n > 0; --n) reading();
   }
   void onInput(const std::string& bytes) override {
     for (char c : bytes) {
@@ -438,17 +439,29 @@ std::unique_ptr<Emulator> makeUWave(std::shared_ptr<VirtualCaliper> c, EmulatorO
   return std::make_unique<UWaveEmulator>(std::move(c), std::move(o));
 }
 
-std::unique_ptr<Emulator> makeFastrak(VirtualStylus s, EmulatorOptions o) {
+std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
   return std::make_unique<FastrakEmulator>(std::move(s), std::move(o));
 }
-std::unique_ptr<Emulator> makePatriot(VirtualStylus s, EmulatorOptions o) {
+std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
   return std::make_unique<PolhemusEmulator>(std::move(s), std::move(o), polhemus::Model::Patriot);
 }
-std::unique_ptr<Emulator> makeLiberty(VirtualStylus s, EmulatorOptions o) {
+std::unique_ptr<Emulator> makeLiberty(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
   return std::make_unique<PolhemusEmulator>(std::move(s), std::move(o), polhemus::Model::Liberty);
 }
-std::unique_ptr<Emulator> makeMicroScribe(VirtualStylus s, EmulatorOptions o) {
+std::unique_ptr<Emulator> makeMicroScribe(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
   return std::make_unique<MicroScribeEmulator>(std::move(s), std::move(o));
+}
+std::unique_ptr<Emulator> makeFastrak(VirtualStylus s, EmulatorOptions o) {
+  return makeFastrak(std::make_shared<const VirtualStylus>(std::move(s)), std::move(o));
+}
+std::unique_ptr<Emulator> makePatriot(VirtualStylus s, EmulatorOptions o) {
+  return makePatriot(std::make_shared<const VirtualStylus>(std::move(s)), std::move(o));
+}
+std::unique_ptr<Emulator> makeLiberty(VirtualStylus s, EmulatorOptions o) {
+  return makeLiberty(std::make_shared<const VirtualStylus>(std::move(s)), std::move(o));
+}
+std::unique_ptr<Emulator> makeMicroScribe(VirtualStylus s, EmulatorOptions o) {
+  return makeMicroScribe(std::make_shared<const VirtualStylus>(std::move(s)), std::move(o));
 }
 std::unique_ptr<Emulator> makeSylvac(std::shared_ptr<VirtualCaliper> c, EmulatorOptions o) {
   return std::make_unique<SylvacEmulator>(std::move(c), std::move(o));

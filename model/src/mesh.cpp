@@ -228,8 +228,9 @@ LeafMesh meshLeaf(const LeafModel& model, const MeshResolution& res) {
     out.organs.push_back({vein.name, OrganKind::Vein,
                           meshVein(vein, ts, res.ringVertices, res.caps, res.capRings, out.warnings)});
   }
-  out.organs.push_back({"blade", OrganKind::Blade,
-                        meshBlade(model.blade, res.bladeSegmentsPerRow, res.bladeSegmentsAcross)});
+  if (!model.blade.controlNet.empty())  // a partial leaf (live preview) may have no blade yet
+    out.organs.push_back({"blade", OrganKind::Blade,
+                          meshBlade(model.blade, res.bladeSegmentsPerRow, res.bladeSegmentsAcross)});
   return out;
 }
 

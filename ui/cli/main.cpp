@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "leafdig/version.hpp"
+#include "capture_cmd.hpp"
 #include "devices_cmd.hpp"
 #include "model_build.hpp"
 
@@ -27,6 +28,9 @@ int main(int argc, char** argv) {
   leafdig::cli::DevicesOptions deviceOptions;
   leafdig::cli::addDevicesCommands(app, deviceOptions);
 
+  leafdig::cli::CaptureOptions captureOptions;
+  leafdig::cli::addCaptureCommands(app, captureOptions);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -42,5 +46,6 @@ int main(int argc, char** argv) {
 
   if (model->parsed() && model->got_subcommand("build")) return leafdig::cli::runModelBuild(buildOptions);
   if (const int rc = leafdig::cli::runDevicesCommands(app, deviceOptions); rc >= 0) return rc;
+  if (const int rc = leafdig::cli::runCaptureCommands(app, captureOptions); rc >= 0) return rc;
   return 1;
 }

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,10 +37,15 @@ struct Settings {
   double spacingTolerance = 0.6;                // neighbours within ±60 % of the row's spacing
   double midribToleranceMm = 15.0;              // 4th point off the midrib's local line by more: rejected
   int minRows = 2;                              // rows before the end-of-rows gesture counts
+  std::int64_t undoPressNs = 3'000'000'000;     // a press this long undoes the last action
+  bool boardFrame = false;                      // start with 3 board points: origin, +X, +Y
+  double boardMinMm = 20.0;                     // board points at least this far apart / off the X axis
 };
 
-enum class What { Tip, Marker, MidribThickness, VeinOriginThickness, EdgeThickness, PointThickness, Done };
-[[nodiscard]] const char* toString(What w);  // "tip", "marker", "midrib_thickness", …
+enum class What { Board, Tip, Marker, MidribThickness, VeinOriginThickness, EdgeThickness, PointThickness, Done };
+[[nodiscard]] const char* toString(What w);  // "board", "tip", "marker", "midrib_thickness", …
+[[nodiscard]] What whatFromString(const std::string& s);  // throws std::invalid_argument
+[[nodiscard]] bool isStylusItem(What w);  // board, tip, marker
 
 struct Step {
   What what = What::Tip;
@@ -57,9 +63,9 @@ struct Item {
 };
 
 struct Decision {
-  enum class Kind { Ignored, Accepted, Rejected, Undone, RowsEnded, RowsReopened };
+  enum class Kind { Ignored, Accepted, Rejected, Undone, RowsEnded, RowsReopened, RetakeStarted, RetakeCancelled };
   Kind kind = Kind::Ignored;
-  Item item;           // Accepted / Undone
+  Item item;           // Accepted / Undone / the item a retake replaces (RetakeStarted, RetakeCancelled)
   std::string reason;  // Rejected: what was wrong and what to do
 };
 
@@ -81,12 +87,16 @@ class Engine {
   explicit Engine(Settings settings = {});
 
   // Inputs. A point is decided when the stylus button is released: the mean of the still
-  // samples before the press; a long press ends the rows instead.
+  // samples before the press; a long press ends the rows instead, a very long press
+  // (undoPressNs) undoes the last action: a leaf needs no keyboard.
   Decision onStylus(const StylusInput& s);
   Decision onCaliper(const CaliperInput& c);
   // Commands; like the inputs, they decide and apply (the returned decision is what to store).
   Decision undo();      // the last accepted item (or the end of rows)
   Decision endRows();   // the key equivalent of the long press
+  // Takes a chosen item out and makes it the next step; the next accepted input replaces it.
+  // undo() before that puts the old item back.
+  Decision retake(What what, int row, int col);
 
   // Applies a decision (what onStylus/onCaliper/undo/endRows did, or one read back from
   // the store). Rejected and Ignored decisions change nothing.
@@ -98,6 +108,7 @@ class Engine {
   [[nodiscard]] int completeRows() const;
   [[nodiscard]] bool rowsEnded() const { return rowsEnded_; }
   [[nodiscard]] bool complete() const { return step().what == What::Done; }
+  [[nodiscard]] bool retaking() const { return retake_.has_value(); }
   [[nodiscard]] const Settings& settings() const { return settings_; }
 
  private:
@@ -108,8 +119,12 @@ class Engine {
   [[nodiscard]] int markersInRow(int row) const;
   [[nodiscard]] std::vector<Step> thicknessSteps(int row) const;
 
+  void erase(std::size_t index);
+
   Settings settings_;
   std::vector<Item> items_;
+  std::optional<Step> retake_;
+  Item retakeOld_;
   std::vector<int> actions_;  // applied actions in order: index into items_, or -1 = rows ended
   bool rowsEnded_ = false;
   std::deque<StylusInput> recent_;

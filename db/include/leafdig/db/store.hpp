@@ -52,6 +52,7 @@ struct EventInput {
   std::int64_t monoNs = 0;   // monotonic capture time
   std::optional<Projection> projection;
   std::optional<std::int64_t> retracts;  // seq whose projection rows this event removes (undo)
+  std::optional<std::string> setsStatus; // the session's new status, in the same transaction
 };
 
 struct Event {

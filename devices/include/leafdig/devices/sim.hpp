@@ -4,10 +4,12 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <deque>
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
@@ -53,11 +55,10 @@ struct StylusOptions {
   Vec3 offsetMm{0, 0, 0};    // where the leaf sits in the device frame
 };
 
-// Walks `targets` (marker positions, mm) in order, then starts over. Deterministic: the
-// state at time t with noise index k is always the same.
-class VirtualStylus {
+// Where the stylus is at emulator time t (seconds) for record k. Emulators ask this for
+// every record they produce. Thread contract: at() is called from the emulator's thread.
+class StylusMotion {
  public:
-  explicit VirtualStylus(std::vector<Vec3> targetsMm, StylusOptions options = {});
   struct State {
     Vec3 positionMm{};      // with noise and tremor
     Vec3 truthMm{};         // without
@@ -65,13 +66,54 @@ class VirtualStylus {
     bool button = false;
     int target = -1;        // marker being pressed, -1 while moving
   };
-  [[nodiscard]] State at(double t, std::uint64_t k) const;
+  StylusMotion() = default;
+  StylusMotion(const StylusMotion&) = default;
+  StylusMotion& operator=(const StylusMotion&) = default;
+  virtual ~StylusMotion() = default;
+  [[nodiscard]] virtual State at(double t, std::uint64_t k) const = 0;
+};
+
+// Walks `targets` (marker positions, mm) in order, then starts over. Deterministic: the
+// state at time t with noise index k is always the same.
+class VirtualStylus final : public StylusMotion {
+ public:
+  explicit VirtualStylus(std::vector<Vec3> targetsMm, StylusOptions options = {});
+  [[nodiscard]] State at(double t, std::uint64_t k) const override;
   [[nodiscard]] double period() const;  // one walk over all markers
   [[nodiscard]] const std::vector<Vec3>& targets() const { return targets_; }
 
  private:
   std::vector<Vec3> targets_;
   StylusOptions o_;
+};
+
+// A hand that the program moves: gestures are queued (from any thread) and performed one
+// after the other in real time, scaled by `speed` (2 = twice as fast); between gestures
+// the stylus rests where it is, button up. Noise and tremor as VirtualStylus. Used by the
+// virtual operator, which reacts to what the station says.
+class OperatorHand final : public StylusMotion {
+ public:
+  struct Gesture {
+    Vec3 targetMm{};      // where to go (device frame, before the offset)
+    double pressS = 0.35; // button held this long once there (0: no press)
+    double settleS = 0.45;// still on the target before the press
+    double travelS = 0.6; // moving there (lifted off the leaf)
+  };
+  explicit OperatorHand(StylusOptions options = {}, double speed = 1.0);
+  void perform(const Gesture& g);
+  // True when every queued gesture has been performed (the button is up again).
+  [[nodiscard]] bool idle() const;
+  [[nodiscard]] State at(double t, std::uint64_t k) const override;
+
+ private:
+  [[nodiscard]] double clock() const;  // seconds since construction, scaled by speed
+  StylusOptions o_;
+  double speed_;
+  std::chrono::steady_clock::time_point t0_;
+  mutable std::mutex mutex_;
+  mutable std::deque<std::pair<double, Gesture>> queue_;  // start time, gesture (at() drops finished ones)
+  mutable Vec3 restMm_{};
+  double busyUntil_ = 0;
 };
 
 struct CaliperOptions {
@@ -86,6 +128,9 @@ class VirtualCaliper {
  public:
   explicit VirtualCaliper(std::vector<double> thicknessMm, CaliperOptions options = {});
   double next();
+  // The jaws now hold this thickness: next() returns it (with noise) until release().
+  void hold(double thicknessMm);
+  void release();
   [[nodiscard]] std::size_t count() const;
   [[nodiscard]] const std::vector<double>& truth() const { return values_; }
 
@@ -94,6 +139,7 @@ class VirtualCaliper {
   CaliperOptions o_;
   mutable std::mutex mutex_;
   std::size_t index_ = 0;
+  std::optional<double> held_;
   std::mt19937_64 rng_;
 };
 
@@ -131,6 +177,8 @@ class Emulator {
   [[nodiscard]] std::vector<SentRecord> sentRecords() const;
   [[nodiscard]] std::uint64_t recordsSent() const;
   void unplugFor(double seconds);               // scripted unplug (any thread)
+  // The operator presses the gauge's DATA button (any thread); digitizers ignore it.
+  void pressData() { dataPresses_.fetch_add(1); }
   [[nodiscard]] virtual std::string kind() const = 0;
 
  protected:
@@ -166,6 +214,9 @@ class Emulator {
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::atomic<double> unplugRequest_{0};
+ protected:
+  std::atomic<int> dataPresses_{0};
+ private:
   mutable std::mutex mutex_;
   int master_ = -1;
   std::string ptyPath_, linkPath_;
@@ -177,11 +228,15 @@ class Emulator {
 };
 
 [[nodiscard]] std::unique_ptr<Emulator> makeFastrak(VirtualStylus stylus, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makePatriot(VirtualStylus stylus, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeLiberty(VirtualStylus stylus, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makeLiberty(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options);
 // The arm's base is the device origin; put the leaf within reach with StylusOptions::offsetMm
 // (kMicroScribeLeafOffset is a good place).
 [[nodiscard]] std::unique_ptr<Emulator> makeMicroScribe(VirtualStylus stylus, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makeMicroScribe(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeSylvac(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeMitutoyo(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeUWave(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);

@@ -1,0 +1,143 @@
+#include "leafdig/acquisition/capture_loop.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace leafdig::acquisition {
+
+Command parseCommand(const std::string& line) {
+  std::istringstream in(line);
+  std::string word;
+  in >> word;
+  Command c;
+  if (word == "undo" || word == "u") c.kind = Command::Kind::Undo;
+  else if (word == "end" || word == "e") c.kind = Command::Kind::EndRows;
+  else if (word == "pause" || word == "p") c.kind = Command::Kind::Pause;
+  else if (word == "resume") c.kind = Command::Kind::Resume;
+  else if (word == "quit" || word == "q") c.kind = Command::Kind::Quit;
+  else if (word == "abandon") c.kind = Command::Kind::Abandon;
+  else if (word == "retake" || word == "r") {
+    c.kind = Command::Kind::Retake;
+    std::string what;
+    in >> what;
+    if (what.empty()) throw std::invalid_argument("retake what? e.g. 'retake marker 3 5', 'retake tip', 'retake midrib_thickness 2'");
+    c.what = whatFromString(what);
+    if (c.what == What::Marker || c.what == What::PointThickness) {
+      if (!(in >> c.row >> c.col)) throw std::invalid_argument("retake " + what + " needs a row and a point: e.g. 'retake " + what + " 3 5'");
+    } else if (c.what == What::MidribThickness || c.what == What::VeinOriginThickness) {
+      if (!(in >> c.row)) throw std::invalid_argument("retake " + what + " needs a row: e.g. 'retake " + what + " 2'");
+      c.col = 4;
+    } else if (c.what == What::Board) {
+      if (!(in >> c.col)) throw std::invalid_argument("retake board needs the point (1, 2 or 3)");
+    }
+  } else {
+    throw std::invalid_argument("unknown command '" + word +
+                                "': use undo, end, retake WHAT [ROW [POINT]], pause, resume, abandon [why], quit");
+  }
+  std::getline(in >> std::ws, c.text);
+  return c;
+}
+
+CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale, bool previews)
+    : session_(session), listener_(std::move(listener)), timeScale_(timeScale > 0 ? timeScale : 1.0),
+      previews_(previews), t0_(Clock::now()) {}
+
+std::int64_t CaptureLoop::monoNs(Clock::time_point t) const {
+  return static_cast<std::int64_t>(
+      static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t - t0_).count()) * timeScale_);
+}
+
+void CaptureLoop::post(const devices::DeviceEvent& e) {
+  {
+    std::lock_guard lock(mutex_);
+    queue_.emplace_back(e);
+  }
+  cv_.notify_one();
+}
+
+void CaptureLoop::postStatus(const devices::DeviceStatus& s) {
+  {
+    std::lock_guard lock(mutex_);
+    queue_.emplace_back(s);
+  }
+  cv_.notify_one();
+}
+
+void CaptureLoop::command(const Command& c) {
+  {
+    std::lock_guard lock(mutex_);
+    queue_.emplace_back(c);
+  }
+  cv_.notify_one();
+}
+
+void CaptureLoop::stop() {
+  stop_ = true;
+  cv_.notify_one();
+}
+
+void CaptureLoop::emit(const std::vector<Feedback>& feedback) {
+  for (const Feedback& f : feedback)
+    if (listener_.onFeedback) listener_.onFeedback(f);
+  if (!feedback.empty() && listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_));
+}
+
+void CaptureLoop::handle(const Item_& item, bool& quit) {
+  if (const auto* e = std::get_if<devices::DeviceEvent>(&item)) {
+    if (const auto* s = std::get_if<devices::StylusSample>(e)) {
+      StylusInput in{monoNs(s->t), s->positionMm, s->button, s->status, s->raw};
+      emit(session_.onStylus(in));
+    } else if (const auto* r = std::get_if<devices::CaliperReading>(e)) {
+      emit(session_.onCaliper({monoNs(r->t), r->valueMm, r->raw}));
+    }
+    return;
+  }
+  if (const auto* st = std::get_if<devices::DeviceStatus>(&item)) {
+    // One event per state change (not per message): enough to see an unplug and its end.
+    const std::string state = devices::toString(st->state);
+    auto& last = deviceStates_[st->device];
+    if (last == state) return;
+    last = state;
+    emit(session_.deviceStatus(st->device, state, st->message + (st->remedy.empty() ? "" : " — " + st->remedy),
+                               monoNs(Clock::now())));
+    return;
+  }
+  const Command& c = std::get<Command>(item);
+  const std::int64_t now = monoNs(Clock::now());
+  switch (c.kind) {
+    case Command::Kind::Undo: emit(session_.undo(now)); break;
+    case Command::Kind::EndRows: emit(session_.endRows(now)); break;
+    case Command::Kind::Retake: emit(session_.retake(c.what, c.row, c.col, now)); break;
+    case Command::Kind::Pause: emit(session_.pause(c.text.empty() ? "operator pause" : c.text, now)); break;
+    case Command::Kind::Resume: emit(session_.resume(now)); break;
+    case Command::Kind::Abandon: emit(session_.abandon(c.text.empty() ? "abandoned by the operator" : c.text, now)); break;
+    case Command::Kind::Quit: quit = true; break;
+  }
+}
+
+Snapshot CaptureLoop::run() {
+  if (listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_));
+  bool quit = false;
+  auto lastRetry = Clock::now();
+  while (!quit && !stop_ && !session_.ended()) {
+    // The store refused a write (disk full, locked): try again every second; capture goes
+    // on by itself once space is back.
+    if (session_.storeBlocked() && Clock::now() - lastRetry >= std::chrono::seconds(1)) {
+      lastRetry = Clock::now();
+      emit(session_.resume(monoNs(lastRetry)));
+    }
+    std::deque<Item_> batch;
+    {
+      std::unique_lock lock(mutex_);
+      cv_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !queue_.empty() || stop_; });
+      batch.swap(queue_);
+    }
+    for (const Item_& i : batch) {
+      handle(i, quit);
+      if (quit || session_.ended()) break;
+    }
+  }
+  return session_.snapshot(previews_);
+}
+
+}  // namespace leafdig::acquisition

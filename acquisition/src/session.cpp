@@ -1,0 +1,458 @@
+#include "leafdig/acquisition/session.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace leafdig::acquisition {
+namespace {
+
+using nlohmann::json;
+using Key = std::tuple<int, int, int>;
+
+Key keyOf(const Item& i) { return {static_cast<int>(i.what), i.row, i.col}; }
+
+json nullable(int v) { return v > 0 ? json(v) : json(nullptr); }
+
+json itemJson(const Item& i) {
+  json j{{"what", toString(i.what)}, {"row", nullable(i.row)}, {"col", nullable(i.col)}};
+  if (isStylusItem(i.what)) j["position_mm"] = {i.positionMm[0], i.positionMm[1], i.positionMm[2]};
+  else j["value_mm"] = i.valueMm;
+  if (!i.flag.empty()) j["flag"] = i.flag;
+  return j;
+}
+
+Item itemFrom(const json& j, const std::string& raw) {
+  Item i;
+  i.what = whatFromString(j.at("what").get<std::string>());
+  i.row = j.value("row", json(nullptr)).is_null() ? 0 : j.at("row").get<int>();
+  i.col = j.value("col", json(nullptr)).is_null() ? 0 : j.at("col").get<int>();
+  if (j.contains("position_mm"))
+    for (std::size_t k = 0; k < 3; ++k) i.positionMm[k] = j.at("position_mm").at(k).get<double>();
+  if (j.contains("value_mm")) i.valueMm = j.at("value_mm").get<double>();
+  i.flag = j.value("flag", std::string());
+  i.raw = raw;
+  return i;
+}
+
+db::Projection projectionOf(const Item& i) {
+  db::Projection p;
+  p.kind = isStylusItem(i.what) ? db::Projection::Kind::Marker : db::Projection::Kind::Thickness;
+  if (i.row > 0) p.row = i.row;
+  if (i.col > 0) p.col = i.col;
+  p.what = toString(i.what);
+  p.positionMm = i.positionMm;
+  p.valueMm = i.valueMm;
+  p.raw = i.raw;
+  return p;
+}
+
+}  // namespace
+
+const char* toString(Feedback::Kind k) {
+  switch (k) {
+    case Feedback::Kind::Accepted: return "accepted";
+    case Feedback::Kind::Rejected: return "rejected";
+    case Feedback::Kind::Undone: return "undone";
+    case Feedback::Kind::RowsEnded: return "rows_ended";
+    case Feedback::Kind::RowsReopened: return "rows_reopened";
+    case Feedback::Kind::RetakeStarted: return "retake";
+    case Feedback::Kind::RetakeCancelled: return "retake_cancelled";
+    case Feedback::Kind::Paused: return "paused";
+    case Feedback::Kind::Resumed: return "resumed";
+    case Feedback::Kind::Complete: return "complete";
+    case Feedback::Kind::Abandoned: return "abandoned";
+    case Feedback::Kind::Device: return "device";
+  }
+  return "?";
+}
+
+std::string CaptureSession::settingsToJson(const Settings& s) {
+  return json{{"mode", toString(s.mode)},
+              {"order", toString(s.order)},
+              {"double_tap_mm", s.doubleTapMm},
+              {"double_tap_ns", s.doubleTapNs},
+              {"still_tolerance_mm", s.stillToleranceMm},
+              {"still_window_ns", s.stillWindowNs},
+              {"long_press_ns", s.longPressNs},
+              {"undo_press_ns", s.undoPressNs},
+              {"min_thickness_mm", s.minThicknessMm},
+              {"max_thickness_mm", s.maxThicknessMm},
+              {"repeat_window_ns", s.repeatWindowNs},
+              {"spacing_tolerance", s.spacingTolerance},
+              {"midrib_tolerance_mm", s.midribToleranceMm},
+              {"min_rows", s.minRows},
+              {"board_frame", s.boardFrame},
+              {"board_min_mm", s.boardMinMm}}
+      .dump();
+}
+
+Settings CaptureSession::settingsFromJson(const std::string& text) {
+  const json j = json::parse(text);
+  const json& e = j.contains("engine") ? j.at("engine") : j;
+  Settings s;
+  s.mode = modeFromString(e.value("mode", std::string("standard")));
+  s.order = orderFromString(e.value("order", std::string("sequential")));
+  s.doubleTapMm = e.value("double_tap_mm", s.doubleTapMm);
+  s.doubleTapNs = e.value("double_tap_ns", s.doubleTapNs);
+  s.stillToleranceMm = e.value("still_tolerance_mm", s.stillToleranceMm);
+  s.stillWindowNs = e.value("still_window_ns", s.stillWindowNs);
+  s.longPressNs = e.value("long_press_ns", s.longPressNs);
+  s.undoPressNs = e.value("undo_press_ns", s.undoPressNs);
+  s.minThicknessMm = e.value("min_thickness_mm", s.minThicknessMm);
+  s.maxThicknessMm = e.value("max_thickness_mm", s.maxThicknessMm);
+  s.repeatWindowNs = e.value("repeat_window_ns", s.repeatWindowNs);
+  s.spacingTolerance = e.value("spacing_tolerance", s.spacingTolerance);
+  s.midribToleranceMm = e.value("midrib_tolerance_mm", s.midribToleranceMm);
+  s.minRows = e.value("min_rows", s.minRows);
+  s.boardFrame = e.value("board_frame", s.boardFrame);
+  s.boardMinMm = e.value("board_min_mm", s.boardMinMm);
+  return s;
+}
+
+std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup) {
+  const std::int64_t project = store.ensureProject(setup.project);
+  const std::int64_t plant = store.ensurePlant(project, setup.plant);
+  const std::int64_t leaf = store.ensureLeaf(plant, setup.leafPosition);
+  const std::int64_t op = store.ensureOperator(setup.operatorName);
+  const auto device = [&](const std::string& spec) {
+    if (spec.empty()) return;
+    const auto colon = spec.find(':');
+    (void)store.ensureDevice(spec.substr(0, colon), colon == std::string::npos ? "" : spec.substr(colon + 1),
+                             setup.simulated ? "simulated" : "");
+  };
+  device(setup.digitizer);
+  device(setup.caliper);
+  const json settings{{"engine", json::parse(settingsToJson(setup.settings))},
+                      {"digitizer", setup.digitizer},
+                      {"caliper", setup.caliper},
+                      {"simulated", setup.simulated},
+                      {"time_scale", setup.timeScale}};
+  return store.createSession(leaf, op, setup.station, toString(setup.settings.mode), toString(setup.settings.order),
+                             settings.dump());
+}
+
+Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Event>& events,
+                              std::map<Key, std::int64_t>* seqs) {
+  Engine engine(settings);
+  std::map<Key, std::int64_t> local;
+  auto& map = seqs ? *seqs : local;
+  map.clear();
+  for (const db::Event& e : events) {
+    try {
+      Decision d;
+      const json p = json::parse(e.payloadJson);
+      if (e.kind == "accepted") {
+        d.kind = Decision::Kind::Accepted;
+        d.item = itemFrom(p, e.raw);
+        map[keyOf(d.item)] = e.seq;
+      } else if (e.kind == "undone" || e.kind == "retake") {
+        d.kind = e.kind == "undone" ? Decision::Kind::Undone : Decision::Kind::RetakeStarted;
+        d.item = itemFrom(p, e.raw);
+        const auto at = map.find(keyOf(d.item));
+        if (at == map.end() || at->second != p.at("seq").get<std::int64_t>())
+          throw SessionError("it takes out an item that is not there");
+        map.erase(at);
+      } else if (e.kind == "retake_cancelled") {
+        d.kind = Decision::Kind::RetakeCancelled;
+        d.item = itemFrom(p, e.raw);
+        map[keyOf(d.item)] = e.seq;
+      } else if (e.kind == "rows_ended") {
+        d.kind = Decision::Kind::RowsEnded;
+      } else if (e.kind == "rows_reopened") {
+        d.kind = Decision::Kind::RowsReopened;
+      } else {
+        continue;  // rejected, paused, resumed, device, status: no change to the markers
+      }
+      const std::size_t before = engine.items().size();
+      engine.apply(d);
+      if (d.kind == Decision::Kind::Undone && engine.items().size() + 1 != before)
+        throw SessionError("nothing was undone");
+    } catch (const SessionError& err) {
+      throw SessionError("event " + std::to_string(e.seq) + " (" + e.kind + ") does not replay: " + err.what());
+    } catch (const std::exception& err) {
+      throw SessionError("event " + std::to_string(e.seq) + " (" + e.kind + ") is malformed: " + err.what());
+    }
+  }
+  return engine;
+}
+
+CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store), id_(id) {
+  const auto info = store_.session(id);
+  if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store_.path() +
+                                ": 'leafdig sessions list' shows them");
+  if (info->status != "open")
+    throw SessionError("session " + std::to_string(id) + " is " + info->status +
+                       ": only open sessions can be captured into (a curator reviews the others)");
+  setup_.project = info->project;
+  setup_.plant = info->plant;
+  setup_.leafPosition = info->leafPosition;
+  setup_.operatorName = info->operatorName;
+  setup_.station = info->station;
+  try {
+    const json j = json::parse(info->settingsJson);
+    setup_.settings = settingsFromJson(info->settingsJson);
+    setup_.digitizer = j.value("digitizer", std::string());
+    setup_.caliper = j.value("caliper", std::string());
+    setup_.simulated = j.value("simulated", false);
+    setup_.timeScale = j.value("time_scale", 1.0);
+  } catch (const std::exception& e) {
+    throw SessionError("session " + std::to_string(id) + " has unreadable settings: " + e.what());
+  }
+  rebuild();
+  // An operator pause survives a restart: the session opens paused until resume().
+  for (const db::Event& e : store_.events(id_)) {
+    if (e.kind == "paused") {
+      paused_ = true;
+      pauseReason_ = json::parse(e.payloadJson).value("reason", std::string());
+    }
+    if (e.kind == "resumed") paused_ = false;
+  }
+}
+
+void CaptureSession::rebuild() {
+  engine_ = replay(setup_.settings, store_.events(id_), &seqs_);
+  ++version_;
+}
+
+std::int64_t CaptureSession::seqOf(const Item& item) const {
+  const auto at = seqs_.find(keyOf(item));
+  return at == seqs_.end() ? 0 : at->second;
+}
+
+std::optional<std::int64_t> CaptureSession::append(const db::EventInput& ev, std::vector<Feedback>& out) {
+  try {
+    const std::int64_t seq = store_.append(id_, ev);
+    ++version_;
+    return seq;
+  } catch (const db::StoreError& e) {
+    // Not written, so not acknowledged: the engine goes back to what the store holds.
+    rebuild();
+    const bool again = storeBlocked_;
+    paused_ = true;
+    storeBlocked_ = true;
+    pauseReason_ = std::string(e.what()) + (e.remedy().empty() ? "" : ". " + e.remedy()) +
+                   ". The last input was not recorded; capture is paused and continues on resume";
+    if (again) return std::nullopt;  // already said
+    Feedback f;
+    f.kind = Feedback::Kind::Paused;
+    f.text = pauseReason_;
+    out.push_back(f);
+    return std::nullopt;
+  }
+}
+
+std::vector<Feedback> CaptureSession::commit(const Decision& d, std::int64_t monoNs, const std::string& raw) {
+  std::vector<Feedback> out;
+  if (d.kind == Decision::Kind::Ignored) return out;
+  db::EventInput ev;
+  ev.monoNs = monoNs;
+  Feedback f;
+  f.item = d.item;
+  switch (d.kind) {
+    case Decision::Kind::Rejected:
+      ev.kind = "rejected";
+      ev.payloadJson = json{{"reason", d.reason},
+                            {"step", {{"what", toString(engine_.step().what)},
+                                      {"row", nullable(engine_.step().row)},
+                                      {"col", nullable(engine_.step().col)}}}}
+                           .dump();
+      ev.raw = raw;
+      f.kind = Feedback::Kind::Rejected;
+      f.text = d.reason;
+      break;
+    case Decision::Kind::Accepted:
+    case Decision::Kind::RetakeCancelled:
+      ev.kind = d.kind == Decision::Kind::Accepted ? "accepted" : "retake_cancelled";
+      ev.payloadJson = itemJson(d.item).dump();
+      ev.raw = d.item.raw;
+      ev.projection = projectionOf(d.item);
+      f.kind = d.kind == Decision::Kind::Accepted ? Feedback::Kind::Accepted : Feedback::Kind::RetakeCancelled;
+      break;
+    case Decision::Kind::Undone:
+    case Decision::Kind::RetakeStarted: {
+      const std::int64_t old = seqOf(d.item);
+      json p = itemJson(d.item);
+      p["seq"] = old;
+      ev.kind = d.kind == Decision::Kind::Undone ? "undone" : "retake";
+      ev.payloadJson = p.dump();
+      ev.retracts = old;
+      f.kind = d.kind == Decision::Kind::Undone ? Feedback::Kind::Undone : Feedback::Kind::RetakeStarted;
+      f.undoneSeq = old;
+      break;
+    }
+    case Decision::Kind::RowsEnded:
+    case Decision::Kind::RowsReopened:
+      ev.kind = d.kind == Decision::Kind::RowsEnded ? "rows_ended" : "rows_reopened";
+      f.kind = d.kind == Decision::Kind::RowsEnded ? Feedback::Kind::RowsEnded : Feedback::Kind::RowsReopened;
+      break;
+    case Decision::Kind::Ignored: return out;
+  }
+  const auto seq = append(ev, out);
+  if (!seq) return out;
+  f.seq = *seq;
+  if (f.kind == Feedback::Kind::Accepted || f.kind == Feedback::Kind::RetakeCancelled) seqs_[keyOf(d.item)] = *seq;
+  if (f.kind == Feedback::Kind::Undone || f.kind == Feedback::Kind::RetakeStarted) seqs_.erase(keyOf(d.item));
+  out.push_back(f);
+  if (engine_.complete() && !ended_) {
+    db::EventInput done;
+    done.kind = "status";
+    done.monoNs = monoNs;
+    done.payloadJson = json{{"status", "complete"}, {"who", setup_.operatorName}, {"why", "all steps captured"}}.dump();
+    done.setsStatus = "complete";
+    if (const auto s = append(done, out)) {
+      ended_ = true;
+      status_ = "complete";
+      Feedback c;
+      c.kind = Feedback::Kind::Complete;
+      c.seq = *s;
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
+std::vector<Feedback> CaptureSession::onStylus(const StylusInput& s) {
+  if (paused_ || ended_) return {};
+  const Decision d = engine_.onStylus(s);
+  return commit(d, s.tNs, s.raw);
+}
+
+std::vector<Feedback> CaptureSession::onCaliper(const CaliperInput& c) {
+  if (ended_) return {};
+  if (paused_) {
+    // The reading is kept in the log (raw device text), but changes nothing while paused.
+    std::vector<Feedback> out;
+    db::EventInput ev;
+    ev.kind = "ignored_reading";
+    ev.monoNs = c.tNs;
+    ev.raw = c.raw;
+    ev.payloadJson = json{{"value_mm", c.valueMm}, {"why", "capture paused"}}.dump();
+    (void)append(ev, out);
+    return out;
+  }
+  return commit(engine_.onCaliper(c), c.tNs, c.raw);
+}
+
+std::vector<Feedback> CaptureSession::undo(std::int64_t monoNs) {
+  if (paused_ || ended_) return {};
+  return commit(engine_.undo(), monoNs, {});
+}
+
+std::vector<Feedback> CaptureSession::endRows(std::int64_t monoNs) {
+  if (paused_ || ended_) return {};
+  return commit(engine_.endRows(), monoNs, {});
+}
+
+std::vector<Feedback> CaptureSession::retake(What what, int row, int col, std::int64_t monoNs) {
+  if (paused_ || ended_) return {};
+  return commit(engine_.retake(what, row, col), monoNs, {});
+}
+
+std::vector<Feedback> CaptureSession::pause(const std::string& reason, std::int64_t monoNs) {
+  std::vector<Feedback> out;
+  if (paused_ || ended_) return out;
+  db::EventInput ev;
+  ev.kind = "paused";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"reason", reason}}.dump();
+  if (const auto seq = append(ev, out)) {
+    paused_ = true;
+    pauseReason_ = reason;
+    Feedback f;
+    f.kind = Feedback::Kind::Paused;
+    f.seq = *seq;
+    f.text = reason;
+    out.push_back(f);
+  }
+  return out;
+}
+
+std::vector<Feedback> CaptureSession::resume(std::int64_t monoNs) {
+  std::vector<Feedback> out;
+  if (ended_) return out;
+  db::EventInput ev;
+  ev.kind = "resumed";
+  ev.monoNs = monoNs;
+  if (const auto seq = append(ev, out)) {
+    paused_ = false;
+    storeBlocked_ = false;
+    pauseReason_.clear();
+    Feedback f;
+    f.kind = Feedback::Kind::Resumed;
+    f.seq = *seq;
+    out.push_back(f);
+    // A leaf that was complete when its status could not be written is closed now.
+    if (engine_.complete()) {
+      db::EventInput done;
+      done.kind = "status";
+      done.monoNs = monoNs;
+      done.payloadJson = json{{"status", "complete"}, {"who", setup_.operatorName}, {"why", "all steps captured"}}.dump();
+      done.setsStatus = "complete";
+      if (const auto s = append(done, out)) {
+        ended_ = true;
+        status_ = "complete";
+        Feedback c;
+        c.kind = Feedback::Kind::Complete;
+        c.seq = *s;
+        out.push_back(c);
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<Feedback> CaptureSession::abandon(const std::string& why, std::int64_t monoNs) {
+  std::vector<Feedback> out;
+  if (ended_) return out;
+  db::EventInput ev;
+  ev.kind = "status";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"status", "abandoned"}, {"who", setup_.operatorName}, {"why", why}}.dump();
+  ev.setsStatus = "abandoned";
+  if (const auto seq = append(ev, out)) {
+    ended_ = true;
+    status_ = "abandoned";
+    Feedback f;
+    f.kind = Feedback::Kind::Abandoned;
+    f.seq = *seq;
+    f.text = why;
+    out.push_back(f);
+  }
+  return out;
+}
+
+std::vector<Feedback> CaptureSession::deviceStatus(const std::string& device, const std::string& state,
+                                                   const std::string& message, std::int64_t monoNs) {
+  std::vector<Feedback> out;
+  db::EventInput ev;
+  ev.kind = "device";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"device", device}, {"state", state}, {"message", message}}.dump();
+  if (const auto seq = append(ev, out)) {
+    Feedback f;
+    f.kind = Feedback::Kind::Device;
+    f.seq = *seq;
+    f.text = device + ": " + message;
+    out.push_back(f);
+  }
+  return out;
+}
+
+Snapshot CaptureSession::snapshot(bool withPreview) const {
+  Snapshot s;
+  s.session = id_;
+  s.version = version_;
+  s.step = engine_.step();
+  s.prompt = paused_ ? "Paused: " + pauseReason_ : engine_.prompt();
+  s.items = engine_.items();
+  s.completeRows = engine_.completeRows();
+  s.rowsEnded = engine_.rowsEnded();
+  s.complete = engine_.complete();
+  s.retaking = engine_.retaking();
+  s.paused = paused_;
+  s.pauseReason = pauseReason_;
+  s.status = status_;
+  if (withPreview) s.preview = std::make_shared<const Preview>(buildPreview(s.items, engine_.settings()));
+  return s;
+}
+
+}  // namespace leafdig::acquisition

@@ -1,0 +1,285 @@
+#include "leafdig/acquisition/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace leafdig::acquisition {
+namespace {
+
+namespace dev = leafdig::devices;
+namespace sim = leafdig::devices::sim;
+
+std::pair<std::string, std::string> splitSpec(const std::string& spec, const char* what, const char* example) {
+  const auto colon = spec.find(':');
+  if (spec.empty() || colon == 0)
+    throw std::invalid_argument(std::string(what) + " '" + spec + "': expected KIND:PORT, e.g. " + example);
+  if (colon == std::string::npos) return {spec, ""};
+  return {spec.substr(0, colon), spec.substr(colon + 1)};
+}
+
+bool parseVidPid(const std::string& s, std::uint16_t& vid, std::uint16_t& pid) {
+  unsigned v = 0, p = 0;
+  char tail = 0;
+  if (std::sscanf(s.c_str(), "%x:%x%c", &v, &p, &tail) != 2 || v > 0xffff || p > 0xffff) return false;
+  vid = static_cast<std::uint16_t>(v);
+  pid = static_cast<std::uint16_t>(p);
+  return true;
+}
+
+double dist(const Vec3& a, const Vec3& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+}  // namespace
+
+dev::DigitizerConfig parseDigitizerSpec(const std::string& spec) {
+  const auto [kind, port] = splitSpec(spec, "--digitizer", "fastrak:/dev/ttyUSB0");
+  dev::DigitizerConfig c;
+  c.kind = dev::digitizerKindFromString(kind);
+  if (c.kind == dev::DigitizerKind::Line)
+    throw std::invalid_argument("--digitizer line needs a JSON description: use 'leafdig devices listen' to try it; "
+                                "capture supports fastrak, patriot, liberty and microscribe");
+  if (port.empty())
+    throw std::invalid_argument("--digitizer " + kind + " needs a port: " + kind + ":/dev/ttyUSB0 ('leafdig devices list')");
+  c.port = port;
+  return c;
+}
+
+dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
+  const auto [kind, rest] = splitSpec(spec, "--caliper", "sylvac:/dev/ttyUSB1 or hid:0fe7:4001");
+  dev::CaliperConfig c;
+  c.kind = dev::caliperKindFromString(kind);
+  if (c.kind == dev::CaliperKind::Hid || c.kind == dev::CaliperKind::UsbItn) {
+    if (rest.rfind("/dev/", 0) == 0) c.hidPath = rest;
+    else if (!rest.empty() && !parseVidPid(rest, c.vid, c.pid))
+      throw std::invalid_argument("--caliper " + kind + ":" + rest + ": expected VID:PID in hex (e.g. 0fe7:4001) or a /dev/hidraw path");
+    return c;
+  }
+  if (rest.empty()) throw std::invalid_argument("--caliper " + kind + " needs a port: " + kind + ":/dev/ttyUSB1");
+  c.port = rest;
+  return c;
+}
+
+DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop) {
+  dev::Driver::Callbacks cb{[&loop](const dev::DeviceEvent& e) { loop.post(e); },
+                            [&loop](const dev::DeviceStatus& s) { loop.postStatus(s); }};
+  digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(parseDigitizerSpec(digitizerSpec)), cb);
+  caliper_ = std::make_unique<dev::Driver>(dev::makeCaliperLink(parseCaliperSpec(caliperSpec)), cb);
+}
+DeviceSet::~DeviceSet() { stop(); }
+void DeviceSet::start() {
+  digitizer_->start();
+  caliper_->start();
+}
+void DeviceSet::stop() {
+  if (digitizer_) digitizer_->stop();
+  if (caliper_) caliper_->stop();
+}
+
+// ---- simulated rig --------------------------------------------------------------------------
+SimulatedRig::SimulatedRig(const SimulationOptions& o) {
+  sim::StylusOptions so;
+  so.seed = o.seed;
+  hand_ = std::make_shared<sim::OperatorHand>(so, o.speed);
+  sim::CaliperOptions co;
+  co.seed = o.seed + 1;
+  caliper_ = std::make_shared<sim::VirtualCaliper>(std::vector<double>{1.0}, co);
+  const std::string tag = std::to_string(::getpid()) + "-" + std::to_string(o.seed);
+  sim::EmulatorOptions d;
+  d.rateHz = std::min(120.0 * o.speed, 960.0);
+  d.linkPath = o.linkDir + "/leafdig-sim-fastrak-" + tag;
+  d.faults = sim::FaultPlan::parse(o.digitizerFaults);
+  d.faults.seed = o.seed;
+  digitizer_ = sim::makeFastrak(std::shared_ptr<const sim::StylusMotion>(hand_), d);
+  sim::EmulatorOptions g;
+  g.linkPath = o.linkDir + "/leafdig-sim-sylvac-" + tag;
+  g.faults = sim::FaultPlan::parse(o.caliperFaults);
+  g.faults.seed = o.seed + 7;
+  gauge_ = sim::makeSylvac(caliper_, g);
+  digitizer_->start();
+  gauge_->start();
+}
+
+SimulatedRig::~SimulatedRig() {
+  if (digitizer_) digitizer_->stop();
+  if (gauge_) gauge_->stop();
+}
+
+std::string SimulatedRig::digitizerSpec() const { return "fastrak:" + digitizer_->path(); }
+std::string SimulatedRig::caliperSpec() const { return "sylvac:" + gauge_->path(); }
+
+// ---- virtual operator -----------------------------------------------------------------------
+VirtualOperator::VirtualOperator(SimulatedRig& rig, model::MarkerSet leaf, SimulationOptions o)
+    : rig_(rig), leaf_(std::move(leaf)), options_(o), rng_(o.seed * 7919 + 3) {}
+
+VirtualOperator::~VirtualOperator() { stop(); }
+
+void VirtualOperator::observe(const Snapshot& s) {
+  {
+    std::lock_guard lock(mutex_);
+    Snapshot light = s;
+    light.preview.reset();  // the operator looks at the prompt, not the model
+    latest_ = std::move(light);
+  }
+  cv_.notify_one();
+}
+
+void VirtualOperator::start() { thread_ = std::thread([this] { run(); }); }
+
+void VirtualOperator::stop() {
+  stop_ = true;
+  cv_.notify_one();
+  if (thread_.joinable()) thread_.join();
+}
+
+VirtualOperator::Stats VirtualOperator::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+Vec3 VirtualOperator::truth(What w, int row, int col) const {
+  if (w == What::Board) {
+    const double x = col == 2 ? 150.0 : -150.0, y = col == 3 ? 150.0 : -150.0;
+    return {x, y, -5.0};
+  }
+  if (w == What::Tip || row < 1 || row > static_cast<int>(leaf_.rows.size()))
+    return {leaf_.tipMm.x(), leaf_.tipMm.y(), leaf_.tipMm.z()};
+  const auto& p = leaf_.rows[static_cast<std::size_t>(row - 1)].pointsMm[static_cast<std::size_t>(col - 1)];
+  return {p.x(), p.y(), p.z()};
+}
+
+double VirtualOperator::truthThickness(What w, int row, int col) const {
+  const model::MarkerRow* r = row >= 1 && row <= static_cast<int>(leaf_.rows.size())
+                                  ? &leaf_.rows[static_cast<std::size_t>(row - 1)]
+                                  : nullptr;
+  switch (w) {
+    case What::MidribThickness: return r && r->midribThicknessMm ? *r->midribThicknessMm : 1.2;
+    case What::VeinOriginThickness: return r && r->veinOriginThicknessMm ? *r->veinOriginThicknessMm : 0.6;
+    case What::EdgeThickness:
+      return leaf_.edgeThicknessMm ? *leaf_.edgeThicknessMm
+             : !leaf_.rows.empty() && leaf_.rows[0].edgeThicknessMm ? *leaf_.rows[0].edgeThicknessMm
+                                                                    : 0.25;
+    case What::PointThickness: {
+      if (r && r->measuredThicknessMm[static_cast<std::size_t>(col - 1)]) return *r->measuredThicknessMm[static_cast<std::size_t>(col - 1)];
+      const double d = truthThickness(What::EdgeThickness, 0, 0), o = truthThickness(What::VeinOriginThickness, row, 4);
+      const double f = std::abs(col - 4) / 3.0;
+      return f * d + (1 - f) * o;
+    }
+    default: return 1.0;
+  }
+}
+
+void VirtualOperator::press(const Vec3& at, double pressS, double settleS, double travelS) {
+  rig_.hand().perform({at, pressS, settleS, travelS});
+  std::lock_guard lock(mutex_);
+  ++stats_.gestures;
+}
+
+void VirtualOperator::measure(double mm) {
+  rig_.caliper().hold(mm);
+  rig_.caliperEmulator().pressData();
+}
+
+void VirtualOperator::act(const Snapshot& s) {
+  if (s.paused || s.complete || s.status != "open") return;
+  // A wrong item accepted last (a deliberate mistake, or noise): undo it with the stylus.
+  if (!s.items.empty()) {
+    const Item& last = s.items.back();
+    const bool wrong = isStylusItem(last.what)
+                           ? dist(last.positionMm, truth(last.what, last.row, last.col)) > 5.0
+                           : std::abs(last.valueMm - truthThickness(last.what, last.row, last.col)) > 0.1;
+    if (wrong && !s.retaking) {
+      press(last.positionMm, 3.4, 0.3, 0.2);  // a very long press: undo
+      std::lock_guard lock(mutex_);
+      ++stats_.wrongPointsUndone;
+      return;
+    }
+  }
+  const Step st = s.step;
+  if (isStylusItem(st.what)) {
+    if (st.what == What::Marker && st.row > static_cast<int>(leaf_.rows.size())) {
+      press(truth(What::Marker, st.row - 1, 4), 1.7, 0.3, 0.3);  // a long press ends the rows
+      std::lock_guard lock(mutex_);
+      ++stats_.endRows;
+      return;
+    }
+    if (options_.mistakes && !s.retaking) {
+      if (!didDoubleTap_ && stylusAccepted_ == 3) {
+        didDoubleTap_ = true;
+        ++stylusAccepted_;
+        const Vec3 at = truth(st.what, st.row, st.col);
+        press(at, 0.35);
+        press(at, 0.2, 0.1, 0.02);  // the button pressed twice on the same marker
+        std::lock_guard lock(mutex_);
+        ++stats_.doubleTaps;
+        return;
+      }
+      if (!didOutOfOrder_ && st.what == What::Marker && st.row == 2 && st.col == 3) {
+        didOutOfOrder_ = true;
+        press(truth(What::Marker, 2, 6), 0.35);  // skipped two markers
+        std::lock_guard lock(mutex_);
+        ++stats_.outOfOrder;
+        return;
+      }
+      if (!didWrongPoint_ && st.what == What::Marker && st.row == std::min<int>(3, static_cast<int>(leaf_.rows.size())) &&
+          st.col == 2) {
+        didWrongPoint_ = true;
+        Vec3 off = truth(What::Marker, st.row, st.col);
+        off[1] += 9.0;  // a slip of the hand: accepted, then undone
+        press(off, 0.35);
+        return;
+      }
+    }
+    ++stylusAccepted_;
+    press(truth(st.what, st.row, st.col), 0.35);
+    return;
+  }
+  if (st.what == What::Done) return;
+  if (options_.mistakes && !didBounce_ && thicknessSteps_ == 1 && !s.retaking) {
+    didBounce_ = true;
+    measure(0.0);  // the jaws slipped: a zero reading
+    std::lock_guard lock(mutex_);
+    ++stats_.bounces;
+    return;
+  }
+  ++thicknessSteps_;
+  measure(truthThickness(st.what, st.row, st.col));
+}
+
+void VirtualOperator::run() {
+  using Clock = std::chrono::steady_clock;
+  const auto patience = std::chrono::duration<double>(2.5 / options_.speed + 0.4);
+  auto actedAt = Clock::now() - std::chrono::hours(1);
+  std::uint64_t versionAtAction = ~0ull;
+  std::optional<Clock::time_point> idleSince;
+  while (!stop_) {
+    std::optional<Snapshot> snap;
+    {
+      std::unique_lock lock(mutex_);
+      cv_.wait_for(lock, std::chrono::milliseconds(20), [&] { return stop_.load(); });
+      snap = latest_;
+    }
+    if (stop_) break;
+    if (!snap) continue;
+    if (snap->complete || snap->status != "open") break;
+    if (!rig_.hand().idle()) {
+      idleSince.reset();
+      continue;
+    }
+    const auto now = Clock::now();
+    if (!idleSince) idleSince = now;
+    // Give the release time to reach the station, then act on what it says.
+    if (now - *idleSince < std::chrono::milliseconds(40)) continue;
+    const bool answered = snap->version != versionAtAction;
+    if (!answered && now - actedAt < patience) continue;
+    versionAtAction = snap->version;
+    actedAt = now;
+    act(*snap);
+    idleSince.reset();
+  }
+}
+
+}  // namespace leafdig::acquisition

@@ -1,0 +1,681 @@
+#include "capture_cmd.hpp"
+
+#include <poll.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+#include "leafdig/acquisition/capture_loop.hpp"
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/simulation.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/mesh_export.hpp"
+#include "leafdig/model/metrics.hpp"
+#include "leafdig/model/model_json.hpp"
+#include "leafdig/version.hpp"
+
+namespace leafdig::cli {
+namespace {
+
+namespace acq = leafdig::acquisition;
+namespace m = leafdig::model;
+using nlohmann::json;
+
+std::atomic<bool> interrupted{false};
+void onSignal(int) { interrupted = true; }
+
+std::string dbPath(const CaptureOptions& o) { return o.db.empty() ? db::Store::defaultPath() : o.db; }
+
+int reportStoreError(const db::StoreError& e) {
+  std::cerr << "leafdig: " << e.what() << "\n";
+  if (!e.remedy().empty()) std::cerr << "  what to do: " << e.remedy() << "\n";
+  switch (e.kind()) {
+    case db::StoreErrorKind::NotLeafdig:
+    case db::StoreErrorKind::TooNew:
+    case db::StoreErrorKind::Corrupt:
+    case db::StoreErrorKind::Input: return 2;
+    default: return 1;
+  }
+}
+
+std::string samplesDir(const std::string& given) {
+  if (!given.empty()) return given;
+  for (const std::string& base : {std::string(kSourceDataDir), std::string(kInstalledDataDir)})
+    if (std::filesystem::exists(base + "/samples")) return base + "/samples";
+  return "data/samples";
+}
+
+json nullable(int v) { return v > 0 ? json(v) : json(nullptr); }
+
+json stepJson(const acq::Step& s, const std::string& prompt) {
+  return {{"what", acq::toString(s.what)}, {"row", nullable(s.row)}, {"col", nullable(s.col)}, {"prompt", prompt}};
+}
+
+std::string describe(const acq::Item& i) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1);
+  if (i.what == acq::What::Tip) s << "tip";
+  else if (i.what == acq::What::Board) s << "board point " << i.col;
+  else if (i.what == acq::What::Marker) s << "row " << i.row << " point " << i.col;
+  else if (i.what == acq::What::EdgeThickness) s << "margin thickness";
+  else s << "row " << i.row << " " << acq::toString(i.what) << (i.what == acq::What::PointThickness ? " at point " + std::to_string(i.col) : "");
+  if (acq::isStylusItem(i.what)) s << " (" << i.positionMm[0] << ", " << i.positionMm[1] << ", " << i.positionMm[2] << ") mm";
+  else s << std::setprecision(3) << " " << i.valueMm << " mm";
+  if (!i.flag.empty()) s << " [" << i.flag << "]";
+  return s.str();
+}
+
+// The JSON-lines contract of the README: one object per committed change.
+json feedbackJson(const acq::Feedback& f, std::int64_t session) {
+  using K = acq::Feedback::Kind;
+  json j{{"event", acq::toString(f.kind)}};
+  switch (f.kind) {
+    case K::Accepted:
+    case K::RetakeCancelled:
+      j["seq"] = f.seq;
+      j["what"] = acq::toString(f.item.what);
+      j["row"] = nullable(f.item.row);
+      j["col"] = nullable(f.item.col);
+      if (acq::isStylusItem(f.item.what)) j["value"] = {f.item.positionMm[0], f.item.positionMm[1], f.item.positionMm[2]};
+      else j["value"] = f.item.valueMm;
+      if (!f.item.flag.empty()) j["flag"] = f.item.flag;
+      break;
+    case K::Rejected:
+      j["seq"] = f.seq;
+      j["reason"] = f.text;
+      break;
+    case K::Undone:
+    case K::RetakeStarted:
+      j["seq"] = f.undoneSeq;
+      j["event_seq"] = f.seq;
+      j["what"] = acq::toString(f.item.what);
+      j["row"] = nullable(f.item.row);
+      j["col"] = nullable(f.item.col);
+      break;
+    case K::Complete:
+      j["session"] = session;
+      j["seq"] = f.seq;
+      break;
+    case K::Paused:
+      j["seq"] = f.seq;
+      j["reason"] = f.text;
+      break;
+    case K::Device:
+      j["seq"] = f.seq;
+      j["message"] = f.text;
+      break;
+    default: j["seq"] = f.seq; break;
+  }
+  return j;
+}
+
+void printTerminal(const acq::Feedback& f) {
+  using K = acq::Feedback::Kind;
+  switch (f.kind) {
+    case K::Accepted: std::cout << "\a  ✓ " << describe(f.item) << "\n"; break;
+    case K::Rejected: std::cout << "\a\a  ✗ NOT TAKEN: " << f.text << "\n"; break;
+    case K::Undone: std::cout << "  ↶ undone: " << describe(f.item) << "\n"; break;
+    case K::RetakeStarted: std::cout << "  ↻ retake: " << describe(f.item) << " is taken out; take it again\n"; break;
+    case K::RetakeCancelled: std::cout << "  ↶ retake cancelled: " << describe(f.item) << " is back\n"; break;
+    case K::RowsEnded: std::cout << "\a  ✓ rows ended\n"; break;
+    case K::RowsReopened: std::cout << "  ↶ rows reopened\n"; break;
+    case K::Paused: std::cout << "\a\a  ‖ PAUSED: " << f.text << "\n"; break;
+    case K::Resumed: std::cout << "  ▶ resumed\n"; break;
+    case K::Complete: std::cout << "\a  ✓ LEAF COMPLETE\n"; break;
+    case K::Abandoned: std::cout << "  ✗ session abandoned: " << f.text << "\n"; break;
+    case K::Device: std::cout << "  ⚙ " << f.text << "\n"; break;
+  }
+}
+
+struct RunResult {
+  int exitCode = 0;
+  acq::Snapshot last;
+  acq::VirtualOperator::Stats stats;
+};
+
+// Runs one capture (new or resumed) to its end, a quit, or Ctrl-C.
+RunResult runSession(db::Store& store, std::int64_t id, const CaptureOptions& o, const m::MarkerSet* simLeaf,
+                     bool quiet = false) {
+  RunResult result;
+  acq::CaptureSession session(store, id);
+  const bool simulate = simLeaf != nullptr;
+  const double scale = simulate ? o.speed : 1.0;
+  std::unique_ptr<acq::SimulatedRig> rig;
+  std::unique_ptr<acq::VirtualOperator> op;
+  acq::SimulationOptions so;
+  if (simulate) {
+    so.speed = o.speed;
+    so.seed = o.seed;
+    so.digitizerFaults = o.faults;
+    so.caliperFaults = o.caliperFaults;
+    so.mistakes = !o.noMistakes;
+    rig = std::make_unique<acq::SimulatedRig>(so);
+    op = std::make_unique<acq::VirtualOperator>(*rig, *simLeaf, so);
+  }
+  std::string lastPrompt;
+  acq::LoopListener listener;
+  listener.onFeedback = [&](const acq::Feedback& f) {
+    if (quiet) return;
+    if (o.json) std::cout << feedbackJson(f, id).dump() << "\n" << std::flush;
+    else printTerminal(f);
+  };
+  listener.onSnapshot = [&](const acq::Snapshot& s) {
+    if (op) op->observe(s);
+    if (quiet || s.prompt == lastPrompt) return;
+    lastPrompt = s.prompt;
+    if (o.json) {
+      std::cout << json{{"event", "prompt"}, {"text", s.prompt}}.dump() << "\n" << std::flush;
+    } else {
+      int points = 0, readings = 0;
+      for (const auto& i : s.items) (acq::isStylusItem(i.what) ? points : readings)++;
+      std::cout << "\n  ▶ " << s.prompt << "\n    [" << points << " points, " << readings << " readings, "
+                << s.completeRows << " complete rows"
+                << (s.preview && s.preview->provisionalThickness ? "; preview with provisional thickness" : "") << "]\n"
+                << std::flush;
+    }
+  };
+  acq::CaptureLoop loop(session, listener, scale);
+  const std::string digitizer = simulate ? rig->digitizerSpec() : !o.digitizer.empty() ? o.digitizer : session.setup().digitizer;
+  const std::string caliper = simulate ? rig->caliperSpec() : !o.caliper.empty() ? o.caliper : session.setup().caliper;
+  acq::DeviceSet devices(digitizer, caliper, loop);
+  if (session.paused()) loop.command({acq::Command::Kind::Resume, acq::What::Marker, 0, 0, {}});
+  if (!quiet && !o.json)
+    std::cout << "leafdig capture · session " << id << " · " << session.setup().project << " / " << session.setup().plant
+              << " / leaf " << session.setup().leafPosition << " · " << acq::toString(session.setup().settings.mode)
+              << " mode\n  digitizer " << digitizer << " · caliper " << caliper
+              << "\n  keys (then Enter): u undo · e end rows · r WHAT ROW POINT retake · p pause · resume · "
+                 "abandon [why] · q quit\n";
+  devices.start();
+  if (op) op->start();
+  // Commands on standard input (keys in a terminal, lines from a script).
+  std::atomic<bool> done{false};
+  std::thread input([&] {
+    std::string line;
+    while (!done) {
+      pollfd p{0, POLLIN, 0};
+      if (::poll(&p, 1, 100) <= 0) continue;
+      char buf[256];
+      const ssize_t n = ::read(0, buf, sizeof buf);
+      if (n <= 0) return;  // end of input: capture goes on with the stylus and caliper
+      line.append(buf, static_cast<std::size_t>(n));
+      for (auto nl = line.find('\n'); nl != std::string::npos; nl = line.find('\n')) {
+        const std::string cmd = line.substr(0, nl);
+        line.erase(0, nl + 1);
+        if (cmd.find_first_not_of(" \t\r") == std::string::npos) continue;
+        try {
+          loop.command(acq::parseCommand(cmd));
+        } catch (const std::invalid_argument& e) {
+          std::cerr << "leafdig: " << e.what() << "\n";
+        }
+      }
+    }
+  });
+  std::thread watcher([&] {
+    while (!done) {
+      if (interrupted) loop.stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+  result.last = loop.run();
+  done = true;
+  if (op) op->stop();
+  devices.stop();
+  input.join();
+  watcher.join();
+  if (op) result.stats = op->stats();
+  if (!session.ended() && !session.paused()) {
+    (void)session.pause(interrupted ? "capture interrupted" : "capture stopped by the operator", loop.monoNs(acq::CaptureLoop::Clock::now()));
+    result.last = session.snapshot(false);
+  }
+  result.exitCode = interrupted ? 130 : 0;
+  if (!quiet && !o.json && !session.ended())
+    std::cout << "  session " << id << " kept at: " << result.last.prompt << "\n  continue with: leafdig sessions resume "
+              << id << " --db " << store.path() << "\n";
+  return result;
+}
+
+m::MarkerSet loadSimLeaf(const CaptureOptions& o) {
+  const std::string path = o.markers.empty() ? samplesDir("") + "/lower-leaf-n10.markers.json" : o.markers;
+  return m::readMarkersFile(path);
+}
+
+acq::SessionSetup setupFrom(const CaptureOptions& o) {
+  acq::SessionSetup s;
+  s.project = o.project;
+  s.plant = o.plant;
+  s.leafPosition = o.leafPosition;
+  s.operatorName = o.operatorName;
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) == 0) s.station = host;
+  s.settings.mode = acq::modeFromString(o.mode);
+  s.settings.order = acq::orderFromString(o.order);
+  s.settings.boardFrame = o.board;
+  s.digitizer = o.digitizer;
+  s.caliper = o.caliper;
+  s.simulated = o.simulate;
+  s.timeScale = o.simulate ? o.speed : 1.0;
+  return s;
+}
+
+int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
+  try {
+    if (!(o.speed > 0 && o.speed <= 50)) throw std::invalid_argument("--speed must be in (0, 50]");
+    if (!o.simulate && !resumeId && (o.digitizer.empty() || o.caliper.empty()))
+      throw std::invalid_argument(
+          "capture needs --digitizer KIND:PORT and --caliper KIND:PORT (or --simulate): see 'leafdig devices list'");
+    std::optional<m::MarkerSet> leaf;
+    if (o.simulate) leaf = loadSimLeaf(o);
+    acq::SessionSetup setup = setupFrom(o);
+    if (o.simulate) {
+      setup.digitizer = "fastrak:simulated";
+      setup.caliper = "sylvac:simulated";
+    }
+    if (!resumeId) {  // check the device specs before anything is written
+      if (!o.simulate) {
+        (void)acq::parseDigitizerSpec(o.digitizer);
+        (void)acq::parseCaliperSpec(o.caliper);
+      }
+    }
+    db::Store store(dbPath(o));
+    std::int64_t id = 0;
+    if (resumeId) {
+      id = *resumeId;
+    } else {
+      id = acq::CaptureSession::create(store, setup);
+    }
+    if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    const RunResult r = runSession(store, id, o, leaf ? &*leaf : nullptr);
+    return r.exitCode;
+  } catch (const db::StoreError& e) {
+    return reportStoreError(e);
+  } catch (const acq::SessionError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const m::InputError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+// ---- sessions ---------------------------------------------------------------------------------
+struct Replayed {
+  db::SessionInfo info;
+  acq::Settings settings;
+  acq::Engine engine;
+};
+
+Replayed replaySession(const db::Store& store, std::int64_t id) {
+  const auto info = store.session(id);
+  if (!info) throw acq::SessionError("there is no session " + std::to_string(id) + " in " + store.path() +
+                                     ": 'leafdig sessions list' shows them");
+  const acq::Settings settings = acq::CaptureSession::settingsFromJson(info->settingsJson);
+  return {*info, settings, acq::CaptureSession::replay(settings, store.events(id))};
+}
+
+int runList(const db::Store& store, const CaptureOptions& o) {
+  const auto sessions = store.sessions();
+  if (o.json) {
+    json a = json::array();
+    for (const auto& s : sessions)
+      a.push_back({{"id", s.id}, {"project", s.project}, {"plant", s.plant}, {"leaf_position", s.leafPosition},
+                   {"status", s.status}, {"operator", s.operatorName}, {"mode", s.mode}, {"created_utc", s.createdUtc},
+                   {"events", s.headSeq}});
+    std::cout << a.dump() << "\n";
+    return 0;
+  }
+  std::cout << std::left << std::setw(6) << "id" << std::setw(10) << "status" << std::setw(28) << "leaf" << std::setw(14)
+            << "operator" << std::setw(8) << "events" << "created (UTC)\n";
+  for (const auto& s : sessions)
+    std::cout << std::setw(6) << s.id << std::setw(10) << s.status << std::setw(28)
+              << (s.project + "/" + s.plant + "/" + std::to_string(s.leafPosition)) << std::setw(14) << s.operatorName
+              << std::setw(8) << s.headSeq << s.createdUtc << "\n";
+  if (sessions.empty()) std::cout << "(no sessions in " << store.path() << ")\n";
+  return 0;
+}
+
+int runShow(const db::Store& store, const CaptureOptions& o) {
+  const Replayed r = replaySession(store, o.id);
+  const db::ChainReport chain = store.verify(o.id);
+  json tip = nullptr;
+  json markers = json::array(), board = json::array(), thickness = json::array();
+  for (const auto& mk : store.markers(o.id)) {
+    const json pos = {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]};
+    if (mk.what == "tip") tip = pos;
+    else if (mk.what == "board") board.push_back({{"col", mk.col.value_or(0)}, {"position_mm", pos}});
+    else markers.push_back({{"row", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}});
+  }
+  for (const auto& t : store.thickness(o.id))
+    thickness.push_back({{"what", t.what}, {"row", t.row ? json(*t.row) : json(nullptr)},
+                         {"col", t.col ? json(*t.col) : json(nullptr)}, {"value_mm", t.valueMm}});
+  if (o.json) {
+    json j{{"id", o.id},
+           {"status", r.info.status},
+           {"step", stepJson(r.engine.step(), r.engine.prompt())},
+           {"tip", tip},
+           {"markers", markers},
+           {"thickness", thickness},
+           {"events", chain.events},
+           {"chain_ok", chain.ok},
+           {"project", r.info.project},
+           {"plant", r.info.plant},
+           {"leaf_position", r.info.leafPosition},
+           {"operator", r.info.operatorName},
+           {"mode", r.info.mode},
+           {"order", r.info.order}};
+    if (!board.empty()) j["board"] = board;
+    std::cout << j.dump() << "\n";
+    return 0;
+  }
+  std::cout << "session " << o.id << " · " << r.info.status << " · " << r.info.project << "/" << r.info.plant << "/leaf "
+            << r.info.leafPosition << " · " << r.info.mode << " · operator " << r.info.operatorName << "\n"
+            << "  step: " << r.engine.prompt() << "\n  " << markers.size() << " markers"
+            << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
+            << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + chain.problem) << "\n";
+  return 0;
+}
+
+int runVerify(const db::Store& store, const CaptureOptions& o) {
+  std::vector<std::int64_t> ids;
+  if (o.all || o.id == 0)
+    for (const auto& s : store.sessions()) ids.push_back(s.id);
+  else ids.push_back(o.id);
+  bool ok = true;
+  json a = json::array();
+  for (const auto id : ids) {
+    const db::ChainReport c = store.verify(id);
+    ok = ok && c.ok;
+    if (o.json)
+      a.push_back({{"session", id}, {"chain_ok", c.ok}, {"events", c.events},
+                   {"first_bad_seq", c.firstBadSeq ? json(*c.firstBadSeq) : json(nullptr)}, {"problem", c.problem}});
+    else
+      std::cout << "session " << id << ": " << c.events << " events, "
+                << (c.ok ? "chain OK" : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " + c.problem)
+                << "\n";
+  }
+  if (o.json) std::cout << a.dump() << "\n";
+  return ok ? 0 : 1;
+}
+
+int runReview(db::Store& store, const CaptureOptions& o, const std::string& status) {
+  const auto info = store.session(o.id);
+  if (!info) throw acq::SessionError("there is no session " + std::to_string(o.id) + ": 'leafdig sessions list' shows them");
+  if (o.who.empty()) throw std::invalid_argument("--who NAME is required: a curator signs every review");
+  if (status == "rejected" && o.why.empty()) throw std::invalid_argument("--why is required when rejecting: say what is wrong");
+  if (status == "approved" && info->status != "complete")
+    throw std::invalid_argument("session " + std::to_string(o.id) + " is " + info->status +
+                                ": only a complete session can be approved");
+  if (info->status == "approved" || info->status == "rejected")
+    throw std::invalid_argument("session " + std::to_string(o.id) + " is already " + info->status);
+  if (!store.verify(o.id).ok)
+    throw std::invalid_argument("session " + std::to_string(o.id) +
+                                " fails 'sessions verify': its event log was altered; it cannot be reviewed");
+  (void)store.ensureOperator(o.who, "curator");
+  const auto seq = store.setStatus(o.id, status, o.who, o.why);
+  if (o.json) std::cout << json{{"session", o.id}, {"status", status}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
+  else std::cout << "session " << o.id << " " << status << " by " << o.who << " (event " << seq << ")\n";
+  return 0;
+}
+
+std::string csvText(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+int runExport(db::Store& store, const CaptureOptions& o) {
+  const Replayed r = replaySession(store, o.id);
+  if (o.out.empty()) throw std::invalid_argument("--out DIR is required");
+  std::vector<std::string> formats = o.formats;
+  if (formats.empty()) formats = {"glb", "obj", "ply", "stl", "model", "markers", "csv"};
+  m::LeafInfo info;
+  info.id = r.info.project + "/" + r.info.plant + "/leaf-" + std::to_string(r.info.leafPosition) + "/session-" +
+            std::to_string(o.id);
+  info.plant = r.info.plant;
+  info.position = r.info.leafPosition;
+  const m::MarkerSet set = acq::toMarkerSet(r.engine.items(), r.settings, info);
+  m::LeafModel leaf = m::buildLeafModel(set, {m::bladeKindFromString(o.blade), nullptr});
+  if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
+  const m::LeafMesh mesh = m::meshLeaf(leaf, m::MeshResolution::preset("export"));
+  const m::LeafMetrics metrics = m::computeLeafMetrics(leaf, Eigen::Vector3d(0, 0, 1), 5.0);
+  const m::ExportHeader header{info.id, o.frame, std::string("leafdig ") + kVersion};
+  const std::string base = o.out + "/session-" + std::to_string(o.id);
+  std::vector<std::pair<std::string, std::string>> files;  // path, bytes
+  std::vector<std::string> kinds;
+  for (const std::string& f : formats) {
+    if (f == "glb" || f == "obj" || f == "ply" || f == "stl") {
+      files.emplace_back(base + "." + f, m::encodeMesh(mesh, m::meshFormatForPath(base + "." + f), header));
+    } else if (f == "model") {
+      files.emplace_back(base + ".model.json", m::modelToJson(leaf, o.frame, metrics));
+    } else if (f == "markers") {
+      files.emplace_back(base + ".markers.json", m::markersToJson(set));
+    } else if (f == "csv") {
+      std::ostringstream mk, th;
+      mk << std::setprecision(17) << "session,seq,what,row,col,x_mm,y_mm,z_mm\n";
+      for (const auto& x : store.markers(o.id))
+        mk << o.id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
+           << (x.col ? std::to_string(*x.col) : "") << "," << x.positionMm[0] << "," << x.positionMm[1] << ","
+           << x.positionMm[2] << "\n";
+      th << std::setprecision(17) << "session,seq,what,row,col,thickness_mm,raw\n";
+      for (const auto& x : store.thickness(o.id))
+        th << o.id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
+           << (x.col ? std::to_string(*x.col) : "") << "," << x.valueMm << "," << csvText(x.raw) << "\n";
+      files.emplace_back(base + ".markers.csv", mk.str());
+      files.emplace_back(base + ".thickness.csv", th.str());
+    } else {
+      throw std::invalid_argument("unknown export format '" + f + "': use glb, obj, ply, stl, model, markers, csv");
+    }
+  }
+  std::filesystem::create_directories(o.out);
+  json written = json::array();
+  for (const auto& [path, bytes] : files) {
+    m::writeFileAtomically(path, bytes);
+    const auto dot = path.find('.', path.rfind('/') + 1);
+    (void)store.recordExport(o.id, path, path.substr(dot + 1));
+    written.push_back(path);
+  }
+  if (o.json) {
+    std::cout << json{{"session", o.id}, {"outputs", written}, {"metrics", json::parse(m::metricsToJson(metrics))}}.dump()
+              << "\n";
+  } else {
+    std::cout << "session " << o.id << ": " << set.rows.size() << " rows, blade area " << std::fixed
+              << std::setprecision(0) << metrics.blade.areaMm2 << " mm^2\n";
+    for (const auto& p : written) std::cout << "  wrote " << p.get<std::string>() << "\n";
+  }
+  return 0;
+}
+
+// ---- demo -------------------------------------------------------------------------------------
+int runDemo(const CaptureOptions& o) {
+  const std::string dir = samplesDir(o.samples);
+  std::vector<std::string> leaves;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().string().ends_with(".markers.json")) leaves.push_back(e.path().string());
+  std::sort(leaves.begin(), leaves.end());
+  if (leaves.empty()) throw std::invalid_argument("no *.markers.json in " + dir + ": give --samples DIR");
+  const std::string out = o.out.empty() ? "out/demo" : o.out;
+  std::filesystem::create_directories(out);
+  CaptureOptions c = o;
+  c.db = o.db.empty() ? out + "/demo.sqlite" : o.db;
+  c.simulate = true;
+  c.project = "demo";
+  db::Store store(c.db);
+  std::cout << "leafdig demo: a virtual technician captures " << leaves.size()
+            << " leaves with a simulated FASTRAK and Sylvac caliper over pseudo-terminals\n  database " << c.db
+            << "\n";
+  std::signal(SIGINT, onSignal);
+  json summary = json::array();
+  int position = 0;
+  for (const auto& path : leaves) {
+    const m::MarkerSet leaf = m::readMarkersFile(path);
+    const std::string name = std::filesystem::path(path).filename().string();
+    c.plant = "plant-1";
+    c.leafPosition = ++position;
+    c.seed = o.seed + static_cast<std::uint64_t>(position);
+    acq::SessionSetup setup = setupFrom(c);
+    setup.digitizer = "fastrak:simulated";
+    setup.caliper = "sylvac:simulated";
+    const std::int64_t id = acq::CaptureSession::create(store, setup);
+    std::cout << "\n  session " << id << ": " << name << " (" << leaf.rows.size() << " rows) ... " << std::flush;
+    const auto t0 = std::chrono::steady_clock::now();
+    const RunResult r = runSession(store, id, c, &leaf, /*quiet=*/true);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!r.last.complete) {
+      std::cout << "not complete (" << r.last.prompt << ")\n";
+      return interrupted ? 130 : 1;
+    }
+    int rejected = 0;
+    for (const auto& e : store.events(id)) rejected += e.kind == "rejected";
+    std::cout << "complete in " << std::fixed << std::setprecision(1) << secs << " s; " << r.last.items.size()
+              << " items, " << rejected << " inputs rejected (" << r.stats.doubleTaps << " double press, "
+              << r.stats.outOfOrder << " out of order, " << r.stats.bounces << " caliper bounce), "
+              << r.stats.wrongPointsUndone << " slip undone with the stylus\n";
+    CaptureOptions e = c;
+    e.id = id;
+    e.out = out;
+    e.json = false;
+    if (const int rc = runExport(store, e); rc != 0) return rc;
+    const db::ChainReport chain = store.verify(id);
+    std::cout << "    hash chain: " << (chain.ok ? "OK" : "BROKEN") << " (" << chain.events << " events)\n";
+    summary.push_back({{"session", id}, {"leaf", name}, {"seconds", secs}, {"chain_ok", chain.ok}});
+  }
+  std::cout << "\nDone. Inspect with: leafdig sessions list --db " << c.db << "\n";
+  return 0;
+}
+
+}  // namespace
+
+void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
+  const auto addCaptureOptions = [&o](CLI::App* c) {
+    c->add_option("--db", o.db, "SQLite file (default: the station's, under $XDG_DATA_HOME/leafdig)");
+    c->add_flag("--json", o.json, "One JSON object per line, each after it is committed (README: the contract)");
+    c->add_option("--digitizer", o.digitizer, "KIND:PORT, e.g. fastrak:/dev/ttyUSB0 (patriot, liberty, microscribe)");
+    c->add_option("--caliper", o.caliper, "KIND:PORT or hid:VID:PID, e.g. sylvac:/dev/ttyUSB1, mitutoyo:PORT, hid:0fe7:4001");
+    c->add_flag("--simulate", o.simulate, "Capture with the built-in simulators and a virtual operator");
+    c->add_option("--markers", o.markers, "Leaf the virtual operator captures (leafdig.markers/1; default a sample)");
+    c->add_option("--faults", o.faults, "Digitizer faults, e.g. garbage=0.01,unplug=0.002:0.5 (see 'leafdig sim --help')");
+    c->add_option("--caliper-faults", o.caliperFaults, "Caliper faults, same syntax");
+    c->add_option("--seed", o.seed, "Seed of the simulation (noise, mistakes, faults)");
+    c->add_option("--speed", o.speed, "Time scale of the simulated operator and devices (e.g. 10)");
+    c->add_flag("--no-mistakes", o.noMistakes, "The virtual operator makes no deliberate mistakes");
+  };
+  CLI::App* capture = app.add_subcommand("capture", "Guided capture of one leaf into the station's database");
+  addCaptureOptions(capture);
+  capture->add_option("--project", o.project, "Project name (created when new)");
+  capture->add_option("--plant", o.plant, "Plant name (created when new)");
+  capture->add_option("--leaf-position", o.leafPosition, "Leaf position on the stem, from the base (1, 2, …)")
+      ->check(CLI::PositiveNumber);
+  capture->add_option("--mode", o.mode, "standard (default), full or small")
+      ->check(CLI::IsMember({"standard", "full", "small"}));
+  capture->add_option("--order", o.order, "sequential (default: all points, then thicknesses) or interleaved")
+      ->check(CLI::IsMember({"sequential", "interleaved"}));
+  capture->add_option("--operator", o.operatorName, "Who captures");
+  capture->add_flag("--board", o.board, "Start with a 3-point board frame (origin, +X, +Y)");
+
+  CLI::App* sessions = app.add_subcommand("sessions", "List, inspect, verify, resume, review and export sessions");
+  sessions->require_subcommand(1);
+  CLI::App* list = sessions->add_subcommand("list", "All sessions in the database");
+  CLI::App* show = sessions->add_subcommand("show", "One session: step, markers, readings, chain");
+  CLI::App* verify = sessions->add_subcommand("verify", "Recompute the hash chain of a session (or all)");
+  CLI::App* resume = sessions->add_subcommand("resume", "Continue an open session at its exact step");
+  CLI::App* approve = sessions->add_subcommand("approve", "Curator: approve a complete session");
+  CLI::App* reject = sessions->add_subcommand("reject", "Curator: reject a session, saying why");
+  CLI::App* exp = sessions->add_subcommand("export", "Export a session's leaf: meshes, model, markers, CSV");
+  for (CLI::App* c : {list, show, verify, approve, reject, exp}) {
+    c->add_option("--db", o.db, "SQLite file (default: the station's)");
+    c->add_flag("--json", o.json, "JSON output");
+  }
+  addCaptureOptions(resume);
+  for (CLI::App* c : {show, resume, approve, reject, exp}) c->add_option("id", o.id, "Session id")->required();
+  verify->add_option("id", o.id, "Session id (default: all)");
+  verify->add_flag("--all", o.all, "Every session");
+  for (CLI::App* c : {approve, reject}) {
+    c->add_option("--who", o.who, "Curator's name")->required();
+    c->add_option("--why", o.why, "Reason (required to reject)");
+  }
+  exp->add_option("--out", o.out, "Directory to write into")->required();
+  exp->add_option("--format", o.formats, "glb, obj, ply, stl, model, markers, csv (default: all)")->delimiter(',');
+  exp->add_option("--frame", o.frame, "leaf (default) or digitizer")->check(CLI::IsMember({"leaf", "digitizer"}));
+  exp->add_option("--blade", o.blade, "interp (default), approx, bezier, nurbs")
+      ->check(CLI::IsMember({"interp", "approx", "bezier", "nurbs"}));
+
+  CLI::App* demo = app.add_subcommand(
+      "demo", "A virtual technician captures the sample leaves over simulated devices; exports and a summary");
+  demo->add_option("--db", o.db, "SQLite file (default: OUT/demo.sqlite)");
+  demo->add_option("--out", o.out, "Directory for the database and exports (default out/demo)");
+  demo->add_option("--samples", o.samples, "Directory of *.markers.json leaves (default: data/samples)");
+  demo->add_option("--speed", o.speed, "Time scale (default 8)");
+  demo->add_option("--seed", o.seed, "Seed");
+}
+
+int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {
+  CaptureOptions o = options;
+  if (app.get_subcommand("capture")->parsed()) return runCapture(o, std::nullopt);
+  if (app.get_subcommand("demo")->parsed()) {
+    if (app.get_subcommand("demo")->count("--speed") == 0) o.speed = 8.0;
+    try {
+      return runDemo(o);
+    } catch (const db::StoreError& e) {
+      return reportStoreError(e);
+    } catch (const std::exception& e) {
+      std::cerr << "leafdig: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  CLI::App* s = app.get_subcommand("sessions");
+  if (!s->parsed()) return -1;
+  if (s->get_subcommand("resume")->parsed()) return runCapture(o, o.id);
+  try {
+    const bool writes = s->get_subcommand("approve")->parsed() || s->get_subcommand("reject")->parsed() ||
+                        s->get_subcommand("export")->parsed();
+    if (!std::filesystem::exists(dbPath(o)))
+      throw std::invalid_argument("no database at " + dbPath(o) + ": give --db FILE (capture creates one)");
+    db::Store store(dbPath(o), !writes);
+    if (s->get_subcommand("list")->parsed()) return runList(store, o);
+    if (s->get_subcommand("show")->parsed()) return runShow(store, o);
+    if (s->get_subcommand("verify")->parsed()) return runVerify(store, o);
+    if (s->get_subcommand("approve")->parsed()) return runReview(store, o, "approved");
+    if (s->get_subcommand("reject")->parsed()) return runReview(store, o, "rejected");
+    if (s->get_subcommand("export")->parsed()) return runExport(store, o);
+  } catch (const db::StoreError& e) {
+    return reportStoreError(e);
+  } catch (const acq::SessionError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const m::InputError& e) {
+    std::cerr << "leafdig: cannot export: " << e.what() << "\n";
+    return 2;
+  } catch (const m::IoError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 1;
+  }
+  return -1;
+}
+
+}  // namespace leafdig::cli

@@ -1,0 +1,38 @@
+// leafdig capture, leafdig sessions list|show|verify|resume|approve|reject|export, leafdig demo.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace leafdig::cli {
+
+struct CaptureOptions {
+  std::string db;
+  bool json = false;
+  // capture
+  std::string project = "default", plant = "plant-1", digitizer, caliper, mode = "standard", order = "sequential",
+              operatorName = "technician";
+  int leafPosition = 1;
+  bool board = false;
+  // simulation
+  bool simulate = false, noMistakes = false;
+  std::string markers, faults, caliperFaults;
+  std::uint64_t seed = 1;
+  double speed = 1.0;
+  // sessions
+  std::int64_t id = 0;
+  bool all = false;
+  std::string who, why, out;
+  std::vector<std::string> formats;
+  std::string frame = "leaf", blade = "interp";
+  // demo
+  std::string samples;
+};
+
+void addCaptureCommands(CLI::App& app, CaptureOptions& options);
+// Returns the exit code, or -1 when none of these commands was chosen.
+int runCaptureCommands(CLI::App& app, const CaptureOptions& options);
+
+}  // namespace leafdig::cli
