@@ -212,7 +212,7 @@ void VirtualOperator::act(const Snapshot& s) {
         ++stylusAccepted_;
         const Vec3 at = truth(st.what, st.row, st.col);
         press(at, 0.35);
-        press(at, 0.2, 0.1, 0.02);  // the button pressed twice on the same marker
+        press(at, 0.2, 0.1, 0.0);  // the button pressed twice on the same marker, without lifting
         std::lock_guard lock(mutex_);
         ++stats_.doubleTaps;
         return;

@@ -1,0 +1,339 @@
+// Capture sessions on a real SQLite file: commit before acknowledge, replay on reopen,
+// undo / retake / pause / abandon, the store refusing writes (page quota = full disk), a
+// reader beside the writer, the board frame and the live preview.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <thread>
+
+#include "leafdig/acquisition/preview.hpp"
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/model/markers_json.hpp"
+
+namespace acq = leafdig::acquisition;
+namespace fs = std::filesystem;
+using FK = acq::Feedback::Kind;
+
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+acq::Vec3 v(const Eigen::Vector3d& e) { return {e.x(), e.y(), e.z()}; }
+
+// A technician's hand and caliper feeding a session.
+struct Hand {
+  acq::CaptureSession* session;
+  std::int64_t t = 0;
+  std::mt19937 rng{11};
+
+  std::vector<acq::Feedback> press(const acq::Vec3& p, std::int64_t pressMs = 200) {
+    std::normal_distribution<double> noise(0.0, 0.1);
+    std::vector<acq::Feedback> out;
+    const auto sample = [&](bool button) {
+      acq::StylusInput s{t += 8 * kMs, {p[0] + noise(rng), p[1] + noise(rng), p[2] + noise(rng)}, button, "ok",
+                         "01   1.0  2.0  3.0"};
+      for (auto& f : session->onStylus(s)) out.push_back(f);
+    };
+    for (int i = 0; i < 60; ++i) sample(false);
+    for (std::int64_t i = 0; i < pressMs / 8; ++i) sample(true);
+    sample(false);
+    return out;
+  }
+  std::vector<acq::Feedback> read(double mm) { return session->onCaliper({t += 500 * kMs, mm, "+" + std::to_string(mm)}); }
+};
+
+bool has(const std::vector<acq::Feedback>& fs, FK k) {
+  for (const auto& f : fs)
+    if (f.kind == k) return true;
+  return false;
+}
+
+class Session : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("leafdig-session-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    leaf_ = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::int64_t create(leafdig::db::Store& store, acq::Settings settings = {}) {
+    acq::SessionSetup s;
+    s.project = "p";
+    s.plant = "pl";
+    s.settings = settings;
+    s.digitizer = "fastrak:/dev/ttyS0";
+    s.caliper = "sylvac:/dev/ttyS1";
+    return acq::CaptureSession::create(store, s);
+  }
+  acq::Vec3 point(int row, int col) const {
+    return v(leaf_.rows[static_cast<std::size_t>(row - 1)].pointsMm[static_cast<std::size_t>(col - 1)]);
+  }
+  // Tip and `rows` full rows.
+  void captureRows(Hand& h, int rows) {
+    ASSERT_TRUE(has(h.press(v(leaf_.tipMm)), FK::Accepted));
+    for (int r = 1; r <= rows; ++r)
+      for (int c = 1; c <= 7; ++c) ASSERT_TRUE(has(h.press(point(r, c)), FK::Accepted)) << r << "," << c;
+  }
+  void finish(Hand& h) {
+    ASSERT_TRUE(has(h.press({500, 500, 500}, 1500), FK::RowsEnded));
+    const int n = h.session->engine().completeRows();
+    for (int r = 1; r <= n; ++r) {
+      ASSERT_TRUE(has(h.read(*leaf_.rows[static_cast<std::size_t>(r - 1)].midribThicknessMm), FK::Accepted));
+      ASSERT_TRUE(has(h.read(*leaf_.rows[static_cast<std::size_t>(r - 1)].veinOriginThicknessMm), FK::Accepted));
+    }
+    const auto last = h.read(*leaf_.edgeThicknessMm);
+    ASSERT_TRUE(has(last, FK::Complete));
+  }
+
+  fs::path dir_;
+  leafdig::model::MarkerSet leaf_;
+};
+
+TEST_F(Session, EveryAcknowledgedItemIsInTheStoreAndReopeningReplaysTheExactState) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  {
+    acq::CaptureSession s(store, id);
+    Hand h{&s};
+    captureRows(h, 4);
+    // Each accepted feedback carries the seq of a stored event that says the same.
+    const auto f = h.press(point(5, 1));
+    ASSERT_EQ(f.size(), 1u);
+    const auto events = store.events(id, f[0].seq);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, "accepted");
+    EXPECT_EQ(store.markers(id).size(), 1u + 4 * 7 + 1);
+  }
+  acq::CaptureSession reopened(store, id);
+  EXPECT_EQ(reopened.engine().step(), (acq::Step{acq::What::Marker, 5, 2}));
+  EXPECT_EQ(reopened.engine().items().size(), 1u + 4 * 7 + 1);
+  Hand h{&reopened};
+  for (int r = 5; r <= 10; ++r)
+    for (int c = r == 5 ? 2 : 1; c <= 7; ++c) ASSERT_TRUE(has(h.press(point(r, c)), FK::Accepted));
+  finish(h);
+  EXPECT_EQ(store.session(id)->status, "complete");
+  EXPECT_TRUE(store.verify(id).ok);
+  EXPECT_EQ(store.thickness(id).size(), 2u * 10 + 1);
+  EXPECT_THROW(acq::CaptureSession(store, id), acq::SessionError);  // complete: not capturable
+  // The complete leaf converts to a marker set equal (within the stylus noise) to the truth.
+  const auto set = acq::toMarkerSet(reopened.engine().items(), reopened.engine().settings());
+  ASSERT_EQ(set.rows.size(), 10u);
+  EXPECT_LT((set.rows[9].pointsMm[3] - leaf_.rows[9].pointsMm[3]).norm(), 0.2);
+  EXPECT_EQ(*set.edgeThicknessMm, *leaf_.edgeThicknessMm);
+}
+
+TEST_F(Session, UndoRetakeAndTheirCancellationSurviveReplayAndUpdateTheProjections) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  acq::CaptureSession s(store, id);
+  Hand h{&s};
+  captureRows(h, 2);
+  // Undo by the very long press (no keyboard): the last marker leaves the projection.
+  const auto before = store.markers(id).size();
+  const auto undone = h.press(point(2, 7), 3200);
+  ASSERT_TRUE(has(undone, FK::Undone));
+  EXPECT_EQ(store.markers(id).size(), before - 1);
+  ASSERT_TRUE(has(h.press(point(2, 7)), FK::Accepted));
+  // Retake row 1 point 3: it becomes the step; the new point replaces the old one.
+  const auto r = s.retake(acq::What::Marker, 1, 3);
+  ASSERT_TRUE(has(r, FK::RetakeStarted));
+  EXPECT_EQ(s.engine().step(), (acq::Step{acq::What::Marker, 1, 3}));
+  EXPECT_NE(s.engine().prompt().find("Retake"), std::string::npos);
+  acq::Vec3 moved = point(1, 3);
+  moved[2] += 0.8;
+  ASSERT_TRUE(has(h.press(moved), FK::Accepted));
+  EXPECT_EQ(s.engine().step(), (acq::Step{acq::What::Marker, 3, 1}));
+  // Retake the tip, then change one's mind: undo puts the old tip back.
+  ASSERT_TRUE(has(s.retake(acq::What::Tip, 0, 0), FK::RetakeStarted));
+  ASSERT_TRUE(has(s.undo(), FK::RetakeCancelled));
+  EXPECT_FALSE(s.engine().retaking());
+  // A retake of something never captured is refused, with words.
+  const auto none = s.retake(acq::What::Marker, 7, 1);
+  ASSERT_EQ(none.size(), 1u);
+  EXPECT_EQ(none[0].kind, FK::Rejected);
+  EXPECT_NE(none[0].text.find("nothing was captured"), std::string::npos);
+
+  acq::CaptureSession again(store, id);
+  ASSERT_EQ(again.engine().items().size(), s.engine().items().size());
+  for (const auto& item : s.engine().items()) {
+    bool found = false;
+    for (const auto& other : again.engine().items())
+      found = found || (other.what == item.what && other.row == item.row && other.col == item.col &&
+                        other.positionMm == item.positionMm);
+    EXPECT_TRUE(found) << acq::toString(item.what) << " " << item.row << "," << item.col;
+  }
+  // The projection holds each current item exactly once, with the retaken position.
+  const auto markers = store.markers(id);
+  EXPECT_EQ(markers.size(), 1u + 14);
+  int retaken = 0;
+  for (const auto& m : markers)
+    if (m.row == 1 && m.col == 3) {
+      ++retaken;
+      EXPECT_NEAR(m.positionMm[2], moved[2], 0.1);
+    }
+  EXPECT_EQ(retaken, 1);
+}
+
+TEST_F(Session, AFullStorePausesWithAClearMessageLosesNothingAndContinuesWhenSpaceReturns) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  acq::CaptureSession s(store, id);
+  Hand h{&s};
+  captureRows(h, 1);
+  const auto acknowledged = store.markers(id).size();
+  store.setMaxPages(store.pageCount());  // no room for one more page: "database or disk is full"
+  // A few inserts may still fit in the last page; the first that does not pauses the
+  // capture with the store's message.
+  std::vector<acq::Feedback> f;
+  for (int c = 1; c <= 7 && !s.paused(); ++c) f = h.press(point(2, c));
+  ASSERT_TRUE(s.paused());
+  ASSERT_FALSE(f.empty());
+  EXPECT_EQ(f.back().kind, FK::Paused);
+  EXPECT_EQ(f.back().seq, 0);  // nothing was written for it
+  EXPECT_NE(f.back().text.find("full"), std::string::npos) << f.back().text;
+  EXPECT_NE(s.snapshot(false).prompt.find("Paused"), std::string::npos);
+  const auto step = s.engine().step();
+  // While paused, the stylus changes nothing; a resume still fails while full.
+  EXPECT_TRUE(h.press(point(2, step.col)).empty());
+  (void)s.resume();
+  EXPECT_TRUE(s.paused());
+  // Space returns: capture goes on at the same step and nothing acknowledged is lost.
+  store.setMaxPages(0);
+  EXPECT_TRUE(has(s.resume(), FK::Resumed));
+  EXPECT_FALSE(s.paused());
+  EXPECT_EQ(s.engine().step(), step);
+  for (int c = step.col; c <= 7; ++c) ASSERT_TRUE(has(h.press(point(2, c)), FK::Accepted));
+  EXPECT_EQ(store.markers(id).size(), acknowledged + 7);
+  EXPECT_TRUE(store.verify(id).ok);
+  acq::CaptureSession reopened(store, id);
+  EXPECT_EQ(reopened.engine().items().size(), s.engine().items().size());
+}
+
+TEST_F(Session, ACuratorReadsTheDatabaseWhileACaptureWritesAndNeitherBlocks) {
+  const std::string path = (dir_ / "s.sqlite").string();
+  leafdig::db::Store store(path);
+  const auto id = create(store);
+  std::atomic<bool> done{false};
+  std::atomic<int> reads{0}, readerErrors{0};
+  std::thread curator([&] {
+    leafdig::db::Store reader(path, true);
+    while (!done) {
+      try {
+        (void)reader.sessions();
+        (void)reader.markers(id);
+        (void)reader.verify(id);
+        ++reads;
+      } catch (const std::exception&) {
+        ++readerErrors;
+      }
+    }
+  });
+  acq::CaptureSession s(store, id);
+  Hand h{&s};
+  captureRows(h, 3);  // throws nothing: every append committed while the reader read
+  done = true;
+  curator.join();
+  EXPECT_EQ(readerErrors, 0);
+  EXPECT_GT(reads, 10);
+  EXPECT_EQ(store.markers(id).size(), 1u + 21);
+}
+
+TEST_F(Session, AnOperatorPauseSurvivesARestartAndAbandonEndsTheSession) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  {
+    acq::CaptureSession s(store, id);
+    Hand h{&s};
+    captureRows(h, 1);
+    ASSERT_TRUE(has(s.pause("lunch"), FK::Paused));
+    EXPECT_TRUE(h.press(point(2, 1)).empty());  // ignored while paused
+  }
+  acq::CaptureSession s(store, id);
+  EXPECT_TRUE(s.paused());
+  EXPECT_NE(s.snapshot(false).prompt.find("lunch"), std::string::npos);
+  ASSERT_TRUE(has(s.resume(), FK::Resumed));
+  Hand h{&s};
+  ASSERT_TRUE(has(h.press(point(2, 1)), FK::Accepted));
+  ASSERT_TRUE(has(s.abandon("leaf torn"), FK::Abandoned));
+  EXPECT_EQ(store.session(id)->status, "abandoned");
+  EXPECT_THROW(acq::CaptureSession(store, id), acq::SessionError);
+  EXPECT_TRUE(store.verify(id).ok);
+}
+
+TEST_F(Session, ABoardFrameIsCapturedFirstAndMarkersAreExpressedInIt) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  acq::Settings settings;
+  settings.boardFrame = true;
+  const auto id = create(store, settings);
+  acq::CaptureSession s(store, id);
+  Hand h{&s};
+  EXPECT_EQ(s.engine().step(), (acq::Step{acq::What::Board, 0, 1}));
+  // The board: origin at (100, 0, 0), +X along device +Y, +Y along device -X.
+  ASSERT_TRUE(has(h.press({100, 0, 0}), FK::Accepted));
+  const auto tooClose = h.press({105, 0, 0});
+  ASSERT_FALSE(tooClose.empty());
+  EXPECT_EQ(tooClose[0].kind, FK::Rejected);
+  ASSERT_TRUE(has(h.press({100, 200, 0}), FK::Accepted));
+  ASSERT_TRUE(has(h.press({-50, 100, 0}), FK::Accepted));
+  EXPECT_EQ(s.engine().step().what, acq::What::Tip);
+  ASSERT_TRUE(has(h.press({100, 50, 10}), FK::Accepted));
+  const Eigen::Isometry3d frame = acq::boardFrame(s.engine().items());
+  const Eigen::Vector3d tip = frame * Eigen::Vector3d(s.engine().items().back().positionMm[0],
+                                                      s.engine().items().back().positionMm[1],
+                                                      s.engine().items().back().positionMm[2]);
+  EXPECT_NEAR(tip.x(), 50, 0.2);
+  EXPECT_NEAR(tip.y(), 0, 0.2);
+  EXPECT_NEAR(tip.z(), 10, 0.2);
+}
+
+TEST_F(Session, ThePreviewGrowsMidribFirstThenLateralsPerRowThenTheBlade) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  acq::CaptureSession s(store, id);
+  Hand h{&s};
+  ASSERT_TRUE(has(h.press(v(leaf_.tipMm)), FK::Accepted));
+  EXPECT_TRUE(s.snapshot().preview->model.veins.empty());
+  for (int c = 1; c <= 4; ++c) ASSERT_TRUE(has(h.press(point(1, c)), FK::Accepted));
+  auto p = s.snapshot().preview;
+  ASSERT_EQ(p->model.veins.size(), 1u);  // tip and row 1's midrib point: two balls
+  EXPECT_EQ(p->model.veins[0].name, "midrib");
+  EXPECT_TRUE(p->provisionalThickness);
+  EXPECT_FALSE(p->mesh.organs.empty());
+  for (int c = 5; c <= 7; ++c) ASSERT_TRUE(has(h.press(point(1, c)), FK::Accepted));
+  p = s.snapshot().preview;
+  EXPECT_EQ(p->model.veins.size(), 4u);  // midrib, two half-laterals, contour
+  EXPECT_TRUE(p->model.blade.controlNet.empty());
+  for (int c = 1; c <= 7; ++c) ASSERT_TRUE(has(h.press(point(2, c)), FK::Accepted));
+  p = s.snapshot().preview;
+  EXPECT_EQ(p->model.veins.size(), 6u);
+  EXPECT_FALSE(p->model.blade.controlNet.empty());
+  bool blade = false;
+  for (const auto& o : p->mesh.organs) blade = blade || o.name == "blade";
+  EXPECT_TRUE(blade);
+  EXPECT_TRUE(p->notes.empty());
+}
+
+TEST(SessionReplay, ATamperedOrOutOfPlaceEventIsNamed) {
+  leafdig::db::Event e;
+  e.seq = 4;
+  e.kind = "undone";
+  e.payloadJson = R"({"what":"marker","row":1,"col":1,"seq":3})";
+  try {
+    (void)acq::CaptureSession::replay({}, {e});
+    FAIL() << "an undo of nothing must not replay";
+  } catch (const acq::SessionError& err) {
+    EXPECT_NE(std::string(err.what()).find("event 4"), std::string::npos) << err.what();
+  }
+  e.kind = "accepted";
+  e.payloadJson = R"({"what":"petiole"})";
+  EXPECT_THROW((void)acq::CaptureSession::replay({}, {e}), acq::SessionError);
+}
+
+}  // namespace
