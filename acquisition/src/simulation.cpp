@@ -272,7 +272,7 @@ void VirtualOperator::run() {
     const auto now = Clock::now();
     if (!idleSince) idleSince = now;
     // Give the release time to reach the station, then act on what it says.
-    if (now - *idleSince < std::chrono::milliseconds(40)) continue;
+    if (now - *idleSince < std::chrono::milliseconds(10)) continue;
     const bool answered = snap->version != versionAtAction;
     if (!answered && now - actedAt < patience) continue;
     versionAtAction = snap->version;

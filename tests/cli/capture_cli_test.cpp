@@ -1,0 +1,335 @@
+// `leafdig capture --simulate`, `leafdig sessions …` and `leafdig demo` driven as a script
+// and a curator would: the JSON-lines contract, kill -9 at random instants, unplugs,
+// foreign databases, review and export.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <csignal>
+#include <random>
+#include <set>
+#include <thread>
+
+#include "cli_support.hpp"
+
+extern char** environ;
+
+namespace {
+
+std::vector<json> jsonLines(const std::string& text) {
+  std::vector<json> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    try {
+      out.push_back(json::parse(line));
+    } catch (const json::parse_error&) {
+      // A line cut by kill -9 is not an acknowledgement.
+    }
+  }
+  return out;
+}
+
+// The items a script may rely on: accepted and not undone (by seq).
+std::map<std::int64_t, json> acknowledged(const std::vector<json>& lines) {
+  std::map<std::int64_t, json> items;
+  for (const json& j : lines) {
+    const std::string e = j.at("event");
+    if (e == "accepted" || e == "retake_cancelled") items[j.at("seq").get<std::int64_t>()] = j;
+    if (e == "undone" || e == "retake") items.erase(j.at("seq").get<std::int64_t>());
+  }
+  return items;
+}
+
+class CaptureCli : public Cli {
+ protected:
+  // Starts leafdig in the background with stdout/stderr to files and stdin from /dev/null.
+  pid_t spawn(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
+    std::vector<std::string> all{LEAFDIG_CLI};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, LEAFDIG_CLI, &fa, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    EXPECT_EQ(rc, 0);
+    return pid;
+  }
+  static int reap(pid_t pid) {
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return status;
+  }
+  json show(const fs::path& db, std::int64_t id) {
+    const Result r = leafdig("sessions show " + std::to_string(id) + " --db " + quote(db) + " --json");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return json::parse(r.out);
+  }
+  // Every acknowledged item is in the store exactly once, with the value that was printed.
+  void expectAllAcknowledgedStored(const std::map<std::int64_t, json>& acks, const json& shown) {
+    std::multiset<std::string> stored;
+    const auto key = [](const std::string& what, const json& row, const json& col) {
+      return what + "/" + (row.is_null() ? "-" : std::to_string(row.get<int>())) + "/" +
+             (col.is_null() ? "-" : std::to_string(col.get<int>()));
+    };
+    if (!shown.at("tip").is_null()) stored.insert("tip/-/-");
+    for (const auto& m : shown.at("markers")) stored.insert(key("marker", m.at("row"), m.at("col")));
+    for (const auto& t : shown.at("thickness")) stored.insert(key(t.at("what"), t.at("row"), t.at("col")));
+    for (const auto& [seq, a] : acks) {
+      const std::string k = key(a.at("what"), a.at("row"), a.at("col"));
+      EXPECT_EQ(stored.count(k), 1u) << "acknowledged " << a.dump() << " must be stored exactly once";
+      if (a.at("what") == "tip") {
+        EXPECT_EQ(shown.at("tip"), a.at("value"));
+      }
+      if (a.at("what") == "marker")
+        for (const auto& m : shown.at("markers"))
+          if (m.at("row") == a.at("row") && m.at("col") == a.at("col")) {
+            EXPECT_EQ(m.at("position_mm"), a.at("value"));
+          }
+    }
+    // And nothing more than what replays from the log.
+    EXPECT_EQ(stored.size(), static_cast<std::size_t>(shown.at("markers").size() + shown.at("thickness").size() +
+                                                      (shown.at("tip").is_null() ? 0 : 1)));
+  }
+};
+
+TEST_F(CaptureCli, ASimulatedCaptureFollowsTheJsonLinesContractAndEveryLineIsInTheStore) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("capture --simulate --speed 12 --seed 3 --json --db " + quote(db) +
+                           " --project trial --plant P7 --leaf-position 4 --operator ana </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto lines = jsonLines(r.out);
+  ASSERT_GT(lines.size(), 80u);
+  EXPECT_EQ(lines.front(), (json{{"event", "session"}, {"session", 1}}));
+  std::set<std::string> whats, reasons;
+  std::int64_t lastSeq = 0;
+  for (const json& j : lines) {
+    const std::string e = j.at("event");
+    if (e == "accepted") {
+      whats.insert(j.at("what").get<std::string>());
+      EXPECT_GT(j.at("seq").get<std::int64_t>(), lastSeq);
+      lastSeq = j.at("seq");
+      if (j.at("what") == "marker") {
+        EXPECT_GE(j.at("row").get<int>(), 1);
+        EXPECT_GE(j.at("col").get<int>(), 1);
+        EXPECT_LE(j.at("col").get<int>(), 7);
+        EXPECT_EQ(j.at("value").size(), 3u);
+      } else if (j.at("what") != "tip") {
+        EXPECT_TRUE(j.at("value").is_number());
+      }
+    }
+    if (e == "rejected") reasons.insert(j.at("reason").get<std::string>());
+    if (e == "prompt") {
+      EXPECT_FALSE(j.at("text").get<std::string>().empty());
+    }
+  }
+  EXPECT_EQ(whats, (std::set<std::string>{"tip", "marker", "midrib_thickness", "vein_origin_thickness", "edge_thickness"}));
+  // The virtual operator's mistakes were caught and said in words.
+  const auto said = [&](const std::string& words) {
+    for (const auto& x : reasons)
+      if (x.find(words) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(said("double press")) << json(reasons).dump();
+  EXPECT_TRUE(said("uneven spacing")) << json(reasons).dump();
+  EXPECT_TRUE(said("outside")) << json(reasons).dump();
+  bool undone = false;
+  for (const json& j : lines) undone = undone || j.at("event") == "undone";
+  EXPECT_TRUE(undone);
+  EXPECT_EQ(lines.back().at("event"), "prompt");
+  EXPECT_EQ(lines[lines.size() - 2], (json{{"event", "complete"}, {"session", 1}, {"seq", lines[lines.size() - 2].at("seq")}}));
+
+  const json shown = show(db, 1);
+  EXPECT_EQ(shown.at("status"), "complete");
+  EXPECT_EQ(shown.at("chain_ok"), true);
+  EXPECT_EQ(shown.at("markers").size(), 70u);
+  EXPECT_EQ(shown.at("thickness").size(), 21u);
+  EXPECT_EQ(shown.at("step").at("what"), "done");
+  expectAllAcknowledgedStored(acknowledged(lines), shown);
+
+  // Review and export, as a curator.
+  EXPECT_EQ(leafdig("sessions approve 1 --db " + quote(db)).exitCode, 2) << "--who is required";
+  EXPECT_EQ(leafdig("sessions reject 1 --who bo --db " + quote(db)).exitCode, 2);
+  const Result ok = leafdig("sessions approve 1 --who bo --why 'checked' --db " + quote(db));
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+  EXPECT_EQ(show(db, 1).at("status"), "approved");
+  const Result ex = leafdig("sessions export 1 --out " + quote(dir_ / "x") + " --db " + quote(db) + " --json");
+  ASSERT_EQ(ex.exitCode, 0) << ex.err;
+  EXPECT_EQ(json::parse(ex.out).at("outputs").size(), 8u);
+  const std::string csv = slurp(dir_ / "x" / "session-1.markers.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 71);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "session,seq,what,row,col,x_mm,y_mm,z_mm");
+  const std::string th = slurp(dir_ / "x" / "session-1.thickness.csv");
+  EXPECT_EQ(std::count(th.begin(), th.end(), '\n'), 1 + 21);
+  // The exported marker set builds again with the geometry core; assimp opens the OBJ.
+  EXPECT_EQ(leafdig("model build " + quote(dir_ / "x" / "session-1.markers.json")).exitCode, 0);
+  EXPECT_EQ(run("assimp info " + quote(dir_ / "x" / "session-1.obj")).exitCode, 0);
+  const Result verify = leafdig("sessions verify --db " + quote(db) + " --json");
+  EXPECT_EQ(verify.exitCode, 0);
+  EXPECT_EQ(json::parse(verify.out)[0].at("chain_ok"), true);
+}
+
+TEST_F(CaptureCli, KillNineAtRandomInstantsLosesNothingAcknowledgedAndResumeContinuesAtTheExactStep) {
+  const fs::path db = dir_ / "station.sqlite";
+  std::mt19937 rng(20261121);
+  std::uniform_int_distribution<int> killAfterMs(150, 2500);
+  const int runs = 50;
+  int withItems = 0;
+  for (int run = 0; run < runs; ++run) {
+    const fs::path out = dir_ / "out.jsonl", err = dir_ / "err.txt";
+    const pid_t pid = spawn({"capture", "--simulate", "--speed", "15", "--seed", std::to_string(run + 1), "--json", "--db",
+                             db.string(), "--leaf-position", std::to_string(run + 1)},
+                            out, err);
+    std::this_thread::sleep_for(std::chrono::milliseconds(killAfterMs(rng)));
+    ::kill(pid, SIGKILL);
+    reap(pid);
+    const auto lines = jsonLines(slurp(out));
+    if (lines.empty()) continue;  // killed before the session existed: nothing was promised
+    const std::int64_t id = lines.front().at("session");
+    const auto acks = acknowledged(lines);
+    withItems += !acks.empty();
+    const json shown = show(db, id);
+    ASSERT_EQ(shown.at("chain_ok"), true) << "run " << run;
+    expectAllAcknowledgedStored(acks, shown);
+    if (HasFailure()) FAIL() << "run " << run << ": " << slurp(out);
+    // Resume begins exactly at the stored step (the first prompt it prints).
+    if (shown.at("status") != "open") continue;
+    const pid_t again = spawn({"sessions", "resume", std::to_string(id), "--simulate", "--speed", "15", "--seed",
+                               std::to_string(run + 100), "--json", "--db", db.string()},
+                              out, err);
+    std::string firstPrompt;
+    for (int i = 0; i < 200 && firstPrompt.empty(); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      for (const json& j : jsonLines(slurp(out)))
+        if (j.at("event") == "prompt") {
+          firstPrompt = j.at("text");
+          break;
+        }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(killAfterMs(rng) / 3));
+    ::kill(again, SIGKILL);
+    reap(again);
+    EXPECT_EQ(firstPrompt, shown.at("step").at("prompt").get<std::string>()) << "run " << run;
+    // What the resumed run acknowledged before its own kill is stored too.
+    const json after = show(db, id);
+    EXPECT_EQ(after.at("chain_ok"), true);
+    auto both = acks;
+    for (const auto& [seq, j] : acknowledged(jsonLines(slurp(out)))) both[seq] = j;
+    for (const json& j : jsonLines(slurp(out)))
+      if (j.at("event") == "undone" || j.at("event") == "retake") both.erase(j.at("seq").get<std::int64_t>());
+    expectAllAcknowledgedStored(both, after);
+  }
+  EXPECT_GT(withItems, runs / 2) << "most runs should be killed mid-capture, not before it";
+  // Finally one interrupted session is resumed to the end.
+  const json list = json::parse(leafdig("sessions list --json --db " + quote(db)).out);
+  std::int64_t open = 0;
+  for (const auto& s : list)
+    if (s.at("status") == "open" && s.at("events").get<int>() > 20) open = s.at("id");
+  ASSERT_NE(open, 0);
+  const Result done = leafdig("sessions resume " + std::to_string(open) + " --simulate --speed 15 --json --db " + quote(db) +
+                              " </dev/null");
+  ASSERT_EQ(done.exitCode, 0) << done.err;
+  const json finished = show(db, open);
+  EXPECT_EQ(finished.at("status"), "complete");
+  EXPECT_EQ(finished.at("markers").size(), 70u);
+  EXPECT_EQ(finished.at("thickness").size(), 21u);
+}
+
+TEST_F(CaptureCli, AnUnpluggedDigitizerMidRowIsReportedAndTheCaptureCarriesOnAtTheSameStep) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("capture --simulate --speed 12 --no-mistakes --faults unplug=0.0006:0.3,seed=5 --json --db " +
+                           quote(db) + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto lines = jsonLines(r.out);
+  int lost = 0;
+  for (const json& j : lines)
+    if (j.at("event") == "device" && j.at("message").get<std::string>().find("FASTRAK") != std::string::npos &&
+        j.at("message").get<std::string>().find("ready") == std::string::npos &&
+        j.at("message").get<std::string>().find("connecting") == std::string::npos)
+      ++lost;
+  EXPECT_GT(lost, 0) << r.out;
+  const json shown = show(db, 1);
+  EXPECT_EQ(shown.at("status"), "complete");
+  EXPECT_EQ(shown.at("markers").size(), 70u);
+  expectAllAcknowledgedStored(acknowledged(lines), shown);
+}
+
+TEST_F(CaptureCli, CommandsOnStandardInputPauseAndAbandon) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("capture --simulate --speed 12 --json --db " + quote(db) +
+                           " < " + quote(write("cmds.txt", "pause coffee\nfrobnicate\nabandon wrong leaf\n")));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("unknown command 'frobnicate'"), std::string::npos) << r.err;
+  const auto lines = jsonLines(r.out);
+  bool paused = false, abandoned = false;
+  for (const json& j : lines) {
+    paused = paused || (j.at("event") == "paused" && j.at("reason") == "coffee");
+    abandoned = abandoned || j.at("event") == "abandoned";
+  }
+  EXPECT_TRUE(paused);
+  EXPECT_TRUE(abandoned);
+  EXPECT_EQ(show(db, 1).at("status"), "abandoned");
+  const Result resume = leafdig("sessions resume 1 --simulate --db " + quote(db));
+  EXPECT_EQ(resume.exitCode, 2);
+  EXPECT_NE(resume.err.find("abandoned"), std::string::npos) << resume.err;
+}
+
+TEST_F(CaptureCli, AForeignOrCorruptDatabaseIsRefusedAndNotModified) {
+  const fs::path text = write("notes.sqlite", std::string("this is a lab notebook, not a database\n") + std::string(5000, 'x'));
+  const std::string before = slurp(text);
+  const Result r = leafdig("capture --simulate --db " + quote(text));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("what to do"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(text), before);
+  EXPECT_FALSE(fs::exists(dir_ / "notes.sqlite-wal"));
+  // Another program's SQLite database.
+  const fs::path other = dir_ / "other.sqlite";
+  ASSERT_EQ(run("python3 -c \"import sqlite3; c=sqlite3.connect('" + other.string() +
+                "'); c.execute('create table plants(x)'); c.commit()\"")
+                .exitCode,
+            0);
+  const std::string otherBefore = slurp(other);
+  const Result f = leafdig("sessions list --db " + quote(other));
+  EXPECT_EQ(f.exitCode, 2);
+  EXPECT_NE(f.err.find("not a leafdig one"), std::string::npos) << f.err;
+  EXPECT_EQ(slurp(other), otherBefore);
+  EXPECT_EQ(leafdig("sessions list --db " + quote(dir_ / "missing.sqlite")).exitCode, 2);
+}
+
+TEST_F(CaptureCli, BadDeviceSpecsAreRefusedBeforeAnythingIsWritten) {
+  const fs::path db = dir_ / "s.sqlite";
+  Result r = leafdig("capture --digitizer fastrak --caliper sylvac:/dev/null --db " + quote(db));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("needs a port"), std::string::npos) << r.err;
+  r = leafdig("capture --digitizer wand:/dev/ttyS0 --caliper sylvac:/dev/ttyS1 --db " + quote(db));
+  EXPECT_EQ(r.exitCode, 2);
+  r = leafdig("capture --digitizer fastrak:/dev/ttyS0 --caliper hid:zz --db " + quote(db));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("VID:PID"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(db));
+}
+
+TEST_F(CaptureCli, TheDemoCapturesTheThreeSampleLeavesAndExportsThem) {
+  const Result r = leafdig("demo --speed 15 --out " + quote(dir_ / "demo"));
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("hash chain: OK"), std::string::npos);
+  const json list = json::parse(leafdig("sessions list --json --db " + quote(dir_ / "demo" / "demo.sqlite")).out);
+  ASSERT_EQ(list.size(), 3u);
+  for (const auto& s : list) {
+    EXPECT_EQ(s.at("status"), "complete");
+    const std::string base = "session-" + std::to_string(s.at("id").get<int>());
+    for (const char* ext : {".glb", ".obj", ".ply", ".stl", ".model.json", ".markers.json", ".markers.csv"})
+      EXPECT_TRUE(fs::exists(dir_ / "demo" / (base + ext))) << base + ext;
+  }
+}
+
+}  // namespace
