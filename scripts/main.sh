@@ -1,31 +1,26 @@
 #!/usr/bin/env bash
-# The main job on embedded defaults: set up and build, then build the three sample
-# leaves of data/samples/ and write their exports (GLB, OBJ, PLY, STL, model JSON) to
-# out/, printing what was written and each leaf's metrics; then a simulated FASTRAK on a
-# pseudo-terminal and the driver listening to it.
+# The main job on embedded defaults: set up and build, then `leafdig demo`: a simulated
+# FASTRAK and Sylvac caliper on pseudo-terminals, a virtual technician capturing the three
+# sample leaves into out/demo/demo.sqlite, each leaf exported to out/demo/, a summary.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup.sh" release
 leafdig="$root/build/release/ui/cli/leafdig"
 out="$root/out"
 mkdir -p "$out"
+# A fresh demo database each run (the previous one is kept as demo.sqlite.previous).
+if [ -e "$out/demo/demo.sqlite" ]; then
+  mv -f "$out/demo/demo.sqlite" "$out/demo/demo.sqlite.previous"
+  rm -f "$out/demo/demo.sqlite-wal" "$out/demo/demo.sqlite-shm"
+fi
+"$leafdig" demo --out "$out/demo" --samples "$root/data/samples"
+echo
+"$leafdig" sessions list --db "$out/demo/demo.sqlite"
+
+# The geometry core on its own: the sample leaves' marker files straight to exports.
 for markers in "$root"/data/samples/*.markers.json; do
   name=$(basename "$markers" .markers.json)
-  echo
-  "$leafdig" model build "$markers" --resolution export \
-    -o "$out/$name.glb" -o "$out/$name.obj" -o "$out/$name.ply" -o "$out/$name.stl" \
-    --model-json "$out/$name.model.json"
+  "$leafdig" model build "$markers" --resolution export -o "$out/$name.glb" -o "$out/$name.obj" \
+    --model-json "$out/$name.model.json" >/dev/null
 done
-echo
-echo "Exports of the three sample leaves are in $out/"
-
-# The devices on embedded defaults: a simulated FASTRAK walks the first sample leaf; the
-# driver connects over a pseudo-terminal and prints what the stylus reports.
-echo
-echo "A simulated FASTRAK (pseudo-terminal) and the driver listening to it:"
-link="$out/fastrak-sim-port"
-"$leafdig" sim fastrak --markers "$root/data/samples/lower-leaf-n10.markers.json" --link "$link" --seconds 4 \
-  >/dev/null 2>"$out/fastrak-sim.log" &
-for _ in $(seq 100); do [ -e "$link" ] && break; sleep 0.05; done
-"$leafdig" devices listen --digitizer fastrak --port "$link" --seconds 2 | awk 'NR % 24 == 1'
-wait
+echo "Model exports of the sample marker files are in $out/; the demo's captures in $out/demo/"

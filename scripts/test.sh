@@ -28,4 +28,5 @@ fi
 # The benchmarks must still run (a quick smoke pass; numbers live in docs/benchmarks.md).
 build/ci/tests/leafdig_bench --benchmark_min_time=0.01 --benchmark_filter='Rebuild(Preview|Paper)/1' >/dev/null
 build/ci/tests/leafdig_codec_bench --benchmark_min_time=0.01 >/dev/null
+LEAFDIG_BENCH_LEAVES=200 build/ci/tests/leafdig_capture_bench --benchmark_min_time=0.01 >/dev/null
 echo "leafdig: all tests passed"

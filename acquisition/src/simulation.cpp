@@ -254,7 +254,8 @@ void VirtualOperator::run() {
   const auto patience = std::chrono::duration<double>(2.5 / options_.speed + 0.4);
   auto actedAt = Clock::now() - std::chrono::hours(1);
   std::uint64_t versionAtAction = ~0ull;
-  std::optional<Clock::time_point> idleSince;
+  Clock::time_point idleSince{};
+  bool idle = false;
   while (!stop_) {
     std::optional<Snapshot> snap;
     {
@@ -266,19 +267,22 @@ void VirtualOperator::run() {
     if (!snap) continue;
     if (snap->complete || snap->status != "open") break;
     if (!rig_.hand().idle()) {
-      idleSince.reset();
+      idle = false;
       continue;
     }
     const auto now = Clock::now();
-    if (!idleSince) idleSince = now;
+    if (!idle) {
+      idle = true;
+      idleSince = now;
+    }
     // Give the release time to reach the station, then act on what it says.
-    if (now - *idleSince < std::chrono::milliseconds(10)) continue;
+    if (now - idleSince < std::chrono::milliseconds(10)) continue;
     const bool answered = snap->version != versionAtAction;
     if (!answered && now - actedAt < patience) continue;
     versionAtAction = snap->version;
     actedAt = now;
     act(*snap);
-    idleSince.reset();
+    idle = false;
   }
 }
 

@@ -1,0 +1,250 @@
+// Capture pipeline benchmarks on a real SQLite file (WAL, synchronous=FULL): event commit
+// latency, stylus release -> committed -> snapshot with the rebuilt preview, replay speed,
+// and opening a database that holds 10 000 leaves. Results: docs/benchmarks.md.
+//
+// Latencies are reported as p50/p99 counters (milliseconds) over every operation timed.
+#include <benchmark/benchmark.h>
+#include <sqlite3.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <random>
+
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/model/markers_json.hpp"
+
+namespace {
+
+namespace acq = leafdig::acquisition;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+constexpr std::int64_t kMs = 1'000'000;
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("leafdig-bench-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+void percentiles(benchmark::State& state, std::vector<double> ms) {
+  if (ms.empty()) return;
+  std::sort(ms.begin(), ms.end());
+  state.counters["p50_ms"] = ms[ms.size() / 2];
+  state.counters["p99_ms"] = ms[std::min(ms.size() - 1, ms.size() * 99 / 100)];
+  state.counters["max_ms"] = ms.back();
+}
+
+const leafdig::model::MarkerSet& leaf() {
+  static const auto l =
+      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/upper-small-leaf-n17.markers.json");
+  return l;
+}
+
+acq::Vec3 at(int row, int col) {
+  const auto& p = leaf().rows[static_cast<std::size_t>(row - 1)].pointsMm[static_cast<std::size_t>(col - 1)];
+  return {p.x(), p.y(), p.z()};
+}
+
+std::int64_t newSession(leafdig::db::Store& store, int position) {
+  acq::SessionSetup s;
+  s.project = "bench";
+  s.plant = "p";
+  s.leafPosition = position;
+  return acq::CaptureSession::create(store, s);
+}
+
+// Stylus samples of one press on p; returns the release sample (not yet fed).
+acq::StylusInput feedPress(acq::CaptureSession& s, std::int64_t& t, const acq::Vec3& p, std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 0.1);
+  for (int i = 0; i < 70; ++i) (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, false, "ok", "01 x"});
+  for (int i = 0; i < 25; ++i) (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, true, "ok", "01 x"});
+  return {t += 8 * kMs, p, false, "ok", "01   12.3  45.6  7.8"};
+}
+
+// One event with its projection, appended and made durable (fsync) per call.
+void BM_EventCommit(benchmark::State& state) {
+  const fs::path path = scratch("commit.sqlite");
+  fs::remove(path);
+  leafdig::db::Store store(path.string());
+  const auto id = newSession(store, 1);
+  std::vector<double> ms;
+  int k = 0;
+  for (auto _ : state) {
+    leafdig::db::EventInput ev;
+    ev.kind = "accepted";
+    ev.payloadJson = R"({"what":"marker","row":3,"col":5,"position_mm":[1.234,5.678,9.012]})";
+    ev.raw = "01   1.234   5.678   9.012";
+    ev.monoNs = ++k;
+    leafdig::db::Projection p;
+    p.row = 3;
+    p.col = 5;
+    p.what = "marker";
+    ev.projection = p;
+    const auto t0 = Clock::now();
+    benchmark::DoNotOptimize(store.append(id, ev));
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  percentiles(state, ms);
+}
+BENCHMARK(BM_EventCommit)->Iterations(400)->Unit(benchmark::kMillisecond);
+
+// The stylus release that completes a point: decision, commit (fsync), snapshot with the
+// preview model and mesh rebuilt from every marker so far.
+void BM_PressToSnapshot(benchmark::State& state) {
+  const fs::path path = scratch("press.sqlite");
+  fs::remove(path);
+  leafdig::db::Store store(path.string());
+  std::mt19937 rng(5);
+  int position = 0;
+  std::unique_ptr<acq::CaptureSession> s;
+  std::int64_t t = 0;
+  std::vector<double> ms;
+  std::size_t points = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    if (!s || s->engine().step().what != acq::What::Marker ||
+        s->engine().step().row > static_cast<int>(leaf().rows.size())) {
+      s = std::make_unique<acq::CaptureSession>(store, newSession(store, ++position));
+      const auto& tip = leaf().tipMm;
+      (void)s->onStylus(feedPress(*s, t, {tip.x(), tip.y(), tip.z()}, rng));
+    }
+    const acq::Step step = s->engine().step();
+    const acq::StylusInput release = feedPress(*s, t, at(step.row, step.col), rng);
+    state.ResumeTiming();
+    const auto t0 = Clock::now();
+    const auto feedback = s->onStylus(release);
+    const acq::Snapshot snap = s->snapshot(true);
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    if (feedback.empty() || feedback[0].kind != acq::Feedback::Kind::Accepted) {
+      state.SkipWithError(("press not accepted: " + (feedback.empty() ? std::string("no decision") : feedback[0].text)).c_str());
+      break;
+    }
+    points = snap.items.size();
+    benchmark::DoNotOptimize(snap.preview->mesh.organs.size());
+  }
+  percentiles(state, ms);
+  state.counters["points_in_last_snapshot"] = static_cast<double>(points);
+}
+BENCHMARK(BM_PressToSnapshot)->Iterations(240)->Unit(benchmark::kMillisecond);
+
+// A complete 17-row session's events read back and replayed through the engine.
+void BM_Replay(benchmark::State& state) {
+  const fs::path path = scratch("replay.sqlite");
+  fs::remove(path);
+  leafdig::db::Store store(path.string());
+  const auto id = newSession(store, 1);
+  {
+    acq::CaptureSession s(store, id);
+    std::mt19937 rng(9);
+    std::int64_t t = 0;
+    const auto& tip = leaf().tipMm;
+    (void)s.onStylus(feedPress(s, t, {tip.x(), tip.y(), tip.z()}, rng));
+    for (int r = 1; r <= static_cast<int>(leaf().rows.size()); ++r)
+      for (int c = 1; c <= 7; ++c) (void)s.onStylus(feedPress(s, t, at(r, c), rng));
+  }
+  const auto events = store.events(id);
+  const auto settings = acq::Settings{};
+  for (auto _ : state) {
+    const acq::Engine e = acq::CaptureSession::replay(settings, events);
+    benchmark::DoNotOptimize(e.items().size());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(events.size()));
+  state.counters["events"] = static_cast<double>(events.size());
+}
+BENCHMARK(BM_Replay)->Unit(benchmark::kMicrosecond);
+
+// Reading a session from the file and replaying it: what `sessions resume` does.
+void BM_ReadAndReplay(benchmark::State& state) {
+  const fs::path path = scratch("replay.sqlite");
+  leafdig::db::Store store(path.string());
+  for (auto _ : state) {
+    const acq::Engine e = acq::CaptureSession::replay({}, store.events(1));
+    benchmark::DoNotOptimize(e.items().size());
+  }
+}
+BENCHMARK(BM_ReadAndReplay)->Unit(benchmark::kMicrosecond);
+
+// A station database of LEAFDIG_BENCH_LEAVES leaves (default 10 000), each with a complete
+// capture session: one real session copied with SQL (the copies' hash chains are not
+// valid; opening does not verify chains). Built once per run.
+fs::path bigDatabase(int leaves) {
+  const fs::path path = scratch("station-" + std::to_string(leaves) + ".sqlite");
+  if (fs::exists(path)) return path;
+  {
+    leafdig::db::Store store(path.string());
+    const auto id = newSession(store, 1);
+    acq::CaptureSession s(store, id);
+    std::mt19937 rng(3);
+    std::int64_t t = 0;
+    const auto& tip = leaf().tipMm;
+    (void)s.onStylus(feedPress(s, t, {tip.x(), tip.y(), tip.z()}, rng));
+    for (int r = 1; r <= static_cast<int>(leaf().rows.size()); ++r)
+      for (int c = 1; c <= 7; ++c) (void)s.onStylus(feedPress(s, t, at(r, c), rng));
+  }
+  sqlite3* db = nullptr;
+  sqlite3_open(path.c_str(), &db);
+  const std::string n = std::to_string(leaves);
+  const std::string sql =
+      "PRAGMA synchronous=OFF; BEGIN;"
+      "WITH RECURSIVE k(i) AS (SELECT 2 UNION ALL SELECT i+1 FROM k WHERE i<" + n + ") "
+      "INSERT INTO leaves(id, plant_id, position) SELECT i, 1, i FROM k;"
+      "INSERT INTO sessions(id, leaf_id, operator_id, station, status, mode, capture_order, settings_json, created_utc, "
+      "genesis_hash, head_seq, head_hash) SELECT l.id, l.id, s.operator_id, s.station, s.status, s.mode, s.capture_order, "
+      "s.settings_json, s.created_utc, s.genesis_hash, s.head_seq, s.head_hash FROM leaves l, sessions s WHERE s.id=1 AND l.id>1;"
+      "INSERT INTO events SELECT x.id, e.seq, e.utc, e.mono_ns, e.kind, e.payload_json, e.raw, e.prev_hash, e.hash "
+      "FROM sessions x, events e WHERE e.session_id=1 AND x.id>1;"
+      "INSERT INTO markers SELECT x.id, m.seq, m.what, m.row, m.col, m.x_mm, m.y_mm, m.z_mm "
+      "FROM sessions x, markers m WHERE m.session_id=1 AND x.id>1;"
+      "COMMIT;";
+  char* err = nullptr;
+  if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
+    std::fprintf(stderr, "bench fixture: %s\n", err ? err : "?");
+    sqlite3_free(err);
+  }
+  sqlite3_close(db);
+  return path;
+}
+
+int benchLeaves() {
+  const char* e = std::getenv("LEAFDIG_BENCH_LEAVES");
+  return e ? std::max(2, std::atoi(e)) : 10000;
+}
+
+// range(0) = 1: opened for capture (checks every page first); 0: read-only (review tools).
+void BM_OpenStationDatabase(benchmark::State& state) {
+  const fs::path path = bigDatabase(benchLeaves());
+  for (auto _ : state) {
+    leafdig::db::Store store(path.string(), state.range(0) == 0);
+    benchmark::DoNotOptimize(store.schemaVersion());
+  }
+  state.SetLabel(state.range(0) ? "writer" : "read-only");
+  state.counters["leaves"] = benchLeaves();
+  state.counters["file_MB"] = static_cast<double>(fs::file_size(path)) / 1e6;
+}
+BENCHMARK(BM_OpenStationDatabase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void BM_OpenAndListSessions(benchmark::State& state) {
+  const fs::path path = bigDatabase(benchLeaves());
+  std::size_t n = 0;
+  for (auto _ : state) {
+    leafdig::db::Store store(path.string(), true);
+    n = store.sessions().size();
+    benchmark::DoNotOptimize(n);
+  }
+  state.counters["sessions"] = static_cast<double>(n);
+}
+BENCHMARK(BM_OpenAndListSessions)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  std::error_code ec;
+  fs::remove_all(fs::temp_directory_path() / ("leafdig-bench-" + std::to_string(::getpid())), ec);
+  return 0;
+}
