@@ -180,7 +180,9 @@ RunResult runSession(db::Store& store, std::int64_t id, const CaptureOptions& o,
     } else {
       int points = 0, readings = 0;
       for (const auto& i : s.items) (acq::isStylusItem(i.what) ? points : readings)++;
-      std::cout << "\n  ▶ " << s.prompt << "\n    [" << points << " points, " << readings << " readings, "
+      // Large and unmissable on a terminal: bold, reversed.
+      const bool tty = ::isatty(1) != 0;
+      std::cout << "\n  " << (tty ? "\033[1;7m ▶ " : "▶ ") << s.prompt << (tty ? " \033[0m" : "") << "\n    [" << points << " points, " << readings << " readings, "
                 << s.completeRows << " complete rows"
                 << (s.preview && s.preview->provisionalThickness ? "; preview with provisional thickness" : "") << "]\n"
                 << std::flush;
