@@ -263,6 +263,30 @@ TEST_F(CaptureCli, AnUnpluggedDigitizerMidRowIsReportedAndTheCaptureCarriesOnAtT
   expectAllAcknowledgedStored(acknowledged(lines), shown);
 }
 
+TEST_F(CaptureCli, FullModeInterleavedAndSmallModeCaptureTheirOwnReadings) {
+  const fs::path db = dir_ / "station.sqlite";
+  Result r = leafdig("capture --simulate --speed 12 --mode full --order interleaved --no-mistakes --json --db " + quote(db) +
+                     " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  json shown = show(db, 1);
+  EXPECT_EQ(shown.at("status"), "complete");
+  EXPECT_EQ(shown.at("thickness").size(), 10u * 8);  // r_i4^1 and all 7 points per row, no d
+  // Interleaved: row 1's readings come before row 2's markers.
+  std::vector<std::string> order;
+  for (const json& j : jsonLines(r.out))
+    if (j.at("event") == "accepted") order.push_back(j.at("what").get<std::string>() + std::to_string(j.at("row").is_null() ? 0 : j.at("row").get<int>()));
+  const auto firstRow2 = std::find(order.begin(), order.end(), "marker2");
+  const auto row1Reading = std::find(order.begin(), order.end(), "point_thickness1");
+  EXPECT_LT(row1Reading - order.begin(), firstRow2 - order.begin());
+  r = leafdig("capture --simulate --speed 12 --mode small --no-mistakes --json --db " + quote(db) + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  shown = show(db, 2);
+  EXPECT_EQ(shown.at("status"), "complete");
+  EXPECT_EQ(shown.at("thickness").size(), 10u + 1);  // r_i4^1 per row and d
+  EXPECT_EQ(leafdig("sessions export 2 --format markers,glb --out " + quote(dir_ / "x") + " --db " + quote(db)).exitCode, 0);
+  EXPECT_EQ(leafdig("model build " + quote(dir_ / "x" / "session-2.markers.json")).exitCode, 0);
+}
+
 TEST_F(CaptureCli, CommandsOnStandardInputPauseAndAbandon) {
   const fs::path db = dir_ / "station.sqlite";
   const Result r = leafdig("capture --simulate --speed 12 --json --db " + quote(db) +
