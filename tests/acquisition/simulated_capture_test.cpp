@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
 #include <thread>
 
@@ -52,11 +53,13 @@ TEST(SimulatedCapture, TheVirtualOperatorCapturesALeafThroughRealDriversAndEvery
   acq::DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop);
   devices.start();
   op.start();
-  std::thread guard([&] {
-    for (int i = 0; i < 1200 && !session.ended(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    loop.stop();  // a hung capture fails below instead of hanging the suite
+  std::atomic<bool> finished{false};
+  std::thread guard([&] {  // a hung capture fails below instead of hanging the suite
+    for (int i = 0; i < 1200 && !finished; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    loop.stop();
   });
   const acq::Snapshot last = loop.run();
+  finished = true;
   op.stop();
   devices.stop();
   guard.join();
