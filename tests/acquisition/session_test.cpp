@@ -7,7 +7,9 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <mutex>
 #include <random>
+#include <set>
 #include <thread>
 
 #include "leafdig/acquisition/preview.hpp"
@@ -222,27 +224,45 @@ TEST_F(Session, ACuratorReadsTheDatabaseWhileACaptureWritesAndNeitherBlocks) {
   const auto id = create(store);
   std::atomic<bool> done{false};
   std::atomic<int> reads{0}, readerErrors{0};
+  std::mutex seenMutex;
+  std::set<std::size_t> seenCounts;  // marker counts the curator saw: the capture's progress
   std::thread curator([&] {
     leafdig::db::Store reader(path, true);
     while (!done) {
       try {
         (void)reader.sessions();
-        (void)reader.markers(id);
+        const auto n = reader.markers(id).size();
         (void)reader.verify(id);
+        {
+          std::lock_guard lock(seenMutex);
+          seenCounts.insert(n);
+        }
         ++reads;
       } catch (const std::exception&) {
         ++readerErrors;
       }
     }
   });
+  while (reads == 0) std::this_thread::yield();  // the curator is reading before the capture starts
   acq::CaptureSession s(store, id);
   Hand h{&s};
-  captureRows(h, 3);  // throws nothing: every append committed while the reader read
+  ASSERT_TRUE(has(h.press(v(leaf_.tipMm)), FK::Accepted));
+  for (int r = 1; r <= 10; ++r) {
+    for (int c = 1; c <= 7; ++c) ASSERT_TRUE(has(h.press(point(r, c)), FK::Accepted)) << r << "," << c;
+    // The curator gets a read in between rows; a reader blocked by the writer would not.
+    const int before = reads;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (reads == before && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    ASSERT_GT(reads, before) << "the reader made no progress during row " << r;
+  }
+  EXPECT_FALSE(s.paused());  // a writer blocked by the reader would have paused
+  const int readsDuringCapture = reads;
   done = true;
   curator.join();
   EXPECT_EQ(readerErrors, 0);
-  EXPECT_GT(reads, 10);
-  EXPECT_EQ(store.markers(id).size(), 1u + 21);
+  EXPECT_GE(readsDuringCapture, 10);
+  EXPECT_GE(seenCounts.size(), 5u) << "the curator should see the capture progress while it writes";
+  EXPECT_EQ(store.markers(id).size(), 1u + 70);
 }
 
 TEST_F(Session, AnOperatorPauseSurvivesARestartAndAbandonEndsTheSession) {

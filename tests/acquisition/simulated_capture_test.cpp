@@ -28,7 +28,7 @@ TEST(SimulatedCapture, TheVirtualOperatorCapturesALeafThroughRealDriversAndEvery
   const auto id = acq::CaptureSession::create(store, setup);
   acq::CaptureSession session(store, id);
   acq::SimulationOptions so;
-  so.speed = 10;
+  so.speed = 8;  // slack for the double press window on a loaded CI machine
   so.seed = 4;
   so.linkDir = dir.string();
   acq::SimulatedRig rig(so);

@@ -104,7 +104,7 @@ class CaptureCli : public Cli {
 
 TEST_F(CaptureCli, ASimulatedCaptureFollowsTheJsonLinesContractAndEveryLineIsInTheStore) {
   const fs::path db = dir_ / "station.sqlite";
-  const Result r = leafdig("capture --simulate --speed 12 --seed 3 --json --db " + quote(db) +
+  const Result r = leafdig("capture --simulate --speed 8 --seed 3 --json --db " + quote(db) +
                            " --project trial --plant P7 --leaf-position 4 --operator ana </dev/null");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto lines = jsonLines(r.out);
