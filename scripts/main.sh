@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The main job on embedded defaults: set up and build, then `leafdig demo`: a simulated
+# The main job on embedded defaults: set up and build; with a display, open the Qt station
+# with simulated devices (a virtual technician captures a leaf while you watch); then
+# `leafdig demo`: a simulated
 # FASTRAK and Sylvac caliper on pseudo-terminals, a virtual technician capturing the three
 # sample leaves into out/demo/demo.sqlite, each leaf exported to out/demo/, a summary.
 set -euo pipefail
@@ -7,11 +9,16 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup.sh" release
 leafdig="$root/build/release/ui/cli/leafdig"
 out="$root/out"
-mkdir -p "$out"
+mkdir -p "$out/demo"
 # A fresh demo database each run (the previous one is kept as demo.sqlite.previous).
 if [ -e "$out/demo/demo.sqlite" ]; then
   mv -f "$out/demo/demo.sqlite" "$out/demo/demo.sqlite.previous"
   rm -f "$out/demo/demo.sqlite-wal" "$out/demo/demo.sqlite-shm"
+fi
+# With a display, the Qt station with simulated devices (close the window to go on);
+# without one, the same capture headless.
+if [ -n "${DISPLAY:-}" ] && [ -x "$root/build/release/ui/station/leafdig-station" ]; then
+  "$root/build/release/ui/station/leafdig-station" --simulate --speed 2 --db "$out/demo/station.sqlite" || true
 fi
 "$leafdig" demo --out "$out/demo" --samples "$root/data/samples"
 echo

@@ -6,7 +6,9 @@
 # nlohmann-json3-dev, libcli11-dev, libtinygltf-dev, libgtest-dev, libgmock-dev,
 # libbenchmark-dev, libsqlite3-dev, libsqlitecpp-dev, libssl-dev, libserialport-dev,
 # libhidapi-dev, libusb-1.0-0-dev),
-# clang + libclang-rt-14-dev (libFuzzer targets), checkers used by the tests (assimp-utils,
+# clang + libclang-rt-14-dev (libFuzzer targets), Qt 6 for the station (qt6-base-dev,
+# libqt6opengl6-dev, libgl-dev) with Mesa's software OpenGL and Xvfb for its tests
+# (libgl1-mesa-dri, xvfb, xauth, fonts-dejavu-core), checkers used by the tests (assimp-utils,
 # nodejs, npm). npm: the Khronos glTF validator and Ajv (JSON Schema), pinned by tests/tools/package-lock.json.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -15,7 +17,8 @@ preset=${1:-release}
 packages=(cmake ninja-build g++ ccache pkg-config libeigen3-dev nlohmann-json3-dev libcli11-dev
           libtinygltf-dev libgtest-dev libgmock-dev libbenchmark-dev libsqlite3-dev assimp-utils
           libserialport-dev libhidapi-dev libusb-1.0-0-dev clang libclang-rt-14-dev
-          libsqlitecpp-dev libssl-dev)
+          libsqlitecpp-dev libssl-dev
+          qt6-base-dev libqt6opengl6-dev libgl-dev libgl1-mesa-dri xvfb xauth fonts-dejavu-core)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

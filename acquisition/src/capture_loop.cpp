@@ -76,7 +76,7 @@ void CaptureLoop::stop() {
   cv_.notify_one();
 }
 
-void CaptureLoop::emit(const std::vector<Feedback>& feedback) {
+void CaptureLoop::deliver(const std::vector<Feedback>& feedback) {
   for (const Feedback& f : feedback)
     if (listener_.onFeedback) listener_.onFeedback(f);
   if (!feedback.empty() && listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_));
@@ -86,9 +86,9 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
   if (const auto* e = std::get_if<devices::DeviceEvent>(&item)) {
     if (const auto* s = std::get_if<devices::StylusSample>(e)) {
       StylusInput in{monoNs(s->t), s->positionMm, s->button, s->status, s->raw};
-      emit(session_.onStylus(in));
+      deliver(session_.onStylus(in));
     } else if (const auto* r = std::get_if<devices::CaliperReading>(e)) {
-      emit(session_.onCaliper({monoNs(r->t), r->valueMm, r->raw}));
+      deliver(session_.onCaliper({monoNs(r->t), r->valueMm, r->raw}));
     }
     return;
   }
@@ -98,19 +98,19 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
     auto& last = deviceStates_[st->device];
     if (last == state) return;
     last = state;
-    emit(session_.deviceStatus(st->device, state, st->message + (st->remedy.empty() ? "" : " — " + st->remedy),
+    deliver(session_.deviceStatus(st->device, state, st->message + (st->remedy.empty() ? "" : " — " + st->remedy),
                                monoNs(Clock::now())));
     return;
   }
   const Command& c = std::get<Command>(item);
   const std::int64_t now = monoNs(Clock::now());
   switch (c.kind) {
-    case Command::Kind::Undo: emit(session_.undo(now)); break;
-    case Command::Kind::EndRows: emit(session_.endRows(now)); break;
-    case Command::Kind::Retake: emit(session_.retake(c.what, c.row, c.col, now)); break;
-    case Command::Kind::Pause: emit(session_.pause(c.text.empty() ? "operator pause" : c.text, now)); break;
-    case Command::Kind::Resume: emit(session_.resume(now)); break;
-    case Command::Kind::Abandon: emit(session_.abandon(c.text.empty() ? "abandoned by the operator" : c.text, now)); break;
+    case Command::Kind::Undo: deliver(session_.undo(now)); break;
+    case Command::Kind::EndRows: deliver(session_.endRows(now)); break;
+    case Command::Kind::Retake: deliver(session_.retake(c.what, c.row, c.col, now)); break;
+    case Command::Kind::Pause: deliver(session_.pause(c.text.empty() ? "operator pause" : c.text, now)); break;
+    case Command::Kind::Resume: deliver(session_.resume(now)); break;
+    case Command::Kind::Abandon: deliver(session_.abandon(c.text.empty() ? "abandoned by the operator" : c.text, now)); break;
     case Command::Kind::Quit: quit = true; break;
   }
 }
@@ -124,7 +124,7 @@ Snapshot CaptureLoop::run() {
     // on by itself once space is back.
     if (session_.storeBlocked() && Clock::now() - lastRetry >= std::chrono::seconds(1)) {
       lastRetry = Clock::now();
-      emit(session_.resume(monoNs(lastRetry)));
+      deliver(session_.resume(monoNs(lastRetry)));
     }
     std::deque<Item_> batch;
     {

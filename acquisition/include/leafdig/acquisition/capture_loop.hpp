@@ -57,7 +57,7 @@ class CaptureLoop {
  private:
   using Item_ = std::variant<devices::DeviceEvent, devices::DeviceStatus, Command>;
   void handle(const Item_& item, bool& quit);
-  void emit(const std::vector<Feedback>& feedback);
+  void deliver(const std::vector<Feedback>& feedback);
 
   CaptureSession& session_;
   LoopListener listener_;

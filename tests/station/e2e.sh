@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# End to end under Xvfb (Mesa llvmpipe): the station with simulated devices captures a whole
+# leaf; the session must be complete in the database, the preview must have drawn geometry
+# (triangles and non-background pixels), and screenshots are kept for people to look at.
+# Usage: e2e.sh STATION_BINARY OUTPUT_DIR
+set -euo pipefail
+station=$1
+out=$2
+rm -rf "$out"
+mkdir -p "$out"
+# Mesa and fontconfig keep caches for the process lifetime; not leafdig's leaks.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
+report=$(timeout 300 xvfb-run -a -s "-screen 0 1280x900x24" "$station" --simulate --speed 10 --seed 2 \
+  --db "$out/station.sqlite" --screenshot "$out/capture.png" --quit-when-complete 2>"$out/stderr.txt")
+echo "$report"
+line=$(echo "$report" | grep '^complete session ') || { echo "no completion line"; cat "$out/stderr.txt"; exit 1; }
+triangles=$(echo "$line" | awk '{print $5}')
+pixels=$(echo "$line" | awk '{print $7}')
+[ "$triangles" -gt 1000 ] || { echo "preview drew only $triangles triangles"; exit 1; }
+[ "$pixels" -gt 2000 ] || { echo "preview is blank ($pixels pixels differ from the background)"; exit 1; }
+[ -s "$out/capture.png" ] || { echo "no screenshot"; exit 1; }
+python3 - "$out/station.sqlite" <<'PY'
+import sqlite3, sys
+db = sqlite3.connect(f"file:{sys.argv[1]}?mode=ro", uri=True)
+status, = db.execute("SELECT status FROM sessions WHERE id=1").fetchone()
+markers, = db.execute("SELECT count(*) FROM markers WHERE session_id=1").fetchone()
+readings, = db.execute("SELECT count(*) FROM thickness_readings WHERE session_id=1").fetchone()
+assert status == "complete", status
+assert markers == 71, markers
+assert readings == 21, readings
+print("station e2e: session complete,", markers, "markers,", readings, "readings")
+PY

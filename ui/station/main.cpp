@@ -1,0 +1,88 @@
+// leafdig-station: the Qt station. `leafdig-station --simulate` starts it with simulated
+// devices and a virtual technician, for anyone to try.
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QImage>
+#include <QScreen>
+#include <QTimer>
+#include <cstdio>
+
+#include "leafdig/version.hpp"
+#include "station_window.hpp"
+
+namespace {
+
+// Pixels of the preview that are not the background: the preview really drew geometry.
+int drawnPixels(const QImage& image) {
+  const QRgb background = image.pixel(0, 0);
+  int n = 0;
+  for (int y = 0; y < image.height(); y += 2)
+    for (int x = 0; x < image.width(); x += 2) n += image.pixel(x, y) != background;
+  return n;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  QApplication app(argc, argv);
+  QApplication::setApplicationName("leafdig-station");
+  QApplication::setApplicationVersion(leafdig::kVersion);
+  QCommandLineParser p;
+  p.setApplicationDescription("leafdig station: guided leaf capture with a live 3D preview");
+  p.addHelpOption();
+  p.addVersionOption();
+  const QCommandLineOption simulate("simulate", "Simulated FASTRAK and Sylvac with a virtual technician");
+  const QCommandLineOption db("db", "SQLite file (default: the station's)", "FILE");
+  const QCommandLineOption speed("speed", "Time scale of the simulation", "X", "1");
+  const QCommandLineOption seed("seed", "Seed of the simulation", "N", "1");
+  const QCommandLineOption markers("markers", "Leaf the virtual technician captures", "FILE");
+  const QCommandLineOption digitizer("digitizer", "KIND:PORT, e.g. fastrak:/dev/ttyUSB0", "SPEC");
+  const QCommandLineOption caliper("caliper", "KIND:PORT or hid:VID:PID", "SPEC");
+  const QCommandLineOption resume("resume", "Continue this open session", "ID");
+  const QCommandLineOption screenshot("screenshot", "When the leaf is complete, save the window here", "PNG");
+  const QCommandLineOption quit("quit-when-complete", "Exit once the leaf is complete (scripts, tests)");
+  p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, quit});
+  p.process(app);
+
+  leafdig::station::StationOptions o;
+  o.simulate = p.isSet(simulate);
+  o.db = p.value(db).toStdString();
+  o.speed = p.value(speed).toDouble();
+  o.seed = p.value(seed).toULongLong();
+  o.markers = p.value(markers).toStdString();
+  o.digitizer = p.value(digitizer).toStdString();
+  o.caliper = p.value(caliper).toStdString();
+  o.resume = p.value(resume).toLongLong();
+  if (!o.simulate && o.resume == 0 && (o.digitizer.empty() || o.caliper.empty())) {
+    std::fprintf(stderr, "leafdig-station: give --digitizer and --caliper, or --simulate to try it\n");
+    return 2;
+  }
+  if (!(o.speed > 0 && o.speed <= 50)) {
+    std::fprintf(stderr, "leafdig-station: --speed must be in (0, 50]\n");
+    return 2;
+  }
+  leafdig::station::StationWindow w(o);
+  w.show();
+  if (!w.start()) {
+    std::fprintf(stderr, "leafdig-station: %s\n", w.bannerText().toStdString().c_str());
+    if (p.isSet(quit)) return 1;
+  }
+  const QString shot = p.value(screenshot);
+  QObject::connect(&w, &leafdig::station::StationWindow::captureComplete, &app, [&] {
+    // Let the last snapshot reach the screen, then report and (optionally) leave.
+    QTimer::singleShot(400, &app, [&] {
+      w.preview()->update();
+      const QImage frame = w.preview()->grabFramebuffer();
+      const int pixels = drawnPixels(frame);
+      if (!shot.isEmpty()) w.grab().save(shot);
+      std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
+                  static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels, w.preview()->lastFrameMs());
+      std::fflush(stdout);
+      if (p.isSet(quit)) {
+        w.stopCapture();
+        app.quit();
+      }
+    });
+  });
+  return QApplication::exec();
+}
