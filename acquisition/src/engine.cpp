@@ -7,16 +7,12 @@
 namespace leafdig::acquisition {
 namespace {
 
-double dist(const Vec3& a, const Vec3& b) {
-  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
-
 // Distance of p from the line through a and b.
 double lineDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
   const Vec3 ap{p[0] - a[0], p[1] - a[1], p[2] - a[2]};
   const double len = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
-  if (len < 1e-9) return dist(p, a);
+  if (len < 1e-9) return distanceMm(p, a);
   const Vec3 c{ab[1] * ap[2] - ab[2] * ap[1], ab[2] * ap[0] - ab[0] * ap[2], ab[0] * ap[1] - ab[1] * ap[0]};
   return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / len;
 }
@@ -45,9 +41,27 @@ const char* boardName(int col) { return col == 1 ? "origin" : col == 2 ? "+X dir
 }  // namespace
 
 bool isStylusItem(What w) { return w == What::Board || w == What::Tip || w == What::Marker; }
-namespace {
-bool isStylusStep(What w) { return isStylusItem(w); }
-}  // namespace
+
+double distanceMm(const Vec3& a, const Vec3& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+const Item* findItem(const std::vector<Item>& items, What w, int row, int col) {
+  for (const Item& i : items)
+    if (i.what == w && i.row == row && i.col == col) return &i;
+  return nullptr;
+}
+
+int completeRows(const std::vector<Item>& items) {
+  const auto markersIn = [&](int row) {
+    int n = 0;
+    for (const Item& i : items) n += i.what == What::Marker && i.row == row;
+    return n;
+  };
+  int r = 0;
+  while (markersIn(r + 1) == 7) ++r;
+  return r;
+}
 
 const char* toString(Mode m) { return m == Mode::Standard ? "standard" : m == Mode::Full ? "full" : "small"; }
 const char* toString(Order o) { return o == Order::Sequential ? "sequential" : "interleaved"; }
@@ -87,11 +101,7 @@ What whatFromString(const std::string& s) {
 
 Engine::Engine(Settings s) : settings_(s) {}
 
-const Item* Engine::find(What w, int row, int col) const {
-  for (const Item& i : items_)
-    if (i.what == w && i.row == row && i.col == col) return &i;
-  return nullptr;
-}
+const Item* Engine::find(What w, int row, int col) const { return findItem(items_, w, row, col); }
 
 int Engine::markersInRow(int row) const {
   int n = 0;
@@ -99,11 +109,7 @@ int Engine::markersInRow(int row) const {
   return n;
 }
 
-int Engine::completeRows() const {
-  int r = 0;
-  while (markersInRow(r + 1) == 7) ++r;
-  return r;
-}
+int Engine::completeRows() const { return acquisition::completeRows(items_); }
 
 std::vector<Step> Engine::thicknessSteps(int row) const {
   std::vector<Step> s;
@@ -196,7 +202,7 @@ Decision Engine::onStylus(const StylusInput& s) {
 
 Decision Engine::decidePoint(const StylusInput& release) {
   const Step st = step();
-  if (!isStylusStep(st.what)) {
+  if (!isStylusItem(st.what)) {
     if (st.what == What::Done) return reject("the leaf is complete: nothing more to point at");
     return reject("now measure with the caliper: " + prompt());
   }
@@ -211,7 +217,7 @@ Decision Engine::decidePoint(const StylusInput& release) {
     for (std::size_t k = 0; k < 3; ++k) mean[k] += s->positionMm[k] / static_cast<double>(window.size());
   double worst = 0;
   for (const auto* s : window) {
-    worst = std::max(worst, dist(s->positionMm, mean));
+    worst = std::max(worst, distanceMm(s->positionMm, mean));
     if (s->status != "ok")
       return reject("the digitizer reported status '" + s->status + "' during the press: retake the point");
   }
@@ -228,7 +234,7 @@ Decision Engine::decidePoint(const StylusInput& release) {
   // alone would refuse the 2 mm rows near the tip of a small leaf.)
   for (auto it = items_.rbegin(); it != items_.rend(); ++it) {
     if (!isStylusItem(it->what)) continue;
-    const double d = dist(it->positionMm, mean);
+    const double d = distanceMm(it->positionMm, mean);
     if (d < settings_.doubleTapMm && lastAcceptedReleaseNs_ >= 0 &&
         pressedAt_ - lastAcceptedReleaseNs_ < settings_.doubleTapNs)
       return reject("this point is " + mm(d) + " from the previous one: a double press? Move to the next marker");
@@ -237,8 +243,8 @@ Decision Engine::decidePoint(const StylusInput& release) {
   if (st.what == What::Board && st.col >= 2) {
     const Item* origin = find(What::Board, 0, 1);
     const Item* xAxis = find(What::Board, 0, 2);
-    if (st.col == 2 && origin && dist(mean, origin->positionMm) < settings_.boardMinMm)
-      return reject("the +X point is only " + mm(dist(mean, origin->positionMm)) + " from the origin: take it at least " +
+    if (st.col == 2 && origin && distanceMm(mean, origin->positionMm) < settings_.boardMinMm)
+      return reject("the +X point is only " + mm(distanceMm(mean, origin->positionMm)) + " from the origin: take it at least " +
                     mm(settings_.boardMinMm) + " away along the board's X edge");
     if (st.col == 3 && origin && xAxis && lineDistance(mean, origin->positionMm, xAxis->positionMm) < settings_.boardMinMm)
       return reject("the +Y point is only " + mm(lineDistance(mean, origin->positionMm, xAxis->positionMm)) +
@@ -253,16 +259,16 @@ Decision Engine::decidePoint(const StylusInput& release) {
       const Vec3 a{prev->positionMm[0] - prev2->positionMm[0], prev->positionMm[1] - prev2->positionMm[1],
                    prev->positionMm[2] - prev2->positionMm[2]};
       const Vec3 b{mean[0] - prev->positionMm[0], mean[1] - prev->positionMm[1], mean[2] - prev->positionMm[2]};
-      const double na = dist(a, {0, 0, 0}), nb = dist(b, {0, 0, 0});
+      const double na = distanceMm(a, {0, 0, 0}), nb = distanceMm(b, {0, 0, 0});
       if (na > 0 && nb > 0 && (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb) < std::cos(150.0 * 3.141592653589793 / 180.0))
         return reject("point " + std::to_string(st.col) + " goes back along row " + std::to_string(st.row) +
                       " (markers are taken right to left): take point " + std::to_string(st.col));
     }
     if (st.col >= 3 && prev) {
       double sum = 0;
-      for (int c = 2; c < st.col; ++c) sum += dist(find(What::Marker, st.row, c)->positionMm, find(What::Marker, st.row, c - 1)->positionMm);
+      for (int c = 2; c < st.col; ++c) sum += distanceMm(find(What::Marker, st.row, c)->positionMm, find(What::Marker, st.row, c - 1)->positionMm);
       const double spacing = sum / (st.col - 2);
-      const double here = dist(mean, prev->positionMm);
+      const double here = distanceMm(mean, prev->positionMm);
       if (here < (1 - settings_.spacingTolerance) * spacing || here > (1 + settings_.spacingTolerance) * spacing)
         return reject("uneven spacing: " + mm(here) + " from point " + std::to_string(st.col - 1) + ", the row so far is " +
                       mm(spacing) + " apart; was a marker skipped?");
@@ -273,7 +279,7 @@ Decision Engine::decidePoint(const StylusInput& release) {
       // The midrib's local direction: the two midrib points above (or the tip and row 1).
       const Item* above2 = st.row >= 3 ? find(What::Marker, st.row - 2, 4) : tip;
       if (tip && above && above2) {
-        if (dist(mean, tip->positionMm) <= dist(above->positionMm, tip->positionMm))
+        if (distanceMm(mean, tip->positionMm) <= distanceMm(above->positionMm, tip->positionMm))
           return reject("row " + std::to_string(st.row) + " must be farther from the tip than row " + std::to_string(st.row - 1));
         const double off = lineDistance(mean, above2->positionMm, above->positionMm);
         if (off > settings_.midribToleranceMm)
@@ -291,7 +297,7 @@ Decision Engine::decidePoint(const StylusInput& release) {
 
 Decision Engine::onCaliper(const CaliperInput& c) {
   const Step st = step();
-  if (isStylusStep(st.what)) return reject("a caliper reading now? " + prompt() + " first");
+  if (isStylusItem(st.what)) return reject("a caliper reading now? " + prompt() + " first");
   if (st.what == What::Done) return reject("the leaf is complete: the reading was not used");
   if (!(c.valueMm >= settings_.minThicknessMm && c.valueMm <= settings_.maxThicknessMm))
   {

@@ -9,21 +9,7 @@ namespace {
 
 namespace m = leafdig::model;
 
-const Item* find(const std::vector<Item>& items, What w, int row, int col) {
-  for (const Item& i : items)
-    if (i.what == w && i.row == row && i.col == col) return &i;
-  return nullptr;
-}
-
 Eigen::Vector3d vec(const Vec3& v) { return {v[0], v[1], v[2]}; }
-
-int completeRows(const std::vector<Item>& items) {
-  int r = 0;
-  for (;; ++r) {
-    for (int c = 1; c <= 7; ++c)
-      if (!find(items, What::Marker, r + 1, c)) return r;
-  }
-}
 
 // The marker set of the complete rows; thicknesses that were not measured are filled with
 // `provisional` when given, else left absent.
@@ -31,15 +17,15 @@ m::MarkerSet markerSet(const std::vector<Item>& items, const Settings& settings,
                        bool& usedProvisional) {
   const Eigen::Isometry3d frame = boardFrame(items);
   m::MarkerSet set;
-  if (const Item* tip = find(items, What::Tip, 0, 0)) set.tipMm = frame * vec(tip->positionMm);
+  if (const Item* tip = findItem(items, What::Tip, 0, 0)) set.tipMm = frame * vec(tip->positionMm);
   const int rows = completeRows(items);
   const auto value = [&](What w, int row, int col) -> std::optional<double> {
-    if (const Item* i = find(items, w, row, col)) return i->valueMm;
+    if (const Item* i = findItem(items, w, row, col)) return i->valueMm;
     return std::nullopt;
   };
   for (int r = 1; r <= rows; ++r) {
     m::MarkerRow row;
-    for (int c = 1; c <= 7; ++c) row.pointsMm[static_cast<std::size_t>(c - 1)] = frame * vec(find(items, What::Marker, r, c)->positionMm);
+    for (int c = 1; c <= 7; ++c) row.pointsMm[static_cast<std::size_t>(c - 1)] = frame * vec(findItem(items, What::Marker, r, c)->positionMm);
     row.midribThicknessMm = value(What::MidribThickness, r, 4);
     if (settings.mode == Mode::Standard) row.veinOriginThicknessMm = value(What::VeinOriginThickness, r, 4);
     if (settings.mode == Mode::Full)
@@ -78,9 +64,9 @@ m::MarkerSet markerSet(const std::vector<Item>& items, const Settings& settings,
 }  // namespace
 
 Eigen::Isometry3d boardFrame(const std::vector<Item>& items) {
-  const Item* o = find(items, What::Board, 0, 1);
-  const Item* x = find(items, What::Board, 0, 2);
-  const Item* y = find(items, What::Board, 0, 3);
+  const Item* o = findItem(items, What::Board, 0, 1);
+  const Item* x = findItem(items, What::Board, 0, 2);
+  const Item* y = findItem(items, What::Board, 0, 3);
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   if (!o || !x || !y) return t;
   const Eigen::Vector3d origin = vec(o->positionMm);
@@ -97,7 +83,7 @@ Eigen::Isometry3d boardFrame(const std::vector<Item>& items) {
 }
 
 model::MarkerSet toMarkerSet(const std::vector<Item>& items, const Settings& settings, const model::LeafInfo& leaf) {
-  if (!find(items, What::Tip, 0, 0)) throw m::InputError("the capture has no tip yet: it is not complete");
+  if (!findItem(items, What::Tip, 0, 0)) throw m::InputError("the capture has no tip yet: it is not complete");
   bool unused = false;
   m::MarkerSet set = markerSet(items, settings, nullptr, unused);
   if (set.rows.empty()) throw m::InputError("the capture has no complete row: it is not complete");
@@ -108,7 +94,7 @@ model::MarkerSet toMarkerSet(const std::vector<Item>& items, const Settings& set
 
 Preview buildPreview(const std::vector<Item>& items, const Settings& settings, const ProvisionalThickness& provisional) {
   Preview p;
-  const Item* tip = find(items, What::Tip, 0, 0);
+  const Item* tip = findItem(items, What::Tip, 0, 0);
   if (!tip) return p;
   bool usedProvisional = false;
   m::MarkerSet set = markerSet(items, settings, &provisional, usedProvisional);
@@ -120,14 +106,14 @@ Preview buildPreview(const std::vector<Item>& items, const Settings& settings, c
     }
     // The midrib reaches the current row's 4th marker as soon as it is taken.
     const int next = static_cast<int>(set.rows.size()) + 1;
-    if (const Item* mid = find(items, What::Marker, next, 4)) {
-      const m::LeafThickness t = set.rows.empty() ? m::LeafThickness{} : m::applyThicknessRule(set);
+    if (const Item* mid = findItem(items, What::Marker, next, 4)) {
+      const m::LeafThickness& t = p.model.thickness;  // from buildLeafModel above (no rows: unused)
       std::vector<m::Ball> balls;
       const double tipD = set.rows.empty() ? set.edgeThicknessMm.value_or(provisional.edgeMm) : t.tipMm;
       balls.push_back({set.tipMm, tipD / 2});
       for (std::size_t i = 0; i < set.rows.size(); ++i)
         balls.push_back({set.rows[i].pointsMm[m::kMidribColumn], t.rows[i].midribMm / 2});
-      const auto measured = find(items, What::MidribThickness, next, 4);
+      const auto measured = findItem(items, What::MidribThickness, next, 4);
       balls.push_back({frame * vec(mid->positionMm), (measured ? measured->valueMm : provisional.midribMm) / 2});
       usedProvisional = usedProvisional || !measured;
       m::Vein midrib{"midrib", m::BallBSplineCurve::interpolate(balls)};

@@ -1,5 +1,7 @@
 #include "leafdig/acquisition/session.hpp"
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 namespace leafdig::acquisition {
@@ -126,7 +128,12 @@ std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup)
                       {"caliper", setup.caliper},
                       {"simulated", setup.simulated},
                       {"time_scale", setup.timeScale}};
-  return store.createSession(leaf, op, setup.station, toString(setup.settings.mode), toString(setup.settings.order),
+  std::string station = setup.station;
+  if (station.empty()) {
+    char host[256] = {};
+    if (::gethostname(host, sizeof host - 1) == 0) station = host;
+  }
+  return store.createSession(leaf, op, station, toString(setup.settings.mode), toString(setup.settings.order),
                              settings.dump());
 }
 
@@ -197,9 +204,10 @@ CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store
   } catch (const std::exception& e) {
     throw SessionError("session " + std::to_string(id) + " has unreadable settings: " + e.what());
   }
-  rebuild();
+  const std::vector<db::Event> events = store_.events(id_);
+  engine_ = replay(setup_.settings, events, &seqs_);
   // An operator pause survives a restart: the session opens paused until resume().
-  for (const db::Event& e : store_.events(id_)) {
+  for (const db::Event& e : events) {
     if (e.kind == "paused") {
       paused_ = true;
       pauseReason_ = json::parse(e.payloadJson).value("reason", std::string());
@@ -292,22 +300,33 @@ std::vector<Feedback> CaptureSession::commit(const Decision& d, std::int64_t mon
   if (f.kind == Feedback::Kind::Accepted || f.kind == Feedback::Kind::RetakeCancelled) seqs_[keyOf(d.item)] = *seq;
   if (f.kind == Feedback::Kind::Undone || f.kind == Feedback::Kind::RetakeStarted) seqs_.erase(keyOf(d.item));
   out.push_back(f);
-  if (engine_.complete() && !ended_) {
-    db::EventInput done;
-    done.kind = "status";
-    done.monoNs = monoNs;
-    done.payloadJson = json{{"status", "complete"}, {"who", setup_.operatorName}, {"why", "all steps captured"}}.dump();
-    done.setsStatus = "complete";
-    if (const auto s = append(done, out)) {
-      ended_ = true;
-      status_ = "complete";
-      Feedback c;
-      c.kind = Feedback::Kind::Complete;
-      c.seq = *s;
-      out.push_back(c);
-    }
-  }
+  closeIfComplete(monoNs, out);
   return out;
+}
+
+std::optional<std::int64_t> CaptureSession::appendStatus(const std::string& status, const std::string& why,
+                                                         std::int64_t monoNs, std::vector<Feedback>& out) {
+  db::EventInput ev;
+  ev.kind = "status";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"status", status}, {"who", setup_.operatorName}, {"why", why}}.dump();
+  ev.setsStatus = status;  // the session row changes in the same transaction
+  const auto seq = append(ev, out);
+  if (seq) {
+    ended_ = true;
+    status_ = status;
+  }
+  return seq;
+}
+
+void CaptureSession::closeIfComplete(std::int64_t monoNs, std::vector<Feedback>& out) {
+  if (!engine_.complete() || ended_) return;
+  if (const auto seq = appendStatus("complete", "all steps captured", monoNs, out)) {
+    Feedback c;
+    c.kind = Feedback::Kind::Complete;
+    c.seq = *seq;
+    out.push_back(c);
+  }
 }
 
 std::vector<Feedback> CaptureSession::onStylus(const StylusInput& s) {
@@ -381,21 +400,7 @@ std::vector<Feedback> CaptureSession::resume(std::int64_t monoNs) {
     f.seq = *seq;
     out.push_back(f);
     // A leaf that was complete when its status could not be written is closed now.
-    if (engine_.complete()) {
-      db::EventInput done;
-      done.kind = "status";
-      done.monoNs = monoNs;
-      done.payloadJson = json{{"status", "complete"}, {"who", setup_.operatorName}, {"why", "all steps captured"}}.dump();
-      done.setsStatus = "complete";
-      if (const auto s = append(done, out)) {
-        ended_ = true;
-        status_ = "complete";
-        Feedback c;
-        c.kind = Feedback::Kind::Complete;
-        c.seq = *s;
-        out.push_back(c);
-      }
-    }
+    closeIfComplete(monoNs, out);
   }
   return out;
 }
@@ -403,14 +408,7 @@ std::vector<Feedback> CaptureSession::resume(std::int64_t monoNs) {
 std::vector<Feedback> CaptureSession::abandon(const std::string& why, std::int64_t monoNs) {
   std::vector<Feedback> out;
   if (ended_) return out;
-  db::EventInput ev;
-  ev.kind = "status";
-  ev.monoNs = monoNs;
-  ev.payloadJson = json{{"status", "abandoned"}, {"who", setup_.operatorName}, {"why", why}}.dump();
-  ev.setsStatus = "abandoned";
-  if (const auto seq = append(ev, out)) {
-    ended_ = true;
-    status_ = "abandoned";
+  if (const auto seq = appendStatus("abandoned", why, monoNs, out)) {
     Feedback f;
     f.kind = Feedback::Kind::Abandoned;
     f.seq = *seq;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <unistd.h>
 
@@ -18,19 +17,6 @@ std::pair<std::string, std::string> splitSpec(const std::string& spec, const cha
     throw std::invalid_argument(std::string(what) + " '" + spec + "': expected KIND:PORT, e.g. " + example);
   if (colon == std::string::npos) return {spec, ""};
   return {spec.substr(0, colon), spec.substr(colon + 1)};
-}
-
-bool parseVidPid(const std::string& s, std::uint16_t& vid, std::uint16_t& pid) {
-  unsigned v = 0, p = 0;
-  char tail = 0;
-  if (std::sscanf(s.c_str(), "%x:%x%c", &v, &p, &tail) != 2 || v > 0xffff || p > 0xffff) return false;
-  vid = static_cast<std::uint16_t>(v);
-  pid = static_cast<std::uint16_t>(p);
-  return true;
-}
-
-double dist(const Vec3& a, const Vec3& b) {
-  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
 }  // namespace
@@ -54,7 +40,7 @@ dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
   c.kind = dev::caliperKindFromString(kind);
   if (c.kind == dev::CaliperKind::Hid || c.kind == dev::CaliperKind::UsbItn) {
     if (rest.rfind("/dev/", 0) == 0) c.hidPath = rest;
-    else if (!rest.empty() && !parseVidPid(rest, c.vid, c.pid))
+    else if (!rest.empty() && !dev::parseVidPid(rest, c.vid, c.pid))
       throw std::invalid_argument("--caliper " + kind + ":" + rest + ": expected VID:PID in hex (e.g. 0fe7:4001) or a /dev/hidraw path");
     return c;
   }
@@ -189,7 +175,7 @@ void VirtualOperator::act(const Snapshot& s) {
   if (!s.items.empty()) {
     const Item& last = s.items.back();
     const bool wrong = isStylusItem(last.what)
-                           ? dist(last.positionMm, truth(last.what, last.row, last.col)) > 5.0
+                           ? distanceMm(last.positionMm, truth(last.what, last.row, last.col)) > 5.0
                            : std::abs(last.valueMm - truthThickness(last.what, last.row, last.col)) > 0.1;
     if (wrong && !s.retaking) {
       press(last.positionMm, 3.4, 0.3, 0.2);  // a very long press: undo

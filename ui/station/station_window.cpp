@@ -7,7 +7,6 @@
 #include <QSplitter>
 #include <QStatusBar>
 #include <QVBoxLayout>
-#include <unistd.h>
 
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/version.hpp"
@@ -81,8 +80,6 @@ bool StationWindow::start() {
     setup.plant = options_.plant;
     setup.leafPosition = options_.leafPosition;
     setup.operatorName = options_.operatorName;
-    char host[256] = {};
-    if (::gethostname(host, sizeof host - 1) == 0) setup.station = host;
     setup.simulated = options_.simulate;
     setup.timeScale = options_.simulate ? options_.speed : 1.0;
     setup.digitizer = options_.simulate ? "fastrak:simulated" : options_.digitizer;

@@ -62,6 +62,11 @@ struct Item {
   std::string flag;   // e.g. "repeated reading"; empty when clean
 };
 
+// Helpers on a list of items (the engine's, or a snapshot's).
+[[nodiscard]] const Item* findItem(const std::vector<Item>& items, What what, int row, int col);
+[[nodiscard]] int completeRows(const std::vector<Item>& items);  // rows 1..k holding all 7 markers
+[[nodiscard]] double distanceMm(const Vec3& a, const Vec3& b);
+
 struct Decision {
   enum class Kind { Ignored, Accepted, Rejected, Undone, RowsEnded, RowsReopened, RetakeStarted, RetakeCancelled };
   Kind kind = Kind::Ignored;

@@ -30,7 +30,7 @@ struct SessionSetup {
   std::string project, plant;
   int leafPosition = 1;          // on the stem, from the base
   std::string operatorName = "technician";
-  std::string station;           // host name by default (front ends fill it)
+  std::string station;           // empty: this machine's host name
   Settings settings;
   std::string digitizer, caliper;  // "fastrak:/dev/ttyUSB0", "sylvac:/dev/ttyUSB1", "hid:0fe7:4001"
   bool simulated = false;
@@ -113,6 +113,11 @@ class CaptureSession {
  private:
   std::vector<Feedback> commit(const Decision& d, std::int64_t monoNs, const std::string& raw);
   std::optional<std::int64_t> append(const db::EventInput& ev, std::vector<Feedback>& out);
+  // A status change as an event; ends the session when written.
+  std::optional<std::int64_t> appendStatus(const std::string& status, const std::string& why, std::int64_t monoNs,
+                                           std::vector<Feedback>& out);
+  // Writes the `complete` status once every step is captured.
+  void closeIfComplete(std::int64_t monoNs, std::vector<Feedback>& out);
   void rebuild();
 
   db::Store& store_;
