@@ -214,6 +214,15 @@ const char* toString(CaliperKind k) {
   return "?";
 }
 
+bool parseVidPid(const std::string& s, std::uint16_t& vid, std::uint16_t& pid) {
+  unsigned v = 0, p = 0;
+  char tail = 0;
+  if (std::sscanf(s.c_str(), "%x:%x%c", &v, &p, &tail) != 2 || v > 0xffff || p > 0xffff) return false;
+  vid = static_cast<std::uint16_t>(v);
+  pid = static_cast<std::uint16_t>(p);
+  return true;
+}
+
 CaliperKind caliperKindFromString(const std::string& s) {
   for (auto k : {CaliperKind::Hid, CaliperKind::UsbItn, CaliperKind::Mitutoyo, CaliperKind::UWave, CaliperKind::Sylvac})
     if (s == toString(k)) return k;

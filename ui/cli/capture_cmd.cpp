@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <csignal>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -47,6 +48,29 @@ int reportStoreError(const db::StoreError& e) {
     case db::StoreErrorKind::Corrupt:
     case db::StoreErrorKind::Input: return 2;
     default: return 1;
+  }
+}
+
+// Says what went wrong and returns the exit code of the README: 2 for input the user must
+// fix (options, files, device specs, a foreign or damaged database), 1 for the rest.
+// `inputPrefix` goes before a model input error's message.
+int reportFailure(const std::exception_ptr& error, const char* inputPrefix = "") {
+  try {
+    std::rethrow_exception(error);
+  } catch (const db::StoreError& e) {
+    return reportStoreError(e);
+  } catch (const m::InputError& e) {
+    std::cerr << "leafdig: " << inputPrefix << e.what() << "\n";
+    return 2;
+  } catch (const acq::SessionError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 1;
   }
 }
 
@@ -259,8 +283,6 @@ acq::SessionSetup setupFrom(const CaptureOptions& o) {
   s.plant = o.plant;
   s.leafPosition = o.leafPosition;
   s.operatorName = o.operatorName;
-  char host[256] = {};
-  if (::gethostname(host, sizeof host - 1) == 0) s.station = host;
   s.settings.mode = acq::modeFromString(o.mode);
   s.settings.order = acq::orderFromString(o.order);
   s.settings.boardFrame = o.board;
@@ -302,20 +324,8 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
     std::signal(SIGTERM, onSignal);
     const RunResult r = runSession(store, id, o, leaf ? &*leaf : nullptr);
     return r.exitCode;
-  } catch (const db::StoreError& e) {
-    return reportStoreError(e);
-  } catch (const acq::SessionError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
-  } catch (const m::InputError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 1;
+  } catch (...) {
+    return reportFailure(std::current_exception());
   }
 }
 
@@ -659,23 +669,8 @@ int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {
     if (s->get_subcommand("approve")->parsed()) return runReview(store, o, "approved");
     if (s->get_subcommand("reject")->parsed()) return runReview(store, o, "rejected");
     if (s->get_subcommand("export")->parsed()) return runExport(store, o);
-  } catch (const db::StoreError& e) {
-    return reportStoreError(e);
-  } catch (const acq::SessionError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
-  } catch (const m::InputError& e) {
-    std::cerr << "leafdig: cannot export: " << e.what() << "\n";
-    return 2;
-  } catch (const m::IoError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 1;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 1;
+  } catch (...) {
+    return reportFailure(std::current_exception(), "cannot export: ");
   }
   return -1;
 }

@@ -35,15 +35,6 @@ std::string hex4(std::uint16_t v) {
   return b;
 }
 
-bool parseVidPid(const std::string& s, std::uint16_t& vid, std::uint16_t& pid) {
-  unsigned v = 0, p = 0;
-  char tail = 0;
-  if (std::sscanf(s.c_str(), "%x:%x%c", &v, &p, &tail) != 2 || v > 0xffff || p > 0xffff) return false;
-  vid = static_cast<std::uint16_t>(v);
-  pid = static_cast<std::uint16_t>(p);
-  return true;
-}
-
 // ---- devices list --------------------------------------------------------------------------
 int runList(const DevicesOptions& o) {
   const dev::Inventory inv = dev::takeInventory();
@@ -179,7 +170,7 @@ int runListen(const DevicesOptions& o) {
       c.grabKeyboard = !o.noGrab;
       if (!o.hid.empty()) {
         if (o.hid.rfind("/dev/", 0) == 0) c.hidPath = o.hid;
-        else if (!parseVidPid(o.hid, c.vid, c.pid)) {
+        else if (!dev::parseVidPid(o.hid, c.vid, c.pid)) {
           std::cerr << "leafdig: --hid must be VID:PID in hex (e.g. 0fe7:4001) or a /dev/hidraw path\n";
           return 2;
         }

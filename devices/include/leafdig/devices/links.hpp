@@ -55,4 +55,7 @@ struct CaliperConfig {
 [[nodiscard]] std::unique_ptr<DeviceLink> makeDigitizerLink(DigitizerConfig config);
 [[nodiscard]] std::unique_ptr<DeviceLink> makeCaliperLink(CaliperConfig config);
 
+// "0fe7:4001" (hex, as lsusb prints it) into vid and pid; false when it is not exactly that.
+[[nodiscard]] bool parseVidPid(const std::string& text, std::uint16_t& vid, std::uint16_t& pid);
+
 }  // namespace leafdig::devices
