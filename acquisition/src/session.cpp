@@ -4,48 +4,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include "item_json.hpp"
+
 namespace leafdig::acquisition {
 namespace {
 
 using nlohmann::json;
-using Key = std::tuple<int, int, int>;
-
-Key keyOf(const Item& i) { return {static_cast<int>(i.what), i.row, i.col}; }
-
-json nullable(int v) { return v > 0 ? json(v) : json(nullptr); }
-
-json itemJson(const Item& i) {
-  json j{{"what", toString(i.what)}, {"row", nullable(i.row)}, {"col", nullable(i.col)}};
-  if (isStylusItem(i.what)) j["position_mm"] = {i.positionMm[0], i.positionMm[1], i.positionMm[2]};
-  else j["value_mm"] = i.valueMm;
-  if (!i.flag.empty()) j["flag"] = i.flag;
-  return j;
-}
-
-Item itemFrom(const json& j, const std::string& raw) {
-  Item i;
-  i.what = whatFromString(j.at("what").get<std::string>());
-  i.row = j.value("row", json(nullptr)).is_null() ? 0 : j.at("row").get<int>();
-  i.col = j.value("col", json(nullptr)).is_null() ? 0 : j.at("col").get<int>();
-  if (j.contains("position_mm"))
-    for (std::size_t k = 0; k < 3; ++k) i.positionMm[k] = j.at("position_mm").at(k).get<double>();
-  if (j.contains("value_mm")) i.valueMm = j.at("value_mm").get<double>();
-  i.flag = j.value("flag", std::string());
-  i.raw = raw;
-  return i;
-}
-
-db::Projection projectionOf(const Item& i) {
-  db::Projection p;
-  p.kind = isStylusItem(i.what) ? db::Projection::Kind::Marker : db::Projection::Kind::Thickness;
-  if (i.row > 0) p.row = i.row;
-  if (i.col > 0) p.col = i.col;
-  p.what = toString(i.what);
-  p.positionMm = i.positionMm;
-  p.valueMm = i.valueMm;
-  p.raw = i.raw;
-  return p;
-}
+using detail::itemFrom;
+using detail::itemJson;
+using detail::keyOf;
+using detail::nullable;
+using detail::projectionOf;
+using Key = detail::Key;
 
 }  // namespace
 
@@ -113,7 +83,7 @@ Settings CaptureSession::settingsFromJson(const std::string& text) {
 std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup) {
   const std::int64_t project = store.ensureProject(setup.project);
   const std::int64_t plant = store.ensurePlant(project, setup.plant);
-  const std::int64_t leaf = store.ensureLeaf(plant, setup.leafPosition);
+  const std::int64_t leaf = store.ensureLeaf(plant, setup.leafPosition, setup.leafType, setup.measuredAreaMm2);
   const std::int64_t op = store.ensureOperator(setup.operatorName);
   const auto device = [&](const std::string& spec) {
     if (spec.empty()) return;
@@ -162,6 +132,19 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
         d.kind = Decision::Kind::RetakeCancelled;
         d.item = itemFrom(p, e.raw);
         map[keyOf(d.item)] = e.seq;
+      } else if (e.kind == "corrected") {
+        // A curator's correction: the item is taken out and its corrected value put in.
+        Decision out;
+        out.kind = Decision::Kind::RetakeStarted;
+        out.item = itemFrom(p, e.raw);
+        const auto at = map.find(keyOf(out.item));
+        if (at == map.end() || at->second != p.at("seq").get<std::int64_t>())
+          throw SessionError("it corrects an item that is not there");
+        engine.apply(out);
+        map[keyOf(out.item)] = e.seq;
+        d.kind = Decision::Kind::Accepted;
+        d.item = itemFrom(p.at("corrected"), e.raw);
+        d.item.flag = "corrected: " + p.at("reason").get<std::string>();
       } else if (e.kind == "rows_ended") {
         d.kind = Decision::Kind::RowsEnded;
       } else if (e.kind == "rows_reopened") {
@@ -192,6 +175,8 @@ CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store
   setup_.project = info->project;
   setup_.plant = info->plant;
   setup_.leafPosition = info->leafPosition;
+  setup_.leafType = info->leafType;
+  setup_.measuredAreaMm2 = info->measuredAreaMm2;
   setup_.operatorName = info->operatorName;
   setup_.station = info->station;
   try {

@@ -191,7 +191,21 @@ std::int64_t Store::ensureLeaf(std::int64_t plantId, int position, const std::st
     SQLite::Statement q(*impl_->db, "SELECT id FROM leaves WHERE plant_id=?1 AND position=?2");
     q.bind(1, plantId);
     q.bind(2, position);
-    if (q.executeStep()) return q.getColumn(0).getInt64();
+    if (q.executeStep()) {
+      // A leaf measured again (or typed later): what is given now is kept.
+      const std::int64_t id = q.getColumn(0).getInt64();
+      if (!type.empty() || area) {
+        SQLite::Statement up(*impl_->db,
+                             "UPDATE leaves SET type=CASE WHEN ?2 = '' THEN type ELSE ?2 END, "
+                             "measured_area_mm2=COALESCE(?3, measured_area_mm2) WHERE id=?1");
+        up.bind(1, id);
+        up.bind(2, type);
+        if (area) up.bind(3, *area);
+        else up.bind(3);
+        up.exec();
+      }
+      return id;
+    }
     SQLite::Statement ins(*impl_->db, "INSERT INTO leaves(plant_id, position, type, measured_area_mm2) VALUES (?1, ?2, ?3, ?4)");
     ins.bind(1, plantId);
     ins.bind(2, position);
@@ -401,7 +415,7 @@ std::vector<ThicknessRow> Store::thickness(std::int64_t session) const {
 namespace {
 constexpr const char* kSessionSelect =
     "SELECT s.id, s.leaf_id, pr.name, pl.name, l.position, o.name, s.station, s.status, s.mode, s.capture_order, "
-    "s.settings_json, s.created_utc, s.head_seq, s.head_hash FROM sessions s JOIN leaves l ON l.id = s.leaf_id "
+    "s.settings_json, s.created_utc, s.head_seq, s.head_hash, l.type, l.measured_area_mm2 FROM sessions s JOIN leaves l ON l.id = s.leaf_id "
     "JOIN plants pl ON pl.id = l.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = s.operator_id ";
 SessionInfo readSession(SQLite::Statement& q) {
   SessionInfo s;
@@ -419,6 +433,8 @@ SessionInfo readSession(SQLite::Statement& q) {
   s.createdUtc = q.getColumn(11).getString();
   s.headSeq = q.getColumn(12).getInt64();
   s.headHash = q.getColumn(13).getString();
+  s.leafType = q.getColumn(14).getString();
+  if (!q.getColumn(15).isNull()) s.measuredAreaMm2 = q.getColumn(15).getDouble();
   return s;
 }
 }  // namespace

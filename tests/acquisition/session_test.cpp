@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "leafdig/acquisition/preview.hpp"
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/markers_json.hpp"
 
@@ -357,3 +358,142 @@ TEST(SessionReplay, ATamperedOrOutOfPlaceEventIsNamed) {
 }
 
 }  // namespace
+
+// ---- review: corrections, flags, step replay, approval, export ------------------------------
+
+TEST_F(Session, ACuratorsCorrectionIsAnEventThatReplaysAndReplacesTheProjection) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  acq::SessionSetup setup;
+  setup.project = "p";
+  setup.plant = "pl";
+  setup.leafType = "lower";
+  setup.measuredAreaMm2 = 1.0e4;
+  const auto id = acq::CaptureSession::create(store, setup);
+  EXPECT_EQ(store.session(id)->leafType, "lower");
+  EXPECT_EQ(store.session(id)->measuredAreaMm2, 1.0e4);
+  {
+    acq::CaptureSession s(store, id);
+    Hand h{&s};
+    captureRows(h, 4);
+    finish(h);
+  }
+  // Open sessions are not corrected; a correction needs a reason and an existing item.
+  acq::Correction c;
+  c.what = acq::What::Marker;
+  c.row = 2;
+  c.col = 3;
+  c.positionMm = acq::Vec3{1, 2, 3};
+  c.who = "curator";
+  EXPECT_THROW((void)acq::correct(store, id, c), std::invalid_argument);  // no reason
+  c.reason = "stylus slipped on the vein";
+  c.row = 9;
+  EXPECT_THROW((void)acq::correct(store, id, c), std::invalid_argument);  // no row 9
+  c.row = 2;
+  c.valueMm = 1.0;
+  EXPECT_THROW((void)acq::correct(store, id, c), std::invalid_argument);  // a marker takes a position only
+  c.valueMm.reset();
+  const auto before = store.markers(id).size();
+  const auto seq = acq::correct(store, id, c);
+  EXPECT_EQ(store.events(id, seq)[0].kind, "corrected");
+  EXPECT_TRUE(store.verify(id).ok);
+  EXPECT_EQ(store.markers(id).size(), before);
+  int found = 0;
+  for (const auto& m : store.markers(id))
+    if (m.what == "marker" && m.row == 2 && m.col == 3) {
+      ++found;
+      EXPECT_EQ(m.seq, seq);
+      EXPECT_EQ(m.positionMm, (std::array<double, 3>{1, 2, 3}));
+    }
+  EXPECT_EQ(found, 1);
+  const auto r = acq::openForReview(store, id);
+  const auto* item = acq::findItem(r.engine.items(), acq::What::Marker, 2, 3);
+  ASSERT_NE(item, nullptr);
+  EXPECT_EQ(item->positionMm, (acq::Vec3{1, 2, 3}));
+  EXPECT_EQ(item->flag, "corrected: stylus slipped on the vein");
+  EXPECT_TRUE(r.engine.complete());
+  // The review lists it among the flags; a thickness correction outside the range is refused.
+  bool listed = false;
+  for (const auto& f : acq::reviewFlags(r.engine.items())) listed = listed || f.text.find("corrected") == 0;
+  EXPECT_TRUE(listed);
+  acq::Correction t;
+  t.what = acq::What::MidribThickness;
+  t.row = 1;
+  t.col = 4;
+  t.who = "curator";
+  t.reason = "typed in inches";
+  t.valueMm = 254.0;
+  EXPECT_THROW((void)acq::correct(store, id, t), std::invalid_argument);
+  t.valueMm = 2.54;
+  (void)acq::correct(store, id, t);
+  EXPECT_DOUBLE_EQ(acq::findItem(acq::openForReview(store, id).engine.items(), acq::What::MidribThickness, 1, 4)->valueMm,
+                   2.54);
+  // Approved sessions are final.
+  EXPECT_THROW((void)acq::review(store, id, "rejected", "curator", ""), std::invalid_argument);  // no reason
+  (void)acq::review(store, id, "approved", "curator", "");
+  EXPECT_EQ(store.session(id)->status, "approved");
+  EXPECT_THROW((void)acq::correct(store, id, t), std::invalid_argument);
+  EXPECT_THROW((void)acq::review(store, id, "rejected", "curator", "late"), std::invalid_argument);
+  // Review still opens it and the export carries the correction and the area constraint.
+  acq::ExportRequest req;
+  req.outDir = (dir_ / "out").string();
+  req.formats = {"markers", "model", "glb"};
+  const auto result = acq::exportSession(store, id, req);
+  ASSERT_EQ(result.written.size(), 3u);
+  for (const auto& p : result.written) EXPECT_GT(fs::file_size(p), 100u) << p;
+  ASSERT_TRUE(result.metrics.areaConstraint.has_value());
+  req.formats = {"dxf"};
+  EXPECT_THROW((void)acq::exportSession(store, id, req), std::invalid_argument);
+}
+
+TEST_F(Session, StepByStepReplayShowsTheLeafAsItWasAfterEachEvent) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  {
+    acq::CaptureSession s(store, id);
+    Hand h{&s};
+    captureRows(h, 3);
+    finish(h);
+  }
+  const auto events = store.events(id);
+  std::size_t previous = 0;
+  int grew = 0;
+  for (const auto& e : events) {
+    const auto r = acq::openForReview(store, id, e.seq);
+    EXPECT_EQ(r.replayedEvents, e.seq);
+    EXPECT_EQ(r.totalEvents, static_cast<std::int64_t>(events.size()));
+    const std::size_t n = r.engine.items().size();
+    if (e.kind == "accepted") {
+      EXPECT_EQ(n, previous + 1) << "event " << e.seq;
+      ++grew;
+    } else {
+      EXPECT_LE(n, previous + 1);
+    }
+    previous = n;
+  }
+  EXPECT_EQ(grew, 1 + 3 * 7 + 3 * 2 + 1);
+  EXPECT_TRUE(acq::openForReview(store, id).engine.complete());
+  EXPECT_THROW((void)acq::openForReview(store, id + 100), acq::SessionError);
+}
+
+TEST(ReviewFlags, ThicknessOutliersAndAMidribThickerThanBelowAreFlagged) {
+  std::vector<acq::Item> items;
+  for (int r = 1; r <= 8; ++r) {
+    acq::Item m;
+    m.what = acq::What::MidribThickness;
+    m.row = r;
+    m.valueMm = 0.8 + 0.1 * r;  // thicker towards the base: as it should be
+    items.push_back(m);
+  }
+  EXPECT_TRUE(acq::reviewFlags(items).empty());
+  items[2].valueMm = 6.0;  // row 3: a slip of the jaws
+  const auto flags = acq::reviewFlags(items);
+  ASSERT_GE(flags.size(), 2u);
+  bool outlier = false, order = false;
+  for (const auto& f : flags) {
+    EXPECT_EQ(f.row, 3);
+    outlier = outlier || f.text.find("MAD") != std::string::npos;
+    order = order || f.text.find("nearer the base") != std::string::npos;
+  }
+  EXPECT_TRUE(outlier);
+  EXPECT_TRUE(order);
+}

@@ -159,6 +159,24 @@ TEST_F(CaptureCli, ASimulatedCaptureFollowsTheJsonLinesContractAndEveryLineIsInT
   // Review and export, as a curator.
   EXPECT_EQ(leafdig("sessions approve 1 --db " + quote(db)).exitCode, 2) << "--who is required";
   EXPECT_EQ(leafdig("sessions reject 1 --who bo --db " + quote(db)).exitCode, 2);
+  // A correction first: through the CLI, with a reason, stored as an event.
+  EXPECT_EQ(leafdig("sessions correct 1 --what midrib_thickness --row 1 --col 4 --value 1.5 --who bo --db " + quote(db))
+                .exitCode,
+            2)
+      << "--why is required";
+  const Result bad = leafdig("sessions correct 1 --what midrib_thickness --row 1 --col 4 --value 150 --who bo "
+                             "--why 'jaws slipped' --db " + quote(db));
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("millimetres"), std::string::npos) << bad.err;
+  const Result fixed = leafdig("sessions correct 1 --what midrib_thickness --row 1 --col 4 --value 1.5 --who bo "
+                               "--why 'jaws slipped' --json --db " + quote(db));
+  ASSERT_EQ(fixed.exitCode, 0) << fixed.err;
+  EXPECT_EQ(json::parse(fixed.out).at("corrected"), "midrib_thickness");
+  bool corrected = false;
+  const json readings = show(db, 1).at("thickness");
+  for (const json& t : readings)
+    corrected = corrected || (t.at("what") == "midrib_thickness" && t.at("row") == 1 && t.at("value_mm") == 1.5);
+  EXPECT_TRUE(corrected) << readings.dump();
   const Result ok = leafdig("sessions approve 1 --who bo --why 'checked' --db " + quote(db));
   EXPECT_EQ(ok.exitCode, 0) << ok.err;
   EXPECT_EQ(show(db, 1).at("status"), "approved");

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "leafdig/acquisition/capture_loop.hpp"
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/acquisition/simulation.hpp"
 #include "leafdig/db/store.hpp"
@@ -330,20 +331,6 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
 }
 
 // ---- sessions ---------------------------------------------------------------------------------
-struct Replayed {
-  db::SessionInfo info;
-  acq::Settings settings;
-  acq::Engine engine;
-};
-
-Replayed replaySession(const db::Store& store, std::int64_t id) {
-  const auto info = store.session(id);
-  if (!info) throw acq::SessionError("there is no session " + std::to_string(id) + " in " + store.path() +
-                                     ": 'leafdig sessions list' shows them");
-  const acq::Settings settings = acq::CaptureSession::settingsFromJson(info->settingsJson);
-  return {*info, settings, acq::CaptureSession::replay(settings, store.events(id))};
-}
-
 int runList(const db::Store& store, const CaptureOptions& o) {
   const auto sessions = store.sessions();
   if (o.json) {
@@ -366,7 +353,7 @@ int runList(const db::Store& store, const CaptureOptions& o) {
 }
 
 int runShow(const db::Store& store, const CaptureOptions& o) {
-  const Replayed r = replaySession(store, o.id);
+  const acq::ReviewedSession r = acq::openForReview(store, o.id);
   const db::ChainReport chain = store.verify(o.id);
   json tip = nullptr;
   json markers = json::array(), board = json::array(), thickness = json::array();
@@ -429,90 +416,44 @@ int runVerify(const db::Store& store, const CaptureOptions& o) {
 }
 
 int runReview(db::Store& store, const CaptureOptions& o, const std::string& status) {
-  const auto info = store.session(o.id);
-  if (!info) throw acq::SessionError("there is no session " + std::to_string(o.id) + ": 'leafdig sessions list' shows them");
-  if (o.who.empty()) throw std::invalid_argument("--who NAME is required: a curator signs every review");
-  if (status == "rejected" && o.why.empty()) throw std::invalid_argument("--why is required when rejecting: say what is wrong");
-  if (status == "approved" && info->status != "complete")
-    throw std::invalid_argument("session " + std::to_string(o.id) + " is " + info->status +
-                                ": only a complete session can be approved");
-  if (info->status == "approved" || info->status == "rejected")
-    throw std::invalid_argument("session " + std::to_string(o.id) + " is already " + info->status);
-  if (!store.verify(o.id).ok)
-    throw std::invalid_argument("session " + std::to_string(o.id) +
-                                " fails 'sessions verify': its event log was altered; it cannot be reviewed");
-  (void)store.ensureOperator(o.who, "curator");
-  const auto seq = store.setStatus(o.id, status, o.who, o.why);
+  const auto seq = acq::review(store, o.id, status, o.who, o.why);
   if (o.json) std::cout << json{{"session", o.id}, {"status", status}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
   else std::cout << "session " << o.id << " " << status << " by " << o.who << " (event " << seq << ")\n";
   return 0;
 }
 
-std::string csvText(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
+int runCorrect(db::Store& store, const CaptureOptions& o) {
+  acq::Correction c;
+  c.what = acq::whatFromString(o.what);
+  c.row = o.row;
+  c.col = o.col;
+  c.reason = o.why;
+  c.who = o.who;
+  if (!o.position.empty()) {
+    if (o.position.size() != 3) throw std::invalid_argument("--position takes x,y,z in mm");
+    c.positionMm = acq::Vec3{o.position[0], o.position[1], o.position[2]};
+  }
+  if (o.value) c.valueMm = *o.value;
+  const auto seq = acq::correct(store, o.id, c);
+  if (o.json) std::cout << json{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
+  else std::cout << "session " << o.id << ": " << o.what << " corrected by " << o.who << " (event " << seq << ")\n";
+  return 0;
 }
 
 int runExport(db::Store& store, const CaptureOptions& o) {
-  const Replayed r = replaySession(store, o.id);
-  if (o.out.empty()) throw std::invalid_argument("--out DIR is required");
-  std::vector<std::string> formats = o.formats;
-  if (formats.empty()) formats = {"glb", "obj", "ply", "stl", "model", "markers", "csv"};
-  m::LeafInfo info;
-  info.id = r.info.project + "/" + r.info.plant + "/leaf-" + std::to_string(r.info.leafPosition) + "/session-" +
-            std::to_string(o.id);
-  info.plant = r.info.plant;
-  info.position = r.info.leafPosition;
-  const m::MarkerSet set = acq::toMarkerSet(r.engine.items(), r.settings, info);
-  m::LeafModel leaf = m::buildLeafModel(set, {m::bladeKindFromString(o.blade), nullptr});
-  if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
-  const m::LeafMesh mesh = m::meshLeaf(leaf, m::MeshResolution::preset("export"));
-  const m::LeafMetrics metrics = m::computeLeafMetrics(leaf, Eigen::Vector3d(0, 0, 1), 5.0);
-  const m::ExportHeader header{info.id, o.frame, std::string("leafdig ") + kVersion};
-  const std::string base = o.out + "/session-" + std::to_string(o.id);
-  std::vector<std::pair<std::string, std::string>> files;  // path, bytes
-  std::vector<std::string> kinds;
-  for (const std::string& f : formats) {
-    if (f == "glb" || f == "obj" || f == "ply" || f == "stl") {
-      files.emplace_back(base + "." + f, m::encodeMesh(mesh, m::meshFormatForPath(base + "." + f), header));
-    } else if (f == "model") {
-      files.emplace_back(base + ".model.json", m::modelToJson(leaf, o.frame, metrics));
-    } else if (f == "markers") {
-      files.emplace_back(base + ".markers.json", m::markersToJson(set));
-    } else if (f == "csv") {
-      std::ostringstream mk, th;
-      mk << std::setprecision(17) << "session,seq,what,row,col,x_mm,y_mm,z_mm\n";
-      for (const auto& x : store.markers(o.id))
-        mk << o.id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
-           << (x.col ? std::to_string(*x.col) : "") << "," << x.positionMm[0] << "," << x.positionMm[1] << ","
-           << x.positionMm[2] << "\n";
-      th << std::setprecision(17) << "session,seq,what,row,col,thickness_mm,raw\n";
-      for (const auto& x : store.thickness(o.id))
-        th << o.id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
-           << (x.col ? std::to_string(*x.col) : "") << "," << x.valueMm << "," << csvText(x.raw) << "\n";
-      files.emplace_back(base + ".markers.csv", mk.str());
-      files.emplace_back(base + ".thickness.csv", th.str());
-    } else {
-      throw std::invalid_argument("unknown export format '" + f + "': use glb, obj, ply, stl, model, markers, csv");
-    }
-  }
-  std::filesystem::create_directories(o.out);
-  json written = json::array();
-  for (const auto& [path, bytes] : files) {
-    m::writeFileAtomically(path, bytes);
-    const auto dot = path.find('.', path.rfind('/') + 1);
-    (void)store.recordExport(o.id, path, path.substr(dot + 1));
-    written.push_back(path);
-  }
+  acq::ExportRequest request;
+  request.formats = o.formats;
+  request.frame = o.frame;
+  request.blade = o.blade;
+  request.outDir = o.out;
+  const acq::ExportResult r = acq::exportSession(store, o.id, request);
   if (o.json) {
-    std::cout << json{{"session", o.id}, {"outputs", written}, {"metrics", json::parse(m::metricsToJson(metrics))}}.dump()
+    std::cout << json{{"session", o.id}, {"outputs", r.written}, {"metrics", json::parse(m::metricsToJson(r.metrics))}}.dump()
               << "\n";
   } else {
-    std::cout << "session " << o.id << ": " << set.rows.size() << " rows, blade area " << std::fixed
-              << std::setprecision(0) << metrics.blade.areaMm2 << " mm^2\n";
-    for (const auto& p : written) std::cout << "  wrote " << p.get<std::string>() << "\n";
+    std::cout << "session " << o.id << ": " << r.rows << " rows, blade area " << std::fixed << std::setprecision(0)
+              << r.metrics.blade.areaMm2 << " mm^2\n";
+    for (const auto& p : r.written) std::cout << "  wrote " << p << "\n";
   }
   return 0;
 }
@@ -612,13 +553,22 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
   CLI::App* resume = sessions->add_subcommand("resume", "Continue an open session at its exact step");
   CLI::App* approve = sessions->add_subcommand("approve", "Curator: approve a complete session");
   CLI::App* reject = sessions->add_subcommand("reject", "Curator: reject a session, saying why");
+  CLI::App* corr = sessions->add_subcommand("correct", "Curator: correct one marker or reading, saying why");
   CLI::App* exp = sessions->add_subcommand("export", "Export a session's leaf: meshes, model, markers, CSV");
-  for (CLI::App* c : {list, show, verify, approve, reject, exp}) {
+  for (CLI::App* c : {list, show, verify, approve, reject, corr, exp}) {
     c->add_option("--db", o.db, "SQLite file (default: the station's)");
     c->add_flag("--json", o.json, "JSON output");
   }
   addCaptureOptions(resume);
-  for (CLI::App* c : {show, resume, approve, reject, exp}) c->add_option("id", o.id, "Session id")->required();
+  for (CLI::App* c : {show, resume, approve, reject, corr, exp}) c->add_option("id", o.id, "Session id")->required();
+  corr->add_option("--what", o.what, "tip, marker, midrib_thickness, vein_origin_thickness, point_thickness, edge_thickness")
+      ->required();
+  corr->add_option("--row", o.row, "Row (1-based; where it applies)");
+  corr->add_option("--col", o.col, "Column (1-based; where it applies)");
+  corr->add_option("--position", o.position, "Corrected marker position x,y,z in mm")->delimiter(',')->expected(3);
+  corr->add_option("--value", o.value, "Corrected thickness in mm");
+  corr->add_option("--who", o.who, "Curator's name")->required();
+  corr->add_option("--why", o.why, "Reason")->required();
   verify->add_option("id", o.id, "Session id (default: all)");
   verify->add_flag("--all", o.all, "Every session");
   for (CLI::App* c : {approve, reject}) {
@@ -659,7 +609,7 @@ int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {
   if (s->get_subcommand("resume")->parsed()) return runCapture(o, o.id);
   try {
     const bool writes = s->get_subcommand("approve")->parsed() || s->get_subcommand("reject")->parsed() ||
-                        s->get_subcommand("export")->parsed();
+                        s->get_subcommand("export")->parsed() || s->get_subcommand("correct")->parsed();
     if (!std::filesystem::exists(dbPath(o)))
       throw std::invalid_argument("no database at " + dbPath(o) + ": give --db FILE (capture creates one)");
     db::Store store(dbPath(o), !writes);
@@ -669,6 +619,7 @@ int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {
     if (s->get_subcommand("approve")->parsed()) return runReview(store, o, "approved");
     if (s->get_subcommand("reject")->parsed()) return runReview(store, o, "rejected");
     if (s->get_subcommand("export")->parsed()) return runExport(store, o);
+    if (s->get_subcommand("correct")->parsed()) return runCorrect(store, o);
   } catch (...) {
     return reportFailure(std::current_exception(), "cannot export: ");
   }

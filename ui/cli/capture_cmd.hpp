@@ -1,8 +1,9 @@
-// leafdig capture, leafdig sessions list|show|verify|resume|approve|reject|export, leafdig demo.
+// leafdig capture, leafdig sessions list|show|verify|resume|approve|reject|correct|export, leafdig demo.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,11 @@ struct CaptureOptions {
   std::string who, why, out;
   std::vector<std::string> formats;
   std::string frame = "leaf", blade = "interp";
+  // sessions correct
+  std::string what;
+  int row = 0, col = 0;
+  std::vector<double> position;
+  std::optional<double> value;
   // demo
   std::string samples;
 };

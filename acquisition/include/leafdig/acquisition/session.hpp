@@ -29,6 +29,8 @@ namespace leafdig::acquisition {
 struct SessionSetup {
   std::string project, plant;
   int leafPosition = 1;          // on the stem, from the base
+  std::string leafType;          // free text ("cauline", "lower", …); optional
+  std::optional<double> measuredAreaMm2;  // from a leaf area meter; drives the area constraint
   std::string operatorName = "technician";
   std::string station;           // empty: this machine's host name
   Settings settings;

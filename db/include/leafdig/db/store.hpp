@@ -69,6 +69,8 @@ struct SessionInfo {
   std::string operatorName, station, status, mode, order, settingsJson, createdUtc;
   std::int64_t headSeq = 0;
   std::string headHash;
+  std::string leafType;                   // "" when not given
+  std::optional<double> measuredAreaMm2;  // leaf area meter or image, when entered
 };
 
 struct MarkerRow {
@@ -109,6 +111,7 @@ class Store {
   std::int64_t ensureOperator(const std::string& name, const std::string& role = "technician");
   std::int64_t ensureProject(const std::string& name);
   std::int64_t ensurePlant(std::int64_t projectId, const std::string& name);
+  // A type or area given for an existing leaf replaces the stored one.
   std::int64_t ensureLeaf(std::int64_t plantId, int position, const std::string& type = {},
                           std::optional<double> measuredAreaMm2 = {});
   std::int64_t ensureDevice(const std::string& kind, const std::string& port, const std::string& description = {});

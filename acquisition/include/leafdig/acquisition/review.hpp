@@ -1,0 +1,90 @@
+// What curators and modellers do with a stored session: open it (any status) through the
+// same replay as capture, step through it event by event, correct an item with a reason (a
+// `corrected` event, replayed like any other), approve or reject it, and export it. The CLI
+// (`leafdig sessions …`) and the station's review view both sit on these functions.
+//
+// Thread contract: like the Store they take, one thread at a time.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/model/metrics.hpp"
+
+namespace leafdig::acquisition {
+
+struct ReviewedSession {
+  db::SessionInfo info;
+  Settings settings;
+  Engine engine;                                      // after the events replayed
+  std::map<std::tuple<int, int, int>, std::int64_t> seqs;  // event that put each item in
+  std::int64_t replayedEvents = 0;                    // how many events the engine has seen
+  std::int64_t totalEvents = 0;
+};
+
+// Opens a session of any status. upToSeq > 0 replays only events 1..upToSeq (step-by-step
+// replay in review). Throws SessionError when it does not exist or does not replay.
+[[nodiscard]] ReviewedSession openForReview(const db::Store& store, std::int64_t id, std::int64_t upToSeq = 0);
+
+// One finding a curator should look at.
+struct ReviewFlag {
+  What what = What::Marker;
+  int row = 0, col = 0;
+  std::string text;  // "repeated reading", "thickness 3.1 mm is 4.2 MAD from the row's median", …
+};
+// Flags recorded at capture (item flags) plus thickness outliers: a reading further than
+// `madLimit` median absolute deviations from the median of its kind (midrib, vein origin,
+// point) over the leaf, and midrib readings that grow towards the tip.
+[[nodiscard]] std::vector<ReviewFlag> reviewFlags(const std::vector<Item>& items, double madLimit = 3.5);
+
+struct Correction {
+  What what = What::Marker;
+  int row = 0, col = 0;
+  std::optional<Vec3> positionMm;  // stylus items
+  std::optional<double> valueMm;   // thickness items
+  std::string reason, who;
+};
+// Appends a `corrected` event (the projection row of the item is replaced in the same
+// transaction). Only a complete session is corrected (approved and rejected ones are
+// final; open ones are still being captured). Throws std::invalid_argument naming what is
+// wrong (no reason, unknown item, value of the wrong kind or outside the settings' range)
+// and SessionError when the session's chain is broken.
+std::int64_t correct(db::Store& store, std::int64_t id, const Correction& c);
+
+// approve: only complete sessions; reject: complete ones, with a reason. Checks the chain
+// first. Returns the status event's seq.
+std::int64_t review(db::Store& store, std::int64_t id, const std::string& status, const std::string& who,
+                    const std::string& why);
+
+struct ExportRequest {
+  std::vector<std::string> formats;  // glb obj ply stl model markers csv; empty: all
+  std::string frame = "leaf";        // or "digitizer"
+  std::string resolution = "export"; // a MeshResolution preset
+  std::string blade = "interp";      // approx, bezier, nurbs
+  std::string outDir;
+};
+struct ExportResult {
+  std::vector<std::string> written;  // files, in the order written
+  model::LeafMetrics metrics;
+  std::size_t rows = 0;
+};
+// Writes each file atomically and records it in `exports`. Throws std::invalid_argument
+// (unknown format, no directory) and model::InputError (the capture is not a whole leaf).
+ExportResult exportSession(db::Store& store, std::int64_t id, const ExportRequest& request);
+// The format names exportSession knows, in order.
+[[nodiscard]] const std::vector<std::string>& exportFormats();
+
+// The leaf's metrics and model (for review: area, the area constraint). Throws
+// model::InputError when the capture is not a whole leaf.
+struct LeafSummary {
+  model::LeafModel model;
+  model::LeafMetrics metrics;
+};
+[[nodiscard]] LeafSummary summarize(const ReviewedSession& r);
+
+}  // namespace leafdig::acquisition

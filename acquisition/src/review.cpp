@@ -1,0 +1,247 @@
+#include "leafdig/acquisition/review.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "item_json.hpp"
+#include "leafdig/acquisition/preview.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/mesh_export.hpp"
+#include "leafdig/model/model_json.hpp"
+#include "leafdig/version.hpp"
+
+namespace leafdig::acquisition {
+namespace {
+
+using nlohmann::json;
+
+db::SessionInfo infoOrThrow(const db::Store& store, std::int64_t id) {
+  const auto info = store.session(id);
+  if (!info)
+    throw SessionError("there is no session " + std::to_string(id) + " in " + store.path() +
+                       ": 'leafdig sessions list' shows them");
+  return *info;
+}
+
+void requireChain(const db::Store& store, std::int64_t id, const std::string& doing) {
+  const db::ChainReport chain = store.verify(id);
+  if (!chain.ok)
+    throw SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
+                       std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + "): it cannot be " + doing);
+}
+
+std::string csvText(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+model::LeafInfo leafInfoOf(const db::SessionInfo& info) {
+  model::LeafInfo leaf;
+  leaf.id = info.project + "/" + info.plant + "/leaf-" + std::to_string(info.leafPosition) + "/session-" +
+            std::to_string(info.id);
+  leaf.plant = info.plant;
+  leaf.position = info.leafPosition;
+  leaf.measuredAreaMm2 = info.measuredAreaMm2;
+  return leaf;
+}
+
+}  // namespace
+
+ReviewedSession openForReview(const db::Store& store, std::int64_t id, std::int64_t upToSeq) {
+  ReviewedSession r{infoOrThrow(store, id), {}, Engine{}, {}, 0, 0};
+  r.settings = CaptureSession::settingsFromJson(r.info.settingsJson);
+  std::vector<db::Event> events = store.events(id);
+  r.totalEvents = static_cast<std::int64_t>(events.size());
+  if (upToSeq > 0) {
+    events.erase(std::remove_if(events.begin(), events.end(), [&](const db::Event& e) { return e.seq > upToSeq; }),
+                 events.end());
+  }
+  r.replayedEvents = static_cast<std::int64_t>(events.size());
+  r.engine = CaptureSession::replay(r.settings, events, &r.seqs);
+  return r;
+}
+
+std::vector<ReviewFlag> reviewFlags(const std::vector<Item>& items, double madLimit) {
+  std::vector<ReviewFlag> out;
+  for (const Item& i : items)
+    if (!i.flag.empty()) out.push_back({i.what, i.row, i.col, i.flag});
+  for (const What kind : {What::MidribThickness, What::VeinOriginThickness, What::PointThickness}) {
+    std::vector<double> values;
+    for (const Item& i : items)
+      if (i.what == kind) values.push_back(i.valueMm);
+    if (values.size() < 4) continue;
+    const double m = median(values);
+    std::vector<double> dev;
+    for (double v : values) dev.push_back(std::abs(v - m));
+    // 1.4826 MAD estimates a standard deviation; a floor keeps identical readings quiet.
+    const double mad = std::max(1.4826 * median(dev), 0.01);
+    for (const Item& i : items) {
+      if (i.what != kind) continue;
+      const double z = std::abs(i.valueMm - m) / mad;
+      if (z > madLimit) {
+        std::ostringstream t;
+        t << std::fixed << std::setprecision(2) << "thickness " << i.valueMm << " mm is " << std::setprecision(1) << z
+          << " MAD from the median " << std::setprecision(2) << m << " mm of " << toString(kind);
+        out.push_back({i.what, i.row, i.col, t.str()});
+      }
+    }
+  }
+  // The midrib thins towards the tip: a reading thicker than the one a row nearer the base
+  // by more than a quarter is worth a second look.
+  std::vector<const Item*> midrib;
+  for (const Item& i : items)
+    if (i.what == What::MidribThickness) midrib.push_back(&i);
+  std::sort(midrib.begin(), midrib.end(), [](const Item* a, const Item* b) { return a->row < b->row; });
+  for (std::size_t k = 0; k + 1 < midrib.size(); ++k)
+    if (midrib[k]->valueMm > 1.25 * midrib[k + 1]->valueMm) {
+      std::ostringstream t;
+      t << std::fixed << std::setprecision(2) << "midrib " << midrib[k]->valueMm << " mm at row " << midrib[k]->row
+        << " is thicker than " << midrib[k + 1]->valueMm << " mm at row " << midrib[k + 1]->row << " (nearer the base)";
+      out.push_back({What::MidribThickness, midrib[k]->row, 0, t.str()});
+    }
+  return out;
+}
+
+std::int64_t correct(db::Store& store, std::int64_t id, const Correction& c) {
+  const db::SessionInfo info = infoOrThrow(store, id);
+  if (info.status != "complete")
+    throw std::invalid_argument("session " + std::to_string(id) + " is " + info.status +
+                                ": only a complete session (awaiting review) can be corrected");
+  if (c.reason.empty()) throw std::invalid_argument("a correction needs a reason: say what was wrong");
+  if (c.who.empty()) throw std::invalid_argument("a correction needs the curator's name");
+  requireChain(store, id, "corrected");
+  const ReviewedSession r = openForReview(store, id);
+  const Item* old = findItem(r.engine.items(), c.what, c.row, c.col);
+  if (!old)
+    throw std::invalid_argument(std::string("session ") + std::to_string(id) + " has no " + toString(c.what) +
+                                (c.row ? " at row " + std::to_string(c.row) : "") +
+                                (c.col ? " col " + std::to_string(c.col) : "") + " to correct");
+  Item fixed = *old;
+  fixed.flag.clear();
+  if (isStylusItem(c.what)) {
+    if (!c.positionMm || c.valueMm) throw std::invalid_argument("a marker is corrected with a position (x, y, z in mm)");
+    for (double v : *c.positionMm)
+      if (!std::isfinite(v)) throw std::invalid_argument("the corrected position must be finite numbers in mm");
+    fixed.positionMm = *c.positionMm;
+  } else {
+    if (!c.valueMm || c.positionMm) throw std::invalid_argument("a thickness is corrected with a value in mm");
+    if (!(*c.valueMm >= r.settings.minThicknessMm && *c.valueMm <= r.settings.maxThicknessMm)) {
+      std::ostringstream t;
+      t << "a thickness of " << *c.valueMm << " mm is outside this session's range " << r.settings.minThicknessMm
+        << "–" << r.settings.maxThicknessMm << " mm: give the value in millimetres";
+      throw std::invalid_argument(t.str());
+    }
+    fixed.valueMm = *c.valueMm;
+  }
+  fixed.raw = "corrected by " + c.who;
+  const auto seq = r.seqs.at(detail::keyOf(*old));
+  json payload = detail::itemJson(*old);
+  payload["seq"] = seq;
+  payload["corrected"] = detail::itemJson(fixed);
+  payload["reason"] = c.reason;
+  payload["who"] = c.who;
+  db::EventInput ev;
+  ev.kind = "corrected";
+  ev.payloadJson = payload.dump();
+  ev.raw = fixed.raw;
+  ev.projection = detail::projectionOf(fixed);
+  ev.retracts = seq;
+  (void)store.ensureOperator(c.who, "curator");
+  return store.append(id, ev);
+}
+
+std::int64_t review(db::Store& store, std::int64_t id, const std::string& status, const std::string& who,
+                    const std::string& why) {
+  const db::SessionInfo info = infoOrThrow(store, id);
+  if (status != "approved" && status != "rejected")
+    throw std::invalid_argument("a review approves or rejects, not '" + status + "'");
+  if (who.empty()) throw std::invalid_argument("a curator signs every review: give a name (--who)");
+  if (status == "rejected" && why.empty()) throw std::invalid_argument("say what is wrong when rejecting (--why)");
+  if (info.status == "approved" || info.status == "rejected")
+    throw std::invalid_argument("session " + std::to_string(id) + " is already " + info.status);
+  if (info.status != "complete")
+    throw std::invalid_argument("session " + std::to_string(id) + " is " + info.status +
+                                ": only a complete session can be " + status);
+  requireChain(store, id, "reviewed");
+  (void)store.ensureOperator(who, "curator");
+  return store.setStatus(id, status, who, why);
+}
+
+const std::vector<std::string>& exportFormats() {
+  static const std::vector<std::string> formats{"glb", "obj", "ply", "stl", "model", "markers", "csv"};
+  return formats;
+}
+
+LeafSummary summarize(const ReviewedSession& r) {
+  const model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
+  LeafSummary s{model::buildLeafModel(set, {}), {}};
+  s.metrics = model::computeLeafMetrics(s.model, Eigen::Vector3d(0, 0, 1), 5.0);
+  return s;
+}
+
+ExportResult exportSession(db::Store& store, std::int64_t id, const ExportRequest& request) {
+  if (request.outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
+  if (request.frame != "leaf" && request.frame != "digitizer")
+    throw std::invalid_argument("unknown frame '" + request.frame + "': use leaf or digitizer");
+  const ReviewedSession r = openForReview(store, id);
+  std::vector<std::string> formats = request.formats.empty() ? exportFormats() : request.formats;
+  for (const auto& f : formats)
+    if (std::find(exportFormats().begin(), exportFormats().end(), f) == exportFormats().end())
+      throw std::invalid_argument("unknown export format '" + f + "': use glb, obj, ply, stl, model, markers, csv");
+  const model::LeafInfo info = leafInfoOf(r.info);
+  const model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, info);
+  model::LeafModel leaf = model::buildLeafModel(set, {model::bladeKindFromString(request.blade), nullptr});
+  if (request.frame == "leaf") leaf = model::transformed(leaf, model::leafFrameFromDigitizer(leaf));
+  const model::LeafMesh mesh = model::meshLeaf(leaf, model::MeshResolution::preset(request.resolution));
+  ExportResult result;
+  result.metrics = model::computeLeafMetrics(leaf, Eigen::Vector3d(0, 0, 1), 5.0);
+  result.rows = set.rows.size();
+  const model::ExportHeader header{info.id, request.frame, std::string("leafdig ") + kVersion};
+  const std::string base = request.outDir + "/session-" + std::to_string(id);
+  std::vector<std::pair<std::string, std::string>> files;  // path, bytes
+  for (const std::string& f : formats) {
+    if (f == "glb" || f == "obj" || f == "ply" || f == "stl") {
+      files.emplace_back(base + "." + f, model::encodeMesh(mesh, model::meshFormatForPath(base + "." + f), header));
+    } else if (f == "model") {
+      files.emplace_back(base + ".model.json", model::modelToJson(leaf, request.frame, result.metrics));
+    } else if (f == "markers") {
+      files.emplace_back(base + ".markers.json", model::markersToJson(set));
+    } else if (f == "csv") {
+      std::ostringstream mk, th;
+      mk << std::setprecision(17) << "session,seq,what,row,col,x_mm,y_mm,z_mm\n";
+      for (const auto& x : store.markers(id))
+        mk << id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
+           << (x.col ? std::to_string(*x.col) : "") << "," << x.positionMm[0] << "," << x.positionMm[1] << ","
+           << x.positionMm[2] << "\n";
+      th << std::setprecision(17) << "session,seq,what,row,col,thickness_mm,raw\n";
+      for (const auto& x : store.thickness(id))
+        th << id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
+           << (x.col ? std::to_string(*x.col) : "") << "," << x.valueMm << "," << csvText(x.raw) << "\n";
+      files.emplace_back(base + ".markers.csv", mk.str());
+      files.emplace_back(base + ".thickness.csv", th.str());
+    }
+  }
+  std::filesystem::create_directories(request.outDir);
+  for (const auto& [path, bytes] : files) {
+    model::writeFileAtomically(path, bytes);
+    const auto dot = path.find('.', path.rfind('/') + 1);
+    (void)store.recordExport(id, path, path.substr(dot + 1));
+    result.written.push_back(path);
+  }
+  return result;
+}
+
+}  // namespace leafdig::acquisition
