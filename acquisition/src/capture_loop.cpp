@@ -50,9 +50,15 @@ std::int64_t CaptureLoop::monoNs(Clock::time_point t) const {
 void CaptureLoop::post(const devices::DeviceEvent& e) {
   {
     std::lock_guard lock(mutex_);
+    if (const auto* s = std::get_if<devices::StylusSample>(&e)) latestStylus_ = *s;
     queue_.emplace_back(e);
   }
   cv_.notify_one();
+}
+
+std::optional<devices::StylusSample> CaptureLoop::latestStylus() const {
+  std::lock_guard lock(mutex_);
+  return latestStylus_;
 }
 
 void CaptureLoop::postStatus(const devices::DeviceStatus& s) {

@@ -49,7 +49,8 @@ dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
   return c;
 }
 
-DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop) {
+DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop)
+    : loop_(loop), digitizerSpec_(digitizerSpec), caliperSpec_(caliperSpec) {
   dev::Driver::Callbacks cb{[&loop](const dev::DeviceEvent& e) { loop.post(e); },
                             [&loop](const dev::DeviceStatus& s) { loop.postStatus(s); }};
   digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(parseDigitizerSpec(digitizerSpec)), cb);
@@ -57,12 +58,41 @@ DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& calipe
 }
 DeviceSet::~DeviceSet() { stop(); }
 void DeviceSet::start() {
-  digitizer_->start();
-  caliper_->start();
+  connect(Role::Digitizer);
+  connect(Role::Caliper);
 }
 void DeviceSet::stop() {
   if (digitizer_) digitizer_->stop();
   if (caliper_) caliper_->stop();
+  digitizerOn_ = caliperOn_ = false;
+}
+dev::Driver& DeviceSet::driver(Role role) const { return role == Role::Digitizer ? *digitizer_ : *caliper_; }
+const std::string& DeviceSet::spec(Role role) const { return role == Role::Digitizer ? digitizerSpec_ : caliperSpec_; }
+bool DeviceSet::connected(Role role) const { return role == Role::Digitizer ? digitizerOn_.load() : caliperOn_.load(); }
+void DeviceSet::connect(Role role) {
+  driver(role).start();
+  (role == Role::Digitizer ? digitizerOn_ : caliperOn_) = true;
+}
+void DeviceSet::disconnect(Role role) {
+  dev::Driver& d = driver(role);
+  d.stop();
+  (role == Role::Digitizer ? digitizerOn_ : caliperOn_) = false;
+  dev::DeviceStatus s = d.status();
+  s.state = dev::LinkState::Disconnected;
+  s.message = "disconnected at the station";
+  s.remedy = "connect it again to go on";
+  s.rateHz = 0;
+  loop_.postStatus(s);
+}
+dev::DeviceStatus DeviceSet::status(Role role) const {
+  dev::DeviceStatus s = driver(role).status();
+  if (!connected(role)) {
+    s.state = dev::LinkState::Disconnected;
+    s.rateHz = 0;
+    s.message = "disconnected at the station";
+    s.remedy = "connect it again to go on";
+  }
+  return s;
 }
 
 // ---- simulated rig --------------------------------------------------------------------------

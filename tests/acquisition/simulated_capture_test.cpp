@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <thread>
 
 #include "leafdig/acquisition/capture_loop.hpp"
@@ -80,5 +82,58 @@ TEST(SimulatedCapture, TheVirtualOperatorCapturesALeafThroughRealDriversAndEvery
   const auto preview = session.snapshot(true).preview;
   EXPECT_EQ(preview->model.veins.size(), 2u + 2 * 10);
   EXPECT_FALSE(preview->provisionalThickness);
+  fs::remove_all(dir);
+}
+
+TEST(SimulatedCapture, TheOperatorTakesADeviceOffLineAndBackAndTheCaptureRecordsBoth) {
+  const fs::path dir = fs::temp_directory_path() / ("leafdig-simdev-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  leafdig::db::Store store((dir / "s.sqlite").string());
+  acq::SessionSetup setup;
+  setup.project = "p";
+  setup.plant = "pl";
+  setup.simulated = true;
+  const auto id = acq::CaptureSession::create(store, setup);
+  acq::CaptureSession session(store, id);
+  acq::SimulationOptions so;
+  so.seed = 9;
+  so.linkDir = dir.string();
+  acq::SimulatedRig rig(so);
+  acq::CaptureLoop loop(session, {}, 1.0);
+  acq::DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop);
+  using Role = acq::DeviceSet::Role;
+  using leafdig::devices::LinkState;
+  std::thread capture([&] { (void)loop.run(); });
+  const auto waitFor = [](const std::function<bool()>& ok) {
+    for (int i = 0; i < 300 && !ok(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return ok();
+  };
+  devices.start();
+  EXPECT_TRUE(devices.connected(Role::Digitizer));
+  ASSERT_TRUE(waitFor([&] { return devices.status(Role::Digitizer).state == LinkState::Streaming; }));
+  ASSERT_TRUE(waitFor([&] { return devices.status(Role::Digitizer).rateHz > 10; }));
+  EXPECT_GE(devices.status(Role::Digitizer).lastSampleAgeS, 0.0);
+  EXPECT_LT(devices.status(Role::Digitizer).lastSampleAgeS, 1.0);
+  ASSERT_TRUE(loop.latestStylus().has_value());  // the cursor's source
+  EXPECT_EQ(devices.spec(Role::Caliper), rig.caliperSpec());
+
+  devices.disconnect(Role::Digitizer);
+  EXPECT_FALSE(devices.connected(Role::Digitizer));
+  EXPECT_EQ(devices.status(Role::Digitizer).state, LinkState::Disconnected);
+  EXPECT_FALSE(devices.status(Role::Digitizer).remedy.empty());
+  devices.connect(Role::Digitizer);
+  ASSERT_TRUE(waitFor([&] { return devices.status(Role::Digitizer).state == LinkState::Streaming; }));
+  loop.stop();
+  capture.join();
+  devices.stop();
+  // The store has the device going away and coming back, in that order.
+  std::vector<std::string> states;
+  for (const auto& e : store.events(id))
+    if (e.kind == "device" && e.payloadJson.find("FASTRAK") != std::string::npos)
+      states.push_back(e.payloadJson.find("disconnected") != std::string::npos ? "off" : "on");
+  ASSERT_GE(states.size(), 3u);
+  EXPECT_NE(std::find(states.begin(), states.end(), "off"), states.end());
+  EXPECT_EQ(states.back(), "on");
   fs::remove_all(dir);
 }

@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <variant>
 
@@ -53,6 +54,9 @@ class CaptureLoop {
   Snapshot run();
 
   [[nodiscard]] std::int64_t monoNs(Clock::time_point t) const;
+  // The latest stylus sample posted (any thread; a front end's cursor polls it at its own
+  // frame rate instead of receiving every sample).
+  [[nodiscard]] std::optional<devices::StylusSample> latestStylus() const;
 
  private:
   using Item_ = std::variant<devices::DeviceEvent, devices::DeviceStatus, Command>;
@@ -64,9 +68,10 @@ class CaptureLoop {
   double timeScale_;
   bool previews_;
   Clock::time_point t0_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Item_> queue_;
+  std::optional<devices::StylusSample> latestStylus_;
   std::atomic<bool> stop_{false};
   std::map<std::string, std::string> deviceStates_;
 };

@@ -29,15 +29,30 @@ namespace leafdig::acquisition {
 [[nodiscard]] devices::CaliperConfig parseCaliperSpec(const std::string& spec);
 
 // The two drivers of a capture, delivering into a loop.
+// Thread contract: construct, start, stop, connect and disconnect from one owner thread;
+// statuses() from any thread.
 class DeviceSet {
  public:
+  enum class Role { Digitizer, Caliper };
   DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop);
   ~DeviceSet();
   void start();
   void stop();
+  // The operator takes a device off line (to swap a cable, lend the caliper) and back: the
+  // capture records both as device events and keeps its step.
+  void disconnect(Role role);
+  void connect(Role role);
+  [[nodiscard]] bool connected(Role role) const;
+  // Each driver's status now: state, rate, last-sample age, message and remedy.
+  [[nodiscard]] devices::DeviceStatus status(Role role) const;
+  [[nodiscard]] const std::string& spec(Role role) const;
 
  private:
+  [[nodiscard]] devices::Driver& driver(Role role) const;
+  CaptureLoop& loop_;
+  std::string digitizerSpec_, caliperSpec_;
   std::unique_ptr<devices::Driver> digitizer_, caliper_;
+  std::atomic<bool> digitizerOn_{false}, caliperOn_{false};
 };
 
 struct SimulationOptions {
