@@ -50,8 +50,18 @@ std::int64_t CaptureLoop::monoNs(Clock::time_point t) const {
 void CaptureLoop::post(const devices::DeviceEvent& e) {
   {
     std::lock_guard lock(mutex_);
-    if (const auto* s = std::get_if<devices::StylusSample>(&e)) latestStylus_ = *s;
-    queue_.emplace_back(e);
+    if (const auto* s = std::get_if<devices::StylusSample>(&e)) {
+      latestStylus_ = *s;
+      if (pedal_ && !s->button) {
+        devices::StylusSample pressed = *s;
+        pressed.button = true;
+        queue_.emplace_back(pressed);
+      } else {
+        queue_.emplace_back(e);
+      }
+    } else {
+      queue_.emplace_back(e);
+    }
   }
   cv_.notify_one();
 }

@@ -11,7 +11,8 @@ mkdir -p "$out"
 # Mesa and fontconfig keep caches for the process lifetime; not leafdig's leaks.
 export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
 report=$(timeout 300 xvfb-run -a -s "-screen 0 1280x900x24" "$station" --simulate --speed 10 --seed 2 \
-  --db "$out/station.sqlite" --screenshot "$out/capture.png" --quit-when-complete 2>"$out/stderr.txt")
+  --db "$out/station.sqlite" --settings "$out/station.ini" --screenshot "$out/capture.png" \
+  --review-screenshot "$out/review.png" --quit-when-complete 2>"$out/stderr.txt")
 echo "$report"
 line=$(echo "$report" | grep '^complete session ') || { echo "no completion line"; cat "$out/stderr.txt"; exit 1; }
 triangles=$(echo "$line" | awk '{print $5}')
@@ -19,6 +20,7 @@ pixels=$(echo "$line" | awk '{print $7}')
 [ "$triangles" -gt 1000 ] || { echo "preview drew only $triangles triangles"; exit 1; }
 [ "$pixels" -gt 2000 ] || { echo "preview is blank ($pixels pixels differ from the background)"; exit 1; }
 [ -s "$out/capture.png" ] || { echo "no screenshot"; exit 1; }
+[ -s "$out/review.png" ] || { echo "no review screenshot"; exit 1; }
 python3 - "$out/station.sqlite" <<'PY'
 import sqlite3, sys
 db = sqlite3.connect(f"file:{sys.argv[1]}?mode=ro", uri=True)

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "leafdig/version.hpp"
+#include "review_view.hpp"
 #include "station_window.hpp"
 
 namespace {
@@ -40,8 +41,12 @@ int main(int argc, char** argv) {
   const QCommandLineOption caliper("caliper", "KIND:PORT or hid:VID:PID", "SPEC");
   const QCommandLineOption resume("resume", "Continue this open session", "ID");
   const QCommandLineOption screenshot("screenshot", "When the leaf is complete, save the window here", "PNG");
+  const QCommandLineOption reviewShot("review-screenshot", "When the leaf is complete, open it in Review and save that view here", "PNG");
   const QCommandLineOption quit("quit-when-complete", "Exit once the leaf is complete (scripts, tests)");
-  p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, quit});
+  const QCommandLineOption setupDialog("setup", "Show the session set-up dialog first (also when simulating)");
+  const QCommandLineOption settingsFile("settings", "Settings file (default ~/.config/leafdig/station.ini)", "INI");
+  p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, reviewShot, quit, setupDialog,
+                settingsFile});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -50,20 +55,40 @@ int main(int argc, char** argv) {
   o.speed = p.value(speed).toDouble();
   o.seed = p.value(seed).toULongLong();
   o.markers = p.value(markers).toStdString();
-  o.digitizer = p.value(digitizer).toStdString();
-  o.caliper = p.value(caliper).toStdString();
+  o.setup.project = "default";
+  o.setup.plant = "plant-1";
+  o.setup.operatorName = qEnvironmentVariable("USER", "technician").toStdString();
+  o.setup.digitizer = p.value(digitizer).toStdString();
+  o.setup.caliper = p.value(caliper).toStdString();
   o.resume = p.value(resume).toLongLong();
-  if (!o.simulate && o.resume == 0 && (o.digitizer.empty() || o.caliper.empty())) {
-    std::fprintf(stderr, "leafdig-station: give --digitizer and --caliper, or --simulate to try it\n");
-    return 2;
-  }
+  o.settingsFile = p.value(settingsFile);
   if (!(o.speed > 0 && o.speed <= 50)) {
     std::fprintf(stderr, "leafdig-station: --speed must be in (0, 50]\n");
     return 2;
   }
+  {
+    QStringList problems;
+    const auto settings = leafdig::station::StationSettings::load(
+        o.settingsFile.isEmpty() ? leafdig::station::defaultSettingsFile() : o.settingsFile, &problems);
+    for (const auto& problem : problems) std::fprintf(stderr, "leafdig-station: settings: %s\n", qPrintable(problem));
+    leafdig::station::applyTheme(app, settings);
+  }
   leafdig::station::StationWindow w(o);
   w.show();
-  if (!w.start()) {
+  const bool interactive = !p.isSet(quit);
+  if (interactive && o.resume == 0) w.offerResume();
+  // Without devices given (and nothing to resume), the set-up dialog asks for them.
+  const bool needSetup = p.isSet(setupDialog) ||
+                         (!o.simulate && w.options().resume == 0 && (o.setup.digitizer.empty() || o.setup.caliper.empty()));
+  if (needSetup) {
+    if (!interactive) {
+      std::fprintf(stderr, "leafdig-station: give --digitizer and --caliper, or --simulate to try it\n");
+      return 2;
+    }
+    if (!w.newSessionDialog()) {
+      if (w.sessionId() == 0 && w.bannerText().startsWith("Cannot")) std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
+    }
+  } else if (!w.start()) {
     std::fprintf(stderr, "leafdig-station: %s\n", w.bannerText().toStdString().c_str());
     if (p.isSet(quit)) return 1;
   }
@@ -75,6 +100,15 @@ int main(int argc, char** argv) {
       const QImage frame = w.preview()->grabFramebuffer();
       const int pixels = drawnPixels(frame);
       if (!shot.isEmpty()) w.grab().save(shot);
+      if (p.isSet(reviewShot)) {
+        w.tabs()->setCurrentIndex(1);
+        w.review()->refreshSessions();
+        (void)w.review()->openSession(w.sessionId());
+        QApplication::processEvents();
+        w.review()->preview()->update();
+        QApplication::processEvents();
+        w.grab().save(p.value(reviewShot));
+      }
       std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
                   static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels, w.preview()->lastFrameMs());
       std::fflush(stdout);

@@ -152,6 +152,57 @@ void PreviewWidget::upload() {
   }
   if (!markers.empty()) addBatch(markers, QVector3D(0.15f, 0.35f, 0.85f), true);
   if (!last.empty()) addBatch(last, QVector3D(0.95f, 0.25f, 0.15f), true);
+  if (highlight_ && acquisition::isStylusItem(highlight_->what)) {
+    const QVector3D p = toView(highlight_->positionMm);
+    addBatch({p.x(), p.y(), p.z(), 0.f, 1.f, 0.f}, QVector3D(1.0f, 0.85f, 0.0f), true);
+  }
+  if (cursor_) {
+    const QVector3D p = toView(*cursor_);
+    addBatch({p.x(), p.y(), p.z(), 0.f, 1.f, 0.f}, QVector3D(0.8f, 0.1f, 0.8f), true);
+  }
+}
+
+void PreviewWidget::setStylusCursor(const std::optional<acquisition::Vec3>& positionMm) {
+  if (positionMm == cursor_) return;
+  cursor_ = positionMm;
+  dirty_ = true;
+  update();
+}
+
+void PreviewWidget::setHighlight(const std::optional<acquisition::Item>& item) {
+  highlight_ = item;
+  dirty_ = true;
+  update();
+}
+
+QMatrix4x4 PreviewWidget::viewProjection() const {
+  QMatrix4x4 projection, view;
+  const float aspect = static_cast<float>(width()) / static_cast<float>(std::max(1, height()));
+  projection.perspective(35.0f, aspect, radius_ * 0.05f, radius_ * 20.0f);
+  view.translate(pan_.x() * radius_, pan_.y() * radius_, -distance_ * radius_);
+  view.rotate(pitch_, 1, 0, 0);
+  view.rotate(yaw_, 0, 1, 0);
+  view.translate(-centre_);
+  return projection * view;
+}
+
+QPointF PreviewWidget::project(const acquisition::Vec3& positionMm) const {
+  const QVector3D ndc = viewProjection().map(toView(positionMm));
+  return {(ndc.x() + 1.0) * 0.5 * width(), (1.0 - ndc.y()) * 0.5 * height()};
+}
+
+std::optional<acquisition::Item> PreviewWidget::itemAt(QPointF pos, double radiusPx) const {
+  std::optional<acquisition::Item> best;
+  double bestD = radiusPx;
+  for (const auto& i : items_) {
+    if (!acquisition::isStylusItem(i.what)) continue;
+    const double d = QLineF(project(i.positionMm), pos).length();
+    if (d <= bestD) {
+      bestD = d;
+      best = i;
+    }
+  }
+  return best;
 }
 
 void PreviewWidget::paintGL() {
@@ -163,21 +214,14 @@ void PreviewWidget::paintGL() {
   }
   glClearColor(0.96f, 0.96f, 0.94f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  QMatrix4x4 projection, view;
-  const float aspect = static_cast<float>(width()) / static_cast<float>(std::max(1, height()));
-  projection.perspective(35.0f, aspect, radius_ * 0.05f, radius_ * 20.0f);
-  view.translate(pan_.x() * radius_, pan_.y() * radius_, -distance_ * radius_);
-  view.rotate(pitch_, 1, 0, 0);
-  view.rotate(yaw_, 0, 1, 0);
-  view.translate(-centre_);
   program_.bind();
-  program_.setUniformValue("mvp", projection * view);
+  program_.setUniformValue("mvp", viewProjection());
   program_.setUniformValue("model", QMatrix4x4());
   trianglesDrawn_ = 0;
   for (auto& b : batches_) {
     program_.setUniformValue("colour", b.colour);
     program_.setUniformValue("lit", !b.points);
-    program_.setUniformValue("pointSize", b.colour.x() > 0.9f ? 12.0f : 7.0f);
+    program_.setUniformValue("pointSize", b.colour.x() > 0.79f ? 13.0f : 7.0f);
     b.vao->bind();
     glDrawArrays(b.points ? GL_POINTS : GL_TRIANGLES, 0, b.count);
     if (!b.points) trianglesDrawn_ += static_cast<std::size_t>(b.count / 3);
@@ -189,13 +233,23 @@ void PreviewWidget::paintGL() {
 }
 
 void PreviewWidget::mousePressEvent(QMouseEvent* e) {
-  lastMouse_ = e->position().toPoint();
-  userMoved_ = true;
+  lastMouse_ = pressedAt_ = e->position().toPoint();
+  dragged_ = false;
+}
+
+void PreviewWidget::mouseReleaseEvent(QMouseEvent* e) {
+  // A click (not a drag) picks the marker under the pointer.
+  if (!dragged_ && e->button() == Qt::LeftButton)
+    if (const auto item = itemAt(e->position())) emit itemPicked(*item);
 }
 
 void PreviewWidget::mouseMoveEvent(QMouseEvent* e) {
   const QPoint d = e->position().toPoint() - lastMouse_;
   lastMouse_ = e->position().toPoint();
+  if ((lastMouse_ - pressedAt_).manhattanLength() > 3) {
+    dragged_ = true;
+    userMoved_ = true;
+  }
   if (e->buttons() & Qt::LeftButton) {
     yaw_ += 0.4f * static_cast<float>(d.x());
     pitch_ = std::clamp(pitch_ + 0.4f * static_cast<float>(d.y()), -89.0f, 89.0f);

@@ -1,33 +1,43 @@
-// The station's capture window: the current-step banner, the step list, device chips and
-// the live 3D preview, over a capture loop that runs on its own thread (the loop owns the
-// session; snapshots and feedback arrive here queued on the UI thread).
+// The station's main window: a Capture tab (current-step banner, schematic leaf, step list,
+// device chips, last-point readout, live 3D preview with the stylus cursor) over a capture
+// loop on its own thread (the loop owns the session; snapshots and feedback arrive here
+// queued on the UI thread), and a Review tab for curators. Sounds, configurable shortcuts
+// (a USB foot pedal types one of them; the Accept key held down is the stylus button),
+// settings, session set-up and export are reached from the toolbar.
 #pragma once
 
 #include <QLabel>
 #include <QListWidget>
 #include <QMainWindow>
+#include <QTabWidget>
+#include <QTimer>
+#include <QToolButton>
 #include <atomic>
 #include <map>
 #include <memory>
 #include <optional>
 #include <thread>
 
+#include "leaf_schematic.hpp"
 #include "leafdig/acquisition/capture_loop.hpp"
 #include "leafdig/acquisition/simulation.hpp"
 #include "preview_widget.hpp"
+#include "settings.hpp"
+#include "sounds.hpp"
 
 namespace leafdig::station {
 
+class ReviewView;
+
 struct StationOptions {
   std::string db;
-  bool simulate = false;
+  bool simulate = false;         // simulated FASTRAK + Sylvac and a virtual technician
   double speed = 1.0;
   std::uint64_t seed = 1;
-  std::string markers;  // the simulated leaf
-  std::string project = "default", plant = "plant-1", operatorName = "technician";
-  int leafPosition = 1;
-  std::string digitizer, caliper;
-  std::int64_t resume = 0;  // a session to continue; 0: a new one
+  std::string markers;           // the simulated leaf
+  acquisition::SessionSetup setup;  // project, plant, …, devices (ignored when simulating)
+  std::int64_t resume = 0;       // a session to continue; 0: a new one
+  QString settingsFile;          // empty: defaultSettingsFile()
 };
 
 class StationWindow : public QMainWindow {
@@ -40,30 +50,66 @@ class StationWindow : public QMainWindow {
   // false (and shows why in the banner) when the store or the devices cannot be opened.
   bool start();
   void stopCapture();
+  // Shows the set-up dialog; starts a new session with what was chosen. False: cancelled.
+  bool newSessionDialog();
+  // Open sessions of this station that were interrupted (not complete, not abandoned).
+  [[nodiscard]] std::vector<db::SessionInfo> interruptedSessions() const;
+  // Asks whether to resume the newest interrupted session; sets options().resume if so.
+  void offerResume();
 
   [[nodiscard]] PreviewWidget* preview() const { return preview_; }
+  [[nodiscard]] LeafSchematic* schematic() const { return schematic_; }
+  [[nodiscard]] ReviewView* review() const { return review_; }
+  [[nodiscard]] QTabWidget* tabs() const { return tabs_; }
   [[nodiscard]] QString bannerText() const { return banner_->text(); }
+  [[nodiscard]] QString feedbackText() const { return feedback_->text(); }
+  [[nodiscard]] QString chipText(acquisition::DeviceSet::Role role) const;
   [[nodiscard]] const std::optional<acquisition::Snapshot>& lastSnapshot() const { return last_; }
   [[nodiscard]] std::int64_t sessionId() const { return sessionId_; }
+  [[nodiscard]] Sounds& sounds() { return *sounds_; }
+  [[nodiscard]] const StationSettings& settings() const { return settings_; }
+  [[nodiscard]] StationOptions& options() { return options_; }
+  [[nodiscard]] acquisition::DeviceSet* devices() const { return devices_.get(); }
+  [[nodiscard]] acquisition::CaptureLoop* loop() const { return loop_.get(); }
+  void applySettings(const StationSettings& s);
 
   // What the UI does with the loop's output (public for the widget tests).
   void applySnapshot(const acquisition::Snapshot& s);
   void applyFeedback(const acquisition::Feedback& f);
+  // Polls device status and the stylus position (10 Hz / 30 Hz timers call these).
+  void refreshDevices();
+  void refreshCursor();
+  void runAction(Action a);
 
  signals:
   void captureComplete();
 
+ protected:
+  bool eventFilter(QObject* watched, QEvent* event) override;
+
  private:
-  void command(acquisition::Command::Kind kind);
+  void command(acquisition::Command c);
   void fillSteps(const acquisition::Snapshot& s);
+  void buildShortcuts();
+  void toggleDevice(acquisition::DeviceSet::Role role);
+  QToolButton* chip(acquisition::DeviceSet::Role role);
 
   StationOptions options_;
+  StationSettings settings_;
+  QTabWidget* tabs_ = nullptr;
   QLabel* banner_ = nullptr;
   QLabel* feedback_ = nullptr;
+  QLabel* lastPoint_ = nullptr;
   QListWidget* steps_ = nullptr;
-  std::map<std::string, QLabel*> chips_;
+  LeafSchematic* schematic_ = nullptr;
+  std::map<acquisition::DeviceSet::Role, QToolButton*> chips_;
   QWidget* chipRow_ = nullptr;
   PreviewWidget* preview_ = nullptr;
+  ReviewView* review_ = nullptr;
+  Sounds* sounds_ = nullptr;
+  QTimer deviceTimer_, cursorTimer_;
+  std::vector<QObject*> shortcutObjects_;
+  std::optional<acquisition::Item> retakeTarget_;
 
   std::unique_ptr<db::Store> store_;
   std::unique_ptr<acquisition::CaptureSession> session_;
@@ -74,6 +120,7 @@ class StationWindow : public QMainWindow {
   std::thread captureThread_;
   std::int64_t sessionId_ = 0;
   std::optional<acquisition::Snapshot> last_;
+  std::map<acquisition::DeviceSet::Role, devices::LinkState> lastState_;
 };
 
 }  // namespace leafdig::station

@@ -45,6 +45,9 @@ class CaptureLoop {
   CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale = 1.0, bool previews = true);
 
   void post(const devices::DeviceEvent& e);
+  // A foot pedal (or key) held down acts as the stylus button: stylus samples posted while
+  // it is down carry button = true. Any thread.
+  void setPedal(bool down) { pedal_ = down; }
   void postStatus(const devices::DeviceStatus& s);
   void command(const Command& c);
   void stop();  // run() returns soon after
@@ -73,6 +76,7 @@ class CaptureLoop {
   std::deque<Item_> queue_;
   std::optional<devices::StylusSample> latestStylus_;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> pedal_{false};
   std::map<std::string, std::string> deviceStates_;
 };
 

@@ -1,0 +1,511 @@
+#include "review_view.hpp"
+
+#include <QChart>
+#include <QChartView>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QInputDialog>
+#include <QLineSeries>
+#include <QPushButton>
+#include <QScatterSeries>
+#include <QSplitter>
+#include <QValueAxis>
+#include <QVBoxLayout>
+#include <set>
+
+#include "export_dialog.hpp"
+#include "leafdig/model/errors.hpp"
+
+namespace leafdig::station {
+namespace acq = leafdig::acquisition;
+
+namespace {
+
+QTableWidgetItem* cell(const QString& text) {
+  auto* c = new QTableWidgetItem(text);
+  c->setFlags(c->flags() & ~Qt::ItemIsEditable);
+  return c;
+}
+
+const char* kBanner = "QLabel { background:#4a148c; color:white; padding:10px; border-radius:6px; font-weight:bold; }";
+
+}  // namespace
+
+ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidget(parent), settings_(settings) {
+  auto* outer = new QVBoxLayout(this);
+  banner_ = new QLabel(tr("REVIEW · choose a session"), this);
+  banner_->setStyleSheet(kBanner);
+  banner_->setWordWrap(true);
+  outer->addWidget(banner_);
+
+  auto* filters = new QHBoxLayout;
+  project_ = new QComboBox;
+  plant_ = new QComboBox;
+  status_ = new QComboBox;
+  operator_ = new QComboBox;
+  date_ = new QLineEdit;
+  date_->setPlaceholderText(tr("date, e.g. 2026-11"));
+  curator_ = new QLineEdit(QString::fromLocal8Bit(qgetenv("USER")));
+  curator_->setPlaceholderText(tr("curator's name"));
+  for (auto* c : {project_, plant_, status_, operator_})
+    connect(c, &QComboBox::currentTextChanged, this, [this] { applyFilters(); });
+  connect(date_, &QLineEdit::textChanged, this, [this] { applyFilters(); });
+  auto* refresh = new QPushButton(tr("Refresh"));
+  connect(refresh, &QPushButton::clicked, this, &ReviewView::refreshSessions);
+  filters->addWidget(new QLabel(tr("Project")));
+  filters->addWidget(project_);
+  filters->addWidget(new QLabel(tr("Plant")));
+  filters->addWidget(plant_);
+  filters->addWidget(new QLabel(tr("Status")));
+  filters->addWidget(status_);
+  filters->addWidget(new QLabel(tr("Operator")));
+  filters->addWidget(operator_);
+  filters->addWidget(date_);
+  filters->addWidget(refresh);
+  filters->addStretch(1);
+  filters->addWidget(new QLabel(tr("Curator")));
+  filters->addWidget(curator_);
+  outer->addLayout(filters);
+
+  auto* split = new QSplitter(Qt::Vertical, this);
+  sessions_ = new QTableWidget(0, 8, split);
+  sessions_->setHorizontalHeaderLabels({tr("id"), tr("project"), tr("plant"), tr("leaf"), tr("status"), tr("operator"),
+                                        tr("created (UTC)"), tr("events")});
+  sessions_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  sessions_->horizontalHeader()->setStretchLastSection(true);
+  sessions_->verticalHeader()->hide();
+  connect(sessions_, &QTableWidget::itemSelectionChanged, this, [this] {
+    if (filling_) return;
+    const auto rows = sessions_->selectionModel()->selectedRows();
+    if (rows.size() == 1) (void)openSession(sessions_->item(rows[0].row(), 0)->text().toLongLong());
+  });
+
+  auto* detail = new QSplitter(split);
+  markers_ = new QTableWidget(0, 6, detail);
+  markers_->setHorizontalHeaderLabels({tr("item"), tr("row"), tr("point"), tr("value"), tr("event"), tr("flag")});
+  markers_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  markers_->setSelectionMode(QAbstractItemView::SingleSelection);
+  markers_->verticalHeader()->hide();
+  markers_->horizontalHeader()->setStretchLastSection(true);
+  connect(markers_, &QTableWidget::itemSelectionChanged, this, [this] {
+    if (filling_) return;
+    const auto rows = markers_->selectionModel()->selectedRows();
+    if (rows.size() == 1) preview_->setHighlight(itemOfRow(rows[0].row()));
+  });
+  auto* middle = new QWidget(detail);
+  auto* mid = new QVBoxLayout(middle);
+  mid->setContentsMargins(0, 0, 0, 0);
+  preview_ = new PreviewWidget(middle);
+  connect(preview_, &PreviewWidget::itemPicked, this, [this](const acq::Item& i) { selectItem(i); });
+  mid->addWidget(preview_, 1);
+  auto* replay = new QHBoxLayout;
+  auto* back = new QPushButton(QStringLiteral("◀"));
+  auto* forward = new QPushButton(QStringLiteral("▶"));
+  slider_ = new QSlider(Qt::Horizontal);
+  slider_->setEnabled(false);
+  replayLabel_ = new QLabel;
+  connect(back, &QPushButton::clicked, this, [this] { slider_->setValue(slider_->value() - 1); });
+  connect(forward, &QPushButton::clicked, this, [this] { slider_->setValue(slider_->value() + 1); });
+  connect(slider_, &QSlider::valueChanged, this, [this](int v) {
+    if (!filling_) replayTo(v);
+  });
+  replay->addWidget(new QLabel(tr("Replay")));
+  replay->addWidget(back);
+  replay->addWidget(slider_, 1);
+  replay->addWidget(forward);
+  replay->addWidget(replayLabel_);
+  mid->addLayout(replay);
+
+  auto* right = new QWidget(detail);
+  auto* rl = new QVBoxLayout(right);
+  rl->setContentsMargins(0, 0, 0, 0);
+  chart_ = new QChartView(right);
+  chart_->setRenderHint(QPainter::Antialiasing);
+  chart_->setMinimumHeight(220);
+  metrics_ = new QLabel(right);
+  metrics_->setWordWrap(true);
+  metrics_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  flags_ = new QListWidget(right);
+  connect(flags_, &QListWidget::itemClicked, this, [this](QListWidgetItem* it) {
+    const auto what = acq::whatFromString(it->data(Qt::UserRole).toString().toStdString());
+    if (const auto* i = current_ ? acq::findItem(current_->engine.items(), what, it->data(Qt::UserRole + 1).toInt(),
+                                                 it->data(Qt::UserRole + 2).toInt())
+                                 : nullptr)
+      selectItem(*i);
+  });
+  auto* actions = new QHBoxLayout;
+  auto* correctB = new QPushButton(tr("Correct…"));
+  auto* approveB = new QPushButton(tr("Approve"));
+  auto* rejectB = new QPushButton(tr("Reject…"));
+  auto* exportB = new QPushButton(tr("Export…"));
+  connect(correctB, &QPushButton::clicked, this, &ReviewView::correctSelected);
+  connect(approveB, &QPushButton::clicked, this, [this] { (void)approve(curator_->text()); });
+  connect(rejectB, &QPushButton::clicked, this, [this] {
+    bool ok = false;
+    const QString why = QInputDialog::getText(this, tr("Reject"), tr("What is wrong with this session?"), QLineEdit::Normal, {}, &ok);
+    if (ok) (void)reject(curator_->text(), why);
+  });
+  connect(exportB, &QPushButton::clicked, this, [this] {
+    std::vector<std::int64_t> ids;
+    for (const auto& r : sessions_->selectionModel()->selectedRows()) ids.push_back(sessions_->item(r.row(), 0)->text().toLongLong());
+    ExportDialog d(settings_, this);
+    d.setSessions(ids);
+    if (d.exec() == QDialog::Accepted) d.run(dbPath_);
+  });
+  for (auto* b : {correctB, approveB, rejectB, exportB}) actions->addWidget(b);
+  rl->addWidget(chart_, 2);
+  rl->addWidget(metrics_);
+  rl->addWidget(new QLabel(tr("Flags")));
+  rl->addWidget(flags_, 1);
+  rl->addLayout(actions);
+  detail->setStretchFactor(1, 1);
+  detail->setSizes({330, 640, 560});
+  split->setSizes({140, 620});
+  outer->addWidget(split, 1);
+}
+
+ReviewView::~ReviewView() = default;
+
+void ReviewView::setSettings(const StationSettings& s) {
+  settings_ = s;
+  if (current_) fill();
+}
+
+void ReviewView::setDatabase(const std::string& path) {
+  if (path == dbPath_ && store_) return;
+  dbPath_ = path;
+  store_.reset();
+  current_.reset();
+  refreshSessions();
+}
+
+void ReviewView::refreshSessions() {
+  all_.clear();
+  try {
+    if (!store_ && !dbPath_.empty()) store_ = std::make_unique<db::Store>(dbPath_);
+    if (store_) all_ = store_->sessions();
+  } catch (const std::exception& e) {
+    banner_->setText(tr("REVIEW · cannot open %1: %2").arg(QString::fromStdString(dbPath_), QString::fromStdString(e.what())));
+    return;
+  }
+  filling_ = true;
+  const auto refill = [](QComboBox* c, const std::set<QString>& values) {
+    const QString keep = c->currentText();
+    c->clear();
+    c->addItem(tr("all"));
+    for (const auto& v : values) c->addItem(v);
+    c->setCurrentText(keep.isEmpty() ? tr("all") : keep);
+  };
+  std::set<QString> projects, plants, statuses, operators;
+  for (const auto& s : all_) {
+    projects.insert(QString::fromStdString(s.project));
+    plants.insert(QString::fromStdString(s.plant));
+    statuses.insert(QString::fromStdString(s.status));
+    operators.insert(QString::fromStdString(s.operatorName));
+  }
+  refill(project_, projects);
+  refill(plant_, plants);
+  refill(status_, statuses);
+  refill(operator_, operators);
+  filling_ = false;
+  applyFilters();
+}
+
+void ReviewView::applyFilters() {
+  if (filling_) return;
+  filling_ = true;
+  const auto pass = [](const QComboBox* c, const std::string& v) {
+    return c->currentIndex() <= 0 || c->currentText() == QString::fromStdString(v);
+  };
+  sessions_->setRowCount(0);
+  for (auto it = all_.rbegin(); it != all_.rend(); ++it) {
+    const auto& s = *it;
+    if (!pass(project_, s.project) || !pass(plant_, s.plant) || !pass(status_, s.status) || !pass(operator_, s.operatorName))
+      continue;
+    if (!date_->text().isEmpty() && !QString::fromStdString(s.createdUtc).startsWith(date_->text().trimmed())) continue;
+    const int r = sessions_->rowCount();
+    sessions_->insertRow(r);
+    const QStringList values{QString::number(s.id), QString::fromStdString(s.project), QString::fromStdString(s.plant),
+                             QString::number(s.leafPosition), QString::fromStdString(s.status),
+                             QString::fromStdString(s.operatorName), QString::fromStdString(s.createdUtc),
+                             QString::number(s.headSeq)};
+    for (int c = 0; c < values.size(); ++c) sessions_->setItem(r, c, cell(values[c]));
+  }
+  sessions_->resizeColumnsToContents();
+  filling_ = false;
+}
+
+bool ReviewView::openSession(std::int64_t id, std::int64_t upToSeq) {
+  try {
+    if (!store_) refreshSessions();
+    if (!store_) return false;
+    current_ = acq::openForReview(*store_, id, upToSeq);
+  } catch (const std::exception& e) {
+    current_.reset();
+    banner_->setText(tr("REVIEW · session %1 cannot be opened: %2").arg(id).arg(QString::fromStdString(e.what())));
+    return false;
+  }
+  fill();
+  return true;
+}
+
+void ReviewView::replayTo(std::int64_t seq) {
+  if (!current_) return;
+  (void)openSession(current_->info.id, seq >= current_->totalEvents ? 0 : std::max<std::int64_t>(1, seq));
+}
+
+std::optional<acq::Item> ReviewView::itemOfRow(int row) const {
+  if (!current_ || row < 0) return std::nullopt;
+  const auto* w = markers_->item(row, 0);
+  if (!w) return std::nullopt;
+  const auto* i = acq::findItem(current_->engine.items(), acq::whatFromString(w->text().toStdString()),
+                                markers_->item(row, 1)->text().toInt(), markers_->item(row, 2)->text().toInt());
+  return i ? std::optional<acq::Item>(*i) : std::nullopt;
+}
+
+void ReviewView::selectItem(const acq::Item& item) {
+  for (int r = 0; r < markers_->rowCount(); ++r) {
+    if (markers_->item(r, 0)->text() == QString::fromLatin1(acq::toString(item.what)) &&
+        markers_->item(r, 1)->text().toInt() == item.row && markers_->item(r, 2)->text().toInt() == item.col) {
+      markers_->selectRow(r);
+      markers_->scrollToItem(markers_->item(r, 0));
+      break;
+    }
+  }
+  preview_->setHighlight(item);
+}
+
+void ReviewView::fill() {
+  const auto& r = *current_;
+  filling_ = true;
+  const db::ChainReport chain = store_->verify(r.info.id);
+  const bool partial = r.replayedEvents < r.totalEvents;
+  banner_->setText(tr("REVIEW · session %1 · %2 / %3 / leaf %4 · %5 · operator %6 · chain %7%8")
+                       .arg(r.info.id)
+                       .arg(QString::fromStdString(r.info.project), QString::fromStdString(r.info.plant))
+                       .arg(r.info.leafPosition)
+                       .arg(QString::fromStdString(r.info.status), QString::fromStdString(r.info.operatorName))
+                       .arg(chain.ok ? tr("OK (%1 events)").arg(chain.events)
+                                     : tr("BROKEN at event %1: %2").arg(chain.firstBadSeq.value_or(0)).arg(QString::fromStdString(chain.problem)))
+                       .arg(partial ? tr(" · replay at event %1 of %2").arg(r.replayedEvents).arg(r.totalEvents) : QString()));
+  const auto& items = r.engine.items();
+  const auto flags = acq::reviewFlags(items);
+  markers_->setRowCount(0);
+  for (const auto& i : items) {
+    const int row = markers_->rowCount();
+    markers_->insertRow(row);
+    QString value;
+    if (acq::isStylusItem(i.what))
+      value = QString("%1, %2, %3").arg(settings_.length(i.positionMm[0], 1), settings_.length(i.positionMm[1], 1),
+                                        settings_.length(i.positionMm[2], 1));
+    else value = settings_.length(i.valueMm, 3);
+    const auto seq = r.seqs.find({static_cast<int>(i.what), i.row, i.col});
+    QString flag = QString::fromStdString(i.flag);
+    for (const auto& f : flags)
+      if (f.what == i.what && f.row == i.row && (f.col == i.col || f.col == 0) && f.text != i.flag)
+        flag += (flag.isEmpty() ? "" : "; ") + QString::fromStdString(f.text);
+    const QStringList values{QString::fromLatin1(acq::toString(i.what)), QString::number(i.row), QString::number(i.col), value,
+                             seq != r.seqs.end() ? QString::number(seq->second) : QString(), flag};
+    for (int c = 0; c < values.size(); ++c) {
+      auto* w = cell(values[c]);
+      if (!flag.isEmpty()) w->setBackground(QColor(255, 224, 178));
+      markers_->setItem(row, c, w);
+    }
+  }
+  markers_->resizeColumnsToContents();
+  flags_->clear();
+  for (const auto& f : flags) {
+    auto* it = new QListWidgetItem(QString("%1 row %2 point %3: %4")
+                                       .arg(QString::fromLatin1(acq::toString(f.what)))
+                                       .arg(f.row)
+                                       .arg(f.col)
+                                       .arg(QString::fromStdString(f.text)),
+                                   flags_);
+    it->setData(Qt::UserRole, QString::fromLatin1(acq::toString(f.what)));
+    it->setData(Qt::UserRole + 1, f.row);
+    it->setData(Qt::UserRole + 2, f.what == acq::What::MidribThickness && f.col == 0 ? 4 : f.col);
+  }
+  if (flags.empty()) flags_->addItem(tr("no flags"));
+  // Metrics need the whole leaf; a replay in progress or an unfinished capture has none.
+  try {
+    const acq::LeafSummary s = acq::summarize(r);
+    QString text = tr("Blade area %1 mm² (%2 cm²) · marker-grid Heron area %3 mm²")
+                       .arg(s.metrics.blade.areaMm2, 0, 'f', 0)
+                       .arg(s.metrics.blade.areaMm2 / 100.0, 0, 'f', 1)
+                       .arg(s.metrics.markerGridHeronAreaMm2, 0, 'f', 0);
+    if (s.metrics.areaConstraint) {
+      const auto& a = *s.metrics.areaConstraint;
+      text += "\n" + tr("Measured area %1 mm² · model differs by %2 % · %3")
+                         .arg(a.measuredMm2, 0, 'f', 0)
+                         .arg(a.differencePercent, 0, 'f', 1)
+                         .arg(a.exceeded ? tr("OUTSIDE the %1 % constraint").arg(a.thresholdPercent)
+                                         : tr("within the %1 % constraint").arg(a.thresholdPercent));
+    } else {
+      text += "\n" + tr("No measured leaf area: the area constraint is not checked.");
+    }
+    metrics_->setText(text);
+  } catch (const std::exception& e) {
+    metrics_->setText(tr("No metrics yet: %1").arg(QString::fromStdString(e.what())));
+  }
+  acq::Snapshot snap;
+  snap.session = r.info.id;
+  snap.items = items;
+  snap.step = r.engine.step();
+  snap.preview = std::make_shared<acq::Preview>(acq::buildPreview(items, r.settings));
+  preview_->show(snap);
+  slider_->setEnabled(true);
+  slider_->setRange(1, static_cast<int>(std::max<std::int64_t>(1, r.totalEvents)));
+  slider_->setValue(static_cast<int>(r.replayedEvents));
+  std::string kind;
+  if (r.replayedEvents > 0) {
+    const auto ev = store_->events(r.info.id, r.replayedEvents);
+    if (!ev.empty()) kind = ev.front().kind;
+  }
+  replayLabel_->setText(tr("event %1 of %2 %3").arg(r.replayedEvents).arg(r.totalEvents).arg(QString::fromStdString(kind)));
+  fillChart();
+  filling_ = false;
+}
+
+void ReviewView::fillChart() {
+  auto* chart = new QChart;
+  chart->setTitle(tr("Thickness along the leaf (row 1 = tip)"));
+  std::map<acq::What, QLineSeries*> series;
+  const std::pair<acq::What, QString> kinds[] = {{acq::What::MidribThickness, tr("midrib")},
+                                                 {acq::What::VeinOriginThickness, tr("vein origin")},
+                                                 {acq::What::PointThickness, tr("points (mean per row)")}};
+  auto* flagged = new QScatterSeries;
+  flagged->setName(tr("flagged"));
+  flagged->setMarkerSize(12);
+  flagged->setColor(QColor(229, 57, 53));
+  const auto flags = acq::reviewFlags(current_->engine.items());
+  double maxV = 0.1;
+  int maxRow = 1;
+  for (const auto& [what, name] : kinds) {
+    std::map<int, std::pair<double, int>> byRow;
+    for (const auto& i : current_->engine.items())
+      if (i.what == what) {
+        byRow[i.row].first += i.valueMm;
+        ++byRow[i.row].second;
+        for (const auto& f : flags)
+          if (f.what == i.what && f.row == i.row && (f.col == 0 || f.col == i.col)) flagged->append(i.row, i.valueMm);
+      }
+    if (byRow.empty()) continue;
+    auto* s = new QLineSeries;
+    s->setName(name);
+    s->setPointsVisible(true);
+    for (const auto& [row, sum] : byRow) {
+      const double v = sum.first / sum.second;
+      s->append(row, v);
+      maxV = std::max(maxV, v);
+      maxRow = std::max(maxRow, row);
+    }
+    chart->addSeries(s);
+    series[what] = s;
+  }
+  chart->addSeries(flagged);
+  auto* x = new QValueAxis;
+  x->setTitleText(tr("row"));
+  x->setRange(0.5, maxRow + 0.5);
+  x->setLabelFormat("%d");
+  auto* y = new QValueAxis;
+  y->setTitleText(settings_.units == "in" ? tr("thickness (mm; shown values in the table follow the units setting)")
+                                          : tr("thickness (mm)"));
+  y->setRange(0, maxV * 1.15);
+  chart->addAxis(x, Qt::AlignBottom);
+  chart->addAxis(y, Qt::AlignLeft);
+  for (auto* s : chart->series()) {
+    s->attachAxis(x);
+    s->attachAxis(y);
+  }
+  QChart* old = chart_->chart();
+  chart_->setChart(chart);
+  delete old;
+}
+
+void ReviewView::correctSelected() {
+  const auto rows = markers_->selectionModel()->selectedRows();
+  const auto item = rows.size() == 1 ? itemOfRow(rows[0].row()) : std::nullopt;
+  if (!item) {
+    banner_->setText(tr("REVIEW · select the item to correct in the table or the 3D view"));
+    return;
+  }
+  QDialog d(this);
+  d.setWindowTitle(tr("Correct %1").arg(QString::fromLatin1(acq::toString(item->what))));
+  auto* form = new QFormLayout(&d);
+  std::vector<QDoubleSpinBox*> boxes;
+  const int n = acq::isStylusItem(item->what) ? 3 : 1;
+  for (int k = 0; k < n; ++k) {
+    auto* b = new QDoubleSpinBox;
+    b->setRange(n == 3 ? -5000 : 0, 5000);
+    b->setDecimals(3);
+    b->setSuffix(" mm");
+    b->setValue(n == 3 ? item->positionMm[static_cast<std::size_t>(k)] : item->valueMm);
+    boxes.push_back(b);
+    form->addRow(n == 3 ? QString("xyz").mid(k, 1) : tr("thickness"), b);
+  }
+  auto* reason = new QLineEdit;
+  reason->setPlaceholderText(tr("why (required)"));
+  form->addRow(tr("Reason"), reason);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  connect(buttons, &QDialogButtonBox::accepted, &d, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &d, &QDialog::reject);
+  form->addRow(buttons);
+  if (d.exec() != QDialog::Accepted) return;
+  acq::Correction c;
+  c.what = item->what;
+  c.row = item->row;
+  c.col = item->col;
+  if (n == 3) c.positionMm = acq::Vec3{boxes[0]->value(), boxes[1]->value(), boxes[2]->value()};
+  else c.valueMm = boxes[0]->value();
+  c.reason = reason->text().toStdString();
+  c.who = curator_->text().toStdString();
+  (void)correct(c);
+}
+
+QString ReviewView::correct(const acq::Correction& c) {
+  if (!current_) return tr("no session open");
+  try {
+    (void)acq::correct(*store_, current_->info.id, c);
+  } catch (const std::exception& e) {
+    banner_->setText(tr("REVIEW · not corrected: %1").arg(QString::fromStdString(e.what())));
+    return QString::fromStdString(e.what());
+  }
+  const auto id = current_->info.id;
+  (void)openSession(id);
+  if (const auto* i = acq::findItem(current_->engine.items(), c.what, c.row, c.col)) selectItem(*i);
+  return {};
+}
+
+QString ReviewView::approve(const QString& who) {
+  if (!current_) return tr("no session open");
+  try {
+    (void)acq::review(*store_, current_->info.id, "approved", who.toStdString(), "");
+  } catch (const std::exception& e) {
+    banner_->setText(tr("REVIEW · not approved: %1").arg(QString::fromStdString(e.what())));
+    return QString::fromStdString(e.what());
+  }
+  const auto id = current_->info.id;
+  refreshSessions();
+  (void)openSession(id);
+  return {};
+}
+
+QString ReviewView::reject(const QString& who, const QString& why) {
+  if (!current_) return tr("no session open");
+  try {
+    (void)acq::review(*store_, current_->info.id, "rejected", who.toStdString(), why.toStdString());
+  } catch (const std::exception& e) {
+    banner_->setText(tr("REVIEW · not rejected: %1").arg(QString::fromStdString(e.what())));
+    return QString::fromStdString(e.what());
+  }
+  const auto id = current_->info.id;
+  refreshSessions();
+  (void)openSession(id);
+  return {};
+}
+
+}  // namespace leafdig::station

@@ -1,0 +1,44 @@
+// The station's settings: what an operator or curator sets once and keeps (QSettings, INI
+// file under ~/.config/leafdig/station.ini unless --settings names another). Engine
+// tolerances apply to sessions created afterwards; a session keeps the settings it was
+// captured with (they are in its row).
+#pragma once
+
+#include <QApplication>
+#include <QKeySequence>
+#include <QString>
+#include <map>
+
+#include "leafdig/acquisition/engine.hpp"
+
+namespace leafdig::station {
+
+// The operator commands that have shortcuts (a USB foot pedal types one of these keys).
+enum class Action { Accept, Undo, EndRows, Retake, Pause, Resume };
+[[nodiscard]] const char* toString(Action a);  // "undo", "end_rows", …
+[[nodiscard]] QString actionLabel(Action a);   // "Undo last point", …
+
+struct StationSettings {
+  QString units = "mm";          // shown: "mm" or "in" (stored values are always mm)
+  QString theme = "light";       // "light" or "dark" (Qt 6.4 cannot ask the system)
+  double fontScale = 1.25;       // arm's-length reading: 1.0 .. 2.5
+  bool sounds = true;            // accept, reject, step done, device error
+  double volume = 0.8;           // 0 .. 1
+  std::map<Action, QKeySequence> shortcuts;  // filled with the defaults below
+  acquisition::Settings engine;  // tolerances and stillness for new sessions
+  QString exportDir;             // last export destination
+
+  StationSettings();
+  // Reads from the INI file (missing keys keep their defaults; out-of-range values are
+  // clamped and reported in `problems`). Writes back with save().
+  static StationSettings load(const QString& file, QStringList* problems = nullptr);
+  void save(const QString& file) const;
+  // "12.34 mm" or "0.486 in".
+  [[nodiscard]] QString length(double mm, int decimalsMm = 2) const;
+};
+
+[[nodiscard]] QString defaultSettingsFile();
+// Palette, font size and style for the theme; call before and after windows exist.
+void applyTheme(QApplication& app, const StationSettings& s);
+
+}  // namespace leafdig::station

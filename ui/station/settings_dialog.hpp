@@ -1,0 +1,38 @@
+// Settings: units shown, theme, font size, sounds, shortcuts (a foot pedal types one of
+// them), and the capture tolerances and stillness window for new sessions.
+#pragma once
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDialog>
+#include <QDoubleSpinBox>
+#include <QKeySequenceEdit>
+#include <map>
+
+#include "settings.hpp"
+
+namespace leafdig::station {
+
+class SettingsDialog : public QDialog {
+  Q_OBJECT
+
+ public:
+  SettingsDialog(const StationSettings& current, QWidget* parent = nullptr);
+  [[nodiscard]] StationSettings result() const;
+
+  QComboBox* units() const { return units_; }
+  QComboBox* theme() const { return theme_; }
+  QDoubleSpinBox* fontScale() const { return font_; }
+  QCheckBox* sounds() const { return sounds_; }
+  QKeySequenceEdit* shortcut(Action a) const { return keys_.at(a); }
+  QDoubleSpinBox* stillWindowMs() const { return still_; }
+
+ private:
+  StationSettings base_;
+  QComboBox *units_, *theme_;
+  QDoubleSpinBox *font_, *volume_, *still_, *stillTol_, *spacing_, *midrib_, *minT_, *maxT_;
+  QCheckBox* sounds_;
+  std::map<Action, QKeySequenceEdit*> keys_;
+};
+
+}  // namespace leafdig::station

@@ -1,0 +1,69 @@
+// Session set-up: project, plant, leaf position and type, mode, order, operator, measured
+// leaf area (optional), board frame and the two devices. The device lists come from the
+// device registry (serial ports and HID devices plugged in now, matched against known
+// profiles) with the simulated devices listed like real ones; a spec can also be typed.
+#pragma once
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDialog>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QLineEdit>
+#include <QSpinBox>
+#include <optional>
+
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/devices/registry.hpp"
+
+namespace leafdig::station {
+
+inline constexpr const char* kSimulatedDigitizer = "simulated FASTRAK";
+inline constexpr const char* kSimulatedCaliper = "simulated Sylvac";
+
+struct SetupChoice {
+  acquisition::SessionSetup setup;  // digitizer / caliper hold specs, or the simulated names
+  bool simulatedDigitizer = false, simulatedCaliper = false;
+};
+
+// The device choices the registry offers: (label shown, spec). Simulated ones first.
+[[nodiscard]] std::vector<std::pair<QString, QString>> digitizerChoices(const devices::Inventory& inv);
+[[nodiscard]] std::vector<std::pair<QString, QString>> caliperChoices(const devices::Inventory& inv);
+
+class SetupDialog : public QDialog {
+  Q_OBJECT
+
+ public:
+  // `known` fills the project / plant / operator suggestions (from the store's sessions).
+  SetupDialog(const acquisition::SessionSetup& defaults, const std::vector<db::SessionInfo>& known,
+              const devices::Inventory& inventory, QWidget* parent = nullptr);
+  // Validated choice (call after exec() returned Accepted), or the problem in words.
+  [[nodiscard]] std::optional<SetupChoice> choice(QString* problem = nullptr) const;
+  void rescan(const devices::Inventory& inventory);
+
+  // For tests: the widgets.
+  QComboBox* project() const { return project_; }
+  QComboBox* plant() const { return plant_; }
+  QSpinBox* leafPosition() const { return position_; }
+  QLineEdit* leafType() const { return type_; }
+  QComboBox* mode() const { return mode_; }
+  QComboBox* order() const { return order_; }
+  QComboBox* operatorName() const { return operator_; }
+  QLineEdit* measuredArea() const { return area_; }
+  QCheckBox* board() const { return board_; }
+  QComboBox* digitizer() const { return digitizer_; }
+  QComboBox* caliper() const { return caliper_; }
+
+ public slots:
+  void accept() override;
+
+ private:
+  acquisition::Settings engine_;
+  QComboBox *project_, *plant_, *mode_, *order_, *operator_, *digitizer_, *caliper_;
+  QSpinBox* position_;
+  QLineEdit *type_, *area_;
+  QCheckBox* board_;
+  QLabel* problem_;
+};
+
+}  // namespace leafdig::station
