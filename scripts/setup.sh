@@ -7,6 +7,7 @@
 # libbenchmark-dev, libsqlite3-dev, libsqlitecpp-dev, libssl-dev, libserialport-dev,
 # libhidapi-dev, libusb-1.0-0-dev),
 # clang + libclang-rt-14-dev (libFuzzer targets), Qt 6 for the station (qt6-base-dev,
+# qt6-multimedia-dev for the sound cues, qt6-charts-dev for the review plots,
 # libqt6opengl6-dev, libgl-dev) with Mesa's software OpenGL and Xvfb for its tests
 # (libgl1-mesa-dri, xvfb, xauth, fonts-dejavu-core), checkers used by the tests (assimp-utils,
 # nodejs, npm). npm: the Khronos glTF validator and Ajv (JSON Schema), pinned by tests/tools/package-lock.json.
@@ -18,7 +19,8 @@ packages=(cmake ninja-build g++ ccache pkg-config libeigen3-dev nlohmann-json3-d
           libtinygltf-dev libgtest-dev libgmock-dev libbenchmark-dev libsqlite3-dev assimp-utils
           libserialport-dev libhidapi-dev libusb-1.0-0-dev clang libclang-rt-14-dev
           libsqlitecpp-dev libssl-dev
-          qt6-base-dev libqt6opengl6-dev libgl-dev libgl1-mesa-dri xvfb xauth fonts-dejavu-core)
+          qt6-base-dev libqt6opengl6-dev qt6-multimedia-dev qt6-charts-dev libgl-dev libgl1-mesa-dri xvfb xauth
+          fonts-dejavu-core)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
