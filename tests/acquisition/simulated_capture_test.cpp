@@ -16,18 +16,31 @@
 namespace acq = leafdig::acquisition;
 namespace fs = std::filesystem;
 
-TEST(SimulatedCapture, TheVirtualOperatorCapturesALeafThroughRealDriversAndEveryItemIsCommitted) {
-  const fs::path dir = fs::temp_directory_path() / ("leafdig-simcap-" + std::to_string(::getpid()));
+namespace {
+
+fs::path freshDir(const std::string& tag) {
+  const fs::path dir = fs::temp_directory_path() / ("leafdig-" + tag + "-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const auto leaf =
-      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
-  leafdig::db::Store store((dir / "s.sqlite").string());
+  return dir;
+}
+
+std::int64_t createSimulatedSession(leafdig::db::Store& store) {
   acq::SessionSetup setup;
   setup.project = "p";
   setup.plant = "pl";
   setup.simulated = true;
-  const auto id = acq::CaptureSession::create(store, setup);
+  return acq::CaptureSession::create(store, setup);
+}
+
+}  // namespace
+
+TEST(SimulatedCapture, TheVirtualOperatorCapturesALeafThroughRealDriversAndEveryItemIsCommitted) {
+  const fs::path dir = freshDir("simcap");
+  const auto leaf =
+      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
+  leafdig::db::Store store((dir / "s.sqlite").string());
+  const auto id = createSimulatedSession(store);
   acq::CaptureSession session(store, id);
   acq::SimulationOptions so;
   so.speed = 8;  // slack for the double press window on a loaded CI machine
@@ -86,15 +99,9 @@ TEST(SimulatedCapture, TheVirtualOperatorCapturesALeafThroughRealDriversAndEvery
 }
 
 TEST(SimulatedCapture, TheOperatorTakesADeviceOffLineAndBackAndTheCaptureRecordsBoth) {
-  const fs::path dir = fs::temp_directory_path() / ("leafdig-simdev-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = freshDir("simdev");
   leafdig::db::Store store((dir / "s.sqlite").string());
-  acq::SessionSetup setup;
-  setup.project = "p";
-  setup.plant = "pl";
-  setup.simulated = true;
-  const auto id = acq::CaptureSession::create(store, setup);
+  const auto id = createSimulatedSession(store);
   acq::CaptureSession session(store, id);
   acq::SimulationOptions so;
   so.seed = 9;

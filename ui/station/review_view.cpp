@@ -282,7 +282,12 @@ void ReviewView::selectItem(const acq::Item& item) {
 void ReviewView::fill() {
   const auto& r = *current_;
   filling_ = true;
-  const db::ChainReport chain = store_->verify(r.info.id);
+  // The chain is recomputed when the session or its head changed, not at every replay step.
+  if (chainOf_ != std::make_pair(r.info.id, r.info.headSeq)) {
+    chain_ = store_->verify(r.info.id);
+    chainOf_ = {r.info.id, r.info.headSeq};
+  }
+  const db::ChainReport& chain = chain_;
   const bool partial = r.replayedEvents < r.totalEvents;
   banner_->setText(tr("REVIEW · session %1 · %2 / %3 / leaf %4 · %5 · operator %6 · chain %7%8")
                        .arg(r.info.id)
@@ -366,11 +371,11 @@ void ReviewView::fill() {
     if (!ev.empty()) kind = ev.front().kind;
   }
   replayLabel_->setText(tr("event %1 of %2 %3").arg(r.replayedEvents).arg(r.totalEvents).arg(QString::fromStdString(kind)));
-  fillChart();
+  fillChart(flags);
   filling_ = false;
 }
 
-void ReviewView::fillChart() {
+void ReviewView::fillChart(const std::vector<acq::ReviewFlag>& flags) {
   auto* chart = new QChart;
   chart->setTitle(tr("Thickness along the leaf (row 1 = tip)"));
   std::map<acq::What, QLineSeries*> series;
@@ -381,7 +386,6 @@ void ReviewView::fillChart() {
   flagged->setName(tr("flagged"));
   flagged->setMarkerSize(12);
   flagged->setColor(QColor(229, 57, 53));
-  const auto flags = acq::reviewFlags(current_->engine.items());
   double maxV = 0.1;
   int maxRow = 1;
   for (const auto& [what, name] : kinds) {

@@ -16,6 +16,7 @@
 #include <QWidget>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "leafdig/acquisition/review.hpp"
 #include "preview_widget.hpp"
@@ -59,7 +60,7 @@ class ReviewView : public QWidget {
 
  private:
   void fill();
-  void fillChart();
+  void fillChart(const std::vector<acquisition::ReviewFlag>& flags);
   void correctSelected();
   void applyFilters();
   std::optional<acquisition::Item> itemOfRow(int row) const;
@@ -69,6 +70,8 @@ class ReviewView : public QWidget {
   std::unique_ptr<db::Store> store_;
   std::optional<acquisition::ReviewedSession> current_;
   std::vector<db::SessionInfo> all_;
+  std::pair<std::int64_t, std::int64_t> chainOf_{0, -1};  // (session, head seq) chain_ is for
+  db::ChainReport chain_;
   QLabel *banner_, *metrics_, *replayLabel_;
   QComboBox *project_, *plant_, *status_, *operator_;
   QLineEdit *date_, *curator_;
