@@ -37,6 +37,11 @@ const char* toString(Feedback::Kind k) {
   return "?";
 }
 
+std::string thisStation() {
+  char host[256] = {};
+  return ::gethostname(host, sizeof host - 1) == 0 ? std::string(host) : std::string();
+}
+
 std::string CaptureSession::settingsToJson(const Settings& s) {
   return json{{"mode", toString(s.mode)},
               {"order", toString(s.order)},
@@ -98,11 +103,7 @@ std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup)
                       {"caliper", setup.caliper},
                       {"simulated", setup.simulated},
                       {"time_scale", setup.timeScale}};
-  std::string station = setup.station;
-  if (station.empty()) {
-    char host[256] = {};
-    if (::gethostname(host, sizeof host - 1) == 0) station = host;
-  }
+  const std::string station = setup.station.empty() ? thisStation() : setup.station;
   return store.createSession(leaf, op, station, toString(setup.settings.mode), toString(setup.settings.order),
                              settings.dump());
 }

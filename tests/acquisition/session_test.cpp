@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <mutex>
@@ -12,6 +14,7 @@
 #include <set>
 #include <thread>
 
+#include "leafdig/acquisition/capture_loop.hpp"
 #include "leafdig/acquisition/preview.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
@@ -496,4 +499,47 @@ TEST(ReviewFlags, ThicknessOutliersAndAMidribThickerThanBelowAreFlagged) {
   }
   EXPECT_TRUE(outlier);
   EXPECT_TRUE(order);
+}
+
+TEST_F(Session, APedalHeldDownIsTheStylusButton) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  acq::CaptureSession session(store, id);
+  std::mutex mutex;
+  std::vector<FK> kinds;
+  acq::LoopListener listener;
+  listener.onFeedback = [&](const acq::Feedback& f) {
+    std::lock_guard lock(mutex);
+    kinds.push_back(f.kind);
+  };
+  acq::CaptureLoop loop(session, listener, 1.0, false);
+  std::thread capture([&] { (void)loop.run(); });
+  const auto t0 = leafdig::devices::Clock::now();
+  int n = 0;
+  const auto samples = [&](int count) {
+    for (int i = 0; i < count; ++i) {
+      leafdig::devices::StylusSample s;
+      s.t = t0 + std::chrono::milliseconds(8 * n++);
+      s.positionMm = v(leaf_.tipMm);
+      s.button = false;  // the stylus button is never pressed: only the pedal
+      loop.post(s);
+    }
+  };
+  const auto accepted = [&] {
+    std::lock_guard lock(mutex);
+    return std::count(kinds.begin(), kinds.end(), FK::Accepted);
+  };
+  samples(60);
+  EXPECT_FALSE(loop.pedal());
+  loop.setPedal(true);
+  EXPECT_TRUE(loop.pedal());
+  samples(25);
+  loop.setPedal(false);
+  samples(5);
+  for (int i = 0; i < 200 && accepted() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  loop.stop();
+  capture.join();
+  EXPECT_EQ(accepted(), 1);
+  ASSERT_NE(acq::findItem(session.engine().items(), acq::What::Tip, 0, 0), nullptr);
+  EXPECT_EQ(store.markers(id).size(), 1u);
 }

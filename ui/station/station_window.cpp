@@ -1,7 +1,5 @@
 #include "station_window.hpp"
 
-#include <unistd.h>
-
 #include <QApplication>
 #include <QPushButton>
 #include <fstream>
@@ -113,9 +111,8 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   bar->addAction(tr("New session…"), this, [this] { (void)newSessionDialog(); });
   bar->addAction(tr("Export…"), this, [this] {
     ExportDialog d(settings_, this);
-    const std::string db = options_.db.empty() ? db::Store::defaultPath() : options_.db;
     if (sessionId_ > 0) d.setSessions({sessionId_});
-    if (d.exec() == QDialog::Accepted) d.run(db);
+    if (d.exec() == QDialog::Accepted) d.run(dbPath());
   });
   bar->addAction(tr("Settings…"), this, [this] {
     SettingsDialog d(settings_, this);
@@ -191,8 +188,9 @@ void StationWindow::buildShortcuts() {
 bool StationWindow::eventFilter(QObject* watched, QEvent* event) {
   // The Accept key (a foot pedal) held down is the stylus button: press → button down,
   // release → up, and the engine decides on release as it does for the stylus.
+  // Only keys meant for this window count (not a dialog's Enter): their widget is in it.
   if ((event->type() == QEvent::KeyPress || event->type() == QEvent::KeyRelease) && loop_ &&
-      tabs_->currentIndex() == 0 && isActiveWindow()) {
+      tabs_->currentIndex() == 0 && watched->isWidgetType() && static_cast<QWidget*>(watched)->window() == this) {
     auto* k = static_cast<QKeyEvent*>(event);
     const QKeySequence accept = settings_.shortcuts[Action::Accept];
     if (!k->isAutoRepeat() && !accept.isEmpty() && QKeySequence(k->keyCombination()) == accept) {
@@ -292,14 +290,14 @@ void StationWindow::refreshCursor() {
   if (s) preview_->setStylusCursor(acq::Vec3{s->positionMm[0], s->positionMm[1], s->positionMm[2]});
 }
 
+std::string StationWindow::dbPath() const { return options_.db.empty() ? db::Store::defaultPath() : options_.db; }
+
 std::vector<db::SessionInfo> StationWindow::interruptedSessions() const {
   std::vector<db::SessionInfo> out;
   try {
-    const std::string path = options_.db.empty() ? db::Store::defaultPath() : options_.db;
-    if (!std::ifstream(path).good()) return out;
-    db::Store store(path, true);
-    char host[256] = {};
-    const std::string station = ::gethostname(host, sizeof host - 1) == 0 ? host : "";
+    if (!std::ifstream(dbPath()).good()) return out;
+    db::Store store(dbPath(), true);
+    const std::string station = acq::thisStation();
     for (const auto& s : store.sessions())
       if (s.status == "open" && (station.empty() || s.station == station)) out.push_back(s);
   } catch (const std::exception&) {
@@ -332,8 +330,7 @@ void StationWindow::offerResume() {
 bool StationWindow::newSessionDialog() {
   std::vector<db::SessionInfo> known;
   try {
-    const std::string path = options_.db.empty() ? db::Store::defaultPath() : options_.db;
-    if (std::ifstream(path).good()) known = db::Store(path, true).sessions();
+    if (std::ifstream(dbPath()).good()) known = db::Store(dbPath(), true).sessions();
   } catch (const std::exception&) {
   }
   acq::SessionSetup defaults = options_.setup;
@@ -363,8 +360,7 @@ bool StationWindow::start() {
   last_.reset();
   lastState_.clear();
   try {
-    const std::string path = options_.db.empty() ? db::Store::defaultPath() : options_.db;
-    if (!store_ || store_->path() != path) store_ = std::make_unique<db::Store>(path);
+    if (!store_ || store_->path() != dbPath()) store_ = std::make_unique<db::Store>(dbPath());
     acq::SessionSetup setup = options_.setup;
     if (options_.resume == 0) {
       acq::Settings e = settings_.engine;  // tolerances and stillness from the station's settings

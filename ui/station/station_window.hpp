@@ -88,6 +88,7 @@ class StationWindow : public QMainWindow {
   bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
+  [[nodiscard]] std::string dbPath() const;  // --db, or the station's default file
   void command(acquisition::Command c);
   void fillSteps(const acquisition::Snapshot& s);
   void buildShortcuts();

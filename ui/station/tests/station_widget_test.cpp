@@ -410,6 +410,15 @@ TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
   w.devices()->connect(Role::Digitizer);
   EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Digitizer).contains("streaming"); }))
       << w.chipText(Role::Digitizer).toStdString();
+  // The Accept key held down is the stylus button (a foot pedal types it): press → down.
+  QTest::keyPress(&w, Qt::Key_Return);
+  EXPECT_TRUE(w.loop()->pedal());
+  QTest::keyRelease(&w, Qt::Key_Return);
+  EXPECT_FALSE(w.loop()->pedal());
+  QWidget dialog;  // a dialog's Enter is not the pedal
+  QTest::keyPress(&dialog, Qt::Key_Return);
+  EXPECT_FALSE(w.loop()->pedal());
+  QTest::keyRelease(&dialog, Qt::Key_Return);
   // The session is open on this station: a restart offers to resume it.
   w.stopCapture();
   const auto open = w.interruptedSessions();

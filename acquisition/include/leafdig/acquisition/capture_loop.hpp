@@ -48,6 +48,7 @@ class CaptureLoop {
   // A foot pedal (or key) held down acts as the stylus button: stylus samples posted while
   // it is down carry button = true. Any thread.
   void setPedal(bool down) { pedal_ = down; }
+  [[nodiscard]] bool pedal() const { return pedal_; }
   void postStatus(const devices::DeviceStatus& s);
   void command(const Command& c);
   void stop();  // run() returns soon after

@@ -66,6 +66,10 @@ struct Snapshot {
   std::shared_ptr<const Preview> preview;  // null when not requested
 };
 
+// This machine's name: the station a new session records (SessionSetup::station default)
+// and the one whose interrupted sessions a front end offers to resume. Empty if unknown.
+[[nodiscard]] std::string thisStation();
+
 class SessionError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
