@@ -3,6 +3,8 @@
 #include <poll.h>
 #include <sys/file.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -109,7 +111,10 @@ class TtyPort final : public SerialPort {
     t.c_cflag |= CLOCAL | CREAD;
     t.c_cc[VMIN] = 0;
     t.c_cc[VTIME] = 0;
-    if (::tcsetattr(fd_, TCSANOW, &t) != 0) throw errorFromErrno(errno, "cannot configure", path_);
+    if (::tcsetattr(fd_, TCSANOW, &t) != 0) {
+      const int err = errno;
+      if (err != EINVAL || !ptyAlreadyAsAsked(t)) throw errorFromErrno(err, "cannot configure", path_);
+    }
     settings_ = s;
   }
   SerialSettings settings() const override { return settings_; }
@@ -121,6 +126,26 @@ class TtyPort final : public SerialPort {
   std::string path() const override { return path_; }
 
  private:
+  // A pseudo-terminal carries characters, not bits: the kernel keeps it at 8 data bits
+  // without parity whatever is asked. Debian's glibc then fails tcsetattr with EINVAL when
+  // the call changed nothing, which is what happens when a pty is opened a second time with
+  // 7E2 (the Sylvac's framing): everything else is already as asked. That is success.
+  bool ptyAlreadyAsAsked(const termios& asked) const {
+    struct stat st{};
+    if (::fstat(fd_, &st) != 0 || !S_ISCHR(st.st_mode)) return false;
+    const unsigned maj = major(st.st_rdev);
+    if (maj < kPtySlaveMajorFirst || maj > kPtySlaveMajorLast) return false;
+    termios now{};
+    if (::tcgetattr(fd_, &now) != 0) return false;
+    const auto ignored = static_cast<tcflag_t>(CSIZE | PARENB | PARODD);
+    return (now.c_cflag & ~ignored) == (asked.c_cflag & ~ignored) && now.c_iflag == asked.c_iflag &&
+           now.c_oflag == asked.c_oflag && now.c_lflag == asked.c_lflag &&
+           ::cfgetospeed(&now) == ::cfgetospeed(&asked) && now.c_cc[VMIN] == asked.c_cc[VMIN] &&
+           now.c_cc[VTIME] == asked.c_cc[VTIME];
+  }
+  static constexpr unsigned kPtySlaveMajorFirst = 136;  // UNIX98_PTY_SLAVE_MAJOR … +7
+  static constexpr unsigned kPtySlaveMajorLast = 143;
+
   std::string path_;
   int fd_ = -1;
   SerialSettings settings_;

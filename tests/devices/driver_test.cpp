@@ -292,6 +292,29 @@ TEST(Sylvac, PcTriggeredReadingsAt4800_7E2) {
   EXPECT_EQ(col.caliper[0].unit, "mm");
 }
 
+TEST(Sylvac, ReconnectingToTheSamePortWorks) {
+  // The station's disconnect → connect opens the port a second time with 7E2 at 4800; on a
+  // pseudo-terminal that request changes nothing, which glibc reports as EINVAL.
+  auto cal = caliper();
+  auto emu = dev::sim::makeSylvac(cal, {});
+  emu->start();
+  dev::CaliperConfig cfg;
+  cfg.kind = dev::CaliperKind::Sylvac;
+  cfg.port = emu->path();
+  for (int round = 0; round < 3; ++round) {
+    Collector col;
+    dev::DriverOptions o;
+    o.pollEvery = 40ms;
+    dev::Driver driver(dev::makeCaliperLink(cfg), col.callbacks(), o);
+    driver.start();
+    ASSERT_TRUE(col.waitFor([](Collector& k) { return k.caliper.size() >= 2; }))
+        << "round " << round << "\n" << col.statusLog();
+    driver.stop();
+  }
+  auto port = dev::openTtyPort(emu->path(), {4800, 7, dev::Parity::Even, 2, false});
+  EXPECT_EQ(dev::describe(port->settings()), "4800 7E2");
+}
+
 TEST(Sylvac, AHostAtTheWrongSettingsGetsAClearError) {
   auto emu = dev::sim::makeSylvac(caliper(), {});
   emu->start();

@@ -410,6 +410,15 @@ TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
   w.devices()->connect(Role::Digitizer);
   EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Digitizer).contains("streaming"); }))
       << w.chipText(Role::Digitizer).toStdString();
+  // The caliper (the simulated Sylvac, 4800 7E2) goes off-line and comes back the same way.
+  const auto caliperChip = [&] { return w.chipText(Role::Caliper).toStdString(); };
+  EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Caliper).contains("streaming"); })) << caliperChip();
+  w.devices()->disconnect(Role::Caliper);
+  w.refreshDevices();
+  EXPECT_TRUE(w.chipText(Role::Caliper).contains("disconnected")) << caliperChip();
+  w.devices()->connect(Role::Caliper);
+  EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Caliper).contains("streaming"); })) << caliperChip();
+  EXPECT_FALSE(w.chipText(Role::Caliper).contains("cannot")) << caliperChip();
   // The Accept key held down is the stylus button (a foot pedal types it): press → down.
   QTest::keyPress(&w, Qt::Key_Return);
   EXPECT_TRUE(w.loop()->pedal());
