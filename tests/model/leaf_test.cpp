@@ -248,6 +248,31 @@ TEST(Mesh, everyVertexHasAUnitNormalAndBladeFacesTheAdaxialSide) {
   }
 }
 
+// Vein tubes are closed and wound counter-clockwise seen from outside (the face normal from
+// the winding agrees with the vertex normals): a renderer may cull their back faces, and
+// exported files show the outside to viewers that use the winding.
+TEST(Mesh, veinTrianglesAreWoundToFaceOutwards) {
+  for (const char* file : test::kSampleFiles)
+    for (const char* preset : {"preview", "export"}) {
+      const LeafMesh mesh = meshLeaf(buildLeafModel(sample(file)), MeshResolution::preset(preset));
+      for (const Organ& o : mesh.organs) {
+        if (o.kind != OrganKind::Vein) continue;
+        std::size_t inward = 0, measured = 0;
+        for (const auto& t : o.mesh.triangles) {
+          const auto& a = o.mesh.positions[t[0]];
+          const Eigen::Vector3d face = (o.mesh.positions[t[1]] - a).cross(o.mesh.positions[t[2]] - a);
+          if (face.norm() < 1e-12) continue;  // a degenerate sliver at a cap's pole
+          ++measured;
+          const Eigen::Vector3d n = o.mesh.normals[t[0]] + o.mesh.normals[t[1]] + o.mesh.normals[t[2]];
+          inward += face.dot(n) <= 0;
+        }
+        EXPECT_GT(measured, 0u) << file << " " << o.name;
+        EXPECT_EQ(inward, 0u) << file << " " << preset << " " << o.name << ": " << inward << " of " << measured
+                              << " triangles face inwards";
+      }
+    }
+}
+
 TEST(LeafFrame, putsTheLastMidribMarkerAtTheOriginAndTheTipOnPlusY) {
   const LeafModel leaf = buildLeafModel(sample("upper-curved-leaf-n14.markers.json"));
   const Eigen::Isometry3d toLeaf = leafFrameFromDigitizer(leaf);

@@ -3,8 +3,16 @@
 #include <QElapsedTimer>
 #include <QKeyEvent>
 #include <QMouseEvent>
+#include <QOpenGLFramebufferObject>
+#include <QPainter>
+#include <QVBoxLayout>
 #include <QWheelEvent>
 #include <cmath>
+#include <cstring>
+
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 namespace leafdig::station {
 namespace {
@@ -35,6 +43,24 @@ void main() {
   fragColour = vec4(colour * (0.3 + 0.7 * d), 1.0);
 })";
 
+// Mesa's software rasterisers (llvmpipe) allocate several MB of vertex and bin memory per
+// frame and free it again. glibc hands memory above 128 KB back to the kernel at once (munmap,
+// heap trim), so every frame page-faulted ~11 MB of fresh zeroed pages: a third of the
+// frame time of the 17-row leaf at the export resolution went to the kernel. Keeping up to
+// 64 MB of freed heap for reuse removes that (docs/benchmarks.md, "Station preview").
+void keepFreedMemoryForSoftwareGl(const char* renderer) {
+#ifdef __GLIBC__
+  static bool done = false;
+  if (done || renderer == nullptr || (std::strstr(renderer, "llvmpipe") == nullptr && std::strstr(renderer, "softpipe") == nullptr))
+    return;
+  done = true;
+  mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);  // the largest glibc accepts; bigger blocks still map
+  mallopt(M_TRIM_THRESHOLD, 64 * 1024 * 1024);
+#else
+  (void)renderer;
+#endif
+}
+
 // Digitizer frame (Z up) to the view: X right, Z up → GL Y up.
 QVector3D toView(const Eigen::Vector3d& p) {
   return {static_cast<float>(p.x()), static_cast<float>(p.z()), static_cast<float>(-p.y())};
@@ -45,25 +71,224 @@ QVector3D toView(const acquisition::Vec3& p) {
 
 }  // namespace
 
-PreviewWidget::PreviewWidget(QWidget* parent) : QOpenGLWidget(parent) {
-  setFocusPolicy(Qt::ClickFocus);
-  setMinimumSize(320, 240);
+// ---- PreviewSurface: the GL window ----
+
+PreviewSurface::PreviewSurface(PreviewWidget* owner) : owner_(owner) {
+  // Keys stay with the station window (its shortcuts and the held Accept key).
+  setFlag(Qt::WindowDoesNotAcceptFocus);
 }
 
-PreviewWidget::~PreviewWidget() {
+PreviewSurface::~PreviewSurface() {
+  if (!glReady_) return;
   makeCurrent();
-  for (auto& b : batches_) b.vbo.destroy();
-  batches_.clear();
+  release(meshes_);
+  release(points_);
   doneCurrent();
+}
+
+void PreviewSurface::initializeGL() {
+  initializeOpenGLFunctions();
+  program_.addShaderFromSourceCode(QOpenGLShader::Vertex, kVertex);
+  program_.addShaderFromSourceCode(QOpenGLShader::Fragment, kFragment);
+  program_.link();
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  keepFreedMemoryForSoftwareGl(reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+  glReady_ = true;
+}
+
+void PreviewSurface::release(std::vector<Batch>& batches) {
+  for (auto& b : batches) {
+    b.vbo.destroy();
+    b.ibo.destroy();
+  }
+  batches.clear();
+}
+
+void PreviewSurface::addBatch(std::vector<Batch>& into, const std::vector<float>& data,
+                              const std::vector<std::uint32_t>& indices, QVector3D colour, bool points, bool cull) {
+  Batch b;
+  b.vao = std::make_unique<QOpenGLVertexArrayObject>();
+  b.vao->create();
+  b.vao->bind();
+  b.vbo.create();
+  b.vbo.bind();
+  b.vbo.allocate(data.data(), static_cast<int>(data.size() * sizeof(float)));
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+  if (!indices.empty()) {
+    b.ibo.create();
+    b.ibo.bind();  // recorded by the VAO
+    b.ibo.allocate(indices.data(), static_cast<int>(indices.size() * sizeof(std::uint32_t)));
+  }
+  b.vao->release();
+  b.count = static_cast<int>(indices.empty() ? data.size() / 6 : indices.size());
+  b.colour = colour;
+  b.points = points;
+  b.cull = cull;
+  into.push_back(std::move(b));
+}
+
+void PreviewSurface::upload() {
+  const PreviewWidget& w = *owner_;
+  if (w.meshDirty_) {
+    release(meshes_);
+    if (w.preview_) {
+      // One batch for the veins and one for the blade: each vertex once, triangles as
+      // indices (a software rasteriser shades a shared vertex once, not six times). The vein
+      // tubes are closed and wound outwards (tested in the model), so their back faces are
+      // culled; the blade is seen from both sides.
+      std::vector<float> data[2];
+      std::vector<std::uint32_t> indices[2];
+      for (const auto& o : w.preview_->mesh.organs) {
+        const int k = o.kind == model::OrganKind::Blade ? 1 : 0;
+        const auto base = static_cast<std::uint32_t>(data[k].size() / 6);
+        data[k].reserve(data[k].size() + o.mesh.positions.size() * 6);
+        for (std::size_t v = 0; v < o.mesh.positions.size(); ++v) {
+          const QVector3D p = toView(o.mesh.positions[v]);
+          const QVector3D n = toView(o.mesh.normals[v]);
+          data[k].insert(data[k].end(), {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()});
+        }
+        indices[k].reserve(indices[k].size() + o.mesh.triangles.size() * 3);
+        for (const auto& t : o.mesh.triangles)
+          for (const auto idx : t) indices[k].push_back(base + idx);
+      }
+      if (!indices[0].empty()) addBatch(meshes_, data[0], indices[0], QVector3D(0.86f, 0.80f, 0.55f), false, true);
+      if (!indices[1].empty()) addBatch(meshes_, data[1], indices[1], QVector3D(0.35f, 0.62f, 0.30f), false);
+    }
+  }
+  if (w.pointsDirty_) {
+    release(points_);
+    std::vector<float> markers, last;
+    const acquisition::Item* lastStylus = nullptr;
+    for (const auto& i : w.items_)
+      if (acquisition::isStylusItem(i.what)) lastStylus = &i;
+    for (const auto& i : w.items_) {
+      if (!acquisition::isStylusItem(i.what)) continue;
+      const QVector3D p = toView(i.positionMm);
+      auto& into = &i == lastStylus ? last : markers;
+      into.insert(into.end(), {p.x(), p.y(), p.z(), 0.f, 1.f, 0.f});
+    }
+    if (!markers.empty()) addBatch(points_, markers, {}, QVector3D(0.15f, 0.35f, 0.85f), true);
+    if (!last.empty()) addBatch(points_, last, {}, QVector3D(0.95f, 0.25f, 0.15f), true);
+    if (w.highlight_ && acquisition::isStylusItem(w.highlight_->what)) {
+      const QVector3D p = toView(w.highlight_->positionMm);
+      addBatch(points_, {p.x(), p.y(), p.z(), 0.f, 1.f, 0.f}, {}, QVector3D(1.0f, 0.85f, 0.0f), true);
+    }
+    if (w.cursor_) {
+      const QVector3D p = toView(*w.cursor_);
+      addBatch(points_, {p.x(), p.y(), p.z(), 0.f, 1.f, 0.f}, {}, QVector3D(0.8f, 0.1f, 0.8f), true);
+    }
+  }
+  owner_->meshDirty_ = owner_->pointsDirty_ = false;
+}
+
+void PreviewSurface::draw(QSize size) {
+  QElapsedTimer timer;
+  timer.start();
+  upload();
+  glViewport(0, 0, size.width(), size.height());
+  glClearColor(0.96f, 0.96f, 0.94f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  program_.bind();
+  program_.setUniformValue("mvp", owner_->viewProjection(QSizeF(size)));
+  program_.setUniformValue("model", QMatrix4x4());
+  std::size_t triangles = 0;
+  for (auto* batches : {&meshes_, &points_})
+    for (auto& b : *batches) {
+      program_.setUniformValue("colour", b.colour);
+      program_.setUniformValue("lit", !b.points);
+      program_.setUniformValue("pointSize", b.colour.x() > 0.79f ? 13.0f : 7.0f);
+      if (b.cull) glEnable(GL_CULL_FACE);
+      else glDisable(GL_CULL_FACE);
+      b.vao->bind();
+      if (b.points) {
+        glDrawArrays(GL_POINTS, 0, b.count);
+      } else {
+        glDrawElements(GL_TRIANGLES, b.count, GL_UNSIGNED_INT, nullptr);
+        triangles += static_cast<std::size_t>(b.count / 3);
+      }
+      b.vao->release();
+    }
+  program_.release();
+  glFinish();
+  owner_->trianglesDrawn_ = triangles;
+  owner_->lastFrameMs_ = static_cast<double>(timer.nsecsElapsed()) / 1e6;
+}
+
+void PreviewSurface::paintGL() { draw(size() * devicePixelRatio()); }
+
+QImage PreviewSurface::render(QSize size) {
+  if (!glReady_ || !isValid() || size.isEmpty()) return {};
+  makeCurrent();
+  QOpenGLFramebufferObject fbo(size, QOpenGLFramebufferObject::CombinedDepthStencil);
+  fbo.bind();
+  draw(size);
+  QImage image = fbo.toImage();
+  fbo.release();
+  doneCurrent();
+  return image;
+}
+
+void PreviewSurface::mousePressEvent(QMouseEvent* e) {
+  if (owner_->focusPolicy() & Qt::ClickFocus) owner_->setFocus(Qt::MouseFocusReason);
+  owner_->onPress(e->position());
+}
+void PreviewSurface::mouseMoveEvent(QMouseEvent* e) { owner_->onMove(e->position(), e->buttons()); }
+void PreviewSurface::mouseReleaseEvent(QMouseEvent* e) { owner_->onRelease(e->position(), e->button()); }
+void PreviewSurface::mouseDoubleClickEvent(QMouseEvent*) { owner_->resetView(); }
+void PreviewSurface::wheelEvent(QWheelEvent* e) { owner_->onWheel(e->angleDelta().y()); }
+void PreviewSurface::keyPressEvent(QKeyEvent* e) {
+  if (e->key() == Qt::Key_R) owner_->resetView();
+  else QOpenGLWindow::keyPressEvent(e);
+}
+
+// ---- PreviewWidget: what is shown, and the view ----
+
+PreviewWidget::PreviewWidget(QWidget* parent) : QWidget(parent), surface_(new PreviewSurface(this)) {
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  QWidget* container = QWidget::createWindowContainer(surface_, this);  // owns the surface
+  container->setFocusPolicy(Qt::NoFocus);
+  layout->addWidget(container);
+  setFocusPolicy(Qt::ClickFocus);
+  setMinimumSize(320, 240);
+  connect(surface_, &QOpenGLWindow::frameSwapped, this, &PreviewWidget::frameSwapped);
+}
+
+PreviewWidget::~PreviewWidget() = default;
+
+void PreviewWidget::changed(bool geometry) {
+  meshDirty_ = meshDirty_ || geometry;
+  pointsDirty_ = true;
+  surface_->update();
+}
+
+void PreviewWidget::redraw() { surface_->update(); }
+
+QImage PreviewWidget::grabFramebuffer() {
+  return surface_->render(size() * devicePixelRatio());
+}
+
+QImage PreviewWidget::grabWindow(QWidget* window) {
+  QImage image = window->grab().toImage();
+  QPainter painter(&image);
+  for (PreviewWidget* p : window->findChildren<PreviewWidget*>()) {
+    if (!p->isVisible()) continue;
+    const QImage frame = p->grabFramebuffer();
+    if (!frame.isNull()) painter.drawImage(QRect(p->mapTo(window, QPoint(0, 0)), p->size()), frame);
+  }
+  return image;
 }
 
 void PreviewWidget::show(const acquisition::Snapshot& s) {
   preview_ = s.preview;
   items_ = s.items;
-  dirty_ = true;
   // Keep the whole leaf in view as it grows, until the operator moves the view.
   if (!userMoved_) resetView();
-  update();
+  changed(true);
 }
 
 void PreviewWidget::resetView() {
@@ -88,96 +313,23 @@ void PreviewWidget::resetView() {
   distance_ = 3.0f;
   pan_ = {};
   userMoved_ = false;
-  update();
-}
-
-void PreviewWidget::initializeGL() {
-  initializeOpenGLFunctions();
-  program_.addShaderFromSourceCode(QOpenGLShader::Vertex, kVertex);
-  program_.addShaderFromSourceCode(QOpenGLShader::Fragment, kFragment);
-  program_.link();
-  glEnable(GL_DEPTH_TEST);
-  glEnable(GL_PROGRAM_POINT_SIZE);
-  glReady_ = true;
-}
-
-void PreviewWidget::resizeGL(int, int) {}
-
-void PreviewWidget::addBatch(const std::vector<float>& data, QVector3D colour, bool points) {
-  Batch b;
-  b.vao = std::make_unique<QOpenGLVertexArrayObject>();
-  b.vao->create();
-  b.vao->bind();
-  b.vbo.create();
-  b.vbo.bind();
-  b.vbo.allocate(data.data(), static_cast<int>(data.size() * sizeof(float)));
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
-  b.vao->release();
-  b.count = static_cast<int>(data.size() / 6);
-  b.colour = colour;
-  b.points = points;
-  batches_.push_back(std::move(b));
-}
-
-void PreviewWidget::upload() {
-  for (auto& b : batches_) b.vbo.destroy();
-  batches_.clear();
-  if (preview_) {
-    for (const auto& o : preview_->mesh.organs) {
-      std::vector<float> data;
-      data.reserve(o.mesh.triangles.size() * 18);
-      for (const auto& t : o.mesh.triangles)
-        for (const auto idx : t) {
-          const QVector3D p = toView(o.mesh.positions[idx]);
-          const QVector3D n = toView(o.mesh.normals[idx]);
-          data.insert(data.end(), {p.x(), p.y(), p.z(), n.x(), n.y(), n.z()});
-        }
-      const bool blade = o.kind == model::OrganKind::Blade;
-      if (!data.empty())
-        addBatch(data, blade ? QVector3D(0.35f, 0.62f, 0.30f) : QVector3D(0.86f, 0.80f, 0.55f), false);
-    }
-  }
-  std::vector<float> markers, last;
-  const acquisition::Item* lastStylus = nullptr;
-  for (const auto& i : items_)
-    if (acquisition::isStylusItem(i.what)) lastStylus = &i;
-  for (const auto& i : items_) {
-    if (!acquisition::isStylusItem(i.what)) continue;
-    const QVector3D p = toView(i.positionMm);
-    auto& into = &i == lastStylus ? last : markers;
-    into.insert(into.end(), {p.x(), p.y(), p.z(), 0.f, 1.f, 0.f});
-  }
-  if (!markers.empty()) addBatch(markers, QVector3D(0.15f, 0.35f, 0.85f), true);
-  if (!last.empty()) addBatch(last, QVector3D(0.95f, 0.25f, 0.15f), true);
-  if (highlight_ && acquisition::isStylusItem(highlight_->what)) {
-    const QVector3D p = toView(highlight_->positionMm);
-    addBatch({p.x(), p.y(), p.z(), 0.f, 1.f, 0.f}, QVector3D(1.0f, 0.85f, 0.0f), true);
-  }
-  if (cursor_) {
-    const QVector3D p = toView(*cursor_);
-    addBatch({p.x(), p.y(), p.z(), 0.f, 1.f, 0.f}, QVector3D(0.8f, 0.1f, 0.8f), true);
-  }
+  surface_->update();
 }
 
 void PreviewWidget::setStylusCursor(const std::optional<acquisition::Vec3>& positionMm) {
   if (positionMm == cursor_) return;
   cursor_ = positionMm;
-  dirty_ = true;
-  update();
+  changed(false);
 }
 
 void PreviewWidget::setHighlight(const std::optional<acquisition::Item>& item) {
   highlight_ = item;
-  dirty_ = true;
-  update();
+  changed(false);
 }
 
-QMatrix4x4 PreviewWidget::viewProjection() const {
+QMatrix4x4 PreviewWidget::viewProjection(QSizeF size) const {
   QMatrix4x4 projection, view;
-  const float aspect = static_cast<float>(width()) / static_cast<float>(std::max(1, height()));
+  const float aspect = static_cast<float>(size.width() / std::max(1.0, size.height()));
   projection.perspective(35.0f, aspect, radius_ * 0.05f, radius_ * 20.0f);
   view.translate(pan_.x() * radius_, pan_.y() * radius_, -distance_ * radius_);
   view.rotate(pitch_, 1, 0, 0);
@@ -187,7 +339,7 @@ QMatrix4x4 PreviewWidget::viewProjection() const {
 }
 
 QPointF PreviewWidget::project(const acquisition::Vec3& positionMm) const {
-  const QVector3D ndc = viewProjection().map(toView(positionMm));
+  const QVector3D ndc = viewProjection(QSizeF(size())).map(toView(positionMm));
   return {(ndc.x() + 1.0) * 0.5 * width(), (1.0 - ndc.y()) * 0.5 * height()};
 }
 
@@ -205,71 +357,42 @@ std::optional<acquisition::Item> PreviewWidget::itemAt(QPointF pos, double radiu
   return best;
 }
 
-void PreviewWidget::paintGL() {
-  QElapsedTimer timer;
-  timer.start();
-  if (dirty_) {
-    upload();
-    dirty_ = false;
-  }
-  glClearColor(0.96f, 0.96f, 0.94f, 1.0f);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  program_.bind();
-  program_.setUniformValue("mvp", viewProjection());
-  program_.setUniformValue("model", QMatrix4x4());
-  trianglesDrawn_ = 0;
-  for (auto& b : batches_) {
-    program_.setUniformValue("colour", b.colour);
-    program_.setUniformValue("lit", !b.points);
-    program_.setUniformValue("pointSize", b.colour.x() > 0.79f ? 13.0f : 7.0f);
-    b.vao->bind();
-    glDrawArrays(b.points ? GL_POINTS : GL_TRIANGLES, 0, b.count);
-    if (!b.points) trianglesDrawn_ += static_cast<std::size_t>(b.count / 3);
-    b.vao->release();
-  }
-  program_.release();
-  glFinish();
-  lastFrameMs_ = static_cast<double>(timer.nsecsElapsed()) / 1e6;
-}
-
-void PreviewWidget::mousePressEvent(QMouseEvent* e) {
-  lastMouse_ = pressedAt_ = e->position().toPoint();
+void PreviewWidget::onPress(QPointF pos) {
+  lastMouse_ = pressedAt_ = pos;
   dragged_ = false;
 }
 
-void PreviewWidget::mouseReleaseEvent(QMouseEvent* e) {
+void PreviewWidget::onRelease(QPointF pos, Qt::MouseButton button) {
   // A click (not a drag) picks the marker under the pointer.
-  if (!dragged_ && e->button() == Qt::LeftButton)
-    if (const auto item = itemAt(e->position())) emit itemPicked(*item);
+  if (!dragged_ && button == Qt::LeftButton)
+    if (const auto item = itemAt(pos)) emit itemPicked(*item);
 }
 
-void PreviewWidget::mouseMoveEvent(QMouseEvent* e) {
-  const QPoint d = e->position().toPoint() - lastMouse_;
-  lastMouse_ = e->position().toPoint();
+void PreviewWidget::onMove(QPointF pos, Qt::MouseButtons buttons) {
+  const QPointF d = pos - lastMouse_;
+  lastMouse_ = pos;
   if ((lastMouse_ - pressedAt_).manhattanLength() > 3) {
     dragged_ = true;
     userMoved_ = true;
   }
-  if (e->buttons() & Qt::LeftButton) {
+  if (buttons & Qt::LeftButton) {
     yaw_ += 0.4f * static_cast<float>(d.x());
     pitch_ = std::clamp(pitch_ + 0.4f * static_cast<float>(d.y()), -89.0f, 89.0f);
-  } else if (e->buttons() & Qt::RightButton) {
+  } else if (buttons & Qt::RightButton) {
     pan_ += QVector3D(0.003f * static_cast<float>(d.x()), -0.003f * static_cast<float>(d.y()), 0) * distance_;
   }
-  update();
+  surface_->update();
 }
 
-void PreviewWidget::mouseDoubleClickEvent(QMouseEvent*) { resetView(); }
-
-void PreviewWidget::wheelEvent(QWheelEvent* e) {
-  distance_ = std::clamp(distance_ * std::pow(0.999f, static_cast<float>(e->angleDelta().y())), 0.3f, 20.0f);
+void PreviewWidget::onWheel(int angleDeltaY) {
+  distance_ = std::clamp(distance_ * std::pow(0.999f, static_cast<float>(angleDeltaY)), 0.3f, 20.0f);
   userMoved_ = true;
-  update();
+  surface_->update();
 }
 
 void PreviewWidget::keyPressEvent(QKeyEvent* e) {
   if (e->key() == Qt::Key_R) resetView();
-  else QOpenGLWidget::keyPressEvent(e);
+  else QWidget::keyPressEvent(e);
 }
 
 }  // namespace leafdig::station

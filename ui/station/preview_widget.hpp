@@ -1,15 +1,22 @@
 // The live 3D preview: the snapshot's vein tubes and blade, the markers, the last accepted
 // point highlighted; orbit (left drag), pan (right drag), zoom (wheel), reset (R or double
-// click). OpenGL 3.3 core through Qt; one VBO per organ, rebuilt when a snapshot arrives.
+// click). OpenGL 3.3 core through Qt.
+//
+// The GL drawing lives in its own native window (a QOpenGLWindow in a window container),
+// not a QOpenGLWidget: a QOpenGLWidget makes Qt compose the whole top-level window with
+// OpenGL at every update of any widget in it, which with software OpenGL (llvmpipe) costs
+// more than drawing the leaf. See docs/benchmarks.md ("Station preview").
 #pragma once
 
+#include <QImage>
 #include <QMatrix4x4>
 #include <QOpenGLBuffer>
 #include <QOpenGLFunctions_3_3_Core>
 #include <QOpenGLShaderProgram>
 #include <QOpenGLVertexArrayObject>
-#include <QOpenGLWidget>
+#include <QOpenGLWindow>
 #include <QVector3D>
+#include <QWidget>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -18,7 +25,49 @@
 
 namespace leafdig::station {
 
-class PreviewWidget : public QOpenGLWidget, protected QOpenGLFunctions_3_3_Core {
+class PreviewWidget;
+
+// The GL window: draws what its PreviewWidget holds, passes input back to it.
+class PreviewSurface : public QOpenGLWindow, protected QOpenGLFunctions_3_3_Core {
+ public:
+  explicit PreviewSurface(PreviewWidget* owner);
+  ~PreviewSurface() override;
+  // Renders one frame into an image of the surface's size (screenshots, tests).
+  [[nodiscard]] QImage render(QSize size);
+
+ protected:
+  void initializeGL() override;
+  void paintGL() override;
+  void mousePressEvent(QMouseEvent* e) override;
+  void mouseMoveEvent(QMouseEvent* e) override;
+  void mouseReleaseEvent(QMouseEvent* e) override;
+  void mouseDoubleClickEvent(QMouseEvent* e) override;
+  void wheelEvent(QWheelEvent* e) override;
+  void keyPressEvent(QKeyEvent* e) override;
+
+ private:
+  struct Batch {
+    std::unique_ptr<QOpenGLVertexArrayObject> vao;
+    QOpenGLBuffer vbo{QOpenGLBuffer::VertexBuffer};
+    QOpenGLBuffer ibo{QOpenGLBuffer::IndexBuffer};  // meshes: shared vertices, drawn indexed
+    int count = 0;                                   // indices (meshes) or points
+    QVector3D colour;
+    bool points = false, cull = false;
+  };
+  void upload();
+  void draw(QSize size);
+  static void release(std::vector<Batch>& batches);
+  // `data`: position and normal per vertex; `indices`: triangles (empty for points).
+  void addBatch(std::vector<Batch>& into, const std::vector<float>& data, const std::vector<std::uint32_t>& indices,
+                QVector3D colour, bool points, bool cull = false);
+
+  PreviewWidget* owner_;
+  QOpenGLShaderProgram program_;
+  std::vector<Batch> meshes_, points_;  // rebuilt when the leaf changes / when a marker or the cursor does
+  bool glReady_ = false;
+};
+
+class PreviewWidget : public QWidget {
   Q_OBJECT
 
  public:
@@ -37,45 +86,40 @@ class PreviewWidget : public QOpenGLWidget, protected QOpenGLFunctions_3_3_Core 
   [[nodiscard]] std::optional<acquisition::Item> itemAt(QPointF pos, double radiusPx = 14.0) const;
   // Where an item is drawn (widget coordinates) with the current view.
   [[nodiscard]] QPointF project(const acquisition::Vec3& positionMm) const;
+  // Asks for a new frame (the GL window repaints on its own for every change above).
+  void redraw();
+  // The preview as drawn now, at the widget's size (rendered off-screen; empty without GL).
+  [[nodiscard]] QImage grabFramebuffer();
+  // The window as on screen: QWidget::grab() with every visible preview in it drawn in.
+  [[nodiscard]] static QImage grabWindow(QWidget* window);
   // Frame time of the last paint, and how many triangles it drew (for tests and benchmarks).
   [[nodiscard]] double lastFrameMs() const { return lastFrameMs_; }
   [[nodiscard]] std::size_t trianglesDrawn() const { return trianglesDrawn_; }
 
  signals:
   void itemPicked(const leafdig::acquisition::Item& item);
+  void frameSwapped();  // a frame of the preview reached the screen
 
  protected:
-  void initializeGL() override;
-  void resizeGL(int w, int h) override;
-  void paintGL() override;
-  void mousePressEvent(QMouseEvent* e) override;
-  void mouseMoveEvent(QMouseEvent* e) override;
-  void mouseReleaseEvent(QMouseEvent* e) override;
-  void mouseDoubleClickEvent(QMouseEvent* e) override;
-  void wheelEvent(QWheelEvent* e) override;
   void keyPressEvent(QKeyEvent* e) override;
 
  private:
-  struct Batch {
-    std::unique_ptr<QOpenGLVertexArrayObject> vao;
-    QOpenGLBuffer vbo{QOpenGLBuffer::VertexBuffer};
-    int count = 0;
-    QVector3D colour;
-    bool points = false;
-  };
-  void upload();
-  [[nodiscard]] QMatrix4x4 viewProjection() const;
-  void addBatch(const std::vector<float>& data, QVector3D colour, bool points);
+  friend class PreviewSurface;
+  [[nodiscard]] QMatrix4x4 viewProjection(QSizeF size) const;
+  void changed(bool geometry);
+  void onPress(QPointF pos);
+  void onMove(QPointF pos, Qt::MouseButtons buttons);
+  void onRelease(QPointF pos, Qt::MouseButton button);
+  void onWheel(int angleDeltaY);
 
-  QOpenGLShaderProgram program_;
-  std::vector<Batch> batches_;
+  PreviewSurface* surface_;
   std::shared_ptr<const acquisition::Preview> preview_;
   std::vector<acquisition::Item> items_;
-  bool dirty_ = false, glReady_ = false, userMoved_ = false;
+  bool meshDirty_ = false, pointsDirty_ = false, userMoved_ = false;
   QVector3D centre_{0, 0, 0};
   float radius_ = 100.0f, yaw_ = -30.0f, pitch_ = 35.0f, distance_ = 3.0f;
   QVector3D pan_{0, 0, 0};
-  QPoint lastMouse_, pressedAt_;
+  QPointF lastMouse_, pressedAt_;
   bool dragged_ = false;
   std::optional<acquisition::Vec3> cursor_;
   std::optional<acquisition::Item> highlight_;
