@@ -29,4 +29,7 @@ fi
 build/ci/tests/leafdig_bench --benchmark_min_time=0.01 --benchmark_filter='Rebuild(Preview|Paper)/1' >/dev/null
 build/ci/tests/leafdig_codec_bench --benchmark_min_time=0.01 >/dev/null
 LEAFDIG_BENCH_LEAVES=200 build/ci/tests/leafdig_capture_bench --benchmark_min_time=0.01 >/dev/null
+# The station's preview frame, snapshot → screen and start-up, on a real window under Xvfb
+# (Mesa llvmpipe); it fails if the preview draws nothing or the station does not start.
+xvfb-run -a -s "-screen 0 1920x1080x24" build/ci/tests/leafdig_station_bench --benchmark_min_time=0.01 >/dev/null
 echo "leafdig: all tests passed"

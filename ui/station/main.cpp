@@ -5,6 +5,7 @@
 #include <QImage>
 #include <QScreen>
 #include <QTimer>
+#include <chrono>
 #include <cstdio>
 
 #include "leafdig/version.hpp"
@@ -25,6 +26,7 @@ int drawnPixels(const QImage& image) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const auto mainEntered = std::chrono::steady_clock::now();
   QApplication app(argc, argv);
   QApplication::setApplicationName("leafdig-station");
   QApplication::setApplicationVersion(leafdig::kVersion);
@@ -45,8 +47,10 @@ int main(int argc, char** argv) {
   const QCommandLineOption quit("quit-when-complete", "Exit once the leaf is complete (scripts, tests)");
   const QCommandLineOption setupDialog("setup", "Show the session set-up dialog first (also when simulating)");
   const QCommandLineOption settingsFile("settings", "Settings file (default ~/.config/leafdig/station.ini)", "INI");
+  const QCommandLineOption firstFrame("quit-after-first-frame",
+                                      "Print when the first frame of the preview is on screen, then exit (start-up benchmark)");
   p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, reviewShot, quit, setupDialog,
-                settingsFile});
+                settingsFile, firstFrame});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -74,8 +78,27 @@ int main(int argc, char** argv) {
     leafdig::station::applyTheme(app, settings);
   }
   leafdig::station::StationWindow w(o);
+  if (p.isSet(firstFrame)) {
+    // The window is usable once its preview is on screen: report the steady clock (the
+    // benchmark that started this process compares it with its own) and leave.
+    QObject::connect(
+        w.preview(), &leafdig::station::PreviewWidget::frameSwapped, &app,
+        [&] {
+          const auto now = std::chrono::steady_clock::now();
+          std::printf("first_frame steady_ns %lld main_ms %.1f\n",
+                      static_cast<long long>(std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count()),
+                      std::chrono::duration<double, std::milli>(now - mainEntered).count());
+          std::fflush(stdout);
+          // Leave from the event loop, not from inside the frame's own paint.
+          QTimer::singleShot(0, &app, [&] {
+            w.stopCapture();
+            app.quit();
+          });
+        },
+        Qt::SingleShotConnection);
+  }
   w.show();
-  const bool interactive = !p.isSet(quit);
+  const bool interactive = !p.isSet(quit) && !p.isSet(firstFrame);
   if (interactive && o.resume == 0) w.offerResume();
   // Without devices given (and nothing to resume), the set-up dialog asks for them.
   const bool needSetup = p.isSet(setupDialog) ||
@@ -90,24 +113,23 @@ int main(int argc, char** argv) {
     }
   } else if (!w.start()) {
     std::fprintf(stderr, "leafdig-station: %s\n", w.bannerText().toStdString().c_str());
-    if (p.isSet(quit)) return 1;
+    if (!interactive) return 1;
   }
   const QString shot = p.value(screenshot);
   QObject::connect(&w, &leafdig::station::StationWindow::captureComplete, &app, [&] {
     // Let the last snapshot reach the screen, then report and (optionally) leave.
     QTimer::singleShot(400, &app, [&] {
-      w.preview()->update();
+      w.preview()->redraw();
       const QImage frame = w.preview()->grabFramebuffer();
       const int pixels = drawnPixels(frame);
-      if (!shot.isEmpty()) w.grab().save(shot);
+      if (!shot.isEmpty()) leafdig::station::PreviewWidget::grabWindow(&w).save(shot);
       if (p.isSet(reviewShot)) {
         w.tabs()->setCurrentIndex(1);
         w.review()->refreshSessions();
         (void)w.review()->openSession(w.sessionId());
         QApplication::processEvents();
-        w.review()->preview()->update();
         QApplication::processEvents();
-        w.grab().save(p.value(reviewShot));
+        leafdig::station::PreviewWidget::grabWindow(&w).save(p.value(reviewShot));
       }
       std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
                   static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels, w.preview()->lastFrameMs());
