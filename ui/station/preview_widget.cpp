@@ -250,15 +250,16 @@ void PreviewSurface::keyPressEvent(QKeyEvent* e) {
 PreviewWidget::PreviewWidget(QWidget* parent) : QWidget(parent), surface_(new PreviewSurface(this)) {
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
-  QWidget* container = QWidget::createWindowContainer(surface_, this);  // owns the surface
-  container->setFocusPolicy(Qt::NoFocus);
-  layout->addWidget(container);
+  container_ = QWidget::createWindowContainer(surface_, this);  // owns the surface
+  container_->setFocusPolicy(Qt::NoFocus);
+  layout->addWidget(container_);
   setFocusPolicy(Qt::ClickFocus);
   setMinimumSize(320, 240);
   connect(surface_, &QOpenGLWindow::frameSwapped, this, &PreviewWidget::frameSwapped);
 }
 
-PreviewWidget::~PreviewWidget() = default;
+// The surface reads this widget's state: it goes first, while that state is whole.
+PreviewWidget::~PreviewWidget() { delete container_; }
 
 void PreviewWidget::changed(bool geometry) {
   meshDirty_ = meshDirty_ || geometry;

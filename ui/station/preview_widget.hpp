@@ -113,6 +113,7 @@ class PreviewWidget : public QWidget {
   void onWheel(int angleDeltaY);
 
   PreviewSurface* surface_;
+  QWidget* container_ = nullptr;
   std::shared_ptr<const acquisition::Preview> preview_;
   std::vector<acquisition::Item> items_;
   bool meshDirty_ = false, pointsDirty_ = false, userMoved_ = false;
