@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <random>
 
+#include "latency_counters.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/markers_json.hpp"
 
@@ -27,14 +28,6 @@ fs::path scratch(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("leafdig-bench-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir / name;
-}
-
-void percentiles(benchmark::State& state, std::vector<double> ms) {
-  if (ms.empty()) return;
-  std::sort(ms.begin(), ms.end());
-  state.counters["p50_ms"] = ms[ms.size() / 2];
-  state.counters["p99_ms"] = ms[std::min(ms.size() - 1, ms.size() * 99 / 100)];
-  state.counters["max_ms"] = ms.back();
 }
 
 const leafdig::model::MarkerSet& leaf() {
@@ -87,7 +80,7 @@ void BM_EventCommit(benchmark::State& state) {
     benchmark::DoNotOptimize(store.append(id, ev));
     ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
-  percentiles(state, ms);
+  (void)leafdig::bench::reportLatency(state, ms);
 }
 BENCHMARK(BM_EventCommit)->Iterations(400)->Unit(benchmark::kMillisecond);
 
@@ -125,7 +118,7 @@ void BM_PressToSnapshot(benchmark::State& state) {
     points = snap.items.size();
     benchmark::DoNotOptimize(snap.preview->mesh.organs.size());
   }
-  percentiles(state, ms);
+  (void)leafdig::bench::reportLatency(state, ms);
   state.counters["points_in_last_snapshot"] = static_cast<double>(points);
 }
 BENCHMARK(BM_PressToSnapshot)->Iterations(240)->Unit(benchmark::kMillisecond);

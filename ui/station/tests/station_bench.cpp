@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "latency_counters.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "preview_widget.hpp"
 
@@ -59,14 +60,10 @@ void fail(benchmark::State& state, const std::string& why) {
 
 double ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
-void percentiles(benchmark::State& state, std::vector<double> v, double budgetMs) {
-  if (v.empty()) return;
-  std::sort(v.begin(), v.end());
-  const double p99 = v[std::min(v.size() - 1, v.size() * 99 / 100)];
-  state.counters["p50_ms"] = v[v.size() / 2];
-  state.counters["p99_ms"] = p99;
-  state.counters["max_ms"] = v.back();
-  state.counters["p99_per_budget"] = p99 / budgetMs;
+// p50/p99/max of the operation, and p99 against its budget.
+void reportAgainstBudget(benchmark::State& state, const std::vector<double>& ms, double budgetMs) {
+  if (ms.empty()) return;
+  state.counters["p99_per_budget"] = leafdig::bench::reportLatency(state, ms).p99 / budgetMs;
 }
 
 // A snapshot of a whole captured leaf: its markers as stylus items, and the preview's model
@@ -145,11 +142,8 @@ void BM_PreviewFrame(benchmark::State& state) {
     paints.push_back(w.widget.lastFrameMs());
   }
   if (w.widget.trianglesDrawn() != triangles(s)) fail(state, "the preview did not draw the whole leaf");
-  percentiles(state, frames, kFrameBudgetMs);
-  if (!paints.empty()) {
-    std::sort(paints.begin(), paints.end());
-    state.counters["paintGL_p50_ms"] = paints[paints.size() / 2];
-  }
+  reportAgainstBudget(state, frames, kFrameBudgetMs);
+  if (!paints.empty()) state.counters["paintGL_p50_ms"] = leafdig::bench::percentiles(paints).p50;
   describe(state, w, s, sample);
 }
 BENCHMARK(BM_PreviewFrame)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
@@ -176,7 +170,7 @@ void BM_SnapshotToScreen(benchmark::State& state) {
       break;
     }
   }
-  percentiles(state, latencies, kSixtyHzFrameMs);
+  reportAgainstBudget(state, latencies, kSixtyHzFrameMs);
   describe(state, w, snapshots[0], sample);
 }
 BENCHMARK(BM_SnapshotToScreen)->Arg(2)->Unit(benchmark::kMillisecond);
@@ -263,12 +257,10 @@ void BM_StartUp(benchmark::State& state) {
     mains.push_back(f.mainToFrameMs);
     exits.push_back(f.exitedMs);
   }
-  percentiles(state, frames, kStartUpBudgetMs);
+  reportAgainstBudget(state, frames, kStartUpBudgetMs);
   if (!mains.empty()) {
-    std::sort(mains.begin(), mains.end());
-    std::sort(exits.begin(), exits.end());
-    state.counters["main_to_frame_p50_ms"] = mains[mains.size() / 2];
-    state.counters["spawn_to_exit_p50_ms"] = exits[exits.size() / 2];
+    state.counters["main_to_frame_p50_ms"] = leafdig::bench::percentiles(mains).p50;
+    state.counters["spawn_to_exit_p50_ms"] = leafdig::bench::percentiles(exits).p50;
   }
   state.SetLabel("leafdig-station --simulate, fresh database each run");
   fs::remove_all(dir);
