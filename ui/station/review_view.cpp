@@ -484,26 +484,18 @@ QString ReviewView::correct(const acq::Correction& c) {
   return {};
 }
 
-QString ReviewView::approve(const QString& who) {
-  if (!current_) return tr("no session open");
-  try {
-    (void)acq::review(*store_, current_->info.id, "approved", who.toStdString(), "");
-  } catch (const std::exception& e) {
-    banner_->setText(tr("REVIEW · not approved: %1").arg(QString::fromStdString(e.what())));
-    return QString::fromStdString(e.what());
-  }
-  const auto id = current_->info.id;
-  refreshSessions();
-  (void)openSession(id);
-  return {};
-}
+QString ReviewView::approve(const QString& who) { return decide("approved", tr("not approved"), who, {}); }
 
 QString ReviewView::reject(const QString& who, const QString& why) {
+  return decide("rejected", tr("not rejected"), who, why);
+}
+
+QString ReviewView::decide(const char* status, const QString& failed, const QString& who, const QString& why) {
   if (!current_) return tr("no session open");
   try {
-    (void)acq::review(*store_, current_->info.id, "rejected", who.toStdString(), why.toStdString());
+    (void)acq::review(*store_, current_->info.id, status, who.toStdString(), why.toStdString());
   } catch (const std::exception& e) {
-    banner_->setText(tr("REVIEW · not rejected: %1").arg(QString::fromStdString(e.what())));
+    banner_->setText(tr("REVIEW · %1: %2").arg(failed, QString::fromStdString(e.what())));
     return QString::fromStdString(e.what());
   }
   const auto id = current_->info.id;

@@ -59,6 +59,8 @@ class ReviewView : public QWidget {
   [[nodiscard]] const std::optional<acquisition::ReviewedSession>& current() const { return current_; }
 
  private:
+  // Approve or reject the open session (`status`), reporting `failed` in the banner.
+  QString decide(const char* status, const QString& failed, const QString& who, const QString& why);
   void fill();
   void fillChart(const std::vector<acquisition::ReviewFlag>& flags);
   void correctSelected();
