@@ -77,9 +77,8 @@ int reportFailure(const std::exception_ptr& error, const char* inputPrefix = "")
 
 std::string samplesDir(const std::string& given) {
   if (!given.empty()) return given;
-  for (const std::string& base : {std::string(kSourceDataDir), std::string(kInstalledDataDir)})
-    if (std::filesystem::exists(base + "/samples")) return base + "/samples";
-  return "data/samples";
+  const std::string found = leafdig::samplesDir();
+  return found.empty() ? "data/samples" : found;
 }
 
 json nullable(int v) { return v > 0 ? json(v) : json(nullptr); }

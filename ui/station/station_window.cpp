@@ -40,11 +40,8 @@ QString stateColour(devices::LinkState s) {
 }
 
 std::string defaultMarkers() {
-  for (const std::string& base : {std::string(kSourceDataDir), std::string(kInstalledDataDir)}) {
-    const std::string p = base + "/samples/lower-leaf-n10.markers.json";
-    if (std::ifstream(p).good()) return p;
-  }
-  return std::string(kSourceDataDir) + "/samples/lower-leaf-n10.markers.json";
+  const std::string dir = samplesDir();
+  return (dir.empty() ? std::string(kSourceDataDir) + "/samples" : dir) + "/lower-leaf-n10.markers.json";
 }
 
 }  // namespace
