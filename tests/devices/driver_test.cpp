@@ -273,13 +273,18 @@ void expectReadingsNearTruth(const std::vector<dev::CaliperReading>& got, const 
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i].valueMm, truth[i % truth.size()], 0.02) << i;
 }
 
+dev::CaliperConfig sylvacOn(const dev::sim::Emulator& emu) {
+  dev::CaliperConfig cfg;
+  cfg.kind = dev::CaliperKind::Sylvac;
+  cfg.port = emu.path();
+  return cfg;
+}
+
 TEST(Sylvac, PcTriggeredReadingsAt4800_7E2) {
   auto cal = caliper();
   auto emu = dev::sim::makeSylvac(cal, {});
   emu->start();
-  dev::CaliperConfig cfg;
-  cfg.kind = dev::CaliperKind::Sylvac;
-  cfg.port = emu->path();
+  const dev::CaliperConfig cfg = sylvacOn(*emu);
   Collector col;
   dev::DriverOptions o;
   o.pollEvery = 40ms;
@@ -298,9 +303,7 @@ TEST(Sylvac, ReconnectingToTheSamePortWorks) {
   auto cal = caliper();
   auto emu = dev::sim::makeSylvac(cal, {});
   emu->start();
-  dev::CaliperConfig cfg;
-  cfg.kind = dev::CaliperKind::Sylvac;
-  cfg.port = emu->path();
+  const dev::CaliperConfig cfg = sylvacOn(*emu);
   for (int round = 0; round < 3; ++round) {
     Collector col;
     dev::DriverOptions o;
@@ -318,9 +321,7 @@ TEST(Sylvac, ReconnectingToTheSamePortWorks) {
 TEST(Sylvac, AHostAtTheWrongSettingsGetsAClearError) {
   auto emu = dev::sim::makeSylvac(caliper(), {});
   emu->start();
-  dev::CaliperConfig cfg;
-  cfg.kind = dev::CaliperKind::Sylvac;
-  cfg.port = emu->path();
+  dev::CaliperConfig cfg = sylvacOn(*emu);
   cfg.baud = 9600;
   auto link = dev::makeCaliperLink(cfg);
   try {

@@ -403,22 +403,19 @@ TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
   EXPECT_TRUE(w.chipText(Role::Digitizer).contains("streaming"));
   EXPECT_TRUE(w.chipText(Role::Digitizer).contains("s ago"));
   EXPECT_TRUE(waitFor([&] { return w.lastSnapshot().has_value(); }));
-  w.devices()->disconnect(Role::Digitizer);
-  w.refreshDevices();
-  EXPECT_TRUE(w.chipText(Role::Digitizer).contains("disconnected")) << w.chipText(Role::Digitizer).toStdString();
-  EXPECT_TRUE(w.chipText(Role::Digitizer).contains("connect it again"));
-  w.devices()->connect(Role::Digitizer);
-  EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Digitizer).contains("streaming"); }))
-      << w.chipText(Role::Digitizer).toStdString();
-  // The caliper (the simulated Sylvac, 4800 7E2) goes off-line and comes back the same way.
-  const auto caliperChip = [&] { return w.chipText(Role::Caliper).toStdString(); };
-  EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Caliper).contains("streaming"); })) << caliperChip();
-  w.devices()->disconnect(Role::Caliper);
-  w.refreshDevices();
-  EXPECT_TRUE(w.chipText(Role::Caliper).contains("disconnected")) << caliperChip();
-  w.devices()->connect(Role::Caliper);
-  EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Caliper).contains("streaming"); })) << caliperChip();
-  EXPECT_FALSE(w.chipText(Role::Caliper).contains("cannot")) << caliperChip();
+  // Each device (FASTRAK 8N1, the simulated Sylvac 4800 7E2) goes off-line from its chip and
+  // comes back on the same port.
+  for (const Role role : {Role::Digitizer, Role::Caliper}) {
+    const auto chip = [&] { return w.chipText(role).toStdString(); };
+    EXPECT_TRUE(waitFor([&] { return w.chipText(role).contains("streaming"); })) << chip();
+    w.devices()->disconnect(role);
+    w.refreshDevices();
+    EXPECT_TRUE(w.chipText(role).contains("disconnected")) << chip();
+    EXPECT_TRUE(w.chipText(role).contains("connect it again")) << chip();
+    w.devices()->connect(role);
+    EXPECT_TRUE(waitFor([&] { return w.chipText(role).contains("streaming"); })) << chip();
+    EXPECT_FALSE(w.chipText(role).contains("cannot")) << chip();
+  }
   // The Accept key held down is the stylus button (a foot pedal types it): press → down.
   QTest::keyPress(&w, Qt::Key_Return);
   EXPECT_TRUE(w.loop()->pedal());
