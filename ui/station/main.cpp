@@ -128,7 +128,6 @@ int main(int argc, char** argv) {
         w.review()->refreshSessions();
         (void)w.review()->openSession(w.sessionId());
         QApplication::processEvents();
-        QApplication::processEvents();
         leafdig::station::PreviewWidget::grabWindow(&w).save(p.value(reviewShot));
       }
       std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
