@@ -1,10 +1,17 @@
 #include "leafdig/acquisition/engine.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
+#include "leafdig/acquisition/enum_names.hpp"
+#include "leafdig/model/markers.hpp"
+
 namespace leafdig::acquisition {
+
+static_assert(kMarkersPerRow == model::kMarkersPerRow);
+
 namespace {
 
 // Distance of p from the line through a and b.
@@ -63,37 +70,37 @@ int completeRows(const std::vector<Item>& items) {
   return r;
 }
 
-const char* toString(Mode m) { return m == Mode::Standard ? "standard" : m == Mode::Full ? "full" : "small"; }
-const char* toString(Order o) { return o == Order::Sequential ? "sequential" : "interleaved"; }
+namespace {
+
+constexpr NameTable<Mode, 3> kModeNames{{{Mode::Standard, "standard"}, {Mode::Full, "full"}, {Mode::Small, "small"}}};
+constexpr NameTable<Order, 2> kOrderNames{{{Order::Sequential, "sequential"}, {Order::Interleaved, "interleaved"}}};
+constexpr NameTable<What, 8> kWhatNames{{{What::Board, "board"},
+                                         {What::Tip, "tip"},
+                                         {What::Marker, "marker"},
+                                         {What::MidribThickness, "midrib_thickness"},
+                                         {What::VeinOriginThickness, "vein_origin_thickness"},
+                                         {What::EdgeThickness, "edge_thickness"},
+                                         {What::PointThickness, "point_thickness"},
+                                         {What::Done, "done"}}};
+
+}  // namespace
+
+const char* toString(Mode m) { return nameIn(kModeNames, m); }
+const char* toString(Order o) { return nameIn(kOrderNames, o); }
 Mode modeFromString(const std::string& s) {
-  for (Mode m : {Mode::Standard, Mode::Full, Mode::Small})
-    if (s == toString(m)) return m;
+  if (const auto m = valueIn(kModeNames, s)) return *m;
   throw std::invalid_argument("unknown capture mode '" + s + "': use standard, full or small");
 }
 Order orderFromString(const std::string& s) {
-  for (Order o : {Order::Sequential, Order::Interleaved})
-    if (s == toString(o)) return o;
+  if (const auto o = valueIn(kOrderNames, s)) return *o;
   throw std::invalid_argument("unknown capture order '" + s + "': use sequential or interleaved");
 }
 
-const char* toString(What w) {
-  switch (w) {
-    case What::Board: return "board";
-    case What::Tip: return "tip";
-    case What::Marker: return "marker";
-    case What::MidribThickness: return "midrib_thickness";
-    case What::VeinOriginThickness: return "vein_origin_thickness";
-    case What::EdgeThickness: return "edge_thickness";
-    case What::PointThickness: return "point_thickness";
-    case What::Done: return "done";
-  }
-  return "?";
-}
+const char* toString(What w) { return nameIn(kWhatNames, w); }
 
 What whatFromString(const std::string& s) {
-  for (What w : {What::Board, What::Tip, What::Marker, What::MidribThickness, What::VeinOriginThickness,
-                 What::EdgeThickness, What::PointThickness})
-    if (s == toString(w)) return w;
+  // "done" names the end of the protocol, not an item.
+  if (const auto w = valueIn(kWhatNames, s); w && *w != What::Done) return *w;
   throw std::invalid_argument("unknown item '" + s +
                               "': use board, tip, marker, midrib_thickness, vein_origin_thickness, edge_thickness or "
                               "point_thickness");
@@ -148,6 +155,45 @@ Step Engine::step() const {
   }
   if (settings_.mode != Mode::Full && !find(What::EdgeThickness, 0, 0)) return {What::EdgeThickness, 0, 0};
   return {What::Done, 0, 0};
+}
+
+std::vector<PlannedStep> Engine::plan() const {
+  std::vector<PlannedStep> out;
+  const Step current = step();
+  const auto add = [&](const Step& s) {
+    PlannedStep p{s, PlannedStep::State::Pending};
+    if (s == current) p.state = PlannedStep::State::Current;
+    else if (find(s.what, s.row, s.col)) p.state = PlannedStep::State::Done;
+    out.push_back(p);
+  };
+  const auto addRow = [&](int row) {
+    for (int c = 1; c <= kMarkersPerRow; ++c) add({What::Marker, row, c});
+  };
+  // A row is complete for the plan when only a retaken point is missing from it.
+  const auto complete = [&](int row) {
+    const bool retaken = retake_ && retake_->what == What::Marker && retake_->row == row;
+    return markersInRow(row) + (retaken ? 1 : 0) == kMarkersPerRow;
+  };
+  if (settings_.boardFrame)
+    for (int c = 1; c <= 3; ++c) add({What::Board, 0, c});
+  add({What::Tip, 0, 0});
+  int lastRow = 0;
+  for (const Item& i : items_)
+    if (i.what == What::Marker) lastRow = std::max(lastRow, i.row);
+  if (retake_ && retake_->what == What::Marker) lastRow = std::max(lastRow, retake_->row);
+  const bool interleaved = settings_.order == Order::Interleaved;
+  for (int r = 1; r <= lastRow; ++r) {
+    addRow(r);
+    if (interleaved && complete(r))
+      for (const Step& s : thicknessSteps(r)) add(s);
+  }
+  if (!rowsEnded_ && (lastRow == 0 || complete(lastRow))) addRow(lastRow + 1);
+  if (rowsEnded_ && !interleaved)
+    for (int r = 1; r <= lastRow; ++r)
+      if (complete(r))
+        for (const Step& s : thicknessSteps(r)) add(s);
+  if (rowsEnded_ && settings_.mode != Mode::Full) add({What::EdgeThickness, 0, 0});
+  return out;
 }
 
 std::string Engine::prompt() const {

@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "item_json.hpp"
+#include "leafdig/acquisition/enum_names.hpp"
+#include "leafdig/model/markers_json.hpp"
 
 namespace leafdig::acquisition {
 namespace {
@@ -19,23 +21,35 @@ using Key = detail::Key;
 
 }  // namespace
 
-const char* toString(Feedback::Kind k) {
-  switch (k) {
-    case Feedback::Kind::Accepted: return "accepted";
-    case Feedback::Kind::Rejected: return "rejected";
-    case Feedback::Kind::Undone: return "undone";
-    case Feedback::Kind::RowsEnded: return "rows_ended";
-    case Feedback::Kind::RowsReopened: return "rows_reopened";
-    case Feedback::Kind::RetakeStarted: return "retake";
-    case Feedback::Kind::RetakeCancelled: return "retake_cancelled";
-    case Feedback::Kind::Paused: return "paused";
-    case Feedback::Kind::Resumed: return "resumed";
-    case Feedback::Kind::Complete: return "complete";
-    case Feedback::Kind::Abandoned: return "abandoned";
-    case Feedback::Kind::Device: return "device";
-  }
-  return "?";
-}
+namespace {
+
+// Feedback names are the JSON-lines contract's `event` values (README).
+constexpr NameTable<Feedback::Kind, 12> kFeedbackNames{{{Feedback::Kind::Accepted, "accepted"},
+                                                        {Feedback::Kind::Rejected, "rejected"},
+                                                        {Feedback::Kind::Undone, "undone"},
+                                                        {Feedback::Kind::RowsEnded, "rows_ended"},
+                                                        {Feedback::Kind::RowsReopened, "rows_reopened"},
+                                                        {Feedback::Kind::RetakeStarted, "retake"},
+                                                        {Feedback::Kind::RetakeCancelled, "retake_cancelled"},
+                                                        {Feedback::Kind::Paused, "paused"},
+                                                        {Feedback::Kind::Resumed, "resumed"},
+                                                        {Feedback::Kind::Complete, "complete"},
+                                                        {Feedback::Kind::Abandoned, "abandoned"},
+                                                        {Feedback::Kind::Device, "device"}}};
+
+// The stored event kind of each engine decision (docs/schema.md); the same word is the
+// feedback announced once it is stored.
+constexpr NameTable<Decision::Kind, 7> kDecisionEvents{{{Decision::Kind::Accepted, "accepted"},
+                                                        {Decision::Kind::Rejected, "rejected"},
+                                                        {Decision::Kind::Undone, "undone"},
+                                                        {Decision::Kind::RowsEnded, "rows_ended"},
+                                                        {Decision::Kind::RowsReopened, "rows_reopened"},
+                                                        {Decision::Kind::RetakeStarted, "retake"},
+                                                        {Decision::Kind::RetakeCancelled, "retake_cancelled"}}};
+
+}  // namespace
+
+const char* toString(Feedback::Kind k) { return nameIn(kFeedbackNames, k); }
 
 std::string thisStation() {
   char host[256] = {};
@@ -98,11 +112,12 @@ std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup)
   };
   device(setup.digitizer);
   device(setup.caliper);
-  const json settings{{"engine", json::parse(settingsToJson(setup.settings))},
+  json settings{{"engine", json::parse(settingsToJson(setup.settings))},
                       {"digitizer", setup.digitizer},
                       {"caliper", setup.caliper},
                       {"simulated", setup.simulated},
                       {"time_scale", setup.timeScale}};
+  if (setup.simulatedLeaf) settings["simulated_leaf"] = json::parse(model::markersToJson(*setup.simulatedLeaf));
   const std::string station = setup.station.empty() ? thisStation() : setup.station;
   return store.createSession(leaf, op, station, toString(setup.settings.mode), toString(setup.settings.order),
                              settings.dump());
@@ -118,22 +133,7 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
     try {
       Decision d;
       const json p = json::parse(e.payloadJson);
-      if (e.kind == "accepted") {
-        d.kind = Decision::Kind::Accepted;
-        d.item = itemFrom(p, e.raw);
-        map[keyOf(d.item)] = e.seq;
-      } else if (e.kind == "undone" || e.kind == "retake") {
-        d.kind = e.kind == "undone" ? Decision::Kind::Undone : Decision::Kind::RetakeStarted;
-        d.item = itemFrom(p, e.raw);
-        const auto at = map.find(keyOf(d.item));
-        if (at == map.end() || at->second != p.at("seq").get<std::int64_t>())
-          throw SessionError("it takes out an item that is not there");
-        map.erase(at);
-      } else if (e.kind == "retake_cancelled") {
-        d.kind = Decision::Kind::RetakeCancelled;
-        d.item = itemFrom(p, e.raw);
-        map[keyOf(d.item)] = e.seq;
-      } else if (e.kind == "corrected") {
+      if (e.kind == "corrected") {
         // A curator's correction: the item is taken out and its corrected value put in.
         Decision out;
         out.kind = Decision::Kind::RetakeStarted;
@@ -146,12 +146,28 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
         d.kind = Decision::Kind::Accepted;
         d.item = itemFrom(p.at("corrected"), e.raw);
         d.item.flag = "corrected: " + p.at("reason").get<std::string>();
-      } else if (e.kind == "rows_ended") {
-        d.kind = Decision::Kind::RowsEnded;
-      } else if (e.kind == "rows_reopened") {
-        d.kind = Decision::Kind::RowsReopened;
       } else {
-        continue;  // rejected, paused, resumed, device, status: no change to the markers
+        const auto kind = valueIn(kDecisionEvents, e.kind);
+        // Rejections, pauses, device and status events change no item.
+        if (!kind || *kind == Decision::Kind::Rejected) continue;
+        d.kind = *kind;
+        switch (d.kind) {
+          case Decision::Kind::Accepted:
+          case Decision::Kind::RetakeCancelled:
+            d.item = itemFrom(p, e.raw);
+            map[keyOf(d.item)] = e.seq;
+            break;
+          case Decision::Kind::Undone:
+          case Decision::Kind::RetakeStarted: {
+            d.item = itemFrom(p, e.raw);
+            const auto at = map.find(keyOf(d.item));
+            if (at == map.end() || at->second != p.at("seq").get<std::int64_t>())
+              throw SessionError("it takes out an item that is not there");
+            map.erase(at);
+            break;
+          }
+          default: break;  // rows ended or reopened
+        }
       }
       const std::size_t before = engine.items().size();
       engine.apply(d);
@@ -187,6 +203,8 @@ CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store
     setup_.caliper = j.value("caliper", std::string());
     setup_.simulated = j.value("simulated", false);
     setup_.timeScale = j.value("time_scale", 1.0);
+    if (j.contains("simulated_leaf"))
+      setup_.simulatedLeaf = model::parseMarkersJson(j.at("simulated_leaf").dump(), "session " + std::to_string(id));
   } catch (const std::exception& e) {
     throw SessionError("session " + std::to_string(id) + " has unreadable settings: " + e.what());
   }
@@ -239,46 +257,39 @@ std::vector<Feedback> CaptureSession::commit(const Decision& d, std::int64_t mon
   if (d.kind == Decision::Kind::Ignored) return out;
   db::EventInput ev;
   ev.monoNs = monoNs;
+  ev.kind = nameIn(kDecisionEvents, d.kind);
   Feedback f;
+  f.kind = *valueIn(kFeedbackNames, ev.kind);
   f.item = d.item;
   switch (d.kind) {
     case Decision::Kind::Rejected:
-      ev.kind = "rejected";
       ev.payloadJson = json{{"reason", d.reason},
                             {"step", {{"what", toString(engine_.step().what)},
                                       {"row", nullable(engine_.step().row)},
                                       {"col", nullable(engine_.step().col)}}}}
                            .dump();
       ev.raw = raw;
-      f.kind = Feedback::Kind::Rejected;
       f.text = d.reason;
       break;
     case Decision::Kind::Accepted:
     case Decision::Kind::RetakeCancelled:
-      ev.kind = d.kind == Decision::Kind::Accepted ? "accepted" : "retake_cancelled";
       ev.payloadJson = itemJson(d.item).dump();
       ev.raw = d.item.raw;
       ev.projection = projectionOf(d.item);
-      f.kind = d.kind == Decision::Kind::Accepted ? Feedback::Kind::Accepted : Feedback::Kind::RetakeCancelled;
       break;
     case Decision::Kind::Undone:
     case Decision::Kind::RetakeStarted: {
       const std::int64_t old = seqOf(d.item);
       json p = itemJson(d.item);
       p["seq"] = old;
-      ev.kind = d.kind == Decision::Kind::Undone ? "undone" : "retake";
       ev.payloadJson = p.dump();
       ev.retracts = old;
-      f.kind = d.kind == Decision::Kind::Undone ? Feedback::Kind::Undone : Feedback::Kind::RetakeStarted;
       f.undoneSeq = old;
       break;
     }
     case Decision::Kind::RowsEnded:
     case Decision::Kind::RowsReopened:
-      ev.kind = d.kind == Decision::Kind::RowsEnded ? "rows_ended" : "rows_reopened";
-      f.kind = d.kind == Decision::Kind::RowsEnded ? Feedback::Kind::RowsEnded : Feedback::Kind::RowsReopened;
-      break;
-    case Decision::Kind::Ignored: return out;
+    case Decision::Kind::Ignored: break;
   }
   const auto seq = append(ev, out);
   if (!seq) return out;
@@ -427,6 +438,7 @@ Snapshot CaptureSession::snapshot(bool withPreview) const {
   s.version = version_;
   s.step = engine_.step();
   s.prompt = paused_ ? "Paused: " + pauseReason_ : engine_.prompt();
+  s.plan = engine_.plan();
   s.items = engine_.items();
   s.completeRows = engine_.completeRows();
   s.rowsEnded = engine_.rowsEnded();

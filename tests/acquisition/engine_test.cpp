@@ -234,3 +234,63 @@ TEST(EngineMidrib, AFourthPointOffTheMidribIsRejectedWithTheDistance) {
 }
 
 }  // namespace
+
+namespace {
+
+// The plan as a front end shows it: one letter a step (D done, C current, P pending).
+std::string states(const std::vector<acq::PlannedStep>& plan, acq::What what, int row = -1) {
+  std::string s;
+  for (const auto& p : plan)
+    if (p.step.what == what && (row < 0 || p.step.row == row))
+      s += p.state == acq::PlannedStep::State::Done ? 'D' : p.state == acq::PlannedStep::State::Current ? 'C' : 'P';
+  return s;
+}
+
+TEST_F(EngineRow, ThePlanListsTheOpenRowThenTheThicknessStepsOnceTheRowsAreEnded) {
+  for (int c = 1; c <= 2; ++c) ASSERT_EQ(op.press(pt(2, c)).kind, Kind::Accepted);
+  auto plan = engine.plan();
+  EXPECT_EQ(states(plan, acq::What::Tip), "D");
+  EXPECT_EQ(states(plan, acq::What::Marker, 1), "DDDDDDD");
+  EXPECT_EQ(states(plan, acq::What::Marker, 2), "DDCPPPP");
+  EXPECT_EQ(states(plan, acq::What::Marker, 3), "");  // not asked for yet
+  EXPECT_EQ(states(plan, acq::What::MidribThickness), "");  // sequential: after the rows
+  // A retaken point is the current step; the rows after it stay listed.
+  engine.apply(engine.retake(acq::What::Marker, 1, 4));
+  plan = engine.plan();
+  EXPECT_EQ(states(plan, acq::What::Marker, 1), "DDDCDDD");
+  EXPECT_EQ(states(plan, acq::What::Marker, 2), "DDPPPPP");
+  ASSERT_EQ(op.press(pt(1, 4)).kind, Kind::Accepted);
+  for (int c = 3; c <= 7; ++c) ASSERT_EQ(op.press(pt(2, c)).kind, Kind::Accepted);
+  EXPECT_EQ(states(engine.plan(), acq::What::Marker, 3), "CPPPPPP");  // the open row
+  engine.apply(engine.endRows());
+  plan = engine.plan();
+  EXPECT_EQ(states(plan, acq::What::Marker, 3), "");
+  EXPECT_EQ(states(plan, acq::What::MidribThickness), "CP");
+  EXPECT_EQ(states(plan, acq::What::VeinOriginThickness), "PP");
+  EXPECT_EQ(states(plan, acq::What::EdgeThickness), "P");
+  ASSERT_EQ(plan.back().step.what, acq::What::EdgeThickness);
+  // Each step's place follows the order the engine asks for them.
+  for (std::size_t i = 0; i + 1 < plan.size(); ++i) {
+    if (plan[i + 1].state == acq::PlannedStep::State::Current) {
+      EXPECT_NE(plan[i].state, acq::PlannedStep::State::Pending);
+    }
+  }
+}
+
+TEST(EnginePlan, InterleavedOrderPutsARowsThicknessRightAfterIt) {
+  acq::Settings s;
+  s.order = acq::Order::Interleaved;
+  acq::Engine engine(s);
+  Operator op{engine};
+  ASSERT_EQ(op.press({0, 0, 0}).kind, Kind::Accepted);
+  for (int c = 1; c <= 7; ++c) ASSERT_EQ(op.press({40.0 - 12.0 * (c - 1), -30.0, 0}).kind, Kind::Accepted);
+  const auto plan = engine.plan();
+  std::string order;
+  for (const auto& p : plan) order += acq::toString(p.step.what) + std::string(p.step.what == acq::What::Marker ? std::to_string(p.step.row) : "") + " ";
+  EXPECT_EQ(order,
+            "tip marker1 marker1 marker1 marker1 marker1 marker1 marker1 midrib_thickness vein_origin_thickness marker2 "
+            "marker2 marker2 marker2 marker2 marker2 marker2 ");
+  EXPECT_EQ(states(plan, acq::What::MidribThickness), "C");
+}
+
+}  // namespace

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "leafdig/acquisition/capture_loop.hpp"
+#include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/simulation.hpp"
 #include "leafdig/model/markers_json.hpp"
 

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <csignal>
 #include <exception>
+#include <functional>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -15,10 +16,9 @@
 #include <sstream>
 #include <thread>
 
-#include "leafdig/acquisition/capture_loop.hpp"
+#include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
-#include "leafdig/acquisition/simulation.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -169,34 +169,50 @@ struct RunResult {
   acq::VirtualOperator::Stats stats;
 };
 
-// Runs one capture (new or resumed) to its end, a quit, or Ctrl-C.
-RunResult runSession(db::Store& store, std::int64_t id, const CaptureOptions& o, const m::MarkerSet* simLeaf,
-                     bool quiet = false) {
-  RunResult result;
-  acq::CaptureSession session(store, id);
-  const bool simulate = simLeaf != nullptr;
-  const double scale = simulate ? o.speed : 1.0;
-  std::unique_ptr<acq::SimulatedRig> rig;
-  std::unique_ptr<acq::VirtualOperator> op;
-  acq::SimulationOptions so;
-  if (simulate) {
-    so.speed = o.speed;
-    so.seed = o.seed;
-    so.digitizerFaults = o.faults;
-    so.caliperFaults = o.caliperFaults;
-    so.mistakes = !o.noMistakes;
-    rig = std::make_unique<acq::SimulatedRig>(so);
-    op = std::make_unique<acq::VirtualOperator>(*rig, *simLeaf, so);
+acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
+  acq::RunRequest r;
+  r.db = dbPath(o);
+  r.resume = resumeId.value_or(0);
+  acq::SessionSetup& s = r.setup;
+  s.project = o.project;
+  s.plant = o.plant;
+  s.leafPosition = o.leafPosition;
+  s.operatorName = o.operatorName;
+  s.settings.mode = acq::modeFromString(o.mode);
+  s.settings.order = acq::orderFromString(o.order);
+  s.settings.boardFrame = o.board;
+  s.simulated = o.simulate;
+  if (resumeId) {
+    r.digitizer = o.digitizer;
+    r.caliper = o.caliper;
+  } else {
+    s.digitizer = o.digitizer;
+    s.caliper = o.caliper;
   }
+  r.simulation.speed = o.speed.value_or(1.0);
+  r.speed = o.speed;
+  r.simulation.seed = o.seed;
+  r.simulation.digitizerFaults = o.faults;
+  r.simulation.caliperFaults = o.caliperFaults;
+  r.simulation.mistakes = !o.noMistakes;
+  r.leafFile = o.markers;
+  return r;
+}
+
+// Runs one capture (new or resumed) to its end, a quit, or Ctrl-C. `onStart` is called with
+// the session's id before anything is captured.
+RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bool quiet,
+                     const std::function<void(std::int64_t)>& onStart = {}) {
+  RunResult result;
   std::string lastPrompt;
-  acq::LoopListener listener;
-  listener.onFeedback = [&](const acq::Feedback& f) {
+  std::int64_t id = 0;
+  acq::RunObserver observer;
+  observer.onFeedback = [&](const acq::Feedback& f) {
     if (quiet) return;
     if (o.json) std::cout << feedbackJson(f, id).dump() << "\n" << std::flush;
     else printTerminal(f);
   };
-  listener.onSnapshot = [&](const acq::Snapshot& s) {
-    if (op) op->observe(s);
+  observer.onSnapshot = [&](const acq::Snapshot& s) {
     if (quiet || s.prompt == lastPrompt) return;
     lastPrompt = s.prompt;
     if (o.json) {
@@ -206,25 +222,23 @@ RunResult runSession(db::Store& store, std::int64_t id, const CaptureOptions& o,
       for (const auto& i : s.items) (acq::isStylusItem(i.what) ? points : readings)++;
       // Large and unmissable on a terminal: bold, reversed.
       const bool tty = ::isatty(1) != 0;
-      std::cout << "\n  " << (tty ? "\033[1;7m ▶ " : "▶ ") << s.prompt << (tty ? " \033[0m" : "") << "\n    [" << points << " points, " << readings << " readings, "
-                << s.completeRows << " complete rows"
+      std::cout << "\n  " << (tty ? "\033[1;7m ▶ " : "▶ ") << s.prompt << (tty ? " \033[0m" : "") << "\n    [" << points
+                << " points, " << readings << " readings, " << s.completeRows << " complete rows"
                 << (s.preview && s.preview->provisionalThickness ? "; preview with provisional thickness" : "") << "]\n"
                 << std::flush;
     }
   };
-  acq::CaptureLoop loop(session, listener, scale);
-  const std::string digitizer = simulate ? rig->digitizerSpec() : !o.digitizer.empty() ? o.digitizer : session.setup().digitizer;
-  const std::string caliper = simulate ? rig->caliperSpec() : !o.caliper.empty() ? o.caliper : session.setup().caliper;
-  acq::DeviceSet devices(digitizer, caliper, loop);
-  if (session.paused()) loop.command({acq::Command::Kind::Resume, acq::What::Marker, 0, 0, {}});
+  acq::CaptureRun run(request, observer);
+  id = run.sessionId();
+  if (onStart) onStart(id);
   if (!quiet && !o.json)
-    std::cout << "leafdig capture · session " << id << " · " << session.setup().project << " / " << session.setup().plant
-              << " / leaf " << session.setup().leafPosition << " · " << acq::toString(session.setup().settings.mode)
-              << " mode\n  digitizer " << digitizer << " · caliper " << caliper
+    std::cout << "leafdig capture · session " << id << " · " << run.setup().project << " / " << run.setup().plant
+              << " / leaf " << run.setup().leafPosition << " · " << acq::toString(run.setup().settings.mode)
+              << " mode\n  digitizer " << run.devices().spec(acq::DeviceSet::Role::Digitizer) << " · caliper "
+              << run.devices().spec(acq::DeviceSet::Role::Caliper)
               << "\n  keys (then Enter): u undo · e end rows · r WHAT ROW POINT retake · p pause · resume · "
                  "abandon [why] · q quit\n";
-  devices.start();
-  if (op) op->start();
+  run.start();
   // Commands on standard input (keys in a terminal, lines from a script).
   std::atomic<bool> done{false};
   std::thread input([&] {
@@ -241,7 +255,7 @@ RunResult runSession(db::Store& store, std::int64_t id, const CaptureOptions& o,
         line.erase(0, nl + 1);
         if (cmd.find_first_not_of(" \t\r") == std::string::npos) continue;
         try {
-          loop.command(acq::parseCommand(cmd));
+          run.command(acq::parseCommand(cmd));
         } catch (const std::invalid_argument& e) {
           std::cerr << "leafdig: " << e.what() << "\n";
         }
@@ -249,80 +263,34 @@ RunResult runSession(db::Store& store, std::int64_t id, const CaptureOptions& o,
     }
   });
   std::thread watcher([&] {
-    while (!done) {
-      if (interrupted) loop.stop();
+    while (!done && !run.finished()) {
+      if (interrupted) run.requestStop();
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });
-  result.last = loop.run();
+  run.wait();
   done = true;
-  if (op) op->stop();
-  devices.stop();
   input.join();
   watcher.join();
-  if (op) result.stats = op->stats();
-  if (!session.ended() && !session.paused()) {
-    (void)session.pause(interrupted ? "capture interrupted" : "capture stopped by the operator", loop.monoNs(acq::CaptureLoop::Clock::now()));
-    result.last = session.snapshot(false);
-  }
+  result.last = run.shutdown(interrupted ? "capture interrupted" : "capture stopped by the operator");
+  result.stats = run.operatorStats();
   result.exitCode = interrupted ? 130 : 0;
-  if (!quiet && !o.json && !session.ended())
+  if (!quiet && !o.json && !result.last.complete && result.last.status == "open")
     std::cout << "  session " << id << " kept at: " << result.last.prompt << "\n  continue with: leafdig sessions resume "
-              << id << " --db " << store.path() << "\n";
+              << id << " --db " << run.dbPath() << "\n";
   return result;
-}
-
-m::MarkerSet loadSimLeaf(const CaptureOptions& o) {
-  const std::string path = o.markers.empty() ? samplesDir("") + "/lower-leaf-n10.markers.json" : o.markers;
-  return m::readMarkersFile(path);
-}
-
-acq::SessionSetup setupFrom(const CaptureOptions& o) {
-  acq::SessionSetup s;
-  s.project = o.project;
-  s.plant = o.plant;
-  s.leafPosition = o.leafPosition;
-  s.operatorName = o.operatorName;
-  s.settings.mode = acq::modeFromString(o.mode);
-  s.settings.order = acq::orderFromString(o.order);
-  s.settings.boardFrame = o.board;
-  s.digitizer = o.digitizer;
-  s.caliper = o.caliper;
-  s.simulated = o.simulate;
-  s.timeScale = o.simulate ? o.speed : 1.0;
-  return s;
 }
 
 int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
   try {
-    if (!(o.speed > 0 && o.speed <= 50)) throw std::invalid_argument("--speed must be in (0, 50]");
     if (!o.simulate && !resumeId && (o.digitizer.empty() || o.caliper.empty()))
       throw std::invalid_argument(
           "capture needs --digitizer KIND:PORT and --caliper KIND:PORT (or --simulate): see 'leafdig devices list'");
-    std::optional<m::MarkerSet> leaf;
-    if (o.simulate) leaf = loadSimLeaf(o);
-    acq::SessionSetup setup = setupFrom(o);
-    if (o.simulate) {
-      setup.digitizer = "fastrak:simulated";
-      setup.caliper = "sylvac:simulated";
-    }
-    if (!resumeId) {  // check the device specs before anything is written
-      if (!o.simulate) {
-        (void)acq::parseDigitizerSpec(o.digitizer);
-        (void)acq::parseCaliperSpec(o.caliper);
-      }
-    }
-    db::Store store(dbPath(o));
-    std::int64_t id = 0;
-    if (resumeId) {
-      id = *resumeId;
-    } else {
-      id = acq::CaptureSession::create(store, setup);
-    }
-    if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
-    const RunResult r = runSession(store, id, o, leaf ? &*leaf : nullptr);
+    const RunResult r = runSession(requestFrom(o, resumeId), o, false, [&](std::int64_t id) {
+      if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
+    });
     return r.exitCode;
   } catch (...) {
     return reportFailure(std::current_exception());
@@ -471,7 +439,6 @@ int runDemo(const CaptureOptions& o) {
   c.db = o.db.empty() ? out + "/demo.sqlite" : o.db;
   c.simulate = true;
   c.project = "demo";
-  db::Store store(c.db);
   std::cout << "leafdig demo: a virtual technician captures " << leaves.size()
             << " leaves with a simulated FASTRAK and Sylvac caliper over pseudo-terminals\n  database " << c.db
             << "\n";
@@ -484,18 +451,19 @@ int runDemo(const CaptureOptions& o) {
     c.plant = "plant-1";
     c.leafPosition = ++position;
     c.seed = o.seed + static_cast<std::uint64_t>(position);
-    acq::SessionSetup setup = setupFrom(c);
-    setup.digitizer = "fastrak:simulated";
-    setup.caliper = "sylvac:simulated";
-    const std::int64_t id = acq::CaptureSession::create(store, setup);
-    std::cout << "\n  session " << id << ": " << name << " (" << leaf.rows.size() << " rows) ... " << std::flush;
+    c.markers = path;
+    std::int64_t id = 0;
     const auto t0 = std::chrono::steady_clock::now();
-    const RunResult r = runSession(store, id, c, &leaf, /*quiet=*/true);
+    const RunResult r = runSession(requestFrom(c, std::nullopt), c, /*quiet=*/true, [&](std::int64_t session) {
+      id = session;
+      std::cout << "\n  session " << id << ": " << name << " (" << leaf.rows.size() << " rows) ... " << std::flush;
+    });
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!r.last.complete) {
       std::cout << "not complete (" << r.last.prompt << ")\n";
       return interrupted ? 130 : 1;
     }
+    db::Store store(c.db);
     int rejected = 0;
     for (const auto& e : store.events(id)) rejected += e.kind == "rejected";
     std::cout << "complete in " << std::fixed << std::setprecision(1) << secs << " s; " << r.last.items.size()

@@ -21,7 +21,7 @@ struct CaptureOptions {
   bool simulate = false, noMistakes = false;
   std::string markers, faults, caliperFaults;
   std::uint64_t seed = 1;
-  double speed = 1.0;
+  std::optional<double> speed;  // not given: 1 for a new capture, a resumed one's own, 8 for the demo
   // sessions
   std::int64_t id = 0;
   bool all = false;

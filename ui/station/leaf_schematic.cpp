@@ -42,7 +42,7 @@ QPointF LeafSchematic::targetPosition() const {
     case acq::What::MidribThickness:
     case acq::What::VeinOriginThickness:
     case acq::What::PointThickness: return at(step.row, step.col > 0 ? step.col : 4);
-    case acq::What::EdgeThickness: return at(std::max(1, rows_ / 2), 7);
+    case acq::What::EdgeThickness: return at(std::max(1, rows_ / 2), acq::kMarkersPerRow);
     default: return {};
   }
 }
@@ -55,7 +55,7 @@ void LeafSchematic::paintEvent(QPaintEvent*) {
   // Outline.
   QPainterPath outline;
   outline.moveTo(at(0, 4));
-  for (int r = 1; r <= rows_; ++r) outline.lineTo(at(r, 7));
+  for (int r = 1; r <= rows_; ++r) outline.lineTo(at(r, acq::kMarkersPerRow));
   outline.lineTo(QPointF(width() / 2.0, height() - 30.0));
   for (int r = rows_; r >= 1; --r) outline.lineTo(at(r, 1));
   outline.closeSubpath();
@@ -82,7 +82,7 @@ void LeafSchematic::paintEvent(QPaintEvent*) {
   };
   dot(at(0, 4), done(acq::What::Tip, 0, 0));
   for (int r = 1; r <= rows_; ++r)
-    for (int c = 1; c <= 7; ++c) dot(at(r, c), done(acq::What::Marker, r, c));
+    for (int c = 1; c <= acq::kMarkersPerRow; ++c) dot(at(r, c), done(acq::What::Marker, r, c));
   // The target.
   target_ = targetPosition();
   QString label;

@@ -8,7 +8,7 @@
 #include <QVBoxLayout>
 #include <set>
 
-#include "leafdig/acquisition/simulation.hpp"
+#include "leafdig/acquisition/device_set.hpp"
 
 namespace leafdig::station {
 namespace acq = leafdig::acquisition;

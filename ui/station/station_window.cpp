@@ -39,11 +39,6 @@ QString stateColour(devices::LinkState s) {
   return "background:#eceff1; color:#37474f; border:2px solid #90a4ae;";
 }
 
-std::string defaultMarkers() {
-  const std::string dir = samplesDir();
-  return (dir.empty() ? std::string(kSourceDataDir) + "/samples" : dir) + "/lower-leaf-n10.markers.json";
-}
-
 }  // namespace
 
 StationWindow::StationWindow(StationOptions options, QWidget* parent)
@@ -186,12 +181,12 @@ bool StationWindow::eventFilter(QObject* watched, QEvent* event) {
   // The Accept key (a foot pedal) held down is the stylus button: press → button down,
   // release → up, and the engine decides on release as it does for the stylus.
   // Only keys meant for this window count (not a dialog's Enter): their widget is in it.
-  if ((event->type() == QEvent::KeyPress || event->type() == QEvent::KeyRelease) && loop_ &&
+  if ((event->type() == QEvent::KeyPress || event->type() == QEvent::KeyRelease) && run_ &&
       tabs_->currentIndex() == 0 && watched->isWidgetType() && static_cast<QWidget*>(watched)->window() == this) {
     auto* k = static_cast<QKeyEvent*>(event);
     const QKeySequence accept = settings_.shortcuts[Action::Accept];
     if (!k->isAutoRepeat() && !accept.isEmpty() && QKeySequence(k->keyCombination()) == accept) {
-      loop_->setPedal(event->type() == QEvent::KeyPress);
+      run_->setPedal(event->type() == QEvent::KeyPress);
       return true;
     }
   }
@@ -227,7 +222,7 @@ void StationWindow::runAction(Action a) {
 }
 
 void StationWindow::command(acq::Command c) {
-  if (loop_) loop_->command(c);
+  if (run_) run_->command(c);
 }
 
 QToolButton* StationWindow::chip(Role role) {
@@ -250,16 +245,17 @@ QToolButton* StationWindow::chip(Role role) {
 QString StationWindow::chipText(Role role) const { return chips_.at(role)->text(); }
 
 void StationWindow::toggleDevice(Role role) {
-  if (!devices_) return;
-  if (devices_->connected(role)) devices_->disconnect(role);
-  else devices_->connect(role);
+  if (!run_) return;
+  acq::DeviceSet& devices = run_->devices();
+  if (devices.connected(role)) devices.disconnect(role);
+  else devices.connect(role);
   refreshDevices();
 }
 
 void StationWindow::refreshDevices() {
-  if (!devices_) return;
+  if (!run_) return;
   for (const Role role : {Role::Digitizer, Role::Caliper}) {
-    const devices::DeviceStatus s = devices_->status(role);
+    const devices::DeviceStatus s = run_->devices().status(role);
     QString text = QString::fromStdString(s.device.empty() ? (role == Role::Digitizer ? "Digitizer" : "Caliper") : s.device);
     text += " · " + QString::fromLatin1(devices::toString(s.state));
     if (s.state == devices::LinkState::Streaming || s.state == devices::LinkState::Warning) {
@@ -274,7 +270,7 @@ void StationWindow::refreshDevices() {
                   QString("\nreconnects: %1").arg(s.reconnects));
     b->setStyleSheet("QToolButton { padding:6px 10px; border-radius:6px; " + stateColour(s.state) + "}");
     const auto was = lastState_.find(role);
-    if ((s.state == devices::LinkState::Error || (s.state == devices::LinkState::Disconnected && devices_->connected(role))) &&
+    if ((s.state == devices::LinkState::Error || (s.state == devices::LinkState::Disconnected && run_->devices().connected(role))) &&
         (was == lastState_.end() || was->second != s.state))
       sounds_->play(Cue::DeviceError);
     lastState_[role] = s.state;
@@ -282,8 +278,8 @@ void StationWindow::refreshDevices() {
 }
 
 void StationWindow::refreshCursor() {
-  if (!loop_ || tabs_->currentIndex() != 0) return;
-  const auto s = loop_->latestStylus();
+  if (!run_ || tabs_->currentIndex() != 0) return;
+  const auto s = run_->latestStylus();
   if (s) preview_->setStylusCursor(acq::Vec3{s->positionMm[0], s->positionMm[1], s->positionMm[2]});
 }
 
@@ -349,81 +345,52 @@ bool StationWindow::newSessionDialog() {
 
 bool StationWindow::start() {
   stopCapture();
-  operator_.reset();
-  devices_.reset();
-  loop_.reset();
-  session_.reset();
-  rig_.reset();
+  run_.reset();
   last_.reset();
   lastState_.clear();
   try {
-    if (!store_ || store_->path() != dbPath()) store_ = std::make_unique<db::Store>(dbPath());
-    acq::SessionSetup setup = options_.setup;
+    acq::RunRequest r;
+    r.db = dbPath();
+    r.resume = options_.resume;
+    r.setup = options_.setup;
     if (options_.resume == 0) {
       acq::Settings e = settings_.engine;  // tolerances and stillness from the station's settings
-      e.mode = setup.settings.mode;
-      e.order = setup.settings.order;
-      e.boardFrame = setup.settings.boardFrame;
-      setup.settings = e;
+      e.mode = r.setup.settings.mode;
+      e.order = r.setup.settings.order;
+      e.boardFrame = r.setup.settings.boardFrame;
+      r.setup.settings = e;
     }
-    setup.simulated = options_.simulate;
-    setup.timeScale = options_.simulate ? options_.speed : 1.0;
-    if (options_.simulate) {
-      setup.digitizer = "fastrak:simulated";
-      setup.caliper = "sylvac:simulated";
-    }
-    sessionId_ = options_.resume > 0 ? options_.resume : acq::CaptureSession::create(*store_, setup);
-    session_ = std::make_unique<acq::CaptureSession>(*store_, sessionId_);
-    const bool simulated = session_->setup().simulated;
-    const double speed = simulated ? (options_.resume > 0 ? session_->setup().timeScale : options_.speed) : 1.0;
-    acq::LoopListener listener;
+    r.setup.simulated = options_.simulate;
+    r.simulation.speed = options_.speed;
+    r.simulation.seed = options_.seed;
+    r.leafFile = options_.markers;
+    acq::RunObserver observer;
     // Called on the capture thread: hand over to the UI thread.
-    listener.onFeedback = [this](const acq::Feedback& f) {
+    observer.onFeedback = [this](const acq::Feedback& f) {
       QMetaObject::invokeMethod(this, [this, f] { applyFeedback(f); }, Qt::QueuedConnection);
     };
-    listener.onSnapshot = [this](const acq::Snapshot& s) {
-      if (operator_) operator_->observe(s);
+    observer.onSnapshot = [this](const acq::Snapshot& s) {
       QMetaObject::invokeMethod(this, [this, s] { applySnapshot(s); }, Qt::QueuedConnection);
     };
-    loop_ = std::make_unique<acq::CaptureLoop>(*session_, listener, speed);
-    std::string digitizer = session_->setup().digitizer, caliper = session_->setup().caliper;
-    if (simulated) {
-      acq::SimulationOptions so;
-      so.speed = speed;
-      so.seed = options_.seed;
-      rig_ = std::make_unique<acq::SimulatedRig>(so);
-      const std::string markers = options_.markers.empty() ? defaultMarkers() : options_.markers;
-      operator_ = std::make_unique<acq::VirtualOperator>(*rig_, model::readMarkersFile(markers), so);
-      digitizer = rig_->digitizerSpec();
-      caliper = rig_->caliperSpec();
-    }
-    devices_ = std::make_unique<acq::DeviceSet>(digitizer, caliper, *loop_);
-    if (session_->paused()) {
-      acq::Command c;
-      c.kind = acq::Command::Kind::Resume;
-      loop_->command(c);
-    }
-    devices_->start();
-    if (operator_) operator_->start();
-    captureThread_ = std::thread([this] { (void)loop_->run(); });
+    run_ = std::make_unique<acq::CaptureRun>(r, observer);
+    sessionId_ = run_->sessionId();
+    run_->start();
     statusBar()->showMessage(QStringLiteral("session %1 · %2 · %3")
                                  .arg(sessionId_)
-                                 .arg(QString::fromStdString(store_->path()))
-                                 .arg(simulated ? tr("simulated devices") : tr("devices")));
-    review_->setDatabase(store_->path());
+                                 .arg(QString::fromStdString(run_->dbPath()))
+                                 .arg(run_->simulated() ? tr("simulated devices") : tr("devices")));
+    review_->setDatabase(run_->dbPath());
     tabs_->setCurrentIndex(0);
     return true;
   } catch (const std::exception& e) {
+    run_.reset();
     banner_->setText(tr("Cannot start: %1").arg(QString::fromStdString(e.what())));
     return false;
   }
 }
 
 void StationWindow::stopCapture() {
-  if (operator_) operator_->stop();
-  if (loop_) loop_->stop();
-  if (captureThread_.joinable()) captureThread_.join();
-  if (devices_) devices_->stop();
+  if (run_) (void)run_->shutdown("capture stopped at the station");
 }
 
 void StationWindow::applyFeedback(const acq::Feedback& f) {
@@ -440,7 +407,7 @@ void StationWindow::applyFeedback(const acq::Feedback& f) {
       } else {
         lastPoint_->setText(tr("last reading  %1").arg(settings_.length(f.item.valueMm, 3)));
       }
-      const bool rowDone = f.item.what == acq::What::Marker && f.item.col == 7;
+      const bool rowDone = f.item.what == acq::What::Marker && f.item.col == acq::kMarkersPerRow;
       sounds_->play(rowDone ? Cue::StepDone : Cue::Accept);
       break;
     }
@@ -476,44 +443,54 @@ void StationWindow::applyFeedback(const acq::Feedback& f) {
 
 void StationWindow::fillSteps(const acq::Snapshot& s) {
   steps_->clear();
-  const auto count = [&](acq::What w, int row) {
-    int n = 0;
-    for (const auto& i : s.items) n += i.what == w && (row < 0 || i.row == row);
-    return n;
+  // One line per group of the engine's plan: the board, the tip, a row's points, a row's
+  // thickness readings, the margin reading.
+  using State = acq::PlannedStep::State;
+  struct Group {
+    acq::What what;
+    int row = 0, done = 0, total = 0;
+    bool current = false;
   };
-  const auto add = [&](const QString& text, bool done, bool current) {
-    auto* item = new QListWidgetItem((done ? "✓ " : current ? "▶ " : "· ") + text, steps_);
-    if (current) {
+  std::vector<Group> groups;
+  const auto groupOf = [](acq::What w) {
+    const bool thickness = w == acq::What::MidribThickness || w == acq::What::VeinOriginThickness || w == acq::What::PointThickness;
+    return thickness ? acq::What::MidribThickness : w;
+  };
+  for (const acq::PlannedStep& p : s.plan) {
+    const acq::What g = groupOf(p.step.what);
+    if (groups.empty() || groups.back().what != g || groups.back().row != p.step.row) groups.push_back({g, p.step.row});
+    Group& group = groups.back();
+    ++group.total;
+    group.done += p.state == State::Done;
+    group.current = group.current || p.state == State::Current;
+  }
+  int doneSteps = 0, totalSteps = 0;
+  for (const Group& g : groups) {
+    QString text;
+    switch (g.what) {
+      case acq::What::Board: text = tr("Board frame · %1 of %2 points").arg(g.done).arg(g.total); break;
+      case acq::What::Tip: text = tr("Tip"); break;
+      case acq::What::Marker: text = tr("Row %1 · %2 of %3 points").arg(g.row).arg(g.done).arg(g.total); break;
+      case acq::What::EdgeThickness: text = tr("Margin thickness (d)"); break;
+      default: text = tr("Row %1 · back side thickness (%2 of %3)").arg(g.row).arg(g.done).arg(g.total); break;
+    }
+    const bool done = g.done == g.total;
+    auto* item = new QListWidgetItem((done ? "✓ " : g.current ? "▶ " : "· ") + text, steps_);
+    if (g.current) {
       QFont f = item->font();
       f.setBold(true);
       item->setFont(f);
       item->setBackground(QColor("#fff59d"));
       item->setForeground(QColor("#000000"));
+      steps_->scrollToItem(item);
     } else if (done) {
       item->setForeground(QColor("#2e7d32"));
     }
-  };
-  add(tr("Tip"), count(acq::What::Tip, -1) > 0, s.step.what == acq::What::Tip);
-  const int rows = std::max(s.completeRows + (s.rowsEnded ? 0 : 1), 1);
-  for (int r = 1; r <= rows; ++r) {
-    const int n = count(acq::What::Marker, r);
-    add(tr("Row %1 · %2 of 7 points").arg(r).arg(n), n == 7, s.step.what == acq::What::Marker && s.step.row == r);
+    item->setToolTip(text);
+    doneSteps += g.done;
+    totalSteps += g.total;
   }
-  if (s.rowsEnded || s.complete) {
-    for (int r = 1; r <= s.completeRows; ++r) {
-      const int n = count(acq::What::MidribThickness, r) + count(acq::What::VeinOriginThickness, r) +
-                    count(acq::What::PointThickness, r);
-      const bool current = s.step.row == r && s.step.what != acq::What::Marker;
-      add(tr("Row %1 · back side thickness (%2 taken)").arg(r).arg(n), !current && n > 0, current);
-    }
-    add(tr("Margin thickness (d)"), count(acq::What::EdgeThickness, -1) > 0, s.step.what == acq::What::EdgeThickness);
-  }
-  int doneSteps = 0;
-  for (int i = 0; i < steps_->count(); ++i) {
-    if (steps_->item(i)->text().startsWith("▶")) steps_->scrollToItem(steps_->item(i));
-    doneSteps += steps_->item(i)->text().startsWith("✓");
-  }
-  statusBar()->showMessage(tr("session %1 · %2 of %3 steps · %4 items").arg(s.session).arg(doneSteps).arg(steps_->count()).arg(s.items.size()));
+  statusBar()->showMessage(tr("session %1 · %2 of %3 steps · %4 items").arg(s.session).arg(doneSteps).arg(totalSteps).arg(s.items.size()));
 }
 
 void StationWindow::applySnapshot(const acq::Snapshot& s) {

@@ -19,8 +19,7 @@
 #include <thread>
 
 #include "leaf_schematic.hpp"
-#include "leafdig/acquisition/capture_loop.hpp"
-#include "leafdig/acquisition/simulation.hpp"
+#include "leafdig/acquisition/capture_run.hpp"
 #include "preview_widget.hpp"
 #include "settings.hpp"
 #include "sounds.hpp"
@@ -49,6 +48,7 @@ class StationWindow : public QMainWindow {
   // Opens the store and the session, starts the devices and the capture thread. Returns
   // false (and shows why in the banner) when the store or the devices cannot be opened.
   bool start();
+  // Ends the capture; an unfinished session is paused with the reason (resumable).
   void stopCapture();
   // Shows the set-up dialog; starts a new session with what was chosen. False: cancelled.
   bool newSessionDialog();
@@ -69,8 +69,8 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] Sounds& sounds() { return *sounds_; }
   [[nodiscard]] const StationSettings& settings() const { return settings_; }
   [[nodiscard]] StationOptions& options() { return options_; }
-  [[nodiscard]] acquisition::DeviceSet* devices() const { return devices_.get(); }
-  [[nodiscard]] acquisition::CaptureLoop* loop() const { return loop_.get(); }
+  [[nodiscard]] acquisition::DeviceSet* devices() const { return run_ ? &run_->devices() : nullptr; }
+  [[nodiscard]] acquisition::CaptureRun* run() const { return run_.get(); }
   void applySettings(const StationSettings& s);
 
   // What the UI does with the loop's output (public for the widget tests).
@@ -112,13 +112,7 @@ class StationWindow : public QMainWindow {
   std::vector<QObject*> shortcutObjects_;
   std::optional<acquisition::Item> retakeTarget_;
 
-  std::unique_ptr<db::Store> store_;
-  std::unique_ptr<acquisition::CaptureSession> session_;
-  std::unique_ptr<acquisition::CaptureLoop> loop_;
-  std::unique_ptr<acquisition::SimulatedRig> rig_;
-  std::unique_ptr<acquisition::VirtualOperator> operator_;
-  std::unique_ptr<acquisition::DeviceSet> devices_;
-  std::thread captureThread_;
+  std::unique_ptr<acquisition::CaptureRun> run_;
   std::int64_t sessionId_ = 0;
   std::optional<acquisition::Snapshot> last_;
   std::map<acquisition::DeviceSet::Role, devices::LinkState> lastState_;

@@ -418,12 +418,12 @@ TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
   }
   // The Accept key held down is the stylus button (a foot pedal types it): press → down.
   QTest::keyPress(&w, Qt::Key_Return);
-  EXPECT_TRUE(w.loop()->pedal());
+  EXPECT_TRUE(w.run()->pedal());
   QTest::keyRelease(&w, Qt::Key_Return);
-  EXPECT_FALSE(w.loop()->pedal());
+  EXPECT_FALSE(w.run()->pedal());
   QWidget dialog;  // a dialog's Enter is not the pedal
   QTest::keyPress(&dialog, Qt::Key_Return);
-  EXPECT_FALSE(w.loop()->pedal());
+  EXPECT_FALSE(w.run()->pedal());
   QTest::keyRelease(&dialog, Qt::Key_Return);
   // The session is open on this station: a restart offers to resume it.
   w.stopCapture();

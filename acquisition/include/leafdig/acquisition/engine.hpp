@@ -17,6 +17,10 @@ namespace leafdig::acquisition {
 
 using Vec3 = std::array<double, 3>;
 
+// SPEC §1: seven markers a row, from the right margin (1) over the midrib (4) to the left
+// margin (7). Equal to model::kMarkersPerRow (checked in engine.cpp).
+inline constexpr int kMarkersPerRow = 7;
+
 enum class Mode { Standard, Full, Small };
 enum class Order { Sequential, Interleaved };
 [[nodiscard]] const char* toString(Mode m);
@@ -51,6 +55,13 @@ struct Step {
   What what = What::Tip;
   int row = 0, col = 0;  // 1-based as in SPEC §1; 0 where it does not apply
   friend bool operator==(const Step&, const Step&) = default;
+};
+
+// One step of the protocol as a front end lists it: captured, the current one, or to come.
+struct PlannedStep {
+  enum class State { Done, Current, Pending };
+  Step step;
+  State state = State::Pending;
 };
 
 struct Item {
@@ -109,6 +120,11 @@ class Engine {
 
   [[nodiscard]] Step step() const;
   [[nodiscard]] std::string prompt() const;
+  // The protocol's steps in the order they are asked for, as far as they are known: the
+  // board and the tip, every row begun plus the open row (while rows are still being
+  // taken), the thickness steps of the complete rows (sequential order: once the rows are
+  // ended), the margin reading (once the rows are ended). A step being retaken is Current.
+  [[nodiscard]] std::vector<PlannedStep> plan() const;
   [[nodiscard]] const std::vector<Item>& items() const { return items_; }
   [[nodiscard]] int completeRows() const;
   [[nodiscard]] bool rowsEnded() const { return rowsEnded_; }

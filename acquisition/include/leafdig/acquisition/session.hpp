@@ -37,6 +37,9 @@ struct SessionSetup {
   std::string digitizer, caliper;  // "fastrak:/dev/ttyUSB0", "sylvac:/dev/ttyUSB1", "hid:0fe7:4001"
   bool simulated = false;
   double timeScale = 1.0;        // simulated captures may run faster than real time
+  // Simulated sessions: the leaf the virtual technician digitizes, kept with the session so
+  // that a resumed simulation goes on with the same leaf.
+  std::optional<model::MarkerSet> simulatedLeaf;
 };
 
 // What a front end announces (after it was committed; seq is the event's number).
@@ -58,6 +61,7 @@ struct Snapshot {
   std::uint64_t version = 0;   // grows with every committed change
   Step step;
   std::string prompt;
+  std::vector<PlannedStep> plan;  // Engine::plan()
   std::vector<Item> items;
   int completeRows = 0;
   bool rowsEnded = false, complete = false, retaking = false, paused = false;

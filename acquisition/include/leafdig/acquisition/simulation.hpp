@@ -1,4 +1,4 @@
-// Device wiring for a capture, and the simulated station: emulators on pseudo-terminals
+// The simulated station: emulators on pseudo-terminals
 // driven by an operator hand and a caliper, plus a virtual operator that reads the
 // station's prompts and captures a known leaf the way a technician does, mistakes included
 // (a double press, a point out of order, a wrong point undone with the stylus, a caliper
@@ -15,45 +15,10 @@
 #include <thread>
 
 #include "leafdig/acquisition/capture_loop.hpp"
-#include "leafdig/devices/links.hpp"
 #include "leafdig/devices/sim.hpp"
 #include "leafdig/model/markers.hpp"
 
 namespace leafdig::acquisition {
-
-// "fastrak:/dev/ttyUSB0" (also patriot, liberty, microscribe). Throws std::invalid_argument
-// naming the accepted form.
-[[nodiscard]] devices::DigitizerConfig parseDigitizerSpec(const std::string& spec);
-// "sylvac:/dev/ttyUSB1", "mitutoyo:PORT", "uwave:PORT", "hid:0fe7:4001", "hid:/dev/hidraw3",
-// "usbitn" or "usbitn:VID:PID".
-[[nodiscard]] devices::CaliperConfig parseCaliperSpec(const std::string& spec);
-
-// The two drivers of a capture, delivering into a loop.
-// Thread contract: construct, start, stop, connect and disconnect from one owner thread;
-// statuses() from any thread.
-class DeviceSet {
- public:
-  enum class Role { Digitizer, Caliper };
-  DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop);
-  ~DeviceSet();
-  void start();
-  void stop();
-  // The operator takes a device off line (to swap a cable, lend the caliper) and back: the
-  // capture records both as device events and keeps its step.
-  void disconnect(Role role);
-  void connect(Role role);
-  [[nodiscard]] bool connected(Role role) const;
-  // Each driver's status now: state, rate, last-sample age, message and remedy.
-  [[nodiscard]] devices::DeviceStatus status(Role role) const;
-  [[nodiscard]] const std::string& spec(Role role) const;
-
- private:
-  [[nodiscard]] devices::Driver& driver(Role role) const;
-  CaptureLoop& loop_;
-  std::string digitizerSpec_, caliperSpec_;
-  std::unique_ptr<devices::Driver> digitizer_, caliper_;
-  std::atomic<bool> digitizerOn_{false}, caliperOn_{false};
-};
 
 struct SimulationOptions {
   double speed = 1.0;          // time scale of the operator and the devices

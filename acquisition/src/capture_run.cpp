@@ -1,0 +1,136 @@
+#include "leafdig/acquisition/capture_run.hpp"
+
+#include <stdexcept>
+
+#include "leafdig/model/markers_json.hpp"
+#include "leafdig/version.hpp"
+
+namespace leafdig::acquisition {
+namespace {
+
+std::string defaultLeafFile() {
+  const std::string dir = samplesDir();
+  return (dir.empty() ? std::string(kSourceDataDir) + "/samples" : dir) + "/lower-leaf-n10.markers.json";
+}
+
+void checkSpeed(double speed) {
+  if (!(speed > 0 && speed <= 50)) throw std::invalid_argument("the simulation speed must be in (0, 50]");
+}
+
+}  // namespace
+
+CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std::move(observer)) {
+  SessionSetup setup = request.setup;
+  if (request.resume == 0) {
+    // Everything the operator typed is checked before the store is touched.
+    if (setup.simulated) {
+      checkSpeed(request.simulation.speed);
+      setup.simulatedLeaf = model::readMarkersFile(request.leafFile.empty() ? defaultLeafFile() : request.leafFile);
+      setup.digitizer = "fastrak:simulated";
+      setup.caliper = "sylvac:simulated";
+      setup.timeScale = request.simulation.speed;
+    } else {
+      if (setup.digitizer.empty() || setup.caliper.empty())
+        throw std::invalid_argument(
+            "a capture needs a digitizer and a caliper (KIND:PORT each), or the simulated devices: see 'leafdig devices "
+            "list'");
+      (void)parseDigitizerSpec(setup.digitizer);
+      (void)parseCaliperSpec(setup.caliper);
+      setup.timeScale = 1.0;
+    }
+  }
+  if (request.speed) checkSpeed(*request.speed);
+  store_ = std::make_unique<db::Store>(request.db.empty() ? db::Store::defaultPath() : request.db);
+  id_ = request.resume > 0 ? request.resume : CaptureSession::create(*store_, setup);
+  session_ = std::make_unique<CaptureSession>(*store_, id_);
+  setup_ = session_->setup();
+
+  const std::string name = "session " + std::to_string(id_);
+  if (request.resume > 0 && request.setup.simulated && !setup_.simulated)
+    throw std::invalid_argument(name + " was captured with real devices (" + setup_.digitizer + ", " + setup_.caliper +
+                                "): resume it with them, without simulation");
+  timeScale_ = setup_.simulated ? request.speed.value_or(setup_.timeScale) : 1.0;
+
+  LoopListener listener;
+  listener.onFeedback = [this](const Feedback& f) {
+    if (observer_.onFeedback) observer_.onFeedback(f);
+  };
+  listener.onSnapshot = [this](const Snapshot& s) {
+    if (operator_) operator_->observe(s);
+    if (observer_.onSnapshot) observer_.onSnapshot(s);
+  };
+  previews_ = request.previews;
+  loop_ = std::make_unique<CaptureLoop>(*session_, listener, timeScale_, previews_);
+
+  std::string digitizer = request.digitizer.empty() ? setup_.digitizer : request.digitizer;
+  std::string caliper = request.caliper.empty() ? setup_.caliper : request.caliper;
+  if (setup_.simulated) {
+    prepareSimulation(request);
+    digitizer = rig_->digitizerSpec();
+    caliper = rig_->caliperSpec();
+  }
+  devices_ = std::make_unique<DeviceSet>(digitizer, caliper, *loop_);
+}
+
+void CaptureRun::prepareSimulation(const RunRequest& request) {
+  model::MarkerSet leaf;
+  if (setup_.simulatedLeaf) {
+    leaf = *setup_.simulatedLeaf;
+    if (!request.leafFile.empty() &&
+        model::markersToJson(model::readMarkersFile(request.leafFile)) != model::markersToJson(leaf))
+      throw std::invalid_argument("session " + std::to_string(id_) + " was simulating another leaf than " +
+                                  request.leafFile + " (the session keeps its leaf): leave the leaf file out to go on");
+  } else {
+    // A session from before simulated leaves were recorded: the given leaf, or the sample.
+    leaf = model::readMarkersFile(request.leafFile.empty() ? defaultLeafFile() : request.leafFile);
+  }
+  SimulationOptions so = request.simulation;
+  so.speed = timeScale_;
+  rig_ = std::make_unique<SimulatedRig>(so);
+  operator_ = std::make_unique<VirtualOperator>(*rig_, std::move(leaf), so);
+}
+
+CaptureRun::~CaptureRun() { (void)shutdown("capture stopped"); }
+
+void CaptureRun::start() {
+  if (started_) return;
+  started_ = true;
+  if (session_->paused()) {
+    Command c;
+    c.kind = Command::Kind::Resume;
+    loop_->command(c);
+  }
+  devices_->start();
+  if (operator_) operator_->start();
+  thread_ = std::thread([this] {
+    last_ = loop_->run();
+    finished_ = true;
+  });
+}
+
+void CaptureRun::wait() {
+  if (thread_.joinable()) thread_.join();
+}
+
+Snapshot CaptureRun::shutdown(const std::string& why) {
+  if (shutDown_) return last_ ? *last_ : session_->snapshot(false);
+  shutDown_ = true;
+  loop_->stop();
+  wait();
+  if (operator_) operator_->stop();
+  devices_->stop();
+  // Every way out of a started capture that did not end it leaves the same trace: a pause
+  // with its reason, so the session's log says why it stopped and a resume continues it.
+  if (started_ && !session_->ended() && !session_->paused()) {
+    const auto feedback = session_->pause(why, loop_->monoNs(CaptureLoop::Clock::now()));
+    for (const Feedback& f : feedback)
+      if (observer_.onFeedback) observer_.onFeedback(f);
+    if (!feedback.empty() && observer_.onSnapshot) observer_.onSnapshot(session_->snapshot(previews_));
+  }
+  last_ = session_->snapshot(false);
+  return *last_;
+}
+
+VirtualOperator::Stats CaptureRun::operatorStats() const { return operator_ ? operator_->stats() : VirtualOperator::Stats{}; }
+
+}  // namespace leafdig::acquisition
