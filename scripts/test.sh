@@ -26,10 +26,27 @@ if [ "${LEAFDIG_SKIP_FUZZ:-0}" != "1" ]; then
   "$root/scripts/fuzz.sh" "${LEAFDIG_FUZZ_SECONDS:-15}"
 fi
 # The benchmarks must still run (a quick smoke pass; numbers live in docs/benchmarks.md).
-build/ci/tests/leafdig_bench --benchmark_min_time=0.01 --benchmark_filter='Rebuild(Preview|Paper)/1' >/dev/null
-build/ci/tests/leafdig_codec_bench --benchmark_min_time=0.01 >/dev/null
-LEAFDIG_BENCH_LEAVES=200 build/ci/tests/leafdig_capture_bench --benchmark_min_time=0.01 >/dev/null
+# A benchmark that reports an error (SkipWithError), or a binary that runs none, fails here.
+bench_smoke() {
+  local report
+  report=$(mktemp)
+  if ! "$@" --benchmark_min_time=0.01 --benchmark_format=json >"$report"; then
+    echo "benchmark smoke: $* exited non-zero" >&2; rm -f "$report"; return 1
+  fi
+  if grep -q '"error_occurred": true' "$report"; then
+    echo "benchmark smoke: $* reported an error:" >&2
+    grep -E '"(name|error_message)"' "$report" | grep -B1 '"error_message"' >&2
+    rm -f "$report"; return 1
+  fi
+  if ! grep -q '"run_name"' "$report"; then
+    echo "benchmark smoke: $* ran no benchmark" >&2; rm -f "$report"; return 1
+  fi
+  rm -f "$report"
+}
+bench_smoke build/ci/tests/leafdig_bench --benchmark_filter='Rebuild(Preview|Paper)/1'
+bench_smoke build/ci/tests/leafdig_codec_bench
+bench_smoke env LEAFDIG_BENCH_LEAVES=200 build/ci/tests/leafdig_capture_bench
 # The station's preview frame, snapshot → screen and start-up, on a real window under Xvfb
 # (Mesa llvmpipe); it fails if the preview draws nothing or the station does not start.
-xvfb-run -a -s "-screen 0 1920x1080x24" build/ci/tests/leafdig_station_bench --benchmark_min_time=0.01 >/dev/null
+bench_smoke xvfb-run -a -s "-screen 0 1920x1080x24" build/ci/tests/leafdig_station_bench
 echo "leafdig: all tests passed"
