@@ -101,10 +101,11 @@ void CaptureLoop::deliver(const std::vector<Feedback>& feedback) {
 void CaptureLoop::handle(const Item_& item, bool& quit) {
   if (const auto* e = std::get_if<devices::DeviceEvent>(&item)) {
     if (const auto* s = std::get_if<devices::StylusSample>(e)) {
-      StylusInput in{monoNs(s->t), s->positionMm, s->button, s->status, s->raw};
+      // docs/schema.md: the stored record is text; binary bytes become \xNN.
+      StylusInput in{monoNs(s->t), s->positionMm, s->button, s->status, devices::printableRaw(s->raw, true)};
       deliver(session_.onStylus(in));
     } else if (const auto* r = std::get_if<devices::CaliperReading>(e)) {
-      deliver(session_.onCaliper({monoNs(r->t), r->valueMm, r->raw}));
+      deliver(session_.onCaliper({monoNs(r->t), r->valueMm, devices::printableRaw(r->raw, true)}));
     }
     return;
   }

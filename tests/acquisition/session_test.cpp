@@ -543,3 +543,27 @@ TEST_F(Session, APedalHeldDownIsTheStylusButton) {
   ASSERT_NE(acq::findItem(session.engine().items(), acq::What::Tip, 0, 0), nullptr);
   EXPECT_EQ(store.markers(id).size(), 1u);
 }
+
+// docs/schema.md: `raw` keeps a text record as the device sent it (CR LF included) and
+// writes any other byte as \xNN, a backslash as \\ — so binary records stay valid text.
+TEST_F(Session, RawDeviceRecordsAreStoredAsTextWithRealLineEndsAndEscapedBinary) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  acq::CaptureSession session(store, id);
+  (void)session.pause("checking the raw column");
+  acq::CaptureLoop loop(session, {}, 1.0, false);
+  std::thread capture([&] { (void)loop.run(); });
+  leafdig::devices::CaliperReading r;
+  r.t = leafdig::devices::Clock::now();
+  r.valueMm = 1.23;
+  r.raw = std::string("+0001.23\r\n\x00\xff\\", 13);
+  loop.post(r);
+  for (int i = 0; i < 200 && store.events(id).back().kind != "ignored_reading"; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  loop.stop();
+  capture.join();
+  const auto events = store.events(id);
+  ASSERT_EQ(events.back().kind, "ignored_reading");  // paused: kept, but changes nothing
+  EXPECT_EQ(events.back().raw, "+0001.23\r\n\\x00\\xff\\\\");
+  EXPECT_TRUE(store.verify(id).ok);
+}

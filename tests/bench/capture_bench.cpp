@@ -9,11 +9,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
 
 #include "latency_counters.hpp"
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/markers_json.hpp"
 
@@ -160,22 +162,49 @@ void BM_ReadAndReplay(benchmark::State& state) {
 }
 BENCHMARK(BM_ReadAndReplay)->Unit(benchmark::kMicrosecond);
 
-// A station database of LEAFDIG_BENCH_LEAVES leaves (default 10 000), each with a complete
-// capture session: one real session copied with SQL (the copies' hash chains are not
-// valid; opening does not verify chains). Built once per run.
-fs::path bigDatabase(int leaves) {
-  const fs::path path = scratch("station-" + std::to_string(leaves) + ".sqlite");
-  if (fs::exists(path)) return path;
+// One complete, realistic session as a technician leaves it and a curator approves it: the
+// tip and 17 rows (with the operator's rejected inputs), the end of the rows, every
+// thickness reading (midrib and vein origin per row, the margin), a correction, approval.
+void captureCompleteSession(leafdig::db::Store& store, int position) {
+  const auto id = newSession(store, position);
   {
-    leafdig::db::Store store(path.string());
-    const auto id = newSession(store, 1);
     acq::CaptureSession s(store, id);
     std::mt19937 rng(3);
     std::int64_t t = 0;
     const auto& tip = leaf().tipMm;
     (void)s.onStylus(feedPress(s, t, {tip.x(), tip.y(), tip.z()}, rng));
-    for (int r = 1; r <= static_cast<int>(leaf().rows.size()); ++r)
+    for (int r = 1; r <= static_cast<int>(leaf().rows.size()); ++r) {
       for (int c = 1; c <= 7; ++c) (void)s.onStylus(feedPress(s, t, at(r, c), rng));
+      if (r == 3) (void)s.onStylus(feedPress(s, t, at(r, 7), rng));  // a double press, rejected
+    }
+    (void)s.endRows(t += 500 * kMs);
+    for (int r = 1; r <= static_cast<int>(leaf().rows.size()); ++r) {
+      (void)s.onCaliper({t += 900 * kMs, 1.4 - 0.04 * r, "+0001.38\r\n"});
+      (void)s.onCaliper({t += 900 * kMs, 0.7 - 0.02 * r, "+0000.68\r\n"});
+    }
+    (void)s.onCaliper({t += 900 * kMs, 0.24, "+0000.24\r\n"});
+    if (!s.snapshot(false).complete) std::fprintf(stderr, "bench fixture: the session did not complete\n");
+  }
+  acq::Correction c;
+  c.what = acq::What::MidribThickness;
+  c.row = 2;
+  c.col = 4;
+  c.valueMm = 1.31;
+  c.reason = "re-measured at the station";
+  c.who = "curator";
+  (void)acq::correct(store, id, c);
+  (void)acq::review(store, id, "approved", "curator", "checked");
+}
+
+// A station database of LEAFDIG_BENCH_LEAVES leaves (default 10 000), each holding a copy of
+// that session (events, markers, thickness readings) copied with SQL: the copies' hash
+// chains are not valid (opening a file does not verify chains). Built once per run.
+fs::path bigDatabase(int leaves) {
+  const fs::path path = scratch("station-" + std::to_string(leaves) + ".sqlite");
+  if (fs::exists(path)) return path;
+  {
+    leafdig::db::Store store(path.string());
+    captureCompleteSession(store, 1);
   }
   sqlite3* db = nullptr;
   sqlite3_open(path.c_str(), &db);
@@ -191,6 +220,8 @@ fs::path bigDatabase(int leaves) {
       "FROM sessions x, events e WHERE e.session_id=1 AND x.id>1;"
       "INSERT INTO markers SELECT x.id, m.seq, m.what, m.row, m.col, m.x_mm, m.y_mm, m.z_mm "
       "FROM sessions x, markers m WHERE m.session_id=1 AND x.id>1;"
+      "INSERT INTO thickness_readings SELECT x.id, t.seq, t.what, t.row, t.col, t.value_mm, t.raw "
+      "FROM sessions x, thickness_readings t WHERE t.session_id=1 AND x.id>1;"
       "COMMIT;";
   char* err = nullptr;
   if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
@@ -206,7 +237,8 @@ int benchLeaves() {
   return e ? std::max(2, std::atoi(e)) : 10000;
 }
 
-// range(0) = 1: opened for capture (checks every page first); 0: read-only (review tools).
+// range(0) = 1: opened for capture (checks the pages capture touches); 0: read-only
+// (review tools).
 void BM_OpenStationDatabase(benchmark::State& state) {
   const fs::path path = bigDatabase(benchLeaves());
   for (auto _ : state) {
@@ -218,6 +250,28 @@ void BM_OpenStationDatabase(benchmark::State& state) {
   state.counters["file_MB"] = static_cast<double>(fs::file_size(path)) / 1e6;
 }
 BENCHMARK(BM_OpenStationDatabase)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// What `leafdig capture` and the station do before the first prompt of a new leaf: open the
+// file for writing, create the session and open it (its chain verified, replayed).
+void BM_OpenForANewCapture(benchmark::State& state) {
+  const fs::path path = bigDatabase(benchLeaves());
+  int position = 100000;
+  for (auto _ : state) {
+    leafdig::db::Store store(path.string());
+    acq::CaptureSession session(store, newSession(store, ++position));
+    benchmark::DoNotOptimize(session.snapshot(false).step);
+  }
+}
+BENCHMARK(BM_OpenForANewCapture)->Unit(benchmark::kMillisecond);
+
+// The full page check that `sessions verify` runs (and opening for capture no longer does).
+void BM_CheckEveryPage(benchmark::State& state) {
+  const fs::path path = bigDatabase(benchLeaves());
+  leafdig::db::Store store(path.string(), true);
+  for (auto _ : state) benchmark::DoNotOptimize(store.checkPages());
+  state.counters["file_MB"] = static_cast<double>(fs::file_size(path)) / 1e6;
+}
+BENCHMARK(BM_CheckEveryPage)->Iterations(3)->Unit(benchmark::kMillisecond);
 
 void BM_OpenAndListSessions(benchmark::State& state) {
   const fs::path path = bigDatabase(benchLeaves());

@@ -4,12 +4,15 @@
 #include <sqlite3.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "../support/small_file_system.hpp"
 #include "leafdig/db/store.hpp"
 
 namespace fs = std::filesystem;
@@ -214,6 +217,45 @@ TEST_F(StoreTest, ADamagedFileIsRefusedUnmodified) {
   EXPECT_EQ(leafdig::db::sha256Hex(bytes(path_)), before);
 }
 
+// Opening for capture checks the pages capture touches — not every page (0.6 s for 10 000
+// leaves) — so a damaged page where the next event would go is found before any append.
+TEST_F(StoreTest, ADamagedPageWhereAppendsGoIsFoundWhenOpeningForCapture) {
+  {
+    Store s(path_);
+    const auto id = newSession(s);
+    for (int i = 1; i <= 400; ++i) s.append(id, marker(1 + i / 7, 1 + i % 7, i));
+  }
+  sql(path_, "PRAGMA wal_checkpoint(TRUNCATE); PRAGMA journal_mode=DELETE");
+  // The leaf page holding the newest event: the right edge of the event log's b-tree.
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path_.c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db,
+                               "SELECT pageno, (SELECT count(*) FROM dbstat WHERE name='events') FROM dbstat "
+                               "WHERE name='events' AND pagetype='leaf' ORDER BY path DESC LIMIT 1",
+                               -1, &st, nullptr),
+            SQLITE_OK);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+  const auto page = static_cast<std::size_t>(sqlite3_column_int(st, 0));
+  ASSERT_GT(sqlite3_column_int(st, 1), 3) << "the event log should span several pages";
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  std::string b = bytes(path_);
+  for (std::size_t i = 0; i < 24; ++i) b[4096 * (page - 1) + i] = static_cast<char>(0x5a);
+  std::ofstream(path_, std::ios::binary | std::ios::trunc) << b;
+  expectRefusedUnchanged(StoreErrorKind::Corrupt, "malformed");
+  // A reader opens it (review tools read what they need), and the full check names it.
+  Store reader(path_, true);
+  EXPECT_NE(reader.checkPages(), "ok");
+}
+
+TEST_F(StoreTest, TheFullPageCheckPassesOnAnIntactFile) {
+  Store s(path_);
+  const auto id = newSession(s);
+  for (int i = 1; i <= 50; ++i) s.append(id, marker(1 + i / 7, 1 + i % 7, i));
+  EXPECT_EQ(s.checkPages(), "ok");
+}
+
 TEST_F(StoreTest, AFullDiskLosesNothingAndCaptureContinuesAfterwards) {
   Store s(path_);
   const auto id = newSession(s);
@@ -236,6 +278,45 @@ TEST_F(StoreTest, AFullDiskLosesNothingAndCaptureContinuesAfterwards) {
   s.setMaxPages(0);
   EXPECT_EQ(s.append(id, marker(9, 9, 9)), last + 1);
   EXPECT_TRUE(s.verify(id).ok);
+}
+
+// The same through a file system that is really full (a 1 MB tmpfs filled to the last byte,
+// when the tests run as root); otherwise through the page quota, and the output says so.
+TEST_F(StoreTest, AReallyFullFileSystemLosesNothingAndAppendsGoOnOnceSpaceIsFreed) {
+  leafdig::test::SmallFileSystem disk(dir_ / "small", 1 << 20);
+  const std::string path = (disk.dir() / "station.sqlite").string();
+  Store s(path);
+  const auto id = newSession(s);
+  std::int64_t last = s.append(id, marker(1, 1, 1));
+  if (disk.mounted()) {
+    std::printf("disk full: a real file system (1 MB tmpfs filled until ENOSPC)\n");
+    ASSERT_EQ(disk.fill(), ENOSPC);
+  } else {
+    std::printf("disk full: the page-limit path (not root, so no tmpfs could be mounted)\n");
+    s.setMaxPages(s.pageCount());
+  }
+  bool full = false;
+  for (int i = 2; i < 20000 && !full; ++i) {
+    try {
+      last = s.append(id, marker(1 + i / 7, 1 + i % 7, i));
+    } catch (const StoreError& e) {
+      EXPECT_EQ(e.kind(), StoreErrorKind::DiskFull) << e.what();
+      EXPECT_NE(e.remedy().find("free some space"), std::string::npos) << e.remedy();
+      full = true;
+    }
+  }
+  ASSERT_TRUE(full);
+  // Everything acknowledged is there, nothing half-written; the file still verifies.
+  EXPECT_EQ(s.session(id)->headSeq, last);
+  EXPECT_EQ(static_cast<std::int64_t>(s.events(id).size()), last);
+  EXPECT_TRUE(s.verify(id).ok);
+  if (disk.mounted()) disk.release();
+  else s.setMaxPages(0);
+  EXPECT_EQ(s.append(id, marker(99, 1, 1)), last + 1);
+  EXPECT_TRUE(s.verify(id).ok);
+  // Another connection (the next run of the station) opens the file and sees it all.
+  Store reopened(path);
+  EXPECT_EQ(reopened.session(id)->headSeq, last + 1);
 }
 
 TEST_F(StoreTest, AReaderAndAWriterDoNotBlockEachOther) {

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <cstring>
 #include <fstream>
+#include <vector>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,7 @@
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/model/mesh_export.hpp"
 #include "leafdig/model/model_json.hpp"
+#include "../support/small_file_system.hpp"
 #include "test_support.hpp"
 
 namespace leafdig::model {
@@ -141,6 +143,36 @@ TEST(Files, failedWriteNamesThePathAndLeavesNothing) {
   }
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 0);
   fs::remove_all(dir);
+}
+
+// A failure after the temporary file exists: the rename onto a folder of that name fails.
+TEST(Files, aFailedRenameRemovesTheTemporaryFile) {
+  const fs::path dir = freshDir("rename");
+  fs::create_directories(dir / "leaf.glb");  // a folder where the file should go
+  EXPECT_THROW(writeFileAtomically(dir / "leaf.glb", std::string(100000, 'x')), IoError);
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"leaf.glb"});  // only the folder: no temporary file
+  fs::remove_all(dir);
+}
+
+// A file system that fills up halfway through the write (a 64 KB tmpfs, when root).
+TEST(Files, aFullFileSystemNamesTheProblemAndLeavesNoTemporaryFile) {
+  const fs::path dir = freshDir("full");
+  leafdig::test::SmallFileSystem disk(dir / "small", 64 << 10);
+  if (!disk.mounted()) GTEST_SKIP() << "not root: no tmpfs to fill (the rename test above covers the clean-up)";
+  writeFileAtomically(disk.dir() / "before.obj", "kept");
+  try {
+    writeFileAtomically(disk.dir() / "leaf.glb", std::string(1 << 20, 'x'));
+    FAIL() << "a 1 MB file fitted on a 64 KB file system";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("leaf.glb"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("No space left"), std::string::npos) << e.what();
+  }
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(disk.dir())) left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"before.obj"});
+  EXPECT_EQ(readFile(disk.dir() / "before.obj"), "kept");
 }
 
 TEST(Files, unwritableDestinationIsAnIoError) {

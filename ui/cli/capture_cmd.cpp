@@ -362,13 +362,20 @@ int runShow(const db::Store& store, const CaptureOptions& o) {
 
 int runVerify(const db::Store& store, const CaptureOptions& o) {
   std::vector<std::int64_t> ids;
-  if (o.all || o.id == 0)
+  const bool all = o.all || o.id == 0;
+  if (all)
     for (const auto& s : store.sessions()) ids.push_back(s.id);
   else ids.push_back(o.id);
   bool ok = true;
   json a = json::array();
   for (const auto id : ids) {
-    const db::ChainReport c = store.verify(id);
+    db::ChainReport c;
+    try {
+      c = store.verify(id);
+    } catch (const db::StoreError& e) {  // a damaged page under this session's events
+      c.ok = false;
+      c.problem = e.what();
+    }
     ok = ok && c.ok;
     if (o.json)
       a.push_back({{"session", id}, {"chain_ok", c.ok}, {"events", c.events},
@@ -377,6 +384,17 @@ int runVerify(const db::Store& store, const CaptureOptions& o) {
       std::cout << "session " << id << ": " << c.events << " events, "
                 << (c.ok ? "chain OK" : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " + c.problem)
                 << "\n";
+  }
+  // Every page of the file as well (opening for capture checks only what capture touches).
+  if (all) {
+    const std::string pages = store.checkPages();
+    if (pages != "ok") {
+      ok = false;
+      std::cerr << "leafdig: " << store.path() << " has damaged pages (" << pages
+                << "): restore it from a backup; the file was not modified\n";
+    } else if (!o.json) {
+      std::cout << "pages: every page of " << store.path() << " checked, OK\n";
+    }
   }
   if (o.json) std::cout << a.dump() << "\n";
   return ok ? 0 : 1;

@@ -98,6 +98,8 @@ class Store {
  public:
   // Opens (creating when missing) and migrates. A file that is not a leafdig database, is
   // corrupt, or was written by a newer leafdig is refused with StoreError and not modified.
+  // A writer checks the pages capture touches (the small tables, the right edge of the
+  // event log); checkPages() checks them all.
   explicit Store(const std::string& path, bool readOnly = false);
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
@@ -132,6 +134,9 @@ class Store {
   [[nodiscard]] std::vector<SessionInfo> sessions() const;
   // Recomputes the chain: any edited, reordered, inserted or missing event is found.
   [[nodiscard]] ChainReport verify(std::int64_t session) const;
+  // Checks every page of the file (SQLite's quick_check): "ok", or what is damaged. Opening
+  // for writing checks only what capture touches; this is the full check.
+  [[nodiscard]] std::string checkPages() const;
   std::int64_t recordExport(std::int64_t session, const std::string& path, const std::string& format);
   // Caps the file at `pages` database pages (a quota; SQLite reports "full" beyond it, as
   // for a full disk). 0 restores SQLite's default.
