@@ -115,99 +115,127 @@ void Driver::setState(LinkState state, std::string message, std::string remedy) 
   if (callbacks_.onStatus) callbacks_.onStatus(copy);
 }
 
+// The I/O thread: connect (with back-off), then pump the link — poll, decode, deliver,
+// rate, warnings, stall — until stopped. An I/O error drops the connection and the loop
+// connects again.
 void Driver::run() {
-  using namespace std::chrono;
-  bool connected = false;
-  auto retry = options_.retryMin;
-  auto lastPoll = Clock::now();
-  std::vector<DeviceEvent> events;
-  std::vector<StylusSample> kept;
-  std::string lastWarning;
-  // Drops the connection (unplug, stall): keeps the codec's counters, counts a reconnect.
-  const auto dropConnection = [&] {
-    previousStats_ = add(previousStats_, link_->stats());
-    link_->close();
-    connected = false;
-    lastWarning.clear();
-    std::lock_guard lock(mutex_);
-    ++status_.reconnects;
-  };
+  connected_ = false;
+  retry_ = options_.retryMin;
+  lastPoll_ = Clock::now();
   while (!stop_) {
-    if (!connected) {
-      setState(LinkState::Connecting, "connecting to " + link_->name() + " on " + link_->where());
-      try {
-        link_->open();
-        connected = true;
-        retry = options_.retryMin;
-        filter_.reset();
-        {
-          std::lock_guard lock(mutex_);
-          lastEvent_ = Clock::now();
-        }
-        setState(LinkState::Streaming, link_->name() + " ready on " + link_->where());
-      } catch (const DeviceError& e) {
-        link_->close();
-        setState(e.kind() == DeviceErrorKind::Io || e.kind() == DeviceErrorKind::NotFound ? LinkState::Disconnected
-                                                                                           : LinkState::Error,
-                 e.what(), e.remedy());
-        for (auto waited = milliseconds(0); waited < retry && !stop_; waited += milliseconds(20))
-          std::this_thread::sleep_for(milliseconds(20));
-        retry = std::min(retry * 2, options_.retryMax);
-        continue;
-      }
+    if (!connected_ && !connect()) {
+      waitBeforeRetry();
+      continue;
     }
     try {
-      if (options_.pollEvery.count() > 0 && Clock::now() - lastPoll >= options_.pollEvery) {
-        lastPoll = Clock::now();
-        trigger_ = true;
-      }
-      if (trigger_.exchange(false)) link_->trigger();
-      events.clear();
-      link_->pump(milliseconds(50), events);
+      pollIfDue();
+      events_.clear();
+      link_->pump(std::chrono::milliseconds(50), events_);
       const auto now = Clock::now();
-      std::size_t delivered = 0;
-      for (auto& ev : events) {
-        if (auto* s = std::get_if<StylusSample>(&ev); s && options_.filterStylus) {
-          kept.clear();
-          filter_.push(std::move(*s), kept);
-          for (auto& k : kept) {
-            if (callbacks_.onEvent) callbacks_.onEvent(DeviceEvent(std::move(k)));
-            ++delivered;
-          }
-        } else {
-          if (callbacks_.onEvent) callbacks_.onEvent(ev);
-          ++delivered;
-        }
-      }
-      const std::string warning = link_->warning();
-      {
-        std::lock_guard lock(mutex_);
-        if (!events.empty()) lastEvent_ = now;
-        for (std::size_t i = 0; i < delivered; ++i) recent_.push_back(now);
-        while (!recent_.empty() && now - recent_.front() > seconds(1)) recent_.pop_front();
-        status_.rateHz = static_cast<double>(recent_.size());
-        status_.stats = add(previousStats_, link_->stats());
-        status_.filtered = filter_.rejected();
-      }
-      if (warning != lastWarning) {
-        lastWarning = warning;
-        if (!warning.empty()) setState(LinkState::Warning, warning, link_->warningRemedy());
-        else setState(LinkState::Streaming, link_->name() + " streaming on " + link_->where());
-      }
-      if (link_->streams() && now - lastEvent_ > link_->stallTimeout()) {
-        setState(LinkState::Warning,
-                 link_->name() + " sent no data for " +
-                     std::to_string(duration_cast<milliseconds>(now - lastEvent_).count()) + " ms: re-initialising",
-                 "if this repeats, check the cable and that the device is powered");
-        dropConnection();
-      }
+      recordDelivery(deliver(), now);
+      reportWarningChange();
+      reinitialiseIfStalled(now);
     } catch (const DeviceError& e) {
       dropConnection();
       setState(LinkState::Disconnected, e.what(), e.remedy());
     }
   }
-  if (connected) link_->close();
+  if (connected_) link_->close();
+  connected_ = false;
   setState(LinkState::Disconnected, "stopped");
+}
+
+bool Driver::connect() {
+  setState(LinkState::Connecting, "connecting to " + link_->name() + " on " + link_->where());
+  try {
+    link_->open();
+  } catch (const DeviceError& e) {
+    link_->close();
+    // Gone or not there yet is a disconnection (it may come back); the rest needs the user.
+    const bool absent = e.kind() == DeviceErrorKind::Io || e.kind() == DeviceErrorKind::NotFound;
+    setState(absent ? LinkState::Disconnected : LinkState::Error, e.what(), e.remedy());
+    return false;
+  }
+  connected_ = true;
+  retry_ = options_.retryMin;
+  filter_.reset();
+  {
+    std::lock_guard lock(mutex_);
+    lastEvent_ = Clock::now();
+  }
+  setState(LinkState::Streaming, link_->name() + " ready on " + link_->where());
+  return true;
+}
+
+void Driver::waitBeforeRetry() {
+  using std::chrono::milliseconds;
+  for (auto waited = milliseconds(0); waited < retry_ && !stop_; waited += milliseconds(20))
+    std::this_thread::sleep_for(milliseconds(20));
+  retry_ = std::min(retry_ * 2, options_.retryMax);
+}
+
+void Driver::pollIfDue() {
+  if (options_.pollEvery.count() > 0 && Clock::now() - lastPoll_ >= options_.pollEvery) {
+    lastPoll_ = Clock::now();
+    trigger_ = true;
+  }
+  if (trigger_.exchange(false)) link_->trigger();
+}
+
+std::size_t Driver::deliver() {
+  std::size_t delivered = 0;
+  for (auto& ev : events_) {
+    if (auto* s = std::get_if<StylusSample>(&ev); s && options_.filterStylus) {
+      kept_.clear();
+      filter_.push(std::move(*s), kept_);
+      for (auto& k : kept_) {
+        if (callbacks_.onEvent) callbacks_.onEvent(DeviceEvent(std::move(k)));
+        ++delivered;
+      }
+    } else {
+      if (callbacks_.onEvent) callbacks_.onEvent(ev);
+      ++delivered;
+    }
+  }
+  return delivered;
+}
+
+void Driver::recordDelivery(std::size_t delivered, Clock::time_point now) {
+  std::lock_guard lock(mutex_);
+  if (!events_.empty()) lastEvent_ = now;
+  for (std::size_t i = 0; i < delivered; ++i) recent_.push_back(now);
+  while (!recent_.empty() && now - recent_.front() > std::chrono::seconds(1)) recent_.pop_front();
+  status_.rateHz = static_cast<double>(recent_.size());
+  status_.stats = add(previousStats_, link_->stats());
+  status_.filtered = filter_.rejected();
+}
+
+void Driver::reportWarningChange() {
+  const std::string warning = link_->warning();
+  if (warning == lastWarning_) return;
+  lastWarning_ = warning;
+  if (!warning.empty()) setState(LinkState::Warning, warning, link_->warningRemedy());
+  else setState(LinkState::Streaming, link_->name() + " streaming on " + link_->where());
+}
+
+// A streaming device silent too long is re-initialised: that one path recovers resets,
+// stalls and a FASTRAK knocked out of continuous mode.
+void Driver::reinitialiseIfStalled(Clock::time_point now) {
+  if (!link_->streams() || now - lastEvent_ <= link_->stallTimeout()) return;
+  const auto silentMs = std::chrono::duration_cast<std::chrono::milliseconds>(now - lastEvent_).count();
+  setState(LinkState::Warning, link_->name() + " sent no data for " + std::to_string(silentMs) + " ms: re-initialising",
+           "if this repeats, check the cable and that the device is powered");
+  dropConnection();
+}
+
+// Drops the connection (unplug, stall): keeps the codec's counters, counts a reconnect.
+void Driver::dropConnection() {
+  previousStats_ = add(previousStats_, link_->stats());
+  link_->close();
+  connected_ = false;
+  lastWarning_.clear();
+  std::lock_guard lock(mutex_);
+  ++status_.reconnects;
 }
 
 }  // namespace leafdig::devices

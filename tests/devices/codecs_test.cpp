@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <array>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "leafdig/devices/calipers.hpp"
@@ -262,7 +264,107 @@ TEST(PolhemusBinary, ResynchronisesOnTheTag) {
   EXPECT_EQ(out.size(), 2u);
 }
 
+// The stylus layout VRPN's vrpn_Tracker_Liberty asks for with a button ("O1,2,7,8,10,0"):
+// an 8-byte header ("LY"/"PA", station, command, error, reserved, payload size LE), x y z in
+// inches and the quaternion w x y z as little-endian IEEE floats, the timestamp (ms) and the
+// stylus button as little-endian uint32, and the trailing space VRPN checks for. The bytes
+// are written out here, not produced by leafdig's encoder.
+std::vector<std::uint8_t> vrpnStylusFrame(char a, char b) {
+  return hex({a, b, 0x01, 0x50, 0x00, 0x00, 0x25, 0x00,  // header; 37 payload bytes
+              0x00, 0x00, 0xc0, 0x3f,                    // x  1.5 in
+              0x00, 0x00, 0x00, 0xc0,                    // y -2.0 in
+              0x00, 0x00, 0x80, 0x3e,                    // z  0.25 in
+              0x00, 0x00, 0x80, 0x3f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,  // q = (1, 0, 0, 0)
+              0xe8, 0x03, 0x00, 0x00,                    // timestamp 1000 ms
+              0x01, 0x00, 0x00, 0x00,                    // stylus button down
+              0x20});
+}
+
+TEST(LibertyBinary, DecodesVrpnsStylusLayoutWithTheButtonWord) {
+  for (const auto& [model, tag] : {std::pair{dev::polhemus::Model::Liberty, std::string("LY")},
+                                   std::pair{dev::polhemus::Model::Patriot, std::string("PA")}}) {
+    dev::polhemus::DecoderState st;
+    st.format.model = model;
+    st.format.items = {2, 7, 8, 10, 0};
+    st.format.binary = true;
+    st.format.centimetres = false;
+    const auto frame = vrpnStylusFrame(tag[0], tag[1]);
+    ASSERT_EQ(frame.size(), 8u + 37u);
+    EXPECT_EQ(dev::polhemus::payloadLength(st.format), 37u);
+    std::vector<dev::StylusSample> out;
+    // Two frames, the second split in the middle of its x.
+    auto bytes = frame;
+    bytes.insert(bytes.end(), frame.begin(), frame.begin() + 10);
+    dev::polhemus::decode(st, bytes, out);
+    dev::polhemus::decode(st, std::vector<std::uint8_t>(frame.begin() + 10, frame.end()), out);
+    ASSERT_EQ(out.size(), 2u) << tag;
+    for (const auto& s : out) {
+      EXPECT_NEAR(s.positionMm[0], 38.1, 1e-6) << tag;  // inches to mm
+      EXPECT_NEAR(s.positionMm[1], -50.8, 1e-6) << tag;
+      EXPECT_NEAR(s.positionMm[2], 6.35, 1e-6) << tag;
+      EXPECT_TRUE(s.button) << tag;
+      EXPECT_EQ(s.station, 1) << tag;
+    }
+  }
+}
+
 // ---- MicroScribe --------------------------------------------------------------------------
+// Craig's modified Denavit–Hartenberg link transform, written out as its closed-form matrix
+// (an independent computation of the pose: leafdig's code composes Eigen rotations).
+using Mat4 = std::array<std::array<double, 4>, 4>;
+Mat4 craigLink(double alphaDeg, double a, double thetaDeg, double d) {
+  const double k = std::acos(-1.0) / 180.0;
+  const double ca = std::cos(alphaDeg * k), sa = std::sin(alphaDeg * k);
+  const double ct = std::cos(thetaDeg * k), st = std::sin(thetaDeg * k);
+  return {{{ct, -st, 0, a}, {st * ca, ct * ca, -sa, -sa * d}, {st * sa, ct * sa, ca, ca * d}, {0, 0, 0, 1}}};
+}
+Mat4 times(const Mat4& x, const Mat4& y) {
+  Mat4 r{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) r[i][j] += x[i][k] * y[k][j];
+  return r;
+}
+
+TEST(MicroScribe, TheTipFromAPacketMatchesAnIndependentDhChain) {
+  dev::microscribe::DecoderState st;
+  st.arm = dev::microscribe::referenceArm();
+  const std::array<std::array<int, 6>, 3> poses{{{0, 4096, 8192, 12000, 300, 16000},
+                                                 {15955, 1234, 5678, 9012, 3456, 7890},
+                                                 {8192, 15000, 2000, 100, 16383, 42}}};
+  for (const auto& counts : poses) {
+    // The packet as the HCI sends it: 0x83, buttons, then each count as two 7-bit bytes.
+    std::vector<std::uint8_t> packet{0x83, 0x02};
+    for (int c : counts) {
+      packet.push_back(static_cast<std::uint8_t>(c >> 7));
+      packet.push_back(static_cast<std::uint8_t>(c & 0x7f));
+    }
+    std::vector<dev::StylusSample> out;
+    dev::microscribe::decode(st, packet, out);
+    ASSERT_EQ(out.size(), 1u);
+    Mat4 t{{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+    for (std::size_t i = 0; i < 6; ++i)
+      t = times(t, craigLink(st.arm.alphaDeg[i], st.arm.aMm[i], 360.0 * counts[i] / st.arm.countsPerRev[i],
+                             st.arm.dMm[i]));
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_NEAR(out[0].positionMm[static_cast<std::size_t>(axis)], t[static_cast<std::size_t>(axis)][3], 1e-9)
+          << "axis " << axis;
+    EXPECT_TRUE(out[0].button);  // 0x02: the arm's first button (as VRPN maps it)
+  }
+  // No button, the second button, and a buttons byte with bits no arm has.
+  for (const auto& [buttons, pressed, kept] : {std::tuple{0x00, false, true}, std::tuple{0x01, true, true},
+                                              std::tuple{0x04, false, false}}) {
+    std::vector<std::uint8_t> packet{0x83, static_cast<std::uint8_t>(buttons), 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1};
+    std::vector<dev::StylusSample> out;
+    dev::microscribe::decode(st, packet, out);
+    ASSERT_EQ(out.size(), kept ? 1u : 0u) << buttons;
+    if (kept) {
+      EXPECT_EQ(out[0].button, pressed) << buttons;
+    }
+  }
+}
+
+
 TEST(MicroScribe, DecodesTheResearchNotesPacket) {
   // Host sends 03; the arm answers 83 01 7C 53 …: right pedal, angle0 = (0x7C<<7)|0x53 = 15955.
   dev::microscribe::DecoderState st;

@@ -108,7 +108,16 @@ class Driver {
   [[nodiscard]] DeviceStatus status() const;
 
  private:
+  // The I/O thread's steps (driver.cpp).
   void run();
+  [[nodiscard]] bool connect();
+  void waitBeforeRetry();
+  void pollIfDue();
+  [[nodiscard]] std::size_t deliver();
+  void recordDelivery(std::size_t delivered, Clock::time_point now);
+  void reportWarningChange();
+  void reinitialiseIfStalled(Clock::time_point now);
+  void dropConnection();
   void setState(LinkState s, std::string message, std::string remedy = {});
   std::unique_ptr<DeviceLink> link_;
   Callbacks callbacks_;
@@ -121,6 +130,13 @@ class Driver {
   StylusFilter filter_;
   Clock::time_point lastEvent_{};
   std::deque<Clock::time_point> recent_;
+  // I/O thread only:
+  bool connected_ = false;
+  std::chrono::milliseconds retry_{0};
+  Clock::time_point lastPoll_{};
+  std::string lastWarning_;
+  std::vector<DeviceEvent> events_;
+  std::vector<StylusSample> kept_;
 };
 
 }  // namespace leafdig::devices
