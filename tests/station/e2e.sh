@@ -10,7 +10,7 @@ rm -rf "$out"
 mkdir -p "$out"
 # Mesa and fontconfig keep caches for the process lifetime; not leafdig's leaks.
 export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
-report=$(timeout 300 xvfb-run -a -s "-screen 0 1280x900x24" "$station" --simulate --speed 10 --seed 2 \
+report=$(timeout 300 xvfb-run -a -s "-screen 0 ${LEAFDIG_E2E_SCREEN:-1366x768}x24" "$station" --simulate --speed 10 --seed 2 \
   --db "$out/station.sqlite" --settings "$out/station.ini" --screenshot "$out/capture.png" \
   --review-screenshot "$out/review.png" --quit-when-complete 2>"$out/stderr.txt")
 echo "$report"

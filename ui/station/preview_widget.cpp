@@ -1,5 +1,7 @@
 #include "preview_widget.hpp"
 
+#include <QLabel>
+
 #include <QElapsedTimer>
 #include <QKeyEvent>
 #include <QMouseEvent>
@@ -69,6 +71,16 @@ QVector3D toView(const acquisition::Vec3& p) {
   return {static_cast<float>(p[0]), static_cast<float>(p[2]), static_cast<float>(-p[1])};
 }
 
+// The automatic framing (PreviewWidget::keepFramed).
+constexpr float kPitchDeg = 55.0f;  // looking down on the leaf at an angle
+constexpr float kFill = 0.8f;       // a new framing fills this much of the view…
+constexpr float kInside = 0.94f;    // …and holds while everything stays this far inside
+constexpr float kMinFill = 0.45f;   // and fills at least this much in one direction
+constexpr int kGlideMs = 250;
+constexpr float kMinHalfSizeMm = 40.0f;  // the tip alone: an 80 mm field around it
+constexpr float kGrowthRoom = 2.0f;      // while rows are taken: room for twice as much again…
+constexpr float kWidthRoom = 1.4f;       // …and for a wider leaf
+
 }  // namespace
 
 // ---- PreviewSurface: the GL window ----
@@ -87,6 +99,12 @@ PreviewSurface::~PreviewSurface() {
 }
 
 void PreviewSurface::initializeGL() {
+  // Qt calls this even when it could not create a context (no OpenGL on this display): the
+  // station goes on without the 3D view and says so.
+  if (!context() || !context()->isValid() || QOpenGLContext::currentContext() != context()) {
+    QMetaObject::invokeMethod(owner_, [o = owner_] { o->showUnavailable(); }, Qt::QueuedConnection);
+    return;
+  }
   initializeOpenGLFunctions();
   program_.addShaderFromSourceCode(QOpenGLShader::Vertex, kVertex);
   program_.addShaderFromSourceCode(QOpenGLShader::Fragment, kFragment);
@@ -218,7 +236,9 @@ void PreviewSurface::draw(QSize size) {
   owner_->lastFrameMs_ = static_cast<double>(timer.nsecsElapsed()) / 1e6;
 }
 
-void PreviewSurface::paintGL() { draw(size() * devicePixelRatio()); }
+void PreviewSurface::paintGL() {
+  if (glReady_) draw(size() * devicePixelRatio());
+}
 
 QImage PreviewSurface::render(QSize size) {
   if (!glReady_ || !isValid() || size.isEmpty()) return {};
@@ -247,15 +267,45 @@ void PreviewSurface::keyPressEvent(QKeyEvent* e) {
 
 // ---- PreviewWidget: what is shown, and the view ----
 
-PreviewWidget::PreviewWidget(QWidget* parent) : QWidget(parent), surface_(new PreviewSurface(this)) {
+namespace {
+// Whether this display can give an OpenGL context at all (checked once): a QOpenGLWindow
+// without one crashes inside Qt on its first paint.
+bool openGlAvailable() {
+  static const bool available = [] {
+    QOpenGLContext probe;
+    return probe.create();
+  }();
+  return available;
+}
+}  // namespace
+
+PreviewWidget::PreviewWidget(QWidget* parent)
+    : QWidget(parent), surface_(openGlAvailable() ? new PreviewSurface(this) : nullptr) {
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
-  container_ = QWidget::createWindowContainer(surface_, this);  // owns the surface
+  // The container owns the surface. Without OpenGL an empty widget holds the place.
+  container_ = surface_ ? QWidget::createWindowContainer(surface_, this) : new QWidget(this);
   container_->setFocusPolicy(Qt::NoFocus);
   layout->addWidget(container_);
   setFocusPolicy(Qt::ClickFocus);
   setMinimumSize(320, 240);
-  connect(surface_, &QOpenGLWindow::frameSwapped, this, &PreviewWidget::frameSwapped);
+  if (surface_) connect(surface_, &QOpenGLWindow::frameSwapped, this, &PreviewWidget::frameSwapped);
+  auto* message = new QLabel(tr("3D preview unavailable: this display has no OpenGL.\nCapture, the step list and the "
+                                "schematic work as usual."),
+                             this);
+  message->setAlignment(Qt::AlignCenter);
+  message->setWordWrap(true);
+  message->hide();
+  unavailable_ = message;
+  layout->addWidget(unavailable_);
+  if (!surface_) showUnavailable();
+  animation_.setInterval(16);
+  connect(&animation_, &QTimer::timeout, this, [this] {
+    const float t = std::min(1.0f, static_cast<float>(animationClock_.elapsed()) / static_cast<float>(kGlideMs));
+    view_ = blend(from_, to_, t);
+    if (t >= 1.0f) animation_.stop();
+    redraw();
+  });
 }
 
 // The surface reads this widget's state: it goes first, while that state is whole.
@@ -264,13 +314,23 @@ PreviewWidget::~PreviewWidget() { delete container_; }
 void PreviewWidget::changed(bool geometry) {
   meshDirty_ = meshDirty_ || geometry;
   pointsDirty_ = true;
-  surface_->update();
+  redraw();
 }
 
-void PreviewWidget::redraw() { surface_->update(); }
+void PreviewWidget::redraw() {
+  if (surface_) surface_->update();
+}
+
+bool PreviewWidget::unavailable() const { return !unavailable_->isHidden(); }
+
+void PreviewWidget::showUnavailable() {
+  if (!unavailable_->isHidden()) return;
+  container_->hide();
+  unavailable_->show();
+}
 
 QImage PreviewWidget::grabFramebuffer() {
-  return surface_->render(size() * devicePixelRatio());
+  return surface_ ? surface_->render(size() * devicePixelRatio()) : QImage();
 }
 
 QImage PreviewWidget::grabWindow(QWidget* window) {
@@ -287,34 +347,110 @@ QImage PreviewWidget::grabWindow(QWidget* window) {
 void PreviewWidget::show(const acquisition::Snapshot& s) {
   preview_ = s.preview;
   items_ = s.items;
-  // Keep the whole leaf in view as it grows, until the operator moves the view.
-  if (!userMoved_) resetView();
+  // The rows just ended: the room left for growth is not needed any more.
+  const bool rowsJustEnded = s.rowsEnded && !rowsEnded_;
+  rowsEnded_ = s.rowsEnded;
+  if (!userMoved_) keepFramed(rowsJustEnded);
   changed(true);
 }
 
-void PreviewWidget::resetView() {
-  QVector3D lo(1e9f, 1e9f, 1e9f), hi(-1e9f, -1e9f, -1e9f);
-  bool any = false;
-  const auto grow = [&](const QVector3D& p) {
-    any = true;
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], p[k]);
-      hi[k] = std::max(hi[k], p[k]);
-    }
-  };
+std::vector<QVector3D> PreviewWidget::scenePoints() const {
+  std::vector<QVector3D> points;
   if (preview_)
     for (const auto& o : preview_->mesh.organs)
-      for (const auto& p : o.mesh.positions) grow(toView(p));
+      for (const auto& p : o.mesh.positions) points.push_back(toView(p));
   for (const auto& i : items_)
-    if (acquisition::isStylusItem(i.what)) grow(toView(i.positionMm));
-  centre_ = any ? (lo + hi) * 0.5f : QVector3D();
-  radius_ = any ? std::max(10.0f, (hi - lo).length() * 0.5f) : 100.0f;
-  yaw_ = -30.0f;
-  pitch_ = 35.0f;
-  distance_ = 3.0f;
-  pan_ = {};
+    if (acquisition::isStylusItem(i.what) && i.what != acquisition::What::Board) points.push_back(toView(i.positionMm));
+  return points;
+}
+
+std::vector<QVector3D> PreviewWidget::roomToGrow() const {
+  // While rows are still being taken the leaf grows towards its base and widens: a new
+  // framing leaves room for twice the midrib so far and a wider newest row, so the view
+  // moves a few times during a leaf, not at every row.
+  std::vector<QVector3D> room;
+  if (rowsEnded_ || !live_) return room;
+  const auto* tip = acquisition::findItem(items_, acquisition::What::Tip, 0, 0);
+  const acquisition::Item* last = nullptr;
+  for (const auto& i : items_)
+    if (i.what == acquisition::What::Marker && i.col == 4 && (!last || i.row > last->row)) last = &i;
+  if (!tip || !last) return room;
+  const QVector3D a = toView(tip->positionMm), b = toView(last->positionMm);
+  const QVector3D ahead = b + (b - a) * kGrowthRoom;
+  room.push_back(ahead);
+  for (const int col : {1, acquisition::kMarkersPerRow})
+    if (const auto* margin = acquisition::findItem(items_, acquisition::What::Marker, last->row, col))
+      room.push_back(ahead + (toView(margin->positionMm) - b) * kWidthRoom);
+  return room;
+}
+
+void PreviewWidget::keepFramed(bool force) {
+  const std::vector<QVector3D> points = scenePoints();
+  if (points.empty()) return;
+  const float aspect = static_cast<float>(width()) / static_cast<float>(std::max(1, height()));
+  // The leaf's direction is known once a row is taken: tip on the left, the rows going right.
+  if (!yawFixed_) {
+    const auto* tip = acquisition::findItem(items_, acquisition::What::Tip, 0, 0);
+    const auto* midrib = acquisition::findItem(items_, acquisition::What::Marker, 1, 4);
+    if (tip && midrib) {
+      to_.yawDeg = yawAcross(toView(midrib->positionMm) - toView(tip->positionMm));
+      yawFixed_ = true;
+      force = true;
+    }
+  }
+  // The framing holds while what is there stays inside, and what is there plus the room
+  // left for growth fills enough of the view.
+  const std::vector<QVector3D> room = roomToGrow();
+  std::vector<QVector3D> withRoom = points;
+  withRoom.insert(withRoom.end(), room.begin(), room.end());
+  const bool inside = framed_ && framingHolds(to_, points, aspect, kInside, 0.0f);
+  if (!force && inside && framingHolds(to_, withRoom, aspect, 1e9f, kMinFill)) return;
+  const ViewFraming target = fitView(withRoom, aspect, to_.yawDeg, kPitchDeg, kFill, kMinHalfSizeMm);
+  // Small in the view but already shown as large as allowed (the first points): stay.
+  const float scale = target.distance * target.radius, current = to_.distance * to_.radius;
+  if (!force && inside && std::abs(scale - current) < 0.15f * current &&
+      (target.centre - to_.centre).length() < 0.1f * current)
+    return;
+  if (!framed_) {
+    view_ = from_ = to_ = target;  // the first framing: no glide from nowhere
+    framed_ = true;
+    redraw();
+  } else {
+    glideTo(target);
+  }
+  ++framingChanges_;
+}
+
+void PreviewWidget::glideTo(const ViewFraming& target) {
+  from_ = view_;
+  to_ = target;
+  animationClock_.start();
+  if (!animation_.isActive()) animation_.start();
+}
+
+void PreviewWidget::stopGliding() {
+  animation_.stop();
+  to_ = view_;
+}
+
+void PreviewWidget::finishAnimation() {
+  animation_.stop();
+  view_ = to_;
+  redraw();
+}
+
+void PreviewWidget::resetView() {
+  stopGliding();
   userMoved_ = false;
-  surface_->update();
+  framed_ = framed_ && yawFixed_;
+  yawFixed_ = false;
+  keepFramed(true);
+  redraw();
+}
+
+void PreviewWidget::resizeEvent(QResizeEvent* e) {
+  QWidget::resizeEvent(e);
+  if (!userMoved_ && framed_) keepFramed(false);
 }
 
 void PreviewWidget::setStylusCursor(const std::optional<acquisition::Vec3>& positionMm) {
@@ -329,14 +465,7 @@ void PreviewWidget::setHighlight(const std::optional<acquisition::Item>& item) {
 }
 
 QMatrix4x4 PreviewWidget::viewProjection(QSizeF size) const {
-  QMatrix4x4 projection, view;
-  const float aspect = static_cast<float>(size.width() / std::max(1.0, size.height()));
-  projection.perspective(35.0f, aspect, radius_ * 0.05f, radius_ * 20.0f);
-  view.translate(pan_.x() * radius_, pan_.y() * radius_, -distance_ * radius_);
-  view.rotate(pitch_, 1, 0, 0);
-  view.rotate(yaw_, 0, 1, 0);
-  view.translate(-centre_);
-  return projection * view;
+  return view_.matrix(static_cast<float>(size.width() / std::max(1.0, size.height())));
 }
 
 QPointF PreviewWidget::project(const acquisition::Vec3& positionMm) const {
@@ -375,20 +504,22 @@ void PreviewWidget::onMove(QPointF pos, Qt::MouseButtons buttons) {
   if ((lastMouse_ - pressedAt_).manhattanLength() > 3) {
     dragged_ = true;
     userMoved_ = true;
+    stopGliding();
   }
   if (buttons & Qt::LeftButton) {
-    yaw_ += 0.4f * static_cast<float>(d.x());
-    pitch_ = std::clamp(pitch_ + 0.4f * static_cast<float>(d.y()), -89.0f, 89.0f);
+    view_.yawDeg += 0.4f * static_cast<float>(d.x());
+    view_.pitchDeg = std::clamp(view_.pitchDeg + 0.4f * static_cast<float>(d.y()), -89.0f, 89.0f);
   } else if (buttons & Qt::RightButton) {
-    pan_ += QVector3D(0.003f * static_cast<float>(d.x()), -0.003f * static_cast<float>(d.y()), 0) * distance_;
+    view_.pan += QVector3D(0.003f * static_cast<float>(d.x()), -0.003f * static_cast<float>(d.y()), 0) * view_.distance;
   }
-  surface_->update();
+  redraw();
 }
 
 void PreviewWidget::onWheel(int angleDeltaY) {
-  distance_ = std::clamp(distance_ * std::pow(0.999f, static_cast<float>(angleDeltaY)), 0.3f, 20.0f);
+  stopGliding();
+  view_.distance = std::clamp(view_.distance * std::pow(0.999f, static_cast<float>(angleDeltaY)), 0.3f, 30.0f);
   userMoved_ = true;
-  surface_->update();
+  redraw();
 }
 
 void PreviewWidget::keyPressEvent(QKeyEvent* e) {

@@ -8,6 +8,7 @@
 // more than drawing the leaf. See docs/benchmarks.md ("Station preview").
 #pragma once
 
+#include <QElapsedTimer>
 #include <QImage>
 #include <QMatrix4x4>
 #include <QOpenGLBuffer>
@@ -15,6 +16,7 @@
 #include <QOpenGLShaderProgram>
 #include <QOpenGLVertexArrayObject>
 #include <QOpenGLWindow>
+#include <QTimer>
 #include <QVector3D>
 #include <QWidget>
 #include <memory>
@@ -22,6 +24,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/session.hpp"
+#include "view_framing.hpp"
 
 namespace leafdig::station {
 
@@ -74,9 +77,20 @@ class PreviewWidget : public QWidget {
   explicit PreviewWidget(QWidget* parent = nullptr);
   ~PreviewWidget() override;
 
-  // Shows this snapshot (latest wins; called on the UI thread).
+  // Shows this snapshot (latest wins; called on the UI thread). Until the operator moves the
+  // view, the leaf is kept framed: the view glides to a new framing only when the leaf
+  // grows out of the current one (or shrinks to under half of it), so it does not jump at
+  // every point.
   void show(const acquisition::Snapshot& snapshot);
+  // Back to the automatic framing (R, double click).
   void resetView();
+  // A live capture leaves room for the leaf to grow in each new framing; review does not.
+  void setLive(bool live) { live_ = live; }
+  [[nodiscard]] const ViewFraming& framing() const { return view_; }
+  // How often the automatic framing moved, and whether a move is under way.
+  [[nodiscard]] int framingChanges() const { return framingChanges_; }
+  [[nodiscard]] bool animating() const { return animation_.isActive(); }
+  void finishAnimation();
   // The stylus where it is now (a cross-hair point), or none.
   void setStylusCursor(const std::optional<acquisition::Vec3>& positionMm);
   // A marker to highlight (review selection), or none.
@@ -88,6 +102,9 @@ class PreviewWidget : public QWidget {
   [[nodiscard]] QPointF project(const acquisition::Vec3& positionMm) const;
   // Asks for a new frame (the GL window repaints on its own for every change above).
   void redraw();
+  // No OpenGL here: a message takes the 3D view's place (the rest of the station works).
+  void showUnavailable();
+  [[nodiscard]] bool unavailable() const;
   // The preview as drawn now, at the widget's size (rendered off-screen; empty without GL).
   [[nodiscard]] QImage grabFramebuffer();
   // The window as on screen: QWidget::grab() with every visible preview in it drawn in.
@@ -102,9 +119,17 @@ class PreviewWidget : public QWidget {
 
  protected:
   void keyPressEvent(QKeyEvent* e) override;
+  void resizeEvent(QResizeEvent* e) override;
 
  private:
   friend class PreviewSurface;
+  // The points the framing keeps in view (the preview's vertices and the stylus items).
+  [[nodiscard]] std::vector<QVector3D> scenePoints() const;
+  // Points a new framing also covers while the leaf is still growing.
+  [[nodiscard]] std::vector<QVector3D> roomToGrow() const;
+  void keepFramed(bool force);
+  void glideTo(const ViewFraming& target);
+  void stopGliding();
   [[nodiscard]] QMatrix4x4 viewProjection(QSizeF size) const;
   void changed(bool geometry);
   void onPress(QPointF pos);
@@ -114,12 +139,15 @@ class PreviewWidget : public QWidget {
 
   PreviewSurface* surface_;
   QWidget* container_ = nullptr;
+  QWidget* unavailable_ = nullptr;
   std::shared_ptr<const acquisition::Preview> preview_;
   std::vector<acquisition::Item> items_;
   bool meshDirty_ = false, pointsDirty_ = false, userMoved_ = false;
-  QVector3D centre_{0, 0, 0};
-  float radius_ = 100.0f, yaw_ = -30.0f, pitch_ = 35.0f, distance_ = 3.0f;
-  QVector3D pan_{0, 0, 0};
+  ViewFraming view_, from_, to_;  // shown now; a glide goes from from_ to to_
+  bool framed_ = false, yawFixed_ = false, rowsEnded_ = false, live_ = true;
+  int framingChanges_ = 0;
+  QTimer animation_;
+  QElapsedTimer animationClock_;
   QPointF lastMouse_, pressedAt_;
   bool dragged_ = false;
   std::optional<acquisition::Vec3> cursor_;

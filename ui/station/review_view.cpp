@@ -1,5 +1,7 @@
 #include "review_view.hpp"
 
+#include <QScrollBar>
+
 #include <QChart>
 #include <QChartView>
 #include <QDialog>
@@ -24,6 +26,17 @@ namespace leafdig::station {
 namespace acq = leafdig::acquisition;
 
 namespace {
+
+// A short name for the markers table (the full name is the cell's tooltip and data).
+QString shortName(acq::What w) {
+  switch (w) {
+    case acq::What::MidribThickness: return QStringLiteral("midrib");
+    case acq::What::VeinOriginThickness: return QStringLiteral("vein origin");
+    case acq::What::EdgeThickness: return QStringLiteral("margin (d)");
+    case acq::What::PointThickness: return QStringLiteral("at point");
+    default: return QString::fromLatin1(acq::toString(w));
+  }
+}
 
 QTableWidgetItem* cell(const QString& text) {
   auto* c = new QTableWidgetItem(text);
@@ -100,12 +113,15 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
   auto* mid = new QVBoxLayout(middle);
   mid->setContentsMargins(0, 0, 0, 0);
   preview_ = new PreviewWidget(middle);
+  preview_->setLive(false);
   connect(preview_, &PreviewWidget::itemPicked, this, [this](const acq::Item& i) { selectItem(i); });
   mid->addWidget(preview_, 1);
   auto* replay = new QHBoxLayout;
   auto* back = new QPushButton(QStringLiteral("◀"));
   auto* forward = new QPushButton(QStringLiteral("▶"));
+  for (auto* b : {back, forward}) b->setMaximumWidth(44);  // the slider keeps the room
   slider_ = new QSlider(Qt::Horizontal);
+  slider_->setMinimumWidth(120);
   slider_->setEnabled(false);
   replayLabel_ = new QLabel;
   connect(back, &QPushButton::clicked, this, [this] { slider_->setValue(slider_->value() - 1); });
@@ -125,7 +141,7 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
   rl->setContentsMargins(0, 0, 0, 0);
   chart_ = new QChartView(right);
   chart_->setRenderHint(QPainter::Antialiasing);
-  chart_->setMinimumHeight(220);
+  chart_->setMinimumHeight(240);
   metrics_ = new QLabel(right);
   metrics_->setWordWrap(true);
   metrics_->setTextInteractionFlags(Qt::TextSelectableByMouse);
@@ -157,7 +173,8 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
     if (d.exec() == QDialog::Accepted) d.run(dbPath_);
   });
   for (auto* b : {correctB, approveB, rejectB, exportB}) actions->addWidget(b);
-  rl->addWidget(chart_, 2);
+  flags_->setMinimumHeight(60);
+  rl->addWidget(chart_, 3);
   rl->addWidget(metrics_);
   rl->addWidget(new QLabel(tr("Flags")));
   rl->addWidget(flags_, 1);
@@ -262,14 +279,14 @@ std::optional<acq::Item> ReviewView::itemOfRow(int row) const {
   if (!current_ || row < 0) return std::nullopt;
   const auto* w = markers_->item(row, 0);
   if (!w) return std::nullopt;
-  const auto* i = acq::findItem(current_->engine.items(), acq::whatFromString(w->text().toStdString()),
+  const auto* i = acq::findItem(current_->engine.items(), acq::whatFromString(w->data(Qt::UserRole).toString().toStdString()),
                                 markers_->item(row, 1)->text().toInt(), markers_->item(row, 2)->text().toInt());
   return i ? std::optional<acq::Item>(*i) : std::nullopt;
 }
 
 void ReviewView::selectItem(const acq::Item& item) {
   for (int r = 0; r < markers_->rowCount(); ++r) {
-    if (markers_->item(r, 0)->text() == QString::fromLatin1(acq::toString(item.what)) &&
+    if (markers_->item(r, 0)->data(Qt::UserRole).toString() == QString::fromLatin1(acq::toString(item.what)) &&
         markers_->item(r, 1)->text().toInt() == item.row && markers_->item(r, 2)->text().toInt() == item.col) {
       markers_->selectRow(r);
       markers_->scrollToItem(markers_->item(r, 0));
@@ -305,23 +322,39 @@ void ReviewView::fill() {
     markers_->insertRow(row);
     QString value;
     if (acq::isStylusItem(i.what))
-      value = QString("%1, %2, %3").arg(settings_.length(i.positionMm[0], 1), settings_.length(i.positionMm[1], 1),
-                                        settings_.length(i.positionMm[2], 1));
-    else value = settings_.length(i.valueMm, 3);
+      value = QString("%1, %2, %3").arg(settings_.number(i.positionMm[0], 1), settings_.number(i.positionMm[1], 1),
+                                        settings_.number(i.positionMm[2], 1));
+    else value = settings_.number(i.valueMm, 3);
     const auto seq = r.seqs.find({static_cast<int>(i.what), i.row, i.col});
     QString flag = QString::fromStdString(i.flag);
     for (const auto& f : flags)
       if (f.what == i.what && f.row == i.row && (f.col == i.col || f.col == 0) && f.text != i.flag)
         flag += (flag.isEmpty() ? "" : "; ") + QString::fromStdString(f.text);
-    const QStringList values{QString::fromLatin1(acq::toString(i.what)), QString::number(i.row), QString::number(i.col), value,
+    const QStringList values{shortName(i.what), QString::number(i.row), QString::number(i.col), value,
                              seq != r.seqs.end() ? QString::number(seq->second) : QString(), flag};
     for (int c = 0; c < values.size(); ++c) {
       auto* w = cell(values[c]);
       if (!flag.isEmpty()) w->setBackground(QColor(255, 224, 178));
+      if (c == values.size() - 1 && !flag.isEmpty()) w->setToolTip(flag);
+      if (c == 0) {
+        w->setData(Qt::UserRole, QString::fromLatin1(acq::toString(i.what)));  // what the table's rows mean
+        w->setToolTip(QString::fromLatin1(acq::toString(i.what)));
+      }
       markers_->setItem(row, c, w);
     }
   }
+  markers_->setHorizontalHeaderLabels({tr("item"), tr("row"), tr("point"), tr("value (%1)").arg(settings_.units),
+                                       tr("event"), tr("flag")});
+  // Every column at its content's width (a long flag is capped; its cell's tooltip has it
+  // whole), and the table at least that wide: no value is cut off.
+  QHeaderView* header = markers_->horizontalHeader();
+  header->setStretchLastSection(false);
   markers_->resizeColumnsToContents();
+  const int last = markers_->columnCount() - 1;
+  markers_->setColumnWidth(last, std::min(markers_->columnWidth(last), 220));
+  const int contentWidth = header->length();
+  header->setStretchLastSection(true);
+  markers_->setMinimumWidth(contentWidth + markers_->frameWidth() * 2 + markers_->verticalScrollBar()->sizeHint().width() + 2);
   flags_->clear();
   for (const auto& f : flags) {
     auto* it = new QListWidgetItem(QString("%1 row %2 point %3: %4")
@@ -360,6 +393,8 @@ void ReviewView::fill() {
   snap.session = r.info.id;
   snap.items = items;
   snap.step = r.engine.step();
+  snap.rowsEnded = r.engine.rowsEnded();
+  snap.plan = r.engine.plan();
   snap.preview = std::make_shared<acq::Preview>(acq::buildPreview(items, r.settings));
   preview_->show(snap);
   slider_->setEnabled(true);
@@ -370,14 +405,23 @@ void ReviewView::fill() {
     const auto ev = store_->events(r.info.id, r.replayedEvents);
     if (!ev.empty()) kind = ev.front().kind;
   }
-  replayLabel_->setText(tr("event %1 of %2 %3").arg(r.replayedEvents).arg(r.totalEvents).arg(QString::fromStdString(kind)));
+  replayLabel_->setText(tr("%1 / %2 %3").arg(r.replayedEvents).arg(r.totalEvents).arg(QString::fromStdString(kind)));
+  replayLabel_->setToolTip(tr("event %1 of %2: %3").arg(r.replayedEvents).arg(r.totalEvents).arg(QString::fromStdString(kind)));
   fillChart(flags);
   filling_ = false;
 }
 
 void ReviewView::fillChart(const std::vector<acq::ReviewFlag>& flags) {
   auto* chart = new QChart;
+  // Compact: at 1366 × 768 the chart has about 250 px, and Qt Charts elides labels that
+  // do not fit (a test looks for "…" in every label).
   chart->setTitle(tr("Thickness along the leaf (row 1 = tip)"));
+  QFont small = chart->titleFont();
+  small.setPointSizeF(small.pointSizeF() * 0.9);
+  chart->setTitleFont(small);
+  chart->setMargins(QMargins(2, 2, 2, 2));
+  chart->setBackgroundRoundness(0);
+  chart->legend()->setFont(small);
   std::map<acq::What, QLineSeries*> series;
   const std::pair<acq::What, QString> kinds[] = {{acq::What::MidribThickness, tr("midrib")},
                                                  {acq::What::VeinOriginThickness, tr("vein origin")},
@@ -415,9 +459,11 @@ void ReviewView::fillChart(const std::vector<acq::ReviewFlag>& flags) {
   x->setTitleText(tr("row"));
   x->setRange(0.5, maxRow + 0.5);
   x->setLabelFormat("%d");
+  x->setTickType(QValueAxis::TicksDynamic);  // whole rows: 1, 2, 3 … (every other one past 10)
+  x->setTickAnchor(1);
+  x->setTickInterval(maxRow > 10 ? 2 : 1);
   auto* y = new QValueAxis;
-  y->setTitleText(settings_.units == "in" ? tr("thickness (mm; shown values in the table follow the units setting)")
-                                          : tr("thickness (mm)"));
+  y->setTitleText(tr("mm"));  // short: a vertical title longer than the plot is cut
   y->setRange(0, maxV * 1.15);
   chart->addAxis(x, Qt::AlignBottom);
   chart->addAxis(y, Qt::AlignLeft);

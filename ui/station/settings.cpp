@@ -120,10 +120,12 @@ void StationSettings::save(const QString& file) const {
   q.sync();
 }
 
-QString StationSettings::length(double mm, int decimalsMm) const {
-  if (units == "in") return QString::number(mm / 25.4, 'f', decimalsMm + 1) + " in";
-  return QString::number(mm, 'f', decimalsMm) + " mm";
+QString StationSettings::number(double mm, int decimalsMm) const {
+  if (units == "in") return QString::number(mm / 25.4, 'f', decimalsMm + 1);
+  return QString::number(mm, 'f', decimalsMm);
 }
+
+QString StationSettings::length(double mm, int decimalsMm) const { return number(mm, decimalsMm) + " " + units; }
 
 void applyTheme(QApplication& app, const StationSettings& s) {
   app.setStyle(QStyleFactory::create("Fusion"));

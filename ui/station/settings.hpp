@@ -35,6 +35,8 @@ struct StationSettings {
   void save(const QString& file) const;
   // "12.34 mm" or "0.486 in".
   [[nodiscard]] QString length(double mm, int decimalsMm = 2) const;
+  // The number alone, in the units shown (a column header carries the unit).
+  [[nodiscard]] QString number(double mm, int decimalsMm = 2) const;
 };
 
 [[nodiscard]] QString defaultSettingsFile();

@@ -8,6 +8,7 @@
 #include <QKeySequence>
 #include <QMenu>
 #include <QMessageBox>
+#include <QScreen>
 #include <QShortcut>
 #include <QSplitter>
 #include <QStatusBar>
@@ -63,6 +64,7 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   outer->addWidget(banner_);
   auto* info = new QHBoxLayout;
   feedback_ = new QLabel(capture);
+  feedback_->setWordWrap(true);  // a long reason wraps; it never widens the window
   QFont mid = feedback_->font();
   mid.setPointSizeF(mid.pointSizeF() * 1.3);
   feedback_->setFont(mid);
@@ -85,6 +87,11 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   steps_ = new QListWidget(left);
   steps_->setObjectName("steps");
   steps_->setFocusPolicy(Qt::NoFocus);  // focus is never trapped: keys go to the window
+  // A long step wraps onto a second line instead of being cut off.
+  steps_->setWordWrap(true);
+  steps_->setTextElideMode(Qt::ElideNone);
+  steps_->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+  steps_->setResizeMode(QListView::Adjust);
   left->setMinimumWidth(260);
   preview_ = new PreviewWidget(split);
   split->addWidget(left);
@@ -95,7 +102,9 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   review_ = new ReviewView(settings_, tabs_);
   tabs_->addTab(review_, tr("Review"));
   setCentralWidget(tabs_);
-  resize(1280, 860);
+  // As large as the screen allows, up to 1440 × 900: a 1366 × 768 laptop gets all of it.
+  const QSize room = screen() ? screen()->availableGeometry().size() : QSize(1280, 860);
+  resize(std::min(1440, room.width()), std::min(900, room.height()));
 
   auto* bar = addToolBar(tr("Station"));
   bar->setMovable(false);
@@ -244,6 +253,30 @@ QToolButton* StationWindow::chip(Role role) {
 
 QString StationWindow::chipText(Role role) const { return chips_.at(role)->text(); }
 
+QString StationWindow::chipLabel(const devices::DeviceStatus& s, Role role) {
+  QString text = QString::fromStdString(s.device.empty() ? (role == Role::Digitizer ? "Digitizer" : "Caliper") : s.device);
+  text += " · " + QString::fromLatin1(devices::toString(s.state));
+  if (s.state == devices::LinkState::Streaming || s.state == devices::LinkState::Warning) {
+    if (role == Role::Digitizer || s.rateHz > 0) text += QString(" · %1 Hz").arg(s.rateHz, 0, 'f', 0);
+    if (s.lastSampleAgeS >= 0) text += QString(" · last %1 s ago").arg(s.lastSampleAgeS, 0, 'f', 1);
+  }
+  if (!s.remedy.empty() && s.state != devices::LinkState::Streaming) {
+    // Message and remedy on lines of at most kChipLineChars: a chip never widens the window.
+    constexpr int kChipLineChars = 56;
+    QString line;
+    for (const QString& word : (QString::fromStdString(s.message) + " — " + QString::fromStdString(s.remedy))
+                                   .split(' ', Qt::SkipEmptyParts)) {
+      if (!line.isEmpty() && line.size() + 1 + word.size() > kChipLineChars) {
+        text += "\n" + line;
+        line.clear();
+      }
+      line += (line.isEmpty() ? "" : " ") + word;
+    }
+    if (!line.isEmpty()) text += "\n" + line;
+  }
+  return text;
+}
+
 void StationWindow::toggleDevice(Role role) {
   if (!run_) return;
   acq::DeviceSet& devices = run_->devices();
@@ -256,14 +289,7 @@ void StationWindow::refreshDevices() {
   if (!run_) return;
   for (const Role role : {Role::Digitizer, Role::Caliper}) {
     const devices::DeviceStatus s = run_->devices().status(role);
-    QString text = QString::fromStdString(s.device.empty() ? (role == Role::Digitizer ? "Digitizer" : "Caliper") : s.device);
-    text += " · " + QString::fromLatin1(devices::toString(s.state));
-    if (s.state == devices::LinkState::Streaming || s.state == devices::LinkState::Warning) {
-      if (role == Role::Digitizer || s.rateHz > 0) text += QString(" · %1 Hz").arg(s.rateHz, 0, 'f', 0);
-      if (s.lastSampleAgeS >= 0) text += QString(" · last %1 s ago").arg(s.lastSampleAgeS, 0, 'f', 1);
-    }
-    if (!s.remedy.empty() && s.state != devices::LinkState::Streaming)
-      text += "\n" + QString::fromStdString(s.message) + " — " + QString::fromStdString(s.remedy);
+    const QString text = chipLabel(s, role);
     QToolButton* b = chip(role);
     b->setText(text);
     b->setToolTip(QString::fromStdString(s.where) + "\n" + QString::fromStdString(s.message) +

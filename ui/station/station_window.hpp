@@ -64,6 +64,8 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] QString bannerText() const { return banner_->text(); }
   [[nodiscard]] QString feedbackText() const { return feedback_->text(); }
   [[nodiscard]] QString chipText(acquisition::DeviceSet::Role role) const;
+  // A device chip's text: name, state, rate and age; message and remedy wrapped into short lines.
+  [[nodiscard]] static QString chipLabel(const devices::DeviceStatus& status, acquisition::DeviceSet::Role role);
   [[nodiscard]] const std::optional<acquisition::Snapshot>& lastSnapshot() const { return last_; }
   [[nodiscard]] std::int64_t sessionId() const { return sessionId_; }
   [[nodiscard]] Sounds& sounds() { return *sounds_; }

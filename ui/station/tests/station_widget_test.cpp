@@ -10,7 +10,14 @@
 #include <QSettings>
 #include <QTest>
 #include <QLabel>
+#include <QGraphicsScene>
+#include <QGraphicsSimpleTextItem>
+#include <QGraphicsTextItem>
 #include <QListWidget>
+#include <QHeaderView>
+#include <QScrollBar>
+#include <QTableWidget>
+#include <QValueAxis>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -116,8 +123,10 @@ fs::path freshDir(const std::string& tag) {
   return dir;
 }
 
-// A complete 3-row leaf in `store`, captured through a real session.
-std::int64_t completeLeaf(leafdig::db::Store& store, std::optional<double> areaMm2 = {}) {
+// A complete leaf in `store` (its first `rows` rows), captured through a real session.
+// `shown` sees every snapshot along the way.
+std::int64_t completeLeaf(leafdig::db::Store& store, std::optional<double> areaMm2 = {}, std::size_t rows = 3,
+                          const std::function<void(const acq::Snapshot&)>& shown = {}) {
   const auto leaf = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
   acq::SessionSetup setup;
   setup.project = "p";
@@ -127,10 +136,15 @@ std::int64_t completeLeaf(leafdig::db::Store& store, std::optional<double> areaM
   acq::CaptureSession s(store, id);
   std::int64_t t = 0;
   (void)press(s, t, leaf.tipMm);
-  for (std::size_t r = 0; r < 3; ++r)
-    for (std::size_t c = 0; c < 7; ++c) (void)press(s, t, leaf.rows[r].pointsMm[c]);
+  if (shown) shown(s.snapshot());
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < 7; ++c) {
+      (void)press(s, t, leaf.rows[r].pointsMm[c]);
+      if (shown) shown(s.snapshot());
+    }
   (void)s.endRows(t);
-  for (std::size_t r = 0; r < 3; ++r) {
+  if (shown) shown(s.snapshot());
+  for (std::size_t r = 0; r < rows; ++r) {
     (void)s.onCaliper({t += 600 * kMs, *leaf.rows[r].midribThicknessMm, "m"});
     (void)s.onCaliper({t += 600 * kMs, *leaf.rows[r].veinOriginThicknessMm, "v"});
   }
@@ -434,6 +448,176 @@ TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
 }
 
 }  // namespace
+
+// Every step, table cell and axis title shows whole at the screen sizes stations use.
+TEST(StationLayout, NothingIsCutOffAt1366x768And1920x1080) {
+  const fs::path dir = freshDir("layout");
+  const std::string db = (dir / "s.sqlite").string();
+  std::int64_t id = 0;
+  std::optional<acq::Snapshot> last;
+  {
+    leafdig::db::Store store(db);
+    id = completeLeaf(store, 40000.0, 10, [&](const acq::Snapshot& s) { last = s; });
+  }
+  leafdig::station::StationOptions options;
+  options.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  options.db = db;
+  for (const QSize size : {QSize(1366, 768), QSize(1920, 1080)}) {
+    SCOPED_TRACE(std::to_string(size.width()) + "x" + std::to_string(size.height()));
+    leafdig::station::StationWindow w(options);
+    w.resize(size);
+    w.show();
+    // The capture view after the last row and the end of the rows: every row's thickness step.
+    {
+      leafdig::db::Store store(db, true);
+      const auto r = acq::openForReview(store, id);
+      acq::Snapshot s = *last;
+      s.items = r.engine.items();
+      s.plan = r.engine.plan();
+      s.step = r.engine.step();
+      s.prompt = r.engine.prompt();
+      s.rowsEnded = true;
+      w.applySnapshot(s);
+    }
+    // A long rejection reason wraps instead of widening the window.
+    acq::Feedback rejected;
+    rejected.kind = acq::Feedback::Kind::Rejected;
+    rejected.text = "the stylus moved 3.2 mm while the button was down: hold it still on the marker for half a second "
+                    "before pressing, then press and release without pushing the leaf";
+    w.applyFeedback(rejected);
+    QApplication::processEvents();
+    EXPECT_LE(w.width(), size.width());
+    EXPECT_LE(w.minimumSizeHint().width(), size.width());
+    const auto* steps = w.findChild<QListWidget*>("steps");
+    ASSERT_NE(steps, nullptr);
+    ASSERT_GE(steps->count(), 20);
+    const int listWidth = steps->viewport()->width();
+    for (int i = 0; i < steps->count(); ++i) {
+      const QListWidgetItem* item = steps->item(i);
+      const QRect cellRect = steps->visualItemRect(item);
+      const QRect need = QFontMetrics(item->font()).boundingRect(QRect(0, 0, listWidth - 8, 10000), Qt::TextWordWrap,
+                                                                 item->text());
+      EXPECT_LE(need.height(), cellRect.height()) << item->text().toStdString();
+      EXPECT_LE(cellRect.right(), listWidth) << item->text().toStdString();
+    }
+    // The review of the same session: the markers table and the thickness chart.
+    w.tabs()->setCurrentIndex(1);
+    w.review()->setDatabase(db);
+    ASSERT_TRUE(w.review()->openSession(id));
+    QApplication::processEvents();
+    // The window fits the screen: no widget's minimum size pushed it wider or taller.
+    EXPECT_LE(w.width(), size.width());
+    EXPECT_LE(w.height(), size.height());
+    EXPECT_LE(w.minimumSizeHint().width(), size.width());
+    const QTableWidget* table = w.review()->markersTable();
+    const int tableWidth = table->viewport()->width();
+    for (int c = 0; c < table->columnCount(); ++c) {
+      const QString head = table->horizontalHeaderItem(c)->text();
+      EXPECT_LE(table->columnViewportPosition(c) + table->columnWidth(c), tableWidth)
+          << "column " << head.toStdString() << " is cut by the table's edge";
+      EXPECT_LE(table->horizontalHeader()->fontMetrics().horizontalAdvance(head) + 8, table->columnWidth(c))
+          << "header " << head.toStdString() << " does not fit";
+      for (int r = 0; r < table->rowCount(); ++r) {
+        const QTableWidgetItem* cellItem = table->item(r, c);
+        if (!cellItem) continue;
+        EXPECT_TRUE(table->fontMetrics().horizontalAdvance(cellItem->text()) <= table->columnWidth(c) ||
+                    cellItem->toolTip() == cellItem->text())
+            << cellItem->text().toStdString();
+      }
+    }
+    EXPECT_FALSE(table->horizontalScrollBar()->isVisible()) << "the markers table scrolls sideways";
+    QChart* chart = w.review()->chart()->chart();
+    ASSERT_NE(chart, nullptr);
+    // Qt Charts elides what does not fit: no label, title or legend entry may end in "…".
+    int texts = 0;
+    for (QGraphicsItem* item : chart->scene()->items()) {
+      QString text;
+      if (auto* t = dynamic_cast<QGraphicsTextItem*>(item)) text = t->toPlainText();
+      else if (auto* st = dynamic_cast<QGraphicsSimpleTextItem*>(item)) text = st->text();
+      else continue;
+      if (!item->isVisible() || text.isEmpty()) continue;
+      ++texts;
+      EXPECT_FALSE(text.contains(QChar(0x2026)) || text.contains("...")) << "chart text cut: " << text.toStdString();
+    }
+    EXPECT_GE(texts, 8);  // the title, two axis titles, tick labels
+    w.stopCapture();
+  }
+  fs::remove_all(dir);
+}
+
+TEST(StationLayout, ADeviceChipWrapsALongRemedyIntoShortLines) {
+  leafdig::devices::DeviceStatus s;
+  s.device = "Sylvac";
+  s.state = leafdig::devices::LinkState::Error;
+  s.message = "cannot open /dev/serial/by-id/usb-Prolific_Technology_Inc._USB-Serial_Controller-if00-port0: Permission denied";
+  s.remedy = "install the udev rule (sudo cmake --install build/release --prefix /usr), then unplug and replug the gauge";
+  const QString label = leafdig::station::StationWindow::chipLabel(s, acq::DeviceSet::Role::Caliper);
+  EXPECT_TRUE(label.startsWith("Sylvac · error")) << label.toStdString();
+  EXPECT_TRUE(label.contains("replug the gauge")) << label.toStdString();  // nothing dropped
+  for (const QString& line : label.split('\n'))
+    EXPECT_LE(line.size(), 110) << line.toStdString();  // one long path may stand alone on its line
+  EXPECT_GE(label.count('\n'), 3);
+}
+
+// The live preview keeps the growing leaf in view, and moves only when the leaf outgrows the
+// framing: every marker stays on screen, the leaf fills the view, the view does not jump.
+TEST(PreviewFraming, TheGrowingLeafStaysFramedAndTheViewMovesOnlyWhenItOutgrowsIt) {
+  const fs::path dir = freshDir("framing");
+  leafdig::station::PreviewWidget preview;
+  preview.resize(900, 600);
+  int snapshots = 0;
+  std::optional<leafdig::station::ViewFraming> before;
+  int movedWithoutReframing = 0;
+  const auto onScreen = [&](const acq::Snapshot& s, const leafdig::station::ViewFraming& f, double margin) {
+    for (const auto& i : s.items) {
+      if (!acq::isStylusItem(i.what)) continue;
+      const QVector3D n = f.toNdc(QVector3D(static_cast<float>(i.positionMm[0]), static_cast<float>(i.positionMm[2]),
+                                            static_cast<float>(-i.positionMm[1])),
+                                  900.0f / 600.0f);
+      if (std::abs(n.x()) > margin || std::abs(n.y()) > margin) return false;
+    }
+    return true;
+  };
+  int offScreen = 0;
+  {
+    leafdig::db::Store store((dir / "s.sqlite").string());
+    (void)completeLeaf(store, {}, 10, [&](const acq::Snapshot& s) {
+      const int changesBefore = preview.framingChanges();
+      preview.show(s);
+      // A move, when there is one, glides: half-way through it is neither the old nor the new view.
+      if (preview.framingChanges() != changesBefore && preview.animating()) {
+        preview.finishAnimation();
+      } else if (before && (before->distance != preview.framing().distance || before->centre != preview.framing().centre)) {
+        ++movedWithoutReframing;
+      }
+      offScreen += !onScreen(s, preview.framing(), 0.95);
+      before = preview.framing();
+      ++snapshots;
+    });
+  }
+  std::printf("framing: %d moves over %d snapshots\n", preview.framingChanges(), snapshots);
+  EXPECT_EQ(offScreen, 0);
+  EXPECT_EQ(movedWithoutReframing, 0);
+  EXPECT_GE(preview.framingChanges(), 2);               // it did follow the leaf…
+  EXPECT_LE(preview.framingChanges(), 7);  // …without moving at every row (10 rows, 72 snapshots)
+  // The whole leaf fills a good part of the view.
+  const auto f = preview.framing();
+  float xLo = 1, xHi = -1, yLo = 1, yHi = -1;
+  const auto leaf = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
+  for (const auto& row : leaf.rows)
+    for (const auto& p : row.pointsMm) {
+      const QVector3D n = f.toNdc(QVector3D(static_cast<float>(p.x()), static_cast<float>(p.z()), static_cast<float>(-p.y())),
+                                  900.0f / 600.0f);
+      xLo = std::min(xLo, n.x());
+      xHi = std::max(xHi, n.x());
+      yLo = std::min(yLo, n.y());
+      yHi = std::max(yHi, n.y());
+    }
+  EXPECT_GE(std::max(xHi - xLo, yHi - yLo) / 2.0f, 0.45f) << "the leaf sits small in the view";
+  // The leaf lies across the screen (tip on the left): wider than tall.
+  EXPECT_GT(xHi - xLo, yHi - yLo);
+  fs::remove_all(dir);
+}
 
 int main(int argc, char** argv) {
   // Widget tests need no display (also when CTest lists the tests at build time).
