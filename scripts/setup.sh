@@ -10,7 +10,8 @@
 # qt6-multimedia-dev for the sound cues, qt6-charts-dev for the review plots,
 # libqt6opengl6-dev, libgl-dev) with Mesa's software OpenGL and Xvfb for its tests
 # (libgl1-mesa-dri, xvfb, xauth, fonts-dejavu-core), checkers used by the tests (assimp-utils,
-# nodejs, npm, python3 with its sqlite3 module: reads the station's database as another tool would). npm: the Khronos glTF validator and Ajv (JSON Schema), pinned by tests/tools/package-lock.json.
+# nodejs, npm, python3 with its sqlite3 module: reads the station's database as another tool would),
+# and for the Debian package: dpkg-dev (cpack's dpkg-shlibdeps), desktop-file-utils, file. npm: the Khronos glTF validator and Ajv (JSON Schema), pinned by tests/tools/package-lock.json.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 preset=${1:-release}
@@ -20,7 +21,7 @@ packages=(cmake ninja-build g++ ccache pkg-config libeigen3-dev nlohmann-json3-d
           libserialport-dev libhidapi-dev libusb-1.0-0-dev clang libclang-rt-14-dev
           libsqlitecpp-dev libssl-dev
           qt6-base-dev libqt6opengl6-dev qt6-multimedia-dev qt6-charts-dev libgl-dev libgl1-mesa-dri xvfb xauth
-          fonts-dejavu-core python3)
+          fonts-dejavu-core python3 dpkg-dev desktop-file-utils file)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -13,9 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "leafdig/devices/sample.hpp"
+
 namespace leafdig::acquisition {
 
-using Vec3 = std::array<double, 3>;
+// A point in millimetres: the one Vec3 of leafdig, the devices' (std::array<double, 3>).
+using devices::Vec3;
 
 // SPEC §1: seven markers a row, from the right margin (1) over the midrib (4) to the left
 // margin (7). Equal to model::kMarkersPerRow (checked in engine.cpp).

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The Debian package as a user gets it: `cpack -G DEB` in a build directory; then its control
+# data (name, version, the libraries it depends on), its files (programs, udev rule, desktop
+# entry and icon, sample leaves, schemas, documents), the desktop entry through
+# desktop-file-validate, and the unpacked programs run.
+# Usage: check-deb.sh BUILD_DIR WORK_DIR
+set -euo pipefail
+build=$1
+work=$2
+rm -rf "$work"
+mkdir -p "$work"
+fail() { echo "check-deb: $*" >&2; exit 1; }
+(cd "$build" && cpack -G DEB -B "$work" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack failed"; }
+deb=$(ls "$work"/leafdig_*_amd64.deb 2>/dev/null | head -1)
+[ -n "$deb" ] || fail "no leafdig_<version>_amd64.deb in $work"
+[ "$(dpkg-deb -f "$deb" Package)" = leafdig ] || fail "package name"
+[ "$(dpkg-deb -f "$deb" Architecture)" = amd64 ] || fail "architecture"
+depends=$(dpkg-deb -f "$deb" Depends)
+for lib in libqt6widgets6 libqt6opengl6 libqt6charts6 libqt6multimedia6 libserialport0 libhidapi libusb-1.0-0 libsqlite3-0 libssl3; do
+  echo "$depends" | grep -q "$lib" || fail "Depends lacks $lib: $depends"
+done
+dpkg-deb -c "$deb" | awk '{print $6}' >"$work/contents.txt"
+for f in ./usr/bin/leafdig ./usr/bin/leafdig-station ./usr/lib/udev/rules.d/70-leafdig.rules \
+         ./usr/share/applications/leafdig-station.desktop ./usr/share/icons/hicolor/scalable/apps/leafdig.svg \
+         ./usr/share/leafdig/samples/lower-leaf-n10.markers.json \
+         ./usr/share/leafdig/schema/leafdig.markers-1.schema.json ./usr/share/doc/leafdig/README.md \
+         ./usr/share/doc/leafdig/schema.md; do
+  grep -qx "$f" "$work/contents.txt" || fail "the package lacks $f"
+done
+dpkg-deb -e "$deb" "$work/control"
+[ -x "$work/control/postinst" ] || fail "no postinst (udev reload)"
+dpkg-deb -x "$deb" "$work/root"
+desktop-file-validate "$work/root/usr/share/applications/leafdig-station.desktop" || fail "desktop entry invalid"
+# Stripped programs that run, and build a leaf from the installed sample.
+file "$work/root/usr/bin/leafdig" 2>/dev/null | grep -q "not stripped" && fail "leafdig is not stripped"
+"$work/root/usr/bin/leafdig" --version | grep -q "$(dpkg-deb -f "$deb" Version)" || fail "leafdig --version"
+"$work/root/usr/bin/leafdig" model build "$work/root/usr/share/leafdig/samples/lower-leaf-n10.markers.json" \
+  -o "$work/leaf.glb" >/dev/null || fail "the installed leafdig cannot build the installed sample"
+[ -s "$work/leaf.glb" ] || fail "no GLB written"
+QT_QPA_PLATFORM=offscreen "$work/root/usr/bin/leafdig-station" --version >/dev/null 2>&1 || fail "leafdig-station --version"
+echo "check-deb: $(basename "$deb") ($(du -k "$deb" | cut -f1) KiB): control, files, desktop entry and programs OK"
