@@ -9,12 +9,11 @@
 // 0.01 mm (a digitizer's resolution), thicknesses to 0.001 mm (a caliper's).
 //
 // Usage: make_sample_leaves OUTPUT_DIR
+#include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <numbers>
-
-#include <Eigen/Geometry>
 
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/markers_json.hpp"
@@ -31,17 +30,19 @@ struct LeafShape {
   int rows;
   double lengthMm;
   double halfWidthMm;
-  double widestAt;        // 0 tip .. 1 base
-  double wing;            // half-width at the base as a fraction of halfWidthMm
-  double bendDeg;         // total turn of the midrib from base to tip
-  double cupMm;           // rise of the margin above the midrib's plane at full width
-  double waveMm;          // margin wave amplitude
+  double widestAt;  // 0 tip .. 1 base
+  double wing;      // half-width at the base as a fraction of halfWidthMm
+  double bendDeg;   // total turn of the midrib from base to tip
+  double cupMm;     // rise of the margin above the midrib's plane at full width
+  double waveMm;    // margin wave amplitude
   double veinAngleTipDeg;
   double veinAngleBaseDeg;
   bool perRowEdge;
 };
 
-double round(double v, double step) { return std::round(v / step) * step; }
+double round(double v, double step) {
+  return std::round(v / step) * step;
+}
 
 // Half-width at x in [0, 1] (0 = tip).
 double halfWidth(const LeafShape& s, double x) {
@@ -73,8 +74,8 @@ Eigen::Vector3d bladePoint(const LeafShape& s, double arc, double x) {
   const Eigen::Vector3d tangent = midribTangent(s, arc);  // towards the base
   const Eigen::Vector3d normal = tangent.cross(lateral);  // adaxial
   const double rel = std::abs(x) / s.halfWidthMm;
-  const double height = s.cupMm * rel * rel +
-                        s.waveMm * rel * rel * std::sin(2.0 * std::numbers::pi * arc / 90.0 + (x > 0 ? 0.0 : 1.3));
+  const double height =
+      s.cupMm * rel * rel + s.waveMm * rel * rel * std::sin(2.0 * std::numbers::pi * arc / 90.0 + (x > 0 ? 0.0 : 1.3));
   return midrib(s, arc) + x * lateral + height * normal;
 }
 
@@ -96,8 +97,7 @@ m::MarkerSet makeLeaf(const LeafShape& s) {
     const double q = s.rows == 1 ? 0.5 : static_cast<double>(i) / (s.rows - 1);
     const double x = 0.07 + 0.88 * std::pow(q, 1.08);  // row position, 0 tip .. 1 base
     const double arc = x * s.lengthMm;
-    const double angle =
-        (s.veinAngleTipDeg + (s.veinAngleBaseDeg - s.veinAngleTipDeg) * q) * std::numbers::pi / 180;
+    const double angle = (s.veinAngleTipDeg + (s.veinAngleBaseDeg - s.veinAngleTipDeg) * q) * std::numbers::pi / 180;
     m::MarkerRow row;
     for (int side : {+1, -1}) {
       // Walk out along the lateral vein (towards the tip) until it meets the margin.
@@ -116,8 +116,7 @@ m::MarkerSet makeLeaf(const LeafShape& s) {
         const double along = arc - f * veinLength * std::cos(angle);
         const double lateral = side * f * veinLength * std::sin(angle);
         const int column = side > 0 ? 3 - k : 3 + k;  // right: j = 4,3,2,1; left: 4,5,6,7
-        row.pointsMm[column] =
-            bladePoint(s, along, lateral).unaryExpr([](double v) { return round(v, 0.01); });
+        row.pointsMm[column] = bladePoint(s, along, lateral).unaryExpr([](double v) { return round(v, 0.01); });
       }
     }
     row.midribThicknessMm = round(1.0 + 3.0 * std::pow(q, 0.9), 0.001);
@@ -139,14 +138,13 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(dir);
   const LeafShape shapes[] = {
       // Wide lower leaf with narrow wings.
-      {"lower-leaf-n10.markers.json", "S-lower-10", "lower", 4, 10, 620, 165, 0.55, 0.05, 28, 22,
-       6, 52, 40, false},
+      {"lower-leaf-n10.markers.json", "S-lower-10", "lower", 4, 10, 620, 165, 0.55, 0.05, 28, 22, 6, 52, 40, false},
       // Small upper leaf with wide wings.
-      {"upper-small-leaf-n17.markers.json", "S-upper-17", "upper", 17, 17, 390, 85, 0.62, 0.32,
-       22, 10, 3, 48, 34, false},
+      {"upper-small-leaf-n17.markers.json", "S-upper-17", "upper", 17, 17, 390, 85, 0.62, 0.32, 22, 10, 3, 48, 34,
+       false},
       // Strongly curved upper leaf, per-row margin thickness.
-      {"upper-curved-leaf-n14.markers.json", "S-curved-14", "upper", 15, 14, 460, 105, 0.5, 0.15,
-       105, 16, 4, 50, 36, true},
+      {"upper-curved-leaf-n14.markers.json", "S-curved-14", "upper", 15, 14, 460, 105, 0.5, 0.15, 105, 16, 4, 50, 36,
+       true},
   };
   try {
     for (const LeafShape& s : shapes) {

@@ -10,20 +10,28 @@ Command parseCommand(const std::string& line) {
   std::string word;
   in >> word;
   Command c;
-  if (word == "undo" || word == "u") c.kind = Command::Kind::Undo;
-  else if (word == "end" || word == "e") c.kind = Command::Kind::EndRows;
-  else if (word == "pause" || word == "p") c.kind = Command::Kind::Pause;
-  else if (word == "resume") c.kind = Command::Kind::Resume;
-  else if (word == "quit" || word == "q") c.kind = Command::Kind::Quit;
-  else if (word == "abandon") c.kind = Command::Kind::Abandon;
+  if (word == "undo" || word == "u")
+    c.kind = Command::Kind::Undo;
+  else if (word == "end" || word == "e")
+    c.kind = Command::Kind::EndRows;
+  else if (word == "pause" || word == "p")
+    c.kind = Command::Kind::Pause;
+  else if (word == "resume")
+    c.kind = Command::Kind::Resume;
+  else if (word == "quit" || word == "q")
+    c.kind = Command::Kind::Quit;
+  else if (word == "abandon")
+    c.kind = Command::Kind::Abandon;
   else if (word == "retake" || word == "r") {
     c.kind = Command::Kind::Retake;
     std::string what;
     in >> what;
-    if (what.empty()) throw std::invalid_argument("retake what? e.g. 'retake marker 3 5', 'retake tip', 'retake midrib_thickness 2'");
+    if (what.empty())
+      throw std::invalid_argument("retake what? e.g. 'retake marker 3 5', 'retake tip', 'retake midrib_thickness 2'");
     c.what = whatFromString(what);
     if (c.what == What::Marker || c.what == What::PointThickness) {
-      if (!(in >> c.row >> c.col)) throw std::invalid_argument("retake " + what + " needs a row and a point: e.g. 'retake " + what + " 3 5'");
+      if (!(in >> c.row >> c.col))
+        throw std::invalid_argument("retake " + what + " needs a row and a point: e.g. 'retake " + what + " 3 5'");
     } else if (c.what == What::MidribThickness || c.what == What::VeinOriginThickness) {
       if (!(in >> c.row)) throw std::invalid_argument("retake " + what + " needs a row: e.g. 'retake " + what + " 2'");
       c.col = 4;
@@ -39,8 +47,11 @@ Command parseCommand(const std::string& line) {
 }
 
 CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale, bool previews)
-    : session_(session), listener_(std::move(listener)), timeScale_(timeScale > 0 ? timeScale : 1.0),
-      previews_(previews), t0_(Clock::now()) {}
+    : session_(session),
+      listener_(std::move(listener)),
+      timeScale_(timeScale > 0 ? timeScale : 1.0),
+      previews_(previews),
+      t0_(Clock::now()) {}
 
 std::int64_t CaptureLoop::monoNs(Clock::time_point t) const {
   return static_cast<std::int64_t>(
@@ -116,7 +127,7 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
     if (last == state) return;
     last = state;
     deliver(session_.deviceStatus(st->device, state, st->message + (st->remedy.empty() ? "" : " — " + st->remedy),
-                               monoNs(Clock::now())));
+                                  monoNs(Clock::now())));
     return;
   }
   const Command& c = std::get<Command>(item);
@@ -127,7 +138,9 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
     case Command::Kind::Retake: deliver(session_.retake(c.what, c.row, c.col, now)); break;
     case Command::Kind::Pause: deliver(session_.pause(c.text.empty() ? "operator pause" : c.text, now)); break;
     case Command::Kind::Resume: deliver(session_.resume(now)); break;
-    case Command::Kind::Abandon: deliver(session_.abandon(c.text.empty() ? "abandoned by the operator" : c.text, now)); break;
+    case Command::Kind::Abandon:
+      deliver(session_.abandon(c.text.empty() ? "abandoned by the operator" : c.text, now));
+      break;
     case Command::Kind::Quit: quit = true; break;
   }
 }

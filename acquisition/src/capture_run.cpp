@@ -32,7 +32,8 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     } else {
       if (setup.digitizer.empty() || setup.caliper.empty())
         throw std::invalid_argument(
-            "a capture needs a digitizer and a caliper (KIND:PORT each), or the simulated devices: see 'leafdig devices "
+            "a capture needs a digitizer and a caliper (KIND:PORT each), or the simulated devices: see 'leafdig "
+            "devices "
             "list'");
       (void)parseDigitizerSpec(setup.digitizer);
       (void)parseCaliperSpec(setup.caliper);
@@ -90,7 +91,9 @@ void CaptureRun::prepareSimulation(const RunRequest& request) {
   operator_ = std::make_unique<VirtualOperator>(*rig_, std::move(leaf), so);
 }
 
-CaptureRun::~CaptureRun() { (void)shutdown("capture stopped"); }
+CaptureRun::~CaptureRun() {
+  (void)shutdown("capture stopped");
+}
 
 void CaptureRun::start() {
   if (started_) return;
@@ -131,6 +134,8 @@ Snapshot CaptureRun::shutdown(const std::string& why) {
   return *last_;
 }
 
-VirtualOperator::Stats CaptureRun::operatorStats() const { return operator_ ? operator_->stats() : VirtualOperator::Stats{}; }
+VirtualOperator::Stats CaptureRun::operatorStats() const {
+  return operator_ ? operator_->stats() : VirtualOperator::Stats{};
+}
 
 }  // namespace leafdig::acquisition

@@ -24,10 +24,12 @@ dev::DigitizerConfig parseDigitizerSpec(const std::string& spec) {
   dev::DigitizerConfig c;
   c.kind = dev::digitizerKindFromString(kind);
   if (c.kind == dev::DigitizerKind::Line)
-    throw std::invalid_argument("--digitizer line needs a JSON description: use 'leafdig devices listen' to try it; "
-                                "capture supports fastrak, patriot, liberty and microscribe");
+    throw std::invalid_argument(
+        "--digitizer line needs a JSON description: use 'leafdig devices listen' to try it; "
+        "capture supports fastrak, patriot, liberty and microscribe");
   if (port.empty())
-    throw std::invalid_argument("--digitizer " + kind + " needs a port: " + kind + ":/dev/ttyUSB0 ('leafdig devices list')");
+    throw std::invalid_argument("--digitizer " + kind + " needs a port: " + kind +
+                                ":/dev/ttyUSB0 ('leafdig devices list')");
   c.port = port;
   return c;
 }
@@ -37,9 +39,11 @@ dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
   dev::CaliperConfig c;
   c.kind = dev::caliperKindFromString(kind);
   if (c.kind == dev::CaliperKind::Hid || c.kind == dev::CaliperKind::UsbItn) {
-    if (rest.rfind("/dev/", 0) == 0) c.hidPath = rest;
+    if (rest.rfind("/dev/", 0) == 0)
+      c.hidPath = rest;
     else if (!rest.empty() && !dev::parseVidPid(rest, c.vid, c.pid))
-      throw std::invalid_argument("--caliper " + kind + ":" + rest + ": expected VID:PID in hex (e.g. 0fe7:4001) or a /dev/hidraw path");
+      throw std::invalid_argument("--caliper " + kind + ":" + rest +
+                                  ": expected VID:PID in hex (e.g. 0fe7:4001) or a /dev/hidraw path");
     return c;
   }
   if (rest.empty()) throw std::invalid_argument("--caliper " + kind + " needs a port: " + kind + ":/dev/ttyUSB1");
@@ -54,7 +58,9 @@ DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& calipe
   digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(parseDigitizerSpec(digitizerSpec)), cb);
   caliper_ = std::make_unique<dev::Driver>(dev::makeCaliperLink(parseCaliperSpec(caliperSpec)), cb);
 }
-DeviceSet::~DeviceSet() { stop(); }
+DeviceSet::~DeviceSet() {
+  stop();
+}
 void DeviceSet::start() {
   connect(Role::Digitizer);
   connect(Role::Caliper);
@@ -64,9 +70,15 @@ void DeviceSet::stop() {
   if (caliper_) caliper_->stop();
   digitizerOn_ = caliperOn_ = false;
 }
-dev::Driver& DeviceSet::driver(Role role) const { return role == Role::Digitizer ? *digitizer_ : *caliper_; }
-const std::string& DeviceSet::spec(Role role) const { return role == Role::Digitizer ? digitizerSpec_ : caliperSpec_; }
-bool DeviceSet::connected(Role role) const { return role == Role::Digitizer ? digitizerOn_.load() : caliperOn_.load(); }
+dev::Driver& DeviceSet::driver(Role role) const {
+  return role == Role::Digitizer ? *digitizer_ : *caliper_;
+}
+const std::string& DeviceSet::spec(Role role) const {
+  return role == Role::Digitizer ? digitizerSpec_ : caliperSpec_;
+}
+bool DeviceSet::connected(Role role) const {
+  return role == Role::Digitizer ? digitizerOn_.load() : caliperOn_.load();
+}
 void DeviceSet::connect(Role role) {
   driver(role).start();
   (role == Role::Digitizer ? digitizerOn_ : caliperOn_) = true;

@@ -43,11 +43,15 @@ const char* colName(int col) {
   }
 }
 
-const char* boardName(int col) { return col == 1 ? "origin" : col == 2 ? "+X direction" : "+Y side"; }
+const char* boardName(int col) {
+  return col == 1 ? "origin" : col == 2 ? "+X direction" : "+Y side";
+}
 
 }  // namespace
 
-bool isStylusItem(What w) { return w == What::Board || w == What::Tip || w == What::Marker; }
+bool isStylusItem(What w) {
+  return w == What::Board || w == What::Tip || w == What::Marker;
+}
 
 double distanceMm(const Vec3& a, const Vec3& b) {
   return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
@@ -85,8 +89,12 @@ constexpr NameTable<What, 8> kWhatNames{{{What::Board, "board"},
 
 }  // namespace
 
-const char* toString(Mode m) { return nameIn(kModeNames, m); }
-const char* toString(Order o) { return nameIn(kOrderNames, o); }
+const char* toString(Mode m) {
+  return nameIn(kModeNames, m);
+}
+const char* toString(Order o) {
+  return nameIn(kOrderNames, o);
+}
 Mode modeFromString(const std::string& s) {
   if (const auto m = valueIn(kModeNames, s)) return *m;
   throw std::invalid_argument("unknown capture mode '" + s + "': use standard, full or small");
@@ -96,7 +104,9 @@ Order orderFromString(const std::string& s) {
   throw std::invalid_argument("unknown capture order '" + s + "': use sequential or interleaved");
 }
 
-const char* toString(What w) { return nameIn(kWhatNames, w); }
+const char* toString(What w) {
+  return nameIn(kWhatNames, w);
+}
 
 What whatFromString(const std::string& s) {
   // "done" names the end of the protocol, not an item.
@@ -108,7 +118,9 @@ What whatFromString(const std::string& s) {
 
 Engine::Engine(Settings s) : settings_(s) {}
 
-const Item* Engine::find(What w, int row, int col) const { return findItem(items_, w, row, col); }
+const Item* Engine::find(What w, int row, int col) const {
+  return findItem(items_, w, row, col);
+}
 
 int Engine::markersInRow(int row) const {
   int n = 0;
@@ -116,7 +128,9 @@ int Engine::markersInRow(int row) const {
   return n;
 }
 
-int Engine::completeRows() const { return acquisition::completeRows(items_); }
+int Engine::completeRows() const {
+  return acquisition::completeRows(items_);
+}
 
 std::vector<Step> Engine::thicknessSteps(int row) const {
   std::vector<Step> s;
@@ -162,8 +176,10 @@ std::vector<PlannedStep> Engine::plan() const {
   const Step current = step();
   const auto add = [&](const Step& s) {
     PlannedStep p{s, PlannedStep::State::Pending};
-    if (s == current) p.state = PlannedStep::State::Current;
-    else if (find(s.what, s.row, s.col)) p.state = PlannedStep::State::Done;
+    if (s == current)
+      p.state = PlannedStep::State::Current;
+    else if (find(s.what, s.row, s.col))
+      p.state = PlannedStep::State::Done;
     out.push_back(p);
   };
   const auto addRow = [&](int row) {
@@ -210,7 +226,8 @@ std::string Engine::prompt() const {
       return p;
     }
     case What::MidribThickness: return again + row + "back side · midrib thickness (r¹) with the caliper";
-    case What::VeinOriginThickness: return again + row + "back side · lateral vein origin thickness (r²) with the caliper";
+    case What::VeinOriginThickness:
+      return again + row + "back side · lateral vein origin thickness (r²) with the caliper";
     case What::PointThickness:
       return again + row + "back side · thickness at point " + std::to_string(s.col) + " (" + colName(s.col) + ")";
     case What::EdgeThickness: return again + "Margin thickness (d) with the caliper";
@@ -238,8 +255,10 @@ Decision Engine::onStylus(const StylusInput& s) {
     pressed_ = false;
     const std::int64_t held = s.tNs - pressedAt_;
     if (held >= settings_.undoPressNs) return undo();
-    if (held >= settings_.longPressNs) d = decideEndRows();
-    else d = decidePoint(s);
+    if (held >= settings_.longPressNs)
+      d = decideEndRows();
+    else
+      d = decidePoint(s);
     if (d.kind == Decision::Kind::Accepted || d.kind == Decision::Kind::RowsEnded) apply(d);
     if (d.kind == Decision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
   }
@@ -290,9 +309,11 @@ Decision Engine::decidePoint(const StylusInput& release) {
     const Item* origin = find(What::Board, 0, 1);
     const Item* xAxis = find(What::Board, 0, 2);
     if (st.col == 2 && origin && distanceMm(mean, origin->positionMm) < settings_.boardMinMm)
-      return reject("the +X point is only " + mm(distanceMm(mean, origin->positionMm)) + " from the origin: take it at least " +
-                    mm(settings_.boardMinMm) + " away along the board's X edge");
-    if (st.col == 3 && origin && xAxis && lineDistance(mean, origin->positionMm, xAxis->positionMm) < settings_.boardMinMm)
+      return reject("the +X point is only " + mm(distanceMm(mean, origin->positionMm)) +
+                    " from the origin: take it at least " + mm(settings_.boardMinMm) +
+                    " away along the board's X edge");
+    if (st.col == 3 && origin && xAxis &&
+        lineDistance(mean, origin->positionMm, xAxis->positionMm) < settings_.boardMinMm)
       return reject("the +Y point is only " + mm(lineDistance(mean, origin->positionMm, xAxis->positionMm)) +
                     " off the X axis: take it at least " + mm(settings_.boardMinMm) + " to the side");
   }
@@ -306,18 +327,20 @@ Decision Engine::decidePoint(const StylusInput& release) {
                    prev->positionMm[2] - prev2->positionMm[2]};
       const Vec3 b{mean[0] - prev->positionMm[0], mean[1] - prev->positionMm[1], mean[2] - prev->positionMm[2]};
       const double na = distanceMm(a, {0, 0, 0}), nb = distanceMm(b, {0, 0, 0});
-      if (na > 0 && nb > 0 && (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb) < std::cos(150.0 * 3.141592653589793 / 180.0))
+      if (na > 0 && nb > 0 &&
+          (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb) < std::cos(150.0 * 3.141592653589793 / 180.0))
         return reject("point " + std::to_string(st.col) + " goes back along row " + std::to_string(st.row) +
                       " (markers are taken right to left): take point " + std::to_string(st.col));
     }
     if (st.col >= 3 && prev) {
       double sum = 0;
-      for (int c = 2; c < st.col; ++c) sum += distanceMm(find(What::Marker, st.row, c)->positionMm, find(What::Marker, st.row, c - 1)->positionMm);
+      for (int c = 2; c < st.col; ++c)
+        sum += distanceMm(find(What::Marker, st.row, c)->positionMm, find(What::Marker, st.row, c - 1)->positionMm);
       const double spacing = sum / (st.col - 2);
       const double here = distanceMm(mean, prev->positionMm);
       if (here < (1 - settings_.spacingTolerance) * spacing || here > (1 + settings_.spacingTolerance) * spacing)
-        return reject("uneven spacing: " + mm(here) + " from point " + std::to_string(st.col - 1) + ", the row so far is " +
-                      mm(spacing) + " apart; was a marker skipped?");
+        return reject("uneven spacing: " + mm(here) + " from point " + std::to_string(st.col - 1) +
+                      ", the row so far is " + mm(spacing) + " apart; was a marker skipped?");
     }
     if (st.col == 4 && st.row >= 2) {
       const Item* tip = find(What::Tip, 0, 0);
@@ -326,11 +349,13 @@ Decision Engine::decidePoint(const StylusInput& release) {
       const Item* above2 = st.row >= 3 ? find(What::Marker, st.row - 2, 4) : tip;
       if (tip && above && above2) {
         if (distanceMm(mean, tip->positionMm) <= distanceMm(above->positionMm, tip->positionMm))
-          return reject("row " + std::to_string(st.row) + " must be farther from the tip than row " + std::to_string(st.row - 1));
+          return reject("row " + std::to_string(st.row) + " must be farther from the tip than row " +
+                        std::to_string(st.row - 1));
         const double off = lineDistance(mean, above2->positionMm, above->positionMm);
         if (off > settings_.midribToleranceMm)
           return reject("the 4th point should be on the midrib: it is " + mm(off) + " off the line through " +
-                        (st.row >= 3 ? "the midrib points of rows " + std::to_string(st.row - 2) + " and " + std::to_string(st.row - 1)
+                        (st.row >= 3 ? "the midrib points of rows " + std::to_string(st.row - 2) + " and " +
+                                           std::to_string(st.row - 1)
                                      : std::string("the tip and row 1's midrib point")));
       }
     }
@@ -345,8 +370,7 @@ Decision Engine::onCaliper(const CaliperInput& c) {
   const Step st = step();
   if (isStylusItem(st.what)) return reject("a caliper reading now? " + prompt() + " first");
   if (st.what == What::Done) return reject("the leaf is complete: the reading was not used");
-  if (!(c.valueMm >= settings_.minThicknessMm && c.valueMm <= settings_.maxThicknessMm))
-  {
+  if (!(c.valueMm >= settings_.minThicknessMm && c.valueMm <= settings_.maxThicknessMm)) {
     char b[160];
     std::snprintf(b, sizeof b, "a thickness of %.3f mm is outside %g–%g mm: check the unit and the jaws, measure again",
                   c.valueMm, settings_.minThicknessMm, settings_.maxThicknessMm);
@@ -422,7 +446,8 @@ Decision Engine::decideEndRows() const {
   if (retake_) return reject("finish the retake first: " + prompt());
   const Step st = step();
   if (st.what != What::Marker) return reject("the rows are already ended");
-  if (st.col != 1) return reject("finish row " + std::to_string(st.row) + " first (point " + std::to_string(st.col) + " of 7)");
+  if (st.col != 1)
+    return reject("finish row " + std::to_string(st.row) + " first (point " + std::to_string(st.col) + " of 7)");
   if (completeRows() < settings_.minRows)
     return reject("a leaf needs at least " + std::to_string(settings_.minRows) + " rows");
   Decision d;

@@ -11,14 +11,20 @@ namespace leafdig::acquisition::detail {
 
 using Key = std::tuple<int, int, int>;
 
-inline Key keyOf(const Item& i) { return {static_cast<int>(i.what), i.row, i.col}; }
+inline Key keyOf(const Item& i) {
+  return {static_cast<int>(i.what), i.row, i.col};
+}
 
-inline nlohmann::json nullable(int v) { return v > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); }
+inline nlohmann::json nullable(int v) {
+  return v > 0 ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 inline nlohmann::json itemJson(const Item& i) {
   nlohmann::json j{{"what", toString(i.what)}, {"row", nullable(i.row)}, {"col", nullable(i.col)}};
-  if (isStylusItem(i.what)) j["position_mm"] = {i.positionMm[0], i.positionMm[1], i.positionMm[2]};
-  else j["value_mm"] = i.valueMm;
+  if (isStylusItem(i.what))
+    j["position_mm"] = {i.positionMm[0], i.positionMm[1], i.positionMm[2]};
+  else
+    j["value_mm"] = i.valueMm;
   if (!i.flag.empty()) j["flag"] = i.flag;
   return j;
 }

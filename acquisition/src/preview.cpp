@@ -9,12 +9,14 @@ namespace {
 
 namespace m = leafdig::model;
 
-Eigen::Vector3d vec(const Vec3& v) { return {v[0], v[1], v[2]}; }
+Eigen::Vector3d vec(const Vec3& v) {
+  return {v[0], v[1], v[2]};
+}
 
 // The marker set of the complete rows; thicknesses that were not measured are filled with
 // `provisional` when given, else left absent.
-m::MarkerSet markerSet(const std::vector<Item>& items, const Settings& settings, const ProvisionalThickness* provisional,
-                       bool& usedProvisional) {
+m::MarkerSet markerSet(const std::vector<Item>& items, const Settings& settings,
+                       const ProvisionalThickness* provisional, bool& usedProvisional) {
   const Eigen::Isometry3d frame = boardFrame(items);
   m::MarkerSet set;
   if (const Item* tip = findItem(items, What::Tip, 0, 0)) set.tipMm = frame * vec(tip->positionMm);
@@ -25,11 +27,13 @@ m::MarkerSet markerSet(const std::vector<Item>& items, const Settings& settings,
   };
   for (int r = 1; r <= rows; ++r) {
     m::MarkerRow row;
-    for (int c = 1; c <= 7; ++c) row.pointsMm[static_cast<std::size_t>(c - 1)] = frame * vec(findItem(items, What::Marker, r, c)->positionMm);
+    for (int c = 1; c <= 7; ++c)
+      row.pointsMm[static_cast<std::size_t>(c - 1)] = frame * vec(findItem(items, What::Marker, r, c)->positionMm);
     row.midribThicknessMm = value(What::MidribThickness, r, 4);
     if (settings.mode == Mode::Standard) row.veinOriginThicknessMm = value(What::VeinOriginThickness, r, 4);
     if (settings.mode == Mode::Full)
-      for (int c = 1; c <= 7; ++c) row.measuredThicknessMm[static_cast<std::size_t>(c - 1)] = value(What::PointThickness, r, c);
+      for (int c = 1; c <= 7; ++c)
+        row.measuredThicknessMm[static_cast<std::size_t>(c - 1)] = value(What::PointThickness, r, c);
     if (provisional) {
       if (!row.midribThicknessMm) {
         row.midribThicknessMm = provisional->midribMm;
@@ -43,7 +47,9 @@ m::MarkerSet markerSet(const std::vector<Item>& items, const Settings& settings,
         for (int c = 1; c <= 7; ++c) {
           auto& t = row.measuredThicknessMm[static_cast<std::size_t>(c - 1)];
           if (!t) {
-            t = c == 4 ? provisional->veinOriginMm : c == 1 || c == 7 ? provisional->edgeMm : 0.5 * (provisional->edgeMm + provisional->veinOriginMm);
+            t = c == 4             ? provisional->veinOriginMm
+                : c == 1 || c == 7 ? provisional->edgeMm
+                                   : 0.5 * (provisional->edgeMm + provisional->veinOriginMm);
             usedProvisional = true;
           }
         }
@@ -92,7 +98,8 @@ model::MarkerSet toMarkerSet(const std::vector<Item>& items, const Settings& set
   return set;
 }
 
-Preview buildPreview(const std::vector<Item>& items, const Settings& settings, const ProvisionalThickness& provisional) {
+Preview buildPreview(const std::vector<Item>& items, const Settings& settings,
+                     const ProvisionalThickness& provisional) {
   Preview p;
   const Item* tip = findItem(items, What::Tip, 0, 0);
   if (!tip) return p;
@@ -117,8 +124,10 @@ Preview buildPreview(const std::vector<Item>& items, const Settings& settings, c
       balls.push_back({frame * vec(mid->positionMm), (measured ? measured->valueMm : provisional.midribMm) / 2});
       usedProvisional = usedProvisional || !measured;
       m::Vein midrib{"midrib", m::BallBSplineCurve::interpolate(balls)};
-      if (!p.model.veins.empty() && p.model.veins.front().name == "midrib") p.model.veins.front() = std::move(midrib);
-      else p.model.veins.insert(p.model.veins.begin(), std::move(midrib));
+      if (!p.model.veins.empty() && p.model.veins.front().name == "midrib")
+        p.model.veins.front() = std::move(midrib);
+      else
+        p.model.veins.insert(p.model.veins.begin(), std::move(midrib));
     }
     p.mesh = m::meshLeaf(p.model, m::MeshResolution::preset("preview"));
   } catch (const std::exception& e) {

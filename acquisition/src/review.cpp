@@ -32,7 +32,8 @@ void requireChain(const db::Store& store, std::int64_t id, const std::string& do
   const db::ChainReport chain = store.verify(id);
   if (!chain.ok)
     throw SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
-                       std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + "): it cannot be " + doing);
+                       std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + "): it cannot be " +
+                       doing);
 }
 
 std::string csvText(const std::string& s) {
@@ -132,7 +133,8 @@ std::int64_t correct(db::Store& store, std::int64_t id, const Correction& c) {
   Item fixed = *old;
   fixed.flag.clear();
   if (isStylusItem(c.what)) {
-    if (!c.positionMm || c.valueMm) throw std::invalid_argument("a marker is corrected with a position (x, y, z in mm)");
+    if (!c.positionMm || c.valueMm)
+      throw std::invalid_argument("a marker is corrected with a position (x, y, z in mm)");
     for (double v : *c.positionMm)
       if (!std::isfinite(v)) throw std::invalid_argument("the corrected position must be finite numbers in mm");
     fixed.positionMm = *c.positionMm;
@@ -140,8 +142,8 @@ std::int64_t correct(db::Store& store, std::int64_t id, const Correction& c) {
     if (!c.valueMm || c.positionMm) throw std::invalid_argument("a thickness is corrected with a value in mm");
     if (!(*c.valueMm >= r.settings.minThicknessMm && *c.valueMm <= r.settings.maxThicknessMm)) {
       std::ostringstream t;
-      t << "a thickness of " << *c.valueMm << " mm is outside this session's range " << r.settings.minThicknessMm
-        << "–" << r.settings.maxThicknessMm << " mm: give the value in millimetres";
+      t << "a thickness of " << *c.valueMm << " mm is outside this session's range " << r.settings.minThicknessMm << "–"
+        << r.settings.maxThicknessMm << " mm: give the value in millimetres";
       throw std::invalid_argument(t.str());
     }
     fixed.valueMm = *c.valueMm;

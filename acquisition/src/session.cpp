@@ -11,12 +11,12 @@
 namespace leafdig::acquisition {
 namespace {
 
-using nlohmann::json;
 using detail::itemFrom;
 using detail::itemJson;
 using detail::keyOf;
 using detail::nullable;
 using detail::projectionOf;
+using nlohmann::json;
 using Key = detail::Key;
 
 }  // namespace
@@ -49,7 +49,9 @@ constexpr NameTable<Decision::Kind, 7> kDecisionEvents{{{Decision::Kind::Accepte
 
 }  // namespace
 
-const char* toString(Feedback::Kind k) { return nameIn(kFeedbackNames, k); }
+const char* toString(Feedback::Kind k) {
+  return nameIn(kFeedbackNames, k);
+}
 
 std::string thisStation() {
   char host[256] = {};
@@ -113,10 +115,10 @@ std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup)
   device(setup.digitizer);
   device(setup.caliper);
   json settings{{"engine", json::parse(settingsToJson(setup.settings))},
-                      {"digitizer", setup.digitizer},
-                      {"caliper", setup.caliper},
-                      {"simulated", setup.simulated},
-                      {"time_scale", setup.timeScale}};
+                {"digitizer", setup.digitizer},
+                {"caliper", setup.caliper},
+                {"simulated", setup.simulated},
+                {"time_scale", setup.timeScale}};
   if (setup.simulatedLeaf) settings["simulated_leaf"] = json::parse(model::markersToJson(*setup.simulatedLeaf));
   const std::string station = setup.station.empty() ? thisStation() : setup.station;
   return store.createSession(leaf, op, station, toString(setup.settings.mode), toString(setup.settings.order),
@@ -184,8 +186,9 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
 
 CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store), id_(id) {
   const auto info = store_.session(id);
-  if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store_.path() +
-                                ": 'leafdig sessions list' shows them");
+  if (!info)
+    throw SessionError("there is no session " + std::to_string(id) + " in " + store_.path() +
+                       ": 'leafdig sessions list' shows them");
   if (info->status != "open")
     throw SessionError("session " + std::to_string(id) + " is " + info->status +
                        ": only open sessions can be captured into (a curator reviews the others)");
@@ -269,9 +272,10 @@ std::vector<Feedback> CaptureSession::commit(const Decision& d, std::int64_t mon
   switch (d.kind) {
     case Decision::Kind::Rejected:
       ev.payloadJson = json{{"reason", d.reason},
-                            {"step", {{"what", toString(engine_.step().what)},
-                                      {"row", nullable(engine_.step().row)},
-                                      {"col", nullable(engine_.step().col)}}}}
+                            {"step",
+                             {{"what", toString(engine_.step().what)},
+                              {"row", nullable(engine_.step().row)},
+                              {"col", nullable(engine_.step().col)}}}}
                            .dump();
       ev.raw = raw;
       f.text = d.reason;

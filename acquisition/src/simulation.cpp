@@ -1,9 +1,10 @@
 #include "leafdig/acquisition/simulation.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace leafdig::acquisition {
 namespace {
@@ -41,14 +42,20 @@ SimulatedRig::~SimulatedRig() {
   if (gauge_) gauge_->stop();
 }
 
-std::string SimulatedRig::digitizerSpec() const { return "fastrak:" + digitizer_->path(); }
-std::string SimulatedRig::caliperSpec() const { return "sylvac:" + gauge_->path(); }
+std::string SimulatedRig::digitizerSpec() const {
+  return "fastrak:" + digitizer_->path();
+}
+std::string SimulatedRig::caliperSpec() const {
+  return "sylvac:" + gauge_->path();
+}
 
 // ---- virtual operator -----------------------------------------------------------------------
 VirtualOperator::VirtualOperator(SimulatedRig& rig, model::MarkerSet leaf, SimulationOptions o)
     : rig_(rig), leaf_(std::move(leaf)), options_(o), rng_(o.seed * 7919 + 3) {}
 
-VirtualOperator::~VirtualOperator() { stop(); }
+VirtualOperator::~VirtualOperator() {
+  stop();
+}
 
 void VirtualOperator::observe(const Snapshot& s) {
   {
@@ -60,7 +67,9 @@ void VirtualOperator::observe(const Snapshot& s) {
   cv_.notify_one();
 }
 
-void VirtualOperator::start() { thread_ = std::thread([this] { run(); }); }
+void VirtualOperator::start() {
+  thread_ = std::thread([this] { run(); });
+}
 
 void VirtualOperator::stop() {
   stop_ = true;
@@ -85,18 +94,18 @@ Vec3 VirtualOperator::truth(What w, int row, int col) const {
 }
 
 double VirtualOperator::truthThickness(What w, int row, int col) const {
-  const model::MarkerRow* r = row >= 1 && row <= static_cast<int>(leaf_.rows.size())
-                                  ? &leaf_.rows[static_cast<std::size_t>(row - 1)]
-                                  : nullptr;
+  const model::MarkerRow* r =
+      row >= 1 && row <= static_cast<int>(leaf_.rows.size()) ? &leaf_.rows[static_cast<std::size_t>(row - 1)] : nullptr;
   switch (w) {
     case What::MidribThickness: return r && r->midribThicknessMm ? *r->midribThicknessMm : 1.2;
     case What::VeinOriginThickness: return r && r->veinOriginThicknessMm ? *r->veinOriginThicknessMm : 0.6;
     case What::EdgeThickness:
-      return leaf_.edgeThicknessMm ? *leaf_.edgeThicknessMm
+      return leaf_.edgeThicknessMm                                  ? *leaf_.edgeThicknessMm
              : !leaf_.rows.empty() && leaf_.rows[0].edgeThicknessMm ? *leaf_.rows[0].edgeThicknessMm
                                                                     : 0.25;
     case What::PointThickness: {
-      if (r && r->measuredThicknessMm[static_cast<std::size_t>(col - 1)]) return *r->measuredThicknessMm[static_cast<std::size_t>(col - 1)];
+      if (r && r->measuredThicknessMm[static_cast<std::size_t>(col - 1)])
+        return *r->measuredThicknessMm[static_cast<std::size_t>(col - 1)];
       const double d = truthThickness(What::EdgeThickness, 0, 0), o = truthThickness(What::VeinOriginThickness, row, 4);
       const double f = std::abs(col - 4) / 3.0;
       return f * d + (1 - f) * o;
@@ -157,8 +166,8 @@ void VirtualOperator::act(const Snapshot& s) {
         ++stats_.outOfOrder;
         return;
       }
-      if (!didWrongPoint_ && st.what == What::Marker && st.row == std::min<int>(3, static_cast<int>(leaf_.rows.size())) &&
-          st.col == 2) {
+      if (!didWrongPoint_ && st.what == What::Marker &&
+          st.row == std::min<int>(3, static_cast<int>(leaf_.rows.size())) && st.col == 2) {
         didWrongPoint_ = true;
         Vec3 off = truth(What::Marker, st.row, st.col);
         off[1] += 9.0;  // a slip of the hand: accepted, then undone

@@ -1,9 +1,9 @@
 #include "leafdig/db/store.hpp"
 
+#include <SQLiteCpp/SQLiteCpp.h>
 #include <openssl/evp.h>
 #include <sqlite3.h>
 
-#include <SQLiteCpp/SQLiteCpp.h>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -38,20 +38,22 @@ std::string utcNow() {
   switch (code) {
     case SQLITE_FULL:
       throw StoreError(StoreErrorKind::DiskFull, what,
-                       "the disk holding " + path + " is full: free some space; nothing acknowledged was lost and "
-                       "capture continues when space returns");
+                       "the disk holding " + path +
+                           " is full: free some space; nothing acknowledged was lost and "
+                           "capture continues when space returns");
     case SQLITE_BUSY:
     case SQLITE_LOCKED:
       throw StoreError(StoreErrorKind::Busy, what, "another program is writing to the database; try again in a moment");
     case SQLITE_NOTADB:
-      throw StoreError(StoreErrorKind::NotLeafdig, what, "this file is not a SQLite database; give a leafdig database path");
+      throw StoreError(StoreErrorKind::NotLeafdig, what,
+                       "this file is not a SQLite database; give a leafdig database path");
     case SQLITE_CORRUPT:
-      throw StoreError(StoreErrorKind::Corrupt, what,
-                       "the database is damaged; it was not modified. Restore it from a backup, or give another --db path");
+      throw StoreError(
+          StoreErrorKind::Corrupt, what,
+          "the database is damaged; it was not modified. Restore it from a backup, or give another --db path");
     case SQLITE_CONSTRAINT:
       throw StoreError(StoreErrorKind::Input, what, "the change breaks a rule of the database (see docs/schema.md)");
-    default:
-      throw StoreError(StoreErrorKind::Io, what, "check that the folder exists and is writable");
+    default: throw StoreError(StoreErrorKind::Io, what, "check that the folder exists and is writable");
   }
 }
 
@@ -138,8 +140,9 @@ Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Im
       const int version = probe.execAndGet("PRAGMA user_version").getInt();
       const int tables = probe.execAndGet("SELECT count(*) FROM sqlite_master").getInt();
       if (appId != kApplicationId && tables > 0)
-        throw StoreError(StoreErrorKind::NotLeafdig, path + " is a SQLite database, but not a leafdig one",
-                         "give the path of a leafdig database, or a new file name to start one; this file was not modified");
+        throw StoreError(
+            StoreErrorKind::NotLeafdig, path + " is a SQLite database, but not a leafdig one",
+            "give the path of a leafdig database, or a new file name to start one; this file was not modified");
       if (version > kSchemaVersion)
         throw StoreError(StoreErrorKind::TooNew,
                          path + " was written by a newer leafdig (schema " + std::to_string(version) +
@@ -181,7 +184,9 @@ Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Im
 
 Store::~Store() = default;
 
-int Store::schemaVersion() const { return impl_->db->execAndGet("PRAGMA user_version").getInt(); }
+int Store::schemaVersion() const {
+  return impl_->db->execAndGet("PRAGMA user_version").getInt();
+}
 
 namespace {
 std::int64_t upsertId(SQLite::Database& db, const std::string& select, const std::string& insert,
@@ -198,8 +203,8 @@ std::int64_t upsertId(SQLite::Database& db, const std::string& select, const std
 
 std::int64_t Store::ensureOperator(const std::string& name, const std::string& role) {
   try {
-    const auto id = upsertId(*impl_->db, "SELECT id FROM operators WHERE name=?1", "INSERT INTO operators(name, role) VALUES (?1, ?2)",
-                             {name, role});
+    const auto id = upsertId(*impl_->db, "SELECT id FROM operators WHERE name=?1",
+                             "INSERT INTO operators(name, role) VALUES (?1, ?2)", {name, role});
     return id;
   } catch (const SQLite::Exception& e) {
     rethrow(e, path_, "cannot record operator '" + name + "' in");
@@ -208,7 +213,8 @@ std::int64_t Store::ensureOperator(const std::string& name, const std::string& r
 
 std::int64_t Store::ensureProject(const std::string& name) {
   try {
-    return upsertId(*impl_->db, "SELECT id FROM projects WHERE name=?1", "INSERT INTO projects(name) VALUES (?1)", {name});
+    return upsertId(*impl_->db, "SELECT id FROM projects WHERE name=?1", "INSERT INTO projects(name) VALUES (?1)",
+                    {name});
   } catch (const SQLite::Exception& e) {
     rethrow(e, path_, "cannot record project in");
   }
@@ -238,18 +244,23 @@ std::int64_t Store::ensureLeaf(std::int64_t plantId, int position, const std::st
                              "measured_area_mm2=COALESCE(?3, measured_area_mm2) WHERE id=?1");
         up.bind(1, id);
         up.bind(2, type);
-        if (area) up.bind(3, *area);
-        else up.bind(3);
+        if (area)
+          up.bind(3, *area);
+        else
+          up.bind(3);
         up.exec();
       }
       return id;
     }
-    SQLite::Statement ins(*impl_->db, "INSERT INTO leaves(plant_id, position, type, measured_area_mm2) VALUES (?1, ?2, ?3, ?4)");
+    SQLite::Statement ins(*impl_->db,
+                          "INSERT INTO leaves(plant_id, position, type, measured_area_mm2) VALUES (?1, ?2, ?3, ?4)");
     ins.bind(1, plantId);
     ins.bind(2, position);
     ins.bind(3, type);
-    if (area) ins.bind(4, *area);
-    else ins.bind(4);
+    if (area)
+      ins.bind(4, *area);
+    else
+      ins.bind(4);
     ins.exec();
     return impl_->db->getLastInsertRowid();
   } catch (const SQLite::Exception& e) {
@@ -323,17 +334,22 @@ std::int64_t Store::append(std::int64_t session, const EventInput& ev) {
     if (ev.projection) {
       const Projection& p = *ev.projection;
       const bool marker = p.kind == Projection::Kind::Marker;
-      SQLite::Statement pr(*impl_->db, marker ? "INSERT INTO markers(session_id, seq, what, row, col, x_mm, y_mm, z_mm) "
-                                                "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"
-                                              : "INSERT INTO thickness_readings(session_id, seq, what, row, col, value_mm, raw) "
-                                                "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
+      SQLite::Statement pr(*impl_->db,
+                           marker ? "INSERT INTO markers(session_id, seq, what, row, col, x_mm, y_mm, z_mm) "
+                                    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"
+                                  : "INSERT INTO thickness_readings(session_id, seq, what, row, col, value_mm, raw) "
+                                    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
       pr.bind(1, session);
       pr.bind(2, seq);
       pr.bind(3, p.what);
-      if (p.row) pr.bind(4, *p.row);
-      else pr.bind(4);
-      if (p.col) pr.bind(5, *p.col);
-      else pr.bind(5);
+      if (p.row)
+        pr.bind(4, *p.row);
+      else
+        pr.bind(4);
+      if (p.col)
+        pr.bind(5, *p.col);
+      else
+        pr.bind(5);
       if (marker) {
         pr.bind(6, p.positionMm[0]);
         pr.bind(7, p.positionMm[1]);
@@ -353,8 +369,9 @@ std::int64_t Store::append(std::int64_t session, const EventInput& ev) {
         del.exec();
       }
     }
-    SQLite::Statement up(*impl_->db, ev.setsStatus ? "UPDATE sessions SET head_seq=?1, head_hash=?2, status=?4 WHERE id=?3"
-                                                   : "UPDATE sessions SET head_seq=?1, head_hash=?2 WHERE id=?3");
+    SQLite::Statement up(*impl_->db, ev.setsStatus
+                                         ? "UPDATE sessions SET head_seq=?1, head_hash=?2, status=?4 WHERE id=?3"
+                                         : "UPDATE sessions SET head_seq=?1, head_hash=?2 WHERE id=?3");
     up.bind(1, seq);
     up.bind(2, hash);
     up.bind(3, session);
@@ -411,7 +428,8 @@ std::vector<Event> Store::events(std::int64_t session, std::int64_t fromSeq) con
 std::vector<MarkerRow> Store::markers(std::int64_t session) const {
   std::vector<MarkerRow> out;
   try {
-    SQLite::Statement q(*impl_->db, "SELECT seq, what, row, col, x_mm, y_mm, z_mm FROM markers WHERE session_id=?1 ORDER BY seq");
+    SQLite::Statement q(*impl_->db,
+                        "SELECT seq, what, row, col, x_mm, y_mm, z_mm FROM markers WHERE session_id=?1 ORDER BY seq");
     q.bind(1, session);
     while (q.executeStep()) {
       MarkerRow m;
@@ -431,8 +449,9 @@ std::vector<MarkerRow> Store::markers(std::int64_t session) const {
 std::vector<ThicknessRow> Store::thickness(std::int64_t session) const {
   std::vector<ThicknessRow> out;
   try {
-    SQLite::Statement q(*impl_->db,
-                        "SELECT seq, what, row, col, value_mm, raw FROM thickness_readings WHERE session_id=?1 ORDER BY seq");
+    SQLite::Statement q(
+        *impl_->db,
+        "SELECT seq, what, row, col, value_mm, raw FROM thickness_readings WHERE session_id=?1 ORDER BY seq");
     q.bind(1, session);
     while (q.executeStep()) {
       ThicknessRow t;
@@ -453,8 +472,10 @@ std::vector<ThicknessRow> Store::thickness(std::int64_t session) const {
 namespace {
 constexpr const char* kSessionSelect =
     "SELECT s.id, s.leaf_id, pr.name, pl.name, l.position, o.name, s.station, s.status, s.mode, s.capture_order, "
-    "s.settings_json, s.created_utc, s.head_seq, s.head_hash, l.type, l.measured_area_mm2 FROM sessions s JOIN leaves l ON l.id = s.leaf_id "
-    "JOIN plants pl ON pl.id = l.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = s.operator_id ";
+    "s.settings_json, s.created_utc, s.head_seq, s.head_hash, l.type, l.measured_area_mm2 FROM sessions s JOIN leaves "
+    "l ON l.id = s.leaf_id "
+    "JOIN plants pl ON pl.id = l.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = "
+    "s.operator_id ";
 SessionInfo readSession(SQLite::Statement& q) {
   SessionInfo s;
   s.id = q.getColumn(0).getInt64();
@@ -527,8 +548,10 @@ ChainReport Store::verify(std::int64_t session) const {
       r.firstBadSeq = e.seq;
       r.problem = why;
     };
-    if (e.seq != expected) fail("event " + std::to_string(expected) + " is missing");
-    else if (e.prevHash != prev) fail("event " + std::to_string(e.seq) + " does not follow the previous one");
+    if (e.seq != expected)
+      fail("event " + std::to_string(expected) + " is missing");
+    else if (e.prevHash != prev)
+      fail("event " + std::to_string(e.seq) + " does not follow the previous one");
     else if (sha256Hex(chainInput(prev, session, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw)) != e.hash)
       fail("event " + std::to_string(e.seq) + " was changed after it was written");
     if (!r.ok) return r;
@@ -562,6 +585,8 @@ void Store::setMaxPages(std::int64_t pages) {
   impl_->db->exec("PRAGMA max_page_count=" + std::to_string(pages > 0 ? pages : 4294967294LL));
 }
 
-std::int64_t Store::pageCount() const { return impl_->db->execAndGet("PRAGMA page_count").getInt64(); }
+std::int64_t Store::pageCount() const {
+  return impl_->db->execAndGet("PRAGMA page_count").getInt64();
+}
 
 }  // namespace leafdig::db

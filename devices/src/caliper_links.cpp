@@ -42,7 +42,8 @@ class CaliperLinkBase : public DeviceLink {
 // ---- serial gauges ------------------------------------------------------------------------
 class SerialCaliperLink final : public CaliperLinkBase {
  public:
-  explicit SerialCaliperLink(CaliperConfig c) : CaliperLinkBase(std::move(c)), open_(detail::orDefault(cfg_.openPort)) {}
+  explicit SerialCaliperLink(CaliperConfig c)
+      : CaliperLinkBase(std::move(c)), open_(detail::orDefault(cfg_.openPort)) {}
   std::string name() const override {
     return cfg_.kind == CaliperKind::Sylvac ? "Sylvac" : cfg_.kind == CaliperKind::UWave ? "U-WAVE" : "Mitutoyo";
   }
@@ -59,7 +60,8 @@ class SerialCaliperLink final : public CaliperLinkBase {
     if (cfg_.kind == CaliperKind::Sylvac && !cfg_.dtrTrigger) {
       port_->write("MM\r");   // readings in millimetres from here on
       port_->write("ID?\r");  // identification (kept for the record)
-      const std::string r = detail::readUntil(*port_, 500ms, [](const std::string& b) { return b.find("SY") != std::string::npos && b.back() == '\r'; });
+      const std::string r = detail::readUntil(
+          *port_, 500ms, [](const std::string& b) { return b.find("SY") != std::string::npos && b.back() == '\r'; });
       feed(std::vector<std::uint8_t>(r.begin(), r.end()), nullptr);
       if (sylvac_.identification.empty() && r.find("MM") == std::string::npos)
         throw DeviceError(DeviceErrorKind::Protocol, "no answer from a Sylvac gauge on " + cfg_.port,
@@ -87,7 +89,9 @@ class SerialCaliperLink final : public CaliperLinkBase {
     if (!b.empty()) feed(b, &out);
   }
   DecodeStats stats() const override {
-    return cfg_.kind == CaliperKind::Sylvac ? sylvac_.stats : cfg_.kind == CaliperKind::UWave ? uwave_.stats : mitutoyo_.stats;
+    return cfg_.kind == CaliperKind::Sylvac  ? sylvac_.stats
+           : cfg_.kind == CaliperKind::UWave ? uwave_.stats
+                                             : mitutoyo_.stats;
   }
 
  private:
@@ -107,11 +111,14 @@ class SerialCaliperLink final : public CaliperLinkBase {
       calipers::decodeMitutoyo(mitutoyo_, s, readings_);
       if (mitutoyo_.errors.size() > errs) {
         const std::string& e = mitutoyo_.errors.back();
-        warning_ = "Mitutoyo reports error " + e + (e.size() >= 3 && e[2] == '1' ? " (no data: is the gauge connected and on?)" : "");
+        warning_ = "Mitutoyo reports error " + e +
+                   (e.size() >= 3 && e[2] == '1' ? " (no data: is the gauge connected and on?)" : "");
       }
     }
-    if (out) emit(readings_, *out);
-    else readings_.clear();
+    if (out)
+      emit(readings_, *out);
+    else
+      readings_.clear();
   }
   detail::PortOpener open_;
   std::unique_ptr<SerialPort> port_;
@@ -127,7 +134,7 @@ class HidCaliperLink final : public CaliperLinkBase {
   std::string name() const override { return "HID gauge"; }
   std::string where() const override { return cfg_.hidPath.empty() ? hexId(cfg_.vid, cfg_.pid) : cfg_.hidPath; }
   void open() override {
-    dev_ = cfg_.openHid ? cfg_.openHid()
+    dev_ = cfg_.openHid           ? cfg_.openHid()
            : cfg_.hidPath.empty() ? openHidapi(cfg_.vid, cfg_.pid)
                                   : openHidapiPath(cfg_.hidPath);
     state_ = calipers::HidKeyboardState{};
@@ -188,9 +195,10 @@ class UsbItnLink final : public CaliperLinkBase {
     calipers::decodeMitutoyo(state_, b, readings_);
     if (state_.errors.size() > errs) {
       const std::string& e = state_.errors.back();
-      warning_ = "USB-ITN reports " + e + (e == "911" ? ": gauge timeout (is a gauge plugged into the cable?)"
-                                            : e == "918" ? ": busy, retrying"
-                                                         : "");
+      warning_ = "USB-ITN reports " + e +
+                 (e == "911"   ? ": gauge timeout (is a gauge plugged into the cable?)"
+                  : e == "918" ? ": busy, retrying"
+                               : "");
     }
     emit(readings_, out);
   }

@@ -30,8 +30,7 @@ CaliperReading makeReading(double value, const std::string& unit, std::string ra
 
 // Splits complete lines ending in CR (optionally followed by LF) off `pending`.
 template <class F>
-void forEachLine(std::string& pending, std::span<const std::uint8_t> bytes, DecodeStats& stats,
-                 F&& onLine) {
+void forEachLine(std::string& pending, std::span<const std::uint8_t> bytes, DecodeStats& stats, F&& onLine) {
   pending.append(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   std::size_t pos = 0;
   while (true) {
@@ -129,8 +128,7 @@ char usageChar(std::uint8_t u, bool shift) {
 }
 }  // namespace
 
-void decodeHidReport(HidKeyboardState& st, std::span<const std::uint8_t> report,
-                     std::vector<CaliperReading>& out) {
+void decodeHidReport(HidKeyboardState& st, std::span<const std::uint8_t> report, std::vector<CaliperReading>& out) {
   if (st.reportId && !report.empty()) report = report.subspan(1);
   if (report.size() < 8) {
     ++st.stats.dropped;
@@ -175,8 +173,7 @@ void decodeHidReport(HidKeyboardState& st, std::span<const std::uint8_t> report,
   st.previous = std::move(now);
 }
 
-std::vector<std::vector<std::uint8_t>> encodeHidText(const std::string& text, bool keypad,
-                                                     bool reportId) {
+std::vector<std::vector<std::uint8_t>> encodeHidText(const std::string& text, bool keypad, bool reportId) {
   std::vector<std::vector<std::uint8_t>> reports;
   const auto add = [&](std::uint8_t mods, std::uint8_t usage) {
     std::vector<std::uint8_t> r(8, 0);
@@ -189,23 +186,32 @@ std::vector<std::vector<std::uint8_t>> encodeHidText(const std::string& text, bo
     reports.push_back(release);
   };
   for (char c : text) {
-    if (c >= '1' && c <= '9') add(0, static_cast<std::uint8_t>((keypad ? 0x59 : 0x1E) + (c - '1')));
-    else if (c == '0') add(0, keypad ? 0x62 : 0x27);
-    else if (c == '.') add(0, keypad ? 0x63 : 0x37);
-    else if (c == ',') add(0, 0x36);
-    else if (c == '-') add(0, keypad ? 0x56 : 0x2D);
-    else if (c == '+') keypad ? add(0, 0x57) : add(0x02, 0x2E);
-    else if (c == '\n') add(0, keypad ? 0x58 : 0x28);
-    else if (c == '\t') add(0, 0x2B);
-    else if (c == ' ') add(0, 0x2C);
-    else if (c >= 'a' && c <= 'z') add(0, static_cast<std::uint8_t>(0x04 + (c - 'a')));
+    if (c >= '1' && c <= '9')
+      add(0, static_cast<std::uint8_t>((keypad ? 0x59 : 0x1E) + (c - '1')));
+    else if (c == '0')
+      add(0, keypad ? 0x62 : 0x27);
+    else if (c == '.')
+      add(0, keypad ? 0x63 : 0x37);
+    else if (c == ',')
+      add(0, 0x36);
+    else if (c == '-')
+      add(0, keypad ? 0x56 : 0x2D);
+    else if (c == '+')
+      keypad ? add(0, 0x57) : add(0x02, 0x2E);
+    else if (c == '\n')
+      add(0, keypad ? 0x58 : 0x28);
+    else if (c == '\t')
+      add(0, 0x2B);
+    else if (c == ' ')
+      add(0, 0x2C);
+    else if (c >= 'a' && c <= 'z')
+      add(0, static_cast<std::uint8_t>(0x04 + (c - 'a')));
   }
   return reports;
 }
 
 // ---- Mitutoyo standard ASCII ------------------------------------------------------------
-void decodeMitutoyo(MitutoyoState& st, std::span<const std::uint8_t> bytes,
-                    std::vector<CaliperReading>& out) {
+void decodeMitutoyo(MitutoyoState& st, std::span<const std::uint8_t> bytes, std::vector<CaliperReading>& out) {
   forEachLine(st.pending, bytes, st.stats, [&](const std::string& line, const std::string& raw) {
     if (line.size() >= 2 && line[0] == '9') {  // "9<channel><code>": error / status
       st.errors.push_back(line);
@@ -222,8 +228,9 @@ void decodeMitutoyo(MitutoyoState& st, std::span<const std::uint8_t> bytes,
     std::optional<Number> n;
     if (shape) {
       const std::string data = line.substr(4);
-      const bool digitsOk = std::count(data.begin(), data.end(), '.') == 1 &&
-                            std::all_of(data.begin(), data.end(), [](char c) { return c == '.' || detail::isDigit(c); });
+      const bool digitsOk =
+          std::count(data.begin(), data.end(), '.') == 1 &&
+          std::all_of(data.begin(), data.end(), [](char c) { return c == '.' || detail::isDigit(c); });
       if (digitsOk) n = parseNumber(line.substr(3));
     }
     if (!n) {
@@ -245,8 +252,7 @@ std::string encodeMitutoyo(double value, int decimals, int channel) {
 }
 
 // ---- U-WAVE ------------------------------------------------------------------------------
-void decodeUWave(UWaveState& st, std::span<const std::uint8_t> bytes,
-                 std::vector<CaliperReading>& out) {
+void decodeUWave(UWaveState& st, std::span<const std::uint8_t> bytes, std::vector<CaliperReading>& out) {
   forEachLine(st.pending, bytes, st.stats, [&](const std::string& line, const std::string& raw) {
     if (line.rfind("DT", 0) != 0) {
       ++st.stats.replies;  // IR/RI/TI/ST dialogue lines
@@ -259,10 +265,14 @@ void decodeUWave(UWaveState& st, std::span<const std::uint8_t> bytes,
     std::string unit;
     if (ok) {
       const char u = line.back();
-      if (u == 'M') unit = "mm";
-      else if (u == 'I') unit = "in";
-      else if (u == '0') unit = st.defaultUnit;
-      else ok = false;
+      if (u == 'M')
+        unit = "mm";
+      else if (u == 'I')
+        unit = "in";
+      else if (u == '0')
+        unit = st.defaultUnit;
+      else
+        ok = false;
       if (ok) n = parseNumber(line.substr(7, line.size() - 8));
     }
     if (!ok || !n) {
@@ -276,8 +286,8 @@ void decodeUWave(UWaveState& st, std::span<const std::uint8_t> bytes,
 
 std::string encodeUWave(double value, const std::string& unit, int group, int channel) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "DT1%02d%02d%c%011.2f%c\r", group, channel, value < 0 ? '-' : '+',
-                std::abs(value), unit == "in" ? 'I' : 'M');
+  std::snprintf(buf, sizeof buf, "DT1%02d%02d%c%011.2f%c\r", group, channel, value < 0 ? '-' : '+', std::abs(value),
+                unit == "in" ? 'I' : 'M');
   return buf;
 }
 
@@ -341,8 +351,7 @@ const char* sylvacErrorMeaning(char code) {
   }
 }
 
-void decodeSylvac(SylvacState& st, std::span<const std::uint8_t> bytes,
-                  std::vector<CaliperReading>& out) {
+void decodeSylvac(SylvacState& st, std::span<const std::uint8_t> bytes, std::vector<CaliperReading>& out) {
   forEachLine(st.pending, bytes, st.stats, [&](const std::string& rawLine, const std::string& raw) {
     const std::string line = trim(rawLine);
     std::string upper;
@@ -363,8 +372,8 @@ void decodeSylvac(SylvacState& st, std::span<const std::uint8_t> bytes,
       ++st.stats.replies;
       return;
     }
-    static const char* const kEchoes[] = {"?", "PRI", "UNI?", "SET?", "ID?", "OUT0", "OUT1", "KEY0",
-                                          "KEY1", "RES2", "RES3", "PRE", "PRE?", "TOL?", "BAT?", "OFF"};
+    static const char* const kEchoes[] = {"?",    "PRI",  "UNI?", "SET?", "ID?",  "OUT0", "OUT1", "KEY0",
+                                          "KEY1", "RES2", "RES3", "PRE",  "PRE?", "TOL?", "BAT?", "OFF"};
     for (const char* e : kEchoes)
       if (upper == e) {
         ++st.stats.replies;

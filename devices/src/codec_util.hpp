@@ -32,8 +32,12 @@ inline double roundMm(double v) {
   return r == 0.0 ? 0.0 : r;
 }
 
-inline bool isDigit(char c) { return c >= '0' && c <= '9'; }
-inline bool isLetter(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+inline bool isDigit(char c) {
+  return c >= '0' && c <= '9';
+}
+inline bool isLetter(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z');
+}
 
 // A right-aligned fixed-point field of `width` characters with `decimals` decimals:
 // leading spaces, optional '-', at least one digit, '.', exactly `decimals` digits.
@@ -63,8 +67,7 @@ inline std::uint32_t readU32(const char* p) {
   return u;
 }
 inline std::uint16_t readU16(const char* p) {
-  return static_cast<std::uint16_t>(static_cast<unsigned char>(p[0]) |
-                                    (static_cast<unsigned char>(p[1]) << 8));
+  return static_cast<std::uint16_t>(static_cast<unsigned char>(p[0]) | (static_cast<unsigned char>(p[1]) << 8));
 }
 inline void appendU32(std::string& s, std::uint32_t u) {
   for (int i = 0; i < 4; ++i) s += static_cast<char>((u >> (8 * i)) & 0xff);

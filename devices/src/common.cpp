@@ -70,17 +70,15 @@ DeviceError errorFromErrno(int err, const std::string& action, const std::string
               "control --reload && sudo udevadm trigger) or add yourself to the 'dialout' "
               "group (sudo usermod -aG dialout $USER, then log in again); 'leafdig doctor' "
               "checks both"};
-    case EIO:
-      return {DeviceErrorKind::Io, what, "the device went away: check the cable and power"};
-    default:
-      return {DeviceErrorKind::Io, what, "check the cable and the device's power"};
+    case EIO: return {DeviceErrorKind::Io, what, "the device went away: check the cable and power"};
+    default: return {DeviceErrorKind::Io, what, "check the cable and the device's power"};
   }
 }
 
 std::string describe(const SerialSettings& s) {
   const char parity = s.parity == Parity::None ? 'N' : s.parity == Parity::Even ? 'E' : 'O';
-  return std::to_string(s.baud) + " " + std::to_string(s.dataBits) + parity +
-         std::to_string(s.stopBits) + (s.rtsCts ? " RTS/CTS" : "");
+  return std::to_string(s.baud) + " " + std::to_string(s.dataBits) + parity + std::to_string(s.stopBits) +
+         (s.rtsCts ? " RTS/CTS" : "");
 }
 
 }  // namespace leafdig::devices

@@ -69,7 +69,8 @@ class SerialDigitizer : public DeviceLink {
   // operator sees a steady warning rather than a flicker.
   std::string warning() const override {
     if (!badStatus_.empty() && Clock::now() - badStatusAt_ < std::chrono::seconds(1))
-      return name() + " status '" + badStatus_ + "': " + (badStatus_.size() == 1 ? bitMeaning(badStatus_[0]) : "device warning");
+      return name() + " status '" + badStatus_ +
+             "': " + (badStatus_.size() == 1 ? bitMeaning(badStatus_[0]) : "device warning");
     return baudNote_;
   }
   std::string warningRemedy() const override {
@@ -97,9 +98,9 @@ class SerialDigitizer : public DeviceLink {
       }
       port_.reset();
     }
-    throw DeviceError(DeviceErrorKind::Protocol,
-                      std::string("no answer from a ") + model + " on " + cfg_.port + " (tried " + list(bauds) + " baud)",
-                      hint);
+    throw DeviceError(
+        DeviceErrorKind::Protocol,
+        std::string("no answer from a ") + model + " on " + cfg_.port + " (tried " + list(bauds) + " baud)", hint);
   }
   void noteStatus(const std::vector<DeviceEvent>& out, std::size_t from) {
     for (std::size_t i = from; i < out.size(); ++i)
@@ -174,7 +175,8 @@ class FastrakLink final : public SerialDigitizer {
     send("C");
   }
   void pump(std::chrono::milliseconds timeout, std::vector<DeviceEvent>& out) override {
-    pumpStream(timeout, out, [&](std::span<const std::uint8_t> b, std::vector<StylusSample>& s) { fastrak::decode(dec_, b, s); });
+    pumpStream(timeout, out,
+               [&](std::span<const std::uint8_t> b, std::vector<StylusSample>& s) { fastrak::decode(dec_, b, s); });
   }
   DecodeStats stats() const override { return dec_.stats; }
 
@@ -203,12 +205,12 @@ class PolhemusLink final : public SerialDigitizer {
     const std::string other = model_ == polhemus::Model::Patriot ? "Liberty" : "Patriot";
     std::string who;
     openProbing(defaultSettings(cfg_.kind), me.c_str(),
-                "check the baud rate, the cable and that the tracker is on and finished booting",
-                [&](SerialPort& p) {
+                "check the baud rate, the cable and that the tracker is on and finished booting", [&](SerialPort& p) {
                   p.write("P");  // a single record also ends continuous output
                   drain(p, 40ms, 300ms);
                   p.write("\x16\r");  // ^V: WhoAmI
-                  who = readUntil(p, 400ms, [&](const std::string& b) { return contains(b, me) || contains(b, other); });
+                  who =
+                      readUntil(p, 400ms, [&](const std::string& b) { return contains(b, me) || contains(b, other); });
                   return contains(who, me) || contains(who, other);
                 });
     if (!contains(who, me))
@@ -231,7 +233,8 @@ class PolhemusLink final : public SerialDigitizer {
     send("C\r");
   }
   void pump(std::chrono::milliseconds timeout, std::vector<DeviceEvent>& out) override {
-    pumpStream(timeout, out, [&](std::span<const std::uint8_t> b, std::vector<StylusSample>& s) { polhemus::decode(dec_, b, s); });
+    pumpStream(timeout, out,
+               [&](std::span<const std::uint8_t> b, std::vector<StylusSample>& s) { polhemus::decode(dec_, b, s); });
   }
   DecodeStats stats() const override { return dec_.stats; }
 
@@ -268,7 +271,8 @@ class MicroScribeLink final : public SerialDigitizer {
                         "check the cable; USB-era arms (G2, MX, i) need the vendor SDK");
     drain(*port_, 40ms, 300ms);
     send("BEGIN");
-    const std::string hello = readUntil(*port_, 1000ms, [](const std::string& b) { return b.find(std::string("MSCR\0", 5)) != std::string::npos; });
+    const std::string hello = readUntil(
+        *port_, 1000ms, [](const std::string& b) { return b.find(std::string("MSCR\0", 5)) != std::string::npos; });
     if (hello.find(std::string("MSCR\0", 5)) == std::string::npos)
       throw DeviceError(DeviceErrorKind::Protocol, "the MicroScribe on " + cfg_.port + " did not answer BEGIN",
                         "power-cycle the arm with the stylus in its home holder");
@@ -309,7 +313,8 @@ class MicroScribeLink final : public SerialDigitizer {
   }
   std::string text(std::uint8_t cmd) {
     port_->write(&cmd, 1, 200ms);
-    const std::string r = readUntil(*port_, 500ms, [](const std::string& b) { return b.size() > 1 && b.back() == '\0'; });
+    const std::string r =
+        readUntil(*port_, 500ms, [](const std::string& b) { return b.size() > 1 && b.back() == '\0'; });
     return r.size() > 2 ? r.substr(1, r.size() - 2) : std::string();
   }
   microscribe::DecoderState dec_;

@@ -79,7 +79,9 @@ Driver::Driver(std::unique_ptr<DeviceLink> link, Callbacks callbacks, DriverOpti
   status_.message = "not started";
 }
 
-Driver::~Driver() { stop(); }
+Driver::~Driver() {
+  stop();
+}
 
 void Driver::start() {
   if (thread_.joinable()) return;
@@ -92,7 +94,9 @@ void Driver::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-void Driver::trigger() { trigger_ = true; }
+void Driver::trigger() {
+  trigger_ = true;
+}
 
 DeviceStatus Driver::status() const {
   std::lock_guard lock(mutex_);
@@ -214,8 +218,10 @@ void Driver::reportWarningChange() {
   const std::string warning = link_->warning();
   if (warning == lastWarning_) return;
   lastWarning_ = warning;
-  if (!warning.empty()) setState(LinkState::Warning, warning, link_->warningRemedy());
-  else setState(LinkState::Streaming, link_->name() + " streaming on " + link_->where());
+  if (!warning.empty())
+    setState(LinkState::Warning, warning, link_->warningRemedy());
+  else
+    setState(LinkState::Streaming, link_->name() + " streaming on " + link_->where());
 }
 
 // A streaming device silent too long is re-initialised: that one path recovers resets,

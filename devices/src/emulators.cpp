@@ -43,7 +43,8 @@ StylusSample sampleFrom(const StylusMotion::State& st, char status) {
 // ---- FASTRAK ------------------------------------------------------------------------------
 class FastrakEmulator final : public Emulator {
  public:
-  FastrakEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o) : Emulator(std::move(o)), stylus_(std::move(stylus)) {}
+  FastrakEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o)
+      : Emulator(std::move(o)), stylus_(std::move(stylus)) {}
   ~FastrakEmulator() override { stop(); }
   std::string kind() const override { return "fastrak"; }
 
@@ -76,9 +77,7 @@ class FastrakEmulator final : public Emulator {
         case 'f': format_.binary = true; break;
         case 'U': format_.centimetres = false; break;
         case 'u': format_.centimetres = true; break;
-        case 'S':
-          sendReply(fastrak::encodeStatus({1, format_.binary, format_.centimetres, false, continuous_}));
-          break;
+        case 'S': sendReply(fastrak::encodeStatus({1, format_.binary, format_.centimetres, false, continuous_})); break;
         case 'W': powerOn(); break;  // factory defaults (we never send it; a user might)
         case 0x19:                   // ^Y: re-initialise
           sendReply("\r\n*** fastrak power-up: self-test passed ***\r\n");
@@ -91,8 +90,10 @@ class FastrakEmulator final : public Emulator {
         case '\n':
         case ' ': break;
         default:
-          if (std::string("eOHlNAIRBbxvXoTG").find(c) != std::string::npos) cmd_ = std::string(1, c);
-          else error(std::string(1, c), -99);
+          if (std::string("eOHlNAIRBbxvXoTG").find(c) != std::string::npos)
+            cmd_ = std::string(1, c);
+          else
+            error(std::string(1, c), -99);
       }
     }
   }
@@ -100,8 +101,10 @@ class FastrakEmulator final : public Emulator {
     const auto st = stylus_->at(t, k);
     if (buttonMode_ == 1 && st.button && !lastButton_) {
       // The default button mode: a press toggles continuous output, or sends one record.
-      if (continuous_) continuous_ = false;
-      else record(st);
+      if (continuous_)
+        continuous_ = false;
+      else
+        record(st);
     }
     lastButton_ = st.button;
     if (continuous_) record(st);
@@ -187,8 +190,10 @@ class PolhemusEmulator final : public Emulator {
   void produce(double t, std::uint64_t k) override {
     const auto st = stylus_->at(t, k);
     if (buttonMode_ == 1 && st.button && !lastButton_) {
-      if (continuous_) continuous_ = false;
-      else record(st, 'P');
+      if (continuous_)
+        continuous_ = false;
+      else
+        record(st, 'P');
     }
     lastButton_ = st.button;
     if (continuous_) record(st, 'C');
@@ -203,11 +208,16 @@ class PolhemusEmulator final : public Emulator {
   }
   void execute(const std::string& l) {
     if (l.empty()) return;
-    if (l == "C") continuous_ = true;
-    else if (l == "U1") format_.centimetres = true;
-    else if (l == "U0") format_.centimetres = false;
-    else if (l == "F1") format_.binary = true;
-    else if (l == "F0") format_.binary = false;
+    if (l == "C")
+      continuous_ = true;
+    else if (l == "U1")
+      format_.centimetres = true;
+    else if (l == "U0")
+      format_.centimetres = false;
+    else if (l == "F1")
+      format_.binary = true;
+    else if (l == "F0")
+      format_.binary = false;
     else if (l[0] == '\x16') {
       const std::string name = model_ == polhemus::Model::Patriot ? "Patriot" : "Liberty";
       sendReply("\r\nPolhemus " + name + " (leafdig emulator)\r\nFirmware 1.0.0  IO Rev 1\r\nStations: 1\r\n");
@@ -297,7 +307,9 @@ class MicroScribeEmulator final : public Emulator {
     s.append(data.begin(), data.end());
     sendReply(s);
   }
-  void text(std::uint8_t cmd, const std::string& t) { sendReply(std::string(1, static_cast<char>(cmd)) + t + std::string(1, '\0')); }
+  void text(std::uint8_t cmd, const std::string& t) {
+    sendReply(std::string(1, static_cast<char>(cmd)) + t + std::string(1, '\0'));
+  }
   void packet() {
     const RecordFaults f = beginRecord();
     if (f.skip) return;
@@ -382,15 +394,23 @@ class SylvacEmulator final : public GaugeEmulator {
     for (char c : raw) l += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     if (l.empty()) return;
     sendReply(raw + "\r");  // the instrument echoes commands
-    if (l == "?" || l == "PRI") reading();
-    else if (l == "MM") inch_ = false;
-    else if (l == "IN") inch_ = true;
-    else if (l == "UNI?") sendReply(inch_ ? "IN\r" : "MM\r");
-    else if (l == "ID?") sendReply("SY304.0 leafdig-emulator\r");
-    else if (l == "SET?") sendReply(std::string(inch_ ? "IN" : "MM") + " RES3 REF1 B1\r");
-    else if (l == "BAT?") sendReply("B1\r");
+    if (l == "?" || l == "PRI")
+      reading();
+    else if (l == "MM")
+      inch_ = false;
+    else if (l == "IN")
+      inch_ = true;
+    else if (l == "UNI?")
+      sendReply(inch_ ? "IN\r" : "MM\r");
+    else if (l == "ID?")
+      sendReply("SY304.0 leafdig-emulator\r");
+    else if (l == "SET?")
+      sendReply(std::string(inch_ ? "IN" : "MM") + " RES3 REF1 B1\r");
+    else if (l == "BAT?")
+      sendReply("B1\r");
     else if (l == "OUT0" || l == "OUT1" || l == "KEY0" || l == "KEY1" || l == "RES2" || l == "RES3" || l == "OFF") {
-    } else sendReply("ERR1\r");
+    } else
+      sendReply("ERR1\r");
   }
   std::string format(double mm) override {
     return inch_ ? calipers::encodeSylvac(mm / kMmPerInch, 5) : calipers::encodeSylvac(mm, 3);
@@ -409,9 +429,12 @@ class MitutoyoEmulator final : public GaugeEmulator {
  protected:
   void powerOn() override { line_.clear(); }
   void command(const std::string& l) override {
-    if (l == "1") reading();
-    else if (l == "V") sendReply("1USB-ITN leafdig-emulator\r");
-    else sendReply("912\r");  // format error
+    if (l == "1")
+      reading();
+    else if (l == "V")
+      sendReply("1USB-ITN leafdig-emulator\r");
+    else
+      sendReply("912\r");  // format error
   }
   std::string format(double mm) override { return calipers::encodeMitutoyo(mm, 3); }
 };
@@ -427,8 +450,10 @@ class UWaveEmulator final : public GaugeEmulator {
  protected:
   void powerOn() override { line_.clear(); }
   void command(const std::string& l) override {
-    if (l.rfind("IR1", 0) == 0) sendReply("RI1" + l.substr(3) + "00\r");
-    else sendReply("ST1000051\r");
+    if (l.rfind("IR1", 0) == 0)
+      sendReply("RI1" + l.substr(3) + "00\r");
+    else
+      sendReply("ST1000051\r");
   }
   std::string format(double mm) override { return calipers::encodeUWave(mm, "mm"); }
 };
@@ -525,9 +550,12 @@ void UsbItnSimulator::controlOut(std::uint8_t rt, std::uint8_t req, std::uint16_
       std::lock_guard lock(cable_->mutex);
       noGauge = cable_->noGauge;
     }
-    if (cmd == "1\r") replies_.push_back(noGauge ? "911\r" : calipers::encodeMitutoyo(caliper_->next(), 3));
-    else if (cmd == "V\r") replies_.push_back("1USB-ITN leafdig-emulator\r");
-    else replies_.push_back("912\r");
+    if (cmd == "1\r")
+      replies_.push_back(noGauge ? "911\r" : calipers::encodeMitutoyo(caliper_->next(), 3));
+    else if (cmd == "V\r")
+      replies_.push_back("1USB-ITN leafdig-emulator\r");
+    else
+      replies_.push_back("912\r");
   }
 }
 

@@ -25,12 +25,15 @@ std::size_t itemLength(int item, bool binary) {
     case 16: return 2;
     case 52:
     case 54: return binary ? 12 : 39;
-    default: throw std::invalid_argument("FASTRAK output item " + std::to_string(item) +
-                                         " is not supported (use 0, 1, 2, 4, 11, 16, 52, 54)");
+    default:
+      throw std::invalid_argument("FASTRAK output item " + std::to_string(item) +
+                                  " is not supported (use 0, 1, 2, 4, 11, 16, 52, 54)");
   }
 }
 
-double unitScale(const Format& f) { return f.centimetres ? 10.0 : kMmPerInch; }
+double unitScale(const Format& f) {
+  return f.centimetres ? 10.0 : kMmPerInch;
+}
 
 std::optional<double> extendedField(std::string_view f) {  // "Sx.xxxxxESxx "
   if (f.size() != 13 || f[12] != ' ' || f[2] != '.' || f[8] != 'E') return std::nullopt;
@@ -38,13 +41,13 @@ std::optional<double> extendedField(std::string_view f) {  // "Sx.xxxxxESxx "
   return detail::toDouble(f.substr(0, 12));
 }
 
-bool validStatus(char c) { return c == ' ' || detail::isLetter(c); }
+bool validStatus(char c) {
+  return c == ' ' || detail::isLetter(c);
+}
 
 // Parses a complete record of the right length; false if anything is off.
 bool parseRecord(const Format& fmt, std::string_view r, StylusSample& s) {
-  if (r[0] != '0' || r[1] < '1' || r[1] > static_cast<char>('0' + fmt.stations) ||
-      !validStatus(r[2]))
-    return false;
+  if (r[0] != '0' || r[1] < '1' || r[1] > static_cast<char>('0' + fmt.stations) || !validStatus(r[2])) return false;
   s.station = r[1] - '0';
   if (r[2] != ' ') s.status.assign(1, r[2]);
   s.rawUnit.assign(fmt.centimetres ? "cm" : "in", 2);
@@ -122,8 +125,7 @@ std::string outputListCommand(const Format& format, int station) {
   return cmd + "\r";
 }
 
-void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
-            std::vector<StylusSample>& out) {
+void decode(DecoderState& st, std::span<const std::uint8_t> bytes, std::vector<StylusSample>& out) {
   st.pending.append(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   const std::string& p = st.pending;
   const std::size_t len = recordLength(st.format);
@@ -148,8 +150,8 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
     }
     if (c == '0') {
       if (avail < 3) break;
-      const bool header = p[pos + 1] >= '1' && p[pos + 1] <= static_cast<char>('0' + st.format.stations) &&
-                          validStatus(p[pos + 2]);
+      const bool header =
+          p[pos + 1] >= '1' && p[pos + 1] <= static_cast<char>('0' + st.format.stations) && validStatus(p[pos + 2]);
       if (header) {
         if (avail < len) break;  // wait for the whole record
         StylusSample s;
@@ -199,9 +201,7 @@ std::string encode(const Format& fmt, const StylusSample& s) {
         const int n = item == 11 ? 4 : 3;
         for (int k = 0; k < n; ++k) {
           const auto ku = static_cast<std::size_t>(k);
-          const double v = item == 2 || item == 52 ? s.positionMm[ku] / scale
-                           : item == 11            ? q[ku]
-                                                   : o[ku];
+          const double v = item == 2 || item == 52 ? s.positionMm[ku] / scale : item == 11 ? q[ku] : o[ku];
           if (fmt.binary) {
             detail::appendF32(r, v);
           } else if (item == 52 || item == 54) {
@@ -219,8 +219,8 @@ std::string encode(const Format& fmt, const StylusSample& s) {
 }
 
 std::string encodeStatus(const Status& st) {
-  const int flags = (st.binary ? 1 : 0) | (st.centimetres ? 2 : 0) | (st.compensation ? 4 : 0) |
-                    (st.continuous ? 8 : 0);
+  const int flags =
+      (st.binary ? 1 : 0) | (st.centimetres ? 2 : 0) | (st.compensation ? 4 : 0) | (st.continuous ? 8 : 0);
   char buf[64];
   std::snprintf(buf, sizeof buf, "2%dS%03X000 3.0 leafdig FASTRAK emulator", st.station, flags);
   std::string line(buf);
@@ -229,16 +229,19 @@ std::string encodeStatus(const Status& st) {
 }
 
 bool parseStatus(std::string_view line, Status& st) {
-  if (line.size() < 9 || line[0] != '2' || line[1] < '1' || line[1] > '4' || line[2] != 'S')
-    return false;
+  if (line.size() < 9 || line[0] != '2' || line[1] < '1' || line[1] > '4' || line[2] != 'S') return false;
   int flags = 0;
   for (int i = 3; i < 6; ++i) {
     const char c = line[static_cast<std::size_t>(i)];
     int d = 0;
-    if (c >= '0' && c <= '9') d = c - '0';
-    else if (c >= 'A' && c <= 'F') d = c - 'A' + 10;
-    else if (c >= 'a' && c <= 'f') d = c - 'a' + 10;
-    else return false;
+    if (c >= '0' && c <= '9')
+      d = c - '0';
+    else if (c >= 'A' && c <= 'F')
+      d = c - 'A' + 10;
+    else if (c >= 'a' && c <= 'f')
+      d = c - 'a' + 10;
+    else
+      return false;
     flags = flags * 16 + d;
   }
   st.station = line[1] - '0';

@@ -49,10 +49,14 @@ FaultPlan FaultPlan::parse(const std::string& spec) {
       extra = value.substr(colon + 1);
       value = value.substr(0, colon);
     }
-    if (key == "garbage") f.garbage = probability(key, value);
-    else if (key == "bitflip") f.bitflip = probability(key, value);
-    else if (key == "truncate") f.truncate = probability(key, value);
-    else if (key == "reset") f.reset = probability(key, value);
+    if (key == "garbage")
+      f.garbage = probability(key, value);
+    else if (key == "bitflip")
+      f.bitflip = probability(key, value);
+    else if (key == "truncate")
+      f.truncate = probability(key, value);
+    else if (key == "reset")
+      f.reset = probability(key, value);
     else if (key == "stall") {
       f.stall = probability(key, value);
       if (!extra.empty()) f.stallSeconds = seconds(key, extra);

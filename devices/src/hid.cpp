@@ -1,4 +1,6 @@
 // HID transports: hidapi (hidraw backend), the in-memory device, the evdev grab.
+#include "leafdig/devices/hid.hpp"
+
 #include <fcntl.h>
 #include <hidapi/hidapi.h>
 #include <linux/input.h>
@@ -11,7 +13,6 @@
 #include <mutex>
 
 #include "leafdig/devices/errors.hpp"
-#include "leafdig/devices/hid.hpp"
 
 namespace leafdig::devices {
 namespace {
@@ -86,7 +87,8 @@ std::unique_ptr<HidDevice> openHidapi(std::uint16_t vid, std::uint16_t pid, cons
     if (serial.empty() || i.serial == serial) return openHidapiPath(i.path);
   char id[16];
   std::snprintf(id, sizeof id, "%04x:%04x", vid, pid);
-  throw DeviceError(DeviceErrorKind::NotFound, std::string("no HID device ") + id + (serial.empty() ? "" : " serial " + serial),
+  throw DeviceError(DeviceErrorKind::NotFound,
+                    std::string("no HID device ") + id + (serial.empty() ? "" : " serial " + serial),
                     "plug the gauge in, or check the id with 'leafdig devices list'");
 }
 
@@ -169,8 +171,7 @@ EvdevGrab::EvdevGrab(const std::string& hidrawPath) {
       continue;
     }
     if (::ioctl(fd, EVIOCGRAB, 1) != 0) {
-      problems_.push_back(n + ": cannot grab (" + std::string(std::strerror(errno)) +
-                          "); another program holds it");
+      problems_.push_back(n + ": cannot grab (" + std::string(std::strerror(errno)) + "); another program holds it");
       ::close(fd);
       continue;
     }

@@ -69,8 +69,9 @@ class LibSerialPort final : public SerialPort {
                                                                     : SP_PARITY_ODD) == SP_OK &&
                     sp_set_stopbits(port_, s.stopBits) == SP_OK &&
                     sp_set_flowcontrol(port_, s.rtsCts ? SP_FLOWCONTROL_RTSCTS : SP_FLOWCONTROL_NONE) == SP_OK;
-    if (!ok) throw DeviceError(DeviceErrorKind::Config, name_ + ": cannot set " + describe(s),
-                               "the adapter does not support these settings");
+    if (!ok)
+      throw DeviceError(DeviceErrorKind::Config, name_ + ": cannot set " + describe(s),
+                        "the adapter does not support these settings");
     settings_ = s;
   }
   SerialSettings settings() const override { return settings_; }
@@ -93,8 +94,8 @@ std::unique_ptr<SerialPort> openLibSerialPort(const std::string& name, const Ser
 std::unique_ptr<SerialPort> openSerialPort(const std::string& path, const SerialSettings& s) {
   sp_port* probe = nullptr;
   if (sp_get_port_by_name(path.c_str(), &probe) == SP_OK) {
-    const bool real = sp_get_port_transport(probe) == SP_TRANSPORT_USB ||
-                      sp_get_port_transport(probe) == SP_TRANSPORT_BLUETOOTH;
+    const bool real =
+        sp_get_port_transport(probe) == SP_TRANSPORT_USB || sp_get_port_transport(probe) == SP_TRANSPORT_BLUETOOTH;
     sp_free_port(probe);
     if (real) return openLibSerialPort(path, s);
   }

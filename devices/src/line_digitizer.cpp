@@ -17,8 +17,7 @@ Field readField(const json& f, FieldMode mode, const std::string& name) {
   if (mode == FieldMode::Columns) {
     if (!f.is_array() || f.size() != 2 || !f[0].is_number_integer() || !f[1].is_number_integer() ||
         f[0].get<int>() < 0 || f[1].get<int>() <= 0)
-      throw std::invalid_argument("fields." + name +
-                                  ": columns need [start, width] with start >= 0 and width > 0");
+      throw std::invalid_argument("fields." + name + ": columns need [start, width] with start >= 0 and width > 0");
     return {f[0].get<int>(), f[1].get<int>()};
   }
   if (!f.is_number_integer() || f.get<int>() < 0)
@@ -39,18 +38,16 @@ std::string unescape(const std::string& s) {  // JSON already decodes \r \n; all
   return out;
 }
 
-std::string fieldText(const DecoderState& st, const std::string& rec,
-                      const std::vector<std::string>& tokens, const std::smatch* m, Field f) {
+std::string fieldText(const DecoderState& st, const std::string& rec, const std::vector<std::string>& tokens,
+                      const std::smatch* m, Field f) {
   switch (st.config.mode) {
     case FieldMode::Columns:
       if (static_cast<std::size_t>(f.a + f.b) > rec.size()) return {};
       return rec.substr(static_cast<std::size_t>(f.a), static_cast<std::size_t>(f.b));
     case FieldMode::Tokens:
-      return static_cast<std::size_t>(f.a) < tokens.size() ? tokens[static_cast<std::size_t>(f.a)]
-                                                            : std::string();
+      return static_cast<std::size_t>(f.a) < tokens.size() ? tokens[static_cast<std::size_t>(f.a)] : std::string();
     case FieldMode::Regex:
-      return m && static_cast<std::size_t>(f.a) < m->size() ? (*m)[static_cast<std::size_t>(f.a)].str()
-                                                             : std::string();
+      return m && static_cast<std::size_t>(f.a) < m->size() ? (*m)[static_cast<std::size_t>(f.a)].str() : std::string();
   }
   return {};
 }
@@ -81,10 +78,14 @@ Config parseConfig(const std::string& text) {
       throw std::invalid_argument("framing: give a terminator or a fixed length");
     const json f = j.value("fields", json::object());
     const std::string mode = f.value("mode", std::string("tokens"));
-    if (mode == "columns") c.mode = FieldMode::Columns;
-    else if (mode == "tokens") c.mode = FieldMode::Tokens;
-    else if (mode == "regex") c.mode = FieldMode::Regex;
-    else throw std::invalid_argument("fields.mode must be columns, tokens or regex, not '" + mode + "'");
+    if (mode == "columns")
+      c.mode = FieldMode::Columns;
+    else if (mode == "tokens")
+      c.mode = FieldMode::Tokens;
+    else if (mode == "regex")
+      c.mode = FieldMode::Regex;
+    else
+      throw std::invalid_argument("fields.mode must be columns, tokens or regex, not '" + mode + "'");
     if (c.mode == FieldMode::Regex) {
       c.regex = f.value("regex", std::string());
       if (c.regex.empty()) throw std::invalid_argument("fields.regex is required in regex mode");
@@ -112,11 +113,16 @@ Config parseConfig(const std::string& text) {
     c.status = field("status", {});
     c.okStatus = f.value("ok_status", std::string());
     c.unit = j.value("unit", std::string("mm"));
-    if (c.unit == "mm") c.scaleToMm = 1;
-    else if (c.unit == "cm") c.scaleToMm = 10;
-    else if (c.unit == "m") c.scaleToMm = 1000;
-    else if (c.unit == "in") c.scaleToMm = kMmPerInch;
-    else throw std::invalid_argument("unit must be mm, cm, m or in, not '" + c.unit + "'");
+    if (c.unit == "mm")
+      c.scaleToMm = 1;
+    else if (c.unit == "cm")
+      c.scaleToMm = 10;
+    else if (c.unit == "m")
+      c.scaleToMm = 1000;
+    else if (c.unit == "in")
+      c.scaleToMm = kMmPerInch;
+    else
+      throw std::invalid_argument("unit must be mm, cm, m or in, not '" + c.unit + "'");
     if (j.contains("axes")) {
       const auto& a = j["axes"];
       if (!a.is_array() || a.size() != 3) throw std::invalid_argument("axes: give three, e.g. [\"x\",\"-z\",\"y\"]");
@@ -168,8 +174,7 @@ bool parseRecord(DecoderState& st, const std::string& rec, StylusSample& s) {
     if (!v) return false;
     in[k] = detail::roundMm(*v * c.scaleToMm);
   }
-  for (std::size_t k = 0; k < 3; ++k)
-    s.positionMm[k] = c.axisSign[k] * in[static_cast<std::size_t>(c.axisMap[k])];
+  for (std::size_t k = 0; k < 3; ++k) s.positionMm[k] = c.axisSign[k] * in[static_cast<std::size_t>(c.axisMap[k])];
   if (c.az.present() && c.el.present() && c.roll.present()) {
     const auto a = detail::toDouble(fieldText(st, rec, tokens, mp, c.az));
     const auto e = detail::toDouble(fieldText(st, rec, tokens, mp, c.el));

@@ -111,8 +111,8 @@ bool inverseKinematics(const Arm& arm, const Vec3& target, std::array<double, 6>
       auto q = j;
       q[k] += 1e-4;
       const Vec3 pk = forwardKinematics(arm, q);
-      jac.col(static_cast<Eigen::Index>(k)) = (Eigen::Vector3d(pk[0], pk[1], pk[2]) -
-                                               Eigen::Vector3d(p[0], p[1], p[2])) / 1e-4;
+      jac.col(static_cast<Eigen::Index>(k)) =
+          (Eigen::Vector3d(pk[0], pk[1], pk[2]) - Eigen::Vector3d(p[0], p[1], p[2])) / 1e-4;
     }
     const double lambda = 1.0;
     const Eigen::Matrix3d a = jac * jac.transpose() + lambda * Eigen::Matrix3d::Identity();
@@ -134,8 +134,7 @@ std::vector<std::uint8_t> encodePacket(const Packet& p) {
   return out;
 }
 
-void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
-            std::vector<StylusSample>& out) {
+void decode(DecoderState& st, std::span<const std::uint8_t> bytes, std::vector<StylusSample>& out) {
   st.pending.insert(st.pending.end(), bytes.begin(), bytes.end());
   const auto& p = st.pending;
   constexpr std::size_t kLen = 14;
@@ -150,7 +149,10 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
     bool ok = true;
     std::size_t bad = 0;
     for (std::size_t i = 1; i < kLen && ok; ++i)
-      if (p[pos + i] & 0x80) { ok = false; bad = i; }
+      if (p[pos + i] & 0x80) {
+        ok = false;
+        bad = i;
+      }
     if (!ok) {  // a header inside: this packet was truncated
       ++st.stats.dropped;
       pos += bad;
@@ -161,8 +163,10 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
     std::array<double, 6> joints{};
     for (std::size_t k = 0; k < 6; ++k) {
       pk.counts[k] = (p[pos + 2 + 2 * k] << 7) | p[pos + 3 + 2 * k];
-      if (pk.counts[k] >= st.arm.countsPerRev[k] || st.arm.countsPerRev[k] <= 0) ok = false;
-      else joints[k] = 360.0 * pk.counts[k] / st.arm.countsPerRev[k];
+      if (pk.counts[k] >= st.arm.countsPerRev[k] || st.arm.countsPerRev[k] <= 0)
+        ok = false;
+      else
+        joints[k] = 360.0 * pk.counts[k] / st.arm.countsPerRev[k];
     }
     if (!ok || (pk.buttons & ~0x03) != 0) {
       ++st.stats.dropped;

@@ -22,8 +22,9 @@ std::size_t binaryItem(int item) {
     case 9:
     case 10:
     case 11: return 4;
-    default: throw std::invalid_argument("Patriot/Liberty output item " + std::to_string(item) +
-                                         " is not supported (use 0, 1, 2, 5, 7, 8, 9, 10, 11)");
+    default:
+      throw std::invalid_argument("Patriot/Liberty output item " + std::to_string(item) +
+                                  " is not supported (use 0, 1, 2, 5, 7, 8, 9, 10, 11)");
   }
 }
 
@@ -42,8 +43,12 @@ std::size_t asciiItem(int item) {
   }
 }
 
-const char* tag(Model m) { return m == Model::Patriot ? "PA" : "LY"; }
-double scale(const Format& f) { return f.centimetres ? 10.0 : kMmPerInch; }
+const char* tag(Model m) {
+  return m == Model::Patriot ? "PA" : "LY";
+}
+double scale(const Format& f) {
+  return f.centimetres ? 10.0 : kMmPerInch;
+}
 
 bool applyValues(const Format& fmt, int item, const double* v, StylusSample& s) {
   if (item == 2) {
@@ -73,8 +78,10 @@ bool parseBinary(const Format& fmt, std::string_view r, StylusSample& s) {
   if (station < 1 || station > fmt.stations || (r[3] != 'C' && r[3] != 'P')) return false;
   const auto err = static_cast<unsigned char>(r[4]);
   if (err != 0 && err != ' ') {
-    if (detail::isLetter(static_cast<char>(err))) s.status.assign(1, static_cast<char>(err));
-    else s.status = "E" + std::to_string(err);
+    if (detail::isLetter(static_cast<char>(err)))
+      s.status.assign(1, static_cast<char>(err));
+    else
+      s.status = "E" + std::to_string(err);
   }
   s.station = station;
   s.rawUnit.assign(fmt.centimetres ? "cm" : "in", 2);
@@ -162,7 +169,9 @@ bool parseAscii(const Format& fmt, std::string_view r, StylusSample& s) {
 
 }  // namespace
 
-const char* toString(Model m) { return m == Model::Patriot ? "patriot" : "liberty"; }
+const char* toString(Model m) {
+  return m == Model::Patriot ? "patriot" : "liberty";
+}
 
 std::size_t payloadLength(const Format& f) {
   std::size_t n = 0;
@@ -182,8 +191,7 @@ std::string outputListCommand(const Format& f) {
   return cmd + "\r";
 }
 
-void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
-            std::vector<StylusSample>& out) {
+void decode(DecoderState& st, std::span<const std::uint8_t> bytes, std::vector<StylusSample>& out) {
   st.pending.append(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   const std::string& p = st.pending;
   const Format& fmt = st.format;
@@ -193,8 +201,8 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
     const char* t = tag(fmt.model);
     while (pos < p.size()) {
       const std::size_t avail = p.size() - pos;
-      const bool tagHere = p[pos] == t[0] && (avail < 2 || p[pos + 1] == t[1] ||
-                                              (fmt.model == Model::Liberty && p[pos + 1] == 'U'));
+      const bool tagHere =
+          p[pos] == t[0] && (avail < 2 || p[pos + 1] == t[1] || (fmt.model == Model::Liberty && p[pos + 1] == 'U'));
       if (tagHere) {
         if (avail < len) break;
         const std::size_t size = detail::readU16(p.data() + pos + 6);
@@ -248,8 +256,10 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
           const auto u = static_cast<unsigned char>(p[i]);
           if (u >= 0x7f || (u < 0x20 && u != '\r' && u != '\n')) printable = false;
         }
-        if (printable) ++st.stats.replies;
-        else st.stats.discardedBytes += end - pos;
+        if (printable)
+          ++st.stats.replies;
+        else
+          st.stats.discardedBytes += end - pos;
         pos = end;
         st.synced = nl != std::string::npos;
         continue;
@@ -263,8 +273,8 @@ void decode(DecoderState& st, std::span<const std::uint8_t> bytes,
   st.pending.erase(0, pos);
 }
 
-std::string encode(const Format& fmt, const StylusSample& s, std::uint32_t frame,
-                   std::uint32_t timestampMs, char command) {
+std::string encode(const Format& fmt, const StylusSample& s, std::uint32_t frame, std::uint32_t timestampMs,
+                   char command) {
   const double sc = scale(fmt);
   const Vec3 o = s.orientationDeg.value_or(Vec3{0, 0, 0});
   const std::array<double, 4> q = s.quaternion.value_or(std::array<double, 4>{1, 0, 0, 0});
@@ -288,24 +298,32 @@ std::string encode(const Format& fmt, const StylusSample& s, std::uint32_t frame
       case 1: r += "\r\n"; break;
       case 8:
       case 9:
-        if (fmt.binary) detail::appendU32(r, item == 8 ? timestampMs : frame);
-        else r += detail::fmt("%10.0f", item == 8 ? timestampMs : frame);
+        if (fmt.binary)
+          detail::appendU32(r, item == 8 ? timestampMs : frame);
+        else
+          r += detail::fmt("%10.0f", item == 8 ? timestampMs : frame);
         break;
       case 10:
-        if (fmt.binary) detail::appendU32(r, s.button ? 1u : 0u);
-        else r += s.button ? " 1" : " 0";
+        if (fmt.binary)
+          detail::appendU32(r, s.button ? 1u : 0u);
+        else
+          r += s.button ? " 1" : " 0";
         break;
       case 11:
-        if (fmt.binary) detail::appendU32(r, 0);
-        else r += "   0";
+        if (fmt.binary)
+          detail::appendU32(r, 0);
+        else
+          r += "   0";
         break;
       default: {
         const int n = item == 7 ? 4 : 3;
         for (int k = 0; k < n; ++k) {
           const auto ku = static_cast<std::size_t>(k);
           const double v = item == 2 ? s.positionMm[ku] / sc : item == 5 ? o[ku] : q[ku];
-          if (fmt.binary) detail::appendF32(r, v);
-          else r += detail::fmt(item == 7 ? "%9.4f" : "%9.3f", v);
+          if (fmt.binary)
+            detail::appendF32(r, v);
+          else
+            r += detail::fmt(item == 7 ? "%9.4f" : "%9.3f", v);
         }
       }
     }

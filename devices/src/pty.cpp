@@ -40,7 +40,8 @@ void Emulator::start() {
   if (linkPath_.empty())
     linkPath_ = "/tmp/leafdig-sim-" + kind() + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
   if (!openPty())
-    throw DeviceError(DeviceErrorKind::Unsupported, "cannot create a pseudo-terminal: " + std::string(std::strerror(errno)),
+    throw DeviceError(DeviceErrorKind::Unsupported,
+                      "cannot create a pseudo-terminal: " + std::string(std::strerror(errno)),
                       "check that /dev/ptmx exists and /dev/pts is mounted");
   powerOn();
   start_ = monotonicSeconds();
@@ -59,7 +60,9 @@ void Emulator::stop() {
   }
 }
 
-std::string Emulator::path() const { return linkPath_; }
+std::string Emulator::path() const {
+  return linkPath_;
+}
 std::string Emulator::ptyPath() const {
   std::lock_guard lock(mutex_);
   return ptyPath_;
@@ -76,8 +79,12 @@ std::uint64_t Emulator::recordsSent() const {
   std::lock_guard lock(mutex_);
   return log_.records;
 }
-void Emulator::unplugFor(double seconds) { unplugRequest_ = seconds; }
-double Emulator::now() const { return monotonicSeconds() - start_; }
+void Emulator::unplugFor(double seconds) {
+  unplugRequest_ = seconds;
+}
+double Emulator::now() const {
+  return monotonicSeconds() - start_;
+}
 
 bool Emulator::openPty() {
   const int m = ::posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
@@ -243,8 +250,10 @@ void Emulator::run() {
     const double t = now();
     int timeoutMs = 20;
     if (streaming()) {
-      if (options_.burst) timeoutMs = 0;
-      else timeoutMs = std::clamp(static_cast<int>((nextTick - t) * 1000.0), 0, 20);
+      if (options_.burst)
+        timeoutMs = 0;
+      else
+        timeoutMs = std::clamp(static_cast<int>((nextTick - t) * 1000.0), 0, 20);
     }
     pollfd p{master_, POLLIN, 0};
     const int r = ::poll(&p, 1, timeoutMs);

@@ -37,7 +37,9 @@ const Profile* matchProfile(std::uint16_t vid, std::uint16_t pid) {
   return nullptr;
 }
 
-Inventory takeInventory() { return {listSerialPorts(), enumerateHid(), listUsbDevices()}; }
+Inventory takeInventory() {
+  return {listSerialPorts(), enumerateHid(), listUsbDevices()};
+}
 
 namespace {
 bool inGroup(const char* name) {
@@ -64,7 +66,8 @@ std::vector<Check> doctorChecks(const std::string& udevRulePath) {
     const int rc = libusb_init(&ctx);
     Check c{"libusb", rc == 0,
             "version " + std::to_string(v->major) + "." + std::to_string(v->minor) + "." + std::to_string(v->micro) +
-                (rc == 0 ? std::string(", hotplug ") + (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG) ? "yes" : "no (polling)")
+                (rc == 0 ? std::string(", hotplug ") +
+                               (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG) ? "yes" : "no (polling)")
                          : std::string(", cannot start: ") + libusb_error_name(rc)),
             rc == 0 ? "" : "USB gauges in vendor mode need libusb; check /dev/bus/usb is present"};
     if (ctx) libusb_exit(ctx);
@@ -86,14 +89,19 @@ std::vector<Check> doctorChecks(const std::string& udevRulePath) {
   }
   for (const char* g : {"dialout", "plugdev", "input"}) {
     const bool member = inGroup(g);
-    out.push_back({std::string("group '") + g + "'", member, member ? "you are a member (or root)" : "you are not a member",
-                   member ? "" : std::string("sudo usermod -aG ") + g + " $USER, then log in again (or install the udev rule, which grants access to the logged-in user)"});
+    out.push_back(
+        {std::string("group '") + g + "'", member, member ? "you are a member (or root)" : "you are not a member",
+         member
+             ? ""
+             : std::string("sudo usermod -aG ") + g +
+                   " $USER, then log in again (or install the udev rule, which grants access to the logged-in user)"});
   }
   {
     std::ifstream rule(udevRulePath);
     const bool ok = static_cast<bool>(rule);
-    out.push_back({"udev rule", ok, ok ? udevRulePath + " installed" : udevRulePath + " not installed",
-                   ok ? "" : "sudo cmake --install build/release && sudo udevadm control --reload && sudo udevadm trigger"});
+    out.push_back(
+        {"udev rule", ok, ok ? udevRulePath + " installed" : udevRulePath + " not installed",
+         ok ? "" : "sudo cmake --install build/release && sudo udevadm control --reload && sudo udevadm trigger"});
   }
   for (const auto& p : listSerialPorts()) {
     const bool rw = ::access(p.path.c_str(), R_OK | W_OK) == 0;

@@ -69,9 +69,10 @@ class TtyPort final : public SerialPort {
     }
     if (n < 0 && (errno == EAGAIN || errno == EINTR)) return {};
     // POLLHUP with nothing to read, EOF or EIO: the other end is gone (unplug).
-    throw DeviceError(DeviceErrorKind::Io, path_ + ": the device went away (read " +
-                                               (n == 0 ? std::string("end of file") : std::string("failed")) + ")",
-                      "check the cable and the device's power; leafdig reconnects by itself");
+    throw DeviceError(
+        DeviceErrorKind::Io,
+        path_ + ": the device went away (read " + (n == 0 ? std::string("end of file") : std::string("failed")) + ")",
+        "check the cable and the device's power; leafdig reconnects by itself");
   }
 
   void write(const std::uint8_t* data, std::size_t size, std::chrono::milliseconds timeout) override {
@@ -84,7 +85,8 @@ class TtyPort final : public SerialPort {
         continue;
       }
       if (n < 0 && errno != EAGAIN && errno != EINTR) throw errorFromErrno(errno, "cannot write to", path_);
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       if (left.count() <= 0)
         throw DeviceError(DeviceErrorKind::Timeout, path_ + ": write timed out",
                           "the device is not reading: check flow control and the cable");
@@ -101,9 +103,12 @@ class TtyPort final : public SerialPort {
     ::cfsetispeed(&t, sp);
     ::cfsetospeed(&t, sp);
     t.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | PARODD | CSTOPB | CRTSCTS);
-    if (s.dataBits == 7) t.c_cflag |= CS7;
-    else if (s.dataBits == 8) t.c_cflag |= CS8;
-    else throw DeviceError(DeviceErrorKind::Config, "unsupported data bits " + std::to_string(s.dataBits), "use 7 or 8");
+    if (s.dataBits == 7)
+      t.c_cflag |= CS7;
+    else if (s.dataBits == 8)
+      t.c_cflag |= CS8;
+    else
+      throw DeviceError(DeviceErrorKind::Config, "unsupported data bits " + std::to_string(s.dataBits), "use 7 or 8");
     if (s.parity != Parity::None) t.c_cflag |= PARENB;
     if (s.parity == Parity::Odd) t.c_cflag |= PARODD;
     if (s.stopBits == 2) t.c_cflag |= CSTOPB;
@@ -131,7 +136,7 @@ class TtyPort final : public SerialPort {
   // the call changed nothing, which is what happens when a pty is opened a second time with
   // 7E2 (the Sylvac's framing): everything else is already as asked. That is success.
   bool ptyAlreadyAsAsked(const termios& asked) const {
-    struct stat st{};
+    struct stat st {};
     if (::fstat(fd_, &st) != 0 || !S_ISCHR(st.st_mode)) return false;
     const unsigned maj = major(st.st_rdev);
     if (maj < kPtySlaveMajorFirst || maj > kPtySlaveMajorLast) return false;

@@ -1,4 +1,6 @@
 // libusb: listing, hotplug watcher, vendor transfers.
+#include "leafdig/devices/usb.hpp"
+
 #include <libusb-1.0/libusb.h>
 
 #include <atomic>
@@ -7,7 +9,6 @@
 #include <tuple>
 
 #include "leafdig/devices/errors.hpp"
-#include "leafdig/devices/usb.hpp"
 
 namespace leafdig::devices {
 namespace {
@@ -39,12 +40,10 @@ DeviceError usbError(int rc, const std::string& what) {
     case LIBUSB_ERROR_BUSY:
       return {DeviceErrorKind::Busy, what + ": busy", "another program has claimed the device: close it"};
     case LIBUSB_ERROR_NO_DEVICE:
-    case LIBUSB_ERROR_NOT_FOUND:
-      return {DeviceErrorKind::NotFound, what + ": device gone", "plug the device back in"};
+    case LIBUSB_ERROR_NOT_FOUND: return {DeviceErrorKind::NotFound, what + ": device gone", "plug the device back in"};
     case LIBUSB_ERROR_TIMEOUT:
       return {DeviceErrorKind::Timeout, what + ": timed out", "check the gauge is connected to the interface"};
-    default:
-      return {DeviceErrorKind::Io, what + ": " + libusb_error_name(rc), "check the cable"};
+    default: return {DeviceErrorKind::Io, what + ": " + libusb_error_name(rc), "check the cable"};
   }
 }
 
@@ -54,7 +53,8 @@ class LibusbVendorDevice final : public UsbVendorDevice {
     char id[16];
     std::snprintf(id, sizeof id, "%04x:%04x", vid, pid);
     name_ = id;
-    if (!ctx_.ctx) throw DeviceError(DeviceErrorKind::Unsupported, "libusb could not start", "check /dev/bus/usb exists");
+    if (!ctx_.ctx)
+      throw DeviceError(DeviceErrorKind::Unsupported, "libusb could not start", "check /dev/bus/usb exists");
     libusb_device** list = nullptr;
     const ssize_t n = libusb_get_device_list(ctx_.ctx, &list);
     int rc = LIBUSB_ERROR_NOT_FOUND;
@@ -89,8 +89,8 @@ class LibusbVendorDevice final : public UsbVendorDevice {
                                            static_cast<std::uint16_t>(copy.size()), 1000);
     if (rc < 0) throw usbError(rc, name_ + " control OUT");
   }
-  std::vector<std::uint8_t> controlIn(std::uint8_t rt, std::uint8_t req, std::uint16_t value,
-                                      std::uint16_t index, std::uint16_t length) override {
+  std::vector<std::uint8_t> controlIn(std::uint8_t rt, std::uint8_t req, std::uint16_t value, std::uint16_t index,
+                                      std::uint16_t length) override {
     std::vector<std::uint8_t> buf(length);
     const int rc = libusb_control_transfer(handle_, rt, req, value, index, buf.data(), length, 1000);
     if (rc < 0) throw usbError(rc, name_ + " control IN");
@@ -151,7 +151,9 @@ std::vector<UsbDeviceInfo> listUsbDevices() {
   return out;
 }
 
-bool usbHotplugSupported() { return libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG) != 0; }
+bool usbHotplugSupported() {
+  return libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG) != 0;
+}
 
 std::unique_ptr<UsbVendorDevice> openUsbVendorDevice(std::uint16_t vid, std::uint16_t pid) {
   return std::make_unique<LibusbVendorDevice>(vid, pid);
@@ -179,12 +181,11 @@ UsbHotplugWatcher::UsbHotplugWatcher(std::function<void()> rescan, std::chrono::
   impl_->interval = poll;
   Impl* im = impl_.get();
   if (im->ctx.ctx && usbHotplugSupported() &&
-      libusb_hotplug_register_callback(im->ctx.ctx,
-                                       static_cast<libusb_hotplug_event>(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED |
-                                                                         LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT),
-                                       static_cast<libusb_hotplug_flag>(0), LIBUSB_HOTPLUG_MATCH_ANY,
-                                       LIBUSB_HOTPLUG_MATCH_ANY, LIBUSB_HOTPLUG_MATCH_ANY, &Impl::callback, im,
-                                       &im->handle) == LIBUSB_SUCCESS) {
+      libusb_hotplug_register_callback(
+          im->ctx.ctx,
+          static_cast<libusb_hotplug_event>(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED | LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT),
+          static_cast<libusb_hotplug_flag>(0), LIBUSB_HOTPLUG_MATCH_ANY, LIBUSB_HOTPLUG_MATCH_ANY,
+          LIBUSB_HOTPLUG_MATCH_ANY, &Impl::callback, im, &im->handle) == LIBUSB_SUCCESS) {
     im->registered = true;
     hotplug_ = true;
     im->thread = std::thread([im] {

@@ -13,7 +13,9 @@ std::uint64_t splitmix(std::uint64_t x) {
   x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
   return x ^ (x >> 31);
 }
-double uniform(std::uint64_t h) { return (static_cast<double>(h >> 11) + 0.5) / 9007199254740992.0; }
+double uniform(std::uint64_t h) {
+  return (static_cast<double>(h >> 11) + 0.5) / 9007199254740992.0;
+}
 double gauss(std::uint64_t seed, std::uint64_t k, int axis) {
   const std::uint64_t h1 = splitmix(seed * 0x1000193ull + k * 7 + static_cast<std::uint64_t>(axis));
   const std::uint64_t h2 = splitmix(h1);
@@ -37,7 +39,9 @@ VirtualStylus::VirtualStylus(std::vector<Vec3> targets, StylusOptions o) : targe
     for (std::size_t i = 0; i < 3; ++i) t[i] += o_.offsetMm[i];
 }
 
-double VirtualStylus::period() const { return static_cast<double>(targets_.size()) * (o_.travelS + o_.dwellS); }
+double VirtualStylus::period() const {
+  return static_cast<double>(targets_.size()) * (o_.travelS + o_.dwellS);
+}
 
 StylusMotion::State VirtualStylus::at(double t, std::uint64_t k) const {
   State s;

@@ -23,11 +23,8 @@ BallBSplineCurve BallBSplineCurve::interpolate(const std::vector<Ball>& dataBall
   return {std::move(spline), std::move(params), dataBalls};
 }
 
-BallBSplineCurve::BallBSplineCurve(BSplineCurve spline, std::vector<double> dataParameters,
-                                   std::vector<Ball> dataBalls)
-    : spline_(std::move(spline)),
-      dataParameters_(std::move(dataParameters)),
-      dataBalls_(std::move(dataBalls)) {
+BallBSplineCurve::BallBSplineCurve(BSplineCurve spline, std::vector<double> dataParameters, std::vector<Ball> dataBalls)
+    : spline_(std::move(spline)), dataParameters_(std::move(dataParameters)), dataBalls_(std::move(dataBalls)) {
   if (spline_.dimension() != 4) {
     throw std::invalid_argument("a ball B-spline curve is a 4-D spline (x, y, z, r), got " +
                                 std::to_string(spline_.dimension()) + "-D");
@@ -50,7 +47,9 @@ Eigen::Vector3d BallBSplineCurve::center(double t) const {
   return spline_.evaluate(t).head<3>();
 }
 
-double BallBSplineCurve::radius(double t) const { return spline_.evaluate(t)(3); }
+double BallBSplineCurve::radius(double t) const {
+  return spline_.evaluate(t)(3);
+}
 
 BallBSplineCurve::Circle BallBSplineCurve::envelopeCircle(double t) const {
   return envelopeCircle(jet(t));
@@ -69,8 +68,7 @@ BallBSplineCurve::Circle BallBSplineCurve::envelopeCircle(const Jet& j) {
 
 Eigen::Vector3d BallBSplineCurve::envelopePoint(double t, double theta, const Frame& frame) const {
   const Circle circle = envelopeCircle(t);
-  return circle.center +
-         circle.radius * (std::cos(theta) * frame.normal + std::sin(theta) * frame.binormal);
+  return circle.center + circle.radius * (std::cos(theta) * frame.normal + std::sin(theta) * frame.binormal);
 }
 
 namespace {
@@ -88,8 +86,7 @@ Eigen::Vector3d unitTangent(const Eigen::Vector3d& d) {
 
 }  // namespace
 
-std::vector<Frame> rotationMinimisingFrames(const BallBSplineCurve& curve,
-                                            const std::vector<double>& ts,
+std::vector<Frame> rotationMinimisingFrames(const BallBSplineCurve& curve, const std::vector<double>& ts,
                                             const Eigen::Vector3d* firstNormalHint) {
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector3d> derivatives;

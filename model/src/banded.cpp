@@ -7,8 +7,7 @@
 namespace leafdig::model {
 
 BandedMatrix::BandedMatrix(int n, int kl, int ku)
-    : n_(n), kl_(kl), ku_(ku), width_(2 * kl + ku + 1),
-      data_(static_cast<std::size_t>(n * (2 * kl + ku + 1)), 0.0) {}
+    : n_(n), kl_(kl), ku_(ku), width_(2 * kl + ku + 1), data_(static_cast<std::size_t>(n * (2 * kl + ku + 1)), 0.0) {}
 
 void BandedMatrix::set(int i, int j, double value) {
   if (i < 0 || j < 0 || i >= n_ || j >= n_ || j < i - kl_ || j > i + ku_) {

@@ -11,14 +11,10 @@ namespace leafdig::model {
 
 const char* toString(BladeKind kind) {
   switch (kind) {
-    case BladeKind::Interp:
-      return "interp";
-    case BladeKind::Approx:
-      return "approx";
-    case BladeKind::Bezier:
-      return "bezier";
-    case BladeKind::Nurbs:
-      return "nurbs";
+    case BladeKind::Interp: return "interp";
+    case BladeKind::Approx: return "approx";
+    case BladeKind::Bezier: return "bezier";
+    case BladeKind::Nurbs: return "nurbs";
   }
   return "interp";
 }
@@ -34,8 +30,7 @@ BladeKind bladeKindFromString(const std::string& word) {
 namespace {
 
 // Basis values of `degree` at each t, scattered into a dense row of length `count`.
-Eigen::MatrixXd basisRows(int degree, const KnotVector& knots, int count,
-                          const std::vector<double>& ts) {
+Eigen::MatrixXd basisRows(int degree, const KnotVector& knots, int count, const std::vector<double>& ts) {
   Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(ts.size()), count);
   for (std::size_t a = 0; a < ts.size(); ++a) {
     const double t = std::clamp(ts[a], knots.front(), knots.back());
@@ -52,8 +47,7 @@ std::vector<double> uniformBreaks(int spans) {
   return breaks;
 }
 
-std::vector<double> averageNormalisedChords(const std::vector<std::vector<double>>& chordSets,
-                                            std::size_t count) {
+std::vector<double> averageNormalisedChords(const std::vector<std::vector<double>>& chordSets, std::size_t count) {
   std::vector<double> params(count, 0.0);
   int used = 0;
   for (const auto& chords : chordSets) {
@@ -99,8 +93,7 @@ Eigen::Vector3d BladeSurface::evaluate(double u, double v) const {
   return sampleSurface(*this, {u}, {v})[0][0];
 }
 
-PointGrid sampleSurface(const BladeSurface& s, const std::vector<double>& us,
-                        const std::vector<double>& vs) {
+PointGrid sampleSurface(const BladeSurface& s, const std::vector<double>& us, const std::vector<double>& vs) {
   const auto nu = static_cast<int>(s.controlNet.size());
   const auto nv = static_cast<int>(s.controlNet.front().size());
   const bool rational = !s.weights.empty();
@@ -131,8 +124,7 @@ PointGrid sampleSurface(const BladeSurface& s, const std::vector<double>& us,
   return out;
 }
 
-BladeSurface buildBlade(const MarkerGrid& grid, BladeKind kind,
-                        const std::vector<std::vector<double>>* weights) {
+BladeSurface buildBlade(const MarkerGrid& grid, BladeKind kind, const std::vector<std::vector<double>>* weights) {
   const int rows = static_cast<int>(grid.size());  // N + 1
   if (rows < 2) throw std::invalid_argument("a blade needs the tip and at least one row");
   BladeSurface s;
@@ -147,10 +139,8 @@ BladeSurface buildBlade(const MarkerGrid& grid, BladeKind kind,
       for (int k = 0; k < rows; ++k) pts.row(k) = grid[k][l].transpose();
       columns.push_back(interpolateNaturalCubic(s.rowParameters, pts).controlPoints());
     }
-    s.knotsU = clampedKnots(3, std::vector<double>(s.rowParameters.begin() + 1,
-                                                   s.rowParameters.end() - 1));
-    s.knotsV = clampedKnots(3, std::vector<double>(s.columnParameters.begin() + 1,
-                                                   s.columnParameters.end() - 1));
+    s.knotsU = clampedKnots(3, std::vector<double>(s.rowParameters.begin() + 1, s.rowParameters.end() - 1));
+    s.knotsV = clampedKnots(3, std::vector<double>(s.columnParameters.begin() + 1, s.columnParameters.end() - 1));
     // ... then each row of those control points is interpolated in v.
     const auto nu = columns.front().rows();
     for (Eigen::Index i = 0; i < nu; ++i) {
@@ -190,8 +180,8 @@ BladeSurface buildBlade(const MarkerGrid& grid, BladeKind kind,
         for (int l = 0; l < kMarkersPerRow; ++l) {
           const double w = (*weights)[k][l];
           if (!(w > 0.0) || !std::isfinite(w)) {
-            throw InputError("nurbs weights: row " + std::to_string(k) + ", point " +
-                             std::to_string(l + 1) + " must be a positive number");
+            throw InputError("nurbs weights: row " + std::to_string(k) + ", point " + std::to_string(l + 1) +
+                             " must be a positive number");
           }
           s.weights[k][l] = w;
         }

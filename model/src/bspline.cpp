@@ -16,8 +16,7 @@ int findSpan(int degree, const KnotVector& knots, double t) {
 }
 
 // NURBS Book algorithm A2.3, written with Eigen storage.
-Eigen::MatrixXd basisDerivatives(int span, int degree, const KnotVector& knots, double t,
-                                 int order) {
+Eigen::MatrixXd basisDerivatives(int span, int degree, const KnotVector& knots, double t, int order) {
   const int p = degree;
   Eigen::MatrixXd ndu(p + 1, p + 1);
   std::vector<double> left(p + 1, 0.0);
@@ -108,7 +107,9 @@ BSplineCurve::BSplineCurve(int degree, KnotVector knots, Eigen::MatrixXd control
   }
 }
 
-Eigen::VectorXd BSplineCurve::evaluate(double t) const { return derivatives(t, 0).row(0).transpose(); }
+Eigen::VectorXd BSplineCurve::evaluate(double t) const {
+  return derivatives(t, 0).row(0).transpose();
+}
 
 Eigen::MatrixXd BSplineCurve::derivatives(double t, int order) const {
   t = std::clamp(t, knots_.front(), knots_.back());

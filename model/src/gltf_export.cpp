@@ -94,20 +94,18 @@ std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
     std::vector<std::uint32_t> indices;
     for (const auto& t : m.triangles) indices.insert(indices.end(), t.begin(), t.end());
 
-    const int posView = addView(model, positions.data(), positions.size() * sizeof(float),
-                                TINYGLTF_TARGET_ARRAY_BUFFER);
-    const int posAcc = addAccessor(model, posView, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                   m.positions.size(), TINYGLTF_TYPE_VEC3);
+    const int posView =
+        addView(model, positions.data(), positions.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+    const int posAcc =
+        addAccessor(model, posView, TINYGLTF_COMPONENT_TYPE_FLOAT, m.positions.size(), TINYGLTF_TYPE_VEC3);
     model.accessors[static_cast<std::size_t>(posAcc)].minValues = lo;
     model.accessors[static_cast<std::size_t>(posAcc)].maxValues = hi;
-    const int nrmView = addView(model, normals.data(), normals.size() * sizeof(float),
-                                TINYGLTF_TARGET_ARRAY_BUFFER);
-    const int nrmAcc = addAccessor(model, nrmView, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                   m.normals.size(), TINYGLTF_TYPE_VEC3);
-    const int idxView = addView(model, indices.data(), indices.size() * sizeof(std::uint32_t),
-                                TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-    const int idxAcc = addAccessor(model, idxView, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                                   indices.size(), TINYGLTF_TYPE_SCALAR);
+    const int nrmView = addView(model, normals.data(), normals.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+    const int nrmAcc = addAccessor(model, nrmView, TINYGLTF_COMPONENT_TYPE_FLOAT, m.normals.size(), TINYGLTF_TYPE_VEC3);
+    const int idxView =
+        addView(model, indices.data(), indices.size() * sizeof(std::uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    const int idxAcc =
+        addAccessor(model, idxView, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, indices.size(), TINYGLTF_TYPE_SCALAR);
 
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] = posAcc;

@@ -13,11 +13,9 @@ std::vector<double> chordLengthParameters(const Eigen::MatrixXd& points, int spa
   if (count < 2) throw std::invalid_argument("chord-length parameters need at least two points");
   std::vector<double> params(static_cast<std::size_t>(count), 0.0);
   for (int k = 1; k < count; ++k) {
-    const double chord =
-        (points.row(k).head(spatialDims) - points.row(k - 1).head(spatialDims)).norm();
+    const double chord = (points.row(k).head(spatialDims) - points.row(k - 1).head(spatialDims)).norm();
     if (!(chord > 0.0)) {
-      throw std::invalid_argument("points " + std::to_string(k - 1) + " and " + std::to_string(k) +
-                                  " coincide");
+      throw std::invalid_argument("points " + std::to_string(k - 1) + " and " + std::to_string(k) + " coincide");
     }
     params[k] = params[k - 1] + chord;
   }
@@ -27,13 +25,13 @@ std::vector<double> chordLengthParameters(const Eigen::MatrixXd& points, int spa
   return params;
 }
 
-BSplineCurve interpolateNaturalCubic(const std::vector<double>& parameters,
-                                     const Eigen::MatrixXd& points) {
+BSplineCurve interpolateNaturalCubic(const std::vector<double>& parameters, const Eigen::MatrixXd& points) {
   constexpr int kDegree = 3;
   const auto m = static_cast<int>(points.rows()) - 1;
   if (m < 1 || static_cast<int>(parameters.size()) != m + 1) {
-    throw std::invalid_argument("natural cubic interpolation needs at least two points, one "
-                                "parameter each");
+    throw std::invalid_argument(
+        "natural cubic interpolation needs at least two points, one "
+        "parameter each");
   }
   if (parameters.front() != 0.0 || parameters.back() != 1.0) {
     throw std::invalid_argument("interpolation parameters must run from 0 to 1");
@@ -43,8 +41,7 @@ BSplineCurve interpolateNaturalCubic(const std::vector<double>& parameters,
       throw std::invalid_argument("interpolation parameters must increase strictly");
     }
   }
-  const KnotVector knots = clampedKnots(
-      kDegree, std::vector<double>(parameters.begin() + 1, parameters.end() - 1));
+  const KnotVector knots = clampedKnots(kDegree, std::vector<double>(parameters.begin() + 1, parameters.end() - 1));
   const int n = m + 3;  // unknown control points
 
   // Row order C(t_0), C''(t_0), C(t_1) .. C(t_{m-1}), C''(t_m), C(t_m) makes the matrix

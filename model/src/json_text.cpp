@@ -88,8 +88,7 @@ nlohmann::json parseJsonLeniently(std::string_view text, const std::string& sour
       }
     }
     const bool truncated = e.byte >= cleaned.size();
-    throw InputError(source + ": not valid JSON" +
-                     (truncated ? " (the file ends too early: is it truncated?)" : "") +
+    throw InputError(source + ": not valid JSON" + (truncated ? " (the file ends too early: is it truncated?)" : "") +
                      " at line " + std::to_string(line) + ", column " + std::to_string(column) +
                      ". Export the file again or fix it in a text editor.");
   }

@@ -22,8 +22,7 @@ std::string formatPoint(const Eigen::Vector3d& p) {
   return out.str();
 }
 
-void requirePositive(const std::optional<double>& value, const std::string& where,
-                     const std::string& what) {
+void requirePositive(const std::optional<double>& value, const std::string& where, const std::string& what) {
   if (!value) return;
   if (!std::isfinite(*value) || *value <= 0.0) {
     std::ostringstream out;
@@ -38,12 +37,9 @@ void requirePositive(const std::optional<double>& value, const std::string& wher
 
 const char* toString(ThicknessMode mode) {
   switch (mode) {
-    case ThicknessMode::Standard:
-      return "standard";
-    case ThicknessMode::Full:
-      return "full";
-    case ThicknessMode::Small:
-      return "small";
+    case ThicknessMode::Standard: return "standard";
+    case ThicknessMode::Full: return "full";
+    case ThicknessMode::Small: return "small";
   }
   return "standard";
 }
@@ -77,8 +73,7 @@ LeafThickness applyThicknessRule(const MarkerSet& markers) {
     bool everyRow = !markers.rows.empty();
     for (const MarkerRow& row : markers.rows) everyRow = everyRow && row.edgeThicknessMm;
     if (!everyRow) {
-      throw InputError(std::string("leaf: edge_thickness (d, the margin thickness) is missing; ") +
-                       toString(mode) +
+      throw InputError(std::string("leaf: edge_thickness (d, the margin thickness) is missing; ") + toString(mode) +
                        " mode needs it. Measure the margin with the caliper and add "
                        "\"edge_thickness\" to the leaf (or to every row).");
     }
@@ -91,12 +86,12 @@ LeafThickness applyThicknessRule(const MarkerSet& markers) {
     requirePositive(row.veinOriginThicknessMm, where, "vein_origin_thickness (r_i4^2)");
     requirePositive(row.edgeThicknessMm, where, "edge_thickness");
     for (int j = 0; j < kMarkersPerRow; ++j) {
-      requirePositive(row.measuredThicknessMm[j], pointName(static_cast<int>(i), j),
-                      "measured thickness");
+      requirePositive(row.measuredThicknessMm[j], pointName(static_cast<int>(i), j), "measured thickness");
     }
     if (!row.midribThicknessMm) {
-      throw InputError(where + ": midrib_thickness (r_i4^1) is missing; every mode needs the "
-                               "midrib thickness at the 4th marker. Measure it and add it.");
+      throw InputError(where +
+                       ": midrib_thickness (r_i4^1) is missing; every mode needs the "
+                       "midrib thickness at the 4th marker. Measure it and add it.");
     }
     std::optional<double> origin = row.veinOriginThicknessMm;
     if (!origin) origin = row.measuredThicknessMm[kMidribColumn];
@@ -137,8 +132,9 @@ LeafThickness applyThicknessRule(const MarkerSet& markers) {
 
 void validateMarkerGeometry(const MarkerSet& markers) {
   if (markers.rows.empty()) {
-    throw InputError("the marker set has no rows; digitize at least one row of 7 markers below "
-                     "the tip");
+    throw InputError(
+        "the marker set has no rows; digitize at least one row of 7 markers below "
+        "the tip");
   }
   for (int axis = 0; axis < 3; ++axis) {
     if (!std::isfinite(markers.tipMm[axis])) {
@@ -150,8 +146,7 @@ void validateMarkerGeometry(const MarkerSet& markers) {
     for (int j = 0; j < kMarkersPerRow; ++j) {
       for (int axis = 0; axis < 3; ++axis) {
         if (!std::isfinite(markers.rows[i].pointsMm[j][axis])) {
-          throw InputError(pointName(static_cast<int>(i), j) + ": coordinate " +
-                           std::string(1, "xyz"[axis]) +
+          throw InputError(pointName(static_cast<int>(i), j) + ": coordinate " + std::string(1, "xyz"[axis]) +
                            " is not a finite number; re-digitize this marker");
         }
       }
@@ -160,8 +155,8 @@ void validateMarkerGeometry(const MarkerSet& markers) {
   auto checkPair = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const std::string& nameA,
                       const std::string& nameB, const char* along) {
     if ((a - b).norm() < kCoincidentMm) {
-      throw InputError(nameA + " and " + nameB + " coincide at " + formatPoint(a) + " along the " +
-                       along + "; consecutive markers must be distinct. Re-digitize one of them.");
+      throw InputError(nameA + " and " + nameB + " coincide at " + formatPoint(a) + " along the " + along +
+                       "; consecutive markers must be distinct. Re-digitize one of them.");
     }
   };
   const int n = static_cast<int>(markers.rows.size());
@@ -173,8 +168,7 @@ void validateMarkerGeometry(const MarkerSet& markers) {
     }
     for (int j = 0; j < kMarkersPerRow; ++j) {
       if (i == 0) {
-        checkPair(markers.tipMm, pts[j], "the tip", pointName(i, j),
-                  j == kMidribColumn ? "midrib" : "blade column");
+        checkPair(markers.tipMm, pts[j], "the tip", pointName(i, j), j == kMidribColumn ? "midrib" : "blade column");
       } else {
         checkPair(markers.rows[i - 1].pointsMm[j], pts[j], pointName(i - 1, j), pointName(i, j),
                   j == kMidribColumn ? "midrib" : "blade column");

@@ -25,15 +25,14 @@ class Reader {
     if (!object.is_object()) fail(where, "expected an object");
     const auto it = object.find(key);
     if (it == object.end()) {
-      fail(where, std::string("required key \"") + key + "\" is missing; add it (see the " +
-                      kMarkersFormat + " schema in data/schema/)");
+      fail(where, std::string("required key \"") + key + "\" is missing; add it (see the " + kMarkersFormat +
+                      " schema in data/schema/)");
     }
     return *it;
   }
 
   // A finite number times `scale`; NaN, Infinity, strings and null are named errors.
-  double number(const json& value, const std::string& where, const std::string& what,
-                double scale) const {
+  double number(const json& value, const std::string& where, const std::string& what, double scale) const {
     const std::string token = detail::nonFiniteToken(value);
     if (!token.empty()) {
       fail(where, what + " is " + token + ", not a finite number; re-measure or fix the file");
@@ -57,8 +56,7 @@ class Reader {
     }
     Eigen::Vector3d p;
     for (int axis = 0; axis < 3; ++axis) {
-      p[axis] = number(value[static_cast<std::size_t>(axis)], where,
-                       std::string("coordinate ") + "xyz"[axis], scale);
+      p[axis] = number(value[static_cast<std::size_t>(axis)], where, std::string("coordinate ") + "xyz"[axis], scale);
     }
     return p;
   }
@@ -85,16 +83,15 @@ std::string pointWhere(std::size_t row, std::size_t point) {
 MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
   const Reader reader(source);
   if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
-    throw InputError(source + ": the file is empty; expected a " + std::string(kMarkersFormat) +
-                     " JSON document");
+    throw InputError(source + ": the file is empty; expected a " + std::string(kMarkersFormat) + " JSON document");
   }
   const json doc = detail::parseJsonLeniently(text, source);
   if (!doc.is_object()) reader.fail("top level", "expected a JSON object");
 
   const json& format = reader.require(doc, "format", "top level");
   if (format != kMarkersFormat) {
-    reader.fail("format", "expected \"" + std::string(kMarkersFormat) + "\", found " +
-                              format.dump() + "; this is not a leafdig marker file");
+    reader.fail("format", "expected \"" + std::string(kMarkersFormat) + "\", found " + format.dump() +
+                              "; this is not a leafdig marker file");
   }
   const double scale = unitScale(reader, reader.require(doc, "units", "top level"));
   double thicknessScale = scale;
@@ -102,8 +99,7 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
     if (*it == "radius") {
       thicknessScale = 2 * scale;  // stored as diameters inside
     } else if (*it != "diameter") {
-      reader.fail("thickness_kind", "must be \"diameter\" (caliper readings) or \"radius\", found " +
-                                        it->dump());
+      reader.fail("thickness_kind", "must be \"diameter\" (caliper readings) or \"radius\", found " + it->dump());
     }
   }
 
@@ -147,8 +143,7 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
       r.pointsMm[j] = reader.point(points[j], pointWhere(i, j), scale);
     }
     r.midribThicknessMm = reader.optionalNumber(row, "midrib_thickness", where, thicknessScale);
-    r.veinOriginThicknessMm =
-        reader.optionalNumber(row, "vein_origin_thickness", where, thicknessScale);
+    r.veinOriginThicknessMm = reader.optionalNumber(row, "vein_origin_thickness", where, thicknessScale);
     r.edgeThicknessMm = reader.optionalNumber(row, "edge_thickness", where, thicknessScale);
     if (const auto it = row.find("thickness"); it != row.end() && !it->is_null()) {
       if (!it->is_array() || it->size() != kMarkersPerRow) {
@@ -217,8 +212,7 @@ std::string markersToJson(const MarkerSet& m) {
     if (anyMeasured) {
       out << ",\n     \"thickness\": [";
       for (int j = 0; j < kMarkersPerRow; ++j) {
-        out << (j ? ", " : "")
-            << (r.measuredThicknessMm[j] ? detail::formatNumber(*r.measuredThicknessMm[j]) : "null");
+        out << (j ? ", " : "") << (r.measuredThicknessMm[j] ? detail::formatNumber(*r.measuredThicknessMm[j]) : "null");
       }
       out << "]";
     }

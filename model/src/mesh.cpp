@@ -32,8 +32,7 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-void addWarning(std::vector<ModelWarning>& warnings, const std::string& organ, double t,
-                const std::string& message) {
+void addWarning(std::vector<ModelWarning>& warnings, const std::string& organ, double t, const std::string& message) {
   for (const ModelWarning& w : warnings) {
     if (w.organ == organ && w.message == message) return;  // first occurrence is enough
   }
@@ -74,8 +73,8 @@ void addCap(Mesh& mesh, const Vein& vein, double t, const Frame& frame, const Ei
     const auto start = static_cast<std::uint32_t>(mesh.positions.size());
     for (int j = 0; j < ringVertices; ++j) {
       const double theta = kTwoPi * j / ringVertices;
-      const Eigen::Vector3d dir = std::cos(phi) * axis + std::sin(phi) * (std::cos(theta) * frame.normal +
-                                                                        std::sin(theta) * frame.binormal);
+      const Eigen::Vector3d dir =
+          std::cos(phi) * axis + std::sin(phi) * (std::cos(theta) * frame.normal + std::sin(theta) * frame.binormal);
       mesh.positions.push_back(jet.c + r * dir);
       mesh.normals.push_back(dir.normalized());
     }
@@ -104,8 +103,8 @@ void addCap(Mesh& mesh, const Vein& vein, double t, const Frame& frame, const Ei
 
 }  // namespace
 
-Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices, CapStyle caps,
-              int capRings, std::vector<ModelWarning>& warnings) {
+Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices, CapStyle caps, int capRings,
+              std::vector<ModelWarning>& warnings) {
   Mesh mesh;
   // Each parameter is evaluated once; frames, circles and checks share the jets.
   std::vector<BallBSplineCurve::Jet> jets;
@@ -149,8 +148,8 @@ Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices,
     const Frame& f = frames[s];
     for (std::uint32_t j = 0; j < k; ++j) {
       const double theta = kTwoPi * j / ringVertices;
-      const Eigen::Vector3d p = circle.center + circle.radius * (std::cos(theta) * f.normal +
-                                                                 std::sin(theta) * f.binormal);
+      const Eigen::Vector3d p =
+          circle.center + circle.radius * (std::cos(theta) * f.normal + std::sin(theta) * f.binormal);
       const Eigen::Vector3d radial = std::cos(theta) * f.normal + std::sin(theta) * f.binormal;
       // On the envelope the surface normal points from the ball's centre to the point.
       mesh.positions.push_back(p);
@@ -170,11 +169,9 @@ Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices,
     }
   }
   if (caps == CapStyle::Sphere && ts.size() >= 2) {
-    addCap(mesh, vein, ts.front(), frames.front(), -frames.front().tangent, 0, ringVertices,
-           capRings);
+    addCap(mesh, vein, ts.front(), frames.front(), -frames.front().tangent, 0, ringVertices, capRings);
     const auto lastRing = static_cast<std::uint32_t>((ts.size() - 1) * k);
-    addCap(mesh, vein, ts.back(), frames.back(), frames.back().tangent, lastRing, ringVertices,
-           capRings);
+    addCap(mesh, vein, ts.back(), frames.back(), frames.back().tangent, lastRing, ringVertices, capRings);
   }
   return mesh;
 }
@@ -191,8 +188,7 @@ Mesh meshBlade(const BladeSurface& blade, int segmentsPerRow, int segmentsAcross
   }
   mesh.normals.assign(mesh.positions.size(), Eigen::Vector3d::Zero());
   auto addIfNotDegenerate = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    const Eigen::Vector3d n =
-        (mesh.positions[b] - mesh.positions[a]).cross(mesh.positions[c] - mesh.positions[a]);
+    const Eigen::Vector3d n = (mesh.positions[b] - mesh.positions[a]).cross(mesh.positions[c] - mesh.positions[a]);
     if (n.norm() <= 1e-12) return;
     mesh.triangles.push_back({a, b, c});
     for (std::uint32_t v : {a, b, c}) mesh.normals[v] += n;  // area-weighted
@@ -225,12 +221,12 @@ LeafMesh meshLeaf(const LeafModel& model, const MeshResolution& res) {
     if (vein.name == "midrib") segments = res.midribSegmentsPerRow * spans;
     if (vein.name == "contour") segments = res.contourSegmentsPerRow * spans;
     const std::vector<double> ts = subdivideSpans(vein.curve.dataParameters(), segments);
-    out.organs.push_back({vein.name, OrganKind::Vein,
-                          meshVein(vein, ts, res.ringVertices, res.caps, res.capRings, out.warnings)});
+    out.organs.push_back(
+        {vein.name, OrganKind::Vein, meshVein(vein, ts, res.ringVertices, res.caps, res.capRings, out.warnings)});
   }
   if (!model.blade.controlNet.empty())  // a partial leaf (live preview) may have no blade yet
-    out.organs.push_back({"blade", OrganKind::Blade,
-                          meshBlade(model.blade, res.bladeSegmentsPerRow, res.bladeSegmentsAcross)});
+    out.organs.push_back(
+        {"blade", OrganKind::Blade, meshBlade(model.blade, res.bladeSegmentsPerRow, res.bladeSegmentsAcross)});
   return out;
 }
 
@@ -247,7 +243,11 @@ MeshCounts countKind(const LeafMesh& mesh, OrganKind kind) {
 }
 }  // namespace
 
-MeshCounts countVeins(const LeafMesh& mesh) { return countKind(mesh, OrganKind::Vein); }
-MeshCounts countBlade(const LeafMesh& mesh) { return countKind(mesh, OrganKind::Blade); }
+MeshCounts countVeins(const LeafMesh& mesh) {
+  return countKind(mesh, OrganKind::Vein);
+}
+MeshCounts countBlade(const LeafMesh& mesh) {
+  return countKind(mesh, OrganKind::Blade);
+}
 
 }  // namespace leafdig::model

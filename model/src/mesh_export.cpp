@@ -23,7 +23,9 @@ MeshFormat meshFormatForPath(const std::filesystem::path& path) {
                    "\"; name the file .glb, .obj, .ply or .stl");
 }
 
-Eigen::Vector3d toGltfAxes(const Eigen::Vector3d& p) { return {p.x(), p.z(), -p.y()}; }
+Eigen::Vector3d toGltfAxes(const Eigen::Vector3d& p) {
+  return {p.x(), p.z(), -p.y()};
+}
 
 namespace {
 
@@ -135,14 +137,10 @@ std::string encodeStl(const LeafMesh& mesh, const ExportHeader& h) {
 
 std::string encodeMesh(const LeafMesh& mesh, MeshFormat format, const ExportHeader& header) {
   switch (format) {
-    case MeshFormat::Obj:
-      return encodeObj(mesh, header);
-    case MeshFormat::Ply:
-      return encodePly(mesh, header);
-    case MeshFormat::Stl:
-      return encodeStl(mesh, header);
-    case MeshFormat::Glb:
-      return encodeGlb(mesh, header);
+    case MeshFormat::Obj: return encodeObj(mesh, header);
+    case MeshFormat::Ply: return encodePly(mesh, header);
+    case MeshFormat::Stl: return encodeStl(mesh, header);
+    case MeshFormat::Glb: return encodeGlb(mesh, header);
   }
   return {};
 }

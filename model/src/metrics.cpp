@@ -8,8 +8,7 @@ namespace leafdig::model {
 
 namespace {
 
-Eigen::Vector3d areaVector(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                           const Eigen::Vector3d& c) {
+Eigen::Vector3d areaVector(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   return 0.5 * (b - a).cross(c - a);
 }
 
@@ -29,8 +28,7 @@ struct GridAreas {
   double projected = 0.0;
 };
 
-GridAreas gridAreas(const BladeSurface& blade, int perRow, int across,
-                    const Eigen::Vector3d& direction) {
+GridAreas gridAreas(const BladeSurface& blade, int perRow, int across, const Eigen::Vector3d& direction) {
   const int rowSpans = static_cast<int>(blade.rowParameters.size()) - 1;
   const PointGrid g = sampleSurface(blade, subdivideSpans(blade.rowParameters, perRow * rowSpans),
                                     subdivideSpans(blade.columnParameters, across));
@@ -38,8 +36,7 @@ GridAreas gridAreas(const BladeSurface& blade, int perRow, int across,
   for (std::size_t i = 0; i + 1 < g.size(); ++i) {
     for (std::size_t j = 0; j + 1 < g[i].size(); ++j) {
       for (const Eigen::Vector3d& av :
-           {areaVector(g[i][j], g[i][j + 1], g[i + 1][j + 1]),
-            areaVector(g[i][j], g[i + 1][j + 1], g[i + 1][j])}) {
+           {areaVector(g[i][j], g[i][j + 1], g[i + 1][j + 1]), areaVector(g[i][j], g[i + 1][j + 1], g[i + 1][j])}) {
         out.area += av.norm();
         out.projected += std::abs(av.dot(direction));
       }
@@ -62,14 +59,12 @@ double projectedArea(const Mesh& mesh, const Eigen::Vector3d& lightDirection) {
   const Eigen::Vector3d d = lightDirection.normalized();
   double area = 0.0;
   for (const auto& t : mesh.triangles) {
-    area += std::abs(
-        areaVector(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]).dot(d));
+    area += std::abs(areaVector(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]).dot(d));
   }
   return area;
 }
 
-BladeAreaEstimate convergedBladeArea(const BladeSurface& blade,
-                                     const Eigen::Vector3d& lightDirection, double tolerance,
+BladeAreaEstimate convergedBladeArea(const BladeSurface& blade, const Eigen::Vector3d& lightDirection, double tolerance,
                                      int maxDoublings) {
   const Eigen::Vector3d d = lightDirection.normalized();
   int perRow = 2;
@@ -80,8 +75,8 @@ BladeAreaEstimate convergedBladeArea(const BladeSurface& blade,
     perRow *= 2;
     across *= 2;
     const GridAreas current = gridAreas(blade, perRow, across, d);
-    est = {current.area, current.projected, perRow, across,
-           std::abs(current.area - previous.area) / current.area, false};
+    est = {current.area, current.projected, perRow, across, std::abs(current.area - previous.area) / current.area,
+           false};
     if (est.relativeChange < tolerance) {
       est.converged = true;
       break;
@@ -123,8 +118,7 @@ LeafMetrics computeLeafMetrics(const LeafModel& model, const Eigen::Vector3d& li
   LeafMetrics m{convergedBladeArea(model.blade, lightDirection), lightDirection.normalized(),
                 markerGridHeronArea(markerGrid(model.markers)), std::nullopt};
   if (model.markers.leaf.measuredAreaMm2) {
-    m.areaConstraint =
-        compareArea(m.blade.areaMm2, *model.markers.leaf.measuredAreaMm2, areaThresholdPercent);
+    m.areaConstraint = compareArea(m.blade.areaMm2, *model.markers.leaf.measuredAreaMm2, areaThresholdPercent);
   }
   return m;
 }

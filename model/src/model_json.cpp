@@ -9,12 +9,13 @@ using nlohmann::json;
 
 namespace {
 
-json vector3(const Eigen::Vector3d& p) { return json::array({p.x(), p.y(), p.z()}); }
+json vector3(const Eigen::Vector3d& p) {
+  return json::array({p.x(), p.y(), p.z()});
+}
 
 }  // namespace
 
-std::string modelToJson(const LeafModel& model, const std::string& frame,
-                        const LeafMetrics& metrics) {
+std::string modelToJson(const LeafModel& model, const std::string& frame, const LeafMetrics& metrics) {
   json doc;
   doc["format"] = kModelFormat;
   doc["units"] = "mm";
@@ -107,8 +108,7 @@ ModelDocument parseModelJson(std::string_view text, const std::string& source) {
       out.veins.push_back(
           {name, BallBSplineCurve(BSplineCurve(as<int>(need(v, "degree", where), where),
                                                as<KnotVector>(need(v, "knots", where), where), ctrl),
-                                  as<std::vector<double>>(need(v, "data_parameters", where), where),
-                                  balls)});
+                                  as<std::vector<double>>(need(v, "data_parameters", where), where), balls)});
     } catch (const std::invalid_argument& e) {
       throw InputError(where + ": " + e.what());
     }

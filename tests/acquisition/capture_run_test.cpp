@@ -1,5 +1,7 @@
 // CaptureRun: the one capture lifecycle the command line and the station drive. Simulated
 // devices over real ptys, a real store; also run under ThreadSanitizer.
+#include "leafdig/acquisition/capture_run.hpp"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -11,7 +13,6 @@
 #include <stdexcept>
 #include <thread>
 
-#include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/model/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;

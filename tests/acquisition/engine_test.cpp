@@ -1,11 +1,12 @@
 // The protocol engine driven as a technician drives it: still stylus, press, release;
 // caliper readings; undo; the end-of-rows long press. Then replay of what was decided.
+#include "leafdig/acquisition/engine.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "leafdig/acquisition/engine.hpp"
 #include "leafdig/model/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;
@@ -50,13 +51,15 @@ struct Operator {
   }
 };
 
-acq::Vec3 v(const Eigen::Vector3d& e) { return {e.x(), e.y(), e.z()}; }
+acq::Vec3 v(const Eigen::Vector3d& e) {
+  return {e.x(), e.y(), e.z()};
+}
 
 class EngineSample : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(EngineSample, CapturesAWholeLeafWithoutKeyboardAndReplaysItExactly) {
-  const auto leaf =
-      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/" + GetParam() + ".markers.json");
+  const auto leaf = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/" + GetParam() +
+                                                    ".markers.json");
   const std::size_t n = leaf.rows.size();
   acq::Engine engine;
   Operator op{engine};
@@ -188,7 +191,8 @@ TEST_F(EngineRow, CaliperReadingsAreCheckedAndRepeatsFlaggedNotDropped) {
 }
 
 TEST(EngineModes, StepsFollowModeAndOrder) {
-  for (auto [mode, order] : {std::pair{acq::Mode::Small, acq::Order::Interleaved}, std::pair{acq::Mode::Full, acq::Order::Sequential}}) {
+  for (auto [mode, order] :
+       {std::pair{acq::Mode::Small, acq::Order::Interleaved}, std::pair{acq::Mode::Full, acq::Order::Sequential}}) {
     acq::Settings s;
     s.mode = mode;
     s.order = order;
@@ -252,7 +256,7 @@ TEST_F(EngineRow, ThePlanListsTheOpenRowThenTheThicknessStepsOnceTheRowsAreEnded
   EXPECT_EQ(states(plan, acq::What::Tip), "D");
   EXPECT_EQ(states(plan, acq::What::Marker, 1), "DDDDDDD");
   EXPECT_EQ(states(plan, acq::What::Marker, 2), "DDCPPPP");
-  EXPECT_EQ(states(plan, acq::What::Marker, 3), "");  // not asked for yet
+  EXPECT_EQ(states(plan, acq::What::Marker, 3), "");        // not asked for yet
   EXPECT_EQ(states(plan, acq::What::MidribThickness), "");  // sequential: after the rows
   // A retaken point is the current step; the rows after it stay listed.
   engine.apply(engine.retake(acq::What::Marker, 1, 4));
@@ -286,10 +290,13 @@ TEST(EnginePlan, InterleavedOrderPutsARowsThicknessRightAfterIt) {
   for (int c = 1; c <= 7; ++c) ASSERT_EQ(op.press({40.0 - 12.0 * (c - 1), -30.0, 0}).kind, Kind::Accepted);
   const auto plan = engine.plan();
   std::string order;
-  for (const auto& p : plan) order += acq::toString(p.step.what) + std::string(p.step.what == acq::What::Marker ? std::to_string(p.step.row) : "") + " ";
-  EXPECT_EQ(order,
-            "tip marker1 marker1 marker1 marker1 marker1 marker1 marker1 midrib_thickness vein_origin_thickness marker2 "
-            "marker2 marker2 marker2 marker2 marker2 marker2 ");
+  for (const auto& p : plan)
+    order += acq::toString(p.step.what) +
+             std::string(p.step.what == acq::What::Marker ? std::to_string(p.step.row) : "") + " ";
+  EXPECT_EQ(
+      order,
+      "tip marker1 marker1 marker1 marker1 marker1 marker1 marker1 midrib_thickness vein_origin_thickness marker2 "
+      "marker2 marker2 marker2 marker2 marker2 marker2 ");
   EXPECT_EQ(states(plan, acq::What::MidribThickness), "C");
 }
 

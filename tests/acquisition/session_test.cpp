@@ -1,6 +1,8 @@
 // Capture sessions on a real SQLite file: commit before acknowledge, replay on reopen,
 // undo / retake / pause / abandon, the store refusing writes (page quota = full disk), a
 // reader beside the writer, the board frame and the live preview.
+#include "leafdig/acquisition/session.hpp"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -17,7 +19,6 @@
 #include "leafdig/acquisition/capture_loop.hpp"
 #include "leafdig/acquisition/preview.hpp"
 #include "leafdig/acquisition/review.hpp"
-#include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;
@@ -28,7 +29,9 @@ namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
 
-acq::Vec3 v(const Eigen::Vector3d& e) { return {e.x(), e.y(), e.z()}; }
+acq::Vec3 v(const Eigen::Vector3d& e) {
+  return {e.x(), e.y(), e.z()};
+}
 
 // A technician's hand and caliper feeding a session.
 struct Hand {
@@ -40,8 +43,8 @@ struct Hand {
     std::normal_distribution<double> noise(0.0, 0.1);
     std::vector<acq::Feedback> out;
     const auto sample = [&](bool button) {
-      acq::StylusInput s{t += 8 * kMs, {p[0] + noise(rng), p[1] + noise(rng), p[2] + noise(rng)}, button, "ok",
-                         "01   1.0  2.0  3.0"};
+      acq::StylusInput s{
+          t += 8 * kMs, {p[0] + noise(rng), p[1] + noise(rng), p[2] + noise(rng)}, button, "ok", "01   1.0  2.0  3.0"};
       for (auto& f : session->onStylus(s)) out.push_back(f);
     };
     for (int i = 0; i < 60; ++i) sample(false);
@@ -49,7 +52,9 @@ struct Hand {
     sample(false);
     return out;
   }
-  std::vector<acq::Feedback> read(double mm) { return session->onCaliper({t += 500 * kMs, mm, "+" + std::to_string(mm)}); }
+  std::vector<acq::Feedback> read(double mm) {
+    return session->onCaliper({t += 500 * kMs, mm, "+" + std::to_string(mm)});
+  }
 };
 
 bool has(const std::vector<acq::Feedback>& fs, FK k) {
@@ -65,7 +70,8 @@ class Session : public ::testing::Test {
                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    leaf_ = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
+    leaf_ =
+        leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -309,9 +315,9 @@ TEST_F(Session, ABoardFrameIsCapturedFirstAndMarkersAreExpressedInIt) {
   EXPECT_EQ(s.engine().step().what, acq::What::Tip);
   ASSERT_TRUE(has(h.press({100, 50, 10}), FK::Accepted));
   const Eigen::Isometry3d frame = acq::boardFrame(s.engine().items());
-  const Eigen::Vector3d tip = frame * Eigen::Vector3d(s.engine().items().back().positionMm[0],
-                                                      s.engine().items().back().positionMm[1],
-                                                      s.engine().items().back().positionMm[2]);
+  const Eigen::Vector3d tip =
+      frame * Eigen::Vector3d(s.engine().items().back().positionMm[0], s.engine().items().back().positionMm[1],
+                              s.engine().items().back().positionMm[2]);
   EXPECT_NEAR(tip.x(), 50, 0.2);
   EXPECT_NEAR(tip.y(), 0, 0.2);
   EXPECT_NEAR(tip.z(), 10, 0.2);
@@ -428,8 +434,8 @@ TEST_F(Session, ACuratorsCorrectionIsAnEventThatReplaysAndReplacesTheProjection)
   EXPECT_THROW((void)acq::correct(store, id, t), std::invalid_argument);
   t.valueMm = 2.54;
   (void)acq::correct(store, id, t);
-  EXPECT_DOUBLE_EQ(acq::findItem(acq::openForReview(store, id).engine.items(), acq::What::MidribThickness, 1, 4)->valueMm,
-                   2.54);
+  EXPECT_DOUBLE_EQ(
+      acq::findItem(acq::openForReview(store, id).engine.items(), acq::What::MidribThickness, 1, 4)->valueMm, 2.54);
   // Approved sessions are final.
   EXPECT_THROW((void)acq::review(store, id, "rejected", "curator", ""), std::invalid_argument);  // no reason
   (void)acq::review(store, id, "approved", "curator", "");

@@ -33,8 +33,8 @@ fs::path scratch(const std::string& name) {
 }
 
 const leafdig::model::MarkerSet& leaf() {
-  static const auto l =
-      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/upper-small-leaf-n17.markers.json");
+  static const auto l = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) +
+                                                        "/data/samples/upper-small-leaf-n17.markers.json");
   return l;
 }
 
@@ -54,8 +54,10 @@ std::int64_t newSession(leafdig::db::Store& store, int position) {
 // Stylus samples of one press on p; returns the release sample (not yet fed).
 acq::StylusInput feedPress(acq::CaptureSession& s, std::int64_t& t, const acq::Vec3& p, std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 0.1);
-  for (int i = 0; i < 70; ++i) (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, false, "ok", "01 x"});
-  for (int i = 0; i < 25; ++i) (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, true, "ok", "01 x"});
+  for (int i = 0; i < 70; ++i)
+    (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, false, "ok", "01 x"});
+  for (int i = 0; i < 25; ++i)
+    (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, true, "ok", "01 x"});
   return {t += 8 * kMs, p, false, "ok", "01   12.3  45.6  7.8"};
 }
 
@@ -114,7 +116,8 @@ void BM_PressToSnapshot(benchmark::State& state) {
     const acq::Snapshot snap = s->snapshot(true);
     ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     if (feedback.empty() || feedback[0].kind != acq::Feedback::Kind::Accepted) {
-      state.SkipWithError(("press not accepted: " + (feedback.empty() ? std::string("no decision") : feedback[0].text)).c_str());
+      state.SkipWithError(
+          ("press not accepted: " + (feedback.empty() ? std::string("no decision") : feedback[0].text)).c_str());
       break;
     }
     points = snap.items.size();
@@ -211,11 +214,16 @@ fs::path bigDatabase(int leaves) {
   const std::string n = std::to_string(leaves);
   const std::string sql =
       "PRAGMA synchronous=OFF; BEGIN;"
-      "WITH RECURSIVE k(i) AS (SELECT 2 UNION ALL SELECT i+1 FROM k WHERE i<" + n + ") "
+      "WITH RECURSIVE k(i) AS (SELECT 2 UNION ALL SELECT i+1 FROM k WHERE i<" +
+      n +
+      ") "
       "INSERT INTO leaves(id, plant_id, position) SELECT i, 1, i FROM k;"
-      "INSERT INTO sessions(id, leaf_id, operator_id, station, status, mode, capture_order, settings_json, created_utc, "
-      "genesis_hash, head_seq, head_hash) SELECT l.id, l.id, s.operator_id, s.station, s.status, s.mode, s.capture_order, "
-      "s.settings_json, s.created_utc, s.genesis_hash, s.head_seq, s.head_hash FROM leaves l, sessions s WHERE s.id=1 AND l.id>1;"
+      "INSERT INTO sessions(id, leaf_id, operator_id, station, status, mode, capture_order, settings_json, "
+      "created_utc, "
+      "genesis_hash, head_seq, head_hash) SELECT l.id, l.id, s.operator_id, s.station, s.status, s.mode, "
+      "s.capture_order, "
+      "s.settings_json, s.created_utc, s.genesis_hash, s.head_seq, s.head_hash FROM leaves l, sessions s WHERE s.id=1 "
+      "AND l.id>1;"
       "INSERT INTO events SELECT x.id, e.seq, e.utc, e.mono_ns, e.kind, e.payload_json, e.raw, e.prev_hash, e.hash "
       "FROM sessions x, events e WHERE e.session_id=1 AND x.id>1;"
       "INSERT INTO markers SELECT x.id, m.seq, m.what, m.row, m.col, m.x_mm, m.y_mm, m.z_mm "

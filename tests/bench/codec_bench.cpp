@@ -26,7 +26,9 @@ dev::StylusSample sampleAt(int i) {
   return s;
 }
 
-std::vector<std::uint8_t> toBytes(const std::string& s) { return {s.begin(), s.end()}; }
+std::vector<std::uint8_t> toBytes(const std::string& s) {
+  return {s.begin(), s.end()};
+}
 
 template <class State, class Out, class Fn>
 void run(benchmark::State& state, const std::vector<std::uint8_t>& stream, State init, Fn fn, std::size_t expected) {
@@ -119,12 +121,14 @@ BENCHMARK(LineTokens);
 void HidKeyboard(benchmark::State& state) {
   std::vector<std::uint8_t> s;
   for (int i = 0; i < 500; ++i)
-    for (const auto& r : dev::calipers::encodeHidText("0." + std::to_string(100 + i % 800) + "\n")) s.insert(s.end(), r.begin(), r.end());
+    for (const auto& r : dev::calipers::encodeHidText("0." + std::to_string(100 + i % 800) + "\n"))
+      s.insert(s.end(), r.begin(), r.end());
   std::vector<dev::CaliperReading> out;
   for (auto _ : state) {
     dev::calipers::HidKeyboardState st;
     out.clear();
-    for (std::size_t i = 0; i + 8 <= s.size(); i += 8) dev::calipers::decodeHidReport(st, std::span<const std::uint8_t>(s.data() + i, 8), out);
+    for (std::size_t i = 0; i + 8 <= s.size(); i += 8)
+      dev::calipers::decodeHidReport(st, std::span<const std::uint8_t>(s.data() + i, 8), out);
     if (out.size() != 500) state.SkipWithError("wrong number of readings");
   }
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * s.size()));

@@ -23,7 +23,8 @@ inline Percentiles percentiles(std::vector<double> ms) {
 
 // Reports `<prefix>p50_ms`, `<prefix>p99_ms` and `<prefix>max_ms` (nothing when `ms` is
 // empty) and returns them.
-inline Percentiles reportLatency(benchmark::State& state, const std::vector<double>& ms, const std::string& prefix = "") {
+inline Percentiles reportLatency(benchmark::State& state, const std::vector<double>& ms,
+                                 const std::string& prefix = "") {
   const Percentiles p = percentiles(ms);
   if (ms.empty()) return p;
   state.counters[prefix + "p50_ms"] = p.p50;

@@ -37,9 +37,15 @@ void rebuild(benchmark::State& state, const char* preset) {
   state.counters["vertices"] = static_cast<double>(vertices);
 }
 
-void BM_RebuildPreview(benchmark::State& state) { rebuild(state, "preview"); }
-void BM_RebuildPaper(benchmark::State& state) { rebuild(state, "paper"); }
-void BM_RebuildExport(benchmark::State& state) { rebuild(state, "export"); }
+void BM_RebuildPreview(benchmark::State& state) {
+  rebuild(state, "preview");
+}
+void BM_RebuildPaper(benchmark::State& state) {
+  rebuild(state, "paper");
+}
+void BM_RebuildExport(benchmark::State& state) {
+  rebuild(state, "export");
+}
 BENCHMARK(BM_RebuildPreview)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RebuildPaper)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RebuildExport)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);

@@ -5,15 +5,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <algorithm>
-#include <cctype>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
-
 
 namespace {
 
@@ -42,9 +41,8 @@ std::string quote(const std::string& s) {
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("leafdig-cli-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("leafdig-cli-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -81,13 +79,10 @@ class Cli : public ::testing::Test {
     const fs::path in = write("bad.markers.json", text);
     const fs::path out = dir_ / "out.glb";
     const fs::path model = dir_ / "out.model.json";
-    const Result r = leafdig("model build " + quote(in) + " -o " + quote(out) + " --model-json " +
-                             quote(model));
+    const Result r = leafdig("model build " + quote(in) + " -o " + quote(out) + " --model-json " + quote(model));
     EXPECT_EQ(r.exitCode, 2) << r.err;
-    EXPECT_NE(r.err.find(where), std::string::npos) << "message should name \"" << where
-                                                    << "\": " << r.err;
-    EXPECT_NE(r.err.find(what), std::string::npos) << "message should say \"" << what
-                                                   << "\": " << r.err;
+    EXPECT_NE(r.err.find(where), std::string::npos) << "message should name \"" << where << "\": " << r.err;
+    EXPECT_NE(r.err.find(what), std::string::npos) << "message should say \"" << what << "\": " << r.err;
     EXPECT_FALSE(fs::exists(out));
     EXPECT_FALSE(fs::exists(model));
     std::size_t files = 0;

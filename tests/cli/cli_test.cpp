@@ -6,7 +6,6 @@
 
 namespace {
 
-
 TEST_F(Cli, helpAndVersionExitZero) {
   const Result help = leafdig("--help");
   EXPECT_EQ(help.exitCode, 0);
@@ -22,8 +21,7 @@ TEST_F(Cli, helpAndVersionExitZero) {
 }
 
 TEST_F(Cli, unknownOptionIsBadInput) {
-  const Result r = leafdig("model build " + quote(sample("lower-leaf-n10.markers.json")) +
-                           " --resolution ultra");
+  const Result r = leafdig("model build " + quote(sample("lower-leaf-n10.markers.json")) + " --resolution ultra");
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.err.find("ultra"), std::string::npos) << r.err;
 }
@@ -44,8 +42,7 @@ TEST_F(Cli, jsonReportsTable1CountsAndMetricsForEverySample) {
     EXPECT_EQ(out["mesh"]["blade"]["vertices"], row.bv);
     EXPECT_EQ(out["mesh"]["blade"]["quads"], row.bq);
     EXPECT_GT(out["metrics"]["blade_area_mm2"].get<double>(), 0.0);
-    EXPECT_LE(out["metrics"]["projected_area_mm2"].get<double>(),
-              out["metrics"]["blade_area_mm2"].get<double>());
+    EXPECT_LE(out["metrics"]["projected_area_mm2"].get<double>(), out["metrics"]["blade_area_mm2"].get<double>());
     EXPECT_TRUE(out["metrics"]["area_resolution"]["converged"].get<bool>());
     EXPECT_TRUE(out["metrics"]["area_constraint"].is_object());
   }
@@ -72,8 +69,8 @@ TEST_F(Cli, glbPassesTheKhronosValidatorForEveryBladeKindAndFrame) {
   for (const char* blade : {"interp", "approx", "bezier", "nurbs"}) {
     for (const char* frame : {"digitizer", "leaf"}) {
       const fs::path glb = dir_ / (std::string(blade) + "-" + frame + ".glb");
-      const Result build = leafdig("model build " + quote(sample("upper-curved-leaf-n14.markers.json")) +
-                                   " -o " + quote(glb) + " --blade " + blade + " --frame " + frame);
+      const Result build = leafdig("model build " + quote(sample("upper-curved-leaf-n14.markers.json")) + " -o " +
+                                   quote(glb) + " --blade " + blade + " --frame " + frame);
       ASSERT_EQ(build.exitCode, 0) << build.err;
       const Result check = run("node " + quote(validator) + " " + quote(glb));
       EXPECT_EQ(check.exitCode, 0) << check.out << check.err;
@@ -100,9 +97,9 @@ TEST_F(Cli, objPlyAndStlLoadInAssimpWithTheExpectedCounts) {
   const fs::path obj = dir_ / "leaf.obj";
   const fs::path ply = dir_ / "leaf.ply";
   const fs::path stl = dir_ / "leaf.stl";
-  const Result build = leafdig("model build " + quote(sample("lower-leaf-n10.markers.json")) +
-                               " --resolution paper --json -o " + quote(obj) + " -o " + quote(ply) +
-                               " -o " + quote(stl));
+  const Result build =
+      leafdig("model build " + quote(sample("lower-leaf-n10.markers.json")) + " --resolution paper --json -o " +
+              quote(obj) + " -o " + quote(ply) + " -o " + quote(stl));
   ASSERT_EQ(build.exitCode, 0) << build.err;
   const json counts = json::parse(build.out)["mesh"];
   const long triangles = counts["veins"]["triangles"].get<long>() + counts["blade"]["triangles"].get<long>();
@@ -127,8 +124,8 @@ TEST_F(Cli, objPlyAndStlLoadInAssimpWithTheExpectedCounts) {
 
 TEST_F(Cli, modelJsonMatchesTheSpecShape) {
   const fs::path model = dir_ / "leaf.model.json";
-  const Result r = leafdig("model build " + quote(sample("upper-small-leaf-n17.markers.json")) +
-                           " --model-json " + quote(model) + " --frame leaf");
+  const Result r = leafdig("model build " + quote(sample("upper-small-leaf-n17.markers.json")) + " --model-json " +
+                           quote(model) + " --frame leaf");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const json doc = json::parse(slurp(model));
   EXPECT_EQ(doc["format"], "leafdig.model/1");

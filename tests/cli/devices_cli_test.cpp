@@ -14,7 +14,8 @@ class DevicesCli : public Cli {
   fs::path startSim(const std::string& args, double seconds) {
     const fs::path link = dir_ / "sim-port";
     const std::string cmd = quote(LEAFDIG_CLI) + " sim " + args + " --link " + quote(link) + " --seconds " +
-                            std::to_string(seconds) + " >" + quote(dir_ / "sim.out") + " 2>" + quote(dir_ / "sim.err") + " &";
+                            std::to_string(seconds) + " >" + quote(dir_ / "sim.out") + " 2>" + quote(dir_ / "sim.err") +
+                            " &";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
     for (int i = 0; i < 200 && !fs::exists(link); ++i) std::this_thread::sleep_for(20ms);
     EXPECT_TRUE(fs::exists(link)) << slurp(dir_ / "sim.err");

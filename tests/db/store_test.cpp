@@ -1,5 +1,7 @@
 // The SQLite store through its public interface, and the file through SQLite's own API
 // (as a person with the sqlite3 tool would tamper with it).
+#include "leafdig/db/store.hpp"
+
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 #include <unistd.h>
@@ -8,12 +10,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
 #include "../support/small_file_system.hpp"
-#include "leafdig/db/store.hpp"
 
 namespace fs = std::filesystem;
 using leafdig::db::EventInput;
@@ -54,8 +54,10 @@ class StoreTest : public ::testing::Test {
     ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
     char* err = nullptr;
     const int rc = sqlite3_exec(db, statement.c_str(), nullptr, nullptr, &err);
-    if (expectOk) EXPECT_EQ(rc, SQLITE_OK) << (err ? err : "");
-    else EXPECT_NE(rc, SQLITE_OK);
+    if (expectOk)
+      EXPECT_EQ(rc, SQLITE_OK) << (err ? err : "");
+    else
+      EXPECT_NE(rc, SQLITE_OK);
     sqlite3_free(err);
     sqlite3_close(db);
   }
@@ -148,7 +150,8 @@ TEST_F(StoreTest, EventsCannotBeEditedAndTamperingIsFound) {
   sql(path_, "UPDATE events SET payload_json='{}' WHERE seq=3", false);  // the trigger refuses
   sql(path_, "DELETE FROM events WHERE seq=5", false);
   // Someone drops the triggers and edits event 3 anyway.
-  sql(path_, "DROP TRIGGER events_no_update; UPDATE events SET raw='01 9.99' WHERE session_id=" + std::to_string(id) + " AND seq=3");
+  sql(path_, "DROP TRIGGER events_no_update; UPDATE events SET raw='01 9.99' WHERE session_id=" + std::to_string(id) +
+                 " AND seq=3");
   {
     Store s(path_);
     const auto r = s.verify(id);
@@ -310,8 +313,10 @@ TEST_F(StoreTest, AReallyFullFileSystemLosesNothingAndAppendsGoOnOnceSpaceIsFree
   EXPECT_EQ(s.session(id)->headSeq, last);
   EXPECT_EQ(static_cast<std::int64_t>(s.events(id).size()), last);
   EXPECT_TRUE(s.verify(id).ok);
-  if (disk.mounted()) disk.release();
-  else s.setMaxPages(0);
+  if (disk.mounted())
+    disk.release();
+  else
+    s.setMaxPages(0);
   EXPECT_EQ(s.append(id, marker(99, 1, 1)), last + 1);
   EXPECT_TRUE(s.verify(id).ok);
   // Another connection (the next run of the station) opens the file and sees it all.

@@ -1,8 +1,8 @@
 // Byte-vector tests for every codec, including the records quoted in the research notes.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -16,7 +16,9 @@
 namespace dev = leafdig::devices;
 namespace {
 
-std::vector<std::uint8_t> bytes(const std::string& s) { return {s.begin(), s.end()}; }
+std::vector<std::uint8_t> bytes(const std::string& s) {
+  return {s.begin(), s.end()};
+}
 std::vector<std::uint8_t> hex(std::initializer_list<int> v) {
   std::vector<std::uint8_t> b;
   for (int x : v) b.push_back(static_cast<std::uint8_t>(x));
@@ -101,7 +103,8 @@ TEST(FastrakAscii, SkipsCommandRepliesBetweenRecords) {
   std::vector<dev::StylusSample> out;
   const std::string good = "01    1.00   2.00   3.00   0.00   0.00   0.00\r\n";
   dev::fastrak::Status status{1, false, true, false, true};
-  feed(st, good + dev::fastrak::encodeStatus(status) + "2 E*ERROR* Q *ERROR* EC -99\r\n" + good, out, dev::fastrak::decode);
+  feed(st, good + dev::fastrak::encodeStatus(status) + "2 E*ERROR* Q *ERROR* EC -99\r\n" + good, out,
+       dev::fastrak::decode);
   EXPECT_EQ(out.size(), 2u);
   EXPECT_EQ(st.stats.replies, 2u);
   EXPECT_EQ(st.stats.dropped, 0u);
@@ -127,8 +130,8 @@ TEST(FastrakBinary, DecodesTheResearchNotesExample) {
   st.format.items = {2, 11, 0};
   st.format.binary = true;
   std::vector<dev::StylusSample> out;
-  const auto b = hex({0x30, 0x31, 0x20, 0x00, 0x00, 0x20, 0x41, 0x00, 0x00, 0xb0, 0xc0, 0x00, 0x00, 0x50, 0x40,
-                      0x00, 0x00, 0x80, 0x3f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x20});
+  const auto b = hex({0x30, 0x31, 0x20, 0x00, 0x00, 0x20, 0x41, 0x00, 0x00, 0xb0, 0xc0, 0x00, 0x00, 0x50, 0x40, 0x00,
+                      0x00, 0x80, 0x3f, 0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0,    0x20});
   ASSERT_EQ(b.size(), 32u);
   dev::fastrak::decode(st, b, out);
   ASSERT_EQ(out.size(), 1u);
@@ -211,9 +214,9 @@ TEST(LibertyBinary, DecodesTheVrpnFrame) {
   st.format.items = {2, 7, 8, 0};
   st.format.binary = true;
   st.format.centimetres = false;
-  const auto b = hex({0x4c, 0x59, 0x01, 0x43, 0x00, 0x00, 0x21, 0x00, 0x00, 0x00, 0x20, 0x41, 0x00, 0x00, 0xb0, 0xc0,
-                      0x00, 0x00, 0x50, 0x40, 0x00, 0x00, 0x80, 0x3f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-                      0x40, 0xe2, 0x01, 0x00, 0x20});
+  const auto b = hex({0x4c, 0x59, 0x01, 0x43, 0x00, 0x00, 0x21, 0x00, 0x00, 0x00, 0x20, 0x41, 0x00, 0x00,
+                      0xb0, 0xc0, 0x00, 0x00, 0x50, 0x40, 0x00, 0x00, 0x80, 0x3f, 0,    0,    0,    0,
+                      0,    0,    0,    0,    0,    0,    0,    0,    0x40, 0xe2, 0x01, 0x00, 0x20});
   ASSERT_EQ(b.size(), 41u);
   std::vector<dev::StylusSample> out;
   dev::polhemus::decode(st, b, out);
@@ -270,13 +273,13 @@ TEST(PolhemusBinary, ResynchronisesOnTheTag) {
 // stylus button as little-endian uint32, and the trailing space VRPN checks for. The bytes
 // are written out here, not produced by leafdig's encoder.
 std::vector<std::uint8_t> vrpnStylusFrame(char a, char b) {
-  return hex({a, b, 0x01, 0x50, 0x00, 0x00, 0x25, 0x00,  // header; 37 payload bytes
-              0x00, 0x00, 0xc0, 0x3f,                    // x  1.5 in
-              0x00, 0x00, 0x00, 0xc0,                    // y -2.0 in
-              0x00, 0x00, 0x80, 0x3e,                    // z  0.25 in
-              0x00, 0x00, 0x80, 0x3f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,  // q = (1, 0, 0, 0)
-              0xe8, 0x03, 0x00, 0x00,                    // timestamp 1000 ms
-              0x01, 0x00, 0x00, 0x00,                    // stylus button down
+  return hex({a,    b,    0x01, 0x50, 0x00, 0x00, 0x25, 0x00,                          // header; 37 payload bytes
+              0x00, 0x00, 0xc0, 0x3f,                                                  // x  1.5 in
+              0x00, 0x00, 0x00, 0xc0,                                                  // y -2.0 in
+              0x00, 0x00, 0x80, 0x3e,                                                  // z  0.25 in
+              0x00, 0x00, 0x80, 0x3f, 0,    0,    0,    0,    0, 0, 0, 0, 0, 0, 0, 0,  // q = (1, 0, 0, 0)
+              0xe8, 0x03, 0x00, 0x00,                                                  // timestamp 1000 ms
+              0x01, 0x00, 0x00, 0x00,                                                  // stylus button down
               0x20});
 }
 
@@ -329,9 +332,8 @@ Mat4 times(const Mat4& x, const Mat4& y) {
 TEST(MicroScribe, TheTipFromAPacketMatchesAnIndependentDhChain) {
   dev::microscribe::DecoderState st;
   st.arm = dev::microscribe::referenceArm();
-  const std::array<std::array<int, 6>, 3> poses{{{0, 4096, 8192, 12000, 300, 16000},
-                                                 {15955, 1234, 5678, 9012, 3456, 7890},
-                                                 {8192, 15000, 2000, 100, 16383, 42}}};
+  const std::array<std::array<int, 6>, 3> poses{
+      {{0, 4096, 8192, 12000, 300, 16000}, {15955, 1234, 5678, 9012, 3456, 7890}, {8192, 15000, 2000, 100, 16383, 42}}};
   for (const auto& counts : poses) {
     // The packet as the HCI sends it: 0x83, buttons, then each count as two 7-bit bytes.
     std::vector<std::uint8_t> packet{0x83, 0x02};
@@ -344,16 +346,16 @@ TEST(MicroScribe, TheTipFromAPacketMatchesAnIndependentDhChain) {
     ASSERT_EQ(out.size(), 1u);
     Mat4 t{{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
     for (std::size_t i = 0; i < 6; ++i)
-      t = times(t, craigLink(st.arm.alphaDeg[i], st.arm.aMm[i], 360.0 * counts[i] / st.arm.countsPerRev[i],
-                             st.arm.dMm[i]));
+      t = times(
+          t, craigLink(st.arm.alphaDeg[i], st.arm.aMm[i], 360.0 * counts[i] / st.arm.countsPerRev[i], st.arm.dMm[i]));
     for (int axis = 0; axis < 3; ++axis)
       EXPECT_NEAR(out[0].positionMm[static_cast<std::size_t>(axis)], t[static_cast<std::size_t>(axis)][3], 1e-9)
           << "axis " << axis;
     EXPECT_TRUE(out[0].button);  // 0x02: the arm's first button (as VRPN maps it)
   }
   // No button, the second button, and a buttons byte with bits no arm has.
-  for (const auto& [buttons, pressed, kept] : {std::tuple{0x00, false, true}, std::tuple{0x01, true, true},
-                                              std::tuple{0x04, false, false}}) {
+  for (const auto& [buttons, pressed, kept] :
+       {std::tuple{0x00, false, true}, std::tuple{0x01, true, true}, std::tuple{0x04, false, false}}) {
     std::vector<std::uint8_t> packet{0x83, static_cast<std::uint8_t>(buttons), 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1};
     std::vector<dev::StylusSample> out;
     dev::microscribe::decode(st, packet, out);
@@ -363,7 +365,6 @@ TEST(MicroScribe, TheTipFromAPacketMatchesAnIndependentDhChain) {
     }
   }
 }
-
 
 TEST(MicroScribe, DecodesTheResearchNotesPacket) {
   // Host sends 03; the arm answers 83 01 7C 53 …: right pedal, angle0 = (0x7C<<7)|0x53 = 15955.
@@ -499,8 +500,10 @@ TEST(HidKeyboard, KeypadCommaTabReportIdAndUnitSuffix) {
     dev::calipers::HidKeyboardState st;
     st.reportId = reportId;
     std::vector<dev::CaliperReading> out;
-    for (const auto& r : dev::calipers::encodeHidText("0,125\t", true, reportId)) dev::calipers::decodeHidReport(st, r, out);
-    for (const auto& r : dev::calipers::encodeHidText("+1.5in\n", false, reportId)) dev::calipers::decodeHidReport(st, r, out);
+    for (const auto& r : dev::calipers::encodeHidText("0,125\t", true, reportId))
+      dev::calipers::decodeHidReport(st, r, out);
+    for (const auto& r : dev::calipers::encodeHidText("+1.5in\n", false, reportId))
+      dev::calipers::decodeHidReport(st, r, out);
     ASSERT_EQ(out.size(), 2u);
     EXPECT_DOUBLE_EQ(out[0].valueMm, 0.125);
     EXPECT_EQ(out[1].unit, "in");
@@ -511,7 +514,8 @@ TEST(HidKeyboard, KeypadCommaTabReportIdAndUnitSuffix) {
 TEST(HidKeyboard, DropsTextThatIsNotANumber) {
   dev::calipers::HidKeyboardState st;
   std::vector<dev::CaliperReading> out;
-  for (const auto& r : dev::calipers::encodeHidText("1.2.3\nab\n-\n", false, false)) dev::calipers::decodeHidReport(st, r, out);
+  for (const auto& r : dev::calipers::encodeHidText("1.2.3\nab\n-\n", false, false))
+    dev::calipers::decodeHidReport(st, r, out);
   EXPECT_TRUE(out.empty());
   EXPECT_EQ(st.stats.dropped, 3u);
 }
@@ -583,7 +587,8 @@ TEST(Digimatic, RejectsInvalidFrames) {
   bad[12] = 2;
   EXPECT_FALSE(dev::calipers::decodeDigimatic(bad));
   EXPECT_FALSE(dev::calipers::decodeDigimatic(std::vector<std::uint8_t>(12, 0xF)));
-  const auto inch = dev::calipers::decodeDigimatic(std::vector<std::uint8_t>{0xF, 0xF, 0xF, 0xF, 0, 0, 0, 1, 0, 0, 0, 4, 1});
+  const auto inch =
+      dev::calipers::decodeDigimatic(std::vector<std::uint8_t>{0xF, 0xF, 0xF, 0xF, 0, 0, 0, 1, 0, 0, 0, 4, 1});
   ASSERT_TRUE(inch);
   EXPECT_EQ(inch->unit, "in");
   EXPECT_NEAR(inch->valueMm, 0.1 * 25.4, 1e-9);
@@ -592,7 +597,8 @@ TEST(Digimatic, RejectsInvalidFrames) {
 TEST(Sylvac, DecodesValuesEchoesErrorsAndUnits) {
   dev::calipers::SylvacState st;
   std::vector<dev::CaliperReading> out;
-  feed(st, "SY304.0\r?\r+012.345\r 001.500\r-000.100=\rERR2\rIN\r+00.12345\rBAT?\rhello\r", out, dev::calipers::decodeSylvac);
+  feed(st, "SY304.0\r?\r+012.345\r 001.500\r-000.100=\rERR2\rIN\r+00.12345\rBAT?\rhello\r", out,
+       dev::calipers::decodeSylvac);
   ASSERT_EQ(out.size(), 4u);
   EXPECT_DOUBLE_EQ(out[0].valueMm, 12.345);
   EXPECT_DOUBLE_EQ(out[1].valueMm, 1.5);

@@ -25,8 +25,10 @@ struct Collector {
     return {[this](const DeviceEvent& e) {
               {
                 std::lock_guard lock(mutex);
-                if (const auto* s = std::get_if<StylusSample>(&e)) stylus.push_back(*s);
-                else caliper.push_back(std::get<CaliperReading>(e));
+                if (const auto* s = std::get_if<StylusSample>(&e))
+                  stylus.push_back(*s);
+                else
+                  caliper.push_back(std::get<CaliperReading>(e));
               }
               cv.notify_all();
             },

@@ -1,8 +1,7 @@
 // Drivers against the emulators, over real pseudo-terminals (and the HID/USB seams).
 #include <fcntl.h>
-#include <unistd.h>
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fstream>
 
@@ -43,7 +42,9 @@ struct DigitizerCase {
   double toleranceMm;
 };
 
-void PrintTo(const DigitizerCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const DigitizerCase& c, std::ostream* os) {
+  *os << c.name;
+}
 
 class DigitizerAgainstEmulator : public ::testing::TestWithParam<DigitizerCase> {};
 
@@ -65,11 +66,14 @@ TEST_P(DigitizerAgainstEmulator, DeliversEveryRecordWithButtonPresses) {
   Collector col;
   dev::Driver driver(dev::makeDigitizerLink(cfg), col.callbacks());
   driver.start();
-  ASSERT_TRUE(col.waitFor([](Collector& k) {
-    int presses = 0;
-    for (std::size_t i = 1; i < k.stylus.size(); ++i) presses += k.stylus[i].button && !k.stylus[i - 1].button;
-    return presses >= 2;
-  }, 15s)) << col.statusLog();
+  ASSERT_TRUE(col.waitFor(
+      [](Collector& k) {
+        int presses = 0;
+        for (std::size_t i = 1; i < k.stylus.size(); ++i) presses += k.stylus[i].button && !k.stylus[i - 1].button;
+        return presses >= 2;
+      },
+      15s))
+      << col.statusLog();
   driver.stop();
   emu->stop();
   std::lock_guard lock(col.mutex);
@@ -254,11 +258,13 @@ TEST(Polhemus, APatriotDriverOnALibertySaysWhichToChoose) {
 
 // ---- calipers -----------------------------------------------------------------------------
 std::shared_ptr<dev::sim::VirtualCaliper> caliper() {
-  return std::make_shared<dev::sim::VirtualCaliper>(std::vector<double>{0.512, 0.231, 0.087, 1.25}, dev::sim::CaliperOptions{});
+  return std::make_shared<dev::sim::VirtualCaliper>(std::vector<double>{0.512, 0.231, 0.087, 1.25},
+                                                    dev::sim::CaliperOptions{});
 }
 
 // Every reading is a line the emulator sent, with the value it measured.
-void expectReadingsWereSent(const std::vector<dev::CaliperReading>& got, const dev::sim::Emulator& e, double toleranceMm) {
+void expectReadingsWereSent(const std::vector<dev::CaliperReading>& got, const dev::sim::Emulator& e,
+                            double toleranceMm) {
   const auto sent = e.sentRecords();
   ASSERT_GE(sent.size(), got.size());
   for (const auto& r : got) {
@@ -310,8 +316,8 @@ TEST(Sylvac, ReconnectingToTheSamePortWorks) {
     o.pollEvery = 40ms;
     dev::Driver driver(dev::makeCaliperLink(cfg), col.callbacks(), o);
     driver.start();
-    ASSERT_TRUE(col.waitFor([](Collector& k) { return k.caliper.size() >= 2; }))
-        << "round " << round << "\n" << col.statusLog();
+    ASSERT_TRUE(col.waitFor([](Collector& k) { return k.caliper.size() >= 2; })) << "round " << round << "\n"
+                                                                                 << col.statusLog();
     driver.stop();
   }
   auto port = dev::openTtyPort(emu->path(), {4800, 7, dev::Parity::Even, 2, false});
@@ -401,7 +407,8 @@ TEST(HidGauge, KeyboardWedgeReadingsSurviveAnUnplug) {
   dev::CaliperConfig cfg;
   cfg.kind = dev::CaliperKind::Hid;
   cfg.openHid = [hid]() -> std::unique_ptr<dev::HidDevice> {
-    if (!hid->plugged()) throw dev::DeviceError(dev::DeviceErrorKind::NotFound, "no HID device 0fe7:4001", "plug it in");
+    if (!hid->plugged())
+      throw dev::DeviceError(dev::DeviceErrorKind::NotFound, "no HID device 0fe7:4001", "plug it in");
     return std::make_unique<HidProxy>(hid);
   };
   Collector col;
@@ -415,7 +422,8 @@ TEST(HidGauge, KeyboardWedgeReadingsSurviveAnUnplug) {
   ASSERT_TRUE(col.waitFor([](Collector& k) { return k.sawState(dev::LinkState::Disconnected); }));
   hid->replug();
   ASSERT_TRUE(col.waitFor([](Collector& k) {
-    return std::count_if(k.statuses.begin(), k.statuses.end(), [](auto& s) { return s.state == dev::LinkState::Streaming; }) >= 2;
+    return std::count_if(k.statuses.begin(), k.statuses.end(),
+                         [](auto& s) { return s.state == dev::LinkState::Streaming; }) >= 2;
   })) << col.statusLog();
   typed.push_back(gauge.press());
   ASSERT_TRUE(col.waitFor([](Collector& k) { return k.caliper.size() >= 4; })) << col.statusLog();

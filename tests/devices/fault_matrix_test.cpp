@@ -23,7 +23,9 @@ struct FaultCase {
   bool binary;
 };
 
-void PrintTo(const FaultCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const FaultCase& c, std::ostream* os) {
+  *os << c.name;
+}
 
 class FaultMatrix : public ::testing::TestWithParam<FaultCase> {};
 
@@ -70,7 +72,8 @@ TEST_P(FaultMatrix, NoCorruptSampleAndTheLinkRecovers) {
     const auto sent = emu->sentRecords();
     std::map<std::string, const dev::sim::SentRecord*> intact;
     for (const auto& r : sent)
-      if (r.sent.size() >= r.original.size() && r.sent.compare(r.sent.size() - r.original.size(), r.original.size(), r.original) == 0)
+      if (r.sent.size() >= r.original.size() &&
+          r.sent.compare(r.sent.size() - r.original.size(), r.original.size(), r.original) == 0)
         intact[r.original] = &r;
     std::lock_guard lock(col.mutex);
     for (const auto& s : col.stylus) {
@@ -79,7 +82,8 @@ TEST_P(FaultMatrix, NoCorruptSampleAndTheLinkRecovers) {
       for (const auto& r : sent)
         if (r.sent.find(s.raw) != std::string::npos) from = &r;
       ASSERT_NE(from, nullptr) << "a sample from bytes the device never sent: " << dev::printableRaw(s.raw);
-      ASSERT_EQ(std::string(c.name).rfind("BitFlip", 0), 0u) << "an altered record was delivered: " << dev::printableRaw(s.raw);
+      ASSERT_EQ(std::string(c.name).rfind("BitFlip", 0), 0u)
+          << "an altered record was delivered: " << dev::printableRaw(s.raw);
       ++valueFlipsDelivered;
       worstFlipErrorMm = std::max(worstFlipErrorMm, dist(s.positionMm, from->truthMm));
       EXPECT_LT(dist(s.positionMm, from->truthMm), 2.6) << dev::printableRaw(s.raw);
@@ -104,7 +108,8 @@ TEST_P(FaultMatrix, NoCorruptSampleAndTheLinkRecovers) {
     // Every fault is visible: counted by the codec, or reported as a state change.
     const auto log = emu->faultLog();
     const auto st = driver.status();
-    totalFaults += log.garbage + log.bitflips + log.truncated + log.stalls + log.resets + log.unplugs + log.statusLetters;
+    totalFaults +=
+        log.garbage + log.bitflips + log.truncated + log.stalls + log.resets + log.unplugs + log.statusLetters;
     totalDelivered += col.stylus.size();
     if (log.garbage + log.truncated > 0) {
       EXPECT_GT(st.stats.dropped + st.stats.discardedBytes, 0u);
@@ -128,10 +133,11 @@ TEST_P(FaultMatrix, NoCorruptSampleAndTheLinkRecovers) {
   RecordProperty("faults", std::to_string(totalFaults));
   RecordProperty("delivered", std::to_string(totalDelivered));
   RecordProperty("bitflipsDeliveredWithinFilter", std::to_string(valueFlipsDelivered));
-  std::printf("%s: %d runs, %llu faults injected, %llu samples delivered, %llu value-altering bit flips passed "
-              "(worst %.3f mm)\n",
-              c.name, kSeeds, static_cast<unsigned long long>(totalFaults), static_cast<unsigned long long>(totalDelivered),
-              static_cast<unsigned long long>(valueFlipsDelivered), worstFlipErrorMm);
+  std::printf(
+      "%s: %d runs, %llu faults injected, %llu samples delivered, %llu value-altering bit flips passed "
+      "(worst %.3f mm)\n",
+      c.name, kSeeds, static_cast<unsigned long long>(totalFaults), static_cast<unsigned long long>(totalDelivered),
+      static_cast<unsigned long long>(valueFlipsDelivered), worstFlipErrorMm);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -156,15 +162,16 @@ TEST(LongStream, TenMinutesAt120HzWithoutLosingARecord) {
   dev::DriverOptions o;
   o.filterStylus = false;  // count what the link and codec deliver
   const auto t0 = std::chrono::steady_clock::now();
-  dev::Driver driver(dev::makeDigitizerLink(cfg), {[&](const dev::DeviceEvent&) { ++delivered; },
-                                                     [&](const dev::DeviceStatus& s) {
-                                                       if (std::getenv("LEAFDIG_TRACE"))
-                                                         std::fprintf(stderr, "%.3f %s %s %llu\n",
-                                                                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                                                                      dev::toString(s.state), s.message.c_str(),
-                                                                      static_cast<unsigned long long>(delivered.load()));
-                                                     }},
-                   o);
+  dev::Driver driver(dev::makeDigitizerLink(cfg),
+                     {[&](const dev::DeviceEvent&) { ++delivered; },
+                      [&](const dev::DeviceStatus& s) {
+                        if (std::getenv("LEAFDIG_TRACE"))
+                          std::fprintf(stderr, "%.3f %s %s %llu\n",
+                                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                                       dev::toString(s.state), s.message.c_str(),
+                                       static_cast<unsigned long long>(delivered.load()));
+                      }},
+                     o);
   driver.start();
   while (delivered < kRecords && std::chrono::steady_clock::now() - t0 < 240s) std::this_thread::sleep_for(20ms);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -89,7 +89,8 @@ TEST(MemoryLine, ASilentSylvacIsAnErrorThatNamesTheCableAndTheSettings) {
   Collector col;
   dev::Driver driver(dev::makeCaliperLink(c), col.callbacks());
   driver.start();
-  ASSERT_TRUE(col.waitFor([](Collector& k) { return k.sawState(dev::LinkState::Error, "no answer"); })) << col.statusLog();
+  ASSERT_TRUE(col.waitFor([](Collector& k) { return k.sawState(dev::LinkState::Error, "no answer"); }))
+      << col.statusLog();
   driver.stop();
   std::lock_guard lock(col.mutex);
   bool named = false;

@@ -69,7 +69,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     dev::microscribe::Arm arm;
     if (size >= 36) (void)dev::microscribe::decodeDhParams(std::span<const std::uint8_t>(data, 36), arm);
   } else if (codec == "line") {
-    static const auto tokens = dev::line::parseConfig(R"({"fields": {"mode": "tokens", "x": 0, "y": 1, "z": 2, "button": 3}})");
+    static const auto tokens =
+        dev::line::parseConfig(R"({"fields": {"mode": "tokens", "x": 0, "y": 1, "z": 2, "button": 3}})");
     static const auto columns = dev::line::parseConfig(
         R"({"framing": {"terminator": "\n", "sync": "0"}, "fields": {"mode": "columns", "x": [2,7], "y": [9,7], "z": [16,7]}})");
     for (const auto* cfg : {&tokens, &columns}) {
@@ -83,7 +84,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     dev::calipers::HidKeyboardState st;
     st.reportId = size % 2 == 1;
     std::vector<dev::CaliperReading> out;
-    for (std::size_t i = 0; i + 8 <= size; i += 8) dev::calipers::decodeHidReport(st, std::span<const std::uint8_t>(data + i, 8), out);
+    for (std::size_t i = 0; i + 8 <= size; i += 8)
+      dev::calipers::decodeHidReport(st, std::span<const std::uint8_t>(data + i, 8), out);
     check(out);
   } else if (codec == "mitutoyo") {
     dev::calipers::MitutoyoState st;

@@ -16,8 +16,8 @@ std::vector<Ball> wavyVein() {
   std::vector<Ball> balls;
   const double xs[] = {0, 7, 11, 25, 31, 48, 60};
   for (int k = 0; k < 7; ++k) {
-    balls.push_back({Eigen::Vector3d(xs[k], 6 * std::sin(xs[k] / 9), 2 * std::cos(xs[k] / 13)),
-                     1.0 + 0.3 * std::sin(k)});
+    balls.push_back(
+        {Eigen::Vector3d(xs[k], 6 * std::sin(xs[k] / 9), 2 * std::cos(xs[k] / 13)), 1.0 + 0.3 * std::sin(k)});
   }
   return balls;
 }
@@ -174,8 +174,8 @@ TEST(BallBSplineCurve, warnsInsteadOfProducingNaNWhenTheEnvelopeDoesNotExist) {
 }
 
 TEST(BallBSplineCurve, rejectsCoincidentConsecutiveCentres) {
-  const std::vector<Ball> balls{{Eigen::Vector3d(0, 0, 0), 1}, {Eigen::Vector3d(0, 0, 0), 1},
-                                {Eigen::Vector3d(1, 0, 0), 1}};
+  const std::vector<Ball> balls{
+      {Eigen::Vector3d(0, 0, 0), 1}, {Eigen::Vector3d(0, 0, 0), 1}, {Eigen::Vector3d(1, 0, 0), 1}};
   EXPECT_THROW(static_cast<void>(BallBSplineCurve::interpolate(balls)), std::invalid_argument);
 }
 

@@ -1,9 +1,10 @@
+#include "leafdig/model/bspline.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 
 #include "leafdig/model/banded.hpp"
-#include "leafdig/model/bspline.hpp"
 #include "leafdig/model/interpolation.hpp"
 
 namespace leafdig::model {
@@ -36,18 +37,15 @@ TEST(BSplineCurve, derivativesMatchFiniteDifferences) {
   for (double t : {0.05, 0.2, 0.37, 0.6, 0.9}) {
     const Eigen::MatrixXd d = curve.derivatives(t, 2);
     const Eigen::VectorXd fd1 = (curve.evaluate(t + h) - curve.evaluate(t - h)) / (2 * h);
-    const Eigen::VectorXd fd2 =
-        (curve.derivatives(t + h, 1).row(1) - curve.derivatives(t - h, 1).row(1)) / (2 * h);
+    const Eigen::VectorXd fd2 = (curve.derivatives(t + h, 1).row(1) - curve.derivatives(t - h, 1).row(1)) / (2 * h);
     EXPECT_LT((d.row(1).transpose() - fd1).norm(), 1e-5) << "t=" << t;
     EXPECT_LT((d.row(2).transpose() - fd2).norm(), 1e-4) << "t=" << t;
   }
 }
 
 TEST(BSplineCurve, rejectsKnotsThatDoNotFitTheControlPoints) {
-  EXPECT_THROW(BSplineCurve(3, {0, 0, 0, 0, 1, 1, 1}, Eigen::MatrixXd::Zero(4, 3)),
-               std::invalid_argument);
-  EXPECT_THROW(BSplineCurve(3, {0, 0, 0, 0.5, 1, 1, 1, 1}, Eigen::MatrixXd::Zero(4, 3)),
-               std::invalid_argument);
+  EXPECT_THROW(BSplineCurve(3, {0, 0, 0, 0, 1, 1, 1}, Eigen::MatrixXd::Zero(4, 3)), std::invalid_argument);
+  EXPECT_THROW(BSplineCurve(3, {0, 0, 0, 0.5, 1, 1, 1, 1}, Eigen::MatrixXd::Zero(4, 3)), std::invalid_argument);
 }
 
 TEST(BandedMatrix, solvesLikeADenseSolverIncludingRowSwaps) {

@@ -1,18 +1,18 @@
 #include <gtest/gtest.h>
-
-#include <filesystem>
-#include <cstring>
-#include <fstream>
-#include <vector>
 #include <unistd.h>
-#include <nlohmann/json.hpp>
 
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "../support/small_file_system.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/model/mesh_export.hpp"
 #include "leafdig/model/model_json.hpp"
-#include "../support/small_file_system.hpp"
 #include "test_support.hpp"
 
 namespace leafdig::model {

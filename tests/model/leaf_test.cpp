@@ -22,8 +22,8 @@ TEST(ThicknessRule, standardModeInterpolatesFromVeinOriginToMargin) {
   ASSERT_EQ(t.mode, ThicknessMode::Standard);
   const double d = 0.3;
   const double r2 = 1.5;
-  const std::array<double, 7> expected{d, (2 * d + r2) / 3, (d + 2 * r2) / 3, r2,
-                                       (d + 2 * r2) / 3, (2 * d + r2) / 3, d};
+  const std::array<double, 7> expected{d, (2 * d + r2) / 3, (d + 2 * r2) / 3, r2, (d + 2 * r2) / 3, (2 * d + r2) / 3,
+                                       d};
   for (int j = 0; j < 7; ++j) EXPECT_DOUBLE_EQ(t.rows[1].lateralMm[j], expected[j]);
   EXPECT_DOUBLE_EQ(t.rows[1].midribMm, 2.0);
   EXPECT_DOUBLE_EQ(t.tipMm, d);
@@ -99,8 +99,7 @@ TEST(Blade, interpolatingBladePassesThroughEveryMarker) {
   const MarkerGrid grid = markerGrid(m);
   for (std::size_t k = 0; k < grid.size(); ++k) {
     for (int l = 0; l < 7; ++l) {
-      EXPECT_LT((leaf.blade.evaluate(us[k], vs[l]) - grid[k][l]).norm(), 1e-9)
-          << "k=" << k << " l=" << l;
+      EXPECT_LT((leaf.blade.evaluate(us[k], vs[l]) - grid[k][l]).norm(), 1e-9) << "k=" << k << " l=" << l;
     }
   }
 }
@@ -134,8 +133,7 @@ TEST(Blade, nurbsWithUnitWeightsEqualsApproxAndWeightsPullTheSurface) {
   const Eigen::Vector3d target = m.rows[4].pointsMm[3];
   const double u = 0.5;
   const double v = 0.5;
-  EXPECT_LT((pulled.blade.evaluate(u, v) - target).norm(),
-            (approx.blade.evaluate(u, v) - target).norm());
+  EXPECT_LT((pulled.blade.evaluate(u, v) - target).norm(), (approx.blade.evaluate(u, v) - target).norm());
 }
 
 TEST(Metrics, flatMarkerGridGivesTheExactPlanarArea) {
@@ -288,8 +286,7 @@ TEST(LeafFrame, putsTheLastMidribMarkerAtTheOriginAndTheTipOnPlusY) {
   const LeafModel moved = transformed(leaf, toLeaf);
   for (const Vein& v : moved.veins) {
     for (std::size_t k = 0; k < v.curve.dataBalls().size(); ++k) {
-      EXPECT_LT((v.curve.center(v.curve.dataParameters()[k]) - v.curve.dataBalls()[k].center).norm(),
-                1e-9);
+      EXPECT_LT((v.curve.center(v.curve.dataParameters()[k]) - v.curve.dataBalls()[k].center).norm(), 1e-9);
     }
   }
 }

@@ -11,10 +11,11 @@ inline std::string samplePath(const std::string& name) {
   return std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/" + name;
 }
 
-inline MarkerSet sample(const std::string& name) { return readMarkersFile(samplePath(name)); }
+inline MarkerSet sample(const std::string& name) {
+  return readMarkersFile(samplePath(name));
+}
 
-inline const char* const kSampleFiles[] = {"lower-leaf-n10.markers.json",
-                                           "upper-small-leaf-n17.markers.json",
+inline const char* const kSampleFiles[] = {"lower-leaf-n10.markers.json", "upper-small-leaf-n17.markers.json",
                                            "upper-curved-leaf-n14.markers.json"};
 
 // A flat triangular leaf in z = 0: row k (1..n) has markers at x = (3 - l) a k, y = -k h.

@@ -6,9 +6,9 @@
 #include <atomic>
 #include <csignal>
 #include <exception>
-#include <functional>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -36,9 +36,13 @@ namespace m = leafdig::model;
 using nlohmann::json;
 
 std::atomic<bool> interrupted{false};
-void onSignal(int) { interrupted = true; }
+void onSignal(int) {
+  interrupted = true;
+}
 
-std::string dbPath(const CaptureOptions& o) { return o.db.empty() ? db::Store::defaultPath() : o.db; }
+std::string dbPath(const CaptureOptions& o) {
+  return o.db.empty() ? db::Store::defaultPath() : o.db;
+}
 
 int reportStoreError(const db::StoreError& e) {
   std::cerr << "leafdig: " << e.what() << "\n";
@@ -81,7 +85,9 @@ std::string samplesDir(const std::string& given) {
   return found.empty() ? "data/samples" : found;
 }
 
-json nullable(int v) { return v > 0 ? json(v) : json(nullptr); }
+json nullable(int v) {
+  return v > 0 ? json(v) : json(nullptr);
+}
 
 json stepJson(const acq::Step& s, const std::string& prompt) {
   return {{"what", acq::toString(s.what)}, {"row", nullable(s.row)}, {"col", nullable(s.col)}, {"prompt", prompt}};
@@ -90,13 +96,21 @@ json stepJson(const acq::Step& s, const std::string& prompt) {
 std::string describe(const acq::Item& i) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(1);
-  if (i.what == acq::What::Tip) s << "tip";
-  else if (i.what == acq::What::Board) s << "board point " << i.col;
-  else if (i.what == acq::What::Marker) s << "row " << i.row << " point " << i.col;
-  else if (i.what == acq::What::EdgeThickness) s << "margin thickness";
-  else s << "row " << i.row << " " << acq::toString(i.what) << (i.what == acq::What::PointThickness ? " at point " + std::to_string(i.col) : "");
-  if (acq::isStylusItem(i.what)) s << " (" << i.positionMm[0] << ", " << i.positionMm[1] << ", " << i.positionMm[2] << ") mm";
-  else s << std::setprecision(3) << " " << i.valueMm << " mm";
+  if (i.what == acq::What::Tip)
+    s << "tip";
+  else if (i.what == acq::What::Board)
+    s << "board point " << i.col;
+  else if (i.what == acq::What::Marker)
+    s << "row " << i.row << " point " << i.col;
+  else if (i.what == acq::What::EdgeThickness)
+    s << "margin thickness";
+  else
+    s << "row " << i.row << " " << acq::toString(i.what)
+      << (i.what == acq::What::PointThickness ? " at point " + std::to_string(i.col) : "");
+  if (acq::isStylusItem(i.what))
+    s << " (" << i.positionMm[0] << ", " << i.positionMm[1] << ", " << i.positionMm[2] << ") mm";
+  else
+    s << std::setprecision(3) << " " << i.valueMm << " mm";
   if (!i.flag.empty()) s << " [" << i.flag << "]";
   return s.str();
 }
@@ -112,8 +126,10 @@ json feedbackJson(const acq::Feedback& f, std::int64_t session) {
       j["what"] = acq::toString(f.item.what);
       j["row"] = nullable(f.item.row);
       j["col"] = nullable(f.item.col);
-      if (acq::isStylusItem(f.item.what)) j["value"] = {f.item.positionMm[0], f.item.positionMm[1], f.item.positionMm[2]};
-      else j["value"] = f.item.valueMm;
+      if (acq::isStylusItem(f.item.what))
+        j["value"] = {f.item.positionMm[0], f.item.positionMm[1], f.item.positionMm[2]};
+      else
+        j["value"] = f.item.valueMm;
       if (!f.item.flag.empty()) j["flag"] = f.item.flag;
       break;
     case K::Rejected:
@@ -209,8 +225,10 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   acq::RunObserver observer;
   observer.onFeedback = [&](const acq::Feedback& f) {
     if (quiet) return;
-    if (o.json) std::cout << feedbackJson(f, id).dump() << "\n" << std::flush;
-    else printTerminal(f);
+    if (o.json)
+      std::cout << feedbackJson(f, id).dump() << "\n" << std::flush;
+    else
+      printTerminal(f);
   };
   observer.onSnapshot = [&](const acq::Snapshot& s) {
     if (quiet || s.prompt == lastPrompt) return;
@@ -276,8 +294,8 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   result.stats = run.operatorStats();
   result.exitCode = interrupted ? 130 : 0;
   if (!quiet && !o.json && !result.last.complete && result.last.status == "open")
-    std::cout << "  session " << id << " kept at: " << result.last.prompt << "\n  continue with: leafdig sessions resume "
-              << id << " --db " << run.dbPath() << "\n";
+    std::cout << "  session " << id << " kept at: " << result.last.prompt
+              << "\n  continue with: leafdig sessions resume " << id << " --db " << run.dbPath() << "\n";
   return result;
 }
 
@@ -303,14 +321,21 @@ int runList(const db::Store& store, const CaptureOptions& o) {
   if (o.json) {
     json a = json::array();
     for (const auto& s : sessions)
-      a.push_back({{"id", s.id}, {"project", s.project}, {"plant", s.plant}, {"leaf_position", s.leafPosition},
-                   {"status", s.status}, {"operator", s.operatorName}, {"mode", s.mode}, {"created_utc", s.createdUtc},
+      a.push_back({{"id", s.id},
+                   {"project", s.project},
+                   {"plant", s.plant},
+                   {"leaf_position", s.leafPosition},
+                   {"status", s.status},
+                   {"operator", s.operatorName},
+                   {"mode", s.mode},
+                   {"created_utc", s.createdUtc},
                    {"events", s.headSeq}});
     std::cout << a.dump() << "\n";
     return 0;
   }
-  std::cout << std::left << std::setw(6) << "id" << std::setw(10) << "status" << std::setw(28) << "leaf" << std::setw(14)
-            << "operator" << std::setw(8) << "events" << "created (UTC)\n";
+  std::cout << std::left << std::setw(6) << "id" << std::setw(10) << "status" << std::setw(28) << "leaf"
+            << std::setw(14) << "operator" << std::setw(8) << "events"
+            << "created (UTC)\n";
   for (const auto& s : sessions)
     std::cout << std::setw(6) << s.id << std::setw(10) << s.status << std::setw(28)
               << (s.project + "/" + s.plant + "/" + std::to_string(s.leafPosition)) << std::setw(14) << s.operatorName
@@ -326,13 +351,18 @@ int runShow(const db::Store& store, const CaptureOptions& o) {
   json markers = json::array(), board = json::array(), thickness = json::array();
   for (const auto& mk : store.markers(o.id)) {
     const json pos = {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]};
-    if (mk.what == "tip") tip = pos;
-    else if (mk.what == "board") board.push_back({{"col", mk.col.value_or(0)}, {"position_mm", pos}});
-    else markers.push_back({{"row", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}});
+    if (mk.what == "tip")
+      tip = pos;
+    else if (mk.what == "board")
+      board.push_back({{"col", mk.col.value_or(0)}, {"position_mm", pos}});
+    else
+      markers.push_back({{"row", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}});
   }
   for (const auto& t : store.thickness(o.id))
-    thickness.push_back({{"what", t.what}, {"row", t.row ? json(*t.row) : json(nullptr)},
-                         {"col", t.col ? json(*t.col) : json(nullptr)}, {"value_mm", t.valueMm}});
+    thickness.push_back({{"what", t.what},
+                         {"row", t.row ? json(*t.row) : json(nullptr)},
+                         {"col", t.col ? json(*t.col) : json(nullptr)},
+                         {"value_mm", t.valueMm}});
   if (o.json) {
     json j{{"id", o.id},
            {"status", r.info.status},
@@ -352,8 +382,8 @@ int runShow(const db::Store& store, const CaptureOptions& o) {
     std::cout << j.dump() << "\n";
     return 0;
   }
-  std::cout << "session " << o.id << " · " << r.info.status << " · " << r.info.project << "/" << r.info.plant << "/leaf "
-            << r.info.leafPosition << " · " << r.info.mode << " · operator " << r.info.operatorName << "\n"
+  std::cout << "session " << o.id << " · " << r.info.status << " · " << r.info.project << "/" << r.info.plant
+            << "/leaf " << r.info.leafPosition << " · " << r.info.mode << " · operator " << r.info.operatorName << "\n"
             << "  step: " << r.engine.prompt() << "\n  " << markers.size() << " markers"
             << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
             << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + chain.problem) << "\n";
@@ -365,7 +395,8 @@ int runVerify(const db::Store& store, const CaptureOptions& o) {
   const bool all = o.all || o.id == 0;
   if (all)
     for (const auto& s : store.sessions()) ids.push_back(s.id);
-  else ids.push_back(o.id);
+  else
+    ids.push_back(o.id);
   bool ok = true;
   json a = json::array();
   for (const auto id : ids) {
@@ -378,11 +409,15 @@ int runVerify(const db::Store& store, const CaptureOptions& o) {
     }
     ok = ok && c.ok;
     if (o.json)
-      a.push_back({{"session", id}, {"chain_ok", c.ok}, {"events", c.events},
-                   {"first_bad_seq", c.firstBadSeq ? json(*c.firstBadSeq) : json(nullptr)}, {"problem", c.problem}});
+      a.push_back({{"session", id},
+                   {"chain_ok", c.ok},
+                   {"events", c.events},
+                   {"first_bad_seq", c.firstBadSeq ? json(*c.firstBadSeq) : json(nullptr)},
+                   {"problem", c.problem}});
     else
       std::cout << "session " << id << ": " << c.events << " events, "
-                << (c.ok ? "chain OK" : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " + c.problem)
+                << (c.ok ? "chain OK"
+                         : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " + c.problem)
                 << "\n";
   }
   // Every page of the file as well (opening for capture checks only what capture touches).
@@ -402,8 +437,10 @@ int runVerify(const db::Store& store, const CaptureOptions& o) {
 
 int runReview(db::Store& store, const CaptureOptions& o, const std::string& status) {
   const auto seq = acq::review(store, o.id, status, o.who, o.why);
-  if (o.json) std::cout << json{{"session", o.id}, {"status", status}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
-  else std::cout << "session " << o.id << " " << status << " by " << o.who << " (event " << seq << ")\n";
+  if (o.json)
+    std::cout << json{{"session", o.id}, {"status", status}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
+  else
+    std::cout << "session " << o.id << " " << status << " by " << o.who << " (event " << seq << ")\n";
   return 0;
 }
 
@@ -420,8 +457,10 @@ int runCorrect(db::Store& store, const CaptureOptions& o) {
   }
   if (o.value) c.valueMm = *o.value;
   const auto seq = acq::correct(store, o.id, c);
-  if (o.json) std::cout << json{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
-  else std::cout << "session " << o.id << ": " << o.what << " corrected by " << o.who << " (event " << seq << ")\n";
+  if (o.json)
+    std::cout << json{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
+  else
+    std::cout << "session " << o.id << ": " << o.what << " corrected by " << o.who << " (event " << seq << ")\n";
   return 0;
 }
 
@@ -433,8 +472,9 @@ int runExport(db::Store& store, const CaptureOptions& o) {
   request.outDir = o.out;
   const acq::ExportResult r = acq::exportSession(store, o.id, request);
   if (o.json) {
-    std::cout << json{{"session", o.id}, {"outputs", r.written}, {"metrics", json::parse(m::metricsToJson(r.metrics))}}.dump()
-              << "\n";
+    std::cout
+        << json{{"session", o.id}, {"outputs", r.written}, {"metrics", json::parse(m::metricsToJson(r.metrics))}}.dump()
+        << "\n";
   } else {
     std::cout << "session " << o.id << ": " << r.rows << " rows, blade area " << std::fixed << std::setprecision(0)
               << r.metrics.blade.areaMm2 << " mm^2\n";
@@ -458,8 +498,7 @@ int runDemo(const CaptureOptions& o) {
   c.simulate = true;
   c.project = "demo";
   std::cout << "leafdig demo: a virtual technician captures " << leaves.size()
-            << " leaves with a simulated FASTRAK and Sylvac caliper over pseudo-terminals\n  database " << c.db
-            << "\n";
+            << " leaves with a simulated FASTRAK and Sylvac caliper over pseudo-terminals\n  database " << c.db << "\n";
   std::signal(SIGINT, onSignal);
   json summary = json::array();
   int position = 0;
@@ -508,10 +547,12 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
     c->add_option("--db", o.db, "SQLite file (default: the station's, under $XDG_DATA_HOME/leafdig)");
     c->add_flag("--json", o.json, "One JSON object per line, each after it is committed (README: the contract)");
     c->add_option("--digitizer", o.digitizer, "KIND:PORT, e.g. fastrak:/dev/ttyUSB0 (patriot, liberty, microscribe)");
-    c->add_option("--caliper", o.caliper, "KIND:PORT or hid:VID:PID, e.g. sylvac:/dev/ttyUSB1, mitutoyo:PORT, hid:0fe7:4001");
+    c->add_option("--caliper", o.caliper,
+                  "KIND:PORT or hid:VID:PID, e.g. sylvac:/dev/ttyUSB1, mitutoyo:PORT, hid:0fe7:4001");
     c->add_flag("--simulate", o.simulate, "Capture with the built-in simulators and a virtual operator");
     c->add_option("--markers", o.markers, "Leaf the virtual operator captures (leafdig.markers/1; default a sample)");
-    c->add_option("--faults", o.faults, "Digitizer faults, e.g. garbage=0.01,unplug=0.002:0.5 (see 'leafdig sim --help')");
+    c->add_option("--faults", o.faults,
+                  "Digitizer faults, e.g. garbage=0.01,unplug=0.002:0.5 (see 'leafdig sim --help')");
     c->add_option("--caliper-faults", o.caliperFaults, "Caliper faults, same syntax");
     c->add_option("--seed", o.seed, "Seed of the simulation (noise, mistakes, faults)");
     c->add_option("--speed", o.speed, "Time scale of the simulated operator and devices (e.g. 10)");
@@ -546,7 +587,8 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
   }
   addCaptureOptions(resume);
   for (CLI::App* c : {show, resume, approve, reject, corr, exp}) c->add_option("id", o.id, "Session id")->required();
-  corr->add_option("--what", o.what, "tip, marker, midrib_thickness, vein_origin_thickness, point_thickness, edge_thickness")
+  corr->add_option("--what", o.what,
+                   "tip, marker, midrib_thickness, vein_origin_thickness, point_thickness, edge_thickness")
       ->required();
   corr->add_option("--row", o.row, "Row (1-based; where it applies)");
   corr->add_option("--col", o.col, "Column (1-based; where it applies)");

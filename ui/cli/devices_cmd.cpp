@@ -23,7 +23,9 @@ namespace dev = leafdig::devices;
 using nlohmann::json;
 
 std::atomic<bool> interrupted{false};
-void onSignal(int) { interrupted = true; }
+void onSignal(int) {
+  interrupted = true;
+}
 void installSignals() {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
@@ -47,17 +49,30 @@ int runList(const DevicesOptions& o) {
   if (o.json) {
     json j{{"serial", json::array()}, {"hid", json::array()}, {"usb", json::array()}};
     for (const auto& s : inv.serial)
-      j["serial"].push_back({{"path", s.path}, {"description", s.description}, {"transport", s.transport},
+      j["serial"].push_back({{"path", s.path},
+                             {"description", s.description},
+                             {"transport", s.transport},
                              {"vid", s.vid ? json(hex4(*s.vid)) : json(nullptr)},
-                             {"pid", s.pid ? json(hex4(*s.pid)) : json(nullptr)}, {"serial", s.serial},
+                             {"pid", s.pid ? json(hex4(*s.pid)) : json(nullptr)},
+                             {"serial", s.serial},
                              {"profile", profileJson(s.vid, s.pid)}});
     for (const auto& h : inv.hid)
-      j["hid"].push_back({{"path", h.path}, {"vid", hex4(h.vid)}, {"pid", hex4(h.pid)}, {"product", h.product},
-                          {"manufacturer", h.manufacturer}, {"serial", h.serial}, {"interface", h.interfaceNumber},
+      j["hid"].push_back({{"path", h.path},
+                          {"vid", hex4(h.vid)},
+                          {"pid", hex4(h.pid)},
+                          {"product", h.product},
+                          {"manufacturer", h.manufacturer},
+                          {"serial", h.serial},
+                          {"interface", h.interfaceNumber},
                           {"profile", profileJson(h.vid, h.pid)}});
     for (const auto& u : inv.usb)
-      j["usb"].push_back({{"bus", u.bus}, {"address", u.address}, {"vid", hex4(u.vid)}, {"pid", hex4(u.pid)},
-                          {"product", u.product}, {"manufacturer", u.manufacturer}, {"serial", u.serial},
+      j["usb"].push_back({{"bus", u.bus},
+                          {"address", u.address},
+                          {"vid", hex4(u.vid)},
+                          {"pid", hex4(u.pid)},
+                          {"product", u.product},
+                          {"manufacturer", u.manufacturer},
+                          {"serial", u.serial},
                           {"profile", profileJson(u.vid, u.pid)}});
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -93,8 +108,9 @@ int runList(const DevicesOptions& o) {
 // ---- devices listen ------------------------------------------------------------------------
 json sampleJson(const dev::DeviceEvent& e, dev::Clock::time_point t0) {
   if (const auto* s = std::get_if<dev::StylusSample>(&e)) {
-    json o = s->orientationDeg ? json::array({(*s->orientationDeg)[0], (*s->orientationDeg)[1], (*s->orientationDeg)[2]})
-                               : json(nullptr);
+    json o = s->orientationDeg
+                 ? json::array({(*s->orientationDeg)[0], (*s->orientationDeg)[1], (*s->orientationDeg)[2]})
+                 : json(nullptr);
     return {{"t", std::chrono::duration<double>(s->t - t0).count()},
             {"station", s->station},
             {"position_mm", {s->positionMm[0], s->positionMm[1], s->positionMm[2]}},
@@ -119,9 +135,9 @@ std::string sampleText(const dev::DeviceEvent& e, dev::Clock::time_point t0) {
     return buf;
   }
   const auto& c = std::get<dev::CaliperReading>(e);
-  std::snprintf(buf, sizeof buf, "%9.3f s  %8.3f mm  (gauge: %s %s)%s%s", std::chrono::duration<double>(c.t - t0).count(),
-                c.valueMm, dev::printableRaw(c.raw).c_str(), c.unit.c_str(), c.flag.empty() ? "" : "  flag ",
-                c.flag.c_str());
+  std::snprintf(buf, sizeof buf, "%9.3f s  %8.3f mm  (gauge: %s %s)%s%s",
+                std::chrono::duration<double>(c.t - t0).count(), c.valueMm, dev::printableRaw(c.raw).c_str(),
+                c.unit.c_str(), c.flag.empty() ? "" : "  flag ", c.flag.c_str());
   return buf;
 }
 
@@ -169,7 +185,8 @@ int runListen(const DevicesOptions& o) {
       c.dtrTrigger = o.dtrTrigger;
       c.grabKeyboard = !o.noGrab;
       if (!o.hid.empty()) {
-        if (o.hid.rfind("/dev/", 0) == 0) c.hidPath = o.hid;
+        if (o.hid.rfind("/dev/", 0) == 0)
+          c.hidPath = o.hid;
         else if (!dev::parseVidPid(o.hid, c.vid, c.pid)) {
           std::cerr << "leafdig: --hid must be VID:PID in hex (e.g. 0fe7:4001) or a /dev/hidraw path\n";
           return 2;
@@ -187,21 +204,20 @@ int runListen(const DevicesOptions& o) {
   std::vector<dev::DeviceEvent> queue;
   dev::DeviceStatus last;
   std::mutex sm;
-  dev::Driver driver(
-      std::move(link),
-      {[&](const dev::DeviceEvent& e) {
-         std::lock_guard lock(m);
-         queue.push_back(e);
-       },
-       [&](const dev::DeviceStatus& s) {
-         {
-           std::lock_guard lock(sm);
-           last = s;
-         }
-         std::cerr << "[" << dev::toString(s.state) << "] " << s.message << (s.remedy.empty() ? "" : " — " + s.remedy)
-                   << std::endl;
-       }},
-      dopts);
+  dev::Driver driver(std::move(link),
+                     {[&](const dev::DeviceEvent& e) {
+                        std::lock_guard lock(m);
+                        queue.push_back(e);
+                      },
+                      [&](const dev::DeviceStatus& s) {
+                        {
+                          std::lock_guard lock(sm);
+                          last = s;
+                        }
+                        std::cerr << "[" << dev::toString(s.state) << "] " << s.message
+                                  << (s.remedy.empty() ? "" : " — " + s.remedy) << std::endl;
+                      }},
+                     dopts);
   driver.start();
   int printed = 0;
   while (!interrupted) {
@@ -211,8 +227,10 @@ int runListen(const DevicesOptions& o) {
       batch.swap(queue);
     }
     for (const auto& e : batch) {
-      if (o.json) std::cout << sampleJson(e, t0).dump() << "\n";
-      else std::cout << sampleText(e, t0) << "\n";
+      if (o.json)
+        std::cout << sampleJson(e, t0).dump() << "\n";
+      else
+        std::cout << sampleText(e, t0) << "\n";
       ++printed;
       if (o.count > 0 && printed >= o.count) break;
     }
@@ -276,15 +294,23 @@ int runSim(const DevicesOptions& o) {
   std::unique_ptr<dev::sim::Emulator> emu;
   auto caliper = std::make_shared<dev::sim::VirtualCaliper>(thickness, dev::sim::CaliperOptions{0.003, 0.001, o.seed});
   const dev::sim::VirtualStylus stylus(targets, so);
-  if (o.simKind == "fastrak") emu = dev::sim::makeFastrak(stylus, eo);
-  else if (o.simKind == "patriot") emu = dev::sim::makePatriot(stylus, eo);
-  else if (o.simKind == "liberty") emu = dev::sim::makeLiberty(stylus, eo);
-  else if (o.simKind == "microscribe") emu = dev::sim::makeMicroScribe(stylus, eo);
-  else if (o.simKind == "sylvac") emu = dev::sim::makeSylvac(caliper, eo);
-  else if (o.simKind == "mitutoyo") emu = dev::sim::makeMitutoyo(caliper, eo);
-  else if (o.simKind == "uwave") emu = dev::sim::makeUWave(caliper, eo);
+  if (o.simKind == "fastrak")
+    emu = dev::sim::makeFastrak(stylus, eo);
+  else if (o.simKind == "patriot")
+    emu = dev::sim::makePatriot(stylus, eo);
+  else if (o.simKind == "liberty")
+    emu = dev::sim::makeLiberty(stylus, eo);
+  else if (o.simKind == "microscribe")
+    emu = dev::sim::makeMicroScribe(stylus, eo);
+  else if (o.simKind == "sylvac")
+    emu = dev::sim::makeSylvac(caliper, eo);
+  else if (o.simKind == "mitutoyo")
+    emu = dev::sim::makeMitutoyo(caliper, eo);
+  else if (o.simKind == "uwave")
+    emu = dev::sim::makeUWave(caliper, eo);
   else {
-    std::cerr << "leafdig: unknown simulator '" << o.simKind << "': use fastrak, patriot, liberty, microscribe, sylvac, mitutoyo or uwave\n";
+    std::cerr << "leafdig: unknown simulator '" << o.simKind
+              << "': use fastrak, patriot, liberty, microscribe, sylvac, mitutoyo or uwave\n";
     return 2;
   }
   try {
@@ -300,15 +326,17 @@ int runSim(const DevicesOptions& o) {
             << (eo.faults.any() ? ", faults: " + o.faults : std::string()) << ". Stop with Ctrl-C.\n";
   const auto t0 = std::chrono::steady_clock::now();
   while (!interrupted) {
-    if (o.simSeconds > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >= o.simSeconds) break;
+    if (o.simSeconds > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >= o.simSeconds)
+      break;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   const auto log = emu->faultLog();
   emu->stop();
   std::cerr << "leafdig: sent " << log.records << " records; faults: " << log.garbage << " garbage, " << log.bitflips
-            << " bit flips, " << log.truncated << " truncated, " << log.stalls << " stalls, " << log.resets << " resets, "
-            << log.unplugs << " unplugs, " << log.statusLetters << " status letters, " << log.garbledBytes
-            << " bytes garbled by a baud mismatch\n";
+            << " bit flips, " << log.truncated << " truncated, " << log.stalls << " stalls, " << log.resets
+            << " resets, " << log.unplugs << " unplugs, " << log.statusLetters << " status letters, "
+            << log.garbledBytes << " bytes garbled by a baud mismatch\n";
   return 0;
 }
 
@@ -326,9 +354,11 @@ int runDoctor(const DevicesOptions& o) {
     std::cout << (c.ok ? "  ok    " : "  FIX   ") << c.what << ": " << c.detail << "\n";
     if (!c.ok) std::cout << "        → " << c.remedy << "\n";
   }
-  if (o.json) std::cout << j.dump(2) << "\n";
-  else std::cout << (problems ? std::to_string(problems) + " item(s) to look at; the simulators work regardless.\n"
-                              : "Everything looks ready.\n");
+  if (o.json)
+    std::cout << j.dump(2) << "\n";
+  else
+    std::cout << (problems ? std::to_string(problems) + " item(s) to look at; the simulators work regardless.\n"
+                           : "Everything looks ready.\n");
   return 0;
 }
 

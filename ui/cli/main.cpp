@@ -2,18 +2,16 @@
 //
 // Exit codes: 0 success; 2 bad input (a file or option the user must fix; nothing was
 // written); 1 any other failure (I/O, internal error).
+#include <CLI/CLI.hpp>
 #include <iostream>
 
-#include <CLI/CLI.hpp>
-
-#include "leafdig/version.hpp"
 #include "capture_cmd.hpp"
 #include "devices_cmd.hpp"
+#include "leafdig/version.hpp"
 #include "model_build.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"leafdig: digitizer-and-caliper acquisition station for plant morphology labs",
-               "leafdig"};
+  CLI::App app{"leafdig: digitizer-and-caliper acquisition station for plant morphology labs", "leafdig"};
   app.set_version_flag("--version", std::string("leafdig ") + leafdig::kVersion);
   app.require_subcommand(1);
   app.footer(

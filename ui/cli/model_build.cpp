@@ -19,8 +19,8 @@ namespace leafdig::cli {
 namespace m = leafdig::model;
 
 void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
-  CLI::App* build = model.add_subcommand(
-      "build", "Build the BBSC veins and blade from a leafdig.markers/1 file and export them");
+  CLI::App* build =
+      model.add_subcommand("build", "Build the BBSC veins and blade from a leafdig.markers/1 file and export them");
   build->add_option("markers", o.markersPath, "Marker file (leafdig.markers/1 JSON)")->required();
   build->add_option("-o,--output", o.outputs,
                     "Mesh file to write; the format follows the extension: .glb .obj .ply .stl "
@@ -28,12 +28,15 @@ void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
   build->add_option("--model-json", o.modelJsonPath, "Write the leafdig.model/1 document here");
   build->add_option("--blade", o.blade, "Blade surface: interp (default), approx, bezier, nurbs")
       ->check(CLI::IsMember({"interp", "approx", "bezier", "nurbs"}));
-  build->add_option("--resolution", o.resolution,
-                    "Mesh resolution preset: paper (the seed's Table 1 counts), preview, export "
-                    "(default)")
+  build
+      ->add_option("--resolution", o.resolution,
+                   "Mesh resolution preset: paper (the seed's Table 1 counts), preview, export "
+                   "(default)")
       ->check(CLI::IsMember({"paper", "preview", "export"}));
-  build->add_option("--caps", o.caps, "Vein end caps: none or sphere (default: the preset's; paper "
-                                      "has none)")
+  build
+      ->add_option("--caps", o.caps,
+                   "Vein end caps: none or sphere (default: the preset's; paper "
+                   "has none)")
       ->check(CLI::IsMember({"none", "sphere"}));
   build->add_option("--frame", o.frame, "Frame of the exports: digitizer (default) or leaf")
       ->check(CLI::IsMember({"digitizer", "leaf"}));
@@ -57,7 +60,8 @@ Eigen::Vector3d parseLight(const std::string& text) {
   char comma2 = 0;
   in >> d.x() >> comma1 >> d.y() >> comma2 >> d.z();
   if (!in || comma1 != ',' || comma2 != ',' || !in.eof() || !d.allFinite() || d.norm() == 0.0) {
-    throw m::InputError("--light \"" + text + "\": expected three numbers x,y,z, not all zero, "
+    throw m::InputError("--light \"" + text +
+                        "\": expected three numbers x,y,z, not all zero, "
                         "e.g. --light 0,0,1");
   }
   return d;
@@ -91,8 +95,7 @@ int runModelBuild(const ModelBuildOptions& o) {
 
     const m::LeafMesh mesh = m::meshLeaf(leaf, resolution);
     const m::LeafMetrics metrics = m::computeLeafMetrics(leaf, light, o.areaThresholdPercent);
-    const m::ExportHeader header{leaf.markers.leaf.id, o.frame,
-                                 std::string("leafdig ") + leafdig::kVersion};
+    const m::ExportHeader header{leaf.markers.leaf.id, o.frame, std::string("leafdig ") + leafdig::kVersion};
 
     // Encode everything first, then write: a build error never leaves some files written.
     std::vector<std::pair<std::string, std::string>> files;
@@ -127,22 +130,19 @@ int runModelBuild(const ModelBuildOptions& o) {
       out["outputs"] = written;
       std::cout << out.dump() << "\n";
     } else {
-      std::cout << "leaf " << (leaf.markers.leaf.id.empty() ? "(no id)" : leaf.markers.leaf.id)
-                << ": " << leaf.markers.rows.size() << " rows, "
-                << 7 * leaf.markers.rows.size() + 1 << " points, "
+      std::cout << "leaf " << (leaf.markers.leaf.id.empty() ? "(no id)" : leaf.markers.leaf.id) << ": "
+                << leaf.markers.rows.size() << " rows, " << 7 * leaf.markers.rows.size() + 1 << " points, "
                 << m::toString(leaf.thickness.mode) << " thickness mode\n"
-                << "  veins: " << veins.vertices << " vertices, " << veins.quads << " quads, "
-                << veins.triangles << " triangles\n"
-                << "  blade: " << blade.vertices << " vertices, " << blade.quads << " quads, "
-                << blade.triangles << " triangles (" << o.blade << ", " << resolution.name
-                << ")\n"
-                << "  blade area " << metrics.blade.areaMm2 << " mm^2, projected "
-                << metrics.blade.projectedAreaMm2 << " mm^2\n";
+                << "  veins: " << veins.vertices << " vertices, " << veins.quads << " quads, " << veins.triangles
+                << " triangles\n"
+                << "  blade: " << blade.vertices << " vertices, " << blade.quads << " quads, " << blade.triangles
+                << " triangles (" << o.blade << ", " << resolution.name << ")\n"
+                << "  blade area " << metrics.blade.areaMm2 << " mm^2, projected " << metrics.blade.projectedAreaMm2
+                << " mm^2\n";
       if (metrics.areaConstraint) {
         const auto& a = *metrics.areaConstraint;
-        std::cout << "  measured area " << a.measuredMm2 << " mm^2: model differs by "
-                  << a.differencePercent << " %" << (a.exceeded ? " — ABOVE the threshold" : "")
-                  << "\n";
+        std::cout << "  measured area " << a.measuredMm2 << " mm^2: model differs by " << a.differencePercent << " %"
+                  << (a.exceeded ? " — ABOVE the threshold" : "") << "\n";
       }
       for (const auto& w : mesh.warnings) {
         std::cout << "  warning: " << w.organ << " at t=" << w.parameter << ": " << w.message << "\n";

@@ -1,10 +1,9 @@
 #pragma once
 // `leafdig model build`: markers file -> veins + blade -> mesh and model exports.
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 namespace leafdig::cli {
 

@@ -16,7 +16,8 @@ namespace leafdig::station {
 namespace acq = leafdig::acquisition;
 
 BatchResult exportBatch(const std::string& dbPath, const std::vector<std::int64_t>& sessions,
-                        const acq::ExportRequest& request, const std::function<bool(int, int, const QString&)>& progress) {
+                        const acq::ExportRequest& request,
+                        const std::function<bool(int, int, const QString&)>& progress) {
   BatchResult out;
   db::Store store(dbPath);
   const int total = static_cast<int>(sessions.size());
@@ -119,7 +120,8 @@ BatchResult ExportDialog::run(const std::string& dbPath) {
     result = exportBatch(dbPath, ids, r, [&](int done, int total, const QString& what) {
       progress.setMaximum(total);
       progress.setValue(done);
-      progress.setLabelText(tr("Exporting %1 (%2 of %3)…").arg(what).arg(done + 1 > total ? total : done + 1).arg(total));
+      progress.setLabelText(
+          tr("Exporting %1 (%2 of %3)…").arg(what).arg(done + 1 > total ? total : done + 1).arg(total));
       QApplication::processEvents();
       return !progress.wasCanceled();
     });
@@ -129,7 +131,8 @@ BatchResult ExportDialog::run(const std::string& dbPath) {
   }
   QString text = tr("%1 files written to %2.").arg(result.written.size()).arg(dir_->text());
   if (result.cancelled) text += "\n" + tr("Cancelled: the remaining sessions were not exported.");
-  for (const auto& [id, why] : result.failed) text += "\n" + tr("Session %1 not exported: %2").arg(id).arg(QString::fromStdString(why));
+  for (const auto& [id, why] : result.failed)
+    text += "\n" + tr("Session %1 not exported: %2").arg(id).arg(QString::fromStdString(why));
   QMessageBox::information(parentWidget(), tr("Export"), text);
   return result;
 }

@@ -50,7 +50,8 @@ QPointF LeafSchematic::targetPosition() const {
 void LeafSchematic::paintEvent(QPaintEvent*) {
   QPainter p(this);
   p.setRenderHint(QPainter::Antialiasing);
-  const QColor leafFill = palette().color(QPalette::Base).lightness() < 100 ? QColor(40, 80, 45) : QColor(214, 236, 206);
+  const QColor leafFill =
+      palette().color(QPalette::Base).lightness() < 100 ? QColor(40, 80, 45) : QColor(214, 236, 206);
   const QColor ink = palette().color(QPalette::WindowText);
   // Outline.
   QPainterPath outline;
@@ -74,7 +75,9 @@ void LeafSchematic::paintEvent(QPaintEvent*) {
   if (!has_) return;
   const acq::Step& step = snapshot_.step;
   // Points: captured filled, the rest hollow.
-  const auto done = [&](acq::What w, int row, int col) { return acq::findItem(snapshot_.items, w, row, col) != nullptr; };
+  const auto done = [&](acq::What w, int row, int col) {
+    return acq::findItem(snapshot_.items, w, row, col) != nullptr;
+  };
   const auto dot = [&](const QPointF& c, bool filled) {
     p.setPen(QPen(filled ? QColor(27, 94, 32) : QColor(130, 130, 130), 1.5));
     p.setBrush(filled ? QColor(46, 125, 50) : Qt::NoBrush);

@@ -43,14 +43,16 @@ int main(int argc, char** argv) {
   const QCommandLineOption caliper("caliper", "KIND:PORT or hid:VID:PID", "SPEC");
   const QCommandLineOption resume("resume", "Continue this open session", "ID");
   const QCommandLineOption screenshot("screenshot", "When the leaf is complete, save the window here", "PNG");
-  const QCommandLineOption reviewShot("review-screenshot", "When the leaf is complete, open it in Review and save that view here", "PNG");
+  const QCommandLineOption reviewShot("review-screenshot",
+                                      "When the leaf is complete, open it in Review and save that view here", "PNG");
   const QCommandLineOption quit("quit-when-complete", "Exit once the leaf is complete (scripts, tests)");
   const QCommandLineOption setupDialog("setup", "Show the session set-up dialog first (also when simulating)");
   const QCommandLineOption settingsFile("settings", "Settings file (default ~/.config/leafdig/station.ini)", "INI");
-  const QCommandLineOption firstFrame("quit-after-first-frame",
-                                      "Print when the first frame of the preview is on screen, then exit (start-up benchmark)");
-  p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, reviewShot, quit, setupDialog,
-                settingsFile, firstFrame});
+  const QCommandLineOption firstFrame(
+      "quit-after-first-frame",
+      "Print when the first frame of the preview is on screen, then exit (start-up benchmark)");
+  p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, reviewShot, quit,
+                setupDialog, settingsFile, firstFrame});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -86,7 +88,8 @@ int main(int argc, char** argv) {
         [&] {
           const auto now = std::chrono::steady_clock::now();
           std::printf("first_frame steady_ns %lld main_ms %.1f\n",
-                      static_cast<long long>(std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count()),
+                      static_cast<long long>(
+                          std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count()),
                       std::chrono::duration<double, std::milli>(now - mainEntered).count());
           std::fflush(stdout);
           // Leave from the event loop, not from inside the frame's own paint.
@@ -101,15 +104,16 @@ int main(int argc, char** argv) {
   const bool interactive = !p.isSet(quit) && !p.isSet(firstFrame);
   if (interactive && o.resume == 0) w.offerResume();
   // Without devices given (and nothing to resume), the set-up dialog asks for them.
-  const bool needSetup = p.isSet(setupDialog) ||
-                         (!o.simulate && w.options().resume == 0 && (o.setup.digitizer.empty() || o.setup.caliper.empty()));
+  const bool needSetup = p.isSet(setupDialog) || (!o.simulate && w.options().resume == 0 &&
+                                                  (o.setup.digitizer.empty() || o.setup.caliper.empty()));
   if (needSetup) {
     if (!interactive) {
       std::fprintf(stderr, "leafdig-station: give --digitizer and --caliper, or --simulate to try it\n");
       return 2;
     }
     if (!w.newSessionDialog()) {
-      if (w.sessionId() == 0 && w.bannerText().startsWith("Cannot")) std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
+      if (w.sessionId() == 0 && w.bannerText().startsWith("Cannot"))
+        std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
     }
   } else if (!w.start()) {
     std::fprintf(stderr, "leafdig-station: %s\n", w.bannerText().toStdString().c_str());
@@ -131,7 +135,8 @@ int main(int argc, char** argv) {
         leafdig::station::PreviewWidget::grabWindow(&w).save(p.value(reviewShot));
       }
       std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
-                  static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels, w.preview()->lastFrameMs());
+                  static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels,
+                  w.preview()->lastFrameMs());
       std::fflush(stdout);
       if (p.isSet(quit)) {
         w.stopCapture();

@@ -1,9 +1,8 @@
 #include "preview_widget.hpp"
 
-#include <QLabel>
-
 #include <QElapsedTimer>
 #include <QKeyEvent>
+#include <QLabel>
 #include <QMouseEvent>
 #include <QOpenGLFramebufferObject>
 #include <QPainter>
@@ -53,7 +52,8 @@ void main() {
 void keepFreedMemoryForSoftwareGl(const char* renderer) {
 #ifdef __GLIBC__
   static bool done = false;
-  if (done || renderer == nullptr || (std::strstr(renderer, "llvmpipe") == nullptr && std::strstr(renderer, "softpipe") == nullptr))
+  if (done || renderer == nullptr ||
+      (std::strstr(renderer, "llvmpipe") == nullptr && std::strstr(renderer, "softpipe") == nullptr))
     return;
   done = true;
   mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);  // the largest glibc accepts; bigger blocks still map
@@ -102,7 +102,8 @@ void PreviewSurface::initializeGL() {
   // Qt calls this even when it could not create a context (no OpenGL on this display): the
   // station goes on without the 3D view and says so.
   if (!context() || !context()->isValid() || QOpenGLContext::currentContext() != context()) {
-    QMetaObject::invokeMethod(owner_, [o = owner_] { o->showUnavailable(); }, Qt::QueuedConnection);
+    QMetaObject::invokeMethod(
+        owner_, [o = owner_] { o->showUnavailable(); }, Qt::QueuedConnection);
     return;
   }
   initializeOpenGLFunctions();
@@ -219,8 +220,10 @@ void PreviewSurface::draw(QSize size) {
       program_.setUniformValue("colour", b.colour);
       program_.setUniformValue("lit", !b.points);
       program_.setUniformValue("pointSize", b.colour.x() > 0.79f ? 13.0f : 7.0f);
-      if (b.cull) glEnable(GL_CULL_FACE);
-      else glDisable(GL_CULL_FACE);
+      if (b.cull)
+        glEnable(GL_CULL_FACE);
+      else
+        glDisable(GL_CULL_FACE);
       b.vao->bind();
       if (b.points) {
         glDrawArrays(GL_POINTS, 0, b.count);
@@ -256,13 +259,23 @@ void PreviewSurface::mousePressEvent(QMouseEvent* e) {
   if (owner_->focusPolicy() & Qt::ClickFocus) owner_->setFocus(Qt::MouseFocusReason);
   owner_->onPress(e->position());
 }
-void PreviewSurface::mouseMoveEvent(QMouseEvent* e) { owner_->onMove(e->position(), e->buttons()); }
-void PreviewSurface::mouseReleaseEvent(QMouseEvent* e) { owner_->onRelease(e->position(), e->button()); }
-void PreviewSurface::mouseDoubleClickEvent(QMouseEvent*) { owner_->resetView(); }
-void PreviewSurface::wheelEvent(QWheelEvent* e) { owner_->onWheel(e->angleDelta().y()); }
+void PreviewSurface::mouseMoveEvent(QMouseEvent* e) {
+  owner_->onMove(e->position(), e->buttons());
+}
+void PreviewSurface::mouseReleaseEvent(QMouseEvent* e) {
+  owner_->onRelease(e->position(), e->button());
+}
+void PreviewSurface::mouseDoubleClickEvent(QMouseEvent*) {
+  owner_->resetView();
+}
+void PreviewSurface::wheelEvent(QWheelEvent* e) {
+  owner_->onWheel(e->angleDelta().y());
+}
 void PreviewSurface::keyPressEvent(QKeyEvent* e) {
-  if (e->key() == Qt::Key_R) owner_->resetView();
-  else QOpenGLWindow::keyPressEvent(e);
+  if (e->key() == Qt::Key_R)
+    owner_->resetView();
+  else
+    QOpenGLWindow::keyPressEvent(e);
 }
 
 // ---- PreviewWidget: what is shown, and the view ----
@@ -309,7 +322,9 @@ PreviewWidget::PreviewWidget(QWidget* parent)
 }
 
 // The surface reads this widget's state: it goes first, while that state is whole.
-PreviewWidget::~PreviewWidget() { delete container_; }
+PreviewWidget::~PreviewWidget() {
+  delete container_;
+}
 
 void PreviewWidget::changed(bool geometry) {
   meshDirty_ = meshDirty_ || geometry;
@@ -321,7 +336,9 @@ void PreviewWidget::redraw() {
   if (surface_) surface_->update();
 }
 
-bool PreviewWidget::unavailable() const { return !unavailable_->isHidden(); }
+bool PreviewWidget::unavailable() const {
+  return !unavailable_->isHidden();
+}
 
 void PreviewWidget::showUnavailable() {
   if (!unavailable_->isHidden()) return;
@@ -523,8 +540,10 @@ void PreviewWidget::onWheel(int angleDeltaY) {
 }
 
 void PreviewWidget::keyPressEvent(QKeyEvent* e) {
-  if (e->key() == Qt::Key_R) resetView();
-  else QWidget::keyPressEvent(e);
+  if (e->key() == Qt::Key_R)
+    resetView();
+  else
+    QWidget::keyPressEvent(e);
 }
 
 }  // namespace leafdig::station

@@ -53,7 +53,7 @@ class PreviewSurface : public QOpenGLWindow, protected QOpenGLFunctions_3_3_Core
     std::unique_ptr<QOpenGLVertexArrayObject> vao;
     QOpenGLBuffer vbo{QOpenGLBuffer::VertexBuffer};
     QOpenGLBuffer ibo{QOpenGLBuffer::IndexBuffer};  // meshes: shared vertices, drawn indexed
-    int count = 0;                                   // indices (meshes) or points
+    int count = 0;                                  // indices (meshes) or points
     QVector3D colour;
     bool points = false, cull = false;
   };

@@ -1,7 +1,5 @@
 #include "review_view.hpp"
 
-#include <QScrollBar>
-
 #include <QChart>
 #include <QChartView>
 #include <QDialog>
@@ -14,9 +12,10 @@
 #include <QLineSeries>
 #include <QPushButton>
 #include <QScatterSeries>
+#include <QScrollBar>
 #include <QSplitter>
-#include <QValueAxis>
 #include <QVBoxLayout>
+#include <QValueAxis>
 #include <set>
 
 #include "export_dialog.hpp"
@@ -162,12 +161,14 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
   connect(approveB, &QPushButton::clicked, this, [this] { (void)approve(curator_->text()); });
   connect(rejectB, &QPushButton::clicked, this, [this] {
     bool ok = false;
-    const QString why = QInputDialog::getText(this, tr("Reject"), tr("What is wrong with this session?"), QLineEdit::Normal, {}, &ok);
+    const QString why =
+        QInputDialog::getText(this, tr("Reject"), tr("What is wrong with this session?"), QLineEdit::Normal, {}, &ok);
     if (ok) (void)reject(curator_->text(), why);
   });
   connect(exportB, &QPushButton::clicked, this, [this] {
     std::vector<std::int64_t> ids;
-    for (const auto& r : sessions_->selectionModel()->selectedRows()) ids.push_back(sessions_->item(r.row(), 0)->text().toLongLong());
+    for (const auto& r : sessions_->selectionModel()->selectedRows())
+      ids.push_back(sessions_->item(r.row(), 0)->text().toLongLong());
     ExportDialog d(settings_, this);
     d.setSessions(ids);
     if (d.exec() == QDialog::Accepted) d.run(dbPath_);
@@ -206,7 +207,8 @@ void ReviewView::refreshSessions() {
     if (!store_ && !dbPath_.empty()) store_ = std::make_unique<db::Store>(dbPath_);
     if (store_) all_ = store_->sessions();
   } catch (const std::exception& e) {
-    banner_->setText(tr("REVIEW · cannot open %1: %2").arg(QString::fromStdString(dbPath_), QString::fromStdString(e.what())));
+    banner_->setText(
+        tr("REVIEW · cannot open %1: %2").arg(QString::fromStdString(dbPath_), QString::fromStdString(e.what())));
     return;
   }
   filling_ = true;
@@ -241,14 +243,19 @@ void ReviewView::applyFilters() {
   sessions_->setRowCount(0);
   for (auto it = all_.rbegin(); it != all_.rend(); ++it) {
     const auto& s = *it;
-    if (!pass(project_, s.project) || !pass(plant_, s.plant) || !pass(status_, s.status) || !pass(operator_, s.operatorName))
+    if (!pass(project_, s.project) || !pass(plant_, s.plant) || !pass(status_, s.status) ||
+        !pass(operator_, s.operatorName))
       continue;
     if (!date_->text().isEmpty() && !QString::fromStdString(s.createdUtc).startsWith(date_->text().trimmed())) continue;
     const int r = sessions_->rowCount();
     sessions_->insertRow(r);
-    const QStringList values{QString::number(s.id), QString::fromStdString(s.project), QString::fromStdString(s.plant),
-                             QString::number(s.leafPosition), QString::fromStdString(s.status),
-                             QString::fromStdString(s.operatorName), QString::fromStdString(s.createdUtc),
+    const QStringList values{QString::number(s.id),
+                             QString::fromStdString(s.project),
+                             QString::fromStdString(s.plant),
+                             QString::number(s.leafPosition),
+                             QString::fromStdString(s.status),
+                             QString::fromStdString(s.operatorName),
+                             QString::fromStdString(s.createdUtc),
                              QString::number(s.headSeq)};
     for (int c = 0; c < values.size(); ++c) sessions_->setItem(r, c, cell(values[c]));
   }
@@ -279,8 +286,9 @@ std::optional<acq::Item> ReviewView::itemOfRow(int row) const {
   if (!current_ || row < 0) return std::nullopt;
   const auto* w = markers_->item(row, 0);
   if (!w) return std::nullopt;
-  const auto* i = acq::findItem(current_->engine.items(), acq::whatFromString(w->data(Qt::UserRole).toString().toStdString()),
-                                markers_->item(row, 1)->text().toInt(), markers_->item(row, 2)->text().toInt());
+  const auto* i =
+      acq::findItem(current_->engine.items(), acq::whatFromString(w->data(Qt::UserRole).toString().toStdString()),
+                    markers_->item(row, 1)->text().toInt(), markers_->item(row, 2)->text().toInt());
   return i ? std::optional<acq::Item>(*i) : std::nullopt;
 }
 
@@ -306,14 +314,17 @@ void ReviewView::fill() {
   }
   const db::ChainReport& chain = chain_;
   const bool partial = r.replayedEvents < r.totalEvents;
-  banner_->setText(tr("REVIEW · session %1 · %2 / %3 / leaf %4 · %5 · operator %6 · chain %7%8")
-                       .arg(r.info.id)
-                       .arg(QString::fromStdString(r.info.project), QString::fromStdString(r.info.plant))
-                       .arg(r.info.leafPosition)
-                       .arg(QString::fromStdString(r.info.status), QString::fromStdString(r.info.operatorName))
-                       .arg(chain.ok ? tr("OK (%1 events)").arg(chain.events)
-                                     : tr("BROKEN at event %1: %2").arg(chain.firstBadSeq.value_or(0)).arg(QString::fromStdString(chain.problem)))
-                       .arg(partial ? tr(" · replay at event %1 of %2").arg(r.replayedEvents).arg(r.totalEvents) : QString()));
+  banner_->setText(
+      tr("REVIEW · session %1 · %2 / %3 / leaf %4 · %5 · operator %6 · chain %7%8")
+          .arg(r.info.id)
+          .arg(QString::fromStdString(r.info.project), QString::fromStdString(r.info.plant))
+          .arg(r.info.leafPosition)
+          .arg(QString::fromStdString(r.info.status), QString::fromStdString(r.info.operatorName))
+          .arg(chain.ok ? tr("OK (%1 events)").arg(chain.events)
+                        : tr("BROKEN at event %1: %2")
+                              .arg(chain.firstBadSeq.value_or(0))
+                              .arg(QString::fromStdString(chain.problem)))
+          .arg(partial ? tr(" · replay at event %1 of %2").arg(r.replayedEvents).arg(r.totalEvents) : QString()));
   const auto& items = r.engine.items();
   const auto flags = acq::reviewFlags(items);
   markers_->setRowCount(0);
@@ -322,16 +333,22 @@ void ReviewView::fill() {
     markers_->insertRow(row);
     QString value;
     if (acq::isStylusItem(i.what))
-      value = QString("%1, %2, %3").arg(settings_.number(i.positionMm[0], 1), settings_.number(i.positionMm[1], 1),
-                                        settings_.number(i.positionMm[2], 1));
-    else value = settings_.number(i.valueMm, 3);
+      value = QString("%1, %2, %3")
+                  .arg(settings_.number(i.positionMm[0], 1), settings_.number(i.positionMm[1], 1),
+                       settings_.number(i.positionMm[2], 1));
+    else
+      value = settings_.number(i.valueMm, 3);
     const auto seq = r.seqs.find({static_cast<int>(i.what), i.row, i.col});
     QString flag = QString::fromStdString(i.flag);
     for (const auto& f : flags)
       if (f.what == i.what && f.row == i.row && (f.col == i.col || f.col == 0) && f.text != i.flag)
         flag += (flag.isEmpty() ? "" : "; ") + QString::fromStdString(f.text);
-    const QStringList values{shortName(i.what), QString::number(i.row), QString::number(i.col), value,
-                             seq != r.seqs.end() ? QString::number(seq->second) : QString(), flag};
+    const QStringList values{shortName(i.what),
+                             QString::number(i.row),
+                             QString::number(i.col),
+                             value,
+                             seq != r.seqs.end() ? QString::number(seq->second) : QString(),
+                             flag};
     for (int c = 0; c < values.size(); ++c) {
       auto* w = cell(values[c]);
       if (!flag.isEmpty()) w->setBackground(QColor(255, 224, 178));
@@ -343,8 +360,8 @@ void ReviewView::fill() {
       markers_->setItem(row, c, w);
     }
   }
-  markers_->setHorizontalHeaderLabels({tr("item"), tr("row"), tr("point"), tr("value (%1)").arg(settings_.units),
-                                       tr("event"), tr("flag")});
+  markers_->setHorizontalHeaderLabels(
+      {tr("item"), tr("row"), tr("point"), tr("value (%1)").arg(settings_.units), tr("event"), tr("flag")});
   // Every column at its content's width (a long flag is capped; its cell's tooltip has it
   // whole), and the table at least that wide: no value is cut off.
   QHeaderView* header = markers_->horizontalHeader();
@@ -354,7 +371,8 @@ void ReviewView::fill() {
   markers_->setColumnWidth(last, std::min(markers_->columnWidth(last), 220));
   const int contentWidth = header->length();
   header->setStretchLastSection(true);
-  markers_->setMinimumWidth(contentWidth + markers_->frameWidth() * 2 + markers_->verticalScrollBar()->sizeHint().width() + 2);
+  markers_->setMinimumWidth(contentWidth + markers_->frameWidth() * 2 +
+                            markers_->verticalScrollBar()->sizeHint().width() + 2);
   flags_->clear();
   for (const auto& f : flags) {
     auto* it = new QListWidgetItem(QString("%1 row %2 point %3: %4")
@@ -406,7 +424,8 @@ void ReviewView::fill() {
     if (!ev.empty()) kind = ev.front().kind;
   }
   replayLabel_->setText(tr("%1 / %2 %3").arg(r.replayedEvents).arg(r.totalEvents).arg(QString::fromStdString(kind)));
-  replayLabel_->setToolTip(tr("event %1 of %2: %3").arg(r.replayedEvents).arg(r.totalEvents).arg(QString::fromStdString(kind)));
+  replayLabel_->setToolTip(
+      tr("event %1 of %2: %3").arg(r.replayedEvents).arg(r.totalEvents).arg(QString::fromStdString(kind)));
   fillChart(flags);
   filling_ = false;
 }
@@ -509,8 +528,10 @@ void ReviewView::correctSelected() {
   c.what = item->what;
   c.row = item->row;
   c.col = item->col;
-  if (n == 3) c.positionMm = acq::Vec3{boxes[0]->value(), boxes[1]->value(), boxes[2]->value()};
-  else c.valueMm = boxes[0]->value();
+  if (n == 3)
+    c.positionMm = acq::Vec3{boxes[0]->value(), boxes[1]->value(), boxes[2]->value()};
+  else
+    c.valueMm = boxes[0]->value();
   c.reason = reason->text().toStdString();
   c.who = curator_->text().toStdString();
   (void)correct(c);
@@ -530,7 +551,9 @@ QString ReviewView::correct(const acq::Correction& c) {
   return {};
 }
 
-QString ReviewView::approve(const QString& who) { return decide("approved", tr("not approved"), who, {}); }
+QString ReviewView::approve(const QString& who) {
+  return decide("approved", tr("not approved"), who, {});
+}
 
 QString ReviewView::reject(const QString& who, const QString& why) {
   return decide("rejected", tr("not rejected"), who, why);

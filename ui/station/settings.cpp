@@ -3,10 +3,10 @@
 #include <QDir>
 #include <QFileInfo>
 #include <QFont>
-#include <QStyle>
 #include <QPalette>
 #include <QSettings>
 #include <QStandardPaths>
+#include <QStyle>
 #include <QStyleFactory>
 #include <algorithm>
 
@@ -86,11 +86,14 @@ StationSettings StationSettings::load(const QString& file, QStringList* problems
     const QString name = QString("shortcuts/") + toString(action);
     if (!q.contains(name)) continue;
     const QKeySequence k(q.value(name).toString(), QKeySequence::PortableText);
-    if (k.isEmpty() && !q.value(name).toString().isEmpty()) note(QObject::tr("%1: unknown key '%2'").arg(name, q.value(name).toString()));
-    else key = k;
+    if (k.isEmpty() && !q.value(name).toString().isEmpty())
+      note(QObject::tr("%1: unknown key '%2'").arg(name, q.value(name).toString()));
+    else
+      key = k;
   }
   auto& e = s.engine;
-  e.stillWindowNs = static_cast<std::int64_t>(number("capture/still_window_ms", static_cast<double>(e.stillWindowNs) / 1e6, 50, 2000) * 1e6);
+  e.stillWindowNs = static_cast<std::int64_t>(
+      number("capture/still_window_ms", static_cast<double>(e.stillWindowNs) / 1e6, 50, 2000) * 1e6);
   e.stillToleranceMm = number("capture/still_tolerance_mm", e.stillToleranceMm, 0.1, 10);
   e.spacingTolerance = number("capture/spacing_tolerance", e.spacingTolerance, 0.1, 2.0);
   e.midribToleranceMm = number("capture/midrib_tolerance_mm", e.midribToleranceMm, 1, 100);
@@ -125,7 +128,9 @@ QString StationSettings::number(double mm, int decimalsMm) const {
   return QString::number(mm, 'f', decimalsMm);
 }
 
-QString StationSettings::length(double mm, int decimalsMm) const { return number(mm, decimalsMm) + " " + units; }
+QString StationSettings::length(double mm, int decimalsMm) const {
+  return number(mm, decimalsMm) + " " + units;
+}
 
 void applyTheme(QApplication& app, const StationSettings& s) {
   app.setStyle(QStyleFactory::create("Fusion"));

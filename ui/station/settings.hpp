@@ -19,14 +19,14 @@ enum class Action { Accept, Undo, EndRows, Retake, Pause, Resume };
 [[nodiscard]] QString actionLabel(Action a);   // "Undo last point", …
 
 struct StationSettings {
-  QString units = "mm";          // shown: "mm" or "in" (stored values are always mm)
-  QString theme = "light";       // "light" or "dark" (Qt 6.4 cannot ask the system)
-  double fontScale = 1.25;       // arm's-length reading: 1.0 .. 2.5
-  bool sounds = true;            // accept, reject, step done, device error
-  double volume = 0.8;           // 0 .. 1
+  QString units = "mm";                      // shown: "mm" or "in" (stored values are always mm)
+  QString theme = "light";                   // "light" or "dark" (Qt 6.4 cannot ask the system)
+  double fontScale = 1.25;                   // arm's-length reading: 1.0 .. 2.5
+  bool sounds = true;                        // accept, reject, step done, device error
+  double volume = 0.8;                       // 0 .. 1
   std::map<Action, QKeySequence> shortcuts;  // filled with the defaults below
-  acquisition::Settings engine;  // tolerances and stillness for new sessions
-  QString exportDir;             // last export destination
+  acquisition::Settings engine;              // tolerances and stillness for new sessions
+  QString exportDir;                         // last export destination
 
   StationSettings();
   // Reads from the INI file (missing keys keep their defaults; out-of-range values are

@@ -15,14 +15,18 @@ namespace acq = leafdig::acquisition;
 
 namespace {
 
-QString hex4(std::uint16_t v) { return QString("%1").arg(v, 4, 16, QChar('0')); }
+QString hex4(std::uint16_t v) {
+  return QString("%1").arg(v, 4, 16, QChar('0'));
+}
 
 void fill(QComboBox* box, const std::vector<std::pair<QString, QString>>& choices, const QString& keep) {
   box->clear();
   for (const auto& [label, spec] : choices) box->addItem(label, spec);
   const int at = box->findData(keep);
-  if (at >= 0) box->setCurrentIndex(at);
-  else if (!keep.isEmpty()) box->setEditText(keep);
+  if (at >= 0)
+    box->setCurrentIndex(at);
+  else if (!keep.isEmpty())
+    box->setEditText(keep);
 }
 
 QString specOf(const QComboBox* box) {
@@ -33,22 +37,26 @@ QString specOf(const QComboBox* box) {
 }  // namespace
 
 std::vector<std::pair<QString, QString>> digitizerChoices(const devices::Inventory& inv) {
-  std::vector<std::pair<QString, QString>> out{{QObject::tr("Simulated FASTRAK (virtual technician)"), kSimulatedDigitizer}};
+  std::vector<std::pair<QString, QString>> out{
+      {QObject::tr("Simulated FASTRAK (virtual technician)"), kSimulatedDigitizer}};
   for (const auto& port : inv.serial) {
     const QString path = QString::fromStdString(port.path);
     const devices::Profile* profile = port.vid && port.pid ? devices::matchProfile(*port.vid, *port.pid) : nullptr;
     const QString what = profile ? QString::fromLatin1(profile->name) : QString::fromStdString(port.description);
     for (const char* kind : {"fastrak", "patriot", "liberty", "microscribe"})
-      out.emplace_back(QString("%1 on %2 (%3)").arg(QString::fromLatin1(kind), path, what), QString("%1:%2").arg(kind, path));
+      out.emplace_back(QString("%1 on %2 (%3)").arg(QString::fromLatin1(kind), path, what),
+                       QString("%1:%2").arg(kind, path));
   }
   return out;
 }
 
 std::vector<std::pair<QString, QString>> caliperChoices(const devices::Inventory& inv) {
-  std::vector<std::pair<QString, QString>> out{{QObject::tr("Simulated Sylvac (virtual technician)"), kSimulatedCaliper}};
+  std::vector<std::pair<QString, QString>> out{
+      {QObject::tr("Simulated Sylvac (virtual technician)"), kSimulatedCaliper}};
   for (const auto& h : inv.hid) {
     const devices::Profile* profile = devices::matchProfile(h.vid, h.pid);
-    const QString what = profile ? QString::fromLatin1(profile->name) : QString::fromStdString(h.manufacturer + " " + h.product);
+    const QString what =
+        profile ? QString::fromLatin1(profile->name) : QString::fromStdString(h.manufacturer + " " + h.product);
     out.emplace_back(QString("HID %1:%2 (%3)").arg(hex4(h.vid), hex4(h.pid), what.trimmed()),
                      QString("hid:%1:%2").arg(hex4(h.vid), hex4(h.pid)));
   }
@@ -108,7 +116,8 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
     c->setMinimumContentsLength(34);
   }
   rescan(inventory);
-  fill(digitizer_, digitizerChoices(inventory), d.simulated ? kSimulatedDigitizer : QString::fromStdString(d.digitizer));
+  fill(digitizer_, digitizerChoices(inventory),
+       d.simulated ? kSimulatedDigitizer : QString::fromStdString(d.digitizer));
   fill(caliper_, caliperChoices(inventory), d.simulated ? kSimulatedCaliper : QString::fromStdString(d.caliper));
   auto* rescanButton = new QPushButton(tr("Rescan devices"));
   connect(rescanButton, &QPushButton::clicked, this, [this] { rescan(devices::takeInventory()); });
@@ -177,8 +186,9 @@ std::optional<SetupChoice> SetupDialog::choice(QString* problem) const {
   c.simulatedDigitizer = d == kSimulatedDigitizer;
   c.simulatedCaliper = k == kSimulatedCaliper;
   if (c.simulatedDigitizer != c.simulatedCaliper)
-    return fail(tr("The simulated digitizer and caliper work together (a virtual technician uses both): choose both "
-                   "or neither."));
+    return fail(
+        tr("The simulated digitizer and caliper work together (a virtual technician uses both): choose both "
+           "or neither."));
   s.simulated = c.simulatedDigitizer;
   try {
     if (!c.simulatedDigitizer) (void)acq::parseDigitizerSpec(d.toStdString());

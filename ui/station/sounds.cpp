@@ -1,8 +1,8 @@
 #include "sounds.hpp"
 
 #include <QApplication>
-#include <QFile>
 #include <QAudioDevice>
+#include <QFile>
 #include <QMediaDevices>
 #include <QtEndian>
 #include <cmath>
@@ -49,9 +49,9 @@ QByteArray synthesizeWav(const std::vector<std::pair<double, double>>& tones, in
 
 Sounds::Sounds(QObject* parent) : QObject(parent) {
   const std::array<std::vector<std::pair<double, double>>, 4> tones{{
-      {{1318.5, 0.07}},                                         // accept: one short high tick
-      {{220.0, 0.12}, {0, 0.05}, {220.0, 0.12}},                // reject: two low buzzes
-      {{880.0, 0.08}, {1108.7, 0.08}, {1318.5, 0.12}},          // step done: rising triad
+      {{1318.5, 0.07}},                                              // accept: one short high tick
+      {{220.0, 0.12}, {0, 0.05}, {220.0, 0.12}},                     // reject: two low buzzes
+      {{880.0, 0.08}, {1108.7, 0.08}, {1318.5, 0.12}},               // step done: rising triad
       {{660.0, 0.15}, {440.0, 0.15}, {660.0, 0.15}, {440.0, 0.15}},  // device error: two-tone alarm
   }};
   for (std::size_t i = 0; i < tones.size(); ++i) {

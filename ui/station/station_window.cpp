@@ -1,19 +1,19 @@
 #include "station_window.hpp"
 
 #include <QApplication>
-#include <QPushButton>
-#include <fstream>
 #include <QHBoxLayout>
 #include <QKeyEvent>
 #include <QKeySequence>
 #include <QMenu>
 #include <QMessageBox>
+#include <QPushButton>
 #include <QScreen>
 #include <QShortcut>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QToolBar>
 #include <QVBoxLayout>
+#include <fstream>
 
 #include "export_dialog.hpp"
 #include "leafdig/devices/registry.hpp"
@@ -245,16 +245,20 @@ QToolButton* StationWindow::chip(Role role) {
     menu->addAction(tr("Connect / disconnect"), this, [this, role] { toggleDevice(role); });
     b->setMenu(menu);
     b->setText(role == Role::Digitizer ? tr("Digitizer · not started") : tr("Caliper · not started"));
-    b->setStyleSheet("QToolButton { padding:6px 10px; border-radius:6px; " + stateColour(devices::LinkState::Disconnected) + "}");
+    b->setStyleSheet("QToolButton { padding:6px 10px; border-radius:6px; " +
+                     stateColour(devices::LinkState::Disconnected) + "}");
     static_cast<QHBoxLayout*>(chipRow_->layout())->insertWidget(role == Role::Digitizer ? 0 : 1, b);
   }
   return b;
 }
 
-QString StationWindow::chipText(Role role) const { return chips_.at(role)->text(); }
+QString StationWindow::chipText(Role role) const {
+  return chips_.at(role)->text();
+}
 
 QString StationWindow::chipLabel(const devices::DeviceStatus& s, Role role) {
-  QString text = QString::fromStdString(s.device.empty() ? (role == Role::Digitizer ? "Digitizer" : "Caliper") : s.device);
+  QString text =
+      QString::fromStdString(s.device.empty() ? (role == Role::Digitizer ? "Digitizer" : "Caliper") : s.device);
   text += " · " + QString::fromLatin1(devices::toString(s.state));
   if (s.state == devices::LinkState::Streaming || s.state == devices::LinkState::Warning) {
     if (role == Role::Digitizer || s.rateHz > 0) text += QString(" · %1 Hz").arg(s.rateHz, 0, 'f', 0);
@@ -280,8 +284,10 @@ QString StationWindow::chipLabel(const devices::DeviceStatus& s, Role role) {
 void StationWindow::toggleDevice(Role role) {
   if (!run_) return;
   acq::DeviceSet& devices = run_->devices();
-  if (devices.connected(role)) devices.disconnect(role);
-  else devices.connect(role);
+  if (devices.connected(role))
+    devices.disconnect(role);
+  else
+    devices.connect(role);
   refreshDevices();
 }
 
@@ -296,7 +302,8 @@ void StationWindow::refreshDevices() {
                   QString("\nreconnects: %1").arg(s.reconnects));
     b->setStyleSheet("QToolButton { padding:6px 10px; border-radius:6px; " + stateColour(s.state) + "}");
     const auto was = lastState_.find(role);
-    if ((s.state == devices::LinkState::Error || (s.state == devices::LinkState::Disconnected && run_->devices().connected(role))) &&
+    if ((s.state == devices::LinkState::Error ||
+         (s.state == devices::LinkState::Disconnected && run_->devices().connected(role))) &&
         (was == lastState_.end() || was->second != s.state))
       sounds_->play(Cue::DeviceError);
     lastState_[role] = s.state;
@@ -309,7 +316,9 @@ void StationWindow::refreshCursor() {
   if (s) preview_->setStylusCursor(acq::Vec3{s->positionMm[0], s->positionMm[1], s->positionMm[2]});
 }
 
-std::string StationWindow::dbPath() const { return options_.db.empty() ? db::Store::defaultPath() : options_.db; }
+std::string StationWindow::dbPath() const {
+  return options_.db.empty() ? db::Store::defaultPath() : options_.db;
+}
 
 std::vector<db::SessionInfo> StationWindow::interruptedSessions() const {
   std::vector<db::SessionInfo> out;
@@ -393,10 +402,12 @@ bool StationWindow::start() {
     acq::RunObserver observer;
     // Called on the capture thread: hand over to the UI thread.
     observer.onFeedback = [this](const acq::Feedback& f) {
-      QMetaObject::invokeMethod(this, [this, f] { applyFeedback(f); }, Qt::QueuedConnection);
+      QMetaObject::invokeMethod(
+          this, [this, f] { applyFeedback(f); }, Qt::QueuedConnection);
     };
     observer.onSnapshot = [this](const acq::Snapshot& s) {
-      QMetaObject::invokeMethod(this, [this, s] { applySnapshot(s); }, Qt::QueuedConnection);
+      QMetaObject::invokeMethod(
+          this, [this, s] { applySnapshot(s); }, Qt::QueuedConnection);
     };
     run_ = std::make_unique<acq::CaptureRun>(r, observer);
     sessionId_ = run_->sessionId();
@@ -479,7 +490,8 @@ void StationWindow::fillSteps(const acq::Snapshot& s) {
   };
   std::vector<Group> groups;
   const auto groupOf = [](acq::What w) {
-    const bool thickness = w == acq::What::MidribThickness || w == acq::What::VeinOriginThickness || w == acq::What::PointThickness;
+    const bool thickness =
+        w == acq::What::MidribThickness || w == acq::What::VeinOriginThickness || w == acq::What::PointThickness;
     return thickness ? acq::What::MidribThickness : w;
   };
   for (const acq::PlannedStep& p : s.plan) {
@@ -516,7 +528,8 @@ void StationWindow::fillSteps(const acq::Snapshot& s) {
     doneSteps += g.done;
     totalSteps += g.total;
   }
-  statusBar()->showMessage(tr("session %1 · %2 of %3 steps · %4 items").arg(s.session).arg(doneSteps).arg(totalSteps).arg(s.items.size()));
+  statusBar()->showMessage(
+      tr("session %1 · %2 of %3 steps · %4 items").arg(s.session).arg(doneSteps).arg(totalSteps).arg(s.items.size()));
 }
 
 void StationWindow::applySnapshot(const acq::Snapshot& s) {

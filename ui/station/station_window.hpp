@@ -30,13 +30,13 @@ class ReviewView;
 
 struct StationOptions {
   std::string db;
-  bool simulate = false;         // simulated FASTRAK + Sylvac and a virtual technician
+  bool simulate = false;  // simulated FASTRAK + Sylvac and a virtual technician
   double speed = 1.0;
   std::uint64_t seed = 1;
-  std::string markers;           // the simulated leaf
+  std::string markers;              // the simulated leaf
   acquisition::SessionSetup setup;  // project, plant, …, devices (ignored when simulating)
-  std::int64_t resume = 0;       // a session to continue; 0: a new one
-  QString settingsFile;          // empty: defaultSettingsFile()
+  std::int64_t resume = 0;          // a session to continue; 0: a new one
+  QString settingsFile;             // empty: defaultSettingsFile()
 };
 
 class StationWindow : public QMainWindow {

@@ -26,7 +26,9 @@ QMatrix4x4 ViewFraming::matrix(float aspect) const {
   return projection * view;
 }
 
-QVector3D ViewFraming::toNdc(const QVector3D& p, float aspect) const { return matrix(aspect).map(p); }
+QVector3D ViewFraming::toNdc(const QVector3D& p, float aspect) const {
+  return matrix(aspect).map(p);
+}
 
 float yawAcross(const QVector3D& tipToBase) {
   // Rotating (x, z) by θ about +y gives x' = x cos θ + z sin θ, z' = z cos θ − x sin θ:

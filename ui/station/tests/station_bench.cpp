@@ -58,7 +58,9 @@ void fail(benchmark::State& state, const std::string& why) {
   state.SkipWithError(why.c_str());
 }
 
-double ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+double ms(Clock::duration d) {
+  return std::chrono::duration<double, std::milli>(d).count();
+}
 
 // p50/p99/max of the operation, and p99 against its budget.
 void reportAgainstBudget(benchmark::State& state, const std::vector<double>& ms, double budgetMs) {
@@ -80,7 +82,8 @@ acq::Snapshot leafSnapshot(int sample, const std::string& resolution, int dropRo
   for (std::size_t r = 0; r < markers.rows.size(); ++r)
     for (std::size_t c = 0; c < markers.rows[r].pointsMm.size(); ++c) {
       const auto& p = markers.rows[r].pointsMm[c];
-      s.items.push_back({acq::What::Marker, static_cast<int>(r + 1), static_cast<int>(c + 1), {p.x(), p.y(), p.z()}, 0, {}, {}});
+      s.items.push_back(
+          {acq::What::Marker, static_cast<int>(r + 1), static_cast<int>(c + 1), {p.x(), p.y(), p.z()}, 0, {}, {}});
     }
   s.completeRows = static_cast<int>(markers.rows.size());
   s.preview = std::move(preview);
@@ -159,7 +162,8 @@ void BM_SnapshotToScreen(benchmark::State& state) {
     const acq::Snapshot& s = snapshots[k++ % 2];
     const int before = w.swapped;
     const auto t0 = Clock::now();
-    QMetaObject::invokeMethod(&w.widget, [&w, &s] { w.widget.show(s); }, Qt::QueuedConnection);
+    QMetaObject::invokeMethod(
+        &w.widget, [&w, &s] { w.widget.show(s); }, Qt::QueuedConnection);
     if (!w.waitForFrame(before)) {
       fail(state, "no frame reached the screen within 10 s");
       break;
@@ -199,7 +203,7 @@ FirstFrame startStation(const fs::path& dir, int run) {
                                    0644);
   const std::string db = (dir / ("station-" + std::to_string(run) + ".sqlite")).string();
   const std::string ini = (dir / "station.ini").string();
-  std::vector<std::string> args = {LEAFDIG_STATION_EXE, "--simulate", "--db", db, "--settings", ini,
+  std::vector<std::string> args = {LEAFDIG_STATION_EXE,       "--simulate", "--db", db, "--settings", ini,
                                    "--quit-after-first-frame"};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());

@@ -7,25 +7,25 @@
 #include <QChart>
 #include <QChartView>
 #include <QFile>
-#include <QSettings>
-#include <QTest>
-#include <QLabel>
 #include <QGraphicsScene>
 #include <QGraphicsSimpleTextItem>
 #include <QGraphicsTextItem>
-#include <QListWidget>
 #include <QHeaderView>
+#include <QLabel>
+#include <QListWidget>
 #include <QScrollBar>
+#include <QSettings>
 #include <QTableWidget>
+#include <QTest>
 #include <QValueAxis>
 #include <filesystem>
 #include <functional>
 #include <optional>
 
-#include "leafdig/acquisition/session.hpp"
-#include "leafdig/model/markers_json.hpp"
 #include "export_dialog.hpp"
 #include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/model/markers_json.hpp"
 #include "review_view.hpp"
 #include "settings_dialog.hpp"
 #include "setup_dialog.hpp"
@@ -63,7 +63,8 @@ TEST(StationWindow, TheBannerStepListAndFeedbackFollowTheSession) {
   setup.plant = "pl";
   const auto id = acq::CaptureSession::create(store, setup);
   acq::CaptureSession session(store, id);
-  const auto leaf = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
+  const auto leaf =
+      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
 
   leafdig::station::StationOptions options;
   options.settingsFile = QString::fromStdString((dir / "station.ini").string());
@@ -73,7 +74,9 @@ TEST(StationWindow, TheBannerStepListAndFeedbackFollowTheSession) {
   EXPECT_EQ(w.bannerText().toStdString(), "Tip: touch the leaf tip and press");
   std::int64_t t = 0;
   ASSERT_EQ(press(session, t, leaf.tipMm).at(0).kind, acq::Feedback::Kind::Accepted);
-  for (int c = 0; c < 7; ++c) ASSERT_EQ(press(session, t, leaf.rows[0].pointsMm[static_cast<std::size_t>(c)]).at(0).kind, acq::Feedback::Kind::Accepted);
+  for (int c = 0; c < 7; ++c)
+    ASSERT_EQ(press(session, t, leaf.rows[0].pointsMm[static_cast<std::size_t>(c)]).at(0).kind,
+              acq::Feedback::Kind::Accepted);
   ASSERT_EQ(press(session, t, leaf.rows[1].pointsMm[0]).at(0).kind, acq::Feedback::Kind::Accepted);
   w.applySnapshot(session.snapshot());
   EXPECT_EQ(w.bannerText().toStdString(), "Row 2 · point 2 of 7 · right lateral vein");
@@ -115,7 +118,6 @@ TEST(StationWindow, TheBannerStepListAndFeedbackFollowTheSession) {
   fs::remove_all(dir);
 }
 
-
 fs::path freshDir(const std::string& tag) {
   const fs::path dir = fs::temp_directory_path() / ("leafdig-station-" + tag + "-" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -127,7 +129,8 @@ fs::path freshDir(const std::string& tag) {
 // `shown` sees every snapshot along the way.
 std::int64_t completeLeaf(leafdig::db::Store& store, std::optional<double> areaMm2 = {}, std::size_t rows = 3,
                           const std::function<void(const acq::Snapshot&)>& shown = {}) {
-  const auto leaf = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
+  const auto leaf =
+      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
   acq::SessionSetup setup;
   setup.project = "p";
   setup.plant = "pl";
@@ -380,7 +383,8 @@ TEST(ExportBatch, ExportsEachSessionReportsTheOnesThatCannotAndCancels) {
   EXPECT_EQ(calls, 3);
   for (const auto& p : result.written) EXPECT_TRUE(fs::exists(p)) << p;
   fs::remove_all(dir / "out");
-  const auto cancelled = leafdig::station::exportBatch(db, {done, unfinished}, r, [](int, int, const QString&) { return false; });
+  const auto cancelled =
+      leafdig::station::exportBatch(db, {done, unfinished}, r, [](int, int, const QString&) { return false; });
   EXPECT_TRUE(cancelled.cancelled);
   EXPECT_TRUE(cancelled.written.empty());
   EXPECT_FALSE(fs::exists(dir / "out"));
@@ -413,7 +417,8 @@ TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
     for (int i = 0; i < 300 && !ok(); ++i) QTest::qWait(20);
     return ok();
   };
-  EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Digitizer).contains("Hz"); })) << w.chipText(Role::Digitizer).toStdString();
+  EXPECT_TRUE(waitFor([&] { return w.chipText(Role::Digitizer).contains("Hz"); }))
+      << w.chipText(Role::Digitizer).toStdString();
   EXPECT_TRUE(w.chipText(Role::Digitizer).contains("streaming"));
   EXPECT_TRUE(w.chipText(Role::Digitizer).contains("s ago"));
   EXPECT_TRUE(waitFor([&] { return w.lastSnapshot().has_value(); }));
@@ -482,8 +487,9 @@ TEST(StationLayout, NothingIsCutOffAt1366x768And1920x1080) {
     // A long rejection reason wraps instead of widening the window.
     acq::Feedback rejected;
     rejected.kind = acq::Feedback::Kind::Rejected;
-    rejected.text = "the stylus moved 3.2 mm while the button was down: hold it still on the marker for half a second "
-                    "before pressing, then press and release without pushing the leaf";
+    rejected.text =
+        "the stylus moved 3.2 mm while the button was down: hold it still on the marker for half a second "
+        "before pressing, then press and release without pushing the leaf";
     w.applyFeedback(rejected);
     QApplication::processEvents();
     EXPECT_LE(w.width(), size.width());
@@ -495,8 +501,8 @@ TEST(StationLayout, NothingIsCutOffAt1366x768And1920x1080) {
     for (int i = 0; i < steps->count(); ++i) {
       const QListWidgetItem* item = steps->item(i);
       const QRect cellRect = steps->visualItemRect(item);
-      const QRect need = QFontMetrics(item->font()).boundingRect(QRect(0, 0, listWidth - 8, 10000), Qt::TextWordWrap,
-                                                                 item->text());
+      const QRect need =
+          QFontMetrics(item->font()).boundingRect(QRect(0, 0, listWidth - 8, 10000), Qt::TextWordWrap, item->text());
       EXPECT_LE(need.height(), cellRect.height()) << item->text().toStdString();
       EXPECT_LE(cellRect.right(), listWidth) << item->text().toStdString();
     }
@@ -532,9 +538,12 @@ TEST(StationLayout, NothingIsCutOffAt1366x768And1920x1080) {
     int texts = 0;
     for (QGraphicsItem* item : chart->scene()->items()) {
       QString text;
-      if (auto* t = dynamic_cast<QGraphicsTextItem*>(item)) text = t->toPlainText();
-      else if (auto* st = dynamic_cast<QGraphicsSimpleTextItem*>(item)) text = st->text();
-      else continue;
+      if (auto* t = dynamic_cast<QGraphicsTextItem*>(item))
+        text = t->toPlainText();
+      else if (auto* st = dynamic_cast<QGraphicsSimpleTextItem*>(item))
+        text = st->text();
+      else
+        continue;
       if (!item->isVisible() || text.isEmpty()) continue;
       ++texts;
       EXPECT_FALSE(text.contains(QChar(0x2026)) || text.contains("...")) << "chart text cut: " << text.toStdString();
@@ -549,8 +558,10 @@ TEST(StationLayout, ADeviceChipWrapsALongRemedyIntoShortLines) {
   leafdig::devices::DeviceStatus s;
   s.device = "Sylvac";
   s.state = leafdig::devices::LinkState::Error;
-  s.message = "cannot open /dev/serial/by-id/usb-Prolific_Technology_Inc._USB-Serial_Controller-if00-port0: Permission denied";
-  s.remedy = "install the udev rule (sudo cmake --install build/release --prefix /usr), then unplug and replug the gauge";
+  s.message =
+      "cannot open /dev/serial/by-id/usb-Prolific_Technology_Inc._USB-Serial_Controller-if00-port0: Permission denied";
+  s.remedy =
+      "install the udev rule (sudo cmake --install build/release --prefix /usr), then unplug and replug the gauge";
   const QString label = leafdig::station::StationWindow::chipLabel(s, acq::DeviceSet::Role::Caliper);
   EXPECT_TRUE(label.startsWith("Sylvac · error")) << label.toStdString();
   EXPECT_TRUE(label.contains("replug the gauge")) << label.toStdString();  // nothing dropped
@@ -587,7 +598,8 @@ TEST(PreviewFraming, TheGrowingLeafStaysFramedAndTheViewMovesOnlyWhenItOutgrowsI
       // A move, when there is one, glides: half-way through it is neither the old nor the new view.
       if (preview.framingChanges() != changesBefore && preview.animating()) {
         preview.finishAnimation();
-      } else if (before && (before->distance != preview.framing().distance || before->centre != preview.framing().centre)) {
+      } else if (before &&
+                 (before->distance != preview.framing().distance || before->centre != preview.framing().centre)) {
         ++movedWithoutReframing;
       }
       offScreen += !onScreen(s, preview.framing(), 0.95);
@@ -598,16 +610,17 @@ TEST(PreviewFraming, TheGrowingLeafStaysFramedAndTheViewMovesOnlyWhenItOutgrowsI
   std::printf("framing: %d moves over %d snapshots\n", preview.framingChanges(), snapshots);
   EXPECT_EQ(offScreen, 0);
   EXPECT_EQ(movedWithoutReframing, 0);
-  EXPECT_GE(preview.framingChanges(), 2);               // it did follow the leaf…
+  EXPECT_GE(preview.framingChanges(), 2);  // it did follow the leaf…
   EXPECT_LE(preview.framingChanges(), 7);  // …without moving at every row (10 rows, 72 snapshots)
   // The whole leaf fills a good part of the view.
   const auto f = preview.framing();
   float xLo = 1, xHi = -1, yLo = 1, yHi = -1;
-  const auto leaf = leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
+  const auto leaf =
+      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
   for (const auto& row : leaf.rows)
     for (const auto& p : row.pointsMm) {
-      const QVector3D n = f.toNdc(QVector3D(static_cast<float>(p.x()), static_cast<float>(p.z()), static_cast<float>(-p.y())),
-                                  900.0f / 600.0f);
+      const QVector3D n = f.toNdc(
+          QVector3D(static_cast<float>(p.x()), static_cast<float>(p.z()), static_cast<float>(-p.y())), 900.0f / 600.0f);
       xLo = std::min(xLo, n.x());
       xHi = std::max(xHi, n.x());
       yLo = std::min(yLo, n.y());

@@ -34,8 +34,8 @@ struct Command {
 [[nodiscard]] Command parseCommand(const std::string& line);
 
 struct LoopListener {
-  std::function<void(const Feedback&)> onFeedback;   // after the event is committed
-  std::function<void(const Snapshot&)> onSnapshot;   // after every committed change
+  std::function<void(const Feedback&)> onFeedback;  // after the event is committed
+  std::function<void(const Snapshot&)> onSnapshot;  // after every committed change
 };
 
 class CaptureLoop {

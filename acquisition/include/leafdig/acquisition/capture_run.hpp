@@ -27,9 +27,9 @@
 namespace leafdig::acquisition {
 
 struct RunRequest {
-  std::string db;                 // SQLite file; empty: the station's default file
-  std::int64_t resume = 0;        // an open session to continue; 0: a new one from `setup`
-  SessionSetup setup;             // a new session: what, who, how, which devices (or simulated)
+  std::string db;           // SQLite file; empty: the station's default file
+  std::int64_t resume = 0;  // an open session to continue; 0: a new one from `setup`
+  SessionSetup setup;       // a new session: what, who, how, which devices (or simulated)
   // Resuming with real devices: ports that replace the recorded ones (a cable moved).
   std::string digitizer, caliper;
   // Simulation (setup.simulated for a new session; a resumed session that was simulated is
@@ -41,7 +41,7 @@ struct RunRequest {
   // records it; a resumed session goes on with the leaf it recorded, and a different file
   // here is refused. Empty: the recorded leaf, else the default sample.
   std::string leafFile;
-  bool previews = true;           // snapshots carry the live preview model
+  bool previews = true;  // snapshots carry the live preview model
 };
 
 struct RunObserver {

@@ -28,17 +28,17 @@ enum class Mode { Standard, Full, Small };
 enum class Order { Sequential, Interleaved };
 [[nodiscard]] const char* toString(Mode m);
 [[nodiscard]] const char* toString(Order o);
-[[nodiscard]] Mode modeFromString(const std::string& s);    // throws std::invalid_argument
+[[nodiscard]] Mode modeFromString(const std::string& s);  // throws std::invalid_argument
 [[nodiscard]] Order orderFromString(const std::string& s);
 
 struct Settings {
   Mode mode = Mode::Standard;
   Order order = Order::Sequential;
-  double doubleTapMm = 2.0;                     // closer to the previous point…
-  std::int64_t doubleTapNs = 500'000'000;       // …and pressed this soon after it: a double tap
-  double stillToleranceMm = 1.5;                // samples around a press within this of their mean
-  std::int64_t stillWindowNs = 250'000'000;     // …taken over this long before the press
-  std::int64_t longPressNs = 1'200'000'000;     // a press this long ends the rows
+  double doubleTapMm = 2.0;                  // closer to the previous point…
+  std::int64_t doubleTapNs = 500'000'000;    // …and pressed this soon after it: a double tap
+  double stillToleranceMm = 1.5;             // samples around a press within this of their mean
+  std::int64_t stillWindowNs = 250'000'000;  // …taken over this long before the press
+  std::int64_t longPressNs = 1'200'000'000;  // a press this long ends the rows
   double minThicknessMm = 0.02, maxThicknessMm = 20.0;
   std::int64_t repeatWindowNs = 2'000'000'000;  // same reading again this soon: flagged
   double spacingTolerance = 0.6;                // neighbours within ±60 % of the row's spacing
@@ -50,9 +50,9 @@ struct Settings {
 };
 
 enum class What { Board, Tip, Marker, MidribThickness, VeinOriginThickness, EdgeThickness, PointThickness, Done };
-[[nodiscard]] const char* toString(What w);  // "board", "tip", "marker", "midrib_thickness", …
+[[nodiscard]] const char* toString(What w);               // "board", "tip", "marker", "midrib_thickness", …
 [[nodiscard]] What whatFromString(const std::string& s);  // throws std::invalid_argument
-[[nodiscard]] bool isStylusItem(What w);  // board, tip, marker
+[[nodiscard]] bool isStylusItem(What w);                  // board, tip, marker
 
 struct Step {
   What what = What::Tip;
@@ -70,10 +70,10 @@ struct PlannedStep {
 struct Item {
   What what = What::Tip;
   int row = 0, col = 0;
-  Vec3 positionMm{};  // stylus items
-  double valueMm = 0; // caliper items (thickness)
+  Vec3 positionMm{};   // stylus items
+  double valueMm = 0;  // caliper items (thickness)
   std::string raw;
-  std::string flag;   // e.g. "repeated reading"; empty when clean
+  std::string flag;  // e.g. "repeated reading"; empty when clean
 };
 
 // Helpers on a list of items (the engine's, or a snapshot's).
@@ -111,8 +111,8 @@ class Engine {
   Decision onStylus(const StylusInput& s);
   Decision onCaliper(const CaliperInput& c);
   // Commands; like the inputs, they decide and apply (the returned decision is what to store).
-  Decision undo();      // the last accepted item (or the end of rows)
-  Decision endRows();   // the key equivalent of the long press
+  Decision undo();     // the last accepted item (or the end of rows)
+  Decision endRows();  // the key equivalent of the long press
   // Takes a chosen item out and makes it the next step; the next accepted input replaces it.
   // undo() before that puts the old item back.
   Decision retake(What what, int row, int col);

@@ -31,8 +31,8 @@ struct ProvisionalThickness {
                                            const model::LeafInfo& leaf = {});
 
 struct Preview {
-  model::LeafModel model;  // veins so far; blade.controlNet empty until two rows are complete
-  model::LeafMesh mesh;    // at the "preview" resolution
+  model::LeafModel model;             // veins so far; blade.controlNet empty until two rows are complete
+  model::LeafMesh mesh;               // at the "preview" resolution
   bool provisionalThickness = false;  // some radii are ProvisionalThickness, not measured
   std::vector<std::string> notes;     // why a part is missing (e.g. a degenerate row)
 };

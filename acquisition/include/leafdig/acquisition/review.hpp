@@ -21,9 +21,9 @@ namespace leafdig::acquisition {
 struct ReviewedSession {
   db::SessionInfo info;
   Settings settings;
-  Engine engine;                                      // after the events replayed
+  Engine engine;                                           // after the events replayed
   std::map<std::tuple<int, int, int>, std::int64_t> seqs;  // event that put each item in
-  std::int64_t replayedEvents = 0;                    // how many events the engine has seen
+  std::int64_t replayedEvents = 0;                         // how many events the engine has seen
   std::int64_t totalEvents = 0;
 };
 
@@ -62,10 +62,10 @@ std::int64_t review(db::Store& store, std::int64_t id, const std::string& status
                     const std::string& why);
 
 struct ExportRequest {
-  std::vector<std::string> formats;  // glb obj ply stl model markers csv; empty: all
-  std::string frame = "leaf";        // or "digitizer"
-  std::string resolution = "export"; // a MeshResolution preset
-  std::string blade = "interp";      // approx, bezier, nurbs
+  std::vector<std::string> formats;   // glb obj ply stl model markers csv; empty: all
+  std::string frame = "leaf";         // or "digitizer"
+  std::string resolution = "export";  // a MeshResolution preset
+  std::string blade = "interp";       // approx, bezier, nurbs
   std::string outDir;
 };
 struct ExportResult {

@@ -28,15 +28,15 @@ namespace leafdig::acquisition {
 
 struct SessionSetup {
   std::string project, plant;
-  int leafPosition = 1;          // on the stem, from the base
-  std::string leafType;          // free text ("cauline", "lower", …); optional
+  int leafPosition = 1;                   // on the stem, from the base
+  std::string leafType;                   // free text ("cauline", "lower", …); optional
   std::optional<double> measuredAreaMm2;  // from a leaf area meter; drives the area constraint
   std::string operatorName = "technician";
-  std::string station;           // empty: this machine's host name
+  std::string station;  // empty: this machine's host name
   Settings settings;
   std::string digitizer, caliper;  // "fastrak:/dev/ttyUSB0", "sylvac:/dev/ttyUSB1", "hid:0fe7:4001"
   bool simulated = false;
-  double timeScale = 1.0;        // simulated captures may run faster than real time
+  double timeScale = 1.0;  // simulated captures may run faster than real time
   // Simulated sessions: the leaf the virtual technician digitizes, kept with the session so
   // that a resumed simulation goes on with the same leaf.
   std::optional<model::MarkerSet> simulatedLeaf;
@@ -45,20 +45,30 @@ struct SessionSetup {
 // What a front end announces (after it was committed; seq is the event's number).
 struct Feedback {
   enum class Kind {
-    Accepted, Rejected, Undone, RowsEnded, RowsReopened, RetakeStarted, RetakeCancelled,
-    Paused, Resumed, Complete, Abandoned, Device
+    Accepted,
+    Rejected,
+    Undone,
+    RowsEnded,
+    RowsReopened,
+    RetakeStarted,
+    RetakeCancelled,
+    Paused,
+    Resumed,
+    Complete,
+    Abandoned,
+    Device
   };
   Kind kind = Kind::Rejected;
   std::int64_t seq = 0;        // 0 only for a pause caused by the store (nothing was written)
   std::int64_t undoneSeq = 0;  // Undone / RetakeStarted: the event whose item is taken out
   Item item;
-  std::string text;            // reason, pause message, device message
+  std::string text;  // reason, pause message, device message
 };
 [[nodiscard]] const char* toString(Feedback::Kind k);  // "accepted", "rejected", "undone", …
 
 struct Snapshot {
   std::int64_t session = 0;
-  std::uint64_t version = 0;   // grows with every committed change
+  std::uint64_t version = 0;  // grows with every committed change
   Step step;
   std::string prompt;
   std::vector<PlannedStep> plan;  // Engine::plan()
@@ -66,7 +76,7 @@ struct Snapshot {
   int completeRows = 0;
   bool rowsEnded = false, complete = false, retaking = false, paused = false;
   std::string pauseReason;
-  std::string status;          // the session's status in the store
+  std::string status;                      // the session's status in the store
   std::shared_ptr<const Preview> preview;  // null when not requested
 };
 
@@ -99,8 +109,8 @@ class CaptureSession {
   std::vector<Feedback> resume(std::int64_t monoNs = 0);
   std::vector<Feedback> abandon(const std::string& why, std::int64_t monoNs = 0);
   // A device changed state (connected, lost, warning): recorded, shown to the operator.
-  std::vector<Feedback> deviceStatus(const std::string& device, const std::string& state,
-                                     const std::string& message, std::int64_t monoNs = 0);
+  std::vector<Feedback> deviceStatus(const std::string& device, const std::string& state, const std::string& message,
+                                     std::int64_t monoNs = 0);
 
   [[nodiscard]] Snapshot snapshot(bool withPreview = true) const;
   [[nodiscard]] std::int64_t id() const { return id_; }

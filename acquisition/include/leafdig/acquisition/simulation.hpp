@@ -21,9 +21,9 @@
 namespace leafdig::acquisition {
 
 struct SimulationOptions {
-  double speed = 1.0;          // time scale of the operator and the devices
+  double speed = 1.0;  // time scale of the operator and the devices
   std::uint64_t seed = 1;
-  std::string digitizerFaults; // FaultPlan spec for the digitizer (e.g. "unplug=0.002:0.5")
+  std::string digitizerFaults;  // FaultPlan spec for the digitizer (e.g. "unplug=0.002:0.5")
   std::string caliperFaults;
   bool mistakes = true;
   std::string linkDir = "/tmp";  // where the stable symlinks to the ptys go

@@ -38,21 +38,21 @@ class StoreError : public std::runtime_error {
 struct Projection {
   enum class Kind { Marker, Thickness };
   Kind kind = Kind::Marker;
-  std::optional<int> row, col;             // 1-based as in SPEC §1; absent for the tip / d
-  std::string what;                        // "tip", "marker", "midrib_thickness", …
-  std::array<double, 3> positionMm{};      // markers
-  double valueMm = 0;                      // thickness readings
-  std::string raw;                         // device text it came from
+  std::optional<int> row, col;         // 1-based as in SPEC §1; absent for the tip / d
+  std::string what;                    // "tip", "marker", "midrib_thickness", …
+  std::array<double, 3> positionMm{};  // markers
+  double valueMm = 0;                  // thickness readings
+  std::string raw;                     // device text it came from
 };
 
 struct EventInput {
-  std::string kind;          // "accepted", "rejected", "undone", "prompt", "status", …
+  std::string kind;  // "accepted", "rejected", "undone", "prompt", "status", …
   std::string payloadJson = "{}";
-  std::string raw;           // raw device bytes/lines (printable form)
-  std::int64_t monoNs = 0;   // monotonic capture time
+  std::string raw;          // raw device bytes/lines (printable form)
+  std::int64_t monoNs = 0;  // monotonic capture time
   std::optional<Projection> projection;
-  std::optional<std::int64_t> retracts;  // seq whose projection rows this event removes (undo)
-  std::optional<std::string> setsStatus; // the session's new status, in the same transaction
+  std::optional<std::int64_t> retracts;   // seq whose projection rows this event removes (undo)
+  std::optional<std::string> setsStatus;  // the session's new status, in the same transaction
 };
 
 struct Event {

@@ -26,14 +26,14 @@ enum class LinkState { Disconnected, Connecting, Streaming, Warning, Error };
 
 struct DeviceStatus {
   LinkState state = LinkState::Disconnected;
-  std::string device;   // "FASTRAK", "Sylvac"
-  std::string where;    // port path or USB id
-  std::string message;  // what is happening, in words
-  std::string remedy;   // what to do (errors and warnings)
-  double rateHz = 0;              // delivered samples per second (recent)
-  double lastSampleAgeS = -1;     // seconds since the last sample, -1 before the first
-  DecodeStats stats;              // the codec's counters (this connection + earlier ones)
-  std::uint64_t filtered = 0;     // stylus samples withheld by the spike filter
+  std::string device;          // "FASTRAK", "Sylvac"
+  std::string where;           // port path or USB id
+  std::string message;         // what is happening, in words
+  std::string remedy;          // what to do (errors and warnings)
+  double rateHz = 0;           // delivered samples per second (recent)
+  double lastSampleAgeS = -1;  // seconds since the last sample, -1 before the first
+  DecodeStats stats;           // the codec's counters (this connection + earlier ones)
+  std::uint64_t filtered = 0;  // stylus samples withheld by the spike filter
   int reconnects = 0;
 };
 

@@ -17,8 +17,8 @@ namespace leafdig::devices::fastrak {
 struct Format {
   std::vector<int> items{2, 4, 1};  // the power-on default list
   bool binary = false;
-  bool centimetres = false;          // false: inches (power-on default)
-  int stations = 1;                  // records for stations 1..stations are accepted
+  bool centimetres = false;  // false: inches (power-on default)
+  int stations = 1;          // records for stations 1..stations are accepted
 };
 
 // Record length in bytes for a list; throws std::invalid_argument for an unknown item.
@@ -28,16 +28,15 @@ struct Format {
 
 struct DecoderState {
   Format format;
-  std::string pending;   // bytes not yet consumed
-  bool synced = true;    // at a record boundary (the stream start, or a record just ended)
+  std::string pending;       // bytes not yet consumed
+  bool synced = true;        // at a record boundary (the stream start, or a record just ended)
   char lastConsumed = '\n';  // the byte before `pending` (a line end makes a boundary)
   DecodeStats stats;
 };
 
 // Appends every complete, valid record in `bytes` (plus what was pending) to `out`.
 // Invalid records are dropped and counted; "2..." reply lines are skipped and counted.
-void decode(DecoderState& state, std::span<const std::uint8_t> bytes,
-            std::vector<StylusSample>& out);
+void decode(DecoderState& state, std::span<const std::uint8_t> bytes, std::vector<StylusSample>& out);
 
 // Encoding, for the emulator and the tests: the record a FASTRAK sends for this sample
 // (position in the format's unit, status "ok" → space, otherwise its first letter).

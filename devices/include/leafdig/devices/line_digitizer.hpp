@@ -21,28 +21,28 @@ namespace leafdig::devices::line {
 
 enum class FieldMode { Columns, Tokens, Regex };
 
-struct Field {   // Columns: {start, width}; Tokens: {index, 0}; Regex: {group, 0}
+struct Field {  // Columns: {start, width}; Tokens: {index, 0}; Regex: {group, 0}
   int a = -1, b = 0;
   [[nodiscard]] bool present() const { return a >= 0; }
 };
 
 struct Config {
-  std::vector<std::string> init;  // sent verbatim (include "\r" where needed); "*N" sleeps N s
-  std::string poll;                // sent to request a record (polled mode), empty: stream
-  std::string start, stop;         // stream on / off
-  std::string terminator = "\r\n"; // framing by terminator, or
-  std::size_t length = 0;          // fixed length (when > 0), optionally after
-  std::string sync;                //   sync bytes at the start of every record
-  std::size_t maxLength = 256;     // longer lines are dropped
+  std::vector<std::string> init;    // sent verbatim (include "\r" where needed); "*N" sleeps N s
+  std::string poll;                 // sent to request a record (polled mode), empty: stream
+  std::string start, stop;          // stream on / off
+  std::string terminator = "\r\n";  // framing by terminator, or
+  std::size_t length = 0;           // fixed length (when > 0), optionally after
+  std::string sync;                 //   sync bytes at the start of every record
+  std::size_t maxLength = 256;      // longer lines are dropped
   FieldMode mode = FieldMode::Tokens;
-  std::string regex;               // ECMAScript, for FieldMode::Regex
+  std::string regex;  // ECMAScript, for FieldMode::Regex
   Field x{0}, y{1}, z{2}, az, el, roll, button, station, status;
   std::string tokenSeparators = " \t,;";
-  double scaleToMm = 1.0;          // from "unit": mm 1, cm 10, in 25.4, m 1000
+  double scaleToMm = 1.0;  // from "unit": mm 1, cm 10, in 25.4, m 1000
   std::string unit = "mm";
-  std::array<int, 3> axisMap{0, 1, 2};     // output axis i takes input axis axisMap[i]
+  std::array<int, 3> axisMap{0, 1, 2};  // output axis i takes input axis axisMap[i]
   std::array<double, 3> axisSign{1, 1, 1};
-  std::string okStatus;            // status text meaning "fine" (empty: any)
+  std::string okStatus;  // status text meaning "fine" (empty: any)
   int baud = 9600;
 };
 
@@ -56,8 +56,7 @@ struct DecoderState {
   DecodeStats stats;
 };
 
-void decode(DecoderState& state, std::span<const std::uint8_t> bytes,
-            std::vector<StylusSample>& out);
+void decode(DecoderState& state, std::span<const std::uint8_t> bytes, std::vector<StylusSample>& out);
 
 // One record's text → sample; false when a field is missing or not a number.
 [[nodiscard]] bool parseRecord(DecoderState& state, const std::string& record, StylusSample& s);

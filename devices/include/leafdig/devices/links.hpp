@@ -26,27 +26,27 @@ enum class CaliperKind { Hid, UsbItn, Mitutoyo, UWave, Sylvac };
 struct DigitizerConfig {
   DigitizerKind kind = DigitizerKind::Fastrak;
   std::string port;
-  int baud = 0;                  // 0: the device's usual rate
-  bool autobaud = true;          // try the other usual rates when the device does not answer
-  bool binary = false;           // FASTRAK / Patriot / Liberty binary records
-  std::string hemisphere;        // FASTRAK "0,0,1" → "H1,0,0,1"; empty: leave as is
-  line::Config line;             // for DigitizerKind::Line
+  int baud = 0;            // 0: the device's usual rate
+  bool autobaud = true;    // try the other usual rates when the device does not answer
+  bool binary = false;     // FASTRAK / Patriot / Liberty binary records
+  std::string hemisphere;  // FASTRAK "0,0,1" → "H1,0,0,1"; empty: leave as is
+  line::Config line;       // for DigitizerKind::Line
   // Opens the port; defaults to openSerialPort. Tests substitute their own.
   std::function<std::unique_ptr<SerialPort>(const std::string&, const SerialSettings&)> openPort;
 };
 
 struct CaliperConfig {
   CaliperKind kind = CaliperKind::Sylvac;
-  std::string port;              // serial kinds
+  std::string port;                // serial kinds
   std::uint16_t vid = 0, pid = 0;  // HID / USB-ITN (defaults: Mitutoyo USB-ITN 0fe7:4001)
-  std::string hidPath;           // HID by path instead of id
-  int baud = 0;                  // 0: the gauge's usual rate
-  std::string unit = "mm";       // Mitutoyo ASCII: "mm", "in" or "auto"
-  bool grabKeyboard = true;      // HID: EVIOCGRAB the gauge's evdev nodes
-  bool dtrTrigger = false;       // Sylvac simplex cable: request by dropping DTR
+  std::string hidPath;             // HID by path instead of id
+  int baud = 0;                    // 0: the gauge's usual rate
+  std::string unit = "mm";         // Mitutoyo ASCII: "mm", "in" or "auto"
+  bool grabKeyboard = true;        // HID: EVIOCGRAB the gauge's evdev nodes
+  bool dtrTrigger = false;         // Sylvac simplex cable: request by dropping DTR
   std::function<std::unique_ptr<SerialPort>(const std::string&, const SerialSettings&)> openPort;
-  std::function<std::unique_ptr<HidDevice>()> openHid;            // default: hidapi
-  std::function<std::unique_ptr<UsbVendorDevice>()> openUsb;      // default: libusb
+  std::function<std::unique_ptr<HidDevice>()> openHid;        // default: hidapi
+  std::function<std::unique_ptr<UsbVendorDevice>()> openUsb;  // default: libusb
 };
 
 [[nodiscard]] SerialSettings defaultSettings(DigitizerKind k);

@@ -40,8 +40,8 @@ class MemorySerialLine {
   void refuseOpen(DeviceErrorKind kind, const std::string& message, const std::string& remedy);
   void allowOpen();
 
-  [[nodiscard]] std::string written() const;  // everything the driver wrote, in order
-  [[nodiscard]] int opens() const;            // successful opens so far
+  [[nodiscard]] std::string written() const;                     // everything the driver wrote, in order
+  [[nodiscard]] int opens() const;                               // successful opens so far
   [[nodiscard]] std::optional<SerialSettings> settings() const;  // of the latest open
   [[nodiscard]] bool dtr() const;
   [[nodiscard]] Opener opener();

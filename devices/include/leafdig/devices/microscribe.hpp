@@ -19,8 +19,8 @@ constexpr std::uint8_t kCmdProductName = 0xC8;  // NUL-terminated strings C8..CE
 constexpr std::uint8_t kCmdModel = 0xCA;
 constexpr std::uint8_t kCmdSerial = 0xCB;
 constexpr std::uint8_t kCmdFirmware = 0xCE;
-constexpr std::uint8_t kCmdEnd = 0xC5;          // back to baud detection
-constexpr std::uint8_t kCmdAngles6 = 0x03;      // button byte + 6 angles
+constexpr std::uint8_t kCmdEnd = 0xC5;      // back to baud detection
+constexpr std::uint8_t kCmdAngles6 = 0x03;  // button byte + 6 angles
 
 // Physical parameters, in the arm's units: angles as int16 (−32768 = −180°), lengths in
 // 0.001 inch. `counts` are encoder counts per revolution.
@@ -39,21 +39,19 @@ struct Arm {
 [[nodiscard]] bool decodeMaxCounts(std::span<const std::uint8_t> bytes, Arm& arm);
 
 // Tip position (mm) for joint angles (degrees). Tool z axis in `direction` when non-null.
-[[nodiscard]] Vec3 forwardKinematics(const Arm& arm, const std::array<double, 6>& jointsDeg,
-                                     Vec3* direction = nullptr);
+[[nodiscard]] Vec3 forwardKinematics(const Arm& arm, const std::array<double, 6>& jointsDeg, Vec3* direction = nullptr);
 // Joint angles that put the tip at `target`, starting from `seed` (damped least squares).
 // For the emulator; returns false when it does not converge to 0.01 mm.
-[[nodiscard]] bool inverseKinematics(const Arm& arm, const Vec3& target,
-                                     std::array<double, 6>& joints);
+[[nodiscard]] bool inverseKinematics(const Arm& arm, const Vec3& target, std::array<double, 6>& joints);
 
 struct Packet {
-  std::uint8_t buttons = 0;          // bit 0 right/single pedal, bit 1 left pedal
-  std::array<int, 6> counts{};       // 14-bit encoder counts
+  std::uint8_t buttons = 0;     // bit 0 right/single pedal, bit 1 left pedal
+  std::array<int, 6> counts{};  // 14-bit encoder counts
 };
 [[nodiscard]] std::vector<std::uint8_t> encodePacket(const Packet& packet);
 
 struct DecoderState {
-  Arm arm;              // from the arm's C0/C6 replies
+  Arm arm;  // from the arm's C0/C6 replies
   std::vector<std::uint8_t> pending;
   DecodeStats stats;
 };
@@ -61,7 +59,6 @@ struct DecoderState {
 // Decodes 6-angle packets (0x83 header) into samples: tip position from the kinematics,
 // button = any pedal. A header byte has its top bit set, data bytes never: resync is a
 // scan for the next header.
-void decode(DecoderState& state, std::span<const std::uint8_t> bytes,
-            std::vector<StylusSample>& out);
+void decode(DecoderState& state, std::span<const std::uint8_t> bytes, std::vector<StylusSample>& out);
 
 }  // namespace leafdig::devices::microscribe

@@ -30,25 +30,23 @@ struct Format {
   int stations = 2;
 };
 
-[[nodiscard]] std::size_t payloadLength(const Format& format);  // binary payload bytes
-[[nodiscard]] std::size_t asciiLength(const Format& format);    // ASCII record bytes
+[[nodiscard]] std::size_t payloadLength(const Format& format);      // binary payload bytes
+[[nodiscard]] std::size_t asciiLength(const Format& format);        // ASCII record bytes
 [[nodiscard]] std::string outputListCommand(const Format& format);  // "O*,2,5,10,1\r"
 
 struct DecoderState {
   Format format;
   std::string pending;
-  bool synced = true;  // at a record boundary (the stream start, or a record just ended)
+  bool synced = true;        // at a record boundary (the stream start, or a record just ended)
   char lastConsumed = '\n';  // the byte before `pending` (a line end makes a boundary)
   DecodeStats stats;
 };
 
-void decode(DecoderState& state, std::span<const std::uint8_t> bytes,
-            std::vector<StylusSample>& out);
+void decode(DecoderState& state, std::span<const std::uint8_t> bytes, std::vector<StylusSample>& out);
 
 // Encodes one record as the tracker sends it. `frame` and `timestampMs` fill items 8/9;
 // `command` is 'C' in continuous mode and 'P' for a single record.
-[[nodiscard]] std::string encode(const Format& format, const StylusSample& sample,
-                                 std::uint32_t frame, std::uint32_t timestampMs,
-                                 char command = 'C');
+[[nodiscard]] std::string encode(const Format& format, const StylusSample& sample, std::uint32_t frame,
+                                 std::uint32_t timestampMs, char command = 'C');
 
 }  // namespace leafdig::devices::polhemus

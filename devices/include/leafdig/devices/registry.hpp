@@ -15,10 +15,10 @@ namespace leafdig::devices {
 
 struct Profile {
   std::uint16_t vid, pid;
-  const char* name;     // "Mitutoyo USB-ITN"
-  const char* role;     // "caliper" or "digitizer"
-  const char* driver;   // the --caliper / --digitizer value, or a note
-  const char* note;     // what to know (driver binding, firmware upload)
+  const char* name;    // "Mitutoyo USB-ITN"
+  const char* role;    // "caliper" or "digitizer"
+  const char* driver;  // the --caliper / --digitizer value, or a note
+  const char* note;    // what to know (driver binding, firmware upload)
 };
 
 [[nodiscard]] const std::vector<Profile>& knownProfiles();

@@ -28,11 +28,11 @@ struct StylusSample {
 
 struct CaliperReading {
   Clock::time_point t{};
-  double valueMm = 0.0;  // normalised
-  double rawValue = 0.0; // as printed by the gauge, in `unit`
-  std::string unit;      // "mm" or "in": the unit on the wire
-  std::string flag;      // gauge flag (Sylvac tolerance '<' '=' '>'), empty when none
-  std::string raw;       // the record's bytes exactly as received
+  double valueMm = 0.0;   // normalised
+  double rawValue = 0.0;  // as printed by the gauge, in `unit`
+  std::string unit;       // "mm" or "in": the unit on the wire
+  std::string flag;       // gauge flag (Sylvac tolerance '<' '=' '>'), empty when none
+  std::string raw;        // the record's bytes exactly as received
 };
 
 // Counters every codec keeps. A record that fails validation is dropped and counted; bytes

@@ -36,13 +36,10 @@ class SerialPort {
 
   // Waits up to `timeout` for bytes and returns what is available (at most `max`); an empty
   // result means the timeout expired. Throws DeviceError(Io) when the device went away.
-  [[nodiscard]] virtual std::vector<std::uint8_t> read(std::size_t max,
-                                                       std::chrono::milliseconds timeout) = 0;
+  [[nodiscard]] virtual std::vector<std::uint8_t> read(std::size_t max, std::chrono::milliseconds timeout) = 0;
   // Writes everything (blocking up to `timeout`); throws DeviceError on failure.
-  virtual void write(const std::uint8_t* data, std::size_t size,
-                     std::chrono::milliseconds timeout) = 0;
-  void write(const std::string& text,
-             std::chrono::milliseconds timeout = std::chrono::milliseconds(500)) {
+  virtual void write(const std::uint8_t* data, std::size_t size, std::chrono::milliseconds timeout) = 0;
+  void write(const std::string& text, std::chrono::milliseconds timeout = std::chrono::milliseconds(500)) {
     write(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), timeout);
   }
   virtual void setSettings(const SerialSettings& settings) = 0;
@@ -56,17 +53,14 @@ class SerialPort {
 
 // A tty by path (any /dev/tty*, pseudo-terminals included), through termios. Takes an
 // exclusive advisory lock (flock) and TIOCEXCL so a second program gets "busy".
-[[nodiscard]] std::unique_ptr<SerialPort> openTtyPort(const std::string& path,
-                                                      const SerialSettings& settings);
+[[nodiscard]] std::unique_ptr<SerialPort> openTtyPort(const std::string& path, const SerialSettings& settings);
 
 // A real serial port through libserialport (USB-serial adapters, on-board UARTs). Cannot
 // open pseudo-terminals (libserialport looks the name up in /sys/class/tty).
-[[nodiscard]] std::unique_ptr<SerialPort> openLibSerialPort(const std::string& name,
-                                                            const SerialSettings& settings);
+[[nodiscard]] std::unique_ptr<SerialPort> openLibSerialPort(const std::string& name, const SerialSettings& settings);
 
 // Opens with libserialport when it knows the port, with termios otherwise (ptys, symlinks).
-[[nodiscard]] std::unique_ptr<SerialPort> openSerialPort(const std::string& path,
-                                                         const SerialSettings& settings);
+[[nodiscard]] std::unique_ptr<SerialPort> openSerialPort(const std::string& path, const SerialSettings& settings);
 
 struct SerialPortInfo {
   std::string path;         // /dev/ttyUSB0

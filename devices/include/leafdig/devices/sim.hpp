@@ -5,8 +5,8 @@
 
 #include <atomic>
 #include <chrono>
-#include <deque>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -45,14 +45,14 @@ struct FaultLog {
 
 // ---- virtual stylus and caliper -----------------------------------------------------------
 struct StylusOptions {
-  double sigmaMm = 0.3;      // Gaussian noise per axis
-  double tremorMm = 0.15;    // hand tremor amplitude (8-12 Hz)
-  double travelS = 0.6;      // moving from one marker to the next
-  double dwellS = 0.7;       // resting on a marker
-  double pressAfterS = 0.15; // the button goes down this long after arriving
-  double pressS = 0.35;      // and stays down this long (FASTRAK switch cycle: 40 frames)
+  double sigmaMm = 0.3;       // Gaussian noise per axis
+  double tremorMm = 0.15;     // hand tremor amplitude (8-12 Hz)
+  double travelS = 0.6;       // moving from one marker to the next
+  double dwellS = 0.7;        // resting on a marker
+  double pressAfterS = 0.15;  // the button goes down this long after arriving
+  double pressS = 0.35;       // and stays down this long (FASTRAK switch cycle: 40 frames)
   std::uint64_t seed = 1;
-  Vec3 offsetMm{0, 0, 0};    // where the leaf sits in the device frame
+  Vec3 offsetMm{0, 0, 0};  // where the leaf sits in the device frame
 };
 
 // Where the stylus is at emulator time t (seconds) for record k. Emulators ask this for
@@ -60,11 +60,11 @@ struct StylusOptions {
 class StylusMotion {
  public:
   struct State {
-    Vec3 positionMm{};      // with noise and tremor
-    Vec3 truthMm{};         // without
+    Vec3 positionMm{};  // with noise and tremor
+    Vec3 truthMm{};     // without
     Vec3 orientationDeg{};
     bool button = false;
-    int target = -1;        // marker being pressed, -1 while moving
+    int target = -1;  // marker being pressed, -1 while moving
   };
   StylusMotion() = default;
   StylusMotion(const StylusMotion&) = default;
@@ -94,10 +94,10 @@ class VirtualStylus final : public StylusMotion {
 class OperatorHand final : public StylusMotion {
  public:
   struct Gesture {
-    Vec3 targetMm{};      // where to go (device frame, before the offset)
-    double pressS = 0.35; // button held this long once there (0: no press)
-    double settleS = 0.45;// still on the target before the press
-    double travelS = 0.6; // moving there (lifted off the leaf)
+    Vec3 targetMm{};        // where to go (device frame, before the offset)
+    double pressS = 0.35;   // button held this long once there (0: no press)
+    double settleS = 0.45;  // still on the target before the press
+    double travelS = 0.6;   // moving there (lifted off the leaf)
   };
   explicit OperatorHand(StylusOptions options = {}, double speed = 1.0);
   void perform(const Gesture& g);
@@ -145,12 +145,12 @@ class VirtualCaliper {
 
 // ---- pseudo-terminal emulators ------------------------------------------------------------
 struct EmulatorOptions {
-  double rateHz = 0;        // records per second when streaming; 0: the device's own rate
-  bool burst = false;       // as fast as the pty allows (long-stream tests)
+  double rateHz = 0;               // records per second when streaming; 0: the device's own rate
+  bool burst = false;              // as fast as the pty allows (long-stream tests)
   std::uint64_t burstRecords = 0;  // in burst mode: stop streaming after this many
-  std::string linkPath;     // stable symlink to the current pty; default /tmp/leafdig-sim-*
+  std::string linkPath;            // stable symlink to the current pty; default /tmp/leafdig-sim-*
   FaultPlan faults;
-  double pressEveryS = 0;   // calipers: the operator presses DATA this often (0: never)
+  double pressEveryS = 0;  // calipers: the operator presses DATA this often (0: never)
 };
 
 // One record as sent: the bytes before and after fault injection. For the tests.
@@ -171,12 +171,12 @@ class Emulator {
   virtual ~Emulator();
   void start();
   void stop();
-  [[nodiscard]] std::string path() const;       // the stable symlink
-  [[nodiscard]] std::string ptyPath() const;    // the current /dev/pts/N
+  [[nodiscard]] std::string path() const;     // the stable symlink
+  [[nodiscard]] std::string ptyPath() const;  // the current /dev/pts/N
   [[nodiscard]] FaultLog faultLog() const;
   [[nodiscard]] std::vector<SentRecord> sentRecords() const;
   [[nodiscard]] std::uint64_t recordsSent() const;
-  void unplugFor(double seconds);               // scripted unplug (any thread)
+  void unplugFor(double seconds);  // scripted unplug (any thread)
   // The operator presses the gauge's DATA button (any thread); digitizers ignore it.
   void pressData() { dataPresses_.fetch_add(1); }
   [[nodiscard]] virtual std::string kind() const = 0;
@@ -214,8 +214,10 @@ class Emulator {
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::atomic<double> unplugRequest_{0};
+
  protected:
   std::atomic<int> dataPresses_{0};
+
  private:
   mutable std::mutex mutex_;
   int master_ = -1;
@@ -228,15 +230,19 @@ class Emulator {
 };
 
 [[nodiscard]] std::unique_ptr<Emulator> makeFastrak(VirtualStylus stylus, EmulatorOptions options);
-[[nodiscard]] std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> stylus,
+                                                    EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makePatriot(VirtualStylus stylus, EmulatorOptions options);
-[[nodiscard]] std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> stylus,
+                                                    EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeLiberty(VirtualStylus stylus, EmulatorOptions options);
-[[nodiscard]] std::unique_ptr<Emulator> makeLiberty(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makeLiberty(std::shared_ptr<const StylusMotion> stylus,
+                                                    EmulatorOptions options);
 // The arm's base is the device origin; put the leaf within reach with StylusOptions::offsetMm
 // (kMicroScribeLeafOffset is a good place).
 [[nodiscard]] std::unique_ptr<Emulator> makeMicroScribe(VirtualStylus stylus, EmulatorOptions options);
-[[nodiscard]] std::unique_ptr<Emulator> makeMicroScribe(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makeMicroScribe(std::shared_ptr<const StylusMotion> stylus,
+                                                        EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeSylvac(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeMitutoyo(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makeUWave(std::shared_ptr<VirtualCaliper> caliper, EmulatorOptions options);
@@ -244,10 +250,10 @@ constexpr Vec3 kMicroScribeLeafOffset{380.0, 0.0, 0.0};
 
 // ---- HID and USB back ends ----------------------------------------------------------------
 struct HidGaugeOptions {
-  bool keypad = false;       // digits from the numeric keypad
-  bool comma = false;        // ',' as the decimal mark
-  bool tab = false;          // Tab instead of Enter
-  bool reportId = false;     // a report-ID byte before each report
+  bool keypad = false;    // digits from the numeric keypad
+  bool comma = false;     // ',' as the decimal mark
+  bool tab = false;       // Tab instead of Enter
+  bool reportId = false;  // a report-ID byte before each report
   int decimals = 3;
 };
 
@@ -273,8 +279,8 @@ class UsbItnSimulator final : public UsbVendorDevice {
   explicit UsbItnSimulator(std::shared_ptr<VirtualCaliper> caliper);
   void controlOut(std::uint8_t rt, std::uint8_t req, std::uint16_t value, std::uint16_t index,
                   const std::vector<std::uint8_t>& data) override;
-  std::vector<std::uint8_t> controlIn(std::uint8_t rt, std::uint8_t req, std::uint16_t value,
-                                      std::uint16_t index, std::uint16_t length) override;
+  std::vector<std::uint8_t> controlIn(std::uint8_t rt, std::uint8_t req, std::uint16_t value, std::uint16_t index,
+                                      std::uint16_t length) override;
   std::vector<std::uint8_t> interruptIn(std::uint8_t endpoint, std::chrono::milliseconds timeout) override;
   [[nodiscard]] std::string describe() const override { return "usb:0fe7:4001 (simulated)"; }
   // Shared state, so a test can unplug "the cable" behind an open handle.

@@ -32,11 +32,10 @@ class UsbVendorDevice {
   UsbVendorDevice& operator=(const UsbVendorDevice&) = delete;
   virtual ~UsbVendorDevice() = default;
   // Control transfer OUT (host to device). Throws DeviceError on failure.
-  virtual void controlOut(std::uint8_t requestType, std::uint8_t request, std::uint16_t value,
-                          std::uint16_t index, const std::vector<std::uint8_t>& data) = 0;
+  virtual void controlOut(std::uint8_t requestType, std::uint8_t request, std::uint16_t value, std::uint16_t index,
+                          const std::vector<std::uint8_t>& data) = 0;
   // Control transfer IN; returns the bytes received.
-  [[nodiscard]] virtual std::vector<std::uint8_t> controlIn(std::uint8_t requestType,
-                                                            std::uint8_t request,
+  [[nodiscard]] virtual std::vector<std::uint8_t> controlIn(std::uint8_t requestType, std::uint8_t request,
                                                             std::uint16_t value, std::uint16_t index,
                                                             std::uint16_t length) = 0;
   // Interrupt IN; empty on timeout.
@@ -47,8 +46,7 @@ class UsbVendorDevice {
 
 // Opens vid:pid with libusb: detaches the kernel driver of interface 0 (re-attached on close
 // via auto-detach), sets configuration 1, claims interface 0.
-[[nodiscard]] std::unique_ptr<UsbVendorDevice> openUsbVendorDevice(std::uint16_t vid,
-                                                                   std::uint16_t pid);
+[[nodiscard]] std::unique_ptr<UsbVendorDevice> openUsbVendorDevice(std::uint16_t vid, std::uint16_t pid);
 
 // Calls `rescan` (from its own thread) when a USB device arrives or leaves. Uses libusb
 // hotplug where the platform has it, otherwise compares listings every `pollInterval`.

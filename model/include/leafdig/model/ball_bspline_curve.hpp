@@ -29,8 +29,7 @@ class BallBSplineCurve {
   [[nodiscard]] static BallBSplineCurve interpolate(const std::vector<Ball>& dataBalls);
 
   // From a stored 4-D spline (model files). Data balls/parameters may be empty.
-  BallBSplineCurve(BSplineCurve spline, std::vector<double> dataParameters,
-                   std::vector<Ball> dataBalls);
+  BallBSplineCurve(BSplineCurve spline, std::vector<double> dataParameters, std::vector<Ball> dataBalls);
 
   [[nodiscard]] const BSplineCurve& spline() const { return spline_; }
   [[nodiscard]] const std::vector<double>& dataParameters() const { return dataParameters_; }
@@ -71,13 +70,12 @@ class BallBSplineCurve {
 // to the first tangent among the world axes, or `firstNormalHint` when given (it is
 // projected onto the normal plane). Frenet frames are not used: they are undefined on
 // straight veins.
-[[nodiscard]] std::vector<Frame> rotationMinimisingFrames(
-    const BallBSplineCurve& curve, const std::vector<double>& ts,
-    const Eigen::Vector3d* firstNormalHint = nullptr);
+[[nodiscard]] std::vector<Frame> rotationMinimisingFrames(const BallBSplineCurve& curve, const std::vector<double>& ts,
+                                                          const Eigen::Vector3d* firstNormalHint = nullptr);
 
 // The same from points x_i on the curve and its derivatives there (any length).
-[[nodiscard]] std::vector<Frame> rotationMinimisingFrames(
-    const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& derivatives,
-    const Eigen::Vector3d* firstNormalHint = nullptr);
+[[nodiscard]] std::vector<Frame> rotationMinimisingFrames(const std::vector<Eigen::Vector3d>& points,
+                                                          const std::vector<Eigen::Vector3d>& derivatives,
+                                                          const Eigen::Vector3d* firstNormalHint = nullptr);
 
 }  // namespace leafdig::model

@@ -18,8 +18,7 @@ using KnotVector = std::vector<double>;
 
 // Values and derivatives of the degree+1 basis functions that are non-zero on `span` at t.
 // Returns (order+1) by (degree+1): row k holds d^k/dt^k N_{span-degree+j}(t), j = 0..degree.
-[[nodiscard]] Eigen::MatrixXd basisDerivatives(int span, int degree, const KnotVector& knots,
-                                               double t, int order);
+[[nodiscard]] Eigen::MatrixXd basisDerivatives(int span, int degree, const KnotVector& knots, double t, int order);
 
 // A clamped knot vector: `degree+1` copies of 0, the interior knots, `degree+1` copies of 1.
 [[nodiscard]] KnotVector clampedKnots(int degree, const std::vector<double>& interiorKnots);

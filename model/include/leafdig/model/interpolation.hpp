@@ -12,8 +12,7 @@ namespace leafdig::model {
 // t_0 = 0, t_k = t_{k-1} + |Q_k - Q_{k-1}| / L, t_last = 1 exactly. A ball B-spline passes
 // spatialDims = 3 so the radius column does not stretch the parameters.
 // Throws std::invalid_argument when two consecutive points coincide (a zero chord).
-[[nodiscard]] std::vector<double> chordLengthParameters(const Eigen::MatrixXd& points,
-                                                        int spatialDims);
+[[nodiscard]] std::vector<double> chordLengthParameters(const Eigen::MatrixXd& points, int spatialDims);
 
 // The cubic B-spline through points Q_0..Q_m (rows of `points`) at the given strictly
 // increasing parameters from 0 to 1, with second derivative zero at both ends.

@@ -32,8 +32,7 @@ struct LeafModelOptions {
 //   midrib: T, P_14 .. P_N4, radii d/2, r_14^1/2 .. r_N4^1/2
 //   lateral-i-right: P_i4, P_i3, P_i2, P_i1; lateral-i-left: P_i4, P_i5, P_i6, P_i7
 //   contour: P_N1 .. P_11, T, P_17 .. P_N7, radius d/2 (or per-row edge thickness / 2)
-[[nodiscard]] LeafModel buildLeafModel(const MarkerSet& markers,
-                                       const LeafModelOptions& options = {});
+[[nodiscard]] LeafModel buildLeafModel(const MarkerSet& markers, const LeafModelOptions& options = {});
 
 // The rigid transform from the digitizer frame to the leaf frame of SPEC §2.3: origin at
 // P_N4, +Y towards the tip, +Z the mean adaxial blade normal (made perpendicular to Y),

@@ -21,9 +21,9 @@ enum class ThicknessMode { Standard, Full, Small };
 // back-side caliper thicknesses (diameters, mm) taken for it.
 struct MarkerRow {
   std::array<Eigen::Vector3d, kMarkersPerRow> pointsMm;
-  std::optional<double> midribThicknessMm;      // r_i4^1
-  std::optional<double> veinOriginThicknessMm;  // r_i4^2
-  std::optional<double> edgeThicknessMm;        // per-row margin thickness
+  std::optional<double> midribThicknessMm;                                // r_i4^1
+  std::optional<double> veinOriginThicknessMm;                            // r_i4^2
+  std::optional<double> edgeThicknessMm;                                  // per-row margin thickness
   std::array<std::optional<double>, kMarkersPerRow> measuredThicknessMm;  // overrides
 };
 
@@ -38,9 +38,9 @@ struct LeafInfo {
 struct MarkerSet {
   LeafInfo leaf;
   Eigen::Vector3d tipMm = Eigen::Vector3d::Zero();
-  std::vector<MarkerRow> rows;               // i = 1..N from tip to base
-  std::optional<double> edgeThicknessMm;     // d, per leaf
-  std::optional<ThicknessMode> mode;         // absent: inferred (see inferThicknessMode)
+  std::vector<MarkerRow> rows;            // i = 1..N from tip to base
+  std::optional<double> edgeThicknessMm;  // d, per leaf
+  std::optional<ThicknessMode> mode;      // absent: inferred (see inferThicknessMode)
 };
 
 // Thickness (diameter, mm) of every marker after the thickness rule.

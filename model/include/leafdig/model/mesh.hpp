@@ -54,8 +54,8 @@ struct LeafMesh {
 };
 
 // Vein tube on the exact envelope of SPEC §2.1, rings at `ts` (increasing, in [0, 1]).
-[[nodiscard]] Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices,
-                            CapStyle caps, int capRings, std::vector<ModelWarning>& warnings);
+[[nodiscard]] Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices, CapStyle caps,
+                            int capRings, std::vector<ModelWarning>& warnings);
 
 // The blade sampled on `segmentsPerRow` per marker-row span and `segmentsAcross` over the
 // whole width, vertex grid rows at the marker rows. Triangles of zero area (the tip row,

@@ -24,8 +24,7 @@ struct ExportHeader {
 // PLY: binary little endian, float position and normal per vertex, per-face `organ_id`
 // (the organ's index, listed in header comments). STL: binary, facet normals.
 // GLB: glTF 2.0 binary, one named node per organ under a node named after the leaf.
-[[nodiscard]] std::string encodeMesh(const LeafMesh& mesh, MeshFormat format,
-                                     const ExportHeader& header);
+[[nodiscard]] std::string encodeMesh(const LeafMesh& mesh, MeshFormat format, const ExportHeader& header);
 
 // The rotation from a leafdig frame (+Z up) to glTF's (+Y up): (x, y, z) -> (x, z, -y).
 [[nodiscard]] Eigen::Vector3d toGltfAxes(const Eigen::Vector3d& p);

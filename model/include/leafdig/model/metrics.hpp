@@ -17,7 +17,7 @@ namespace leafdig::model {
 struct BladeAreaEstimate {
   double areaMm2 = 0.0;
   double projectedAreaMm2 = 0.0;
-  int segmentsPerRow = 0;   // resolution at which the area settled
+  int segmentsPerRow = 0;  // resolution at which the area settled
   int segmentsAcross = 0;
   double relativeChange = 0.0;  // |A - A_previous| / A at that resolution
   bool converged = false;
@@ -25,10 +25,8 @@ struct BladeAreaEstimate {
 
 // Doubles the blade resolution from 2 per row x 12 across until the triangle-area sum
 // changes by less than `tolerance` (default 0.1 %), at most `maxDoublings` times.
-[[nodiscard]] BladeAreaEstimate convergedBladeArea(const BladeSurface& blade,
-                                                   const Eigen::Vector3d& lightDirection,
-                                                   double tolerance = 1e-3,
-                                                   int maxDoublings = 7);
+[[nodiscard]] BladeAreaEstimate convergedBladeArea(const BladeSurface& blade, const Eigen::Vector3d& lightDirection,
+                                                   double tolerance = 1e-3, int maxDoublings = 7);
 
 // Seed 001's markers-only estimate: each grid cell split along both diagonals, triangle
 // areas by Kahan's stable Heron formula, the two splits averaged. A comparison figure
@@ -42,8 +40,7 @@ struct AreaConstraint {
   double thresholdPercent;
   bool exceeded;
 };
-[[nodiscard]] AreaConstraint compareArea(double modelMm2, double measuredMm2,
-                                         double thresholdPercent = 5.0);
+[[nodiscard]] AreaConstraint compareArea(double modelMm2, double measuredMm2, double thresholdPercent = 5.0);
 
 }  // namespace leafdig::model
 
@@ -51,14 +48,13 @@ namespace leafdig::model {
 
 struct LeafMetrics {
   BladeAreaEstimate blade;
-  Eigen::Vector3d lightDirection;   // unit, in the model's frame
-  double markerGridHeronAreaMm2;    // seed 001's quad sum, for comparison only
+  Eigen::Vector3d lightDirection;                // unit, in the model's frame
+  double markerGridHeronAreaMm2;                 // seed 001's quad sum, for comparison only
   std::optional<AreaConstraint> areaConstraint;  // when the leaf has a measured area
 };
 
 // Light direction in the model's frame; measured area from the marker set's leaf info.
-[[nodiscard]] LeafMetrics computeLeafMetrics(const LeafModel& model,
-                                             const Eigen::Vector3d& lightDirection,
+[[nodiscard]] LeafMetrics computeLeafMetrics(const LeafModel& model, const Eigen::Vector3d& lightDirection,
                                              double areaThresholdPercent = 5.0);
 
 // The metrics as a JSON object (text), the shape `leafdig model build --json` prints.

@@ -14,8 +14,7 @@ namespace leafdig::model {
 inline constexpr const char* kModelFormat = "leafdig.model/1";
 
 // frame: "digitizer" or "leaf" (the frame the model is already in).
-[[nodiscard]] std::string modelToJson(const LeafModel& model, const std::string& frame,
-                                      const LeafMetrics& metrics);
+[[nodiscard]] std::string modelToJson(const LeafModel& model, const std::string& frame, const LeafMetrics& metrics);
 
 struct ModelDocument {
   std::string frame;
