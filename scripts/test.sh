@@ -9,6 +9,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 "$root/scripts/setup.sh" ci
 "$root/.ci/check-layering.sh" "$root"
+"$root/.ci/check-format.sh" "$root"
 ctest --preset ci -j"$(nproc)"
 if [ "${LEAFDIG_SKIP_ASAN:-0}" != "1" ]; then
   cmake --preset asan >/dev/null
