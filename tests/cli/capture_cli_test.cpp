@@ -81,18 +81,19 @@ class CaptureCli : public Cli {
   // can fall between committing the operator's undo and printing it. Read with Python's
   // sqlite3, as another program reads the station's file.
   bool takenOutAfterwards(const fs::path& db, std::int64_t session, std::int64_t seq) {
-    const Result r = run("python3 -c \"import json, sqlite3, sys; c = sqlite3.connect('file:' + sys.argv[1] + '?mode=ro', "
-                         "uri=True); print(sum(1 for k, p in c.execute('SELECT kind, payload_json FROM events WHERE "
-                         "session_id=' + sys.argv[2]) if k in ('undone', 'retake') and json.loads(p).get('seq') == "
-                         "int(sys.argv[3])))\" " +
-                         quote(db) + " " + std::to_string(session) + " " + std::to_string(seq));
+    const Result r =
+        run("python3 -c \"import json, sqlite3, sys; c = sqlite3.connect('file:' + sys.argv[1] + '?mode=ro', "
+            "uri=True); print(sum(1 for k, p in c.execute('SELECT kind, payload_json FROM events WHERE "
+            "session_id=' + sys.argv[2]) if k in ('undone', 'retake') and json.loads(p).get('seq') == "
+            "int(sys.argv[3])))\" " +
+            quote(db) + " " + std::to_string(session) + " " + std::to_string(seq));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     return r.out.find('1') == 0;
   }
   // Every acknowledged item is in the store exactly once, with the value that was printed;
   // with `db`, an item whose undo was committed but not yet printed may be absent.
-  void expectAllAcknowledgedStored(const std::map<std::int64_t, json>& acks, const json& shown,
-                                   const fs::path& db = {}, std::int64_t session = 0) {
+  void expectAllAcknowledgedStored(const std::map<std::int64_t, json>& acks, const json& shown, const fs::path& db = {},
+                                   std::int64_t session = 0) {
     std::multiset<std::string> stored;
     const auto key = [](const std::string& what, const json& row, const json& col) {
       return what + "/" + (row.is_null() ? "-" : std::to_string(row.get<int>())) + "/" +
