@@ -412,7 +412,6 @@ void ReviewView::fill() {
   snap.items = items;
   snap.step = r.engine.step();
   snap.rowsEnded = r.engine.rowsEnded();
-  snap.plan = r.engine.plan();
   snap.preview = std::make_shared<acq::Preview>(acq::buildPreview(items, r.settings));
   preview_->show(snap);
   slider_->setEnabled(true);
