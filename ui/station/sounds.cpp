@@ -5,6 +5,7 @@
 #include <QFile>
 #include <QMediaDevices>
 #include <QtEndian>
+#include <algorithm>
 #include <cmath>
 
 namespace leafdig::station {
@@ -68,6 +69,11 @@ Sounds::Sounds(QObject* parent) : QObject(parent) {
 QString Sounds::file(Cue cue) const {
   static const char* names[] = {"accept.wav", "reject.wav", "step.wav", "error.wav"};
   return dir_.filePath(names[static_cast<std::size_t>(cue)]);
+}
+
+bool Sounds::loading() const {
+  return std::any_of(effects_.begin(), effects_.end(),
+                     [](const auto& e) { return e->status() == QSoundEffect::Loading; });
 }
 
 void Sounds::setVolume(double v) {

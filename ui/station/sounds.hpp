@@ -27,6 +27,11 @@ class Sounds : public QObject {
   // widget tests check the cue logic with them.
   [[nodiscard]] int requested(Cue cue) const { return requested_[static_cast<std::size_t>(cue)]; }
   [[nodiscard]] int played(Cue cue) const { return played_[static_cast<std::size_t>(cue)]; }
+  // Whether a cue's sound has finished loading (Ready, or Error when there is no output);
+  // Qt loads the samples on a thread of its own. Tests wait for it before they end: Qt 6.4
+  // leaks a sample whose effect is destroyed mid-load.
+  [[nodiscard]] QSoundEffect::Status status(Cue cue) const { return effects_[static_cast<std::size_t>(cue)]->status(); }
+  [[nodiscard]] bool loading() const;
   // The WAV file behind a cue (valid while this object lives).
   [[nodiscard]] QString file(Cue cue) const;
 

@@ -6,6 +6,7 @@
 #include <QApplication>
 #include <QChart>
 #include <QChartView>
+#include <QElapsedTimer>
 #include <QFile>
 #include <QGraphicsScene>
 #include <QGraphicsSimpleTextItem>
@@ -218,6 +219,12 @@ TEST(Sounds, CuesArePreloadedWavFilesAndMuteSilencesThem) {
   EXPECT_EQ(sounds.played(leafdig::station::Cue::Reject), 0);
   // 0.1 s at 22050 Hz, 16-bit mono: 4410 bytes of samples after the 44-byte header.
   EXPECT_EQ(leafdig::station::synthesizeWav({{440, 0.1}}).size(), 44 + 4410);
+  // Preloaded: every cue leaves Loading within seconds (Ready with an output, Error without).
+  QElapsedTimer t;
+  t.start();
+  while (sounds.loading() && t.elapsed() < 10000) QCoreApplication::processEvents(QEventLoop::AllEvents, 20);
+  EXPECT_FALSE(sounds.loading()) << "a cue's sound was still loading after 10 s";
+  EXPECT_NE(sounds.status(leafdig::station::Cue::Accept), QSoundEffect::Null);
 }
 
 TEST(SetupDialog, ChoicesComeFromTheRegistryAndBadEntriesAreNamed) {
