@@ -55,6 +55,7 @@ model::LeafInfo leafInfoOf(const db::SessionInfo& info) {
             std::to_string(info.id);
   leaf.plant = info.plant;
   leaf.position = info.leafPosition;
+  leaf.type = info.leafType;
   leaf.measuredAreaMm2 = info.measuredAreaMm2;
   return leaf;
 }
@@ -244,6 +245,22 @@ ExportResult exportSession(db::Store& store, std::int64_t id, const ExportReques
     result.written.push_back(path);
   }
   return result;
+}
+
+OrganLibrary organLibrary(const db::Store& store) {
+  OrganLibrary out;
+  for (const db::SessionInfo& info : store.sessions()) {
+    if (info.status != "approved") continue;
+    try {
+      const ReviewedSession r = openForReview(store, info.id);
+      model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
+      (void)model::buildLeafModel(set, {});  // a whole, valid leaf, or it is not offered
+      out.leaves.push_back({"session " + std::to_string(info.id), std::move(set)});
+    } catch (const std::exception& e) {
+      out.skipped.push_back("session " + std::to_string(info.id) + ": " + e.what());
+    }
+  }
+  return out;
 }
 
 }  // namespace leafdig::acquisition

@@ -188,8 +188,15 @@ Mesh meshBlade(const BladeSurface& blade, int segmentsPerRow, int segmentsAcross
   }
   mesh.normals.assign(mesh.positions.size(), Eigen::Vector3d::Zero());
   auto addIfNotDegenerate = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    const Eigen::Vector3d n = (mesh.positions[b] - mesh.positions[a]).cross(mesh.positions[c] - mesh.positions[a]);
-    if (n.norm() <= 1e-12) return;
+    const Eigen::Vector3d& pa = mesh.positions[a];
+    const Eigen::Vector3d& pb = mesh.positions[b];
+    const Eigen::Vector3d& pc = mesh.positions[c];
+    const Eigen::Vector3d n = (pb - pa).cross(pc - pa);
+    // Degenerate when its height is below 1e-9 of its longest edge (|n| = height x longest):
+    // scale-free, so the tip row's repeated points, equal in the digitizer frame and a few
+    // 1e-13 mm apart after a rigid motion, never make a sliver that an export rounds to zero.
+    const double longest2 = std::max({(pb - pa).squaredNorm(), (pc - pb).squaredNorm(), (pa - pc).squaredNorm()});
+    if (n.norm() <= 1e-9 * longest2) return;
     mesh.triangles.push_back({a, b, c});
     for (std::uint32_t v : {a, b, c}) mesh.normals[v] += n;  // area-weighted
   };
@@ -222,11 +229,11 @@ LeafMesh meshLeaf(const LeafModel& model, const MeshResolution& res) {
     if (vein.name == "contour") segments = res.contourSegmentsPerRow * spans;
     const std::vector<double> ts = subdivideSpans(vein.curve.dataParameters(), segments);
     out.organs.push_back(
-        {vein.name, OrganKind::Vein, meshVein(vein, ts, res.ringVertices, res.caps, res.capRings, out.warnings)});
+        {vein.name, OrganKind::Vein, meshVein(vein, ts, res.ringVertices, res.caps, res.capRings, out.warnings), 0});
   }
   if (!model.blade.controlNet.empty())  // a partial leaf (live preview) may have no blade yet
     out.organs.push_back(
-        {"blade", OrganKind::Blade, meshBlade(model.blade, res.bladeSegmentsPerRow, res.bladeSegmentsAcross)});
+        {"blade", OrganKind::Blade, meshBlade(model.blade, res.bladeSegmentsPerRow, res.bladeSegmentsAcross), 0});
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstring>
 #include <sstream>
 
@@ -30,6 +31,7 @@ Eigen::Vector3d toGltfAxes(const Eigen::Vector3d& p) {
 namespace {
 
 std::string frameDescription(const ExportHeader& h) {
+  if (h.frame == "plant") return "plant frame: origin at the stem base, +Z up the stem axis";
   if (h.frame == "leaf") {
     return "leaf frame: origin at the last midrib marker P_N4, +Y towards the tip, +Z the mean "
            "adaxial blade normal";
@@ -37,25 +39,46 @@ std::string frameDescription(const ExportHeader& h) {
   return "digitizer frame: the digitizer's own axes, +Z taken as up";
 }
 
+// Appends `v` as printf's %.9g would (what an ostream at precision 9 writes), without the
+// stream: to_chars is several times faster on meshes of hundreds of thousands of vertices.
+void appendNumber(std::string& out, double v) {
+  char buffer[32];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, v, std::chars_format::general, 9);
+  out.append(buffer, r.ptr);
+}
+
+void appendTriple(std::string& out, const char* tag, const Eigen::Vector3d& p) {
+  out += tag;
+  for (int i = 0; i < 3; ++i) {
+    out += ' ';
+    appendNumber(out, p[i]);
+  }
+  out += '\n';
+}
+
 std::string encodeObj(const LeafMesh& mesh, const ExportHeader& h) {
-  std::ostringstream out;
-  out.precision(9);
-  out << "# " << h.generator << (h.leafId.empty() ? "" : " leaf " + h.leafId) << "\n"
-      << "# units: mm\n# up: +Z\n# " << frameDescription(h) << "\n"
-      << "# vein radii are caliper thickness / 2\n";
+  std::string out = "# " + h.generator + (h.leafId.empty() ? "" : " leaf " + h.leafId) + "\n" +
+                    "# units: mm\n# up: +Z\n# " + frameDescription(h) + "\n" +
+                    "# vein radii are caliper thickness / 2\n";
   std::size_t base = 1;
   for (const Organ& o : mesh.organs) {
-    out << "o " << o.name << "\n";
-    for (const auto& p : o.mesh.positions) out << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
-    for (const auto& n : o.mesh.normals) out << "vn " << n.x() << " " << n.y() << " " << n.z() << "\n";
+    out += "o " + o.name + "\n";
+    for (const auto& p : o.mesh.positions) appendTriple(out, "v", p);
+    for (const auto& n : o.mesh.normals) appendTriple(out, "vn", n);
     for (const auto& t : o.mesh.triangles) {
-      out << "f";
-      for (auto idx : t) out << " " << base + idx << "//" << base + idx;
-      out << "\n";
+      out += 'f';
+      for (auto idx : t) {
+        const std::string i = std::to_string(base + idx);
+        out += ' ';
+        out += i;
+        out += "//";
+        out += i;
+      }
+      out += '\n';
     }
     base += o.mesh.positions.size();
   }
-  return out.str();
+  return out;
 }
 
 template <typename T>
@@ -87,7 +110,7 @@ std::string encodePly(const LeafMesh& mesh, const ExportHeader& h) {
        << "property float x\nproperty float y\nproperty float z\n"
        << "property float nx\nproperty float ny\nproperty float nz\n"
        << "element face " << faces << "\n"
-       << "property list uchar int vertex_indices\nproperty int organ_id\nend_header\n";
+       << "property list uchar int vertex_indices\nproperty int organ_id\nproperty int leaf_rank\nend_header\n";
   std::string out = head.str();
   for (const Organ& o : mesh.organs) {
     for (std::size_t v = 0; v < o.mesh.positions.size(); ++v) {
@@ -102,6 +125,7 @@ std::string encodePly(const LeafMesh& mesh, const ExportHeader& h) {
       putLittleEndian(out, static_cast<std::uint8_t>(3));
       for (auto idx : t) putLittleEndian(out, static_cast<std::int32_t>(base + static_cast<std::int32_t>(idx)));
       putLittleEndian(out, static_cast<std::int32_t>(i));
+      putLittleEndian(out, static_cast<std::int32_t>(mesh.organs[i].leafRank));
     }
     base += static_cast<std::int32_t>(m.positions.size());
   }
@@ -115,6 +139,7 @@ std::string encodeStl(const LeafMesh& mesh, const ExportHeader& h) {
   std::string out = header;
   std::uint32_t count = 0;
   for (const Organ& o : mesh.organs) count += static_cast<std::uint32_t>(o.mesh.triangles.size());
+  out.reserve(84 + 50 * static_cast<std::size_t>(count));
   putLittleEndian(out, count);
   for (const Organ& o : mesh.organs) {
     for (const auto& t : o.mesh.triangles) {

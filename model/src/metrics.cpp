@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace leafdig::model {
 
@@ -144,6 +146,72 @@ std::string metricsToJson(const LeafMetrics& m) {
     j["area_constraint"] = nullptr;
   }
   return j.dump();
+}
+
+}  // namespace leafdig::model
+
+namespace leafdig::model {
+
+double silhouetteArea(const std::vector<const Mesh*>& meshes, const Eigen::Vector3d& direction, int pixels) {
+  const Eigen::Vector3d d = direction.normalized();
+  // An orthonormal basis (e1, e2) of the projection plane.
+  const Eigen::Vector3d helper = std::abs(d.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d e1 = d.cross(helper).normalized();
+  const Eigen::Vector3d e2 = d.cross(e1);
+  Eigen::Vector2d lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+  Eigen::Vector2d hi = -lo;
+  for (const Mesh* m : meshes) {
+    for (const auto& p : m->positions) {
+      const Eigen::Vector2d q(p.dot(e1), p.dot(e2));
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+  }
+  const double extent = (hi - lo).maxCoeff();
+  if (!(extent > 0.0) || pixels < 1) return 0.0;
+  const double pixel = extent / pixels;
+  const auto nx = static_cast<long>(std::ceil((hi.x() - lo.x()) / pixel)) + 1;
+  const auto ny = static_cast<long>(std::ceil((hi.y() - lo.y()) / pixel)) + 1;
+  std::vector<std::uint8_t> covered(static_cast<std::size_t>(nx * ny), 0);
+  // Scanlines through pixel centres: each triangle marks the run of centres inside it on
+  // every row it spans (half-open, so a shared edge is not counted twice; no matter here,
+  // as coverage is a union anyway).
+  for (const Mesh* m : meshes) {
+    for (const auto& t : m->triangles) {
+      Eigen::Vector2d v[3];
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d& p = m->positions[t[static_cast<std::size_t>(k)]];
+        v[k] = (Eigen::Vector2d(p.dot(e1), p.dot(e2)) - lo) / pixel;
+      }
+      const double area2 = (v[1] - v[0]).x() * (v[2] - v[0]).y() - (v[1] - v[0]).y() * (v[2] - v[0]).x();
+      if (std::abs(area2) < 1e-12) continue;  // seen edge-on
+      const double ymin = std::min({v[0].y(), v[1].y(), v[2].y()});
+      const double ymax = std::max({v[0].y(), v[1].y(), v[2].y()});
+      const long r0 = std::max(0L, static_cast<long>(std::ceil(ymin - 0.5)));
+      const long r1 = std::min(ny - 1, static_cast<long>(std::ceil(ymax - 0.5)) - 1);
+      for (long y = r0; y <= r1; ++y) {
+        const double cy = static_cast<double>(y) + 0.5;
+        double xl = std::numeric_limits<double>::max();
+        double xr = std::numeric_limits<double>::lowest();
+        for (int k = 0; k < 3; ++k) {
+          const Eigen::Vector2d& a = v[k];
+          const Eigen::Vector2d& b = v[(k + 1) % 3];
+          if ((a.y() <= cy && cy < b.y()) || (b.y() <= cy && cy < a.y())) {
+            const double x = a.x() + (cy - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+            xl = std::min(xl, x);
+            xr = std::max(xr, x);
+          }
+        }
+        if (xl > xr) continue;
+        const long c0 = std::max(0L, static_cast<long>(std::ceil(xl - 0.5)));
+        const long c1 = std::min(nx, static_cast<long>(std::ceil(xr - 0.5)));
+        if (c1 > c0) std::fill_n(covered.begin() + y * nx + c0, c1 - c0, static_cast<std::uint8_t>(1));
+      }
+    }
+  }
+  std::size_t count = 0;
+  for (std::uint8_t c : covered) count += c;
+  return static_cast<double>(count) * pixel * pixel;
 }
 
 }  // namespace leafdig::model

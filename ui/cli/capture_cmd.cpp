@@ -193,6 +193,7 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   s.project = o.project;
   s.plant = o.plant;
   s.leafPosition = o.leafPosition;
+  s.leafType = o.leafType;
   s.operatorName = o.operatorName;
   s.settings.mode = acq::modeFromString(o.mode);
   s.settings.order = acq::orderFromString(o.order);
@@ -325,6 +326,7 @@ int runList(const db::Store& store, const CaptureOptions& o) {
                    {"project", s.project},
                    {"plant", s.plant},
                    {"leaf_position", s.leafPosition},
+                   {"leaf_type", s.leafType},
                    {"status", s.status},
                    {"operator", s.operatorName},
                    {"mode", s.mode},
@@ -375,6 +377,7 @@ int runShow(const db::Store& store, const CaptureOptions& o) {
            {"project", r.info.project},
            {"plant", r.info.plant},
            {"leaf_position", r.info.leafPosition},
+           {"leaf_type", r.info.leafType},
            {"operator", r.info.operatorName},
            {"mode", r.info.mode},
            {"order", r.info.order}};
@@ -564,6 +567,8 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
   capture->add_option("--plant", o.plant, "Plant name (created when new)");
   capture->add_option("--leaf-position", o.leafPosition, "Leaf position on the stem, from the base (1, 2, …)")
       ->check(CLI::PositiveNumber);
+  capture->add_option("--leaf-type", o.leafType,
+                      "Leaf type for the organ library (e.g. lower, middle, upper; plant plans draw by it)");
   capture->add_option("--mode", o.mode, "standard (default), full or small")
       ->check(CLI::IsMember({"standard", "full", "small"}));
   capture->add_option("--order", o.order, "sequential (default: all points, then thicknesses) or interleaved")

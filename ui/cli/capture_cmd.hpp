@@ -16,6 +16,7 @@ struct CaptureOptions {
   std::string project = "default", plant = "plant-1", digitizer, caliper, mode = "standard", order = "sequential",
               operatorName = "technician";
   int leafPosition = 1;
+  std::string leafType;
   bool board = false;
   // simulation
   bool simulate = false, noMistakes = false;

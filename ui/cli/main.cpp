@@ -9,6 +9,7 @@
 #include "devices_cmd.hpp"
 #include "leafdig/version.hpp"
 #include "model_build.hpp"
+#include "plant_cmd.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"leafdig: digitizer-and-caliper acquisition station for plant morphology labs", "leafdig"};
@@ -22,6 +23,9 @@ int main(int argc, char** argv) {
   model->require_subcommand(1);
   leafdig::cli::ModelBuildOptions buildOptions;
   leafdig::cli::addModelBuildCommand(*model, buildOptions);
+
+  leafdig::cli::PlantOptions plantOptions;
+  leafdig::cli::addPlantCommands(app, plantOptions);
 
   leafdig::cli::DevicesOptions deviceOptions;
   leafdig::cli::addDevicesCommands(app, deviceOptions);
@@ -43,6 +47,7 @@ int main(int argc, char** argv) {
   }
 
   if (model->parsed() && model->got_subcommand("build")) return leafdig::cli::runModelBuild(buildOptions);
+  if (const int rc = leafdig::cli::runPlantCommands(app, plantOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runDevicesCommands(app, deviceOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runCaptureCommands(app, captureOptions); rc >= 0) return rc;
   return 1;

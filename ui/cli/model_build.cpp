@@ -51,8 +51,6 @@ void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
   build->add_flag("--json", o.json, "Print metrics and mesh counts as one JSON object");
 }
 
-namespace {
-
 Eigen::Vector3d parseLight(const std::string& text) {
   std::stringstream in(text);
   Eigen::Vector3d d;
@@ -66,6 +64,8 @@ Eigen::Vector3d parseLight(const std::string& text) {
   }
   return d;
 }
+
+namespace {
 
 nlohmann::json countsJson(const m::MeshCounts& c) {
   return {{"vertices", c.vertices}, {"quads", c.quads}, {"triangles", c.triangles}};

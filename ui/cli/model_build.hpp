@@ -1,6 +1,7 @@
 #pragma once
 // `leafdig model build`: markers file -> veins + blade -> mesh and model exports.
 #include <CLI/CLI.hpp>
+#include <Eigen/Core>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +23,9 @@ struct ModelBuildOptions {
 };
 
 void addModelBuildCommand(CLI::App& model, ModelBuildOptions& options);
+
+// "x,y,z" (not all zero) as a light direction; throws model::InputError naming the option.
+[[nodiscard]] Eigen::Vector3d parseLight(const std::string& text);
 
 // Runs the command; returns the process exit code (0 ok, 2 bad input, 1 other failure).
 int runModelBuild(const ModelBuildOptions& options);

@@ -15,6 +15,7 @@
 
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/metrics.hpp"
+#include "leafdig/model/plant.hpp"
 
 namespace leafdig::acquisition {
 
@@ -86,5 +87,14 @@ struct LeafSummary {
   model::LeafMetrics metrics;
 };
 [[nodiscard]] LeafSummary summarize(const ReviewedSession& r);
+
+// The organ library of seed 003: every approved session of the store as a leaf (markers
+// with its type and position). An approved session that does not replay into a whole leaf
+// is left out and named in `skipped`.
+struct OrganLibrary {
+  std::vector<model::LibraryLeaf> leaves;
+  std::vector<std::string> skipped;
+};
+[[nodiscard]] OrganLibrary organLibrary(const db::Store& store);
 
 }  // namespace leafdig::acquisition

@@ -26,6 +26,7 @@ struct Organ {
   std::string name;  // the vein's name, or "blade"
   OrganKind kind;
   Mesh mesh;
+  int leafRank = 0;  // on a plant: the leaf's rank (0 for the stem and for a lone leaf)
 };
 
 enum class CapStyle { None, Sphere };
@@ -58,8 +59,9 @@ struct LeafMesh {
                             int capRings, std::vector<ModelWarning>& warnings);
 
 // The blade sampled on `segmentsPerRow` per marker-row span and `segmentsAcross` over the
-// whole width, vertex grid rows at the marker rows. Triangles of zero area (the tip row,
-// where the tip repeats) are left out; the quad count is the seed's.
+// whole width, vertex grid rows at the marker rows. Degenerate triangles (height under 1e-9
+// of the longest edge: the tip row, where the tip repeats) are left out; the quad count is
+// the seed's.
 [[nodiscard]] Mesh meshBlade(const BladeSurface& blade, int segmentsPerRow, int segmentsAcross);
 
 [[nodiscard]] LeafMesh meshLeaf(const LeafModel& model, const MeshResolution& resolution);

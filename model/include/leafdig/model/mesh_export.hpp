@@ -22,7 +22,8 @@ struct ExportHeader {
 
 // OBJ: one `o` group per organ, vertex normals, a header comment with unit, frame, up axis.
 // PLY: binary little endian, float position and normal per vertex, per-face `organ_id`
-// (the organ's index, listed in header comments). STL: binary, facet normals.
+// (the organ's index, listed in header comments) and `leaf_rank` (the organ's leaf on a
+// plant, 0 otherwise). STL: binary, facet normals.
 // GLB: glTF 2.0 binary, one named node per organ under a node named after the leaf.
 [[nodiscard]] std::string encodeMesh(const LeafMesh& mesh, MeshFormat format, const ExportHeader& header);
 

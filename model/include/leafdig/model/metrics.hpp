@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "leafdig/model/blade.hpp"
 #include "leafdig/model/mesh.hpp"
@@ -13,6 +14,14 @@ namespace leafdig::model {
 
 // Sum of A_k |n_k . d| over the triangles (overlaps counted repeatedly); d need not be unit.
 [[nodiscard]] double projectedArea(const Mesh& mesh, const Eigen::Vector3d& lightDirection);
+
+// The silhouette (displayed) area of SPEC §2.6 for light from `direction`: the area of the
+// union of the triangles' projections onto the plane perpendicular to it, so overlaps count
+// once. Computed on a square raster of `pixels` across the larger extent of the projection,
+// sampling pixel centres; the error is about half a pixel along the outline (under 0.5 % for
+// a 300 mm leaf at 2048 pixels). A mesh seen edge-on has zero silhouette.
+[[nodiscard]] double silhouetteArea(const std::vector<const Mesh*>& meshes, const Eigen::Vector3d& direction,
+                                    int pixels = 2048);
 
 struct BladeAreaEstimate {
   double areaMm2 = 0.0;

@@ -1,0 +1,280 @@
+#include "leafdig/model/plant.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/markers_json.hpp"
+
+namespace leafdig::model {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+double radians(double deg) {
+  return deg * kPi / 180.0;
+}
+
+// SplitMix64 (Steele, Lea, Flood 2014) and uniform doubles from its top 53 bits: the same
+// numbers from every standard library, unlike std::uniform_real_distribution.
+class Draws {
+ public:
+  Draws(std::uint64_t seed, int rank) : state_(seed ^ (0x9E3779B97F4A7C15ULL * static_cast<std::uint64_t>(rank + 1))) {}
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double in(const Range& r) { return r.lo + (r.hi - r.lo) * uniform(); }
+
+ private:
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+  }
+  std::uint64_t state_;
+};
+
+void forEachPoint(MarkerSet& m, const std::function<void(Eigen::Vector3d&)>& f) {
+  f(m.tipMm);
+  for (auto& row : m.rows)
+    for (auto& p : row.pointsMm) f(p);
+}
+
+void scaleThickness(MarkerSet& m, double factor) {
+  const auto scale = [factor](std::optional<double>& v) {
+    if (v) *v *= factor;
+  };
+  scale(m.edgeThicknessMm);
+  for (auto& row : m.rows) {
+    scale(row.midribThicknessMm);
+    scale(row.veinOriginThicknessMm);
+    scale(row.edgeThicknessMm);
+    for (auto& t : row.measuredThicknessMm) scale(t);
+  }
+}
+
+// The leaf in its own frame (SPEC §2.3), from markers in any frame.
+MarkerSet toLeafFrame(const MarkerSet& markers) {
+  const LeafModel model = buildLeafModel(markers);
+  const Eigen::Isometry3d toLeaf = leafFrameFromDigitizer(model);
+  MarkerSet out = markers;
+  forEachPoint(out, [&](Eigen::Vector3d& p) { p = toLeaf * p; });
+  return out;
+}
+
+// Scale (uniform × growth factors), then the extra midrib bend: a point at distance y
+// along the leaf's +Y turns about the leaf's X axis by bend × (y / y_tip)², tip downwards
+// (towards the abaxial side). Vein thickness scales with the length factor.
+MarkerSet shapeLeaf(const MarkerSet& leafFrame, double scale, double lengthFactor, double widthFactor, double bendDeg) {
+  MarkerSet m = leafFrame;
+  const double sy = scale * lengthFactor;
+  const double sx = scale * widthFactor;
+  forEachPoint(m, [&](Eigen::Vector3d& p) { p = Eigen::Vector3d(p.x() * sx, p.y() * sy, p.z() * sy); });
+  scaleThickness(m, sy);
+  const double yTip = m.tipMm.y();
+  if (bendDeg != 0.0 && yTip > 0.0) {
+    forEachPoint(m, [&](Eigen::Vector3d& p) {
+      if (p.y() <= 0.0) return;
+      const double s = p.y() / yTip;
+      const double a = -radians(bendDeg) * s * s;
+      p = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()) * p;
+    });
+  }
+  return m;
+}
+
+// The rigid motion from the shaped leaf frame to the plant: the base-to-tip chord at
+// `inclination` from the stem axis, in the vertical plane at `azimuth`, the leaf's width
+// horizontal (adaxial side up when flat), then `roll` about the chord.
+Eigen::Isometry3d placeLeaf(const Eigen::Vector3d& tipInLeafFrame, const Eigen::Vector3d& base, double azimuthDeg,
+                            double inclinationDeg, double rollDeg) {
+  const Eigen::Vector3d a = tipInLeafFrame.normalized();
+  Eigen::Vector3d b = Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX().dot(a) * a;
+  b.normalize();
+  Eigen::Matrix3d leaf;
+  leaf << a, b, b.cross(a);
+
+  const double phi = radians(azimuthDeg);
+  const double theta = radians(inclinationDeg);
+  const Eigen::Vector3d u(std::cos(phi), std::sin(phi), 0.0);
+  const Eigen::Vector3d aw = std::cos(theta) * Eigen::Vector3d::UnitZ() + std::sin(theta) * u;
+  const Eigen::Vector3d bw0 = u.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d bw = Eigen::AngleAxisd(radians(rollDeg), aw) * bw0;
+  Eigen::Matrix3d world;
+  world << aw, bw, bw.cross(aw);
+
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = world * leaf.transpose();
+  t.translation() = base;
+  return t;
+}
+
+// The stem tapers linearly from its base diameter to its top diameter.
+double stemRadiusAt(const PlantPlan& plan, double fraction) {
+  const double base = plan.stem.baseDiameterMm / 2;
+  const double top = plan.stem.topDiameterMm / 2;
+  return base + (top - base) * std::clamp(fraction, 0.0, 1.0);
+}
+
+bool matches(const LibraryLeaf& leaf, const LibraryRequest& request) {
+  if (!request.type.empty() && leaf.markers.leaf.type != request.type) return false;
+  if (request.position && leaf.markers.leaf.position != request.position) return false;
+  return true;
+}
+
+}  // namespace
+
+double logistic(double rate, double midpoint, double tau) {
+  return 1.0 / (1.0 + std::exp(-rate * (tau - midpoint)));
+}
+
+double midribLengthMm(const LeafModel& leaf) {
+  for (const Vein& v : leaf.veins) {
+    if (v.name != "midrib") continue;
+    double length = 0.0;
+    Eigen::Vector3d previous = v.curve.center(0.0);
+    constexpr int kSteps = 256;
+    for (int i = 1; i <= kSteps; ++i) {
+      const Eigen::Vector3d p = v.curve.center(static_cast<double>(i) / kSteps);
+      length += (p - previous).norm();
+      previous = p;
+    }
+    return length;
+  }
+  return 0.0;
+}
+
+double bladeWidthMm(const MarkerSet& markers) {
+  double width = 0.0;
+  for (const auto& row : markers.rows) width = std::max(width, (row.pointsMm[0] - row.pointsMm[6]).norm());
+  return width;
+}
+
+PlantBuilder::PlantBuilder(PlantPlan plan, std::vector<LibraryLeaf> library) : plan_(std::move(plan)) {
+  for (const LeafPlan& lp : plan_.leaves) {
+    // One generator per leaf; always the same draws in the same order, used or not.
+    Draws draws(plan_.seed, lp.rank);
+    const double jitter = plan_.jitterDeg * (2.0 * draws.uniform() - 1.0);
+    const double pick = draws.uniform();
+    const double scale = draws.in(plan_.ranges.scale);
+    const double bend = draws.in(plan_.ranges.bendDeg);
+    const double azimuthJitter = draws.in(plan_.ranges.azimuthJitterDeg);
+    const double inclination = plan_.ranges.inclinationDeg ? draws.in(*plan_.ranges.inclinationDeg) : 0.0;
+    if (!plan_.ranges.inclinationDeg) (void)draws.uniform();
+
+    Resolved r{lp, {}, {}, 0, 0, 1, 0};
+    const bool fromLibrary = !lp.markers.has_value();
+    MarkerSet markers;
+    if (fromLibrary) {
+      std::vector<const LibraryLeaf*> candidates;
+      for (const LibraryLeaf& l : library)
+        if (matches(l, *lp.library)) candidates.push_back(&l);
+      if (candidates.empty()) {
+        std::string what = lp.library->type.empty() ? std::string("any") : "a \"" + lp.library->type + "\"";
+        if (lp.library->position) what += " position-" + std::to_string(*lp.library->position);
+        throw InputError("leaf rank " + std::to_string(lp.rank) + " asks the organ library for " + what +
+                         " leaf, but the library (" + std::to_string(library.size()) +
+                         " approved leaves) has none: approve a matching session (leafdig sessions approve) or "
+                         "change the leaf's \"library\" request");
+      }
+      const auto index = std::min(candidates.size() - 1, static_cast<std::size_t>(pick * candidates.size()));
+      markers = candidates[index]->markers;
+      r.source = candidates[index]->source;
+    } else {
+      markers = readMarkersFile(*lp.markers);
+      r.source = lp.markers->filename().string();
+    }
+    r.leafFrameMarkers = toLeafFrame(markers);
+    const double phyllotaxis = std::fmod(lp.rank * plan_.divergenceDeg + jitter, 360.0);
+    r.azimuthDeg = lp.azimuthDeg ? *lp.azimuthDeg : phyllotaxis + (fromLibrary ? azimuthJitter : 0.0);
+    r.azimuthDeg = std::fmod(r.azimuthDeg + 360.0, 360.0);
+    r.inclinationDeg = lp.inclinationDeg             ? *lp.inclinationDeg
+                       : plan_.ranges.inclinationDeg ? inclination
+                                                     : kDefaultInclinationDeg;
+    r.scale = lp.scale ? *lp.scale : (fromLibrary ? scale : 1.0);
+    r.bendDeg = lp.bendDeg ? *lp.bendDeg : (fromLibrary ? bend : 0.0);
+    leaves_.push_back(std::move(r));
+  }
+}
+
+Plant PlantBuilder::build(std::optional<double> time) const {
+  if (time && !plan_.growth) {
+    throw InputError("plant " + plan_.id + " has no \"growth\" in its plan: a time needs growth parameters");
+  }
+  double heightFactor = 1.0;
+  if (time) heightFactor = logistic(plan_.growth->stemRate, plan_.growth->stemMidpoint, *time);
+  const double stemHeight = plan_.stem.heightMm * heightFactor;
+  std::vector<Ball> axis;
+  for (int i = 0; i <= 2; ++i) {
+    const double f = i / 2.0;
+    axis.push_back({Eigen::Vector3d(0, 0, stemHeight * f), stemRadiusAt(plan_, f)});
+  }
+  Plant plant{plan_.id,
+              time,
+              plan_.growth ? plan_.growth->timeUnit : "",
+              stemHeight,
+              plan_.stem.baseDiameterMm,
+              plan_.stem.topDiameterMm,
+              {"stem", BallBSplineCurve::interpolate(axis)},
+              {}};
+
+  for (const Resolved& r : leaves_) {
+    double lengthFactor = 1.0;
+    double widthFactor = 1.0;
+    if (time) {
+      const GrowthPlan& g = *plan_.growth;
+      const double tau = *time - (r.plan.rank - 1) * g.plastochron;
+      if (tau < 0.0) continue;  // not yet appeared
+      lengthFactor = logistic(g.leafRate, g.leafMidpoint, tau);
+      widthFactor = g.widthAtEmergence + (1.0 - g.widthAtEmergence) * lengthFactor;
+    }
+    PlacedLeaf leaf;
+    leaf.rank = r.plan.rank;
+    leaf.source = r.source;
+    leaf.insertionHeightMm = r.plan.insertionHeightMm * heightFactor;
+    leaf.azimuthDeg = r.azimuthDeg;
+    leaf.inclinationDeg = r.inclinationDeg;
+    leaf.rollDeg = r.plan.rollDeg;
+    leaf.scale = r.scale;
+    leaf.bendDeg = r.bendDeg;
+    leaf.lengthFactor = lengthFactor;
+    leaf.widthFactor = widthFactor;
+    const MarkerSet shaped = shapeLeaf(r.leafFrameMarkers, r.scale, lengthFactor, widthFactor, r.bendDeg);
+    const double fraction = plan_.stem.heightMm > 0 ? r.plan.insertionHeightMm / plan_.stem.heightMm : 0.0;
+    const double radius = stemRadiusAt(plan_, fraction);
+    const double phi = radians(r.azimuthDeg);
+    const Eigen::Vector3d base(radius * std::cos(phi), radius * std::sin(phi), leaf.insertionHeightMm);
+    leaf.placement = placeLeaf(shaped.tipMm, base, r.azimuthDeg, r.inclinationDeg, r.plan.rollDeg);
+    leaf.model = transformed(buildLeafModel(shaped), leaf.placement);
+    leaf.base = base;
+    leaf.tip = leaf.placement * shaped.tipMm;
+    leaf.lengthMm = midribLengthMm(leaf.model);
+    leaf.widthMm = bladeWidthMm(shaped);
+    plant.leaves.push_back(std::move(leaf));
+  }
+  return plant;
+}
+
+LeafMesh meshPlant(const Plant& plant, const MeshResolution& resolution) {
+  LeafMesh out;
+  const std::vector<double> ts = subdivideSpans(plant.stem.curve.dataParameters(), 24);
+  out.organs.push_back(
+      {"plant/stem", OrganKind::Vein,
+       meshVein(plant.stem, ts, std::max(12, resolution.ringVertices), CapStyle::None, 0, out.warnings), 0});
+  for (const PlacedLeaf& leaf : plant.leaves) {
+    LeafMesh m = meshLeaf(leaf.model, resolution);
+    const std::string prefix = "plant/leaf-" + std::to_string(leaf.rank) + "/";
+    for (Organ& o : m.organs) {
+      o.name = prefix + o.name;
+      o.leafRank = leaf.rank;
+      out.organs.push_back(std::move(o));
+    }
+    for (ModelWarning& w : m.warnings) {
+      w.organ = prefix + w.organ;
+      out.warnings.push_back(std::move(w));
+    }
+  }
+  return out;
+}
+
+}  // namespace leafdig::model

@@ -1,0 +1,328 @@
+#include "leafdig/model/plant_export.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "json_text.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/metrics.hpp"
+#include "leafdig/model/model_json.hpp"
+
+namespace leafdig::model {
+
+namespace {
+
+const Mesh* bladeOf(const LeafMesh& mesh, int rank) {
+  for (const Organ& o : mesh.organs)
+    if (o.leafRank == rank && o.kind == OrganKind::Blade) return &o.mesh;
+  return nullptr;
+}
+
+// Fixed notation with three decimals; never an exponent, never "-0.000".
+std::string fixed3(double v) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.3f", v);
+  std::string s(buffer);
+  if (s == "-0.000") s = "0.000";
+  return s;
+}
+
+// An integer count of micrometres as a decimal with `decimals` digits after the point.
+void appendMicrometres(std::string& out, long long um, int decimals) {
+  if (um < 0) out += '-';
+  unsigned long long a = um < 0 ? static_cast<unsigned long long>(-um) : static_cast<unsigned long long>(um);
+  char digits[32];
+  int n = 0;
+  do {
+    digits[n++] = static_cast<char>('0' + a % 10);
+    a /= 10;
+  } while (a != 0 || n <= decimals);  // at least one digit before the point
+  for (int i = n - 1; i >= 0; --i) {
+    out += digits[i];
+    if (i == decimals && decimals > 0) out += '.';
+  }
+}
+
+// MTG values must not hold its syntax characters, tabs or spaces.
+std::string mtgAlpha(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    const bool bad = std::string_view("+</[](),=^").find(c) != std::string_view::npos ||
+                     std::isspace(static_cast<unsigned char>(c)) != 0;
+    out += bad ? '_' : c;
+  }
+  return out.empty() ? "unnamed" : out;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+const LeafLight* lightOf(const PlantMetrics& m, int rank) {
+  for (const LeafLight& l : m.leaves)
+    if (l.rank == rank) return &l;
+  return nullptr;
+}
+
+}  // namespace
+
+PlantFormat plantFormatForPath(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".glb") return PlantFormat::Glb;
+  if (ext == ".obj") return PlantFormat::Obj;
+  if (ext == ".ply") return PlantFormat::Ply;
+  if (ext == ".stl") return PlantFormat::Stl;
+  if (ext == ".can") return PlantFormat::Can;
+  if (ext == ".mtg") return PlantFormat::Mtg;
+  if (ext == ".csv") return PlantFormat::Csv;
+  if (ext == ".json") return PlantFormat::Json;
+  throw InputError("output " + path.string() + ": unknown format \"" + ext +
+                   "\"; name the file .glb, .obj, .ply, .stl, .can, .mtg, .csv or .json");
+}
+
+PlantMetrics computePlantMetrics(const Plant& plant, const LeafMesh& mesh, const Eigen::Vector3d& lightDirection) {
+  PlantMetrics out;
+  out.lightDirection = lightDirection.normalized();
+  std::vector<const Mesh*> all;
+  for (const PlacedLeaf& leaf : plant.leaves) {
+    const Mesh* blade = bladeOf(mesh, leaf.rank);
+    LeafLight l;
+    l.rank = leaf.rank;
+    if (blade != nullptr) {
+      l.areaMm2 = meshArea(*blade);
+      l.silhouetteMm2 = silhouetteArea({blade}, out.lightDirection);
+      all.push_back(blade);
+    }
+    l.star = l.areaMm2 > 0 ? l.silhouetteMm2 / l.areaMm2 : 0.0;
+    out.areaMm2 += l.areaMm2;
+    out.leaves.push_back(l);
+  }
+  out.silhouetteMm2 = all.empty() ? 0.0 : silhouetteArea(all, out.lightDirection);
+  out.star = out.areaMm2 > 0 ? out.silhouetteMm2 / out.areaMm2 : 0.0;
+  return out;
+}
+
+CanFile encodeCan(const LeafMesh& mesh, CanUnit unit, int plantNumber) {
+  if (plantNumber < 0 || plantNumber > 99999) throw InputError("a CARIBU plant number has 5 digits (0 to 99999)");
+  const int decimals = unit == CanUnit::Metre ? 6 : 4;
+  CanFile out;
+  std::string text;
+  int lastRank = -1;
+  int element = 0;
+  for (const Organ& organ : mesh.organs) {
+    if (organ.leafRank != lastRank) {
+      lastRank = organ.leafRank;
+      element = 0;
+    }
+    ++element;
+    if (organ.leafRank > 999 || element > 999) throw InputError("a CARIBU label has 3 digits for leaf and element");
+    char label[32];
+    std::snprintf(label, sizeof label, "1%05d%03d%03d", plantNumber, organ.leafRank, element);
+    for (const auto& t : organ.mesh.triangles) {
+      std::array<Eigen::Matrix<long long, 3, 1>, 3> v;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Eigen::Vector3d& p = organ.mesh.positions[t[k]];
+        for (int c = 0; c < 3; ++c) v[k][c] = std::llround(p[c] * 1000.0);  // mm → µm
+      }
+      const Eigen::Matrix<long long, 3, 1> n = (v[1] - v[0]).cross(v[2] - v[0]);
+      if (n.isZero()) {  // collinear once written: CARIBU rejects it
+        ++out.dropped;
+        continue;
+      }
+      std::string geometry = " 3";
+      std::size_t lastStart = 0;
+      for (const auto& p : v) {
+        for (int c = 0; c < 3; ++c) {
+          geometry += ' ';
+          lastStart = geometry.size();
+          appendMicrometres(geometry, p[c], decimals);
+        }
+      }
+      // canestrad copies the last number once more into its 125-byte buffer.
+      if (geometry.size() + 1 + (geometry.size() - lastStart) > 124) {
+        throw InputError("CARIBU geometry line of " + std::to_string(geometry.size()) +
+                         " characters exceeds canestrad's 124: the plant is too large for this unit");
+      }
+      text += "p 1 ";
+      text += label;
+      text += geometry;
+      text += '\n';
+      ++out.triangles;
+    }
+  }
+  out.text = std::move(text);
+  return out;
+}
+
+std::string encodeCaribuOpt() {
+  // n: species; s d: soil reflectance; e d <stem r> d <upper r> <upper t> d <lower r> <lower t>.
+  return "n 1\ns d 0.20\ne d 0.10  d 0.10 0.05  d 0.10 0.05\n";
+}
+
+std::string encodeMtg(const Plant& plant, const PlantMetrics& metrics) {
+  static const char* kFeatures[][2] = {{"rank", "INT"},     {"leaf_id", "ALPHA"},    {"insertion_height", "REAL"},
+                                       {"azimuth", "REAL"}, {"inclination", "REAL"}, {"length", "REAL"},
+                                       {"width", "REAL"},   {"area", "REAL"},        {"silhouette", "REAL"},
+                                       {"base_x", "REAL"},  {"base_y", "REAL"},      {"base_z", "REAL"},
+                                       {"tip_x", "REAL"},   {"tip_y", "REAL"},       {"tip_z", "REAL"}};
+  constexpr std::size_t kCount = sizeof kFeatures / sizeof kFeatures[0];
+  std::ostringstream out;
+  out << "# leafdig plant " << mtgAlpha(plant.id) << (plant.time ? " at time " + fixed3(*plant.time) : std::string())
+      << "\n# lengths mm, angles degrees, areas mm2, plant frame: origin at the stem base, +Z up the stem\n"
+      << "# internodes: width is the stem diameter at mid-internode; leaves: length along the midrib, width the "
+         "widest row\n"
+      << "CODE:\tFORM-A\n\nCLASSES:\nSYMBOL\tSCALE\tDECOMPOSITION\tINDEXATION\tDEFINITION\n"
+      << "$\t0\tFREE\tFREE\tIMPLICIT\nP\t1\tCONNECTED\tFREE\tIMPLICIT\nI\t2\tNONE\tFREE\tEXPLICIT\n"
+      << "L\t2\tNONE\tFREE\tEXPLICIT\n\nDESCRIPTION:\nLEFT\tRIGHT\tRELTYPE\tMAX\nI\tI\t<\t1\nI\tL\t+\t?\n\n"
+      << "FEATURES:\nNAME\tTYPE\n";
+  for (const auto& f : kFeatures) out << f[0] << "\t" << f[1] << "\n";
+  out << "\nMTG:\nTOPO\t";
+  for (std::size_t i = 0; i < kCount; ++i) out << "\t" << kFeatures[i][0];
+  out << "\n";
+
+  // A line: `depth` leading tabs, the entity, tabs up to the first feature column (2), then
+  // the values; trailing empty values are left out, so no line ends in a tab.
+  const auto line = [&out](int depth, const std::string& entity, std::vector<std::string> values) {
+    while (!values.empty() && values.back().empty()) values.pop_back();
+    out << std::string(static_cast<std::size_t>(depth), '\t') << entity;
+    if (!values.empty()) out << std::string(static_cast<std::size_t>(2 - depth), '\t');
+    for (std::size_t i = 0; i < values.size(); ++i) out << (i ? "\t" : "") << values[i];
+    out << "\n";
+  };
+  std::vector<const PlacedLeaf*> order;
+  for (const PlacedLeaf& l : plant.leaves) order.push_back(&l);
+  std::stable_sort(order.begin(), order.end(),
+                   [](const auto* a, const auto* b) { return a->insertionHeightMm < b->insertionHeightMm; });
+  const auto diameterAt = [&plant](double z) {
+    const double f = plant.stemHeightMm > 0 ? std::clamp(z / plant.stemHeightMm, 0.0, 1.0) : 0.0;
+    return plant.stemBaseDiameterMm + (plant.stemTopDiameterMm - plant.stemBaseDiameterMm) * f;
+  };
+  const auto internode = [&](int index, double from, double to) {
+    line(0, index == 1 ? "/P1/I1" : "^<I" + std::to_string(index),
+         {"", "", fixed3(from), "", "", fixed3(to - from), fixed3(diameterAt((from + to) / 2)), "", "", "0.000",
+          "0.000", fixed3(from), "0.000", "0.000", fixed3(to)});
+  };
+  int index = 0;
+  double below = 0.0;
+  for (const PlacedLeaf* leaf : order) {
+    internode(++index, below, leaf->insertionHeightMm);
+    below = leaf->insertionHeightMm;
+    const LeafLight* light = lightOf(metrics, leaf->rank);
+    line(1, "+L" + std::to_string(leaf->rank),
+         {std::to_string(leaf->rank),
+          mtgAlpha(leaf->model.markers.leaf.id.empty() ? leaf->source : leaf->model.markers.leaf.id),
+          fixed3(leaf->insertionHeightMm), fixed3(leaf->azimuthDeg), fixed3(leaf->inclinationDeg),
+          fixed3(leaf->lengthMm), fixed3(leaf->widthMm), fixed3(light ? light->areaMm2 : 0.0),
+          fixed3(light ? light->silhouetteMm2 : 0.0), fixed3(leaf->base.x()), fixed3(leaf->base.y()),
+          fixed3(leaf->base.z()), fixed3(leaf->tip.x()), fixed3(leaf->tip.y()), fixed3(leaf->tip.z())});
+  }
+  if (plant.stemHeightMm > below || index == 0) internode(++index, below, plant.stemHeightMm);
+  return out.str();
+}
+
+std::string encodePlantCsv(const Plant& plant, const PlantMetrics& metrics) {
+  std::ostringstream out;
+  out << "plant,organ,rank,leaf_id,source,insertion_height_mm,azimuth_deg,inclination_deg,roll_deg,scale,bend_deg,"
+         "length_mm,width_mm,area_mm2,silhouette_mm2,star,base_x_mm,base_y_mm,base_z_mm,tip_x_mm,tip_y_mm,tip_z_mm\n";
+  const std::string id = csvField(plant.id);
+  out << id << ",stem,0,,,0.000,,,,,," << fixed3(plant.stemHeightMm) << "," << fixed3(plant.stemBaseDiameterMm)
+      << ",,,,0.000,0.000,0.000,0.000,0.000," << fixed3(plant.stemHeightMm) << "\n";
+  for (const PlacedLeaf& l : plant.leaves) {
+    const LeafLight* light = lightOf(metrics, l.rank);
+    out << id << ",leaf," << l.rank << "," << csvField(l.model.markers.leaf.id) << "," << csvField(l.source) << ","
+        << fixed3(l.insertionHeightMm) << "," << fixed3(l.azimuthDeg) << "," << fixed3(l.inclinationDeg) << ","
+        << fixed3(l.rollDeg) << "," << detail::formatNumber(l.scale) << "," << fixed3(l.bendDeg) << ","
+        << fixed3(l.lengthMm) << "," << fixed3(l.widthMm) << "," << fixed3(light ? light->areaMm2 : 0.0) << ","
+        << fixed3(light ? light->silhouetteMm2 : 0.0) << "," << (light ? detail::formatNumber(light->star) : "") << ","
+        << fixed3(l.base.x()) << "," << fixed3(l.base.y()) << "," << fixed3(l.base.z()) << "," << fixed3(l.tip.x())
+        << "," << fixed3(l.tip.y()) << "," << fixed3(l.tip.z()) << "\n";
+  }
+  return out.str();
+}
+
+std::string encodePlantJson(const Plant& plant, const PlantMetrics& metrics) {
+  using json = nlohmann::json;
+  json doc;
+  doc["format"] = "leafdig.plant-model/1";
+  doc["units"] = "mm";
+  doc["frame"] = "plant: origin at the stem base, +Z up the stem axis";
+  doc["id"] = plant.id;
+  doc["time"] = plant.time ? json(*plant.time) : json(nullptr);
+  doc["time_unit"] = plant.timeUnit.empty() ? json(nullptr) : json(plant.timeUnit);
+  json balls = json::array();
+  for (const Ball& b : plant.stem.curve.dataBalls())
+    balls.push_back({b.center.x(), b.center.y(), b.center.z(), b.radius});
+  doc["stem"] = {{"height_mm", plant.stemHeightMm},
+                 {"base_diameter_mm", plant.stemBaseDiameterMm},
+                 {"top_diameter_mm", plant.stemTopDiameterMm},
+                 {"data_balls", balls}};
+  json leaves = json::array();
+  for (const PlacedLeaf& l : plant.leaves) {
+    const LeafLight* light = lightOf(metrics, l.rank);
+    json placement = json::array();  // row-major 4 x 4: shaped leaf frame → plant frame
+    const Eigen::Matrix4d m = l.placement.matrix();
+    for (int r = 0; r < 4; ++r) placement.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+    LeafMetrics lm{};
+    lm.lightDirection = metrics.lightDirection;
+    lm.blade.areaMm2 = light ? light->areaMm2 : 0.0;
+    lm.blade.projectedAreaMm2 = 0.0;
+    json leaf = {{"rank", l.rank},
+                 {"source", l.source},
+                 {"leaf_id", l.model.markers.leaf.id},
+                 {"insertion_height_mm", l.insertionHeightMm},
+                 {"azimuth_deg", l.azimuthDeg},
+                 {"inclination_deg", l.inclinationDeg},
+                 {"roll_deg", l.rollDeg},
+                 {"scale", l.scale},
+                 {"bend_deg", l.bendDeg},
+                 {"length_factor", l.lengthFactor},
+                 {"width_factor", l.widthFactor},
+                 {"placement", placement},
+                 {"base_mm", {l.base.x(), l.base.y(), l.base.z()}},
+                 {"tip_mm", {l.tip.x(), l.tip.y(), l.tip.z()}},
+                 {"length_mm", l.lengthMm},
+                 {"width_mm", l.widthMm},
+                 {"area_mm2", light ? light->areaMm2 : 0.0},
+                 {"silhouette_mm2", light ? light->silhouetteMm2 : 0.0},
+                 {"star", light ? light->star : 0.0}};
+    leaf["model"] = json::parse(modelToJson(l.model, "plant", lm));
+    leaves.push_back(std::move(leaf));
+  }
+  doc["leaves"] = std::move(leaves);
+  doc["metrics"] = {
+      {"light_direction", {metrics.lightDirection.x(), metrics.lightDirection.y(), metrics.lightDirection.z()}},
+      {"area_mm2", metrics.areaMm2},
+      {"silhouette_mm2", metrics.silhouetteMm2},
+      {"star", metrics.star}};
+  return doc.dump() + "\n";
+}
+
+std::vector<EncodedFile> encodePlant(const std::filesystem::path& path, const Plant& plant, const LeafMesh& mesh,
+                                     const PlantMetrics& metrics, const PlantExportOptions& options) {
+  const ExportHeader header{plant.id, "plant", options.generator};
+  switch (plantFormatForPath(path)) {
+    case PlantFormat::Glb: return {{path, encodeMesh(mesh, MeshFormat::Glb, header)}};
+    case PlantFormat::Obj: return {{path, encodeMesh(mesh, MeshFormat::Obj, header)}};
+    case PlantFormat::Ply: return {{path, encodeMesh(mesh, MeshFormat::Ply, header)}};
+    case PlantFormat::Stl: return {{path, encodeMesh(mesh, MeshFormat::Stl, header)}};
+    case PlantFormat::Can: {
+      std::filesystem::path opt = path;
+      opt.replace_extension(".opt");
+      return {{path, encodeCan(mesh, options.canUnit).text}, {opt, encodeCaribuOpt()}};
+    }
+    case PlantFormat::Mtg: return {{path, encodeMtg(plant, metrics)}};
+    case PlantFormat::Csv: return {{path, encodePlantCsv(plant, metrics)}};
+    case PlantFormat::Json: return {{path, encodePlantJson(plant, metrics)}};
+  }
+  return {};
+}
+
+}  // namespace leafdig::model

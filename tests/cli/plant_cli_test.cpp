@@ -1,0 +1,208 @@
+// `leafdig plant build|grow` driven as a modeller would: a plan file, every export format,
+// each opened by an independent reader (Khronos glTF validator, assimp, the strict MTG and
+// CARIBU readers of SPEC §5.1), reproducibility, bad plans, growth series, the organ library.
+#include "../support/strict_formats.hpp"
+#include "cli_support.hpp"
+
+namespace {
+
+class PlantCli : public Cli {
+ protected:
+  // The sample plan with its leaf paths made absolute, written into the test's folder.
+  fs::path samplePlan() {
+    std::string text = slurp(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/tobacco-p07.plant.json");
+    const std::string samples = std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/";
+    for (std::size_t at; (at = text.find("../samples/")) != std::string::npos;) text.replace(at, 11, samples);
+    return write("plan.json", text);
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+};
+
+TEST_F(PlantCli, EveryExportOfTheSamplePlantOpensInAnIndependentReader) {
+  const fs::path plan = samplePlan();
+  std::string outputs;
+  for (const char* ext : {"glb", "obj", "ply", "stl", "can", "mtg", "csv", "json"})
+    outputs += " -o " + quote(dir_ / (std::string("p07.") + ext));
+  const Result r = leafdig("plant build " + quote(plan) + outputs + " --resolution preview --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json report = json::parse(r.out);
+  const json& state = report["states"][0];
+  ASSERT_EQ(state["leaves"].size(), 6u);
+  const long triangles = state["triangles"].get<long>();
+  for (const char* timing : {"build", "mesh", "metrics", "encode", "write"})
+    EXPECT_GE(report["timings_ms"][timing].get<double>(), 0.0) << timing;
+  EXPECT_GT(state["metrics"]["star"].get<double>(), 0.3);
+  EXPECT_LT(state["metrics"]["star"].get<double>(), 1.0);
+
+  // glTF: the Khronos validator, and a named node per organ.
+  const std::string validator = std::string(LEAFDIG_SOURCE_DIR) + "/tests/tools/validate-gltf.mjs";
+  const Result check = run("node " + quote(validator) + " " + quote(dir_ / "p07.glb"));
+  ASSERT_EQ(check.exitCode, 0) << check.out << check.err;
+  EXPECT_EQ(json::parse(check.out)["numErrors"], 0) << check.out;
+  const std::string glb = slurp(dir_ / "p07.glb");
+  for (const char* node : {"\"plant/stem\"", "\"plant/leaf-1/blade\"", "\"plant/leaf-6/midrib\"", "\"P-07\""})
+    EXPECT_NE(glb.find(node), std::string::npos) << node;
+
+  // OBJ, PLY, STL: assimp, with the triangle count the command reported.
+  ASSERT_EQ(run("command -v assimp").exitCode, 0) << "assimp is not installed: run scripts/setup.sh";
+  const auto count = [&](const char* ext, const std::string& key) {
+    const std::string out = run("assimp info " + quote(dir_ / (std::string("p07.") + ext)) + " -r").out;
+    const std::size_t at = out.find("\n" + key + ":");
+    return at == std::string::npos ? -1L : std::stol(out.substr(at + key.size() + 2));
+  };
+  EXPECT_EQ(count("obj", "Faces"), triangles);
+  EXPECT_EQ(count("ply", "Faces"), triangles);
+  EXPECT_EQ(count("stl", "Faces"), triangles);
+  const std::string ply = slurp(dir_ / "p07.ply");
+  EXPECT_NE(ply.find("property int leaf_rank"), std::string::npos);
+  EXPECT_NE(ply.find("comment organ_id 0 plant/stem"), std::string::npos);
+  EXPECT_NE(slurp(dir_ / "p07.obj").find("o plant/leaf-3/blade"), std::string::npos);
+
+  // CARIBU: the strict reader, every triangle kept, stem opaque, leaves by rank.
+  const auto opt = leafdig::test::readOptStrictly(slurp(dir_ / "p07.opt"));
+  const auto can = leafdig::test::readCanStrictly(slurp(dir_ / "p07.can"), opt);
+  EXPECT_EQ(static_cast<long>(can.size()), triangles);
+  std::set<int> leaves;
+  for (const auto& t : can) leaves.insert(t.leaf);
+  EXPECT_EQ(leaves, (std::set<int>{0, 1, 2, 3, 4, 5, 6}));
+
+  // MTG: the strict reader; the plan's leaves with every feature.
+  const auto mtg = leafdig::test::readMtgStrictly(slurp(dir_ / "p07.mtg"));
+  int leafEntities = 0;
+  for (const auto& e : mtg.entities)
+    if (e.symbol == 'L') {
+      ++leafEntities;
+      EXPECT_EQ(e.features.size(), mtg.features.size());
+    }
+  EXPECT_EQ(leafEntities, 6);
+
+  // CSV: a header, the stem, six leaves; the JSON document: placements and models.
+  const std::string csv = slurp(dir_ / "p07.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 8);
+  const json doc = json::parse(slurp(dir_ / "p07.json"));
+  EXPECT_EQ(doc["format"], "leafdig.plant-model/1");
+  ASSERT_EQ(doc["leaves"].size(), 6u);
+  EXPECT_EQ(doc["leaves"][0]["placement"].size(), 4u);
+  EXPECT_EQ(doc["leaves"][0]["model"]["format"], "leafdig.model/1");
+  EXPECT_NEAR(doc["leaves"][3]["bend_deg"].get<double>(), 10.0, 1e-12);
+}
+
+TEST_F(PlantCli, TheSamePlanTwiceGivesByteIdenticalFiles) {
+  const fs::path plan = samplePlan();
+  for (const char* run : {"a", "b"}) {
+    std::string outputs;
+    for (const char* ext : {"glb", "ply", "can", "mtg", "csv", "json"})
+      outputs += " -o " + quote(dir_ / (std::string(run) + "." + ext));
+    ASSERT_EQ(leafdig("plant build " + quote(plan) + outputs + " --resolution preview").exitCode, 0);
+  }
+  for (const char* ext : {"glb", "ply", "can", "opt", "mtg", "csv", "json"})
+    EXPECT_EQ(slurp(dir_ / (std::string("a.") + ext)), slurp(dir_ / (std::string("b.") + ext))) << ext;
+}
+
+TEST_F(PlantCli, ABadPlanExitsTwoNamingTheProblemAndWritesNothing) {
+  const fs::path out = dir_ / "never.glb";
+  const fs::path twice = write("twice.json", R"({"format": "leafdig.plant/1", "units": "mm", "id": "P",
+      "stem": {"height": 500, "base_diameter": 20, "top_diameter": 8},
+      "leaves": [{"rank": 1, "markers": "a.json", "insertion_height": 10},
+                 {"rank": 1, "markers": "a.json", "insertion_height": 20}]})");
+  Result r = leafdig("plant build " + quote(twice) + " -o " + quote(out));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("rank 1 is given twice"), std::string::npos) << r.err;
+  const fs::path above = write("above.json", R"({"format": "leafdig.plant/1", "units": "cm", "id": "P",
+      "stem": {"height": 50, "base_diameter": 2, "top_diameter": 0.8},
+      "leaves": [{"rank": 1, "markers": "a.json", "insertion_height": 60}]})");
+  r = leafdig("plant build " + quote(above) + " -o " + quote(out));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("600 mm is outside the stem"), std::string::npos) << r.err;
+  r = leafdig("plant build " + quote(samplePlan()) + " -o " + quote(dir_ / "plant.3ds"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find(".3ds"), std::string::npos) << r.err;
+  r = leafdig("plant build " + quote(dir_ / "missing.json") + " -o " + quote(out));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("missing.json"), std::string::npos) << r.err;
+  const fs::path noLibrary = write("nolib.json", R"({"format": "leafdig.plant/1", "units": "mm", "id": "P",
+      "stem": {"height": 500, "base_diameter": 20, "top_diameter": 8},
+      "leaves": [{"rank": 1, "library": {"type": "lower"}, "insertion_height": 10}],
+      "library": {"db": "nowhere.sqlite"}})");
+  r = leafdig("plant build " + quote(noLibrary) + " -o " + quote(out));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("nowhere.sqlite does not exist"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "nowhere.sqlite")) << "a missing library is not created";
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(PlantCli, AGrowthSeriesWritesOneFilePerTimeAndGrowsMonotonically) {
+  const fs::path plan = samplePlan();
+  const Result r =
+      leafdig("plant grow " + quote(plan) + " --times 0:60:5 --resolution preview --json -o " +
+              quote(dir_ / "series" / "plant-{t}.glb") + " -o " + quote(dir_ / "series" / "plant-{t}.csv"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json report = json::parse(r.out);
+  ASSERT_EQ(report["states"].size(), 13u);
+  double lastArea = 0, lastHeight = 0;
+  for (const auto& s : report["states"]) {
+    EXPECT_GT(s["metrics"]["area_mm2"].get<double>(), lastArea);
+    EXPECT_GT(s["stem_height_mm"].get<double>(), lastHeight);
+    lastArea = s["metrics"]["area_mm2"];
+    lastHeight = s["stem_height_mm"];
+  }
+  EXPECT_EQ(report["states"][0]["leaves"].size(), 1u) << "one leaf at t = 0, a new one every 4 days";
+  EXPECT_EQ(report["states"][12]["leaves"].size(), 6u);
+  for (const char* t : {"0", "5", "30", "60"}) {
+    EXPECT_TRUE(fs::exists(dir_ / "series" / ("plant-" + std::string(t) + ".glb"))) << t;
+    EXPECT_TRUE(fs::exists(dir_ / "series" / ("plant-" + std::string(t) + ".csv"))) << t;
+  }
+  const std::string validator = std::string(LEAFDIG_SOURCE_DIR) + "/tests/tools/validate-gltf.mjs";
+  const Result check = run("node " + quote(validator) + " " + quote(dir_ / "series" / "plant-5.glb"));
+  EXPECT_EQ(json::parse(check.out)["numErrors"], 0) << check.out;
+
+  const Result noPattern = leafdig("plant grow " + quote(plan) + " --times 0:60:5 -o " + quote(dir_ / "x.glb"));
+  EXPECT_EQ(noPattern.exitCode, 2);
+  EXPECT_NE(noPattern.err.find("{t}"), std::string::npos) << noPattern.err;
+  const Result badTimes = leafdig("plant grow " + quote(plan) + " --times 0:60 -o " + quote(dir_ / "x-{t}.glb"));
+  EXPECT_EQ(badTimes.exitCode, 2);
+  EXPECT_NE(badTimes.err.find("start:end:step"), std::string::npos) << badTimes.err;
+}
+
+TEST_F(PlantCli, LibraryLeavesAreDrawnFromApprovedSessionsOfTheRequestedType) {
+  const fs::path db = dir_ / "station.sqlite";
+  ASSERT_EQ(leafdig("capture --simulate --speed 30 --no-mistakes --db " + quote(db) +
+                    " --plant P1 --leaf-position 2 --leaf-type lower </dev/null")
+                .exitCode,
+            0);
+  ASSERT_EQ(leafdig("capture --simulate --speed 30 --no-mistakes --markers " +
+                    quote(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/upper-small-leaf-n17.markers.json") +
+                    " --db " + quote(db) + " --plant P1 --leaf-position 9 --leaf-type upper </dev/null")
+                .exitCode,
+            0);
+  ASSERT_EQ(leafdig("capture --simulate --speed 30 --no-mistakes --db " + quote(db) +
+                    " --plant P2 --leaf-position 3 --leaf-type lower </dev/null")
+                .exitCode,
+            0);
+  const fs::path plan = write("library.json", R"({"format": "leafdig.plant/1", "units": "mm", "id": "P-lib",
+      "seed": 11, "stem": {"height": 900, "base_diameter": 24, "top_diameter": 8},
+      "leaves": [{"rank": 1, "library": {"type": "lower"}, "insertion_height": 150},
+                 {"rank": 2, "library": {"type": "upper"}, "insertion_height": 500}],
+      "library": {"db": "station.sqlite", "ranges": {"scale": [0.9, 1.1]}}})");
+  // Nothing approved yet: the draw names what is missing.
+  Result r = leafdig("plant build " + quote(plan) + " -o " + quote(dir_ / "p.csv"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("sessions approve"), std::string::npos) << r.err;
+  for (const char* id : {"1", "2"})
+    ASSERT_EQ(leafdig("sessions approve " + std::string(id) + " --who cur --db " + quote(db)).exitCode, 0);
+  r = leafdig("plant build " + quote(plan) + " --json -o " + quote(dir_ / "p.csv"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json leaves = json::parse(r.out)["states"][0]["leaves"];
+  EXPECT_EQ(leaves[0]["source"], "session 1") << "the only approved lower leaf (session 3 is not approved)";
+  EXPECT_EQ(leaves[1]["source"], "session 2");
+  for (const auto& l : leaves) {
+    EXPECT_GE(l["scale"].get<double>(), 0.9);
+    EXPECT_LE(l["scale"].get<double>(), 1.1);
+  }
+}
+
+}  // namespace

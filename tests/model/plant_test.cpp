@@ -1,0 +1,357 @@
+// Whole plants: placement, phyllotaxis, organ library draws, growth, plan checks, metrics,
+// and the CARIBU and MTG exports read back by the strict readers of SPEC §5.1.
+#include "leafdig/model/plant.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "../support/strict_formats.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/metrics.hpp"
+#include "leafdig/model/plant_export.hpp"
+#include "test_support.hpp"
+
+namespace leafdig::model {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+std::string planText(const std::string& leaves, const std::string& extra = "") {
+  return R"({"format": "leafdig.plant/1", "units": "mm", "id": "P-07", "seed": 42,
+             "stem": {"height": 900, "base_diameter": 24, "top_diameter": 8},
+             "phyllotaxis": {"divergence_deg": 137.5078, "jitter_deg": 0},
+             "leaves": [)" +
+         leaves + "]" + extra + "}";
+}
+
+std::string markersLeaf(int rank, double height, const std::string& more = "") {
+  return R"({"rank": )" + std::to_string(rank) + R"(, "markers": "lower-leaf-n10.markers.json", "insertion_height": )" +
+         std::to_string(height) + more + "}";
+}
+
+PlantPlan plan(const std::string& text) {
+  return parsePlantPlan(text, "plan.json", fs::path(LEAFDIG_SOURCE_DIR) / "data" / "samples");
+}
+
+// A flat leaf (z = 0) as a library leaf of the given type.
+LibraryLeaf flatLibraryLeaf(const std::string& type, int position) {
+  MarkerSet m = test::flatTriangleLeaf(6, 8.0, 20.0);
+  m.leaf.type = type;
+  m.leaf.position = position;
+  m.leaf.id = type + "-" + std::to_string(position);
+  return {"test " + m.leaf.id, m};
+}
+
+double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / kPi;
+}
+
+TEST(Plant, LeavesFollowTheGoldenAngleSitOnTheStemAndLeanAtTheirInclination) {
+  std::string leaves;
+  for (int k = 1; k <= 6; ++k)
+    leaves += (k > 1 ? "," : "") + markersLeaf(k, 100.0 * k, ", \"inclination_deg\": " + std::to_string(20 + 10 * k));
+  const Plant p = PlantBuilder(plan(planText(leaves)), {}).build();
+  ASSERT_EQ(p.leaves.size(), 6u);
+  for (const PlacedLeaf& l : p.leaves) {
+    EXPECT_NEAR(l.azimuthDeg, std::fmod(l.rank * 137.5078, 360.0), 1e-9) << l.rank;
+    // The base sits on the stem's surface at the insertion height, on the azimuth's side.
+    const double radius = (24.0 + (8.0 - 24.0) * l.insertionHeightMm / 900.0) / 2.0;
+    EXPECT_NEAR(l.base.z(), 100.0 * l.rank, 1e-9);
+    EXPECT_NEAR(std::hypot(l.base.x(), l.base.y()), radius, 1e-9);
+    EXPECT_NEAR(std::atan2(l.base.y(), l.base.x()) * 180 / kPi, l.azimuthDeg > 180 ? l.azimuthDeg - 360 : l.azimuthDeg,
+                1e-9);
+    // The base-to-tip chord makes the inclination with the stem axis, in the azimuth's plane.
+    EXPECT_NEAR(angleBetween(l.tip - l.base, Eigen::Vector3d::UnitZ()), 20 + 10 * l.rank, 1e-6);
+    const Eigen::Vector3d horizontal(l.tip.x() - l.base.x(), l.tip.y() - l.base.y(), 0);
+    EXPECT_NEAR(angleBetween(horizontal, Eigen::Vector3d(l.base.x(), l.base.y(), 0)), 0.0, 1e-5);
+    // The model's P_N4 is the base, its tip the tip.
+    EXPECT_LT((l.model.markers.rows.back().pointsMm[kMidribColumn] - l.base).norm(), 1e-9);
+    EXPECT_LT((l.model.markers.tipMm - l.tip).norm(), 1e-9);
+  }
+}
+
+TEST(Plant, AFlatLeafLaidHorizontalShowsItsAdaxialSideUpAndRollTurnsIt) {
+  const std::vector<LibraryLeaf> library{flatLibraryLeaf("lower", 1)};
+  const std::string leaves =
+      R"({"rank": 1, "library": {"type": "lower"}, "insertion_height": 100, "inclination_deg": 90},
+         {"rank": 2, "library": {"type": "lower"}, "insertion_height": 200, "inclination_deg": 90, "roll_deg": 90})";
+  const Plant p = PlantBuilder(plan(planText(leaves, R"(, "library": {"db": "x.sqlite"})")), library).build();
+  const LeafMesh mesh = meshPlant(p, MeshResolution::preset("preview"));
+  for (const Organ& o : mesh.organs) {
+    if (o.kind != OrganKind::Blade) continue;
+    for (const auto& t : o.mesh.triangles) {
+      const Eigen::Vector3d n =
+          (o.mesh.positions[t[1]] - o.mesh.positions[t[0]]).cross(o.mesh.positions[t[2]] - o.mesh.positions[t[0]]);
+      if (o.leafRank == 1) {
+        EXPECT_GT(n.normalized().z(), 0.999) << "adaxial side up";
+      }
+      if (o.leafRank == 2) {
+        EXPECT_NEAR(n.normalized().z(), 0.0, 1e-9) << "rolled on its side";
+      }
+    }
+  }
+}
+
+TEST(Plant, TheSamePlanAndSeedGiveTheSameBytesAndAnotherSeedOtherDraws) {
+  const std::vector<LibraryLeaf> library{flatLibraryLeaf("lower", 1), flatLibraryLeaf("lower", 2),
+                                         flatLibraryLeaf("upper", 7)};
+  std::string leaves;
+  for (int k = 1; k <= 8; ++k)
+    leaves += std::string(k > 1 ? "," : "") + R"({"rank": )" + std::to_string(k) +
+              R"(, "library": {"type": "lower"}, "insertion_height": )" + std::to_string(90 * k) + "}";
+  const std::string extra =
+      R"(, "library": {"db": "x.sqlite", "ranges": {"scale": [0.8, 1.2], "bend_deg": [0, 20],
+         "azimuth_jitter_deg": [-10, 10], "inclination_deg": [40, 60]}})";
+  std::string text = planText(leaves, extra);
+  const auto encodeAll = [&](const std::string& t) {
+    const Plant p = PlantBuilder(plan(t), library).build();
+    const LeafMesh mesh = meshPlant(p, MeshResolution::preset("preview"));
+    const PlantMetrics metrics = computePlantMetrics(p, mesh, Eigen::Vector3d::UnitZ());
+    return encodePlantJson(p, metrics) + encodeCan(mesh, CanUnit::Metre).text + encodeMtg(p, metrics);
+  };
+  EXPECT_EQ(encodeAll(text), encodeAll(text));
+  std::string other = text;
+  other.replace(other.find("\"seed\": 42"), 10, "\"seed\": 43");
+  EXPECT_NE(encodeAll(text), encodeAll(other));
+
+  // Draws lie in their ranges, come from the requested type, and vary.
+  const Plant p = PlantBuilder(plan(text), library).build();
+  std::set<double> scales;
+  std::set<std::string> sources;
+  for (const PlacedLeaf& l : p.leaves) {
+    EXPECT_GE(l.scale, 0.8);
+    EXPECT_LE(l.scale, 1.2);
+    EXPECT_GE(l.bendDeg, 0.0);
+    EXPECT_LE(l.bendDeg, 20.0);
+    EXPECT_GE(l.inclinationDeg, 40.0);
+    EXPECT_LE(l.inclinationDeg, 60.0);
+    double jitter = std::remainder(l.azimuthDeg - l.rank * 137.5078, 360.0);
+    EXPECT_LE(std::abs(jitter), 10.0 + 1e-9);
+    EXPECT_NE(l.source, "test upper-7");
+    scales.insert(l.scale);
+    sources.insert(l.source);
+  }
+  EXPECT_EQ(scales.size(), p.leaves.size()) << "every leaf draws its own scale";
+  EXPECT_EQ(sources.size(), 2u) << "both lower leaves are drawn over eight ranks";
+
+  // A leaf added at a new rank does not change the draws of the others.
+  std::string more = planText(leaves + R"(, {"rank": 9, "library": {}, "insertion_height": 850})", extra);
+  const Plant q = PlantBuilder(plan(more), library).build();
+  for (std::size_t i = 0; i < p.leaves.size(); ++i) EXPECT_EQ(q.leaves[i].scale, p.leaves[i].scale);
+}
+
+TEST(Plant, LeavesGrowOnLogisticCurvesWidthLessThanLengthAndAppearOnePlastochronApart) {
+  std::string leaves;
+  for (int k = 1; k <= 5; ++k) leaves += (k > 1 ? "," : "") + markersLeaf(k, 150.0 * k);
+  const std::string growth = R"(, "growth": {"time_unit": "days", "plastochron": 4, "leaf": {"rate": 0.3,
+      "midpoint": 12}, "width_at_emergence": 0.4, "stem": {"rate": 0.12, "midpoint": 30}})";
+  const PlantBuilder builder(plan(planText(leaves, growth)), {});
+  const Plant final = builder.build();
+  double lastStem = 0;
+  std::vector<double> lastLength(6, 0.0), lastWidth(6, 0.0);
+  for (double t = 0; t <= 120; t += 5) {
+    const Plant p = builder.build(t);
+    EXPECT_EQ(p.leaves.size(), std::min<std::size_t>(5, static_cast<std::size_t>(std::floor(t / 4)) + 1)) << t;
+    EXPECT_GT(p.stemHeightMm, lastStem);
+    lastStem = p.stemHeightMm;
+    for (const PlacedLeaf& l : p.leaves) {
+      const auto r = static_cast<std::size_t>(l.rank);
+      EXPECT_GT(l.lengthFactor, lastLength[r]) << "monotone, rank " << l.rank << " t " << t;
+      EXPECT_GT(l.widthFactor, l.lengthFactor) << "width starts larger, relatively";
+      if (lastLength[r] > 0) {
+        EXPECT_LT(l.widthFactor - lastWidth[r], l.lengthFactor - lastLength[r]);
+      }
+      lastLength[r] = l.lengthFactor;
+      lastWidth[r] = l.widthFactor;
+      const PlacedLeaf& f = final.leaves[r - 1];
+      EXPECT_NEAR(l.lengthMm, f.lengthMm * l.lengthFactor, 0.01 * f.lengthMm) << "length follows its factor";
+      EXPECT_NEAR(l.insertionHeightMm, f.insertionHeightMm * p.stemHeightMm / final.stemHeightMm, 1e-9);
+    }
+  }
+  // The asymptote: late states approach the final plant.
+  const Plant late = builder.build(400);
+  EXPECT_NEAR(late.stemHeightMm, final.stemHeightMm, 1e-6 * final.stemHeightMm);
+  for (std::size_t i = 0; i < late.leaves.size(); ++i)
+    EXPECT_NEAR(late.leaves[i].lengthMm, final.leaves[i].lengthMm, 1e-6 * final.leaves[i].lengthMm);
+  EXPECT_NEAR(logistic(0.3, 12, 12), 0.5, 1e-15);
+  EXPECT_THROW((void)PlantBuilder(plan(planText(leaves)), {}).build(3.0), InputError) << "no growth in the plan";
+}
+
+TEST(Plant, EveryBadPlanIsRefusedNamingTheKey) {
+  const std::string one = markersLeaf(1, 100);
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {R"({"units": "mm", "id": "P", "stem": {"height": 9, "base_diameter": 1, "top_diameter": 1}, "leaves": [1]})",
+       "format"},
+      {R"({"format": "leafdig.markers/1"})", "format"},
+      {R"({"format": "leafdig.plant/1", "units": "mm", "stem": {"height": 900, "base_diameter": 24,
+          "top_diameter": 8}, "leaves": [)" +
+           one + "]}",
+       "id"},
+      {R"({"format": "leafdig.plant/1", "units": "furlong", "id": "P"})", "units"},
+      {R"({"format": "leafdig.plant/1", "units": "mm", "id": "P", "stem": {"base_diameter": 24, "top_diameter": 8},
+          "leaves": [)" +
+           one + "]}",
+       "stem.height"},
+      {planText(""), "leaves"},
+      {planText(one + "," + markersLeaf(1, 200)), "rank 1 is given twice"},
+      {planText(markersLeaf(1, 950)), "insertion_height"},
+      {planText(R"({"rank": 1, "markers": "a.json"})"), "insertion_height"},
+      {planText(R"({"rank": 1, "insertion_height": 10})"), "exactly one of"},
+      {planText(R"({"rank": 1, "library": {"type": "lower"}, "insertion_height": 10})"), "library.db"},
+      {planText(one, R"(, "library": {"db": "x", "ranges": {"scale": [1.2, 0.8]}})"), "library.ranges.scale"},
+      {planText(one, R"(, "growth": {"plastochron": 4, "leaf": {"rate": 0.3}, "stem": {"rate": 1, "midpoint": 1}})"),
+       "growth.leaf.midpoint"},
+      {planText(one, R"(, "growth": {"plastochron": 4, "leaf": {"rate": 0.3, "midpoint": 3}, "width_at_emergence": 1.5,
+          "stem": {"rate": 1, "midpoint": 1}})"),
+       "width_at_emergence"},
+      {planText(markersLeaf(1, 100, R"(, "inclination_deg": 200)")), "inclination_deg"},
+      {"{not json", "plan.json"},
+  };
+  for (const auto& [text, expected] : cases) {
+    try {
+      (void)plan(text);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  // Found only when the plant is assembled: no approved leaf of the requested type, a bad file.
+  const std::string wantsUpper =
+      planText(R"({"rank": 1, "library": {"type": "upper"}, "insertion_height": 10})", R"(, "library": {"db": "x"})");
+  try {
+    (void)PlantBuilder(plan(wantsUpper), {flatLibraryLeaf("lower", 1)});
+    ADD_FAILURE() << "an empty draw was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"upper\""), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("sessions approve"), std::string::npos) << e.what();
+  }
+  const std::string missing = planText(R"({"rank": 1, "markers": "nowhere.json", "insertion_height": 10})");
+  EXPECT_THROW((void)PlantBuilder(plan(missing), {}), InputError);
+}
+
+TEST(Plant, AFlatLeafSeenAlongItsNormalHasSilhouetteEqualToAreaAndEdgeOnNone) {
+  const LeafModel leaf = buildLeafModel(test::flatTriangleLeaf(8, 10.0, 25.0));
+  const Mesh blade = meshBlade(leaf.blade, 4, 24);
+  const double area = meshArea(blade);
+  EXPECT_NEAR(silhouetteArea({&blade}, Eigen::Vector3d::UnitZ()) / area, 1.0, 0.005);
+  EXPECT_NEAR(silhouetteArea({&blade}, -Eigen::Vector3d::UnitZ()) / area, 1.0, 0.005);
+  EXPECT_EQ(silhouetteArea({&blade}, Eigen::Vector3d::UnitX()), 0.0);
+  // At 60° from the normal a flat leaf shows half its area.
+  const Eigen::Vector3d slanted(std::sin(kPi / 3), 0, std::cos(kPi / 3));
+  EXPECT_NEAR(silhouetteArea({&blade}, slanted) / area, 0.5, 0.005);
+  // Two copies on top of each other count once.
+  EXPECT_NEAR(silhouetteArea({&blade, &blade}, Eigen::Vector3d::UnitZ()) / area, 1.0, 0.005);
+}
+
+TEST(Plant, ThePlantsSilhouetteCountsOverlapsOnce) {
+  std::string leaves;
+  for (int k = 1; k <= 6; ++k) leaves += (k > 1 ? "," : "") + markersLeaf(k, 80.0 * k);
+  const Plant p = PlantBuilder(plan(planText(leaves)), {}).build();
+  const LeafMesh mesh = meshPlant(p, MeshResolution::preset("preview"));
+  const PlantMetrics m = computePlantMetrics(p, mesh, Eigen::Vector3d::UnitZ());
+  double sum = 0, largest = 0;
+  for (const LeafLight& l : m.leaves) {
+    EXPECT_GT(l.star, 0.0);
+    EXPECT_LE(l.star, 1.0 + 1e-3);
+    sum += l.silhouetteMm2;
+    largest = std::max(largest, l.silhouetteMm2);
+  }
+  EXPECT_LT(m.silhouetteMm2, sum) << "six leaves on one stem overlap seen from above";
+  EXPECT_GT(m.silhouetteMm2, largest);
+  EXPECT_NEAR(m.star, m.silhouetteMm2 / m.areaMm2, 1e-12);
+}
+
+TEST(PlantExport, CaribuFilesPassTheStrictReaderWithUpperSidesFirstAndTheStemOpaque) {
+  const std::vector<LibraryLeaf> library{flatLibraryLeaf("lower", 1)};
+  const std::string leaves =
+      R"({"rank": 1, "library": {}, "insertion_height": 100, "inclination_deg": 90},
+         {"rank": 2, "markers": "upper-small-leaf-n17.markers.json", "insertion_height": 300})";
+  const Plant p = PlantBuilder(plan(planText(leaves, R"(, "library": {"db": "x"})")), library).build();
+  const LeafMesh mesh = meshPlant(p, MeshResolution::preset("export"));
+  for (const CanUnit unit : {CanUnit::Metre, CanUnit::Centimetre}) {
+    const CanFile can = encodeCan(mesh, unit);
+    const leafdig::test::CaribuOpt opt = leafdig::test::readOptStrictly(encodeCaribuOpt());
+    const std::vector<leafdig::test::CanTriangle> triangles = leafdig::test::readCanStrictly(can.text, opt);
+    EXPECT_EQ(triangles.size(), can.triangles);
+    std::size_t all = 0;
+    for (const Organ& o : mesh.organs) all += o.mesh.triangles.size();
+    EXPECT_EQ(can.triangles + can.dropped, all);
+    EXPECT_EQ(can.dropped, 0u) << "the mesher makes no triangle that vanishes at micrometre precision";
+    const double toMm = unit == CanUnit::Metre ? 1000.0 : 10.0;
+    std::set<int> leavesSeen;
+    for (const auto& t : triangles) {
+      EXPECT_EQ(t.plant, 1);
+      leavesSeen.insert(t.leaf);
+      // The flat leaf laid horizontal: its blade (element after its veins) faces up.
+      if (t.leaf == 1 && t.element == 2 * 6 + 3) {
+        EXPECT_GT(t.normal()[2], 0.0) << t.label;
+      }
+      (void)toMm;
+    }
+    EXPECT_EQ(leavesSeen, (std::set<int>{0, 1, 2})) << "stem 000 (opaque), leaves by rank";
+  }
+}
+
+TEST(PlantExport, TheMtgPassesTheStrictReaderWithEveryFeatureOnEveryLeaf) {
+  std::string leaves;
+  for (int k = 1; k <= 4; ++k) leaves += (k > 1 ? "," : "") + markersLeaf(k, 150.0 * k);
+  const Plant p = PlantBuilder(plan(planText(leaves)), {}).build();
+  const LeafMesh mesh = meshPlant(p, MeshResolution::preset("preview"));
+  const PlantMetrics metrics = computePlantMetrics(p, mesh, Eigen::Vector3d::UnitZ());
+  const leafdig::test::MtgFile mtg = leafdig::test::readMtgStrictly(encodeMtg(p, metrics));
+  EXPECT_EQ(mtg.nbScales(), 3) << "$, plant, internode + leaf";
+  std::size_t leafCount = 0, internodes = 0;
+  for (const auto& e : mtg.entities) {
+    if (e.symbol == 'I') ++internodes;
+    if (e.symbol != 'L') continue;
+    ++leafCount;
+    EXPECT_EQ(e.relation, '+');
+    EXPECT_EQ(mtg.entities[static_cast<std::size_t>(e.parent)].symbol, 'I');
+    EXPECT_EQ(e.features.size(), mtg.features.size()) << "every declared feature on leaf " << e.index;
+    const PlacedLeaf& l = p.leaves[static_cast<std::size_t>(std::stoi(e.features.at("rank")) - 1)];
+    EXPECT_NEAR(std::stod(e.features.at("azimuth")), l.azimuthDeg, 5e-4);
+    EXPECT_NEAR(std::stod(e.features.at("tip_z")), l.tip.z(), 5e-4);
+    EXPECT_NEAR(std::stod(e.features.at("length")), l.lengthMm, 5e-4);
+  }
+  EXPECT_EQ(leafCount, 4u);
+  EXPECT_EQ(internodes, 5u) << "one below each leaf, one up to the apex";
+  // The reader is strict: a space, an exponent, an extra tab are each refused.
+  const std::string good = encodeMtg(p, metrics);
+  std::string spaced = good;
+  spaced.replace(spaced.find("\t+L1"), 1, " ");
+  EXPECT_THROW(leafdig::test::readMtgStrictly(spaced), std::runtime_error);
+  std::string exponent = good;
+  exponent.replace(exponent.find("150.000"), 7, "1.5e+02");
+  EXPECT_THROW(leafdig::test::readMtgStrictly(exponent), std::runtime_error);
+  std::string shifted = good;
+  shifted.replace(shifted.find("\t+L1\t"), 5, "\t+L1\t\t");
+  EXPECT_THROW(leafdig::test::readMtgStrictly(shifted), std::runtime_error);
+}
+
+TEST(Mesh, TheBladeMeshesOfTheSamplesHaveNoDegenerateTriangles) {
+  for (const char* name : test::kSampleFiles) {
+    const LeafModel digitizer = buildLeafModel(test::sample(name));
+    // In the leaf frame (every leaf of a plant is first put there) the tip row's repeated
+    // points differ by rounding: the mesher must still see those triangles as degenerate.
+    for (const LeafModel& leaf : {digitizer, transformed(digitizer, leafFrameFromDigitizer(digitizer))})
+      for (const char* preset : {"paper", "preview", "export"}) {
+        const MeshResolution r = MeshResolution::preset(preset);
+        const Mesh blade = meshBlade(leaf.blade, r.bladeSegmentsPerRow, r.bladeSegmentsAcross);
+        for (const auto& t : blade.triangles) {
+          const Eigen::Vector3d a = blade.positions[t[0]], b = blade.positions[t[1]], c = blade.positions[t[2]];
+          const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+          const double area = 0.5 * (b - a).cross(c - a).norm();
+          // Height over the longest edge at least 0.1 µm: nothing that rounds away in an export.
+          EXPECT_GT(2 * area / longest, 1e-4) << name << " " << preset;
+        }
+      }
+  }
+}
+
+}  // namespace
+}  // namespace leafdig::model

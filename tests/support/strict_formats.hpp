@@ -1,0 +1,316 @@
+// Strict readers of the simulation formats, written from SPEC §5.1 (the rules found by running
+// OpenAlea's MTG reader and CARIBU's canestrad), independently of leafdig's writers. They
+// throw std::runtime_error naming the line and the rule broken.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace leafdig::test {
+
+inline std::vector<std::string> splitExact(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : s) {
+    if (c == sep) {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+inline std::vector<std::string> linesOf(const std::string& text) {
+  std::vector<std::string> lines = splitExact(text, '\n');
+  if (!lines.empty() && lines.back().empty()) lines.pop_back();
+  return lines;
+}
+
+inline bool isInt(const std::string& s) {
+  std::size_t i = (!s.empty() && s[0] == '-') ? 1 : 0;
+  if (i >= s.size()) return false;
+  for (; i < s.size(); ++i)
+    if (s[i] < '0' || s[i] > '9') return false;
+  return true;
+}
+
+// Fixed notation only: digits, one optional point, an optional leading minus. No exponent,
+// no decimal comma.
+inline bool isFixed(const std::string& s) {
+  std::size_t i = (!s.empty() && s[0] == '-') ? 1 : 0;
+  bool digits = false;
+  bool point = false;
+  for (; i < s.size(); ++i) {
+    if (s[i] >= '0' && s[i] <= '9') {
+      digits = true;
+    } else if (s[i] == '.' && !point) {
+      point = true;
+    } else {
+      return false;
+    }
+  }
+  return digits;
+}
+
+// ---------------------------------------------------------------------------------------
+// OpenAlea MTG coding file.
+
+struct MtgEntity {
+  char symbol = 0;
+  int index = 0;
+  int depth = 0;                                // leading tabs
+  char relation = 0;                            // '/', '<' or '+' (the last one of the code)
+  int parent = -1;                              // entity this one follows or branches from (-1: the plant)
+  std::map<std::string, std::string> features;  // declared features present on the line
+};
+
+struct MtgFile {
+  std::map<char, int> scales;                                 // class symbol -> scale
+  std::vector<std::pair<std::string, std::string>> features;  // name, type in order
+  std::set<std::tuple<char, char, char>> relations;           // left, right, reltype
+  std::vector<MtgEntity> entities;
+  [[nodiscard]] int nbScales() const {
+    std::set<int> s;
+    for (const auto& [sym, scale] : scales) s.insert(scale);
+    return static_cast<int>(s.size());
+  }
+};
+
+inline MtgFile readMtgStrictly(const std::string& text) {
+  const auto fail = [](std::size_t line, const std::string& what) {
+    throw std::runtime_error("MTG line " + std::to_string(line + 1) + ": " + what);
+  };
+  const std::vector<std::string> lines = linesOf(text);
+  std::size_t i = 0;
+  const auto skipBlankAndComments = [&] {
+    while (i < lines.size() && (lines[i].empty() || lines[i][0] == '#')) ++i;
+  };
+  const auto expect = [&](const std::string& exact) {
+    skipBlankAndComments();
+    if (i >= lines.size() || lines[i] != exact) fail(i, "expected exactly \"" + exact + "\"");
+    ++i;
+  };
+  MtgFile mtg;
+  expect("CODE:\tFORM-A");
+  expect("CLASSES:");
+  expect("SYMBOL\tSCALE\tDECOMPOSITION\tINDEXATION\tDEFINITION");
+  static const std::set<std::string> decompositions{"FREE", "CONNECTED", "NOTCONNECTED", "LINEAR", "NONE"};
+  for (; i < lines.size() && !lines[i].empty(); ++i) {
+    const auto f = splitExact(lines[i], '\t');
+    if (f.size() != 5) fail(i, "a class line has 5 tab-separated fields");
+    if (f[0].size() != 1) fail(i, "a class symbol is one character");
+    if (!isInt(f[1])) fail(i, "scale must be an integer");
+    if (!decompositions.count(f[2])) fail(i, "unknown decomposition " + f[2]);
+    if (f[3] != "FREE" && f[3] != "CONSECUTIVE") fail(i, "unknown indexation " + f[3]);
+    if (f[4] != "IMPLICIT" && f[4] != "EXPLICIT") fail(i, "unknown definition " + f[4]);
+    mtg.scales[f[0][0]] = std::stoi(f[1]);
+  }
+  if (!mtg.scales.count('$') || mtg.scales['$'] != 0) fail(i, "the first class is $ at scale 0");
+  expect("DESCRIPTION:");
+  expect("LEFT\tRIGHT\tRELTYPE\tMAX");
+  for (; i < lines.size() && !lines[i].empty(); ++i) {
+    const auto f = splitExact(lines[i], '\t');
+    if (f.size() != 4) fail(i, "a description line has 4 tab-separated fields");
+    if (f[2] != "<" && f[2] != "+") fail(i, "RELTYPE is < or +");
+    if (f[3] != "?" && !isInt(f[3])) fail(i, "MAX is an integer or ?");
+    for (const auto& s : {f[0], f[1]})
+      if (s.size() != 1 || !mtg.scales.count(s[0])) fail(i, "undeclared class " + s);
+    mtg.relations.insert({f[0][0], f[1][0], f[2][0]});
+  }
+  expect("FEATURES:");
+  expect("NAME\tTYPE");
+  static const std::set<std::string> types{"INT", "REAL", "ALPHA", "STRING", "DD/MM/YY", "DD/MM/YYYY"};
+  for (; i < lines.size() && !lines[i].empty(); ++i) {
+    const auto f = splitExact(lines[i], '\t');
+    if (f.size() != 2) fail(i, "a feature line has NAME<TAB>TYPE");
+    if (!types.count(f[1])) fail(i, "unknown feature type " + f[1] + " (FLOAT is not one)");
+    mtg.features.emplace_back(f[0], f[1]);
+  }
+  expect("MTG:");
+  skipBlankAndComments();
+  if (i >= lines.size()) fail(i, "no TOPO header");
+  const auto header = splitExact(lines[i], '\t');
+  if (header.empty() || header[0] != "TOPO") fail(i, "the MTG header starts with TOPO");
+  std::size_t firstFeature = 1;
+  while (firstFeature < header.size() && header[firstFeature].empty()) ++firstFeature;
+  if (header.size() - firstFeature != mtg.features.size()) fail(i, "the header must name every declared feature");
+  for (std::size_t k = 0; k < mtg.features.size(); ++k)
+    if (header[firstFeature + k] != mtg.features[k].first) fail(i, "header column " + mtg.features[k].first);
+  ++i;
+
+  std::map<int, int> lastAtDepth;  // depth -> entity index
+  for (; i < lines.size(); ++i) {
+    const std::string& line = lines[i];
+    if (line.empty()) continue;
+    if (line.find(' ') != std::string::npos) fail(i, "spaces are not allowed (tabs only)");
+    const auto f = splitExact(line, '\t');
+    std::size_t depth = 0;
+    while (depth < f.size() && f[depth].empty()) ++depth;
+    if (depth >= firstFeature) fail(i, "the entity code must stand in the TOPO columns");
+    for (std::size_t k = depth + 1; k < firstFeature && k < f.size(); ++k)
+      if (!f[k].empty()) fail(i, "two entity codes on one line");
+    if (f.size() > firstFeature + mtg.features.size()) fail(i, "an extra tab shifts the features");
+    // The code: optional ^, then (/|<|+)SymbolIndex, one or more.
+    const std::string& code = f[depth];
+    std::size_t p = 0;
+    const bool caret = !code.empty() && code[0] == '^';
+    if (caret) ++p;
+    MtgEntity e;
+    e.depth = static_cast<int>(depth);
+    int parent = caret ? (lastAtDepth.count(e.depth) ? lastAtDepth[e.depth] : -2)
+                       : (depth == 0 ? -1 : (lastAtDepth.count(e.depth - 1) ? lastAtDepth[e.depth - 1] : -2));
+    if (parent == -2) fail(i, "the code refers to no entity above it");
+    bool any = false;
+    while (p < code.size()) {
+      const char rel = code[p++];
+      if (rel != '/' && rel != '<' && rel != '+') fail(i, "bad separator in " + code);
+      if (p < code.size() && code[p] == '<') fail(i, "<< is not written by leafdig");
+      if (p >= code.size() || !mtg.scales.count(code[p])) fail(i, "undeclared class in " + code);
+      const char sym = code[p++];
+      std::string digits;
+      while (p < code.size() && code[p] >= '0' && code[p] <= '9') digits += code[p++];
+      if (digits.empty()) fail(i, "an entity needs an index: " + code);
+      if (rel != '/' && parent >= 0) {
+        const char left = mtg.entities[static_cast<std::size_t>(parent)].symbol;
+        if (!mtg.relations.count({left, sym, rel}))
+          fail(i, std::string("relation ") + left + rel + sym + " is not in DESCRIPTION");
+      }
+      e.symbol = sym;
+      e.index = std::stoi(digits);
+      e.relation = rel;
+      e.parent = parent;
+      any = true;
+      if (p < code.size()) {  // an intermediate entity (e.g. P1 in /P1/I1)
+        MtgEntity mid = e;
+        mtg.entities.push_back(mid);
+        parent = static_cast<int>(mtg.entities.size() - 1);
+      }
+    }
+    if (!any) fail(i, "empty entity code");
+    for (std::size_t k = 0; firstFeature + k < f.size(); ++k) {
+      const std::string& v = f[firstFeature + k];
+      if (v.empty()) continue;
+      const auto& [name, type] = mtg.features[k];
+      if (type == "INT" && !isInt(v)) fail(i, name + " \"" + v + "\" is not an INT");
+      if (type == "REAL" && !isFixed(v)) fail(i, name + " \"" + v + "\" is not a REAL in fixed notation");
+      if (v.find_first_of("+</[](),=") != std::string::npos) fail(i, name + " holds an MTG syntax character");
+      e.features[name] = v;
+    }
+    mtg.entities.push_back(e);
+    lastAtDepth[e.depth] = static_cast<int>(mtg.entities.size() - 1);
+    for (auto it = lastAtDepth.begin(); it != lastAtDepth.end();)
+      it = it->first > e.depth ? lastAtDepth.erase(it) : std::next(it);
+  }
+  return mtg;
+}
+
+// ---------------------------------------------------------------------------------------
+// CARIBU .can and .opt.
+
+struct CanTriangle {
+  std::string label;
+  int species = 0, plant = 0, leaf = 0, element = 0;
+  std::array<std::array<float, 3>, 3> v{};  // single precision, as canestrad reads them
+  [[nodiscard]] std::array<double, 3> normal() const {
+    const std::array<double, 3> a{v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]};
+    const std::array<double, 3> b{v[2][0] - v[0][0], v[2][1] - v[0][1], v[2][2] - v[0][2]};
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  }
+  [[nodiscard]] double area() const {
+    const auto n = normal();
+    return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  }
+};
+
+struct CaribuOpt {
+  int species = 0;
+  double soil = 0;
+  std::vector<std::array<double, 5>> optics;  // stem r, upper r t, lower r t
+};
+
+inline CaribuOpt readOptStrictly(const std::string& text) {
+  if (text.empty() || text.back() != '\n') throw std::runtime_error(".opt: a trailing newline is required");
+  CaribuOpt opt;
+  bool haveN = false;
+  for (const std::string& line : linesOf(text)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream in(line);
+    std::vector<std::string> f;
+    for (std::string w; in >> w;) f.push_back(w);
+    if (f[0] == "n") {
+      if (f.size() != 2 || !isInt(f[1])) throw std::runtime_error(".opt: n <species>");
+      opt.species = std::stoi(f[1]);
+      haveN = true;
+    } else if (f[0] == "s") {
+      if (f.size() != 3 || f[1] != "d" || !isFixed(f[2])) throw std::runtime_error(".opt: s d <soil reflectance>");
+      opt.soil = std::stod(f[2]);
+    } else if (f[0] == "e") {
+      if (f.size() != 9 || f[1] != "d" || f[3] != "d" || f[6] != "d")
+        throw std::runtime_error(".opt: e d <stem r> d <upper r> <upper t> d <lower r> <lower t>");
+      std::array<double, 5> o{};
+      std::size_t k = 0;
+      for (std::size_t j : {2, 4, 5, 7, 8}) {
+        if (!isFixed(f[j])) throw std::runtime_error(".opt: optical values in fixed notation");
+        o[k++] = std::stod(f[j]);
+      }
+      for (double x : o)
+        if (x < 0 || x > 1) throw std::runtime_error(".opt: reflectance and transmittance lie in [0, 1]");
+      if (o[1] + o[2] > 1 || o[3] + o[4] > 1) throw std::runtime_error(".opt: r + t exceeds 1");
+      opt.optics.push_back(o);
+    } else {
+      throw std::runtime_error(".opt: unknown line \"" + line + "\"");
+    }
+  }
+  if (!haveN || opt.species != static_cast<int>(opt.optics.size()))
+    throw std::runtime_error(".opt: n must equal the number of e lines");
+  return opt;
+}
+
+inline std::vector<CanTriangle> readCanStrictly(const std::string& text, const CaribuOpt& opt) {
+  if (text.empty() || text.back() != '\n') throw std::runtime_error(".can: a trailing newline is required");
+  std::vector<CanTriangle> out;
+  std::size_t number = 0;
+  for (const std::string& line : linesOf(text)) {
+    ++number;
+    const auto fail = [number](const std::string& what) {
+      throw std::runtime_error(".can line " + std::to_string(number) + ": " + what);
+    };
+    if (line.empty() || line[0] == '#') continue;
+    if (line.find(',') != std::string::npos) fail("a decimal comma is read as an integer");
+    const std::vector<std::string> f = splitExact(line, ' ');
+    if (f.size() != 13) fail("expected p 1 <label> 3 and nine coordinates, single spaces");
+    if (f[0] != "p" || f[1] != "1") fail("a primitive starts with \"p 1\"");
+    const std::string& label = f[2];
+    if (label.size() < 12 || label.size() > 15 || !isInt(label) || label[0] == '-') fail("a label is 12 to 15 digits");
+    if (f[3] != "3") fail("triangles only (\"3\"): a quad is only half lit");
+    CanTriangle t;
+    t.label = label;
+    t.species = std::stoi(label.substr(0, label.size() - 11));
+    t.plant = std::stoi(label.substr(label.size() - 11, 5));
+    t.leaf = std::stoi(label.substr(label.size() - 6, 3));
+    t.element = std::stoi(label.substr(label.size() - 3, 3));
+    if (t.species < 1 || t.species > opt.species) fail("optical species outside 1.." + std::to_string(opt.species));
+    for (std::size_t k = 0; k < 9; ++k) {
+      const std::string& v = f[4 + k];
+      if (!isFixed(v)) fail("coordinate \"" + v + "\" is not in fixed notation");
+      t.v[k / 3][k % 3] = std::stof(v);
+    }
+    const std::size_t at = line.find(" 3 ");
+    const std::string geometry = line.substr(at);
+    if (geometry.size() + 1 + f[12].size() > 124) fail("geometry longer than canestrad's 124 characters");
+    if (!(t.area() > 0.0)) fail("a zero-area triangle (CARIBU rejects it)");
+    out.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace leafdig::test

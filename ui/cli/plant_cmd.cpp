@@ -1,0 +1,232 @@
+#include "plant_cmd.hpp"
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "leafdig/acquisition/review.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/plant.hpp"
+#include "leafdig/model/plant_export.hpp"
+#include "leafdig/version.hpp"
+#include "model_build.hpp"
+
+namespace leafdig::cli {
+
+namespace m = leafdig::model;
+
+void addPlantCommands(CLI::App& app, PlantOptions& o) {
+  CLI::App* plant = app.add_subcommand("plant", "Assemble, grow and export whole plants from captured leaves");
+  plant->require_subcommand(1);
+  CLI::App* build = plant->add_subcommand("build", "Build the plant of a leafdig.plant/1 plan and export it");
+  CLI::App* grow = plant->add_subcommand("grow", "Export the plant's growth states at a series of times");
+  for (CLI::App* c : {build, grow}) {
+    c->add_option("plan", o.planPath, "Plant plan (leafdig.plant/1 JSON)")->required();
+    c->add_option("--resolution", o.resolution, "Leaf mesh resolution preset: preview, export (default), paper")
+        ->check(CLI::IsMember({"paper", "preview", "export"}));
+    c->add_option("--light", o.light, "Light direction x,y,z (plant frame, +Z up) for silhouette and STAR");
+    c->add_option("--can-unit", o.canUnit, "Unit of CARIBU .can geometry: m (default) or cm")
+        ->check(CLI::IsMember({"m", "cm"}));
+    c->add_flag("--json", o.json, "Print leaves, azimuths, metrics, triangle counts and timings as JSON");
+  }
+  build
+      ->add_option("-o,--output", o.outputs,
+                   "File to write, by extension: .glb .obj .ply .stl .can (+ .opt) .mtg .csv .json (repeat)")
+      ->required();
+  build->add_option("--time", o.time, "Build the growth state at this time (the plan's growth unit)");
+  grow->add_option("--times", o.times, "Times start:end:step, e.g. 0:60:5")->required();
+  grow->add_option("-o,--output", o.outputs,
+                   "File pattern with {t} for the time, e.g. out/plant-{t}.glb (repeat for several formats)")
+      ->required();
+}
+
+namespace {
+
+std::vector<double> parseTimes(const std::string& text) {
+  double a = 0, b = 0, step = 0;
+  char c1 = 0, c2 = 0;
+  std::stringstream in(text);
+  in >> a >> c1 >> b >> c2 >> step;
+  if (!in || c1 != ':' || c2 != ':' || !in.eof() || !(step > 0) || b < a || !std::isfinite(a) || !std::isfinite(b))
+    throw m::InputError("--times \"" + text + "\": expected start:end:step with end ≥ start and step > 0, e.g. 0:60:5");
+  std::vector<double> times;
+  const auto n = static_cast<long>(std::floor((b - a) / step + 1e-9));
+  if (n > 10000) throw m::InputError("--times \"" + text + "\" gives more than 10 000 states; use a larger step");
+  for (long i = 0; i <= n; ++i) times.push_back(a + static_cast<double>(i) * step);
+  return times;
+}
+
+// A time in a file name: its shortest decimal form ("0", "5", "12.5").
+std::string formatTime(double t) {
+  char buffer[32];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, t);
+  return std::string(buffer, r.ptr);
+}
+
+std::vector<m::LibraryLeaf> loadLibrary(const m::PlantPlan& plan) {
+  if (!plan.libraryDb) return {};
+  if (!std::filesystem::exists(*plan.libraryDb))
+    throw m::InputError("library.db " + *plan.libraryDb +
+                        " does not exist: name the station's database (leafdig capture writes it)");
+  db::Store store(*plan.libraryDb, true);
+  acquisition::OrganLibrary lib = acquisition::organLibrary(store);
+  for (const auto& s : lib.skipped) std::cerr << "leafdig: organ library: left out " << s << "\n";
+  return std::move(lib.leaves);
+}
+
+nlohmann::json plantJson(const m::Plant& plant, const m::LeafMesh& mesh, const m::PlantMetrics& metrics) {
+  nlohmann::json leaves = nlohmann::json::array();
+  for (std::size_t i = 0; i < plant.leaves.size(); ++i) {
+    const m::PlacedLeaf& l = plant.leaves[i];
+    std::size_t triangles = 0;
+    for (const auto& o : mesh.organs)
+      if (o.leafRank == l.rank) triangles += o.mesh.triangles.size();
+    leaves.push_back({{"rank", l.rank},
+                      {"source", l.source},
+                      {"insertion_height_mm", l.insertionHeightMm},
+                      {"azimuth_deg", l.azimuthDeg},
+                      {"inclination_deg", l.inclinationDeg},
+                      {"scale", l.scale},
+                      {"bend_deg", l.bendDeg},
+                      {"length_mm", l.lengthMm},
+                      {"width_mm", l.widthMm},
+                      {"area_mm2", metrics.leaves[i].areaMm2},
+                      {"silhouette_mm2", metrics.leaves[i].silhouetteMm2},
+                      {"star", metrics.leaves[i].star},
+                      {"triangles", triangles}});
+  }
+  std::size_t triangles = 0;
+  for (const auto& o : mesh.organs) triangles += o.mesh.triangles.size();
+  return {
+      {"plant", plant.id},
+      {"time", plant.time ? nlohmann::json(*plant.time) : nlohmann::json(nullptr)},
+      {"stem_height_mm", plant.stemHeightMm},
+      {"leaves", leaves},
+      {"metrics", {{"area_mm2", metrics.areaMm2}, {"silhouette_mm2", metrics.silhouetteMm2}, {"star", metrics.star}}},
+      {"triangles", triangles}};
+}
+
+}  // namespace
+
+int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
+  const CLI::App* plant = app.get_subcommand("plant");
+  if (!plant->parsed()) return -1;
+  const bool grow = plant->got_subcommand("grow");
+  try {
+    using Clock = std::chrono::steady_clock;
+    const auto ms = [](Clock::time_point a, Clock::time_point b) {
+      return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    const auto t0 = Clock::now();
+    // Everything the user typed is checked before any work or any file is touched.
+    for (const auto& out : o.outputs) {
+      (void)m::plantFormatForPath(out);
+      if (grow && out.find("{t}") == std::string::npos)
+        throw m::InputError("output " + out + ": a growth series needs {t} in the name, e.g. plant-{t}.glb");
+    }
+    const Eigen::Vector3d light = parseLight(o.light);
+    const std::vector<double> times = grow ? parseTimes(o.times) : std::vector<double>{};
+    const m::MeshResolution resolution = m::MeshResolution::preset(o.resolution);
+    m::PlantPlan plan = m::readPlantPlan(o.planPath);
+    if ((grow || o.time) && !plan.growth)
+      throw m::InputError(o.planPath + ": the plan has no \"growth\"; add one to build growth states");
+    const m::PlantBuilder builder(plan, loadLibrary(plan));
+    const auto t1 = Clock::now();
+    const m::PlantExportOptions exportOptions{o.canUnit == "cm" ? m::CanUnit::Centimetre : m::CanUnit::Metre,
+                                              std::string("leafdig ") + kVersion};
+
+    std::vector<std::optional<double>> states;
+    if (grow)
+      for (double t : times) states.emplace_back(t);
+    else
+      states.push_back(o.time);
+    // Encode everything first, then write: a failure never leaves some files written.
+    std::vector<m::EncodedFile> files;
+    nlohmann::json reports = nlohmann::json::array();
+    double buildMs = 0, meshMs = 0, metricsMs = 0, encodeMs = 0;
+    for (const auto& t : states) {
+      const auto a = Clock::now();
+      const m::Plant p = builder.build(t);
+      const auto b = Clock::now();
+      const m::LeafMesh mesh = m::meshPlant(p, resolution);
+      const auto c = Clock::now();
+      const m::PlantMetrics metrics = m::computePlantMetrics(p, mesh, light);
+      const auto d = Clock::now();
+      for (const auto& out : o.outputs) {
+        std::string path = out;
+        if (t) {
+          const auto at = path.find("{t}");
+          if (at != std::string::npos) path.replace(at, 3, formatTime(*t));
+        }
+        for (auto& f : m::encodePlant(path, p, mesh, metrics, exportOptions)) files.push_back(std::move(f));
+      }
+      const auto e = Clock::now();
+      buildMs += ms(a, b);
+      meshMs += ms(b, c);
+      metricsMs += ms(c, d);
+      encodeMs += ms(d, e);
+      reports.push_back(plantJson(p, mesh, metrics));
+    }
+    const auto t2 = Clock::now();
+    for (const auto& f : files) {
+      // A series usually goes into a folder of its own: make it (only now, after every
+      // state was built and encoded).
+      std::error_code ec;
+      if (f.path.has_parent_path()) std::filesystem::create_directories(f.path.parent_path(), ec);
+      if (ec) throw m::IoError("cannot create folder " + f.path.parent_path().string() + ": " + ec.message());
+      m::writeFileAtomically(f.path, f.bytes);
+    }
+    const auto t3 = Clock::now();
+
+    if (o.json) {
+      nlohmann::json out;
+      out["plan"] = o.planPath;
+      out["states"] = reports;
+      nlohmann::json written = nlohmann::json::array();
+      for (const auto& f : files) written.push_back(f.path.string());
+      out["outputs"] = written;
+      out["timings_ms"] = {{"plan_and_leaves", ms(t0, t1)}, {"build", buildMs},   {"mesh", meshMs},
+                           {"metrics", metricsMs},          {"encode", encodeMs}, {"write", ms(t2, t3)}};
+      std::cout << out.dump() << "\n";
+    } else {
+      for (const auto& r : reports) {
+        std::cout << "plant " << r["plant"].get<std::string>();
+        if (!r["time"].is_null()) std::cout << " at t=" << r["time"].get<double>();
+        std::cout << ": stem " << r["stem_height_mm"].get<double>() << " mm, " << r["leaves"].size() << " leaves, "
+                  << r["triangles"].get<std::size_t>() << " triangles; leaf area "
+                  << r["metrics"]["area_mm2"].get<double>() << " mm^2, silhouette "
+                  << r["metrics"]["silhouette_mm2"].get<double>() << " mm^2, STAR "
+                  << r["metrics"]["star"].get<double>() << "\n";
+        if (!grow)
+          for (const auto& l : r["leaves"])
+            std::cout << "  leaf " << l["rank"].get<int>() << " (" << l["source"].get<std::string>() << "): at "
+                      << l["insertion_height_mm"].get<double>() << " mm, azimuth " << l["azimuth_deg"].get<double>()
+                      << " deg, inclination " << l["inclination_deg"].get<double>() << " deg, length "
+                      << l["length_mm"].get<double>() << " mm\n";
+      }
+      for (const auto& f : files) std::cout << "  wrote " << f.path.string() << "\n";
+    }
+    return 0;
+  } catch (const db::StoreError& e) {
+    std::cerr << "leafdig: organ library: " << e.what() << "\n";
+    if (!e.remedy().empty()) std::cerr << "  what to do: " << e.remedy() << "\n";
+    return 2;
+  } catch (const m::InputError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 2;
+  } catch (const m::IoError& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "leafdig: internal error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace leafdig::cli

@@ -1,0 +1,26 @@
+#pragma once
+// `leafdig plant build|grow`: a leafdig.plant/1 plan -> a whole plant (stem, placed leaves,
+// organ library draws, growth states) -> meshes, CARIBU, MTG, CSV, JSON.
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace leafdig::cli {
+
+struct PlantOptions {
+  std::string planPath;
+  std::vector<std::string> outputs;
+  std::string resolution = "export";
+  std::string light = "0,0,1";
+  std::string canUnit = "m";
+  std::optional<double> time;
+  std::string times;  // grow: start:end:step
+  bool json = false;
+};
+
+void addPlantCommands(CLI::App& app, PlantOptions& options);
+// Returns the exit code when a plant command was given, -1 otherwise.
+int runPlantCommands(const CLI::App& app, const PlantOptions& options);
+
+}  // namespace leafdig::cli
