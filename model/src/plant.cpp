@@ -215,7 +215,7 @@ Plant PlantBuilder::build(std::optional<double> time) const {
               stemHeight,
               plan_.stem.baseDiameterMm,
               plan_.stem.topDiameterMm,
-              {"stem", BallBSplineCurve::interpolate(axis)},
+              Vein{"stem", BallBSplineCurve::interpolate(axis)},
               {}};
 
   for (const Resolved& r : leaves_) {
@@ -255,12 +255,33 @@ Plant PlantBuilder::build(std::optional<double> time) const {
   return plant;
 }
 
+Plant singleLeafPlant(const LeafModel& leaf, int rank, std::string source) {
+  Plant plant{
+      leaf.markers.leaf.id.empty() ? "leaf" : leaf.markers.leaf.id, std::nullopt, "", 0.0, 0.0, 0.0, std::nullopt, {}};
+  PlacedLeaf l;
+  l.rank = rank;
+  l.source = std::move(source);
+  l.model = leaf;
+  l.base = leaf.markers.rows.back().pointsMm[kMidribColumn];
+  l.tip = leaf.markers.tipMm;
+  l.insertionHeightMm = 0.0;  // not on a stem
+  const Eigen::Vector3d chord = l.tip - l.base;
+  l.azimuthDeg = std::fmod(std::atan2(chord.y(), chord.x()) * 180.0 / kPi + 360.0, 360.0);
+  l.inclinationDeg = std::acos(std::clamp(chord.normalized().z(), -1.0, 1.0)) * 180.0 / kPi;
+  l.lengthMm = midribLengthMm(leaf);
+  l.widthMm = bladeWidthMm(leaf.markers);
+  plant.leaves.push_back(std::move(l));
+  return plant;
+}
+
 LeafMesh meshPlant(const Plant& plant, const MeshResolution& resolution) {
   LeafMesh out;
-  const std::vector<double> ts = subdivideSpans(plant.stem.curve.dataParameters(), 24);
-  out.organs.push_back(
-      {"plant/stem", OrganKind::Vein,
-       meshVein(plant.stem, ts, std::max(12, resolution.ringVertices), CapStyle::None, 0, out.warnings), 0});
+  if (plant.stem) {
+    const std::vector<double> ts = subdivideSpans(plant.stem->curve.dataParameters(), 24);
+    out.organs.push_back(
+        {"plant/stem", OrganKind::Vein,
+         meshVein(*plant.stem, ts, std::max(12, resolution.ringVertices), CapStyle::None, 0, out.warnings), 0});
+  }
   for (const PlacedLeaf& leaf : plant.leaves) {
     LeafMesh m = meshLeaf(leaf.model, resolution);
     const std::string prefix = "plant/leaf-" + std::to_string(leaf.rank) + "/";

@@ -160,6 +160,18 @@ TEST_F(PlantCli, AGrowthSeriesWritesOneFilePerTimeAndGrowsMonotonically) {
   const Result check = run("node " + quote(validator) + " " + quote(dir_ / "series" / "plant-5.glb"));
   EXPECT_EQ(json::parse(check.out)["numErrors"], 0) << check.out;
 
+  // One animated glTF for the whole series: valid, with its growth animation.
+  const Result animated = leafdig("plant grow " + quote(plan) + " --times 0:60:5 --animate --resolution preview -o " +
+                                  quote(dir_ / "growth.glb"));
+  ASSERT_EQ(animated.exitCode, 0) << animated.err;
+  const Result checkAnimated = run("node " + quote(validator) + " " + quote(dir_ / "growth.glb"));
+  ASSERT_EQ(checkAnimated.exitCode, 0) << checkAnimated.out << checkAnimated.err;
+  const json animatedReport = json::parse(checkAnimated.out);
+  EXPECT_EQ(animatedReport["numErrors"], 0) << checkAnimated.out;
+  EXPECT_EQ(animatedReport["numWarnings"], 0) << checkAnimated.out;
+  EXPECT_NE(slurp(dir_ / "growth.glb").find("\"growth\""), std::string::npos);
+  EXPECT_EQ(leafdig("plant grow " + quote(plan) + " --times 0:60:5 --animate -o " + quote(dir_ / "g.obj")).exitCode, 2);
+
   const Result noPattern = leafdig("plant grow " + quote(plan) + " --times 0:60:5 -o " + quote(dir_ / "x.glb"));
   EXPECT_EQ(noPattern.exitCode, 2);
   EXPECT_NE(noPattern.err.find("{t}"), std::string::npos) << noPattern.err;
@@ -203,6 +215,29 @@ TEST_F(PlantCli, LibraryLeavesAreDrawnFromApprovedSessionsOfTheRequestedType) {
     EXPECT_GE(l["scale"].get<double>(), 0.9);
     EXPECT_LE(l["scale"].get<double>(), 1.1);
   }
+}
+
+TEST_F(PlantCli, ASingleLeafExportsToCaribuMtgAndCsvToo) {
+  const std::string markers = std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/upper-curved-leaf-n14.markers.json";
+  const Result r =
+      leafdig("model build " + quote(markers) + " --frame leaf --resolution preview --json -o " +
+              quote(dir_ / "leaf.can") + " -o " + quote(dir_ / "leaf.mtg") + " -o " + quote(dir_ / "leaf.csv"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json counts = json::parse(r.out)["mesh"];
+  const auto opt = leafdig::test::readOptStrictly(slurp(dir_ / "leaf.opt"));
+  const auto can = leafdig::test::readCanStrictly(slurp(dir_ / "leaf.can"), opt);
+  EXPECT_EQ(static_cast<long>(can.size()),
+            counts["veins"]["triangles"].get<long>() + counts["blade"]["triangles"].get<long>());
+  for (const auto& t : can) EXPECT_NE(t.leaf, 0) << "a leaf is translucent, never the opaque 000";
+  const auto mtg = leafdig::test::readMtgStrictly(slurp(dir_ / "leaf.mtg"));
+  ASSERT_EQ(mtg.entities.size(), 2u) << "P1 and its leaf";
+  EXPECT_EQ(mtg.entities[1].symbol, 'L');
+  EXPECT_EQ(mtg.entities[1].features.size(), mtg.features.size());
+  const std::string csv = slurp(dir_ / "leaf.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2) << csv;
+  const Result json = leafdig("model build " + quote(markers) + " -o " + quote(dir_ / "leaf.json"));
+  EXPECT_EQ(json.exitCode, 2);
+  EXPECT_NE(json.err.find("--model-json"), std::string::npos) << json.err;
 }
 
 }  // namespace

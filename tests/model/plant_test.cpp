@@ -15,6 +15,11 @@
 #include "leafdig/model/plant_export.hpp"
 #include "test_support.hpp"
 
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>  // the implementation is compiled into leafdig_model
+
 namespace leafdig::model {
 namespace {
 
@@ -248,6 +253,18 @@ TEST(Plant, AFlatLeafSeenAlongItsNormalHasSilhouetteEqualToAreaAndEdgeOnNone) {
   EXPECT_NEAR(silhouetteArea({&blade, &blade}, Eigen::Vector3d::UnitZ()) / area, 1.0, 0.005);
 }
 
+TEST(Plant, ALeafsSilhouetteAt1024PixelsIsWithinAFifthOfAPercentOf4096) {
+  for (const char* name : test::kSampleFiles) {
+    const LeafModel leaf = buildLeafModel(test::sample(name));
+    const Mesh blade = meshBlade(leaf.blade, 10, 60);
+    for (const Eigen::Vector3d& d : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.3, -0.5, 0.8)}) {
+      const double fine = silhouetteArea({&blade}, d, 4096);
+      EXPECT_NEAR(silhouetteArea({&blade}, d, 1024) / fine, 1.0, 0.002) << name;
+      EXPECT_LE(fine, projectedArea(blade, d) * (1 + 1e-3)) << "a silhouette never exceeds the projected area";
+    }
+  }
+}
+
 TEST(Plant, ThePlantsSilhouetteCountsOverlapsOnce) {
   std::string leaves;
   for (int k = 1; k <= 6; ++k) leaves += (k > 1 ? "," : "") + markersLeaf(k, 80.0 * k);
@@ -331,6 +348,84 @@ TEST(PlantExport, TheMtgPassesTheStrictReaderWithEveryFeatureOnEveryLeaf) {
   std::string shifted = good;
   shifted.replace(shifted.find("\t+L1\t"), 5, "\t+L1\t\t");
   EXPECT_THROW(leafdig::test::readMtgStrictly(shifted), std::runtime_error);
+}
+
+// The animated glTF, decoded by tinygltf: at every key the leaf's node transform applied to
+// its full-grown blade lands on the blade of that growth state, within 0.1 mm (the blade's
+// chord-length parameters are not invariant under the anisotropic growth scale, so the exact
+// state's surface differs from the scaled full-grown one by that much on a 600 mm leaf).
+TEST(PlantExport, TheGrowthAnimationReproducesEachStatesBlade) {
+  std::string leaves;
+  for (int k = 1; k <= 3; ++k) leaves += (k > 1 ? "," : "") + markersLeaf(k, 200.0 * k);
+  const std::string growth = R"(, "growth": {"plastochron": 4, "leaf": {"rate": 0.3, "midpoint": 12},
+      "stem": {"rate": 0.12, "midpoint": 30}})";
+  const PlantBuilder builder(plan(planText(leaves, growth)), {});
+  const Plant final = builder.build();
+  std::vector<Plant> states;
+  for (double t = 0; t <= 40; t += 10) states.push_back(builder.build(t));
+  const MeshResolution res = MeshResolution::preset("preview");
+  const std::string glb = encodeGrowthGlb(final, states, res, "test");
+
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(glb.data()),
+                                          static_cast<unsigned>(glb.size())))
+      << err;
+  ASSERT_EQ(model.animations.size(), 1u);
+  const auto floats = [&model](int accessor) {
+    const auto& a = model.accessors[static_cast<std::size_t>(accessor)];
+    const auto& v = model.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    const auto* p = reinterpret_cast<const float*>(model.buffers[0].data.data() + v.byteOffset + a.byteOffset);
+    const std::size_t n = a.count * (a.type == TINYGLTF_TYPE_VEC3 ? 3 : a.type == TINYGLTF_TYPE_VEC4 ? 4 : 1);
+    return std::vector<float>(p, p + n);
+  };
+  const auto nodeNamed = [&model](const std::string& name) {
+    for (std::size_t i = 0; i < model.nodes.size(); ++i)
+      if (model.nodes[i].name == name) return static_cast<int>(i);
+    return -1;
+  };
+  const auto channel = [&](int node, const std::string& path) {
+    for (const auto& c : model.animations[0].channels)
+      if (c.target_node == node && c.target_path == path)
+        return floats(model.animations[0].samplers[static_cast<std::size_t>(c.sampler)].output);
+    return std::vector<float>{};
+  };
+  const int place = nodeNamed("plant/leaf-2");
+  const int grow = nodeNamed("plant/leaf-2/growth");
+  const int blade = nodeNamed("plant/leaf-2/blade");
+  ASSERT_GE(place, 0);
+  ASSERT_GE(grow, 0);
+  ASSERT_GE(blade, 0);
+  const auto translation = channel(place, "translation");
+  const auto scale = channel(grow, "scale");
+  ASSERT_EQ(translation.size(), 3 * states.size());
+  ASSERT_EQ(scale.size(), 3 * states.size());
+  const auto rotation = channel(place, "rotation");
+  ASSERT_EQ(rotation.size(), 4 * states.size());
+  const auto& prim =
+      model.meshes[static_cast<std::size_t>(model.nodes[static_cast<std::size_t>(blade)].mesh)].primitives[0];
+  const auto full = floats(prim.attributes.at("POSITION"));
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    const PlacedLeaf* leaf = nullptr;
+    for (const PlacedLeaf& l : states[i].leaves)
+      if (l.rank == 2) leaf = &l;
+    if (leaf == nullptr) {
+      EXPECT_LT(scale[3 * i], 1e-5) << "not yet appeared: shrunk to nothing";
+      continue;
+    }
+    const Eigen::Quaterniond q(rotation[4 * i + 3], rotation[4 * i], rotation[4 * i + 1], rotation[4 * i + 2]);
+    const Mesh expected = meshBlade(leaf->model.blade, res.bladeSegmentsPerRow, res.bladeSegmentsAcross);
+    ASSERT_EQ(full.size(), 3 * expected.positions.size());
+    for (std::size_t v = 0; v < expected.positions.size(); v += 97) {
+      const Eigen::Vector3d local(full[3 * v] * scale[3 * i], full[3 * v + 1] * scale[3 * i + 1],
+                                  full[3 * v + 2] * scale[3 * i + 2]);
+      const Eigen::Vector3d world =
+          q * local + Eigen::Vector3d(translation[3 * i], translation[3 * i + 1], translation[3 * i + 2]);
+      const Eigen::Vector3d want = toGltfAxes(expected.positions[v]) * 1e-3;
+      EXPECT_LT((world - want).norm(), 1e-4) << "state " << i << " vertex " << v;
+    }
+  }
 }
 
 TEST(Mesh, TheBladeMeshesOfTheSamplesHaveNoDegenerateTriangles) {

@@ -1,5 +1,6 @@
 #include "model_build.hpp"
 
+#include <algorithm>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -12,6 +13,8 @@
 #include "leafdig/model/mesh_export.hpp"
 #include "leafdig/model/metrics.hpp"
 #include "leafdig/model/model_json.hpp"
+#include "leafdig/model/plant.hpp"
+#include "leafdig/model/plant_export.hpp"
 #include "leafdig/version.hpp"
 
 namespace leafdig::cli {
@@ -76,8 +79,16 @@ nlohmann::json countsJson(const m::MeshCounts& c) {
 int runModelBuild(const ModelBuildOptions& o) {
   try {
     // Everything the user typed is checked before any work or any file is touched.
-    std::vector<m::MeshFormat> formats;
-    for (const std::string& out : o.outputs) formats.push_back(m::meshFormatForPath(out));
+    // Meshes by encodeMesh; the simulation formats through the leaf as a plant of one leaf.
+    std::vector<std::optional<m::MeshFormat>> formats;
+    for (const std::string& out : o.outputs) {
+      const m::PlantFormat f = m::plantFormatForPath(out);
+      if (f == m::PlantFormat::Json) {
+        throw m::InputError("output " + out + ": write the model document with --model-json");
+      }
+      const bool simulation = f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv;
+      formats.push_back(simulation ? std::nullopt : std::optional<m::MeshFormat>(m::meshFormatForPath(out)));
+    }
     const Eigen::Vector3d light = parseLight(o.light);
     if (o.measuredAreaMm2 && !(*o.measuredAreaMm2 > 0.0)) {
       throw m::InputError("--measured-area must be a positive area in mm^2");
@@ -99,8 +110,24 @@ int runModelBuild(const ModelBuildOptions& o) {
 
     // Encode everything first, then write: a build error never leaves some files written.
     std::vector<std::pair<std::string, std::string>> files;
+    std::optional<m::Plant> alone;  // made when a simulation format is asked for
+    std::optional<m::LeafMesh> aloneMesh;
+    std::optional<m::PlantMetrics> aloneMetrics;
     for (std::size_t i = 0; i < o.outputs.size(); ++i) {
-      files.emplace_back(o.outputs[i], m::encodeMesh(mesh, formats[i], header));
+      if (formats[i]) {
+        files.emplace_back(o.outputs[i], m::encodeMesh(mesh, *formats[i], header));
+        continue;
+      }
+      if (!alone) {
+        // CARIBU's leaf field must not be 000 (the stem, opaque): the leaf's position, or 1.
+        const int rank = std::clamp(leaf.markers.leaf.position.value_or(1), 1, 999);
+        alone = m::singleLeafPlant(leaf, rank, o.markersPath);
+        aloneMesh = m::meshPlant(*alone, resolution);
+        aloneMetrics = m::computePlantMetrics(*alone, *aloneMesh, light);
+      }
+      for (auto& f :
+           m::encodePlant(o.outputs[i], *alone, *aloneMesh, *aloneMetrics, {m::CanUnit::Metre, header.generator}))
+        files.emplace_back(f.path.string(), std::move(f.bytes));
     }
     if (!o.modelJsonPath.empty()) {
       files.emplace_back(o.modelJsonPath, m::modelToJson(leaf, o.frame, metrics));

@@ -42,8 +42,11 @@ void addPlantCommands(CLI::App& app, PlantOptions& o) {
   build->add_option("--time", o.time, "Build the growth state at this time (the plan's growth unit)");
   grow->add_option("--times", o.times, "Times start:end:step, e.g. 0:60:5")->required();
   grow->add_option("-o,--output", o.outputs,
-                   "File pattern with {t} for the time, e.g. out/plant-{t}.glb (repeat for several formats)")
+                   "File pattern with {t} for the time, e.g. out/plant-{t}.glb (repeat for several formats); "
+                   "with --animate one .glb")
       ->required();
+  grow->add_flag("--animate", o.animate,
+                 "Write one glTF whose animation plays the growth (the series in 10 s) instead of a file per time");
 }
 
 namespace {
@@ -127,7 +130,9 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
     // Everything the user typed is checked before any work or any file is touched.
     for (const auto& out : o.outputs) {
       (void)m::plantFormatForPath(out);
-      if (grow && out.find("{t}") == std::string::npos)
+      if (grow && o.animate && m::plantFormatForPath(out) != m::PlantFormat::Glb)
+        throw m::InputError("output " + out + ": --animate writes a glTF binary; name it .glb");
+      if (grow && !o.animate && out.find("{t}") == std::string::npos)
         throw m::InputError("output " + out + ": a growth series needs {t} in the name, e.g. plant-{t}.glb");
     }
     const Eigen::Vector3d light = parseLight(o.light);
@@ -150,15 +155,18 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
     std::vector<m::EncodedFile> files;
     nlohmann::json reports = nlohmann::json::array();
     double buildMs = 0, meshMs = 0, metricsMs = 0, encodeMs = 0;
+    std::vector<m::Plant> series;  // --animate: every state, for one glTF
     for (const auto& t : states) {
       const auto a = Clock::now();
       const m::Plant p = builder.build(t);
+      if (o.animate) series.push_back(p);
       const auto b = Clock::now();
       const m::LeafMesh mesh = m::meshPlant(p, resolution);
       const auto c = Clock::now();
       const m::PlantMetrics metrics = m::computePlantMetrics(p, mesh, light);
       const auto d = Clock::now();
       for (const auto& out : o.outputs) {
+        if (o.animate) break;
         std::string path = out;
         if (t) {
           const auto at = path.find("{t}");
@@ -172,6 +180,13 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
       metricsMs += ms(c, d);
       encodeMs += ms(d, e);
       reports.push_back(plantJson(p, mesh, metrics));
+    }
+    if (o.animate) {
+      const auto a = Clock::now();
+      const m::Plant full = builder.build();
+      for (const auto& out : o.outputs)
+        files.push_back({out, m::encodeGrowthGlb(full, series, resolution, exportOptions.generator)});
+      encodeMs += ms(a, Clock::now());
     }
     const auto t2 = Clock::now();
     for (const auto& f : files) {

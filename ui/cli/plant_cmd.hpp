@@ -17,6 +17,7 @@ struct PlantOptions {
   std::optional<double> time;
   std::string times;  // grow: start:end:step
   bool json = false;
+  bool animate = false;  // grow: one animated glTF instead of a file per time
 };
 
 void addPlantCommands(CLI::App& app, PlantOptions& options);

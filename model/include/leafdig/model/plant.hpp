@@ -135,7 +135,7 @@ struct Plant {
   double stemHeightMm = 0.0;
   double stemBaseDiameterMm = 0.0;
   double stemTopDiameterMm = 0.0;
-  Vein stem;                       // name "stem"
+  std::optional<Vein> stem;        // name "stem"; absent for a leaf exported alone
   std::vector<PlacedLeaf> leaves;  // by rank; leaves not yet appeared are absent
 };
 
@@ -159,6 +159,11 @@ class PlantBuilder {
   PlantPlan plan_;
   std::vector<Resolved> leaves_;
 };
+
+// A leaf alone as a plant of one leaf (rank `rank`) with no stem, in the leaf model's own
+// frame: what `leafdig model build -o leaf.can -o leaf.mtg -o leaf.csv` writes. Its azimuth and
+// inclination are those of its base-to-tip chord about +Z.
+[[nodiscard]] Plant singleLeafPlant(const LeafModel& leaf, int rank, std::string source);
 
 // The midrib length (along the centre curve) and the widest row (P_i1 to P_i7).
 [[nodiscard]] double midribLengthMm(const LeafModel& leaf);

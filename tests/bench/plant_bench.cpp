@@ -1,0 +1,150 @@
+// Whole-plant benchmarks (issue 14 targets): a 20-leaf plant from the captured sample leaves,
+// build + every export; a 60-step growth series; the plant's silhouette. Results and the
+// command: docs/benchmarks.md.
+#include <benchmark/benchmark.h>
+
+#include "leafdig/model/metrics.hpp"
+#include "leafdig/model/plant.hpp"
+#include "leafdig/model/plant_export.hpp"
+
+namespace {
+
+namespace m = leafdig::model;
+
+// 20 leaves cycling over the three samples, 40 mm apart from 60 mm up a 900 mm stem,
+// golden-angle phyllotaxis with 5° jitter, inclinations from 75° (low) to 30° (top).
+m::PlantPlan twentyLeafPlan(bool growth) {
+  const char* const samples[] = {"lower-leaf-n10.markers.json", "upper-curved-leaf-n14.markers.json",
+                                 "upper-small-leaf-n17.markers.json"};
+  m::PlantPlan plan;
+  plan.id = "bench-20";
+  plan.seed = 7;
+  plan.stem = {900.0, 24.0, 8.0};
+  plan.jitterDeg = 5.0;
+  for (int k = 1; k <= 20; ++k) {
+    m::LeafPlan leaf;
+    leaf.rank = k;
+    leaf.markers = std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/" + samples[(k - 1) * 3 / 20];
+    leaf.insertionHeightMm = 60.0 + 40.0 * (k - 1);
+    leaf.inclinationDeg = 75.0 - 45.0 * (k - 1) / 19.0;
+    leaf.scale = 1.0 - 0.4 * (k - 1) / 19.0;
+    plan.leaves.push_back(leaf);
+  }
+  if (growth) plan.growth = m::GrowthPlan{"days", 2.0, 0.3, 12.0, 0.4, 0.12, 30.0};
+  return plan;
+}
+
+const m::PlantBuilder& builder() {
+  static const m::PlantBuilder b(twentyLeafPlan(true), {});
+  return b;
+}
+
+const char* const kPresets[] = {"preview", "export"};
+
+// Assembly, meshes, metrics and all eight exports (.glb .obj .ply .stl .can+.opt .mtg .csv
+// .json) encoded in memory; writing to disk is left out (it measures the disk).
+void BM_PlantBuildAndAllExports(benchmark::State& state) {
+  const m::MeshResolution resolution = m::MeshResolution::preset(kPresets[state.range(0)]);
+  const m::PlantExportOptions options{m::CanUnit::Metre, "bench"};
+  std::size_t bytes = 0, triangles = 0;
+  (void)builder();  // the plan read and the leaves resolved once: BM_PlantResolveLeaves
+  for (auto _ : state) {
+    const m::Plant plant = builder().build();
+    const m::LeafMesh mesh = m::meshPlant(plant, resolution);
+    const m::PlantMetrics metrics = m::computePlantMetrics(plant, mesh, Eigen::Vector3d::UnitZ());
+    bytes = 0;
+    for (const char* ext : {".glb", ".obj", ".ply", ".stl", ".can", ".mtg", ".csv", ".json"})
+      for (const auto& f : m::encodePlant(std::string("p") + ext, plant, mesh, metrics, options))
+        bytes += f.bytes.size();
+    triangles = 0;
+    for (const auto& o : mesh.organs) triangles += o.mesh.triangles.size();
+    benchmark::DoNotOptimize(bytes);
+  }
+  state.SetLabel(kPresets[state.range(0)]);
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["MB"] = static_cast<double>(bytes) / 1e6;
+}
+BENCHMARK(BM_PlantBuildAndAllExports)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+
+// Reading the plan's 20 leaf files and putting each leaf in its leaf frame (once per plan).
+void BM_PlantResolveLeaves(benchmark::State& state) {
+  const m::PlantPlan plan = twentyLeafPlan(true);
+  for (auto _ : state) benchmark::DoNotOptimize(m::PlantBuilder(plan, {}));
+}
+BENCHMARK(BM_PlantResolveLeaves)->Unit(benchmark::kMillisecond);
+
+// The stages alone.
+void BM_PlantAssemble(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(builder().build());
+}
+BENCHMARK(BM_PlantAssemble)->Unit(benchmark::kMillisecond);
+
+void BM_PlantMesh(benchmark::State& state) {
+  const m::Plant plant = builder().build();
+  const m::MeshResolution resolution = m::MeshResolution::preset(kPresets[state.range(0)]);
+  for (auto _ : state) benchmark::DoNotOptimize(m::meshPlant(plant, resolution));
+  state.SetLabel(kPresets[state.range(0)]);
+}
+BENCHMARK(BM_PlantMesh)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+
+void BM_PlantEncode(benchmark::State& state) {
+  static const char* const kExts[] = {".glb", ".obj", ".ply", ".stl", ".can", ".mtg", ".csv", ".json"};
+  const m::Plant plant = builder().build();
+  const m::LeafMesh mesh = m::meshPlant(plant, m::MeshResolution::preset("preview"));
+  const m::PlantMetrics metrics = m::computePlantMetrics(plant, mesh, Eigen::Vector3d::UnitZ());
+  const m::PlantExportOptions options{m::CanUnit::Metre, "bench"};
+  const char* ext = kExts[state.range(0)];
+  for (auto _ : state) benchmark::DoNotOptimize(m::encodePlant(std::string("p") + ext, plant, mesh, metrics, options));
+  state.SetLabel(std::string(ext) + " (preview)");
+}
+BENCHMARK(BM_PlantEncode)->DenseRange(0, 7)->Unit(benchmark::kMillisecond);
+
+// Silhouette of the whole plant (union of the 20 blades' projections), light from above.
+void BM_PlantSilhouette(benchmark::State& state) {
+  const m::Plant plant = builder().build();
+  const m::LeafMesh mesh = m::meshPlant(plant, m::MeshResolution::preset(kPresets[state.range(0)]));
+  std::vector<const m::Mesh*> blades;
+  for (const auto& o : mesh.organs)
+    if (o.kind == m::OrganKind::Blade) blades.push_back(&o.mesh);
+  double area = 0;
+  for (auto _ : state) {
+    area = m::silhouetteArea(blades, Eigen::Vector3d::UnitZ());
+    benchmark::DoNotOptimize(area);
+  }
+  state.SetLabel(std::string(kPresets[state.range(0)]) + " blades");
+  state.counters["silhouette_m2"] = area / 1e6;
+}
+BENCHMARK(BM_PlantSilhouette)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+
+// Per-leaf areas and silhouettes, and the plant's.
+void BM_PlantMetrics(benchmark::State& state) {
+  const m::Plant plant = builder().build();
+  const m::LeafMesh mesh = m::meshPlant(plant, m::MeshResolution::preset(kPresets[state.range(0)]));
+  for (auto _ : state) benchmark::DoNotOptimize(m::computePlantMetrics(plant, mesh, Eigen::Vector3d::UnitZ()));
+  state.SetLabel(kPresets[state.range(0)]);
+}
+BENCHMARK(BM_PlantMetrics)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+
+// `leafdig plant grow --times 0:59:1 -o plant-{t}.glb`: 60 states built, meshed (preview)
+// and encoded as GLB, with their metrics.
+void BM_GrowthSeries60(benchmark::State& state) {
+  const m::PlantExportOptions options{m::CanUnit::Metre, "bench"};
+  std::size_t bytes = 0;
+  (void)builder();
+  for (auto _ : state) {
+    bytes = 0;
+    for (int t = 0; t < 60; ++t) {
+      const m::Plant plant = builder().build(static_cast<double>(t));
+      const m::LeafMesh mesh = m::meshPlant(plant, m::MeshResolution::preset("preview"));
+      const m::PlantMetrics metrics = m::computePlantMetrics(plant, mesh, Eigen::Vector3d::UnitZ());
+      for (const auto& f : m::encodePlant("p.glb", plant, mesh, metrics, options)) bytes += f.bytes.size();
+    }
+    benchmark::DoNotOptimize(bytes);
+  }
+  state.counters["MB"] = static_cast<double>(bytes) / 1e6;
+}
+BENCHMARK(BM_GrowthSeries60)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
