@@ -117,6 +117,9 @@ CanFile encodeCan(const LeafMesh& mesh, CanUnit unit, int plantNumber) {
   const int decimals = unit == CanUnit::Metre ? 6 : 4;
   CanFile out;
   std::string text;
+  std::size_t all = 0;
+  for (const Organ& organ : mesh.organs) all += organ.mesh.triangles.size();
+  text.reserve(112 * all);  // one allocation: a line is about 100 characters
   int lastRank = -1;
   int element = 0;
   for (const Organ& organ : mesh.organs) {
