@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "leafdig/version.hpp"
+#include "plant_view.hpp"
 #include "review_view.hpp"
 #include "station_window.hpp"
 
@@ -51,8 +52,11 @@ int main(int argc, char** argv) {
   const QCommandLineOption firstFrame(
       "quit-after-first-frame",
       "Print when the first frame of the preview is on screen, then exit (start-up benchmark)");
+  const QCommandLineOption plantPlan("plant", "Open this plant plan (leafdig.plant/1) in the Plant view", "PLAN");
+  const QCommandLineOption plantShot("plant-screenshot",
+                                     "With --plant: save the window once the plant is shown, then exit", "PNG");
   p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, reviewShot, quit,
-                setupDialog, settingsFile, firstFrame});
+                setupDialog, settingsFile, firstFrame, plantPlan, plantShot});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -118,6 +122,24 @@ int main(int argc, char** argv) {
   } else if (!w.start()) {
     std::fprintf(stderr, "leafdig-station: %s\n", w.bannerText().toStdString().c_str());
     if (!interactive) return 1;
+  }
+  if (p.isSet(plantPlan)) {
+    w.tabs()->setCurrentWidget(w.plantView());
+    const QString error = w.plantView()->openPlan(p.value(plantPlan));
+    if (!error.isEmpty()) {
+      std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(error));
+      if (p.isSet(plantShot)) return 2;
+    }
+    if (p.isSet(plantShot)) {
+      QTimer::singleShot(1500, &app, [&] {
+        w.plantView()->preview()->redraw();
+        leafdig::station::PreviewWidget::grabWindow(&w).save(p.value(plantShot));
+        std::printf("plant shown: %s\n", qPrintable(w.plantView()->summaryText()));
+        std::fflush(stdout);
+        w.stopCapture();
+        app.quit();
+      });
+    }
   }
   const QString shot = p.value(screenshot);
   QObject::connect(&w, &leafdig::station::StationWindow::captureComplete, &app, [&] {

@@ -19,6 +19,7 @@
 #include "leafdig/devices/registry.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/version.hpp"
+#include "plant_view.hpp"
 #include "review_view.hpp"
 #include "settings_dialog.hpp"
 #include "setup_dialog.hpp"
@@ -101,6 +102,9 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   tabs_->addTab(capture, tr("Capture"));
   review_ = new ReviewView(settings_, tabs_);
   tabs_->addTab(review_, tr("Review"));
+  plant_ = new PlantView(tabs_);
+  plant_->setDatabase(dbPath());
+  tabs_->addTab(plant_, tr("Plant"));
   setCentralWidget(tabs_);
   // As large as the screen allows, up to 1440 × 900: a 1366 × 768 laptop gets all of it.
   const QSize room = screen() ? screen()->availableGeometry().size() : QSize(1280, 860);
@@ -417,6 +421,7 @@ bool StationWindow::start() {
                                  .arg(QString::fromStdString(run_->dbPath()))
                                  .arg(run_->simulated() ? tr("simulated devices") : tr("devices")));
     review_->setDatabase(run_->dbPath());
+    plant_->setDatabase(run_->dbPath());
     tabs_->setCurrentIndex(0);
     return true;
   } catch (const std::exception& e) {

@@ -27,6 +27,7 @@
 namespace leafdig::station {
 
 class ReviewView;
+class PlantView;
 
 struct StationOptions {
   std::string db;
@@ -60,6 +61,7 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] PreviewWidget* preview() const { return preview_; }
   [[nodiscard]] LeafSchematic* schematic() const { return schematic_; }
   [[nodiscard]] ReviewView* review() const { return review_; }
+  [[nodiscard]] PlantView* plantView() const { return plant_; }
   [[nodiscard]] QTabWidget* tabs() const { return tabs_; }
   [[nodiscard]] QString bannerText() const { return banner_->text(); }
   [[nodiscard]] QString feedbackText() const { return feedback_->text(); }
@@ -109,6 +111,7 @@ class StationWindow : public QMainWindow {
   QWidget* chipRow_ = nullptr;
   PreviewWidget* preview_ = nullptr;
   ReviewView* review_ = nullptr;
+  PlantView* plant_ = nullptr;
   Sounds* sounds_ = nullptr;
   QTimer deviceTimer_, cursorTimer_;
   std::vector<QObject*> shortcutObjects_;

@@ -6,6 +6,7 @@
 #include <QApplication>
 #include <QChart>
 #include <QChartView>
+#include <QDir>
 #include <QElapsedTimer>
 #include <QFile>
 #include <QGraphicsScene>
@@ -27,6 +28,7 @@
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/markers_json.hpp"
+#include "plant_view.hpp"
 #include "review_view.hpp"
 #include "settings_dialog.hpp"
 #include "setup_dialog.hpp"
@@ -637,6 +639,51 @@ TEST(PreviewFraming, TheGrowingLeafStaysFramedAndTheViewMovesOnlyWhenItOutgrowsI
   // The leaf lies across the screen (tip on the left): wider than tall.
   EXPECT_GT(xHi - xLo, yHi - yLo);
   fs::remove_all(dir);
+}
+
+TEST(PlantView, APlanIsShownTheSlidersRebuildItAndItExports) {
+  leafdig::station::PlantView v;
+  const QString plan = QString(LEAFDIG_SOURCE_DIR) + "/data/plants/tobacco-p07.plant.json";
+  ASSERT_EQ(v.openPlan(plan), QString());
+  ASSERT_NE(v.plant(), nullptr);
+  EXPECT_EQ(v.plant()->leaves.size(), 6u);
+  EXPECT_TRUE(v.summaryText().contains("STAR")) << v.summaryText().toStdString();
+  EXPECT_TRUE(v.timeSlider()->isEnabled()) << "the plan has growth";
+  const double star = v.metrics()->star;
+  EXPECT_GT(star, 0.3);
+
+  // Divergence to 120°, no jitter: every azimuth follows at once (one rebuild per turn).
+  v.jitterSlider()->setValue(0);
+  v.divergenceSlider()->setValue(1200);
+  QCoreApplication::processEvents();
+  for (const auto& l : v.plant()->leaves) EXPECT_NEAR(l.azimuthDeg, std::fmod(l.rank * 120.0, 360.0), 1e-9);
+  // One inclination for all leaves.
+  v.inclinationSlider()->setValue(80);
+  QCoreApplication::processEvents();
+  for (const auto& l : v.plant()->leaves) EXPECT_DOUBLE_EQ(l.inclinationDeg, 80.0);
+  // The growth scrubber at its start: only the first leaf has appeared.
+  v.timeSlider()->setValue(0);
+  QCoreApplication::processEvents();
+  EXPECT_EQ(v.plant()->leaves.size(), 1u);
+  EXPECT_TRUE(v.plant()->time.has_value());
+  v.timeSlider()->setValue(v.timeSlider()->maximum());
+  QCoreApplication::processEvents();
+  EXPECT_FALSE(v.plant()->time.has_value()) << "the scrubber's end is the full-grown plant";
+
+  const QString dir = QDir::tempPath() + "/leafdig-plant-view-" + QString::number(::getpid());
+  QDir().mkpath(dir);
+  EXPECT_EQ(v.exportTo(dir + "/plant.csv"), QString());
+  QFile csv(dir + "/plant.csv");
+  ASSERT_TRUE(csv.open(QIODevice::ReadOnly));
+  EXPECT_EQ(csv.readAll().count('\n'), 8) << "header, stem, six leaves";
+  EXPECT_FALSE(v.exportTo(dir + "/plant.xyz").isEmpty()) << "an unknown extension is refused";
+  QDir(dir).removeRecursively();
+
+  // A bad plan names the problem and keeps nothing half-built.
+  leafdig::station::PlantView bad;
+  EXPECT_TRUE(bad.openPlan(dir + "/missing.json").contains("missing.json"));
+  EXPECT_EQ(bad.plant(), nullptr);
+  EXPECT_TRUE(bad.planFromApprovedLeaves().contains("no database"));
 }
 
 int main(int argc, char** argv) {

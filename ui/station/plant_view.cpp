@@ -1,0 +1,262 @@
+#include "plant_view.hpp"
+
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QSlider>
+#include <QSpinBox>
+#include <QTimer>
+#include <QVBoxLayout>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "leafdig/acquisition/review.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/version.hpp"
+#include "preview_widget.hpp"
+
+namespace leafdig::station {
+
+namespace m = leafdig::model;
+
+namespace {
+
+constexpr int kTimeSteps = 100;  // the scrubber's last step is the full-grown plant
+
+QSlider* slider(int lo, int hi) {
+  auto* s = new QSlider(Qt::Horizontal);
+  s->setRange(lo, hi);
+  return s;
+}
+
+}  // namespace
+
+PlantView::PlantView(QWidget* parent) : QWidget(parent) {
+  auto* controls = new QWidget;
+  controls->setMaximumWidth(380);
+  auto* form = new QFormLayout;
+  auto* open = new QPushButton(tr("Open plan…"));
+  auto* fromStore = new QPushButton(tr("From approved leaves"));
+  fromStore->setToolTip(tr("A plant of this station's approved leaves, each at its leaf position"));
+  export_ = new QPushButton(tr("Export…"));
+  export_->setEnabled(false);
+  divergence_ = slider(900, 1800);  // tenths of a degree
+  jitter_ = slider(0, 30);
+  inclination_ = slider(0, 120);
+  time_ = slider(0, kTimeSteps);
+  time_->setEnabled(false);
+  seed_ = new QSpinBox;
+  seed_->setRange(0, 999999);
+  divergenceLabel_ = new QLabel;
+  jitterLabel_ = new QLabel;
+  inclinationLabel_ = new QLabel(tr("as planned"));
+  timeLabel_ = new QLabel(tr("full grown"));
+  summary_ = new QLabel(tr("Open a plan (leafdig.plant/1) or build one from the approved leaves."));
+  summary_->setWordWrap(true);
+  status_ = new QLabel;
+  status_->setWordWrap(true);
+  status_->setStyleSheet("color: #b00020");
+  const auto row = [form](const QString& name, QSlider* s, QLabel* value) {
+    auto* box = new QWidget;
+    auto* h = new QHBoxLayout(box);
+    h->setContentsMargins(0, 0, 0, 0);
+    h->addWidget(s, 1);
+    value->setMinimumWidth(80);
+    h->addWidget(value);
+    form->addRow(name, box);
+  };
+  auto* buttons = new QHBoxLayout;
+  buttons->addWidget(open);
+  buttons->addWidget(fromStore);
+  form->addRow(buttons);
+  row(tr("Divergence"), divergence_, divergenceLabel_);
+  row(tr("Jitter"), jitter_, jitterLabel_);
+  row(tr("Inclination"), inclination_, inclinationLabel_);
+  form->addRow(tr("Seed"), seed_);
+  row(tr("Growth time"), time_, timeLabel_);
+  form->addRow(summary_);
+  form->addRow(status_);
+  form->addRow(export_);
+  controls->setLayout(form);
+
+  preview_ = new PreviewWidget(this);
+  auto* layout = new QHBoxLayout(this);
+  layout->addWidget(controls);
+  layout->addWidget(preview_, 1);
+
+  connect(open, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, tr("Open a plant plan"), {}, tr("Plant plans (*.json)"));
+    if (!path.isEmpty()) status_->setText(openPlan(path));
+  });
+  connect(fromStore, &QPushButton::clicked, this, [this] { status_->setText(planFromApprovedLeaves()); });
+  connect(export_, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getSaveFileName(
+        this, tr("Export the plant"), {}, tr("Any plant format (*.glb *.obj *.ply *.stl *.can *.mtg *.csv *.json)"));
+    if (path.isEmpty()) return;
+    const QString error = exportTo(path);
+    status_->setText(error);
+    if (error.isEmpty()) summary_->setText(summary_->text() + "\n" + tr("Wrote %1").arg(path));
+  });
+  for (QSlider* s : {divergence_, jitter_, time_})
+    connect(s, &QSlider::valueChanged, this, [this] { scheduleRebuild(); });
+  connect(inclination_, &QSlider::valueChanged, this, [this] {
+    inclination_->setProperty("override", true);
+    scheduleRebuild();
+  });
+  connect(seed_, qOverload<int>(&QSpinBox::valueChanged), this, [this] { scheduleRebuild(); });
+}
+
+PlantView::~PlantView() = default;
+
+QString PlantView::summaryText() const {
+  return summary_->text();
+}
+QString PlantView::statusText() const {
+  return status_->text();
+}
+
+QString PlantView::openPlan(const QString& path) {
+  try {
+    m::PlantPlan plan = m::readPlantPlan(path.toStdString());
+    std::vector<m::LibraryLeaf> library;
+    if (plan.libraryDb) {
+      if (!std::filesystem::exists(*plan.libraryDb))
+        return tr("The plan's library %1 does not exist.").arg(QString::fromStdString(*plan.libraryDb));
+      db::Store store(*plan.libraryDb, true);
+      library = acquisition::organLibrary(store).leaves;
+    }
+    return usePlan(std::move(plan), std::move(library));
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+}
+
+QString PlantView::planFromApprovedLeaves() {
+  if (db_.empty() || !std::filesystem::exists(db_)) return tr("This station has no database yet.");
+  try {
+    db::Store store(db_, true);
+    std::vector<m::LibraryLeaf> library = acquisition::organLibrary(store).leaves;
+    if (library.empty()) return tr("No approved leaf yet: approve sessions in the Review view first.");
+    std::sort(library.begin(), library.end(), [](const auto& a, const auto& b) {
+      return a.markers.leaf.position.value_or(0) < b.markers.leaf.position.value_or(0);
+    });
+    m::PlantPlan plan;
+    plan.id = library.front().markers.leaf.plant.empty() ? "plant" : library.front().markers.leaf.plant;
+    plan.stem = {900.0, 24.0, 8.0};
+    plan.libraryDb = db_;
+    int rank = 0;
+    for (const auto& leaf : library) {
+      m::LeafPlan l;
+      l.rank = ++rank;
+      l.library = m::LibraryRequest{leaf.markers.leaf.type, leaf.markers.leaf.position};
+      l.insertionHeightMm = std::min(860.0, 60.0 + 70.0 * (rank - 1));
+      plan.leaves.push_back(l);
+    }
+    return usePlan(std::move(plan), std::move(library));
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+}
+
+QString PlantView::usePlan(m::PlantPlan plan, std::vector<m::LibraryLeaf> library) {
+  plan_ = std::move(plan);
+  library_ = std::move(library);
+  slidersFromPlan();
+  const QString error = rebuild();
+  if (!error.isEmpty()) {
+    plan_.reset();
+    plant_.reset();
+  }
+  export_->setEnabled(error.isEmpty());
+  return error;
+}
+
+void PlantView::slidersFromPlan() {
+  const QSignalBlocker a(divergence_), b(jitter_), c(inclination_), d(time_), e(seed_);
+  divergence_->setValue(static_cast<int>(std::lround(plan_->divergenceDeg * 10)));
+  jitter_->setValue(static_cast<int>(std::lround(plan_->jitterDeg)));
+  inclination_->setValue(static_cast<int>(m::kDefaultInclinationDeg));
+  inclination_->setProperty("override", false);
+  time_->setValue(kTimeSteps);
+  time_->setEnabled(plan_->growth.has_value());
+  seed_->setValue(static_cast<int>(plan_->seed % 1000000));
+}
+
+std::optional<double> PlantView::time() const {
+  if (!plan_ || !plan_->growth || time_->value() >= kTimeSteps) return std::nullopt;
+  const m::GrowthPlan& g = *plan_->growth;
+  // The scrubber spans from the first leaf's appearance to the last leaf's near-full size.
+  const double end = (static_cast<double>(plan_->leaves.size()) - 1) * g.plastochron + g.leafMidpoint + 6 / g.leafRate;
+  return end * time_->value() / kTimeSteps;
+}
+
+void PlantView::scheduleRebuild() {
+  if (rebuildPending_ || !plan_) return;
+  rebuildPending_ = true;  // slider moves coalesce into one rebuild per event-loop turn
+  QTimer::singleShot(0, this, [this] {
+    rebuildPending_ = false;
+    status_->setText(rebuild());
+  });
+}
+
+QString PlantView::rebuild() {
+  if (!plan_) return {};
+  m::PlantPlan plan = *plan_;
+  plan.divergenceDeg = divergence_->value() / 10.0;
+  plan.jitterDeg = jitter_->value();
+  plan.seed = static_cast<std::uint64_t>(seed_->value());
+  const bool inclined = inclination_->property("override").toBool();
+  if (inclined) {
+    for (auto& l : plan.leaves) l.inclinationDeg = inclination_->value();
+  }
+  divergenceLabel_->setText(QString::number(plan.divergenceDeg, 'f', 1) + "°");
+  jitterLabel_->setText("± " + QString::number(plan.jitterDeg, 'f', 0) + "°");
+  inclinationLabel_->setText(inclined ? QString::number(inclination_->value()) + "°" : tr("as planned"));
+  const std::optional<double> t = time();
+  timeLabel_->setText(t ? QString::number(*t, 'f', 1) + " " + QString::fromStdString(plan.growth->timeUnit)
+                        : tr("full grown"));
+  try {
+    const m::PlantBuilder builder(plan, library_);
+    plant_ = builder.build(t);
+    mesh_ = m::meshPlant(*plant_, m::MeshResolution::preset("preview"));
+    metrics_ = m::computePlantMetrics(*plant_, *mesh_, Eigen::Vector3d::UnitZ());
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+  auto preview = std::make_shared<acquisition::Preview>();
+  preview->mesh = *mesh_;
+  acquisition::Snapshot snapshot;
+  snapshot.preview = preview;
+  preview_->show(snapshot);
+  summary_->setText(tr("%1: %2 leaves, stem %3 mm · leaf area %4 cm² · silhouette from above %5 cm² · STAR %6")
+                        .arg(QString::fromStdString(plant_->id))
+                        .arg(plant_->leaves.size())
+                        .arg(plant_->stemHeightMm, 0, 'f', 0)
+                        .arg(metrics_->areaMm2 / 100, 0, 'f', 0)
+                        .arg(metrics_->silhouetteMm2 / 100, 0, 'f', 0)
+                        .arg(metrics_->star, 0, 'f', 2));
+  return {};
+}
+
+QString PlantView::exportTo(const QString& path) {
+  if (!plant_) return tr("Nothing to export: open a plan first.");
+  try {
+    // Exports at the export resolution (the view draws the preview's).
+    const m::LeafMesh mesh = m::meshPlant(*plant_, m::MeshResolution::preset("export"));
+    const m::PlantMetrics metrics = m::computePlantMetrics(*plant_, mesh, Eigen::Vector3d::UnitZ());
+    for (const auto& f : m::encodePlant(path.toStdString(), *plant_, mesh, metrics,
+                                        {m::CanUnit::Metre, std::string("leafdig ") + kVersion}))
+      m::writeFileAtomically(f.path, f.bytes);
+    return {};
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+}
+
+}  // namespace leafdig::station

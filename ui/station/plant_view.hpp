@@ -1,0 +1,69 @@
+// The Plant view (issue 14, seed 003's interactive display): for curators and modellers. A
+// plant from a plan file, or from the station's approved leaves (each at its leaf position,
+// drawn from the organ library); sliders for the plan's divergence, jitter, inclination and
+// seed; a growth-time scrubber when the plan has growth; the plant in 3D, updated as they
+// move; area, silhouette and STAR from above; export by file extension (docs/plants.md).
+#pragma once
+
+#include <QWidget>
+#include <memory>
+#include <optional>
+
+#include "leafdig/model/plant.hpp"
+#include "leafdig/model/plant_export.hpp"
+
+class QLabel;
+class QPushButton;
+class QSlider;
+class QSpinBox;
+
+namespace leafdig::station {
+
+class PreviewWidget;
+
+class PlantView : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit PlantView(QWidget* parent = nullptr);
+  ~PlantView() override;
+  // The station's database (for "From approved leaves").
+  void setDatabase(const std::string& path) { db_ = path; }
+  // Each returns an error text to show (empty when the plant was built).
+  QString openPlan(const QString& path);
+  QString planFromApprovedLeaves();
+  QString exportTo(const QString& path);
+
+  [[nodiscard]] const model::Plant* plant() const { return plant_ ? &*plant_ : nullptr; }
+  [[nodiscard]] const model::PlantMetrics* metrics() const { return metrics_ ? &*metrics_ : nullptr; }
+  [[nodiscard]] PreviewWidget* preview() const { return preview_; }
+  [[nodiscard]] QSlider* divergenceSlider() const { return divergence_; }
+  [[nodiscard]] QSlider* jitterSlider() const { return jitter_; }
+  [[nodiscard]] QSlider* inclinationSlider() const { return inclination_; }
+  [[nodiscard]] QSlider* timeSlider() const { return time_; }
+  [[nodiscard]] QSpinBox* seedBox() const { return seed_; }
+  [[nodiscard]] QString summaryText() const;
+  [[nodiscard]] QString statusText() const;
+
+ private:
+  QString usePlan(model::PlantPlan plan, std::vector<model::LibraryLeaf> library);
+  void slidersFromPlan();
+  QString rebuild();  // plan + sliders -> plant -> preview and summary
+  void scheduleRebuild();
+  [[nodiscard]] std::optional<double> time() const;
+
+  std::string db_;
+  std::optional<model::PlantPlan> plan_;  // as loaded; the sliders override some keys
+  std::vector<model::LibraryLeaf> library_;
+  std::optional<model::Plant> plant_;
+  std::optional<model::LeafMesh> mesh_;
+  std::optional<model::PlantMetrics> metrics_;
+  PreviewWidget* preview_;
+  QSlider *divergence_, *jitter_, *inclination_, *time_;
+  QSpinBox* seed_;
+  QLabel *divergenceLabel_, *jitterLabel_, *inclinationLabel_, *timeLabel_, *summary_, *status_;
+  QPushButton* export_;
+  bool rebuildPending_ = false;
+};
+
+}  // namespace leafdig::station
