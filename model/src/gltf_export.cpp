@@ -103,6 +103,20 @@ int addOrganMesh(tinygltf::Model& model, const Organ& organ, int material,
   return static_cast<int>(model.meshes.size() - 1);
 }
 
+// The root node as the scene's only node, then the binary container.
+std::string finishGlb(tinygltf::Model& model, tinygltf::Node root, const char* sceneName) {
+  model.nodes.push_back(std::move(root));
+  tinygltf::Scene scene;
+  scene.name = sceneName;
+  scene.nodes.push_back(static_cast<int>(model.nodes.size() - 1));
+  model.scenes.push_back(scene);
+  model.defaultScene = 0;
+  std::ostringstream out;
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToStream(&model, out, false, true)) throw IoError("glTF encoding failed");
+  return out.str();
+}
+
 }  // namespace
 
 std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
@@ -132,19 +146,7 @@ std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
     model.nodes.push_back(node);
     root.children.push_back(static_cast<int>(model.nodes.size() - 1));
   }
-  model.nodes.push_back(root);
-  tinygltf::Scene scene;
-  scene.name = "leafdig";
-  scene.nodes.push_back(static_cast<int>(model.nodes.size() - 1));
-  model.scenes.push_back(scene);
-  model.defaultScene = 0;
-
-  std::ostringstream out;
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToStream(&model, out, false, true)) {
-    throw IoError("glTF encoding failed");
-  }
-  return out.str();
+  return finishGlb(model, std::move(root), "leafdig");
 }
 
 }  // namespace leafdig::model
@@ -282,16 +284,7 @@ std::string encodeGrowthGlb(const Plant& final, const std::vector<Plant>& states
     animate(model, animation, input, growthNode, "scale", scale);
   }
   model.animations.push_back(animation);
-  model.nodes.push_back(root);
-  tinygltf::Scene scene;
-  scene.name = "leafdig growth";
-  scene.nodes.push_back(static_cast<int>(model.nodes.size() - 1));
-  model.scenes.push_back(scene);
-  model.defaultScene = 0;
-  std::ostringstream out;
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToStream(&model, out, false, true)) throw IoError("glTF encoding failed");
-  return out.str();
+  return finishGlb(model, std::move(root), "leafdig growth");
 }
 
 }  // namespace leafdig::model

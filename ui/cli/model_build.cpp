@@ -177,6 +177,14 @@ int runModelBuild(const ModelBuildOptions& o) {
       for (const auto& f : files) std::cout << "  wrote " << f.first << "\n";
     }
     return 0;
+  } catch (...) {
+    return reportModelFailure(std::current_exception());
+  }
+}
+
+int reportModelFailure(const std::exception_ptr& error) {
+  try {
+    std::rethrow_exception(error);
   } catch (const m::InputError& e) {
     std::cerr << "leafdig: " << e.what() << "\n";
     return 2;

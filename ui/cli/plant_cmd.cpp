@@ -232,15 +232,8 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
     std::cerr << "leafdig: organ library: " << e.what() << "\n";
     if (!e.remedy().empty()) std::cerr << "  what to do: " << e.remedy() << "\n";
     return 2;
-  } catch (const m::InputError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
-  } catch (const m::IoError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "leafdig: internal error: " << e.what() << "\n";
-    return 1;
+  } catch (...) {
+    return reportModelFailure(std::current_exception());
   }
 }
 
