@@ -83,11 +83,32 @@ MarkerSet shapeLeaf(const MarkerSet& leafFrame, double scale, double lengthFacto
   return m;
 }
 
+StemPoint stemAt(const Vein& stem, double fraction) {
+  // Arc length through 512 samples, then the parameter at `fraction` of it.
+  constexpr int kSamples = 512;
+  std::vector<double> length{0.0};
+  Eigen::Vector3d previous = stem.curve.center(0.0);
+  for (int i = 1; i <= kSamples; ++i) {
+    const Eigen::Vector3d p = stem.curve.center(static_cast<double>(i) / kSamples);
+    length.push_back(length.back() + (p - previous).norm());
+    previous = p;
+  }
+  const double want = std::clamp(fraction, 0.0, 1.0) * length.back();
+  const auto it = std::lower_bound(length.begin(), length.end(), want);
+  const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(1, it - length.begin()));
+  const double span = length[i] - length[i - 1];
+  const double t = (static_cast<double>(i - 1) + (span > 0 ? (want - length[i - 1]) / span : 0.0)) / kSamples;
+  const BallBSplineCurve::Jet jet = stem.curve.jet(std::clamp(t, 0.0, 1.0));
+  return {jet.c, jet.dc.normalized(), jet.r};
+}
+
 // The rigid motion from the shaped leaf frame to the plant: the base-to-tip chord at
-// `inclination` from the stem axis, in the vertical plane at `azimuth`, the leaf's width
-// horizontal (adaxial side up when flat), then `roll` about the chord.
-Eigen::Isometry3d placeLeaf(const Eigen::Vector3d& tipInLeafFrame, const Eigen::Vector3d& base, double azimuthDeg,
-                            double inclinationDeg, double rollDeg) {
+// `inclination` from the stem's local axis, in the plane of that axis and the `azimuth`
+// direction (horizontal, made perpendicular to the axis), the leaf's width across that
+// plane (adaxial side up when flat on an upright stem), then `roll` about the chord. The
+// base sits on the stem's surface on the azimuth's side.
+Eigen::Isometry3d placeLeaf(const Eigen::Vector3d& tipInLeafFrame, const StemPoint& at, double azimuthDeg,
+                            double inclinationDeg, double rollDeg, Eigen::Vector3d& base) {
   const Eigen::Vector3d a = tipInLeafFrame.normalized();
   Eigen::Vector3d b = Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX().dot(a) * a;
   b.normalize();
@@ -96,24 +117,37 @@ Eigen::Isometry3d placeLeaf(const Eigen::Vector3d& tipInLeafFrame, const Eigen::
 
   const double phi = radians(azimuthDeg);
   const double theta = radians(inclinationDeg);
-  const Eigen::Vector3d u(std::cos(phi), std::sin(phi), 0.0);
-  const Eigen::Vector3d aw = std::cos(theta) * Eigen::Vector3d::UnitZ() + std::sin(theta) * u;
-  const Eigen::Vector3d bw0 = u.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d& axis = at.tangent;
+  Eigen::Vector3d u(std::cos(phi), std::sin(phi), 0.0);
+  u = (u - u.dot(axis) * axis).normalized();
+  const Eigen::Vector3d aw = std::cos(theta) * axis + std::sin(theta) * u;
+  const Eigen::Vector3d bw0 = u.cross(axis).normalized();
   const Eigen::Vector3d bw = Eigen::AngleAxisd(radians(rollDeg), aw) * bw0;
   Eigen::Matrix3d world;
   world << aw, bw, bw.cross(aw);
 
+  base = at.center + at.radius * u;
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = world * leaf.transpose();
   t.translation() = base;
   return t;
 }
 
-// The stem tapers linearly from its base diameter to its top diameter.
-double stemRadiusAt(const PlantPlan& plan, double fraction) {
-  const double base = plan.stem.baseDiameterMm / 2;
-  const double top = plan.stem.topDiameterMm / 2;
-  return base + (top - base) * std::clamp(fraction, 0.0, 1.0);
+// The stem's balls: digitized points moved to the origin, or a straight taper up +Z; both
+// stretched about the base by the growth factor.
+std::vector<Ball> stemBalls(const StemPlan& stem, double heightFactor) {
+  std::vector<Ball> balls;
+  if (!stem.points.empty()) {
+    const Eigen::Vector3d origin = stem.points.front().head<3>();
+    for (const auto& p : stem.points) balls.push_back({(p.head<3>() - origin) * heightFactor, p[3] / 2});
+    return balls;
+  }
+  for (int i = 0; i <= 2; ++i) {
+    const double f = i / 2.0;
+    const double radius = (stem.baseDiameterMm + (stem.topDiameterMm - stem.baseDiameterMm) * f) / 2;
+    balls.push_back({Eigen::Vector3d(0, 0, stem.heightMm * heightFactor * f), radius});
+  }
+  return balls;
 }
 
 bool matches(const LibraryLeaf& leaf, const LibraryRequest& request) {
@@ -123,6 +157,11 @@ bool matches(const LibraryLeaf& leaf, const LibraryRequest& request) {
 }
 
 }  // namespace
+
+StemPoint stemPointAt(const Plant& plant, double fraction) {
+  if (!plant.stem) return {Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.0};
+  return stemAt(*plant.stem, fraction);
+}
 
 double logistic(double rate, double midpoint, double tau) {
   return 1.0 / (1.0 + std::exp(-rate * (tau - midpoint)));
@@ -204,18 +243,13 @@ Plant PlantBuilder::build(std::optional<double> time) const {
   double heightFactor = 1.0;
   if (time) heightFactor = logistic(plan_.growth->stemRate, plan_.growth->stemMidpoint, *time);
   const double stemHeight = plan_.stem.heightMm * heightFactor;
-  std::vector<Ball> axis;
-  for (int i = 0; i <= 2; ++i) {
-    const double f = i / 2.0;
-    axis.push_back({Eigen::Vector3d(0, 0, stemHeight * f), stemRadiusAt(plan_, f)});
-  }
   Plant plant{plan_.id,
               time,
               plan_.growth ? plan_.growth->timeUnit : "",
               stemHeight,
               plan_.stem.baseDiameterMm,
               plan_.stem.topDiameterMm,
-              Vein{"stem", BallBSplineCurve::interpolate(axis)},
+              Vein{"stem", BallBSplineCurve::interpolate(stemBalls(plan_.stem, heightFactor))},
               {}};
 
   for (const Resolved& r : leaves_) {
@@ -241,10 +275,9 @@ Plant PlantBuilder::build(std::optional<double> time) const {
     leaf.widthFactor = widthFactor;
     const MarkerSet shaped = shapeLeaf(r.leafFrameMarkers, r.scale, lengthFactor, widthFactor, r.bendDeg);
     const double fraction = plan_.stem.heightMm > 0 ? r.plan.insertionHeightMm / plan_.stem.heightMm : 0.0;
-    const double radius = stemRadiusAt(plan_, fraction);
-    const double phi = radians(r.azimuthDeg);
-    const Eigen::Vector3d base(radius * std::cos(phi), radius * std::sin(phi), leaf.insertionHeightMm);
-    leaf.placement = placeLeaf(shaped.tipMm, base, r.azimuthDeg, r.inclinationDeg, r.plan.rollDeg);
+    Eigen::Vector3d base;
+    leaf.placement =
+        placeLeaf(shaped.tipMm, stemAt(*plant.stem, fraction), r.azimuthDeg, r.inclinationDeg, r.plan.rollDeg, base);
     leaf.model = transformed(buildLeafModel(shaped), leaf.placement);
     leaf.base = base;
     leaf.tip = leaf.placement * shaped.tipMm;

@@ -211,14 +211,16 @@ std::string encodeMtg(const Plant& plant, const PlantMetrics& metrics) {
   for (const PlacedLeaf& l : plant.leaves) order.push_back(&l);
   std::stable_sort(order.begin(), order.end(),
                    [](const auto* a, const auto* b) { return a->insertionHeightMm < b->insertionHeightMm; });
-  const auto diameterAt = [&plant](double z) {
-    const double f = plant.stemHeightMm > 0 ? std::clamp(z / plant.stemHeightMm, 0.0, 1.0) : 0.0;
-    return plant.stemBaseDiameterMm + (plant.stemTopDiameterMm - plant.stemBaseDiameterMm) * f;
-  };
+  // Internodes between insertions, along the stem (digitized stems may curve).
   const auto internode = [&](int index, double from, double to) {
-    line(0, index == 1 ? "/P1/I1" : "^<I" + std::to_string(index),
-         {"", "", fixed3(from), "", "", fixed3(to - from), fixed3(diameterAt((from + to) / 2)), "", "", "0.000",
-          "0.000", fixed3(from), "0.000", "0.000", fixed3(to)});
+    const double h = plant.stemHeightMm > 0 ? plant.stemHeightMm : 1.0;
+    const StemPoint a = stemPointAt(plant, from / h);
+    const StemPoint b = stemPointAt(plant, to / h);
+    const StemPoint mid = stemPointAt(plant, (from + to) / 2 / h);
+    line(
+        0, index == 1 ? "/P1/I1" : "^<I" + std::to_string(index),
+        {"", "", fixed3(from), "", "", fixed3(to - from), fixed3(2 * mid.radius), "", "", fixed3(a.center.x()),
+         fixed3(a.center.y()), fixed3(a.center.z()), fixed3(b.center.x()), fixed3(b.center.y()), fixed3(b.center.z())});
   };
   int index = 0;
   double below = 0.0;
@@ -248,8 +250,9 @@ std::string encodePlantCsv(const Plant& plant, const PlantMetrics& metrics) {
          "length_mm,width_mm,area_mm2,silhouette_mm2,star,base_x_mm,base_y_mm,base_z_mm,tip_x_mm,tip_y_mm,tip_z_mm\n";
   const std::string id = csvField(plant.id);
   if (plant.stem) {
+    const Eigen::Vector3d apex = stemPointAt(plant, 1.0).center;
     out << id << ",stem,0,,,0.000,,,,,," << fixed3(plant.stemHeightMm) << "," << fixed3(plant.stemBaseDiameterMm)
-        << ",,,,0.000,0.000,0.000,0.000,0.000," << fixed3(plant.stemHeightMm) << "\n";
+        << ",,,,0.000,0.000,0.000," << fixed3(apex.x()) << "," << fixed3(apex.y()) << "," << fixed3(apex.z()) << "\n";
   }
   for (const PlacedLeaf& l : plant.leaves) {
     const LeafLight* light = lightOf(metrics, l.rank);

@@ -92,9 +92,29 @@ PlantPlan parsePlantPlan(std::string_view text, const std::string& source, const
   }
 
   const json& stem = r.required(doc, "stem", "");
-  plan.stem.heightMm = mm * r.positive(r.required(stem, "height", "stem"), "stem.height");
-  plan.stem.baseDiameterMm = mm * r.positive(r.required(stem, "base_diameter", "stem"), "stem.base_diameter");
-  plan.stem.topDiameterMm = mm * r.positive(r.required(stem, "top_diameter", "stem"), "stem.top_diameter");
+  if (stem.contains("points") && !stem.at("points").is_null()) {
+    const json& points = stem.at("points");
+    if (!points.is_array() || points.size() < 2)
+      r.fail("stem.points", "expected at least two digitized points [x, y, z, diameter], base first");
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const std::string at = "stem.points[" + std::to_string(i) + "]";
+      if (!points[i].is_array() || points[i].size() != 4) r.fail(at, "expected [x, y, z, diameter]");
+      Eigen::Vector4d p;
+      for (int k = 0; k < 4; ++k) p[k] = mm * r.number(points[i][static_cast<std::size_t>(k)], at);
+      if (!(p[3] > 0.0)) r.fail(at, "the diameter must be greater than zero");
+      if (!plan.stem.points.empty() && (p.head<3>() - plan.stem.points.back().head<3>()).norm() < 1e-6)
+        r.fail(at, "coincides with the point before it; remove one");
+      plan.stem.points.push_back(p);
+    }
+    for (std::size_t i = 1; i < plan.stem.points.size(); ++i)
+      plan.stem.heightMm += (plan.stem.points[i].head<3>() - plan.stem.points[i - 1].head<3>()).norm();
+    plan.stem.baseDiameterMm = plan.stem.points.front()[3];
+    plan.stem.topDiameterMm = plan.stem.points.back()[3];
+  } else {
+    plan.stem.heightMm = mm * r.positive(r.required(stem, "height", "stem"), "stem.height");
+    plan.stem.baseDiameterMm = mm * r.positive(r.required(stem, "base_diameter", "stem"), "stem.base_diameter");
+    plan.stem.topDiameterMm = mm * r.positive(r.required(stem, "top_diameter", "stem"), "stem.top_diameter");
+  }
 
   if (doc.contains("phyllotaxis") && !doc.at("phyllotaxis").is_null()) {
     const json& p = doc.at("phyllotaxis");

@@ -26,12 +26,12 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
-std::string planText(const std::string& leaves, const std::string& extra = "") {
-  return R"({"format": "leafdig.plant/1", "units": "mm", "id": "P-07", "seed": 42,
-             "stem": {"height": 900, "base_diameter": 24, "top_diameter": 8},
-             "phyllotaxis": {"divergence_deg": 137.5078, "jitter_deg": 0},
-             "leaves": [)" +
-         leaves + "]" + extra + "}";
+constexpr const char* kStraightStem = R"({"height": 900, "base_diameter": 24, "top_diameter": 8})";
+
+std::string planText(const std::string& leaves, const std::string& extra = "",
+                     const std::string& stem = kStraightStem) {
+  return R"({"format": "leafdig.plant/1", "units": "mm", "id": "P-07", "seed": 42, "stem": )" + stem +
+         R"(, "phyllotaxis": {"divergence_deg": 137.5078, "jitter_deg": 0}, "leaves": [)" + leaves + "]" + extra + "}";
 }
 
 std::string markersLeaf(int rank, double height, const std::string& more = "") {
@@ -78,6 +78,44 @@ TEST(Plant, LeavesFollowTheGoldenAngleSitOnTheStemAndLeanAtTheirInclination) {
     EXPECT_LT((l.model.markers.rows.back().pointsMm[kMidribColumn] - l.base).norm(), 1e-9);
     EXPECT_LT((l.model.markers.tipMm - l.tip).norm(), 1e-9);
   }
+}
+
+TEST(Plant, ADigitizedStemCarriesItsLeavesOnItsSurfaceAtTheirLocalInclination) {
+  // Two digitized points make the same straight taper as height and diameters.
+  std::string leaves;
+  for (int k = 1; k <= 4; ++k) leaves += (k > 1 ? "," : "") + markersLeaf(k, 150.0 * k);
+  const std::string straight = planText(leaves);
+  const std::string twoPoints = planText(leaves, "", R"({"points": [[10, 20, 5, 24], [10, 20, 905, 8]]})");
+  const Plant a = PlantBuilder(plan(straight), {}).build();
+  const Plant b = PlantBuilder(plan(twoPoints), {}).build();
+  ASSERT_EQ(a.leaves.size(), b.leaves.size());
+  for (std::size_t i = 0; i < a.leaves.size(); ++i) EXPECT_LT((a.leaves[i].tip - b.leaves[i].tip).norm(), 1e-6);
+
+  // A stem digitized along a leaning arc: every base on the surface, every chord at its
+  // inclination from the local axis.
+  std::string arc = R"({"points": [)";
+  for (int i = 0; i <= 6; ++i) {
+    const double t = i / 6.0;
+    arc += (i ? "," : "") + std::string("[") + std::to_string(200 * (1 - std::cos(t))) + ", 0, " +
+           std::to_string(800 * std::sin(t)) + ", " + std::to_string(24 - 14 * t) + "]";
+  }
+  arc += "]}";
+  std::string inclined;
+  for (int k = 1; k <= 4; ++k) inclined += (k > 1 ? "," : "") + markersLeaf(k, 150.0 * k, R"(, "inclination_deg": 60)");
+  const std::string curved = planText(inclined, "", arc);
+  const Plant c = PlantBuilder(plan(curved), {}).build();
+  for (const PlacedLeaf& l : c.leaves) {
+    const StemPoint at = stemPointAt(c, l.insertionHeightMm / c.stemHeightMm);
+    EXPECT_NEAR((l.base - at.center).norm(), at.radius, 1e-6);
+    EXPECT_NEAR((l.base - at.center).dot(at.tangent), 0.0, 1e-6);
+    EXPECT_NEAR(angleBetween(l.tip - l.base, at.tangent), 60.0, 1e-6);
+    EXPECT_GT(at.tangent.x(), 0.01) << "the stem leans, so does its axis";
+  }
+  const std::string mtg =
+      encodeMtg(c, computePlantMetrics(c, meshPlant(c, MeshResolution::preset("preview")), Eigen::Vector3d::UnitZ()));
+  EXPECT_NO_THROW((void)leafdig::test::readMtgStrictly(mtg));
+  EXPECT_THROW((void)plan(planText(leaves, "", R"({"points": [[0, 0, 0, 10]]})")), InputError);
+  EXPECT_THROW((void)plan(planText(leaves, "", R"({"points": [[0, 0, 0, 10], [0, 0, 900, 0]]})")), InputError);
 }
 
 TEST(Plant, AFlatLeafLaidHorizontalShowsItsAdaxialSideUpAndRollTurnsIt) {

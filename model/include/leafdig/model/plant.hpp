@@ -33,9 +33,13 @@ struct Range {
 };
 
 struct StemPlan {
-  double heightMm = 0.0;
+  double heightMm = 0.0;  // along the stem (the digitized points' polyline when given)
   double baseDiameterMm = 0.0;
   double topDiameterMm = 0.0;
+  // Digitized stem: centre points with caliper diameters (x, y, z, d in mm), base first. The
+  // stem is then the BBSC through them, moved so that the first point is the origin (the
+  // frame's +Z should be up); insertion heights are lengths along it.
+  std::vector<Eigen::Vector4d> points;
 };
 
 struct LibraryRequest {
@@ -164,6 +168,14 @@ class PlantBuilder {
 // frame: what `leafdig model build -o leaf.can -o leaf.mtg -o leaf.csv` writes. Its azimuth and
 // inclination are those of its base-to-tip chord about +Z.
 [[nodiscard]] Plant singleLeafPlant(const LeafModel& leaf, int rank, std::string source);
+
+// The stem at `fraction` (0 base, 1 apex) of its length: centre, unit tangent, radius.
+struct StemPoint {
+  Eigen::Vector3d center;
+  Eigen::Vector3d tangent;
+  double radius = 0.0;
+};
+[[nodiscard]] StemPoint stemPointAt(const Plant& plant, double fraction);
 
 // The midrib length (along the centre curve) and the widest row (P_i1 to P_i7).
 [[nodiscard]] double midribLengthMm(const LeafModel& leaf);
