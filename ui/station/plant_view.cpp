@@ -5,6 +5,7 @@
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QListWidget>
 #include <QPushButton>
 #include <QSlider>
 #include <QSpinBox>
@@ -43,7 +44,9 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   auto* form = new QFormLayout;
   auto* open = new QPushButton(tr("Open plan…"));
   auto* fromStore = new QPushButton(tr("From approved leaves"));
-  fromStore->setToolTip(tr("A plant of this station's approved leaves, each at its leaf position"));
+  fromStore->setToolTip(tr("A plant of the ticked approved leaves, each at its leaf position"));
+  libraryList_ = new QListWidget;
+  libraryList_->setMaximumHeight(140);
   export_ = new QPushButton(tr("Export…"));
   export_->setEnabled(false);
   divergence_ = slider(900, 1800);  // tenths of a degree
@@ -75,6 +78,7 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   buttons->addWidget(open);
   buttons->addWidget(fromStore);
   form->addRow(buttons);
+  form->addRow(libraryList_);
   row(tr("Divergence"), divergence_, divergenceLabel_);
   row(tr("Jitter"), jitter_, jitterLabel_);
   row(tr("Inclination"), inclination_, inclinationLabel_);
@@ -137,31 +141,65 @@ QString PlantView::openPlan(const QString& path) {
   }
 }
 
-QString PlantView::planFromApprovedLeaves() {
-  if (db_.empty() || !std::filesystem::exists(db_)) return tr("This station has no database yet.");
+void PlantView::setDatabase(const std::string& path) {
+  db_ = path;
+  refreshLibrary();
+}
+
+void PlantView::refreshLibrary() {
+  libraryList_->clear();
+  approved_.clear();
+  if (db_.empty() || !std::filesystem::exists(db_)) return;
   try {
     db::Store store(db_, true);
-    std::vector<m::LibraryLeaf> library = acquisition::organLibrary(store).leaves;
-    if (library.empty()) return tr("No approved leaf yet: approve sessions in the Review view first.");
-    std::sort(library.begin(), library.end(), [](const auto& a, const auto& b) {
-      return a.markers.leaf.position.value_or(0) < b.markers.leaf.position.value_or(0);
-    });
-    m::PlantPlan plan;
-    plan.id = library.front().markers.leaf.plant.empty() ? "plant" : library.front().markers.leaf.plant;
-    plan.stem = {900.0, 24.0, 8.0};
-    plan.libraryDb = db_;
-    int rank = 0;
-    for (const auto& leaf : library) {
-      m::LeafPlan l;
-      l.rank = ++rank;
-      l.library = m::LibraryRequest{leaf.markers.leaf.type, leaf.markers.leaf.position};
-      l.insertionHeightMm = std::min(860.0, 60.0 + 70.0 * (rank - 1));
-      plan.leaves.push_back(l);
-    }
-    return usePlan(std::move(plan), std::move(library));
+    approved_ = acquisition::organLibrary(store).leaves;
   } catch (const std::exception& e) {
-    return QString::fromStdString(e.what());
+    status_->setText(QString::fromStdString(e.what()));
+    return;
   }
+  std::stable_sort(approved_.begin(), approved_.end(), [](const auto& a, const auto& b) {
+    return a.markers.leaf.position.value_or(0) < b.markers.leaf.position.value_or(0);
+  });
+  for (const auto& leaf : approved_) {
+    const auto& info = leaf.markers.leaf;
+    auto* item =
+        new QListWidgetItem(tr("%1 · leaf %2%3 · %4")
+                                .arg(QString::fromStdString(info.plant))
+                                .arg(info.position.value_or(0))
+                                .arg(info.type.empty() ? QString() : " (" + QString::fromStdString(info.type) + ")")
+                                .arg(QString::fromStdString(leaf.source)));
+    item->setFlags(item->flags() | Qt::ItemIsUserCheckable);
+    item->setCheckState(Qt::Checked);
+    libraryList_->addItem(item);
+  }
+}
+
+QString PlantView::planFromApprovedLeaves() {
+  if (db_.empty() || !std::filesystem::exists(db_)) return tr("This station has no database yet.");
+  if (approved_.empty()) refreshLibrary();  // (keeps the operator's ticks otherwise)
+  // The ticked leaves, in leaf-position order, each one placed as itself.
+  std::vector<m::LibraryLeaf> picked;
+  for (int i = 0; i < libraryList_->count(); ++i)
+    if (libraryList_->item(i)->checkState() == Qt::Checked) picked.push_back(approved_[static_cast<std::size_t>(i)]);
+  if (approved_.empty()) return tr("No approved leaf yet: approve sessions in the Review view first.");
+  if (picked.empty()) return tr("Tick at least one approved leaf.");
+  m::PlantPlan plan;
+  plan.id = picked.front().markers.leaf.plant.empty() ? "plant" : picked.front().markers.leaf.plant;
+  plan.stem = {900.0, 24.0, 8.0, {}};
+  plan.libraryDb = db_;
+  std::vector<m::LibraryLeaf> library;
+  int rank = 0;
+  for (auto& leaf : picked) {
+    m::LeafPlan l;
+    l.rank = ++rank;
+    // A request only this leaf answers: its own id as the type of a one-leaf library.
+    leaf.markers.leaf.type = leaf.source;
+    l.library = m::LibraryRequest{leaf.source, std::nullopt};
+    l.insertionHeightMm = std::min(860.0, 60.0 + 70.0 * (rank - 1));
+    plan.leaves.push_back(l);
+    library.push_back(leaf);
+  }
+  return usePlan(std::move(plan), std::move(library));
 }
 
 QString PlantView::usePlan(m::PlantPlan plan, std::vector<m::LibraryLeaf> library) {

@@ -13,6 +13,7 @@
 #include "leafdig/model/plant_export.hpp"
 
 class QLabel;
+class QListWidget;
 class QPushButton;
 class QSlider;
 class QSpinBox;
@@ -27,8 +28,11 @@ class PlantView : public QWidget {
  public:
   explicit PlantView(QWidget* parent = nullptr);
   ~PlantView() override;
-  // The station's database (for "From approved leaves").
-  void setDatabase(const std::string& path) { db_ = path; }
+  // The station's database: its approved leaves are listed (all ticked) for "From approved
+  // leaves".
+  void setDatabase(const std::string& path);
+  void refreshLibrary();
+  [[nodiscard]] QListWidget* libraryList() const { return libraryList_; }
   // Each returns an error text to show (empty when the plant was built).
   QString openPlan(const QString& path);
   QString planFromApprovedLeaves();
@@ -63,6 +67,8 @@ class PlantView : public QWidget {
   QSpinBox* seed_;
   QLabel *divergenceLabel_, *jitterLabel_, *inclinationLabel_, *timeLabel_, *summary_, *status_;
   QPushButton* export_;
+  QListWidget* libraryList_;
+  std::vector<model::LibraryLeaf> approved_;  // as listed
   bool rebuildPending_ = false;
 };
 

@@ -105,6 +105,9 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   plant_ = new PlantView(tabs_);
   plant_->setDatabase(dbPath());
   tabs_->addTab(plant_, tr("Plant"));
+  connect(tabs_, &QTabWidget::currentChanged, this, [this](int index) {
+    if (tabs_->widget(index) == plant_) plant_->refreshLibrary();  // leaves approved since
+  });
   setCentralWidget(tabs_);
   // As large as the screen allows, up to 1440 × 900: a 1366 × 768 laptop gets all of it.
   const QSize room = screen() ? screen()->availableGeometry().size() : QSize(1280, 860);

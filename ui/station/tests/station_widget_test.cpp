@@ -25,6 +25,7 @@
 #include <optional>
 
 #include "export_dialog.hpp"
+#include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/markers_json.hpp"
@@ -684,6 +685,47 @@ TEST(PlantView, APlanIsShownTheSlidersRebuildItAndItExports) {
   EXPECT_TRUE(bad.openPlan(dir + "/missing.json").contains("missing.json"));
   EXPECT_EQ(bad.plant(), nullptr);
   EXPECT_TRUE(bad.planFromApprovedLeaves().contains("no database"));
+}
+
+TEST(PlantView, TheTickedApprovedLeavesOfTheStationMakeThePlant) {
+  namespace acq = leafdig::acquisition;
+  const std::string db =
+      (QDir::tempPath() + "/leafdig-plant-lib-" + QString::number(::getpid()) + ".sqlite").toStdString();
+  std::filesystem::remove(db);
+  // Two complete simulated captures, approved by a curator.
+  for (int position : {3, 5}) {
+    acq::RunRequest r;
+    r.db = db;
+    r.setup.project = "p";
+    r.setup.plant = "P7";
+    r.setup.leafPosition = position;
+    r.setup.leafType = position == 3 ? "lower" : "upper";
+    r.setup.simulated = true;
+    r.simulation.speed = 40;
+    r.simulation.seed = static_cast<std::uint64_t>(position);
+    r.simulation.mistakes = false;
+    r.previews = false;
+    acq::CaptureRun run(r, {});
+    run.start();
+    run.wait();  // the virtual technician completes the leaf
+    ASSERT_TRUE(run.shutdown("done").complete) << "simulated capture " << position;
+  }
+  {
+    leafdig::db::Store store(db);
+    for (std::int64_t id : {1, 2}) (void)acq::review(store, id, "approved", "cur", "");
+  }
+  leafdig::station::PlantView v;
+  v.setDatabase(db);
+  ASSERT_EQ(v.libraryList()->count(), 2);
+  v.libraryList()->item(1)->setCheckState(Qt::Unchecked);
+  ASSERT_EQ(v.planFromApprovedLeaves(), QString());
+  ASSERT_EQ(v.plant()->leaves.size(), 1u) << "only the ticked leaf";
+  EXPECT_EQ(v.plant()->leaves[0].source, "session 1");
+  v.libraryList()->item(1)->setCheckState(Qt::Checked);
+  ASSERT_EQ(v.planFromApprovedLeaves(), QString());
+  EXPECT_EQ(v.plant()->leaves.size(), 2u);
+  EXPECT_EQ(v.plant()->leaves[1].source, "session 2");
+  std::filesystem::remove(db);
 }
 
 int main(int argc, char** argv) {
