@@ -19,7 +19,7 @@ m::PlantPlan twentyLeafPlan(bool growth) {
   m::PlantPlan plan;
   plan.id = "bench-20";
   plan.seed = 7;
-  plan.stem = {900.0, 24.0, 8.0};
+  plan.stem = {900.0, 24.0, 8.0, {}};
   plan.jitterDeg = 5.0;
   for (int k = 1; k <= 20; ++k) {
     m::LeafPlan leaf;
