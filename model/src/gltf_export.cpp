@@ -182,7 +182,7 @@ void animate(tinygltf::Model& model, tinygltf::Animation& animation, int input, 
 
 }  // namespace
 
-std::string encodeGrowthGlb(const Plant& final, const std::vector<Plant>& states, const MeshResolution& resolution,
+std::string encodeGrowthGlb(const Plant& final, const std::vector<Plant>& states, const MeshOptions& resolution,
                             const std::string& generator) {
   if (states.empty() || !final.stem) throw InputError("a growth animation needs a plant with a stem and some states");
   tinygltf::Model model;

@@ -11,7 +11,8 @@ MeshResolution MeshResolution::preset(const std::string& name) {
   if (name == "paper") return {"paper", 5, 20, 10, 10, 30, 5, CapStyle::None, 0};
   if (name == "preview") return {"preview", 8, 9, 4, 4, 18, 3, CapStyle::Sphere, 3};
   if (name == "export") return {"export", 16, 30, 12, 12, 60, 10, CapStyle::Sphere, 6};
-  throw InputError("unknown resolution \"" + name + "\": use paper, preview or export");
+  if (name == "reference") return {"reference", 48, 90, 36, 36, 180, 30, CapStyle::Sphere, 12};
+  throw InputError("unknown resolution \"" + name + "\": use paper, preview, export or reference");
 }
 
 std::vector<double> subdivideSpans(const std::vector<double>& breaks, int segments) {

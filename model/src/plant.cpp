@@ -308,15 +308,29 @@ Plant singleLeafPlant(const LeafModel& leaf, int rank, std::string source) {
 }
 
 LeafMesh meshPlant(const Plant& plant, const MeshResolution& resolution) {
+  MeshOptions options;
+  options.resolution = resolution;
+  return meshPlant(plant, options);
+}
+
+LeafMesh meshPlant(const Plant& plant, const MeshOptions& options) {
   LeafMesh out;
   if (plant.stem) {
-    const std::vector<double> ts = subdivideSpans(plant.stem->curve.dataParameters(), 24);
-    out.organs.push_back(
-        {"plant/stem", OrganKind::Vein,
-         meshVein(*plant.stem, ts, std::max(12, resolution.ringVertices), CapStyle::None, 0, out.warnings), 0});
+    Mesh stem;
+    switch (options.method) {
+      case MeshMethod::Uniform:
+        stem = meshVein(*plant.stem, subdivideSpans(plant.stem->curve.dataParameters(), 24),
+                        std::max(12, options.resolution.ringVertices), CapStyle::None, 0, out.warnings);
+        break;
+      case MeshMethod::Seed: stem = meshVeinSeed(*plant.stem, options.seed, CapStyle::None, out.warnings); break;
+      case MeshMethod::Adaptive:
+        stem = meshVeinAdaptive(*plant.stem, options.maxErrorMm, CapStyle::None, out.warnings);
+        break;
+    }
+    out.organs.push_back({"plant/stem", OrganKind::Vein, std::move(stem), 0});
   }
   for (const PlacedLeaf& leaf : plant.leaves) {
-    LeafMesh m = meshLeaf(leaf.model, resolution);
+    LeafMesh m = meshLeaf(leaf.model, options);
     const std::string prefix = "plant/leaf-" + std::to_string(leaf.rank) + "/";
     for (Organ& o : m.organs) {
       o.name = prefix + o.name;

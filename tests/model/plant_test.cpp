@@ -401,7 +401,8 @@ TEST(PlantExport, TheGrowthAnimationReproducesEachStatesBlade) {
   const Plant final = builder.build();
   std::vector<Plant> states;
   for (double t = 0; t <= 40; t += 10) states.push_back(builder.build(t));
-  const MeshResolution res = MeshResolution::preset("preview");
+  MeshOptions res;
+  res.resolution = MeshResolution::preset("preview");
   const std::string glb = encodeGrowthGlb(final, states, res, "test");
 
   tinygltf::Model model;
@@ -453,7 +454,8 @@ TEST(PlantExport, TheGrowthAnimationReproducesEachStatesBlade) {
       continue;
     }
     const Eigen::Quaterniond q(rotation[4 * i + 3], rotation[4 * i], rotation[4 * i + 1], rotation[4 * i + 2]);
-    const Mesh expected = meshBlade(leaf->model.blade, res.bladeSegmentsPerRow, res.bladeSegmentsAcross);
+    const Mesh expected =
+        meshBlade(leaf->model.blade, res.resolution.bladeSegmentsPerRow, res.resolution.bladeSegmentsAcross);
     ASSERT_EQ(full.size(), 3 * expected.positions.size());
     for (std::size_t v = 0; v < expected.positions.size(); v += 97) {
       const Eigen::Vector3d local(full[3 * v] * scale[3 * i], full[3 * v + 1] * scale[3 * i + 1],

@@ -8,6 +8,7 @@
 #include "capture_cmd.hpp"
 #include "devices_cmd.hpp"
 #include "leafdig/version.hpp"
+#include "mesh_cmd.hpp"
 #include "model_build.hpp"
 #include "plant_cmd.hpp"
 
@@ -26,6 +27,9 @@ int main(int argc, char** argv) {
 
   leafdig::cli::PlantOptions plantOptions;
   leafdig::cli::addPlantCommands(app, plantOptions);
+
+  leafdig::cli::MeshCommandOptions meshOptions;
+  leafdig::cli::addMeshCommands(app, meshOptions);
 
   leafdig::cli::DevicesOptions deviceOptions;
   leafdig::cli::addDevicesCommands(app, deviceOptions);
@@ -48,6 +52,7 @@ int main(int argc, char** argv) {
 
   if (model->parsed() && model->got_subcommand("build")) return leafdig::cli::runModelBuild(buildOptions);
   if (const int rc = leafdig::cli::runPlantCommands(app, plantOptions); rc >= 0) return rc;
+  if (const int rc = leafdig::cli::runMeshCommands(app, meshOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runDevicesCommands(app, deviceOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runCaptureCommands(app, captureOptions); rc >= 0) return rc;
   return 1;

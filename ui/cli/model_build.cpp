@@ -11,6 +11,7 @@
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/model/mesh.hpp"
 #include "leafdig/model/mesh_export.hpp"
+#include "leafdig/model/mesh_study.hpp"
 #include "leafdig/model/metrics.hpp"
 #include "leafdig/model/model_json.hpp"
 #include "leafdig/model/plant.hpp"
@@ -35,7 +36,7 @@ void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
       ->add_option("--resolution", o.resolution,
                    "Mesh resolution preset: paper (the seed's Table 1 counts), preview, export "
                    "(default)")
-      ->check(CLI::IsMember({"paper", "preview", "export"}));
+      ->check(CLI::IsMember({"paper", "preview", "export", "reference"}));
   build
       ->add_option("--caps", o.caps,
                    "Vein end caps: none or sphere (default: the preset's; paper "
@@ -52,6 +53,7 @@ void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
   build->add_option("--area-threshold", o.areaThresholdPercent,
                     "Flag a model/measured area difference above this percentage (default 5)");
   build->add_flag("--json", o.json, "Print metrics and mesh counts as one JSON object");
+  addMeshChoice(*build, o.mesh);
 }
 
 Eigen::Vector3d parseLight(const std::string& text) {
@@ -99,12 +101,14 @@ int runModelBuild(const ModelBuildOptions& o) {
       if (resolution.caps == m::CapStyle::Sphere && resolution.capRings == 0) resolution.capRings = 3;
     }
 
+    const m::MeshOptions meshOptions = meshOptionsFrom(o.mesh, resolution);
+
     m::MarkerSet markers = m::readMarkersFile(o.markersPath);
     if (o.measuredAreaMm2) markers.leaf.measuredAreaMm2 = o.measuredAreaMm2;
     m::LeafModel leaf = m::buildLeafModel(markers, {m::bladeKindFromString(o.blade), nullptr});
     if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
 
-    const m::LeafMesh mesh = m::meshLeaf(leaf, resolution);
+    const m::LeafMesh mesh = m::meshLeaf(leaf, meshOptions);
     const m::LeafMetrics metrics = m::computeLeafMetrics(leaf, light, o.areaThresholdPercent);
     const m::ExportHeader header{leaf.markers.leaf.id, o.frame, std::string("leafdig ") + leafdig::kVersion};
 
@@ -122,7 +126,7 @@ int runModelBuild(const ModelBuildOptions& o) {
         // CARIBU's leaf field must not be 000 (the stem, opaque): the leaf's position, or 1.
         const int rank = std::clamp(leaf.markers.leaf.position.value_or(1), 1, 999);
         alone = m::singleLeafPlant(leaf, rank, o.markersPath);
-        aloneMesh = m::meshPlant(*alone, resolution);
+        aloneMesh = m::meshPlant(*alone, meshOptions);
         aloneMetrics = m::computePlantMetrics(*alone, *aloneMesh, light);
       }
       for (auto& f :
@@ -146,7 +150,16 @@ int runModelBuild(const ModelBuildOptions& o) {
       out["resolution"] = resolution.name;
       out["frame"] = o.frame;
       out["metrics"] = nlohmann::json::parse(m::metricsToJson(metrics));
-      out["mesh"] = {{"veins", countsJson(veins)}, {"blade", countsJson(blade)}};
+      std::optional<m::MeshDistance> measured;
+      std::optional<double> referenceError;
+      if (meshOptions.method != m::MeshMethod::Uniform && !o.mesh.noMeasure) {
+        const m::MeshSubject subject(leaf);
+        measured = subject.measure(mesh, 100'000);
+        referenceError = subject.referenceErrorMm();
+      }
+      out["mesh"] = meshReportJson(mesh, meshOptions, measured, referenceError);
+      out["mesh"]["veins"] = countsJson(veins);
+      out["mesh"]["blade"] = countsJson(blade);
       nlohmann::json warnings = nlohmann::json::array();
       for (const auto& w : mesh.warnings) {
         warnings.push_back({{"organ", w.organ}, {"parameter", w.parameter}, {"message", w.message}});
@@ -163,7 +176,8 @@ int runModelBuild(const ModelBuildOptions& o) {
                 << "  veins: " << veins.vertices << " vertices, " << veins.quads << " quads, " << veins.triangles
                 << " triangles\n"
                 << "  blade: " << blade.vertices << " vertices, " << blade.quads << " quads, " << blade.triangles
-                << " triangles (" << o.blade << ", " << resolution.name << ")\n"
+                << " triangles (" << o.blade << ", " << m::toString(meshOptions.method) << ": "
+                << m::describe(meshOptions) << ")\n"
                 << "  blade area " << metrics.blade.areaMm2 << " mm^2, projected " << metrics.blade.projectedAreaMm2
                 << " mm^2\n";
       if (metrics.areaConstraint) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "mesh_cmd.hpp"
+
 namespace leafdig::cli {
 
 struct ModelBuildOptions {
@@ -21,6 +23,7 @@ struct ModelBuildOptions {
   std::optional<double> measuredAreaMm2;
   double areaThresholdPercent = 5.0;
   bool json = false;
+  MeshChoice mesh;
 };
 
 void addModelBuildCommand(CLI::App& model, ModelBuildOptions& options);

@@ -12,6 +12,7 @@
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/mesh_study.hpp"
 #include "leafdig/model/plant.hpp"
 #include "leafdig/model/plant_export.hpp"
 #include "leafdig/version.hpp"
@@ -34,6 +35,7 @@ void addPlantCommands(CLI::App& app, PlantOptions& o) {
     c->add_option("--can-unit", o.canUnit, "Unit of CARIBU .can geometry: m (default) or cm")
         ->check(CLI::IsMember({"m", "cm"}));
     c->add_flag("--json", o.json, "Print leaves, azimuths, metrics, triangle counts and timings as JSON");
+    addMeshChoice(*c, o.mesh);
   }
   build
       ->add_option("-o,--output", o.outputs,
@@ -137,7 +139,7 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
     }
     const Eigen::Vector3d light = parseLight(o.light);
     const std::vector<double> times = grow ? parseTimes(o.times) : std::vector<double>{};
-    const m::MeshResolution resolution = m::MeshResolution::preset(o.resolution);
+    const m::MeshOptions meshOptions = meshOptionsFrom(o.mesh, m::MeshResolution::preset(o.resolution));
     m::PlantPlan plan = m::readPlantPlan(o.planPath);
     if ((grow || o.time) && !plan.growth)
       throw m::InputError(o.planPath + ": the plan has no \"growth\"; add one to build growth states");
@@ -161,7 +163,7 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
       const m::Plant p = builder.build(t);
       if (o.animate) series.push_back(p);
       const auto b = Clock::now();
-      const m::LeafMesh mesh = m::meshPlant(p, resolution);
+      const m::LeafMesh mesh = m::meshPlant(p, meshOptions);
       const auto c = Clock::now();
       const m::PlantMetrics metrics = m::computePlantMetrics(p, mesh, light);
       const auto d = Clock::now();
@@ -179,13 +181,24 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
       meshMs += ms(b, c);
       metricsMs += ms(c, d);
       encodeMs += ms(d, e);
-      reports.push_back(plantJson(p, mesh, metrics));
+      nlohmann::json report = plantJson(p, mesh, metrics);
+      if (o.json) {
+        std::optional<m::MeshDistance> measured;
+        std::optional<double> referenceError;
+        if (meshOptions.method != m::MeshMethod::Uniform && !o.mesh.noMeasure) {
+          const m::MeshSubject subject(p);
+          measured = subject.measure(mesh, 50'000);
+          referenceError = subject.referenceErrorMm();
+        }
+        report["mesh"] = meshReportJson(mesh, meshOptions, measured, referenceError);
+      }
+      reports.push_back(std::move(report));
     }
     if (o.animate) {
       const auto a = Clock::now();
       const m::Plant full = builder.build();
       for (const auto& out : o.outputs)
-        files.push_back({out, m::encodeGrowthGlb(full, series, resolution, exportOptions.generator)});
+        files.push_back({out, m::encodeGrowthGlb(full, series, meshOptions, exportOptions.generator)});
       encodeMs += ms(a, Clock::now());
     }
     const auto t2 = Clock::now();

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "mesh_cmd.hpp"
+
 namespace leafdig::cli {
 
 struct PlantOptions {
@@ -18,6 +20,7 @@ struct PlantOptions {
   std::string times;  // grow: start:end:step
   bool json = false;
   bool animate = false;  // grow: one animated glTF instead of a file per time
+  MeshChoice mesh;
 };
 
 void addPlantCommands(CLI::App& app, PlantOptions& options);

@@ -45,7 +45,9 @@ struct MeshResolution {
   // "paper": reproduces the seed's Table 1 (ring 5, lateral 20, midrib and contour 10 per
   // row, blade 30 across and 5 per row, open ends): veins 360 N + 10 vertices, 350 N quads;
   // blade (5 N + 1) x 31 vertices, 150 N quads. "preview": light, for live display.
-  // "export": fine, for rendering and simulation. Throws InputError for other names.
+  // "export": fine, for rendering and simulation. "reference": 3x export in every count,
+  // the ground truth meshes are measured against (docs/meshing.md). Throws InputError for
+  // other names.
   [[nodiscard]] static MeshResolution preset(const std::string& name);
 };
 

@@ -20,6 +20,7 @@
 
 #include "leafdig/model/leaf_model.hpp"
 #include "leafdig/model/mesh.hpp"
+#include "leafdig/model/mesh_method.hpp"
 
 namespace leafdig::model {
 
@@ -184,5 +185,7 @@ struct StemPoint {
 // Triangle meshes of every organ: "plant/stem", then "plant/leaf-<rank>/<organ>" in rank order, each
 // organ carrying its leaf rank (0 for the stem).
 [[nodiscard]] LeafMesh meshPlant(const Plant& plant, const MeshResolution& resolution);
+// The same with any mesh method (uniform, seed, adaptive; mesh_method.hpp).
+[[nodiscard]] LeafMesh meshPlant(const Plant& plant, const MeshOptions& options);
 
 }  // namespace leafdig::model

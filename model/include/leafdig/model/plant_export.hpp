@@ -70,8 +70,8 @@ struct CanFile {
 // shrunk to nothing. `final` is the plant at full size, `states` the series (with times).
 // A visual: each key lies within 0.1 mm of the exact state on the samples (the blade's
 // chord-length parameters do not follow an anisotropic scale); the per-time files are exact.
-[[nodiscard]] std::string encodeGrowthGlb(const Plant& final, const std::vector<Plant>& states,
-                                          const MeshResolution& resolution, const std::string& generator);
+[[nodiscard]] std::string encodeGrowthGlb(const Plant& final, const std::vector<Plant>& states, const MeshOptions& mesh,
+                                          const std::string& generator);
 
 // Every file for one requested output path: one file, or for `.can` the `.opt` beside it.
 struct EncodedFile {

@@ -1,0 +1,51 @@
+#pragma once
+// `leafdig mesh compare|study` and the `--mesh uniform|seed|adaptive` options that
+// `model build` and `plant build` share (docs/meshing.md).
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "leafdig/model/mesh_compare.hpp"
+#include "leafdig/model/mesh_method.hpp"
+
+namespace leafdig::cli {
+
+// What the user chose on the command line; checked by meshOptionsFrom.
+struct MeshChoice {
+  std::string method = "uniform";
+  std::optional<double> minLengthMm;
+  std::optional<double> maxAngleDeg;
+  std::optional<int> ringVertices;
+  std::optional<double> maxErrorMm;
+  bool noMeasure = false;
+};
+
+void addMeshChoice(CLI::App& command, MeshChoice& choice);
+
+// The mesh options, or an InputError naming the option that does not fit the method.
+[[nodiscard]] model::MeshOptions meshOptionsFrom(const MeshChoice& choice, const model::MeshResolution& resolution);
+
+// "mesh" of a --json report: method, parameters, triangles in total and per organ, and
+// (when given) the measured distance to the reference meshes.
+[[nodiscard]] nlohmann::json meshReportJson(const model::LeafMesh& mesh, const model::MeshOptions& options,
+                                            const std::optional<model::MeshDistance>& measured,
+                                            std::optional<double> referenceErrorMm);
+
+struct MeshCommandOptions {
+  std::string a, b;  // compare
+  std::string markers;
+  std::string plan;
+  std::string outDir;
+  double maxErrorMm = 0.1;
+  std::size_t samples = 200'000;
+  std::uint64_t seed = 1;
+  bool json = false;
+};
+
+void addMeshCommands(CLI::App& app, MeshCommandOptions& options);
+// Returns the exit code when a mesh command was given, -1 otherwise.
+int runMeshCommands(const CLI::App& app, const MeshCommandOptions& options);
+
+}  // namespace leafdig::cli
