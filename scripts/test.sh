@@ -47,6 +47,7 @@ bench_smoke() {
 bench_smoke build/ci/tests/leafdig_bench --benchmark_filter='Rebuild(Preview|Paper)/1'
 bench_smoke build/ci/tests/leafdig_codec_bench
 bench_smoke build/ci/tests/leafdig_plant_bench --benchmark_filter='PlantAssemble|PlantSilhouette/0|PlantEncode/(5|6)'
+bench_smoke build/ci/tests/leafdig_mesh_bench --benchmark_filter='AdaptiveLeaf/30|SeedLeaf|SeedAxisOrgan/170'
 bench_smoke env LEAFDIG_BENCH_LEAVES=200 build/ci/tests/leafdig_capture_bench
 # The station's preview frame, snapshot → screen and start-up, on a real window under Xvfb
 # (Mesa llvmpipe); it fails if the preview draws nothing or the station does not start.

@@ -172,8 +172,8 @@ class BladeDomain {
     v1_ = blade.columnParameters.back();
     const int rowSpans = static_cast<int>(blade.rowParameters.size()) - 1;
     const int columnSpans = static_cast<int>(blade.columnParameters.size()) - 1;
-    us_ = subdivideSpans(blade.rowParameters, 6 * rowSpans);
-    vs_ = subdivideSpans(blade.columnParameters, 6 * columnSpans);
+    us_ = subdivideSpans(blade.rowParameters, 3 * rowSpans);
+    vs_ = subdivideSpans(blade.columnParameters, 3 * columnSpans);
     const PointGrid p = sampleSurface(blade, us_, vs_);
     const std::size_t nu = us_.size();
     const std::size_t nv = vs_.size();

@@ -90,7 +90,25 @@ std::vector<double> averagedParametersV(const MarkerGrid& grid) {
 }
 
 Eigen::Vector3d BladeSurface::evaluate(double u, double v) const {
-  return sampleSurface(*this, {u}, {v})[0][0];
+  // Local support only: the (p+1) x (q+1) control points whose basis functions are non-zero.
+  u = std::clamp(u, knotsU.front(), knotsU.back());
+  v = std::clamp(v, knotsV.front(), knotsV.back());
+  const int su = findSpan(degreeU, knotsU, u);
+  const int sv = findSpan(degreeV, knotsV, v);
+  const Eigen::MatrixXd bu = basisDerivatives(su, degreeU, knotsU, u, 0);
+  const Eigen::MatrixXd bv = basisDerivatives(sv, degreeV, knotsV, v, 0);
+  const bool rational = !weights.empty();
+  Eigen::Vector4d h = Eigen::Vector4d::Zero();
+  for (int a = 0; a <= degreeU; ++a) {
+    const auto i = static_cast<std::size_t>(su - degreeU + a);
+    for (int b = 0; b <= degreeV; ++b) {
+      const auto j = static_cast<std::size_t>(sv - degreeV + b);
+      const double w = (rational ? weights[i][j] : 1.0) * bu(0, a) * bv(0, b);
+      h.head<3>() += w * controlNet[i][j];
+      h(3) += w;
+    }
+  }
+  return h.head<3>() / h(3);
 }
 
 PointGrid sampleSurface(const BladeSurface& s, const std::vector<double>& us, const std::vector<double>& vs) {

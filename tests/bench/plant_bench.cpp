@@ -39,12 +39,25 @@ const m::PlantBuilder& builder() {
   return b;
 }
 
-const char* const kPresets[] = {"preview", "export"};
+const char* const kPresets[] = {"preview", "export", "adaptive 0.2 mm"};
+
+// Arg 0, 1: the uniform presets; 2: adaptive meshing at E = 0.2 mm (about the preview's own
+// distance to the exact surface, docs/meshing.md).
+m::MeshOptions meshOptions(std::int64_t arg) {
+  m::MeshOptions o;
+  if (arg == 2) {
+    o.method = m::MeshMethod::Adaptive;
+    o.maxErrorMm = 0.2;
+  } else {
+    o.resolution = m::MeshResolution::preset(kPresets[arg]);
+  }
+  return o;
+}
 
 // Assembly, meshes, metrics and all eight exports (.glb .obj .ply .stl .can+.opt .mtg .csv
 // .json) encoded in memory; writing to disk is left out (it measures the disk).
 void BM_PlantBuildAndAllExports(benchmark::State& state) {
-  const m::MeshResolution resolution = m::MeshResolution::preset(kPresets[state.range(0)]);
+  const m::MeshOptions resolution = meshOptions(state.range(0));
   const m::PlantExportOptions options{m::CanUnit::Metre, "bench"};
   std::size_t bytes = 0, triangles = 0;
   (void)builder();  // the plan read and the leaves resolved once: BM_PlantResolveLeaves
@@ -64,7 +77,7 @@ void BM_PlantBuildAndAllExports(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(triangles);
   state.counters["MB"] = static_cast<double>(bytes) / 1e6;
 }
-BENCHMARK(BM_PlantBuildAndAllExports)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlantBuildAndAllExports)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
 // Reading the plan's 20 leaf files and putting each leaf in its leaf frame (once per plan).
 void BM_PlantResolveLeaves(benchmark::State& state) {
@@ -81,11 +94,11 @@ BENCHMARK(BM_PlantAssemble)->Unit(benchmark::kMillisecond);
 
 void BM_PlantMesh(benchmark::State& state) {
   const m::Plant plant = builder().build();
-  const m::MeshResolution resolution = m::MeshResolution::preset(kPresets[state.range(0)]);
+  const m::MeshOptions resolution = meshOptions(state.range(0));
   for (auto _ : state) benchmark::DoNotOptimize(m::meshPlant(plant, resolution));
   state.SetLabel(kPresets[state.range(0)]);
 }
-BENCHMARK(BM_PlantMesh)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlantMesh)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
 void BM_PlantEncode(benchmark::State& state) {
   static const char* const kExts[] = {".glb", ".obj", ".ply", ".stl", ".can", ".mtg", ".csv", ".json"};

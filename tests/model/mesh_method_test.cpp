@@ -381,3 +381,27 @@ TEST(MeshStudy, MeshoptimizerKeepsTheBorderAndReachesTheErrorOnALeaf) {
 
 }  // namespace
 }  // namespace leafdig::model
+
+namespace leafdig::model {
+namespace {
+
+TEST(BladeEvaluate, ThePointEvaluatorAgreesWithTheGridSamplerForEveryBladeKind) {
+  const MarkerSet markers = test::sample("upper-curved-leaf-n14.markers.json");
+  std::vector<std::vector<double>> weights(markers.rows.size() + 1, std::vector<double>(7, 1.0));
+  weights[3][2] = 2.5;
+  weights[7][5] = 0.4;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (BladeKind kind : {BladeKind::Interp, BladeKind::Approx, BladeKind::Bezier, BladeKind::Nurbs}) {
+    const BladeSurface blade = buildBlade(markerGrid(markers), kind, kind == BladeKind::Nurbs ? &weights : nullptr);
+    for (int k = 0; k < 200; ++k) {
+      const double u = k == 0 ? blade.knotsU.back() : unit(rng);
+      const double v = k == 0 ? blade.knotsV.back() : unit(rng);
+      const Eigen::Vector3d grid = sampleSurface(blade, {u}, {v})[0][0];
+      EXPECT_LT((blade.evaluate(u, v) - grid).norm(), 1e-9) << toString(kind) << " at " << u << ", " << v;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace leafdig::model
