@@ -208,7 +208,12 @@ ExportResult exportSession(db::Store& store, std::int64_t id, const ExportReques
   const model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, info);
   model::LeafModel leaf = model::buildLeafModel(set, {model::bladeKindFromString(request.blade), nullptr});
   if (request.frame == "leaf") leaf = model::transformed(leaf, model::leafFrameFromDigitizer(leaf));
-  const model::LeafMesh mesh = model::meshLeaf(leaf, model::MeshResolution::preset(request.resolution));
+  model::MeshOptions meshOptions;
+  meshOptions.method = model::meshMethodFromString(request.mesh);
+  meshOptions.resolution = model::MeshResolution::preset(request.resolution);
+  meshOptions.maxErrorMm = request.maxErrorMm;
+  meshOptions.seed = request.seed;
+  const model::LeafMesh mesh = model::meshLeaf(leaf, meshOptions);
   ExportResult result;
   result.metrics = model::computeLeafMetrics(leaf, Eigen::Vector3d(0, 0, 1), 5.0);
   result.rows = set.rows.size();

@@ -59,6 +59,8 @@ ExportDialog::ExportDialog(StationSettings& settings, QWidget* parent) : QDialog
   resolution_ = new QComboBox;
   for (const char* r : {"export", "paper", "preview"}) resolution_->addItem(r, r);
   form->addRow(tr("Mesh resolution"), resolution_);
+  mesh_ = new MeshChoice;
+  form->addRow(tr("Mesh"), mesh_);
   dir_ = new QLineEdit(settings_.exportDir);
   auto* browse = new QPushButton(tr("Browse…"));
   connect(browse, &QPushButton::clicked, this, [this] {
@@ -91,6 +93,10 @@ acq::ExportRequest ExportDialog::request() const {
     if (box->isChecked()) r.formats.push_back(f);
   r.frame = frame_->currentData().toString().toStdString();
   r.resolution = resolution_->currentData().toString().toStdString();
+  const model::MeshOptions m = mesh_->options(r.resolution);
+  r.mesh = model::toString(m.method);
+  r.maxErrorMm = m.maxErrorMm;
+  r.seed = m.seed;
   r.outDir = dir_->text().trimmed().toStdString();
   return r;
 }

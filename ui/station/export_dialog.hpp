@@ -11,6 +11,7 @@
 #include <map>
 
 #include "leafdig/acquisition/review.hpp"
+#include "mesh_choice.hpp"
 #include "settings.hpp"
 
 namespace leafdig::station {
@@ -39,12 +40,14 @@ class ExportDialog : public QDialog {
   QCheckBox* format(const std::string& f) const { return formats_.at(f); }
   QComboBox* frame() const { return frame_; }
   QComboBox* resolution() const { return resolution_; }
+  MeshChoice* mesh() const { return mesh_; }
 
  private:
   StationSettings& settings_;
   std::vector<std::int64_t> sessions_;
   std::map<std::string, QCheckBox*> formats_;
   QComboBox *frame_, *resolution_;
+  MeshChoice* mesh_;
   QLineEdit* dir_;
   QLineEdit* ids_;
 };

@@ -20,6 +20,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/version.hpp"
+#include "mesh_choice.hpp"
 #include "preview_widget.hpp"
 
 namespace leafdig::station {
@@ -86,6 +87,8 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   row(tr("Growth time"), time_, timeLabel_);
   form->addRow(summary_);
   form->addRow(status_);
+  exportMesh_ = new MeshChoice;
+  form->addRow(tr("Export mesh"), exportMesh_);
   form->addRow(export_);
   controls->setLayout(form);
 
@@ -285,8 +288,8 @@ QString PlantView::rebuild() {
 QString PlantView::exportTo(const QString& path) {
   if (!plant_) return tr("Nothing to export: open a plan first.");
   try {
-    // Exports at the export resolution (the view draws the preview's).
-    const m::LeafMesh mesh = m::meshPlant(*plant_, m::MeshResolution::preset("export"));
+    // Exports at the export resolution or as chosen (the view draws the preview's).
+    const m::LeafMesh mesh = m::meshPlant(*plant_, exportMesh_->options("export"));
     const m::PlantMetrics metrics = m::computePlantMetrics(*plant_, mesh, Eigen::Vector3d::UnitZ());
     for (const auto& f : m::encodePlant(path.toStdString(), *plant_, mesh, metrics,
                                         {m::CanUnit::Metre, std::string("leafdig ") + kVersion}))

@@ -20,6 +20,7 @@ class QSpinBox;
 
 namespace leafdig::station {
 
+class MeshChoice;
 class PreviewWidget;
 
 class PlantView : public QWidget {
@@ -46,6 +47,7 @@ class PlantView : public QWidget {
   [[nodiscard]] QSlider* inclinationSlider() const { return inclination_; }
   [[nodiscard]] QSlider* timeSlider() const { return time_; }
   [[nodiscard]] QSpinBox* seedBox() const { return seed_; }
+  [[nodiscard]] MeshChoice* exportMesh() const { return exportMesh_; }
   [[nodiscard]] QString summaryText() const;
   [[nodiscard]] QString statusText() const;
 
@@ -67,6 +69,7 @@ class PlantView : public QWidget {
   QSpinBox* seed_;
   QLabel *divergenceLabel_, *jitterLabel_, *inclinationLabel_, *timeLabel_, *summary_, *status_;
   QPushButton* export_;
+  MeshChoice* exportMesh_;
   QListWidget* libraryList_;
   std::vector<model::LibraryLeaf> approved_;  // as listed
   bool rebuildPending_ = false;

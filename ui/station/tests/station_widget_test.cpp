@@ -6,7 +6,9 @@
 #include <QApplication>
 #include <QChart>
 #include <QChartView>
+#include <QComboBox>
 #include <QDir>
+#include <QDoubleSpinBox>
 #include <QElapsedTimer>
 #include <QFile>
 #include <QGraphicsScene>
@@ -21,6 +23,7 @@
 #include <QTest>
 #include <QValueAxis>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <optional>
 
@@ -29,6 +32,7 @@
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/markers_json.hpp"
+#include "mesh_choice.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"
 #include "settings_dialog.hpp"
@@ -408,6 +412,29 @@ TEST(ExportBatch, ExportsEachSessionReportsTheOnesThatCannotAndCancels) {
   EXPECT_EQ(req.formats, std::vector<std::string>{"obj"});
   EXPECT_EQ(req.frame, "digitizer");
   EXPECT_EQ(req.outDir, r.outDir);
+  EXPECT_EQ(req.mesh, "uniform");
+  // Adaptive meshing from the dialog: far fewer triangles in the exported OBJ.
+  EXPECT_FALSE(d.mesh()->maxError()->isEnabled());
+  d.mesh()->method()->setCurrentIndex(d.mesh()->method()->findData("adaptive"));
+  EXPECT_TRUE(d.mesh()->maxError()->isEnabled());
+  EXPECT_FALSE(d.mesh()->minLength()->isEnabled());
+  d.mesh()->maxError()->setValue(0.25);
+  const auto adaptive = d.request();
+  EXPECT_EQ(adaptive.mesh, "adaptive");
+  EXPECT_DOUBLE_EQ(adaptive.maxErrorMm, 0.25);
+  const auto faces = [](const std::string& path) {
+    std::ifstream in(path);
+    std::size_t n = 0;
+    for (std::string line; std::getline(in, line);) n += line.rfind("f ", 0) == 0;
+    return n;
+  };
+  leafdig::db::Store store(db);
+  const auto uniformFile = acq::exportSession(store, done, req).written.at(0);
+  const std::size_t uniformFaces = faces(uniformFile);
+  fs::remove(uniformFile);
+  const auto adaptiveFile = acq::exportSession(store, done, adaptive).written.at(0);
+  EXPECT_GT(faces(adaptiveFile), 200u);
+  EXPECT_LT(faces(adaptiveFile), uniformFaces / 5);
   fs::remove_all(dir);
 }
 
@@ -678,6 +705,18 @@ TEST(PlantView, APlanIsShownTheSlidersRebuildItAndItExports) {
   ASSERT_TRUE(csv.open(QIODevice::ReadOnly));
   EXPECT_EQ(csv.readAll().count('\n'), 8) << "header, stem, six leaves";
   EXPECT_FALSE(v.exportTo(dir + "/plant.xyz").isEmpty()) << "an unknown extension is refused";
+  // The export's mesh is chosen beside the button: adaptive gives far fewer triangles.
+  const auto objFaces = [&](const QString& name) {
+    QFile f(dir + "/" + name);
+    EXPECT_TRUE(f.open(QIODevice::ReadOnly));
+    return f.readAll().count("\nf ");
+  };
+  EXPECT_EQ(v.exportTo(dir + "/uniform.obj"), QString());
+  v.exportMesh()->method()->setCurrentIndex(v.exportMesh()->method()->findData("adaptive"));
+  v.exportMesh()->maxError()->setValue(0.3);
+  EXPECT_EQ(v.exportTo(dir + "/adaptive.obj"), QString());
+  EXPECT_GT(objFaces("adaptive.obj"), 1000);
+  EXPECT_LT(objFaces("adaptive.obj"), objFaces("uniform.obj") / 5);
   QDir(dir).removeRecursively();
 
   // A bad plan names the problem and keeps nothing half-built.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/model/mesh_method.hpp"
 #include "leafdig/model/metrics.hpp"
 #include "leafdig/model/plant.hpp"
 
@@ -65,8 +66,11 @@ std::int64_t review(db::Store& store, std::int64_t id, const std::string& status
 struct ExportRequest {
   std::vector<std::string> formats;   // glb obj ply stl model markers csv; empty: all
   std::string frame = "leaf";         // or "digitizer"
-  std::string resolution = "export";  // a MeshResolution preset
-  std::string blade = "interp";       // approx, bezier, nurbs
+  std::string resolution = "export";  // a MeshResolution preset (mesh "uniform")
+  std::string mesh = "uniform";       // or "adaptive" (maxErrorMm), "seed" (seed parameters)
+  double maxErrorMm = 0.1;
+  model::SeedMeshParameters seed;
+  std::string blade = "interp";  // approx, bezier, nurbs
   std::string outDir;
 };
 struct ExportResult {
