@@ -460,8 +460,9 @@ Mesh meshBladeSeed(const BladeSurface& blade, const SeedMeshParameters& p) {
 Mesh meshBladeAdaptive(const BladeSurface& blade, double maxErrorMm) {
   if (!(maxErrorMm > 0.0)) throw InputError("the maximum error must be positive (--max-error, mm)");
   const BladeDomain d(blade);
-  // 10 % of the budget is kept for what the curvature grid does not see.
-  const double target = 0.9 * maxErrorMm;
+  // 15 % of the budget is kept for what the curvature grid and the bound do not see (at 90 %
+  // the 10-row sample's blade measured 1.6 % over E against the reference).
+  const double target = 0.85 * maxErrorMm;
   const detail::Coarseness coarseness = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                             const Eigen::Vector2d& c) { return d.triangleError(a, b, c) / target; };
   const std::vector<Eigen::Vector2d> rectangle{d.toScaled(d.u0(), d.v0()), d.toScaled(d.u1(), d.v0()),

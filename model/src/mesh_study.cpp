@@ -228,9 +228,15 @@ std::vector<StudyEntry> runMeshStudy(const MeshSubject& subject, const StudyOpti
         (subject.measure(meshAt(mid), search).hausdorff <= e ? hi : lo) = mid;
       }
     }
-    const double f = std::round(hi * 1000.0) / 1000.0;
+    // The search measured with fewer samples: confirm with the final count, finer if needed.
+    double f = std::ceil(hi * 1000.0) / 1000.0;
     LeafMesh m = meshAt(f);
-    const MeshDistance d = subject.measure(m, final);
+    MeshDistance d = subject.measure(m, final);
+    while (d.hausdorff > e && f < 3.0) {
+      f = std::ceil(f * 1.05 * 1000.0) / 1000.0;
+      m = meshAt(f);
+      d = subject.measure(m, final);
+    }
     std::ostringstream p;
     p << "resolution export x" << f;
     out.push_back(entry("uniform", std::move(m), d, e, p.str(), {{"export_factor", f}}));
@@ -289,7 +295,12 @@ std::vector<StudyEntry> runMeshStudy(const MeshSubject& subject, const StudyOpti
       (subject.measure(simplifyWithMeshoptimizer(subject.reference(), mid), search).hausdorff <= e ? lo : hi) = mid;
     }
     LeafMesh mesh = simplifyWithMeshoptimizer(subject.reference(), lo);
-    const MeshDistance d = subject.measure(mesh, final);
+    MeshDistance d = subject.measure(mesh, final);
+    while (d.hausdorff > e && lo > 0.0) {  // confirmed with the final sample count
+      lo = lo < 1e-4 ? 0.0 : 0.85 * lo;
+      mesh = simplifyWithMeshoptimizer(subject.reference(), lo);
+      d = subject.measure(mesh, final);
+    }
     std::ostringstream p;
     p << "meshopt_simplify of the reference, LockBorder, target error " << lo << " mm";
     out.push_back(entry("meshopt", std::move(mesh), d, e, p.str(), {{"target_error_mm", lo}}));
