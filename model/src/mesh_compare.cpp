@@ -224,13 +224,16 @@ OneSidedDistance oneSidedDistance(const TriangleSoup& from, const TriangleDistan
   if (!(total > 0.0)) throw InputError("a mesh to compare has no triangle of positive area");
   const auto areaSamples =
       std::max(o.samples, static_cast<std::size_t>(std::ceil(o.perTriangle * static_cast<double>(n))));
-  const std::size_t vertexSamples = from.positions.size();
+  // Every vertex, or, when there are more vertices than area samples, an evenly spread
+  // `areaSamples` of them (a fine reference mesh would otherwise dominate the cost).
+  const std::size_t vertices = from.positions.size();
+  const std::size_t vertexSamples = std::min(vertices, areaSamples);
   const std::size_t count = vertexSamples + areaSamples;
 
-  // Sample k < vertexSamples is vertex k; the others are stratified over the cumulative
+  // Sample k < vertexSamples is a vertex; the others are stratified over the cumulative
   // area (sample j in [j/N, (j+1)/N)), with barycentric (1-sqrt r1, sqrt r1 (1-r2), sqrt r1 r2).
   auto samplePoint = [&](std::size_t k) -> Eigen::Vector3d {
-    if (k < vertexSamples) return from.positions[k];
+    if (k < vertexSamples) return from.positions[vertexSamples == vertices ? k : k * vertices / vertexSamples];
     const std::size_t j = k - vertexSamples;
     const std::uint64_t h = mix(o.seed * 0x100000001B3ULL + j);
     const double target = (static_cast<double>(j) + unit(h)) / static_cast<double>(areaSamples) * total;

@@ -112,7 +112,7 @@ TEST_F(MeshCli, SeedModeBuildsALeafAndAPlantAndItsGlbIsValid) {
 // and fewer than meshoptimizer, and its silhouette within 0.2 % of the reference's.
 TEST_F(MeshCli, TheStudyMeetsTheTargetsOnASampleLeaf) {
   const Result r = leafdig("mesh study " + quote(sample("upper-small-leaf-n17.markers.json")) +
-                           " --max-error 0.1 --out " + quote(dir_ / "study") + " --json");
+                           " --max-error 0.1 --samples 40000 --out " + quote(dir_ / "study") + " --json");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const json study = json::parse(r.out);
   EXPECT_EQ(study["max_error_mm"], 0.1);

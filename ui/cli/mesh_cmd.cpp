@@ -113,6 +113,10 @@ void addMeshCommands(CLI::App& app, MeshCommandOptions& o) {
   study->add_option("--max-error", o.maxErrorMm, "The error E every mesh must meet, mm")->required();
   study->add_option("--out", o.outDir, "Folder for reference.ply, uniform.ply, seed.ply, adaptive.ply, meshopt.ply")
       ->required();
+  study
+      ->add_option("--samples", o.studySamples,
+                   "Sample points per side and part while searching (the final figures use twice as many)")
+      ->check(CLI::Range(1000, 10'000'000));
   study->add_flag("--json", o.json, "Print the result as JSON");
 }
 
@@ -161,6 +165,7 @@ int runStudy(const MeshCommandOptions& o) {
   }
   m::StudyOptions so;
   so.maxErrorMm = o.maxErrorMm;
+  so.samplesPerPart = o.studySamples;
   const std::vector<m::StudyEntry> entries = m::runMeshStudy(*subject, so);
   const std::filesystem::path dir(o.outDir);
   std::error_code ec;

@@ -40,6 +40,7 @@ struct MeshCommandOptions {
   std::string outDir;
   double maxErrorMm = 0.1;
   std::size_t samples = 200'000;
+  std::size_t studySamples = 100'000;
   std::uint64_t seed = 1;
   bool json = false;
 };

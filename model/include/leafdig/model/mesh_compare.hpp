@@ -62,8 +62,9 @@ struct MeshDistance {
 };
 
 struct CompareOptions {
-  // Samples on each side: every vertex plus this many area-weighted points (at least
-  // `perTriangle` per triangle of that side).
+  // Samples on each side: this many area-weighted points (at least `perTriangle` per
+  // triangle of that side) plus every vertex — or as many evenly spread vertices as there
+  // are area samples, when the side has more vertices than that.
   std::size_t samples = 200'000;
   double perTriangle = 2.0;
   std::uint64_t seed = 1;  // the same seed gives the same answer
