@@ -111,6 +111,12 @@ TEST_F(MeshCli, SeedModeBuildsALeafAndAPlantAndItsGlbIsValid) {
 // `mesh compare` on the written files), adaptive with >= 60 % fewer triangles than uniform
 // and fewer than meshoptimizer, and its silhouette within 0.2 % of the reference's.
 TEST_F(MeshCli, TheStudyMeetsTheTargetsOnASampleLeaf) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // Unsanitized it takes ~40 s; under ASan 11 minutes of both cores, which starved the
+  // timing-sensitive device fault tests running beside it. Its code is covered under the
+  // sanitizers by the MeshStudy, MeshCompare and AdaptiveMesh model tests.
+  GTEST_SKIP() << "the full meshing study runs in the unsanitized pass only";
+#endif
   const Result r = leafdig("mesh study " + quote(sample("upper-small-leaf-n17.markers.json")) +
                            " --max-error 0.1 --samples 40000 --out " + quote(dir_ / "study") + " --json");
   ASSERT_EQ(r.exitCode, 0) << r.err;
