@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 
+#include "draws.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/markers_json.hpp"
 
@@ -16,22 +17,15 @@ double radians(double deg) {
   return deg * kPi / 180.0;
 }
 
-// SplitMix64 (Steele, Lea, Flood 2014) and uniform doubles from its top 53 bits: the same
-// numbers from every standard library, unlike std::uniform_real_distribution.
+// One generator per leaf, seeded by the plan seed and the leaf's rank (draws.hpp).
 class Draws {
  public:
-  Draws(std::uint64_t seed, int rank) : state_(seed ^ (0x9E3779B97F4A7C15ULL * static_cast<std::uint64_t>(rank + 1))) {}
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double in(const Range& r) { return r.lo + (r.hi - r.lo) * uniform(); }
+  Draws(std::uint64_t seed, int rank) : draws_(seed, static_cast<std::uint64_t>(rank)) {}
+  double uniform() { return draws_.uniform(); }
+  double in(const Range& r) { return draws_.in(r.lo, r.hi); }
 
  private:
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-  }
-  std::uint64_t state_;
+  detail::Draws draws_;
 };
 
 void forEachPoint(MarkerSet& m, const std::function<void(Eigen::Vector3d&)>& f) {

@@ -11,6 +11,7 @@
 #include "mesh_cmd.hpp"
 #include "model_build.hpp"
 #include "plant_cmd.hpp"
+#include "synth_cmd.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"leafdig: digitizer-and-caliper acquisition station for plant morphology labs", "leafdig"};
@@ -30,6 +31,9 @@ int main(int argc, char** argv) {
 
   leafdig::cli::MeshCommandOptions meshOptions;
   leafdig::cli::addMeshCommands(app, meshOptions);
+
+  leafdig::cli::SynthOptions synthOptions;
+  leafdig::cli::addSynthCommands(app, synthOptions);
 
   leafdig::cli::DevicesOptions deviceOptions;
   leafdig::cli::addDevicesCommands(app, deviceOptions);
@@ -53,6 +57,7 @@ int main(int argc, char** argv) {
   if (model->parsed() && model->got_subcommand("build")) return leafdig::cli::runModelBuild(buildOptions);
   if (const int rc = leafdig::cli::runPlantCommands(app, plantOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runMeshCommands(app, meshOptions); rc >= 0) return rc;
+  if (const int rc = leafdig::cli::runSynthCommands(app, synthOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runDevicesCommands(app, deviceOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runCaptureCommands(app, captureOptions); rc >= 0) return rc;
   return 1;

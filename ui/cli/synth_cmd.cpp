@@ -1,0 +1,211 @@
+#include "synth_cmd.hpp"
+
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/mesh_export.hpp"
+#include "leafdig/version.hpp"
+#include "model_build.hpp"
+
+namespace leafdig::cli {
+
+namespace m = leafdig::model;
+
+void addSynthChoice(CLI::App& c, SynthChoice& s, const std::string& p) {
+  c.add_option("--" + p + "shape", s.shape, "Leaf shape: oblong, elliptic, ovate, obovate or tobacco (default)")
+      ->check(CLI::IsMember({"oblong", "elliptic", "ovate", "obovate", "tobacco"}));
+  c.add_option("--" + p + "length", s.lengthMm, "Base-to-tip length, mm (default 500)");
+  c.add_option("--" + p + "width", s.widthMm, "Width of the base rectangle, mm (default: length / the shape's aspect)");
+  c.add_option("--" + p + "symmetry", s.symmetry, "S in (-0.45, 0.45): > 0 widest below the middle (ovate)");
+  c.add_option("--" + p + "serration", s.serration, "Margin teeth: none (default), round, sharp, straight, acuminate")
+      ->check(CLI::IsMember({"none", "round", "sharp", "straight", "acuminate"}));
+  c.add_option("--" + p + "tooth-depth", s.toothDepthMm, "Tooth depth D, mm (default 1.5 % of the width)");
+  c.add_option("--" + p + "teeth", s.teeth, "Teeth per side (default 20)");
+  c.add_option("--" + p + "tooth-direction", s.toothDirection, "horizontal (default) or normal to the margin")
+      ->check(CLI::IsMember({"horizontal", "normal"}));
+  c.add_option("--" + p + "width-term", s.widthTerms,
+               "Sine-sum width deformation a,k[,phase]: the half-width times 1 + a sin(k φ + phase) (repeat)");
+  c.add_option("--" + p + "asymmetry", s.asymmetry, "The left half narrower by this fraction (0..0.5)");
+  c.add_option("--" + p + "tip-narrowing", s.tipNarrowing, "Gaussian narrowing at the tip (> 0 drawn out)");
+  c.add_option("--" + p + "tip-extent", s.tipExtent, "Its extent, fraction of the length");
+  c.add_option("--" + p + "base-narrowing", s.baseNarrowing, "Gaussian narrowing at the base");
+  c.add_option("--" + p + "base-extent", s.baseExtent, "Its extent, fraction of the length");
+  c.add_option("--" + p + "droop", s.droopDeg, "Midrib turn from base to tip, degrees, tip down (default 25)");
+  c.add_option("--" + p + "cup", s.cupMm, "Margin rise at half the width, mm (default 12)");
+  c.add_option("--" + p + "twist", s.twistDeg, "Roll of the blade at the tip, degrees (default 5)");
+  c.add_option("--" + p + "wave", s.waveMm, "Margin wave amplitude, mm (tobacco 3, else 0)");
+  c.add_option("--" + p + "wavelength", s.wavelengthMm, "Margin wave length, mm (tobacco 70, else 80)");
+  c.add_option("--" + p + "rows", s.rows, "Marker rows, the last at the leaf base (default 12)");
+  c.add_option("--" + p + "vein-angle-tip", s.veinAngleTipDeg, "Lateral vein angle at row 1, degrees (default 50)");
+  c.add_option("--" + p + "vein-angle-base", s.veinAngleBaseDeg, "At the last row (default: the shape's, 55 to 75)");
+}
+
+m::SyntheticLeafSpec synthSpecFrom(const SynthChoice& c) {
+  m::SyntheticLeafSpec s = m::defaultSyntheticSpec(m::leafShapeFromString(c.shape));
+  m::OutlineSpec& o = s.outline;
+  if (c.lengthMm) o.lengthMm = *c.lengthMm;
+  o.widthMm = c.widthMm;
+  o.symmetry = c.symmetry;
+  const double width = o.widthMm.value_or(o.lengthMm / m::aspectRatio(o.shape));
+  o.serration = m::serrationFromString(c.serration);
+  if (o.serration == m::Serration::None) {
+    if (c.toothDepthMm || c.teeth)
+      throw m::InputError("--tooth-depth and --teeth need --serration (round, sharp, ...)");
+  } else {
+    o.toothDepthMm = c.toothDepthMm.value_or(0.015 * width);
+    o.teethPerSide = c.teeth.value_or(20);
+  }
+  o.toothDirection = m::toothDirectionFromString(c.toothDirection);
+  for (const std::string& term : c.widthTerms) {
+    std::stringstream in(term);
+    m::SineTerm t;
+    char comma = 0;
+    if (!(in >> t.amplitude >> comma >> t.frequency) || comma != ',')
+      throw m::InputError("--width-term '" + term + "' must be a,k or a,k,phase (e.g. 0.05,3 or 0.05,3,1.57)");
+    if (in >> comma) {
+      if (comma != ',' || !(in >> t.phaseRad))
+        throw m::InputError("--width-term '" + term + "' must be a,k or a,k,phase (e.g. 0.05,3,1.57)");
+    }
+    o.widthTerms.push_back(t);
+  }
+  if (c.asymmetry) o.asymmetry = *c.asymmetry;
+  if (c.tipNarrowing) o.tipNarrowing = *c.tipNarrowing;
+  if (c.tipExtent) o.tipExtent = *c.tipExtent;
+  if (c.baseNarrowing) o.baseNarrowing = *c.baseNarrowing;
+  if (c.baseExtent) o.baseExtent = *c.baseExtent;
+  if (c.droopDeg) s.bend.droopDeg = *c.droopDeg;
+  if (c.cupMm) s.bend.cupMm = *c.cupMm;
+  if (c.twistDeg) s.bend.twistDeg = *c.twistDeg;
+  if (c.waveMm) s.bend.waveMm = *c.waveMm;
+  if (c.wavelengthMm) s.bend.wavelengthMm = *c.wavelengthMm;
+  s.rows = c.rows;
+  if (c.veinAngleTipDeg) s.veinAngleTipDeg = *c.veinAngleTipDeg;
+  if (c.veinAngleBaseDeg) s.veinAngleBaseDeg = *c.veinAngleBaseDeg;
+  if (!c.id.empty()) s.id = c.id;
+  if (!c.plant.empty()) s.plant = c.plant;
+  return s;
+}
+
+void addSynthCommands(CLI::App& app, SynthOptions& o) {
+  CLI::App* synth = app.add_subcommand("synth", "Synthetic ground-truth leaves (seed 002) for tests and studies");
+  synth->require_subcommand(1);
+  CLI::App* leaf = synth->add_subcommand(
+      "leaf", "A 3-D leaf with a known area: markers by the protocol (with noise), the truth, the true surface");
+  addSynthChoice(*leaf, o.choice, "");
+  leaf->add_option("--noise", o.noiseMm, "Gaussian noise per marker coordinate, σ in mm (default 0)");
+  leaf->add_option("--seed", o.seed, "Seed of the noise (default 1)");
+  leaf->add_option("--id", o.choice.id, "Leaf id (default SYN-<shape>-<seed>)");
+  leaf->add_option("--plant", o.choice.plant, "Plant id (default P-synth)");
+  leaf->add_option("--markers", o.markers, "Write the markers here (leafdig.markers/1)")->required();
+  leaf->add_option("--truth", o.truth, "Write the truth here (leafdig.truth/1: exact area, veins, outline)")
+      ->required();
+  leaf->add_option("-o,--output", o.glb, "Write the true blade surface, finely meshed, as .glb (or .obj .ply .stl)");
+  leaf->add_option("--svg", o.svg, "Draw the flat outline, veins and markers as SVG");
+  leaf->add_flag("--json", o.json, "Print the leaf's figures as JSON");
+  CLI::App* figure = synth->add_subcommand("figure", "Draw every shape and serration (docs/synthetic-shapes.svg)");
+  figure->add_option("-o,--output", o.figure, "SVG file to write")->required();
+}
+
+namespace {
+
+int runLeaf(const SynthOptions& o) {
+  SynthChoice choice = o.choice;
+  if (choice.id.empty()) choice.id = "SYN-" + choice.shape + "-" + std::to_string(o.seed);
+  const m::SyntheticLeaf leaf(synthSpecFrom(choice));
+  const m::MarkerSet markers = leaf.markers(o.noiseMm, o.seed);
+  // Everything is encoded before the first file is written.
+  const std::string markersText = m::markersToJson(markers);
+  const std::string truthText = m::truthToJson(leaf, o.noiseMm, o.seed);
+  std::string glb, svg;
+  if (!o.glb.empty()) {
+    glb = m::encodeMesh(leaf.truthMesh(), m::meshFormatForPath(o.glb),
+                        {choice.id, "leaf", std::string("leafdig ") + kVersion});
+  }
+  if (!o.svg.empty()) svg = m::figureSvg({m::figurePanel(leaf, choice.id)}, 1);
+  m::writeFileAtomically(o.markers, markersText);
+  m::writeFileAtomically(o.truth, truthText);
+  if (!o.glb.empty()) m::writeFileAtomically(o.glb, glb);
+  if (!o.svg.empty()) m::writeFileAtomically(o.svg, svg);
+  double estimate = 0.0;
+  const double area = leaf.area(&estimate);
+  if (o.json) {
+    nlohmann::json doc = {{"id", choice.id},
+                          {"shape", choice.shape},
+                          {"serration", choice.serration},
+                          {"rows", leaf.spec().rows},
+                          {"noise_mm", o.noiseMm},
+                          {"seed", o.seed},
+                          {"length_mm", leaf.spec().outline.lengthMm},
+                          {"width_mm", leaf.widthMm()},
+                          {"area_mm2", area},
+                          {"area_relative_error", estimate},
+                          {"flat_area_mm2", leaf.flatArea()},
+                          {"markers", o.markers},
+                          {"truth", o.truth}};
+    if (!o.glb.empty()) doc["output"] = o.glb;
+    std::cout << doc.dump(2) << "\n";
+  } else {
+    std::cout << "synthetic leaf " << choice.id << ": " << choice.shape << ", " << leaf.spec().rows << " rows, noise "
+              << o.noiseMm << " mm (seed " << o.seed << ")\n"
+              << "  exact area " << area << " mm² (relative error < " << std::max(estimate, 1e-12) << "), flat outline "
+              << leaf.flatArea() << " mm²\n"
+              << "  wrote " << o.markers << ", " << o.truth;
+    if (!o.glb.empty()) std::cout << ", " << o.glb;
+    if (!o.svg.empty()) std::cout << ", " << o.svg;
+    std::cout << "\n";
+  }
+  return 0;
+}
+
+int runFigure(const SynthOptions& o) {
+  std::vector<m::FigurePanel> panels;
+  for (m::LeafShape shape : {m::LeafShape::Oblong, m::LeafShape::Elliptic, m::LeafShape::Ovate, m::LeafShape::Obovate,
+                             m::LeafShape::Tobacco}) {
+    m::SyntheticLeafSpec s = m::defaultSyntheticSpec(shape);
+    s.outline.lengthMm = 300;
+    s.rows = 8;
+    panels.push_back(m::figurePanel(m::SyntheticLeaf(s), m::toString(shape)));
+  }
+  for (m::Serration kind :
+       {m::Serration::Round, m::Serration::Sharp, m::Serration::Straight, m::Serration::Acuminate}) {
+    m::SyntheticLeafSpec s = m::defaultSyntheticSpec(m::LeafShape::Elliptic);
+    s.outline.lengthMm = 300;
+    s.outline.serration = kind;
+    s.outline.teethPerSide = 9;
+    s.outline.toothDepthMm = 8;
+    s.rows = 8;
+    panels.push_back(m::figurePanel(m::SyntheticLeaf(s), std::string(m::toString(kind)) + " teeth"));
+  }
+  m::SyntheticLeafSpec s = m::defaultSyntheticSpec(m::LeafShape::Ovate);
+  s.outline.lengthMm = 300;
+  s.outline.serration = m::Serration::Acuminate;
+  s.outline.teethPerSide = 12;
+  s.outline.toothDepthMm = 6;
+  s.outline.toothDirection = m::ToothDirection::Normal;
+  s.outline.widthTerms = {{0.06, 5.0, 0.0}};
+  s.rows = 8;
+  panels.push_back(m::figurePanel(m::SyntheticLeaf(s), "ovate, normal teeth, sine term"));
+  m::writeFileAtomically(o.figure, m::figureSvg(panels, 5));
+  std::cout << "wrote " << o.figure << " (" << panels.size() << " leaves)\n";
+  return 0;
+}
+
+}  // namespace
+
+int runSynthCommands(const CLI::App& app, const SynthOptions& o) {
+  const CLI::App* synth = app.get_subcommand("synth");
+  if (!synth->parsed()) return -1;
+  try {
+    if (synth->got_subcommand("leaf")) return runLeaf(o);
+    if (synth->got_subcommand("figure")) return runFigure(o);
+  } catch (...) {
+    return reportModelFailure(std::current_exception());
+  }
+  return 1;
+}
+
+}  // namespace leafdig::cli

@@ -1,0 +1,46 @@
+#pragma once
+// `leafdig synth leaf|figure`: synthetic ground-truth leaves (docs/synthetic-leaves.md).
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "leafdig/model/synthetic_leaf.hpp"
+
+namespace leafdig::cli {
+
+// Shape options shared by `synth leaf` and the simulated captures (`--synth-*`).
+struct SynthChoice {
+  std::string shape = "tobacco";
+  std::optional<double> lengthMm, widthMm, symmetry;
+  std::string serration = "none";
+  std::optional<double> toothDepthMm;
+  std::optional<int> teeth;
+  std::string toothDirection = "horizontal";
+  std::vector<std::string> widthTerms;  // "a,k[,phase]"
+  std::optional<double> asymmetry, tipNarrowing, tipExtent, baseNarrowing, baseExtent;
+  std::optional<double> droopDeg, cupMm, twistDeg, waveMm, wavelengthMm;
+  int rows = 12;
+  std::optional<double> veinAngleTipDeg, veinAngleBaseDeg;
+  std::string id, plant;
+};
+
+// Adds the options (names prefixed with `prefix`, e.g. "" or "synth-").
+void addSynthChoice(CLI::App& command, SynthChoice& choice, const std::string& prefix);
+// The spec, or an InputError naming the option at fault.
+[[nodiscard]] model::SyntheticLeafSpec synthSpecFrom(const SynthChoice& choice);
+
+struct SynthOptions {
+  SynthChoice choice;
+  double noiseMm = 0.0;
+  std::uint64_t seed = 1;
+  std::string markers, truth, glb, svg, figure;
+  bool json = false;
+};
+
+void addSynthCommands(CLI::App& app, SynthOptions& options);
+// Returns the exit code when a synth command was given, -1 otherwise.
+int runSynthCommands(const CLI::App& app, const SynthOptions& options);
+
+}  // namespace leafdig::cli
