@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <type_traits>
 
 #include "draws.hpp"
 #include "leafdig/model/errors.hpp"
@@ -73,10 +74,13 @@ double tooth(Serration s, double theta) {
   return 0.0;
 }
 
-// Five-point central difference.
+// Five-point central difference. The result is evaluated into the function's own value
+// type: returning an Eigen expression would keep references to the four temporaries.
 template <typename F>
 auto derivative(const F& f, double t, double h) {
-  return (f(t - 2 * h) - 8.0 * f(t - h) + 8.0 * f(t + h) - f(t + 2 * h)) / (12.0 * h);
+  using Value = std::decay_t<decltype(f(t))>;
+  const Value result = (f(t - 2 * h) - 8.0 * f(t - h) + 8.0 * f(t + h) - f(t + 2 * h)) / (12.0 * h);
+  return result;
 }
 
 void require(bool ok, const std::string& message) {
