@@ -3,7 +3,8 @@
 # with simulated devices (a virtual technician captures a leaf while you watch); then
 # `leafdig demo`: a simulated
 # FASTRAK and Sylvac caliper on pseudo-terminals, a virtual technician capturing the three
-# sample leaves into out/demo/demo.sqlite, each leaf exported to out/demo/, a summary.
+# sample leaves and two synthetic leaves of known area into out/demo/demo.sqlite, each leaf
+# exported to out/demo/, a summary with each leaf's area against the known one.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup.sh" release

@@ -25,7 +25,16 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     // Everything the operator typed is checked before the store is touched.
     if (setup.simulated) {
       checkSpeed(request.simulation.speed);
-      setup.simulatedLeaf = model::readMarkersFile(request.leafFile.empty() ? defaultLeafFile() : request.leafFile);
+      if (request.leaf && !request.leafFile.empty())
+        throw std::invalid_argument("give the simulated leaf as a file or as a synthetic leaf, not both");
+      if (!(request.simulation.stylusNoiseMm >= 0.0 && request.simulation.stylusNoiseMm <= 20.0))
+        throw std::invalid_argument("the stylus noise must be between 0 and 20 mm");
+      setup.simulatedLeaf =
+          request.leaf ? *request.leaf
+                       : model::readMarkersFile(request.leafFile.empty() ? defaultLeafFile() : request.leafFile);
+      // The virtual technician reads the leaf area meter too: the leaf's recorded area (a
+      // synthetic leaf's exact area) unless the operator typed one.
+      if (!setup.measuredAreaMm2) setup.measuredAreaMm2 = setup.simulatedLeaf->leaf.measuredAreaMm2;
       setup.digitizer = "fastrak:simulated";
       setup.caliper = "sylvac:simulated";
       setup.timeScale = request.simulation.speed;
@@ -77,13 +86,18 @@ void CaptureRun::prepareSimulation(const RunRequest& request) {
   model::MarkerSet leaf;
   if (setup_.simulatedLeaf) {
     leaf = *setup_.simulatedLeaf;
+    if (request.leaf && model::markersToJson(*request.leaf) != model::markersToJson(leaf))
+      throw std::invalid_argument("session " + std::to_string(id_) +
+                                  " was simulating another leaf (the session keeps its leaf): leave the synthetic "
+                                  "leaf out to go on");
     if (!request.leafFile.empty() &&
         model::markersToJson(model::readMarkersFile(request.leafFile)) != model::markersToJson(leaf))
       throw std::invalid_argument("session " + std::to_string(id_) + " was simulating another leaf than " +
                                   request.leafFile + " (the session keeps its leaf): leave the leaf file out to go on");
   } else {
     // A session from before simulated leaves were recorded: the given leaf, or the sample.
-    leaf = model::readMarkersFile(request.leafFile.empty() ? defaultLeafFile() : request.leafFile);
+    leaf = request.leaf ? *request.leaf
+                        : model::readMarkersFile(request.leafFile.empty() ? defaultLeafFile() : request.leafFile);
   }
   SimulationOptions so = request.simulation;
   so.speed = timeScale_;

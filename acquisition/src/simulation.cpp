@@ -17,6 +17,7 @@ namespace sim = leafdig::devices::sim;
 SimulatedRig::SimulatedRig(const SimulationOptions& o) {
   sim::StylusOptions so;
   so.seed = o.seed;
+  so.sigmaMm = o.stylusNoiseMm;
   hand_ = std::make_shared<sim::OperatorHand>(so, o.speed);
   sim::CaliperOptions co;
   co.seed = o.seed + 1;

@@ -397,18 +397,64 @@ TEST_F(CaptureCli, BadDeviceSpecsAreRefusedBeforeAnythingIsWritten) {
   EXPECT_FALSE(fs::exists(db));
 }
 
-TEST_F(CaptureCli, TheDemoCapturesTheThreeSampleLeavesAndExportsThem) {
+TEST_F(CaptureCli, TheDemoCapturesTheSampleAndSyntheticLeavesAndExportsThem) {
   const Result r = leafdig("demo --speed 15 --out " + quote(dir_ / "demo"));
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("hash chain: OK"), std::string::npos);
   const json list = json::parse(leafdig("sessions list --json --db " + quote(dir_ / "demo" / "demo.sqlite")).out);
-  ASSERT_EQ(list.size(), 3u);
+  ASSERT_EQ(list.size(), 5u);  // the three samples, then two synthetic leaves
   for (const auto& s : list) {
     EXPECT_EQ(s.at("status"), "complete");
     const std::string base = "session-" + std::to_string(s.at("id").get<int>());
     for (const char* ext : {".glb", ".obj", ".ply", ".stl", ".model.json", ".markers.json", ".markers.csv"})
       EXPECT_TRUE(fs::exists(dir_ / "demo" / (base + ext))) << base + ext;
   }
+  // Each synthetic leaf's area against its exact area: printed, and close.
+  int synthetic = 0;
+  for (std::size_t at = r.out.find("against the exact "); at != std::string::npos;
+       at = r.out.find("against the exact ", at + 1)) {
+    const std::size_t colon = r.out.find(": ", at);
+    const double percent = std::stod(r.out.substr(colon + 2));
+    EXPECT_LT(std::abs(percent), 3.0) << r.out.substr(at, 60);
+    ++synthetic;
+  }
+  EXPECT_EQ(synthetic, 2) << r.out;
+  EXPECT_NE(r.out.find("against the leaf area meter's "), std::string::npos);
+}
+
+TEST_F(CaptureCli, ASyntheticLeafIsCapturedAndItsAreaComparedWithTheExactOne) {
+  const fs::path db = dir_ / "s.sqlite";
+  const Result r = leafdig(
+      "capture --simulate --speed 12 --no-mistakes --seed 4 --stylus-noise 0.2 --synth "
+      "shape=obovate,rows=6,length=300,serration=round,teeth=11 --db " +
+      quote(db) + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const Result truth = leafdig(
+      "synth leaf --shape obovate --rows 6 --length 300 --serration round --teeth 11 --json "
+      "--markers " +
+      quote(dir_ / "m.json") + " --truth " + quote(dir_ / "t.json"));
+  ASSERT_EQ(truth.exitCode, 0) << truth.err;
+  const double exact = json::parse(truth.out)["area_mm2"].get<double>();
+  const Result e = leafdig("sessions export 1 --json --format markers --out " + quote(dir_) + " --db " + quote(db));
+  ASSERT_EQ(e.exitCode, 0) << e.err;
+  const json ac = json::parse(e.out)["metrics"]["area_constraint"];
+  EXPECT_NEAR(ac["measured_mm2"].get<double>(), exact, 0.5);
+  EXPECT_LT(std::abs(ac["difference_percent"].get<double>()), 3.0);
+  const json markers = json::parse(slurp(dir_ / "session-1.markers.json"));
+  EXPECT_EQ(markers["rows"].size(), 6u);
+  // Refusals name the problem and write nothing.
+  const fs::path other = dir_ / "o.sqlite";
+  Result bad = leafdig("capture --simulate --synth shape=heart --db " + quote(other) + " </dev/null");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("heart"), std::string::npos) << bad.err;
+  bad = leafdig("capture --simulate --synth shape=ovate,size=3 --db " + quote(other) + " </dev/null");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("unknown key 'size'"), std::string::npos) << bad.err;
+  bad = leafdig("capture --simulate --synth shape=ovate --markers " + quote(sample("lower-leaf-n10.markers.json")) +
+                " --db " + quote(other) + " </dev/null");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("not both"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(other));
 }
 
 }  // namespace

@@ -26,7 +26,9 @@
 #include "leafdig/model/mesh_export.hpp"
 #include "leafdig/model/metrics.hpp"
 #include "leafdig/model/model_json.hpp"
+#include "leafdig/model/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
+#include "synth_cmd.hpp"
 
 namespace leafdig::cli {
 namespace {
@@ -213,6 +215,15 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   r.simulation.caliperFaults = o.caliperFaults;
   r.simulation.mistakes = !o.noMistakes;
   r.leafFile = o.markers;
+  if (o.stylusNoiseMm) r.simulation.stylusNoiseMm = *o.stylusNoiseMm;
+  if (!o.synth.empty()) {
+    if (!o.simulate && !resumeId) throw std::invalid_argument("--synth is the simulated leaf: add --simulate");
+    if (!o.markers.empty()) throw std::invalid_argument("give --markers or --synth, not both");
+    SynthChoice choice = parseSynthSpec(o.synth);
+    choice.id = "SYN-" + choice.shape + "-" + std::to_string(o.seed);
+    // The exact leaf: the simulated stylus adds the noise.
+    r.leaf = m::SyntheticLeaf(synthSpecFrom(choice)).markers(0.0, o.seed);
+  }
   return r;
 }
 
@@ -487,13 +498,33 @@ int runExport(db::Store& store, const CaptureOptions& o) {
 }
 
 // ---- demo -------------------------------------------------------------------------------------
+// The synthetic leaves the demo captures after the samples: varied shapes with a known area.
+const char* const kDemoSynthLeaves[] = {
+    "shape=ovate,serration=round,teeth=14,rows=10,length=420",
+    "shape=obovate,rows=8,length=380",
+    "shape=elliptic,serration=sharp,teeth=18,rows=12,length=360",
+    "shape=oblong,rows=9,length=450",
+    "shape=tobacco,rows=14,length=560",
+};
+
 int runDemo(const CaptureOptions& o) {
   const std::string dir = samplesDir(o.samples);
-  std::vector<std::string> leaves;
+  struct DemoLeaf {
+    std::string name;
+    std::string file;   // a sample
+    std::string synth;  // or a synthetic leaf
+  };
+  std::vector<DemoLeaf> leaves;
   for (const auto& e : std::filesystem::directory_iterator(dir))
-    if (e.path().string().ends_with(".markers.json")) leaves.push_back(e.path().string());
-  std::sort(leaves.begin(), leaves.end());
+    if (e.path().string().ends_with(".markers.json"))
+      leaves.push_back({e.path().filename().string(), e.path().string(), ""});
+  std::sort(leaves.begin(), leaves.end(), [](const DemoLeaf& a, const DemoLeaf& b) { return a.file < b.file; });
   if (leaves.empty()) throw std::invalid_argument("no *.markers.json in " + dir + ": give --samples DIR");
+  if (o.synthLeaves < 0 || o.synthLeaves > 20) throw std::invalid_argument("--synth-leaves must be between 0 and 20");
+  for (int k = 0; k < o.synthLeaves; ++k) {
+    const std::string spec = kDemoSynthLeaves[static_cast<std::size_t>(k) % std::size(kDemoSynthLeaves)];
+    leaves.push_back({"synthetic " + spec, "", spec});
+  }
   const std::string out = o.out.empty() ? "out/demo" : o.out;
   std::filesystem::create_directories(out);
   CaptureOptions c = o;
@@ -503,20 +534,20 @@ int runDemo(const CaptureOptions& o) {
   std::cout << "leafdig demo: a virtual technician captures " << leaves.size()
             << " leaves with a simulated FASTRAK and Sylvac caliper over pseudo-terminals\n  database " << c.db << "\n";
   std::signal(SIGINT, onSignal);
-  json summary = json::array();
   int position = 0;
-  for (const auto& path : leaves) {
-    const m::MarkerSet leaf = m::readMarkersFile(path);
-    const std::string name = std::filesystem::path(path).filename().string();
+  for (const DemoLeaf& leaf : leaves) {
     c.plant = "plant-1";
     c.leafPosition = ++position;
     c.seed = o.seed + static_cast<std::uint64_t>(position);
-    c.markers = path;
+    c.markers = leaf.file;
+    c.synth = leaf.synth;
+    const acq::RunRequest request = requestFrom(c, std::nullopt);
+    const std::size_t rows = request.leaf ? request.leaf->rows.size() : m::readMarkersFile(leaf.file).rows.size();
     std::int64_t id = 0;
     const auto t0 = std::chrono::steady_clock::now();
-    const RunResult r = runSession(requestFrom(c, std::nullopt), c, /*quiet=*/true, [&](std::int64_t session) {
+    const RunResult r = runSession(request, c, /*quiet=*/true, [&](std::int64_t session) {
       id = session;
-      std::cout << "\n  session " << id << ": " << name << " (" << leaf.rows.size() << " rows) ... " << std::flush;
+      std::cout << "\n  session " << id << ": " << leaf.name << " (" << rows << " rows) ... " << std::flush;
     });
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!r.last.complete) {
@@ -535,9 +566,17 @@ int runDemo(const CaptureOptions& o) {
     e.out = out;
     e.json = false;
     if (const int rc = runExport(store, e); rc != 0) return rc;
+    // The captured leaf's area against what is known of the leaf: the exact area of a
+    // synthetic leaf, the leaf-area-meter reading of a sample.
+    const acq::LeafSummary summary = acq::summarize(acq::openForReview(store, id));
+    if (const auto& ac = summary.metrics.areaConstraint) {
+      std::cout << "    area " << std::setprecision(0) << ac->modelMm2 << " mm^2 against "
+                << (leaf.synth.empty() ? "the leaf area meter's " : "the exact ") << ac->measuredMm2
+                << " mm^2: " << std::showpos << std::setprecision(2) << ac->differencePercent << std::noshowpos << " %"
+                << (ac->exceeded ? " (over the 5 % threshold)" : "") << "\n";
+    }
     const db::ChainReport chain = store.verify(id);
     std::cout << "    hash chain: " << (chain.ok ? "OK" : "BROKEN") << " (" << chain.events << " events)\n";
-    summary.push_back({{"session", id}, {"leaf", name}, {"seconds", secs}, {"chain_ok", chain.ok}});
   }
   std::cout << "\nDone. Inspect with: leafdig sessions list --db " << c.db << "\n";
   return 0;
@@ -554,6 +593,11 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
                   "KIND:PORT or hid:VID:PID, e.g. sylvac:/dev/ttyUSB1, mitutoyo:PORT, hid:0fe7:4001");
     c->add_flag("--simulate", o.simulate, "Capture with the built-in simulators and a virtual operator");
     c->add_option("--markers", o.markers, "Leaf the virtual operator captures (leafdig.markers/1; default a sample)");
+    c->add_option("--synth", o.synth,
+                  "Or a synthetic leaf with a known area, e.g. shape=ovate,serration=round,teeth=14,rows=10 "
+                  "(keys: shape length width symmetry serration tooth-depth teeth tooth-direction droop cup twist "
+                  "wave wavelength rows; docs/synthetic-leaves.md)");
+    c->add_option("--stylus-noise", o.stylusNoiseMm, "Noise of the simulated stylus per axis, σ in mm (default 0.3)");
     c->add_option("--faults", o.faults,
                   "Digitizer faults, e.g. garbage=0.01,unplug=0.002:0.5 (see 'leafdig sim --help')");
     c->add_option("--caliper-faults", o.caliperFaults, "Caliper faults, same syntax");
@@ -620,6 +664,9 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
   demo->add_option("--samples", o.samples, "Directory of *.markers.json leaves (default: data/samples)");
   demo->add_option("--speed", o.speed, "Time scale (default 8)");
   demo->add_option("--seed", o.seed, "Seed");
+  demo->add_option("--synth-leaves", o.synthLeaves,
+                   "Synthetic leaves with a known area captured after the samples (default 2, up to 20)");
+  demo->add_option("--stylus-noise", o.stylusNoiseMm, "Noise of the simulated stylus per axis, σ in mm (default 0.3)");
 }
 
 int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {

@@ -21,6 +21,8 @@ struct CaptureOptions {
   // simulation
   bool simulate = false, noMistakes = false;
   std::string markers, faults, caliperFaults;
+  std::string synth;                    // a synthetic leaf (synth_cmd.hpp: parseSynthSpec)
+  std::optional<double> stylusNoiseMm;  // the simulated stylus's noise per axis
   std::uint64_t seed = 1;
   std::optional<double> speed;  // not given: 1 for a new capture, a resumed one's own, 8 for the demo
   // sessions
@@ -36,6 +38,7 @@ struct CaptureOptions {
   std::optional<double> value;
   // demo
   std::string samples;
+  int synthLeaves = 2;
 };
 
 void addCaptureCommands(CLI::App& app, CaptureOptions& options);

@@ -90,6 +90,63 @@ m::SyntheticLeafSpec synthSpecFrom(const SynthChoice& c) {
   return s;
 }
 
+SynthChoice parseSynthSpec(const std::string& text) {
+  SynthChoice c;
+  std::stringstream in(text);
+  std::string item;
+  const auto number = [](const std::string& key, const std::string& value) {
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != value.size())
+      throw m::InputError("synthetic leaf: " + key + "=" + value + " is not a number");
+    return v;
+  };
+  while (std::getline(in, item, ',')) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos)
+      throw m::InputError("synthetic leaf: '" + item + "' is not key=value (e.g. shape=ovate,rows=10)");
+    const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+    if (key == "shape")
+      c.shape = value;
+    else if (key == "serration")
+      c.serration = value;
+    else if (key == "tooth-direction")
+      c.toothDirection = value;
+    else if (key == "length")
+      c.lengthMm = number(key, value);
+    else if (key == "width")
+      c.widthMm = number(key, value);
+    else if (key == "symmetry")
+      c.symmetry = number(key, value);
+    else if (key == "tooth-depth")
+      c.toothDepthMm = number(key, value);
+    else if (key == "teeth")
+      c.teeth = static_cast<int>(number(key, value));
+    else if (key == "droop")
+      c.droopDeg = number(key, value);
+    else if (key == "cup")
+      c.cupMm = number(key, value);
+    else if (key == "twist")
+      c.twistDeg = number(key, value);
+    else if (key == "wave")
+      c.waveMm = number(key, value);
+    else if (key == "wavelength")
+      c.wavelengthMm = number(key, value);
+    else if (key == "rows")
+      c.rows = static_cast<int>(number(key, value));
+    else
+      throw m::InputError("synthetic leaf: unknown key '" + key +
+                          "': use shape, length, width, symmetry, serration, tooth-depth, teeth, tooth-direction, "
+                          "droop, cup, twist, wave, wavelength, rows");
+  }
+  return c;
+}
+
 void addSynthCommands(CLI::App& app, SynthOptions& o) {
   CLI::App* synth = app.add_subcommand("synth", "Synthetic ground-truth leaves (seed 002) for tests and studies");
   synth->require_subcommand(1);

@@ -31,6 +31,11 @@ void addSynthChoice(CLI::App& command, SynthChoice& choice, const std::string& p
 // The spec, or an InputError naming the option at fault.
 [[nodiscard]] model::SyntheticLeafSpec synthSpecFrom(const SynthChoice& choice);
 
+// A compact spec for simulated captures, e.g. "shape=ovate,serration=round,teeth=14,rows=10":
+// keys shape, length, width, symmetry, serration, tooth-depth, teeth, tooth-direction,
+// droop, cup, twist, wave, wavelength, rows. Throws InputError naming a bad key or value.
+[[nodiscard]] SynthChoice parseSynthSpec(const std::string& text);
+
 struct SynthOptions {
   SynthChoice choice;
   double noiseMm = 0.0;

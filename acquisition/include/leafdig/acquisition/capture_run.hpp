@@ -41,6 +41,8 @@ struct RunRequest {
   // records it; a resumed session goes on with the leaf it recorded, and a different file
   // here is refused. Empty: the recorded leaf, else the default sample.
   std::string leafFile;
+  // Or the leaf itself (a synthetic leaf made for this run); at most one of the two.
+  std::optional<model::MarkerSet> leaf;
   bool previews = true;  // snapshots carry the live preview model
 };
 

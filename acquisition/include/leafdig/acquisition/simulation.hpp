@@ -26,6 +26,7 @@ struct SimulationOptions {
   std::string digitizerFaults;  // FaultPlan spec for the digitizer (e.g. "unplug=0.002:0.5")
   std::string caliperFaults;
   bool mistakes = true;
+  double stylusNoiseMm = 0.3;    // Gaussian noise per axis of the stylus tip at rest
   std::string linkDir = "/tmp";  // where the stable symlinks to the ptys go
 };
 
