@@ -49,6 +49,10 @@ GridAreas gridAreas(const BladeSurface& blade, int perRow, int across, const Eig
 
 }  // namespace
 
+double bladeGridArea(const BladeSurface& blade, int perRow, int across) {
+  return gridAreas(blade, perRow, across, Eigen::Vector3d::UnitZ()).area;
+}
+
 double meshArea(const Mesh& mesh) {
   double area = 0.0;
   for (const auto& t : mesh.triangles) {
@@ -118,9 +122,20 @@ namespace leafdig::model {
 LeafMetrics computeLeafMetrics(const LeafModel& model, const Eigen::Vector3d& lightDirection,
                                double areaThresholdPercent) {
   LeafMetrics m{convergedBladeArea(model.blade, lightDirection), lightDirection.normalized(),
-                markerGridHeronArea(markerGrid(model.markers)), std::nullopt};
+                markerGridHeronArea(markerGrid(model.markers)), std::nullopt, std::nullopt};
   if (model.markers.leaf.measuredAreaMm2) {
     m.areaConstraint = compareArea(m.blade.areaMm2, *model.markers.leaf.measuredAreaMm2, areaThresholdPercent);
+  }
+  // A NURBS blade with weights of its own is rebuilt by the draws only from markers, which
+  // would lose the weights: no interval for it (docs/accuracy.md).
+  bool ownWeights = false;
+  for (const auto& row : model.blade.weights) {
+    for (double w : row) ownWeights = ownWeights || w != 1.0;
+  }
+  if (!ownWeights) {
+    AreaUncertaintyOptions options;
+    options.blade = model.blade.kind;
+    m.areaInterval = areaUncertainty(model.markers, options);
   }
   return m;
 }
@@ -144,6 +159,21 @@ std::string metricsToJson(const LeafMetrics& m) {
                             {"exceeded", a.exceeded}};
   } else {
     j["area_constraint"] = nullptr;
+  }
+  if (m.areaInterval) {
+    const AreaUncertainty& u = *m.areaInterval;
+    j["blade_area_95_mm2"] = {u.low95Mm2, u.high95Mm2};
+    j["area_interval"] = {{"low_mm2", u.low95Mm2},
+                          {"high_mm2", u.high95Mm2},
+                          {"digitizer_sigma_mm", u.sigmaMm},
+                          {"draws", u.draws},
+                          {"noise_low_mm2", u.noiseLowMm2},
+                          {"noise_high_mm2", u.noiseHighMm2},
+                          {"row_drop_mm2", u.interpolationMm2},
+                          {"systematic_mm2", u.systematicMm2}};
+  } else {
+    j["blade_area_95_mm2"] = nullptr;
+    j["area_interval"] = nullptr;
   }
   return j.dump();
 }

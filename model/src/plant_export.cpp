@@ -244,15 +244,29 @@ std::string encodeMtg(const Plant& plant, const PlantMetrics& metrics) {
   return out.str();
 }
 
+void addAreaIntervals(const Plant& plant, PlantMetrics& metrics) {
+  for (LeafLight& light : metrics.leaves) {
+    for (const PlacedLeaf& l : plant.leaves) {
+      if (l.rank != light.rank) continue;
+      AreaUncertaintyOptions options;
+      options.blade = l.model.blade.kind;
+      const AreaUncertainty u = areaUncertainty(l.model.markers, options);
+      light.bladeAreaLow95Mm2 = u.low95Mm2;
+      light.bladeAreaHigh95Mm2 = u.high95Mm2;
+    }
+  }
+}
+
 std::string encodePlantCsv(const Plant& plant, const PlantMetrics& metrics) {
   std::ostringstream out;
   out << "plant,organ,rank,leaf_id,source,insertion_height_mm,azimuth_deg,inclination_deg,roll_deg,scale,bend_deg,"
-         "length_mm,width_mm,area_mm2,silhouette_mm2,star,base_x_mm,base_y_mm,base_z_mm,tip_x_mm,tip_y_mm,tip_z_mm\n";
+         "length_mm,width_mm,area_mm2,silhouette_mm2,star,base_x_mm,base_y_mm,base_z_mm,tip_x_mm,tip_y_mm,tip_z_mm,"
+         "blade_area_low95_mm2,blade_area_high95_mm2\n";
   const std::string id = csvField(plant.id);
   if (plant.stem) {
     const Eigen::Vector3d apex = stemPointAt(plant, 1.0).center;
     out << id << ",stem,0,,,0.000,,,,,," << fixed3(plant.stemHeightMm) << "," << fixed3(plant.stemBaseDiameterMm)
-        << ",,,,0.000,0.000,0.000," << fixed3(apex.x()) << "," << fixed3(apex.y()) << "," << fixed3(apex.z()) << "\n";
+        << ",,,,0.000,0.000,0.000," << fixed3(apex.x()) << "," << fixed3(apex.y()) << "," << fixed3(apex.z()) << ",,\n";
   }
   for (const PlacedLeaf& l : plant.leaves) {
     const LeafLight* light = lightOf(metrics, l.rank);
@@ -262,7 +276,9 @@ std::string encodePlantCsv(const Plant& plant, const PlantMetrics& metrics) {
         << fixed3(l.lengthMm) << "," << fixed3(l.widthMm) << "," << fixed3(light ? light->areaMm2 : 0.0) << ","
         << fixed3(light ? light->silhouetteMm2 : 0.0) << "," << (light ? detail::formatNumber(light->star) : "") << ","
         << fixed3(l.base.x()) << "," << fixed3(l.base.y()) << "," << fixed3(l.base.z()) << "," << fixed3(l.tip.x())
-        << "," << fixed3(l.tip.y()) << "," << fixed3(l.tip.z()) << "\n";
+        << "," << fixed3(l.tip.y()) << "," << fixed3(l.tip.z()) << ","
+        << (light && light->bladeAreaLow95Mm2 ? fixed3(*light->bladeAreaLow95Mm2) : "") << ","
+        << (light && light->bladeAreaHigh95Mm2 ? fixed3(*light->bladeAreaHigh95Mm2) : "") << "\n";
   }
   return out.str();
 }

@@ -3,12 +3,14 @@
 #include <benchmark/benchmark.h>
 
 #include <unsupported/Eigen/Splines>
+#include <utility>
 
 #include "leafdig/model/interpolation.hpp"
 #include "leafdig/model/leaf_model.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/model/mesh.hpp"
 #include "leafdig/model/metrics.hpp"
+#include "leafdig/model/synthetic_leaf.hpp"
 
 namespace {
 
@@ -57,6 +59,21 @@ void BM_ConvergedMetrics(benchmark::State& state) {
   }
   state.SetLabel(kSamples[state.range(0)]);
 }
+// The blade area's 95 % interval alone (64 Monte-Carlo draws and the row-drop estimate),
+// the part of the metrics above that issue 16 added.
+void BM_AreaInterval(benchmark::State& state) {
+  const m::MarkerSet markers = loadSample(static_cast<int>(state.range(0)));
+  double width = 0;
+  for (auto _ : state) {
+    const m::AreaUncertainty u = m::areaUncertainty(markers);
+    width = u.halfWidthPercent();
+    benchmark::DoNotOptimize(std::as_const(width));
+  }
+  state.SetLabel(kSamples[state.range(0)]);
+  state.counters["half_width_percent"] = width;
+}
+BENCHMARK(BM_AreaInterval)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
 BENCHMARK(BM_ConvergedMetrics)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
 // The contour of the 17-row leaf as 4-D data balls (2N + 1 = 35 points), and longer
@@ -91,5 +108,36 @@ BENCHMARK(BM_InterpolateBandedNatural)->Arg(4)->Arg(11)->Arg(35)->Arg(200)->Unit
 BENCHMARK(BM_InterpolateEigenSplineFitting)->Arg(4)->Arg(11)->Arg(35)->Arg(200)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
+
+// A synthetic ground-truth leaf (issue 16 target: ≤ 20 ms): the generator, the exact area
+// (with its error estimate, i.e. both panel counts), the protocol's markers with noise and
+// the truth file. Argument: 0 the tobacco default, 1 a serrated ovate leaf (60 sharp teeth
+// per side, normal direction: the most panels the area integration meets).
+void BM_SyntheticLeafAndTruth(benchmark::State& state) {
+  m::SyntheticLeafSpec spec =
+      m::defaultSyntheticSpec(state.range(0) == 0 ? m::LeafShape::Tobacco : m::LeafShape::Ovate);
+  if (state.range(0) == 1) {
+    spec.outline.lengthMm = 200;
+    spec.outline.serration = m::Serration::Sharp;
+    spec.outline.toothDepthMm = 2;
+    spec.outline.teethPerSide = 60;
+    spec.outline.toothDirection = m::ToothDirection::Normal;
+  }
+  spec.rows = 15;
+  std::size_t bytes = 0;
+  double area = 0;
+  for (auto _ : state) {
+    const m::SyntheticLeaf leaf(spec);
+    double error = 0;
+    area = leaf.area(&error);
+    const m::MarkerSet markers = leaf.markers(0.5, 7);
+    bytes = m::markersToJson(markers).size() + m::truthToJson(leaf, 0.5, 7).size();
+    benchmark::DoNotOptimize(bytes);
+  }
+  state.SetLabel(state.range(0) == 0 ? "tobacco 500 mm" : "ovate 200 mm, 60 sharp teeth per side");
+  state.counters["area_mm2"] = area;
+  state.counters["bytes"] = static_cast<double>(bytes);
+}
+BENCHMARK(BM_SyntheticLeafAndTruth)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -235,6 +235,19 @@ TEST_F(PlantCli, ASingleLeafExportsToCaribuMtgAndCsvToo) {
   EXPECT_EQ(mtg.entities[1].features.size(), mtg.features.size());
   const std::string csv = slurp(dir_ / "leaf.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 2) << csv;
+  // The leaf's row carries its blade area's 95 % interval, around the area, read by Python's
+  // csv module.
+  const Result interval =
+      run("python3 -c \"import csv,sys; r=[x for x in csv.DictReader(open(sys.argv[1])) if x['organ']=='leaf'][0]; "
+          "print(r['blade_area_low95_mm2'], r['area_mm2'], r['blade_area_high95_mm2'])\" " +
+          quote(dir_ / "leaf.csv"));
+  ASSERT_EQ(interval.exitCode, 0) << interval.err;
+  std::istringstream values(interval.out);
+  double low = 0, area = 0, high = 0;
+  values >> low >> area >> high;
+  EXPECT_GT(low, 0.0);
+  EXPECT_LT(low, high);
+  EXPECT_NEAR(area, 0.5 * (low + high), 0.05 * area);
   const Result json = leafdig("model build " + quote(markers) + " -o " + quote(dir_ / "leaf.json"));
   EXPECT_EQ(json.exitCode, 2);
   EXPECT_NE(json.err.find("--model-json"), std::string::npos) << json.err;

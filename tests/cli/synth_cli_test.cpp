@@ -99,3 +99,53 @@ TEST_F(SynthCli, FigureDrawsEveryShapeAndSerration) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(SynthCli, StudyWritesTheReportItsCsvAndFigures) {
+  const fs::path report = dir_ / "accuracy.md";
+  const Result r = leafdig("synth study --quick --threads 2 -o " + quote(report) + " --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json summary = json::parse(r.out);
+  EXPECT_GT(summary["reconstructions"].get<int>(), 0);
+  EXPECT_GE(summary["interval_holds_truth"].get<double>(), 0.9 * summary["interval_checked"].get<double>());
+  EXPECT_NE(slurp(report).find("# Accuracy of captured leaves"), std::string::npos);
+  // The CSV opens in Python's csv reader with one row per reconstruction.
+  const Result rows = run("python3 -c \"import csv,sys; print(len(list(csv.DictReader(open(sys.argv[1])))))\" " +
+                          quote(dir_ / "accuracy.csv"));
+  ASSERT_EQ(rows.exitCode, 0) << rows.err;
+  EXPECT_EQ(std::stoi(rows.out), summary["reconstructions"].get<int>());
+  for (const auto& f : summary["figures"]) EXPECT_NE(slurp(f.get<std::string>()).find("<svg"), std::string::npos);
+}
+
+TEST_F(SynthCli, StudyRefusesAReportItCannotWrite) {
+  Result r = leafdig("synth study --quick -o " + quote(dir_ / "accuracy.txt"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find(".md"), std::string::npos) << r.err;
+  r = leafdig("synth study --quick -o " + quote(dir_ / "missing" / "accuracy.md"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "missing"));
+}
+
+TEST_F(SynthCli, ModelBuildReportsTheAreaInterval) {
+  const fs::path markers = dir_ / "leaf.markers.json";
+  ASSERT_EQ(leafdig("synth leaf --rows 12 --noise 0.7 --seed 4 --markers " + quote(markers) + " --truth " +
+                    quote(dir_ / "t.json"))
+                .exitCode,
+            0);
+  const Result model = leafdig("model build " + quote(markers) + " --json");
+  ASSERT_EQ(model.exitCode, 0) << model.err;
+  const json metrics = json::parse(model.out)["metrics"];
+  const double area = metrics["blade_area_mm2"].get<double>();
+  const json interval = metrics["blade_area_95_mm2"];
+  ASSERT_EQ(interval.size(), 2u);
+  EXPECT_LT(interval[0].get<double>(), area);
+  EXPECT_GT(interval[1].get<double>(), area);
+  const double truth = json::parse(slurp(dir_ / "t.json"))["area_mm2"].get<double>();
+  EXPECT_GE(truth, interval[0].get<double>());
+  EXPECT_LE(truth, interval[1].get<double>());
+  EXPECT_DOUBLE_EQ(metrics["area_interval"]["digitizer_sigma_mm"].get<double>(), 0.762);
+}
+
+}  // namespace

@@ -21,6 +21,10 @@ pixels=$(echo "$line" | awk '{print $7}')
 [ "$pixels" -gt 2000 ] || { echo "preview is blank ($pixels pixels differ from the background)"; exit 1; }
 [ -s "$out/capture.png" ] || { echo "no screenshot"; exit 1; }
 [ -s "$out/review.png" ] || { echo "no review screenshot"; exit 1; }
+# The review shows the blade area with its 95 % interval (issue 16).
+echo "$report" | grep -q '^review metrics: Blade area [0-9]' || { echo "no blade area in the review"; exit 1; }
+echo "$report" | grep -q '^review metrics: 95 % interval [0-9]* – [0-9]* mm²' ||
+  { echo "no area interval in the review"; exit 1; }
 python3 - "$out/station.sqlite" <<'PY'
 import sqlite3, sys
 db = sqlite3.connect(f"file:{sys.argv[1]}?mode=ro", uri=True)

@@ -575,6 +575,16 @@ int runDemo(const CaptureOptions& o) {
                 << " mm^2: " << std::showpos << std::setprecision(2) << ac->differencePercent << std::noshowpos << " %"
                 << (ac->exceeded ? " (over the 5 % threshold)" : "") << "\n";
     }
+    if (const auto& u = summary.metrics.areaInterval) {
+      const bool inside = summary.metrics.areaConstraint &&
+                          summary.metrics.areaConstraint->measuredMm2 >= u->low95Mm2 &&
+                          summary.metrics.areaConstraint->measuredMm2 <= u->high95Mm2;
+      std::ostringstream line;
+      line << std::fixed << std::setprecision(0) << "    95 % interval " << u->low95Mm2 << " - " << u->high95Mm2
+           << " mm^2"
+           << (summary.metrics.areaConstraint ? (inside ? ", holds the known area" : ", misses the known area") : "");
+      std::cout << line.str() << "\n";
+    }
     const db::ChainReport chain = store.verify(id);
     std::cout << "    hash chain: " << (chain.ok ? "OK" : "BROKEN") << " (" << chain.events << " events)\n";
   }

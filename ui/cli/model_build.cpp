@@ -128,6 +128,10 @@ int runModelBuild(const ModelBuildOptions& o) {
         alone = m::singleLeafPlant(leaf, rank, o.markersPath);
         aloneMesh = m::meshPlant(*alone, meshOptions);
         aloneMetrics = m::computePlantMetrics(*alone, *aloneMesh, light);
+        if (metrics.areaInterval && !aloneMetrics->leaves.empty()) {  // the leaf's own, already computed
+          aloneMetrics->leaves.front().bladeAreaLow95Mm2 = metrics.areaInterval->low95Mm2;
+          aloneMetrics->leaves.front().bladeAreaHigh95Mm2 = metrics.areaInterval->high95Mm2;
+        }
       }
       for (auto& f :
            m::encodePlant(o.outputs[i], *alone, *aloneMesh, *aloneMetrics, {m::CanUnit::Metre, header.generator}))
@@ -180,6 +184,11 @@ int runModelBuild(const ModelBuildOptions& o) {
                 << m::describe(meshOptions) << ")\n"
                 << "  blade area " << metrics.blade.areaMm2 << " mm^2, projected " << metrics.blade.projectedAreaMm2
                 << " mm^2\n";
+      if (metrics.areaInterval) {
+        std::cout << "  blade area 95 % interval " << metrics.areaInterval->low95Mm2 << " – "
+                  << metrics.areaInterval->high95Mm2 << " mm^2 (digitizer accuracy " << metrics.areaInterval->sigmaMm
+                  << " mm, rows' interpolation)\n";
+      }
       if (metrics.areaConstraint) {
         const auto& a = *metrics.areaConstraint;
         std::cout << "  measured area " << a.measuredMm2 << " mm^2: model differs by " << a.differencePercent << " %"

@@ -1,5 +1,6 @@
 #include "plant_cmd.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -165,7 +166,13 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
       const auto b = Clock::now();
       const m::LeafMesh mesh = m::meshPlant(p, meshOptions);
       const auto c = Clock::now();
-      const m::PlantMetrics metrics = m::computePlantMetrics(p, mesh, light);
+      m::PlantMetrics metrics = m::computePlantMetrics(p, mesh, light);
+      // The CSV's blade-area intervals (about 12 ms a leaf): for a single plant, not for every
+      // state of a growth series, whose leaves are scaled copies of the same markers.
+      const bool csv = std::any_of(o.outputs.begin(), o.outputs.end(), [](const std::string& out) {
+        return std::filesystem::path(out).extension() == ".csv";
+      });
+      if (csv && states.size() == 1) m::addAreaIntervals(p, metrics);
       const auto d = Clock::now();
       for (const auto& out : o.outputs) {
         if (o.animate) break;

@@ -1,9 +1,17 @@
 #include "synth_cmd.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
+#include "leafdig/model/accuracy.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/markers_json.hpp"
@@ -165,6 +173,13 @@ void addSynthCommands(CLI::App& app, SynthOptions& o) {
   leaf->add_flag("--json", o.json, "Print the leaf's figures as JSON");
   CLI::App* figure = synth->add_subcommand("figure", "Draw every shape and serration (docs/synthetic-shapes.svg)");
   figure->add_option("-o,--output", o.figure, "SVG file to write")->required();
+  CLI::App* study = synth->add_subcommand(
+      "study", "The accuracy study (docs/accuracy.md): area, midrib and veins of simulated captures against truth");
+  study->add_option("-o,--output", o.study, "Markdown report to write; the CSV and SVG figures go beside it")
+      ->required();
+  study->add_flag("--quick", o.quick, "A small study (2 shapes, 3 row counts, 2 noise levels) for a quick look");
+  study->add_option("--threads", o.threads, "Worker threads (default: every core)")->check(CLI::Range(0, 256));
+  study->add_flag("--json", o.json, "Print a summary as JSON");
 }
 
 namespace {
@@ -253,12 +268,71 @@ int runFigure(const SynthOptions& o) {
 
 }  // namespace
 
+namespace {
+
+int runStudy(const SynthOptions& o) {
+  const std::filesystem::path report(o.study);
+  if (report.extension() != ".md") {
+    std::cerr << "error: the study report must be a Markdown file (.md), e.g. docs/accuracy.md\n";
+    return 2;
+  }
+  const std::filesystem::path dir = report.has_parent_path() ? report.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(dir)) {
+    std::cerr << "error: the folder " << dir.string() << " does not exist: create it or choose another -o\n";
+    return 2;
+  }
+  const m::AccuracyPlan plan = o.quick ? m::AccuracyPlan::quick() : m::AccuracyPlan::full();
+  const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  const auto start = std::chrono::steady_clock::now();
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  const std::vector<m::AccuracyResult> results =
+      m::runAccuracyStudy(plan, threads, [&](std::size_t done, std::size_t total) {
+        if (tty) std::cerr << "\rstudy: " << done << " / " << total << " captures" << std::flush;
+      });
+  if (tty) std::cerr << "\n";
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string command = std::string("leafdig synth study") + (o.quick ? " --quick" : "") + " -o " +
+                              (std::filesystem::path("docs") / report.filename()).string();
+  const m::AccuracyReport r = m::accuracyReport(plan, results, command);
+  std::filesystem::path csv = report;
+  csv.replace_extension(".csv");
+  m::writeFileAtomically(report.string(), r.markdown);
+  m::writeFileAtomically(csv.string(), r.csv);
+  for (const auto& [name, svg] : r.figures) m::writeFileAtomically((dir / name).string(), svg);
+  std::size_t checked = 0, inside = 0;
+  for (const m::AccuracyResult& a : results) {
+    checked += a.intervalChecked ? 1 : 0;
+    inside += a.inInterval ? 1 : 0;
+  }
+  if (o.json) {
+    nlohmann::json j;
+    j["report"] = report.string();
+    j["csv"] = csv.string();
+    j["figures"] = nlohmann::json::array();
+    for (const auto& f : r.figures) j["figures"].push_back((dir / f.first).string());
+    j["reconstructions"] = results.size();
+    j["seconds"] = seconds;
+    j["threads"] = threads;
+    j["interval_checked"] = checked;
+    j["interval_holds_truth"] = inside;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << "wrote " << report.string() << ", " << csv.string() << " and " << r.figures.size()
+              << " figures: " << results.size() << " reconstructions in " << std::fixed << std::setprecision(1)
+              << seconds << " s on " << threads << " threads\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
 int runSynthCommands(const CLI::App& app, const SynthOptions& o) {
   const CLI::App* synth = app.get_subcommand("synth");
   if (!synth->parsed()) return -1;
   try {
     if (synth->got_subcommand("leaf")) return runLeaf(o);
     if (synth->got_subcommand("figure")) return runFigure(o);
+    if (synth->got_subcommand("study")) return runStudy(o);
   } catch (...) {
     return reportModelFailure(std::current_exception());
   }

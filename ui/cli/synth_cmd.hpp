@@ -1,5 +1,5 @@
 #pragma once
-// `leafdig synth leaf|figure`: synthetic ground-truth leaves (docs/synthetic-leaves.md).
+// `leafdig synth leaf|figure|study`: synthetic ground-truth leaves (docs/synthetic-leaves.md).
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <optional>
@@ -42,6 +42,10 @@ struct SynthOptions {
   std::uint64_t seed = 1;
   std::string markers, truth, glb, svg, figure;
   bool json = false;
+  // synth study
+  std::string study;
+  bool quick = false;
+  int threads = 0;  // 0: every core
 };
 
 void addSynthCommands(CLI::App& app, SynthOptions& options);

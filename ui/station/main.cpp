@@ -155,6 +155,9 @@ int main(int argc, char** argv) {
         (void)w.review()->openSession(w.sessionId());
         QApplication::processEvents();
         leafdig::station::PreviewWidget::grabWindow(&w).save(p.value(reviewShot));
+        // What the curator reads beside the screenshot, for the end-to-end test to check.
+        for (const QString& line : w.review()->metricsText().split('\n'))
+          std::printf("review metrics: %s\n", qPrintable(line));
       }
       std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
                   static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels,

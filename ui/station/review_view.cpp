@@ -393,6 +393,13 @@ void ReviewView::fill() {
                        .arg(s.metrics.blade.areaMm2, 0, 'f', 0)
                        .arg(s.metrics.blade.areaMm2 / 100.0, 0, 'f', 1)
                        .arg(s.metrics.markerGridHeronAreaMm2, 0, 'f', 0);
+    if (s.metrics.areaInterval) {
+      const auto& u = *s.metrics.areaInterval;
+      text += "\n" + tr("95 % interval %1 – %2 mm² (digitizer accuracy %3 mm and the rows' interpolation)")
+                         .arg(u.low95Mm2, 0, 'f', 0)
+                         .arg(u.high95Mm2, 0, 'f', 0)
+                         .arg(u.sigmaMm, 0, 'f', 2);
+    }
     if (s.metrics.areaConstraint) {
       const auto& a = *s.metrics.areaConstraint;
       text += "\n" + tr("Measured area %1 mm² · model differs by %2 % · %3")

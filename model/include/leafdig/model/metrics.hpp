@@ -1,6 +1,7 @@
 #pragma once
 // Leaf metrics of SPEC §2.6.
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,10 @@ struct BladeAreaEstimate {
 [[nodiscard]] BladeAreaEstimate convergedBladeArea(const BladeSurface& blade, const Eigen::Vector3d& lightDirection,
                                                    double tolerance = 1e-3, int maxDoublings = 7);
 
+// The blade's triangle-area sum at a fixed resolution: `perRow` segments per marker-row
+// span, `across` over the width (what convergedBladeArea measures at each step).
+[[nodiscard]] double bladeGridArea(const BladeSurface& blade, int perRow, int across);
+
 // Seed 001's markers-only estimate: each grid cell split along both diagonals, triangle
 // areas by Kahan's stable Heron formula, the two splits averaged. A comparison figure
 // only; it under-estimates a curved blade.
@@ -55,14 +60,45 @@ struct AreaConstraint {
 
 namespace leafdig::model {
 
+// A blade area's 95 % interval (issue 16; implemented in accuracy.cpp, how it is made and
+// how often it holds the truth in docs/accuracy.md).
+// The Polhemus FASTRAK's stated static accuracy, 0.03 in RMS for each of X, Y and Z.
+inline constexpr double kFastrakSigmaMm = 0.762;
+
+struct AreaUncertaintyOptions {
+  double sigmaMm = kFastrakSigmaMm;  // per coordinate, the digitizer's stated accuracy
+  int draws = 64;
+  std::uint64_t seed = 1;
+  BladeKind blade = BladeKind::Interp;
+};
+
+struct AreaUncertainty {
+  double areaMm2 = 0.0;   // the blade area of the markers as captured
+  double low95Mm2 = 0.0;  // the 95 % interval
+  double high95Mm2 = 0.0;
+  double noiseLowMm2 = 0.0;  // 2.5 % and 97.5 % quantiles of the Monte-Carlo areas
+  double noiseHighMm2 = 0.0;
+  double interpolationMm2 = 0.0;  // the row-drop interpolation estimate
+  double systematicMm2 = 0.0;     // interp's measured under-estimate for this row count, upwards
+  double sigmaMm = 0.0;
+  int draws = 0;
+  [[nodiscard]] double halfWidthPercent() const { return 50.0 * (high95Mm2 - low95Mm2) / areaMm2; }
+};
+
+// Throws InputError for a sigma outside [0, 20] mm or fewer than 8 draws. The same markers,
+// options and seed give the same interval on every machine.
+[[nodiscard]] AreaUncertainty areaUncertainty(const MarkerSet& markers, const AreaUncertaintyOptions& options = {});
+
 struct LeafMetrics {
   BladeAreaEstimate blade;
   Eigen::Vector3d lightDirection;                // unit, in the model's frame
   double markerGridHeronAreaMm2;                 // seed 001's quad sum, for comparison only
   std::optional<AreaConstraint> areaConstraint;  // when the leaf has a measured area
+  std::optional<AreaUncertainty> areaInterval;   // blade area's 95 % interval (FASTRAK accuracy)
 };
 
-// Light direction in the model's frame; measured area from the marker set's leaf info.
+// Light direction in the model's frame; measured area from the marker set's leaf info. The
+// area interval uses the FASTRAK's stated accuracy, 64 draws, a seed from the markers.
 [[nodiscard]] LeafMetrics computeLeafMetrics(const LeafModel& model, const Eigen::Vector3d& lightDirection,
                                              double areaThresholdPercent = 5.0);
 

@@ -23,6 +23,9 @@ struct LeafLight {
   double areaMm2 = 0.0;        // one-sided blade area (mesh triangles)
   double silhouetteMm2 = 0.0;  // displayed area for the light direction
   double star = 0.0;           // silhouette / area
+  // The blade area's 95 % interval (areaUncertainty at the FASTRAK's accuracy), when
+  // addAreaIntervals has run; the CSV's last two columns.
+  std::optional<double> bladeAreaLow95Mm2, bladeAreaHigh95Mm2;
 };
 
 // Seed 001 / SPEC §2.6 on a plant: per leaf and for the whole plant (whose silhouette counts
@@ -37,6 +40,8 @@ struct PlantMetrics {
 };
 [[nodiscard]] PlantMetrics computePlantMetrics(const Plant& plant, const LeafMesh& mesh,
                                                const Eigen::Vector3d& lightDirection);
+// Fills each leaf's blade-area interval (about 12 ms a leaf: asked for by the CSV only).
+void addAreaIntervals(const Plant& plant, PlantMetrics& metrics);
 
 enum class CanUnit { Metre, Centimetre };
 

@@ -120,7 +120,8 @@ class SyntheticLeaf {
   [[nodiscard]] Eigen::Vector3d surfacePoint(const Eigen::Vector2d& flat) const;
 
   // Exact areas (mm²): the flat outline, and the 3-D blade (∬ |Φx × Φy| over the outline).
-  // `errorEstimate` receives |A(2m panels) − A(m panels)| / A.
+  // `errorEstimate` receives |A(2m panels) − A(m panels)| / A. The 3-D area is integrated
+  // once, by the constructor.
   [[nodiscard]] double flatArea() const;
   [[nodiscard]] double area(double* errorEstimate = nullptr) const;
   [[nodiscard]] double midribLengthMm() const { return spec_.outline.lengthMm; }
@@ -138,14 +139,18 @@ class SyntheticLeaf {
   [[nodiscard]] LeafMesh truthMesh(int alongPerSide = 600, int across = 40) const;
 
  private:
-  [[nodiscard]] Eigen::Vector2d baseOutline(int side, double phi) const;
+  [[nodiscard]] Eigen::Vector2d baseOutline(int side, double phi, Eigen::Vector2d* tangent = nullptr) const;
   [[nodiscard]] double jacobian(double x, double y) const;
   [[nodiscard]] double greenArea(int panelsPerInterval, bool flat) const;
-  [[nodiscard]] double veinLength(int side, double y0, double angleRad) const;
+  [[nodiscard]] std::vector<Eigen::Vector2d> marginSamples(int side) const;
+  [[nodiscard]] double veinLength(int side, double y0, double angleRad,
+                                  const std::vector<Eigen::Vector2d>& margin) const;
 
   SyntheticLeafSpec spec_;
   double width_ = 0.0;
   double symmetry_ = 0.0;
+  double area_ = 0.0;  // computed once by the constructor
+  double areaError_ = 0.0;
 };
 
 // leafdig.truth/1 JSON (docs/synthetic-leaves.md): spec, exact areas, midrib length, the
