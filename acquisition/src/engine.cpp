@@ -222,7 +222,8 @@ std::string Engine::prompt() const {
     case What::Tip: return again + "Tip: touch the leaf tip and press";
     case What::Marker: {
       std::string p = again + row + "point " + std::to_string(s.col) + " of 7 · " + colName(s.col);
-      if (!retake_ && s.col == 1 && s.row > settings_.minRows) p += "  (or hold the button to end the rows)";
+      if (!retake_ && s.col == 1 && s.row > settings_.minRows)
+        p += "  (or hold the button to end the rows; the last row is at the leaf base)";
       return p;
     }
     case What::MidribThickness: return again + row + "back side · midrib thickness (r¹) with the caliper";

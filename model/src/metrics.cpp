@@ -4,7 +4,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 
 namespace leafdig::model {
 
@@ -119,10 +121,39 @@ AreaConstraint compareArea(double modelMm2, double measuredMm2, double threshold
 
 namespace leafdig::model {
 
+std::vector<LeafWarning> captureWarnings(const MarkerSet& markers) {
+  std::vector<LeafWarning> out;
+  const std::size_t n = markers.rows.size();
+  if (n < 2) return out;
+  const auto width = [&](std::size_t i) { return (markers.rows[i].pointsMm[0] - markers.rows[i].pointsMm[6]).norm(); };
+  double widest = 0.0;
+  std::size_t widestRow = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (width(i) > widest) {
+      widest = width(i);
+      widestRow = i;
+    }
+  }
+  const double last = width(n - 1);
+  if (widest > 0.0 && last >= kBaseRowWidthWarningRatio * widest) {
+    std::ostringstream msg;
+    msg << std::fixed << std::setprecision(0) << "the last row (row " << n << ") is " << 100.0 * last / widest
+        << " % as wide as the widest (row " << widestRow + 1
+        << "): it was not at the leaf base, where the blade meets the stem or petiole. The model ends at row " << n
+        << " and its area falls short of the whole leaf's; capture the leaf again with the last row at the base.";
+    out.push_back({"last-row-not-at-base", msg.str()});
+  }
+  return out;
+}
+
 LeafMetrics computeLeafMetrics(const LeafModel& model, const Eigen::Vector3d& lightDirection,
                                double areaThresholdPercent) {
-  LeafMetrics m{convergedBladeArea(model.blade, lightDirection), lightDirection.normalized(),
-                markerGridHeronArea(markerGrid(model.markers)), std::nullopt, std::nullopt};
+  LeafMetrics m{convergedBladeArea(model.blade, lightDirection),
+                lightDirection.normalized(),
+                markerGridHeronArea(markerGrid(model.markers)),
+                std::nullopt,
+                std::nullopt,
+                captureWarnings(model.markers)};
   if (model.markers.leaf.measuredAreaMm2) {
     m.areaConstraint = compareArea(m.blade.areaMm2, *model.markers.leaf.measuredAreaMm2, areaThresholdPercent);
   }
@@ -160,6 +191,8 @@ std::string metricsToJson(const LeafMetrics& m) {
   } else {
     j["area_constraint"] = nullptr;
   }
+  j["warnings"] = nlohmann::json::array();
+  for (const LeafWarning& w : m.warnings) j["warnings"].push_back({{"name", w.name}, {"message", w.message}});
   if (m.areaInterval) {
     const AreaUncertainty& u = *m.areaInterval;
     j["blade_area_95_mm2"] = {u.low95Mm2, u.high95Mm2};

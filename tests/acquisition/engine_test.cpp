@@ -75,6 +75,7 @@ TEST_P(EngineSample, CapturesAWholeLeafWithoutKeyboardAndReplaysItExactly) {
       ASSERT_EQ(d.kind, Kind::Accepted) << d.reason << " at row " << r + 1 << " point " << c + 1;
     }
   EXPECT_NE(engine.prompt().find("hold the button to end the rows"), std::string::npos);
+  EXPECT_NE(engine.prompt().find("the last row is at the leaf base"), std::string::npos);
   EXPECT_EQ(op.press({500, 500, 500}, 1500).kind, Kind::RowsEnded);  // long press, anywhere
   EXPECT_EQ(engine.completeRows(), static_cast<int>(n));
   for (std::size_t r = 0; r < leaf.rows.size(); ++r) {

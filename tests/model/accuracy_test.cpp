@@ -160,3 +160,31 @@ TEST(AccuracyStudy, RefusesAnEmptyPlan) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(CaptureWarnings, ALastRowAtTheBaseIsQuietAndOneMidLeafIsNamed) {
+  for (m::LeafShape shape : {m::LeafShape::Tobacco, m::LeafShape::Elliptic, m::LeafShape::Ovate, m::LeafShape::Obovate,
+                             m::LeafShape::Oblong}) {
+    for (int rows : {6, 12, 25}) {
+      m::SyntheticLeafSpec spec = m::defaultSyntheticSpec(shape);
+      spec.rows = rows;
+      EXPECT_TRUE(m::captureWarnings(m::SyntheticLeaf(spec).markers(0.76, 3)).empty())
+          << m::toString(shape) << " " << rows;
+    }
+  }
+  // The same leaf with its last four rows never captured: the rows stop mid-leaf.
+  m::MarkerSet cut = tobacco(12).markers();
+  cut.rows.resize(8);
+  const auto warnings = m::captureWarnings(cut);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].name, "last-row-not-at-base");
+  EXPECT_NE(warnings[0].message.find("row 8"), std::string::npos) << warnings[0].message;
+  EXPECT_NE(warnings[0].message.find("leaf base"), std::string::npos);
+  // ... and the metrics carry it, in the JSON too.
+  const m::LeafMetrics metrics = m::computeLeafMetrics(m::buildLeafModel(cut), {0, 0, 1});
+  ASSERT_EQ(metrics.warnings.size(), 1u);
+  EXPECT_NE(m::metricsToJson(metrics).find("\"last-row-not-at-base\""), std::string::npos);
+}
+
+}  // namespace

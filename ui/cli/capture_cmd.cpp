@@ -585,6 +585,7 @@ int runDemo(const CaptureOptions& o) {
            << (summary.metrics.areaConstraint ? (inside ? ", holds the known area" : ", misses the known area") : "");
       std::cout << line.str() << "\n";
     }
+    for (const auto& w : summary.metrics.warnings) std::cout << "    warning (" << w.name << "): " << w.message << "\n";
     const db::ChainReport chain = store.verify(id);
     std::cout << "    hash chain: " << (chain.ok ? "OK" : "BROKEN") << " (" << chain.events << " events)\n";
   }

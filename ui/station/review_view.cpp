@@ -410,6 +410,7 @@ void ReviewView::fill() {
     } else {
       text += "\n" + tr("No measured leaf area: the area constraint is not checked.");
     }
+    for (const auto& w : s.metrics.warnings) text += "\n" + tr("Warning: %1").arg(QString::fromStdString(w.message));
     metrics_->setText(text);
   } catch (const std::exception& e) {
     metrics_->setText(tr("No metrics yet: %1").arg(QString::fromStdString(e.what())));

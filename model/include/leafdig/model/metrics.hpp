@@ -89,12 +89,27 @@ struct AreaUncertainty {
 // options and seed give the same interval on every machine.
 [[nodiscard]] AreaUncertainty areaUncertainty(const MarkerSet& markers, const AreaUncertaintyOptions& options = {});
 
+// A named warning about how a leaf was captured (not an error: the model is built).
+struct LeafWarning {
+  std::string name;  // e.g. "last-row-not-at-base"
+  std::string message;
+};
+
+// The protocol's last row is at the leaf base, where the blade meets the stem or petiole, and
+// the blade ends there (docs/decisions.md). At the base the blade narrows: the last row's
+// width (P_N1 to P_N7) is 22–49 % of the widest row's on the synthetic leaves of every shape.
+// A last row at least 60 % as wide as the widest was not at the base: the model ends short of
+// the leaf and its area falls short of a leaf area meter's.
+inline constexpr double kBaseRowWidthWarningRatio = 0.6;
+[[nodiscard]] std::vector<LeafWarning> captureWarnings(const MarkerSet& markers);
+
 struct LeafMetrics {
   BladeAreaEstimate blade;
   Eigen::Vector3d lightDirection;                // unit, in the model's frame
   double markerGridHeronAreaMm2;                 // seed 001's quad sum, for comparison only
   std::optional<AreaConstraint> areaConstraint;  // when the leaf has a measured area
   std::optional<AreaUncertainty> areaInterval;   // blade area's 95 % interval (FASTRAK accuracy)
+  std::vector<LeafWarning> warnings;             // captureWarnings of the markers
 };
 
 // Light direction in the model's frame; measured area from the marker set's leaf info. The
