@@ -15,6 +15,12 @@ if [ -n "$qt" ]; then
   echo "Qt header outside ui/:"; echo "$qt"; fail=1
 fi
 
+# 3. OpenCV only in model/src/leaf_scan.cpp (behind leaf_scan.hpp; heavy to compile).
+cv=$(sources model devices db acquisition ui tests | grep -v '^model/src/leaf_scan.cpp$' | xargs -r grep -lE '#\s*include\s*[<"]opencv2/' || true)
+if [ -n "$cv" ]; then
+  echo "OpenCV header outside model/src/leaf_scan.cpp:"; echo "$cv"; fail=1
+fi
+
 check() {  # module, forbidden modules...
   local module=$1; shift
   for other in "$@"; do
@@ -29,5 +35,5 @@ check model devices db acquisition ui
 check devices model db acquisition ui
 check db devices acquisition ui
 check acquisition ui
-[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, dependencies point one way"
+[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, dependencies point one way"
 exit $fail

@@ -32,6 +32,10 @@ namespace {
 
 std::string frameDescription(const ExportHeader& h) {
   if (h.frame == "plant") return "plant frame: origin at the stem base, +Z up the stem axis";
+  if (h.frame == "leaf2d") {
+    return "leaf frame: origin at the leaf base (where the petiole joins), +Y towards the tip, +Z the "
+           "adaxial side (a 2-D leaf, curled)";
+  }
   if (h.frame == "leaf") {
     return "leaf frame: origin at the last midrib marker P_N4, +Y towards the tip, +Z the mean "
            "adaxial blade normal";
@@ -71,8 +75,10 @@ void appendTriple(std::string& out, const char* tag, const Eigen::Vector3d& p, i
 
 std::string encodeObj(const LeafMesh& mesh, const ExportHeader& h) {
   std::string out = "# " + h.generator + (h.leafId.empty() ? "" : " leaf " + h.leafId) + "\n" +
-                    "# units: mm\n# up: +Z\n# " + frameDescription(h) + "\n" +
-                    "# vein radii are caliper thickness / 2\n";
+                    "# units: mm\n# up: +Z\n# " + frameDescription(h) + "\n";
+  if (std::any_of(mesh.organs.begin(), mesh.organs.end(), [](const Organ& o) { return o.kind == OrganKind::Vein; })) {
+    out += "# vein radii are caliper thickness / 2\n";
+  }
   std::size_t vertices = 0, triangles = 0;
   for (const Organ& o : mesh.organs) {
     vertices += o.mesh.positions.size();

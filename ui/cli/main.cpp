@@ -7,6 +7,7 @@
 
 #include "capture_cmd.hpp"
 #include "devices_cmd.hpp"
+#include "leaf2d_cmd.hpp"
 #include "leafdig/version.hpp"
 #include "mesh_cmd.hpp"
 #include "model_build.hpp"
@@ -35,6 +36,9 @@ int main(int argc, char** argv) {
   leafdig::cli::SynthOptions synthOptions;
   leafdig::cli::addSynthCommands(app, synthOptions);
 
+  leafdig::cli::Leaf2dCommandOptions leaf2dOptions;
+  leafdig::cli::addLeaf2dCommands(app, leaf2dOptions);
+
   leafdig::cli::DevicesOptions deviceOptions;
   leafdig::cli::addDevicesCommands(app, deviceOptions);
 
@@ -58,6 +62,7 @@ int main(int argc, char** argv) {
   if (const int rc = leafdig::cli::runPlantCommands(app, plantOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runMeshCommands(app, meshOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runSynthCommands(app, synthOptions); rc >= 0) return rc;
+  if (const int rc = leafdig::cli::runLeaf2dCommands(app, leaf2dOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runDevicesCommands(app, deviceOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runCaptureCommands(app, captureOptions); rc >= 0) return rc;
   return 1;

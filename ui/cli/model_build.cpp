@@ -8,6 +8,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/leaf_model.hpp"
+#include "leafdig/model/leaf_scan.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/model/mesh.hpp"
 #include "leafdig/model/mesh_export.hpp"
@@ -50,6 +51,10 @@ void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
   build->add_option("--measured-area", o.measuredAreaMm2,
                     "Measured leaf area in mm^2 (leaf area meter or image); compared with the "
                     "model's (overrides leaf.measured_area_mm2 of the file)");
+  build->add_option("--measured-area-scan", o.measuredAreaScan,
+                    "A scan of the leaf (.png .tif .jpg, on a light background): its blade area, holes "
+                    "filled and petiole set apart, is the measured area (needs --dpi)");
+  build->add_option("--dpi", o.scanDpi, "The scan's resolution, dots per inch");
   build->add_option("--area-threshold", o.areaThresholdPercent,
                     "Flag a model/measured area difference above this percentage (default 5)");
   build->add_flag("--json", o.json, "Print metrics and mesh counts as one JSON object");
@@ -103,8 +108,22 @@ int runModelBuild(const ModelBuildOptions& o) {
 
     const m::MeshOptions meshOptions = meshOptionsFrom(o.mesh, resolution);
 
+    if (!o.measuredAreaScan.empty() && o.measuredAreaMm2) {
+      throw m::InputError("give --measured-area or --measured-area-scan, not both");
+    }
+    if (!o.measuredAreaScan.empty() && !o.scanDpi) {
+      throw m::InputError("--measured-area-scan needs the scan's resolution: give --dpi (e.g. 300)");
+    }
+    if (o.scanDpi && o.measuredAreaScan.empty()) throw m::InputError("--dpi is for --measured-area-scan");
+
     m::MarkerSet markers = m::readMarkersFile(o.markersPath);
     if (o.measuredAreaMm2) markers.leaf.measuredAreaMm2 = o.measuredAreaMm2;
+    std::optional<m::LeafScan> scan;
+    if (!o.measuredAreaScan.empty()) {
+      // The 3-D model has no holes: it is compared with the blade's area with holes filled.
+      scan = m::scanLeaf(o.measuredAreaScan, {*o.scanDpi});
+      markers.leaf.measuredAreaMm2 = scan->filledAreaMm2;
+    }
     m::LeafModel leaf = m::buildLeafModel(markers, {m::bladeKindFromString(o.blade), nullptr});
     if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
 
@@ -154,6 +173,11 @@ int runModelBuild(const ModelBuildOptions& o) {
       out["resolution"] = resolution.name;
       out["frame"] = o.frame;
       out["metrics"] = nlohmann::json::parse(m::metricsToJson(metrics));
+      if (scan) {
+        out["measured_area_scan"] = {
+            {"file", o.measuredAreaScan}, {"dpi", *o.scanDpi},    {"filled_area_mm2", scan->filledAreaMm2},
+            {"area_mm2", scan->areaMm2},  {"holes", scan->holes}, {"petiole", scan->petioleFound}};
+      }
       std::optional<m::MeshDistance> measured;
       std::optional<double> referenceError;
       if (meshOptions.method != m::MeshMethod::Uniform && !o.mesh.noMeasure) {
@@ -189,11 +213,17 @@ int runModelBuild(const ModelBuildOptions& o) {
                   << metrics.areaInterval->high95Mm2 << " mm^2 (digitizer accuracy " << metrics.areaInterval->sigmaMm
                   << " mm, rows' interpolation)\n";
       }
+      if (scan) {
+        std::cout << "  scan " << o.measuredAreaScan << ": blade " << scan->filledAreaMm2 << " mm^2 (tissue "
+                  << scan->areaMm2 << " mm^2, " << scan->holes << " hole(s); petiole "
+                  << (scan->petioleFound ? "set apart" : "none found") << ")\n";
+      }
       if (metrics.areaConstraint) {
         const auto& a = *metrics.areaConstraint;
         std::cout << "  measured area " << a.measuredMm2 << " mm^2: model differs by " << a.differencePercent << " %"
                   << (a.exceeded ? " — ABOVE the threshold" : "") << "\n";
       }
+      for (const auto& w : metrics.warnings) std::cout << "  warning (" << w.name << "): " << w.message << "\n";
       for (const auto& w : mesh.warnings) {
         std::cout << "  warning: " << w.organ << " at t=" << w.parameter << ": " << w.message << "\n";
       }

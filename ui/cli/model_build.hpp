@@ -21,6 +21,8 @@ struct ModelBuildOptions {
   std::string frame = "digitizer";
   std::string light = "0,0,1";
   std::optional<double> measuredAreaMm2;
+  std::string measuredAreaScan;  // a scan of the leaf; its blade area is the measured area
+  std::optional<double> scanDpi;
   double areaThresholdPercent = 5.0;
   bool json = false;
   MeshChoice mesh;

@@ -14,6 +14,7 @@
 #include "leafdig/model/accuracy.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/leaf_scan.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/model/mesh_export.hpp"
 #include "leafdig/version.hpp"
@@ -171,6 +172,14 @@ void addSynthCommands(CLI::App& app, SynthOptions& o) {
   leaf->add_option("-o,--output", o.glb, "Write the true blade surface, finely meshed, as .glb (or .obj .ply .stl)");
   leaf->add_option("--svg", o.svg, "Draw the flat outline, veins and markers as SVG");
   leaf->add_flag("--json", o.json, "Print the leaf's figures as JSON");
+  CLI::App* scan = synth->add_subcommand(
+      "scan", "A flatbed scan of a synthetic leaf's flat blade (PNG) whose area is known exactly");
+  addSynthChoice(*scan, o.choice, "");
+  scan->add_option("--dpi", o.dpi, "Scan resolution, dots per inch (default 300)")->check(CLI::Range(10.0, 2400.0));
+  scan->add_option("--petiole-length", o.petioleLengthMm, "Draw a 2.5 mm wide petiole this long at the base, mm");
+  scan->add_option("-o,--output", o.scan, "PNG file to write")->required();
+  scan->add_option("--truth", o.truth, "Write the truth here (exact flat blade area, base, tip, page)");
+  scan->add_flag("--json", o.json, "Print the truth as JSON");
   CLI::App* figure = synth->add_subcommand("figure", "Draw every shape and serration (docs/synthetic-shapes.svg)");
   figure->add_option("-o,--output", o.figure, "SVG file to write")->required();
   CLI::App* study = synth->add_subcommand(
@@ -183,6 +192,62 @@ void addSynthCommands(CLI::App& app, SynthOptions& o) {
 }
 
 namespace {
+
+int runScan(const SynthOptions& o) {
+  const m::SyntheticLeaf leaf(synthSpecFrom(o.choice));
+  if (!(o.petioleLengthMm >= 0.0)) throw m::InputError("--petiole-length must be >= 0 mm");
+  if (std::filesystem::path(o.scan).extension() != ".png")
+    throw m::InputError("-o " + o.scan + ": the scan is written as .png");
+  constexpr int kPerSide = 2000;
+  std::vector<Eigen::Vector2d> outline = leaf.outline(kPerSide);  // right half base to tip, then left
+  const Eigen::Vector2d base0 = outline.front();
+  const Eigen::Vector2d tip0 = outline[kPerSide];
+  const Eigen::Vector2d down = (base0 - tip0).normalized();
+  std::vector<Eigen::Vector2d> petiole;
+  if (o.petioleLengthMm > 0.0) {
+    const Eigen::Vector2d side(-down.y(), down.x());
+    const Eigen::Vector2d a = base0 - 1.0 * down;  // 1 mm into the blade: no gap at the joint
+    const Eigen::Vector2d b = base0 + o.petioleLengthMm * down;
+    petiole = {a + 1.25 * side, b + 1.25 * side, b - 1.25 * side, a - 1.25 * side};
+  }
+  Eigen::Vector2d lo = outline.front();
+  Eigen::Vector2d hi = lo;
+  for (const auto* poly : {&outline, &petiole}) {
+    for (const auto& p : *poly) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  constexpr double kMarginMm = 20.0;
+  const Eigen::Vector2d shift = Eigen::Vector2d(kMarginMm, kMarginMm) - lo;
+  for (auto* poly : {&outline, &petiole}) {
+    for (auto& p : *poly) p += shift;
+  }
+  const Eigen::Vector2d page = hi - lo + Eigen::Vector2d(2 * kMarginMm, 2 * kMarginMm);
+  std::vector<std::vector<Eigen::Vector2d>> polygons{outline};
+  if (!petiole.empty()) polygons.push_back(petiole);
+  m::renderScan(polygons, {}, page, o.dpi, o.scan);
+  const nlohmann::json truth = {{"format", "leafdig.scan-truth/1"},
+                                {"units", "mm"},
+                                {"area_mm2", leaf.flatArea()},
+                                {"outline_polygon_area_mm2", m::polygonArea(outline)},
+                                {"dpi", o.dpi},
+                                {"page_mm", {page.x(), page.y()}},
+                                {"base_mm", {base0.x() + shift.x(), base0.y() + shift.y()}},
+                                {"tip_mm", {tip0.x() + shift.x(), tip0.y() + shift.y()}},
+                                {"length_mm", (tip0 - base0).norm()},
+                                {"petiole_length_mm", o.petioleLengthMm},
+                                {"scan", o.scan}};
+  if (!o.truth.empty()) m::writeFileAtomically(o.truth, truth.dump(2) + "\n");
+  if (o.json) {
+    std::cout << truth.dump(2) << "\n";
+  } else {
+    std::cout << std::fixed << std::setprecision(2) << "synthetic " << o.choice.shape << " leaf scanned at " << o.dpi
+              << " DPI: blade area " << leaf.flatArea() << " mm^2 (exact)\n  wrote " << o.scan
+              << (o.truth.empty() ? "" : ", " + o.truth) << "\n";
+  }
+  return 0;
+}
 
 int runLeaf(const SynthOptions& o) {
   SynthChoice choice = o.choice;
@@ -332,6 +397,7 @@ int runSynthCommands(const CLI::App& app, const SynthOptions& o) {
   try {
     if (synth->got_subcommand("leaf")) return runLeaf(o);
     if (synth->got_subcommand("figure")) return runFigure(o);
+    if (synth->got_subcommand("scan")) return runScan(o);
     if (synth->got_subcommand("study")) return runStudy(o);
   } catch (...) {
     return reportModelFailure(std::current_exception());

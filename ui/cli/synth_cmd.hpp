@@ -42,6 +42,10 @@ struct SynthOptions {
   std::uint64_t seed = 1;
   std::string markers, truth, glb, svg, figure;
   bool json = false;
+  // synth scan
+  double dpi = 300.0;
+  double petioleLengthMm = 0.0;
+  std::string scan;
   // synth study
   std::string study;
   bool quick = false;

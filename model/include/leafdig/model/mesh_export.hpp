@@ -16,7 +16,7 @@ enum class MeshFormat { Glb, Obj, Ply, Stl };
 
 struct ExportHeader {
   std::string leafId;     // may be empty
-  std::string frame;      // "digitizer" or "leaf"
+  std::string frame;      // "digitizer", "leaf", "plant" or "leaf2d" (a 2-D leaf: origin at its base)
   std::string generator;  // "leafdig 0.1.0"
 };
 

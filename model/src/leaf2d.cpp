@@ -1,0 +1,723 @@
+#include "leafdig/model/leaf2d.hpp"
+
+#include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "json_text.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/interpolation.hpp"
+#include "leafdig/model/metrics.hpp"
+
+namespace leafdig::model {
+
+using nlohmann::json;
+
+// ---------------------------------------------------------------------------- outlines
+
+double polygonArea(const std::vector<Eigen::Vector2d>& polygon) {
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Eigen::Vector2d& p = polygon[i];
+    const Eigen::Vector2d& q = polygon[(i + 1) % polygon.size()];
+    twice += p.x() * q.y() - q.x() * p.y();
+  }
+  return std::abs(twice) / 2.0;
+}
+
+namespace {
+
+constexpr std::size_t kMinOutlinePoints = 8;
+constexpr double kEndTolerance = 5.0;  // mm: a given base or tip this far off the outline is an error
+
+double distanceToOutline(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    const Eigen::Vector2d ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * ab - p).norm());
+  }
+  return best;
+}
+
+void checkOutline(const Outline2d& o, const std::string& source) {
+  if (o.pointsMm.size() < kMinOutlinePoints) {
+    throw InputError(source + ": the outline has " + std::to_string(o.pointsMm.size()) + " points; at least " +
+                     std::to_string(kMinOutlinePoints) + " are needed to follow a leaf's margin");
+  }
+  for (std::size_t i = 0; i < o.pointsMm.size(); ++i) {
+    if (!o.pointsMm[i].allFinite()) {
+      throw InputError(source + ": outline point " + std::to_string(i + 1) + " is not a finite number; fix the file");
+    }
+  }
+  if (polygonArea(o.pointsMm) <= 0.0) {
+    throw InputError(source + ": the outline encloses no area (its points lie on a line); check the columns");
+  }
+  for (const auto& [name, end] : {std::pair{"base", o.baseMm}, std::pair{"tip", o.tipMm}}) {
+    if (end && distanceToOutline(o.pointsMm, *end) > kEndTolerance) {
+      std::ostringstream msg;
+      msg << source << ": the " << name << " (" << end->x() << ", " << end->y() << ") is "
+          << distanceToOutline(o.pointsMm, *end) << " mm from the outline; it must lie on the margin (within "
+          << kEndTolerance << " mm) — check that it is in the outline's millimetres";
+      throw InputError(msg.str());
+    }
+  }
+  if (o.measuredAreaMm2 && !(*o.measuredAreaMm2 > 0.0)) {
+    throw InputError(source + ": measured_area_mm2 must be a positive area in mm^2");
+  }
+}
+
+Eigen::Vector2d jsonPoint(const json& v, const std::string& source, const std::string& where) {
+  if (!v.is_array() || v.size() != 2)
+    throw InputError(source + ": " + where + ": expected [x, y] in mm, found " + v.dump());
+  Eigen::Vector2d p;
+  for (int k = 0; k < 2; ++k) {
+    const json& c = v[static_cast<std::size_t>(k)];
+    const std::string token = detail::nonFiniteToken(c);
+    if (!token.empty() || !c.is_number()) {
+      throw InputError(source + ": " + where + ": coordinate " + "xy"[k] + " is " + (token.empty() ? c.dump() : token) +
+                       ", not a finite number; fix the file");
+    }
+    p[k] = c.get<double>();
+  }
+  return p;
+}
+
+}  // namespace
+
+Outline2d parseOutlineJson(const std::string& text, const std::string& source) {
+  const json doc = detail::parseJsonLeniently(text, source);
+  if (!doc.is_object()) throw InputError(source + ": expected a " + std::string(kOutlineFormat) + " JSON object");
+  const auto format = doc.find("format");
+  if (format == doc.end() || !format->is_string() || format->get<std::string>() != kOutlineFormat) {
+    throw InputError(source + ": \"format\" must be \"" + kOutlineFormat + "\"" +
+                     (format == doc.end() ? std::string(" (the key is missing)") : ", found " + format->dump()));
+  }
+  const auto units = doc.find("units");
+  if (units == doc.end() || !units->is_string() || units->get<std::string>() != "mm") {
+    throw InputError(source + ": \"units\" must be \"mm\"" +
+                     (units == doc.end() ? std::string(" (the key is missing)") : ", found " + units->dump()) +
+                     "; convert the points to millimetres (pixels: multiply by 25.4 / DPI, or give the image "
+                     "itself with --dpi)");
+  }
+  const auto points = doc.find("points");
+  if (points == doc.end() || !points->is_array()) {
+    throw InputError(source + ": \"points\" must be an array of [x, y] in mm");
+  }
+  Outline2d o;
+  for (std::size_t i = 0; i < points->size(); ++i) {
+    o.pointsMm.push_back(jsonPoint((*points)[i], source, "points[" + std::to_string(i) + "]"));
+  }
+  if (o.pointsMm.size() > 1 && o.pointsMm.front() == o.pointsMm.back()) o.pointsMm.pop_back();
+  if (auto it = doc.find("base"); it != doc.end() && !it->is_null()) o.baseMm = jsonPoint(*it, source, "base");
+  if (auto it = doc.find("tip"); it != doc.end() && !it->is_null()) o.tipMm = jsonPoint(*it, source, "tip");
+  if (auto it = doc.find("measured_area_mm2"); it != doc.end() && !it->is_null()) {
+    if (!it->is_number()) throw InputError(source + ": measured_area_mm2 must be a number (mm^2)");
+    o.measuredAreaMm2 = it->get<double>();
+  }
+  if (auto it = doc.find("id"); it != doc.end() && it->is_string()) o.id = it->get<std::string>();
+  checkOutline(o, source);
+  return o;
+}
+
+Outline2d parseOutlineCsv(const std::string& text, const std::string& source) {
+  Outline2d o;
+  std::istringstream in(text);
+  std::string line;
+  int lineNo = 0;
+  bool sawData = false;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const std::string where = source + ":" + std::to_string(lineNo);
+    const auto comma = line.find(',');
+    if (comma == std::string::npos) throw InputError(where + ": expected \"x_mm,y_mm\", found \"" + line + "\"");
+    const std::string a = line.substr(0, comma);
+    const std::string b = line.substr(comma + 1);
+    const bool letters = std::any_of(line.begin(), line.end(), [](unsigned char c) { return std::isalpha(c) != 0; });
+    if (!sawData && letters && a.find("nan") == std::string::npos && a.find("inf") == std::string::npos) {
+      // A header: its units must be millimetres.
+      const bool mm = a.find("mm") != std::string::npos && b.find("mm") != std::string::npos;
+      const bool bare =
+          a.find_first_not_of(" \txX") == std::string::npos && b.find_first_not_of(" \tyY") == std::string::npos;
+      if (!mm && !bare) {
+        throw InputError(where + ": the header \"" + line +
+                         "\" does not say millimetres; the columns must be x_mm,y_mm (convert pixels with "
+                         "25.4 / DPI, or give the image itself with --dpi)");
+      }
+      sawData = true;  // only one header
+      continue;
+    }
+    sawData = true;
+    Eigen::Vector2d p;
+    for (int k = 0; k < 2; ++k) {
+      const std::string field = k == 0 ? a : b;
+      std::size_t used = 0;
+      double v = std::numeric_limits<double>::quiet_NaN();
+      try {
+        v = std::stod(field, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || field.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(v)) {
+        throw InputError(where + ": column " + std::to_string(k + 1) + " (\"" + field +
+                         "\") is not a finite number in mm; fix the line");
+      }
+      p[k] = v;
+    }
+    o.pointsMm.push_back(p);
+  }
+  if (o.pointsMm.size() > 1 && o.pointsMm.front() == o.pointsMm.back()) o.pointsMm.pop_back();
+  checkOutline(o, source);
+  return o;
+}
+
+Outline2d readOutlineFile(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext != ".json" && ext != ".csv") {
+    throw InputError(path.string() + ": an outline is a .json (" + kOutlineFormat +
+                     ") or .csv (x_mm,y_mm) file; a scan is a .png, .tif or .jpg image given with --dpi");
+  }
+  std::string text;
+  try {
+    text = readFile(path);
+  } catch (const IoError& e) {
+    throw InputError(std::string(e.what()) + "; check the path");
+  }
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path.string() + ": the file is empty");
+  return ext == ".json" ? parseOutlineJson(text, path.string()) : parseOutlineCsv(text, path.string());
+}
+
+std::string outlineToJson(const Outline2d& o) {
+  std::ostringstream out;
+  out << "{\"format\": \"" << kOutlineFormat << "\", \"units\": \"mm\"";
+  if (!o.id.empty()) out << ", \"id\": " << json(o.id).dump();
+  if (o.baseMm)
+    out << ", \"base\": [" << detail::formatNumber(o.baseMm->x()) << ", " << detail::formatNumber(o.baseMm->y()) << "]";
+  if (o.tipMm)
+    out << ", \"tip\": [" << detail::formatNumber(o.tipMm->x()) << ", " << detail::formatNumber(o.tipMm->y()) << "]";
+  if (o.measuredAreaMm2) out << ", \"measured_area_mm2\": " << detail::formatNumber(*o.measuredAreaMm2);
+  out << ",\n \"points\": [";
+  for (std::size_t i = 0; i < o.pointsMm.size(); ++i) {
+    out << (i ? ",\n  " : "\n  ") << "[" << detail::formatNumber(o.pointsMm[i].x()) << ", "
+        << detail::formatNumber(o.pointsMm[i].y()) << "]";
+  }
+  out << "]}\n";
+  return out.str();
+}
+
+namespace {
+
+// Extremes of the polygon's intersection with the line {p : (p - origin) . axis = s},
+// measured along `across`; nullopt when the line misses.
+std::optional<std::pair<double, double>> sectionExtent(const std::vector<Eigen::Vector2d>& poly,
+                                                       const Eigen::Vector2d& origin, const Eigen::Vector2d& axis,
+                                                       const Eigen::Vector2d& across, double s) {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Eigen::Vector2d& p = poly[i];
+    const Eigen::Vector2d& q = poly[(i + 1) % poly.size()];
+    const double sp = (p - origin).dot(axis);
+    const double sq = (q - origin).dot(axis);
+    if ((sp <= s && s < sq) || (sq <= s && s < sp)) {
+      const Eigen::Vector2d x = p + (s - sp) / (sq - sp) * (q - p);
+      const double w = (x - origin).dot(across);
+      lo = std::min(lo, w);
+      hi = std::max(hi, w);
+    }
+  }
+  if (!(lo <= hi)) return std::nullopt;
+  return std::pair{lo, hi};
+}
+
+}  // namespace
+
+std::pair<Eigen::Vector2d, Eigen::Vector2d> findBaseAndTip(const Outline2d& o) {
+  const auto& pts = o.pointsMm;
+  if (o.baseMm && o.tipMm) return {*o.baseMm, *o.tipMm};
+  // The farthest point from a given end, or the farthest pair (the polygon's diameter: the
+  // outline's convex hull would be faster, but O(n^2) over a few thousand points is ~10 ms).
+  auto farthestFrom = [&](const Eigen::Vector2d& p) {
+    return *std::max_element(pts.begin(), pts.end(), [&](const auto& a, const auto& b) {
+      return (a - p).squaredNorm() < (b - p).squaredNorm();
+    });
+  };
+  if (o.baseMm) return {*o.baseMm, farthestFrom(*o.baseMm)};
+  if (o.tipMm) return {farthestFrom(*o.tipMm), *o.tipMm};
+  std::size_t stride = std::max<std::size_t>(1, pts.size() / 2000);
+  double best = -1.0;
+  Eigen::Vector2d a = pts[0];
+  Eigen::Vector2d b = pts[0];
+  for (std::size_t i = 0; i < pts.size(); i += stride) {
+    for (std::size_t j = i + stride; j < pts.size(); j += stride) {
+      const double d = (pts[i] - pts[j]).squaredNorm();
+      if (d > best) {
+        best = d;
+        a = pts[i];
+        b = pts[j];
+      }
+    }
+  }
+  // Refine on the full outline: alternate farthest points (converges in one or two steps).
+  for (int k = 0; k < 3; ++k) {
+    b = farthestFrom(a);
+    a = farthestFrom(b);
+  }
+  // The tip is the end where the leaf is narrower 5 % of the length inside.
+  const double length = (b - a).norm();
+  const Eigen::Vector2d axis = (b - a) / length;
+  const Eigen::Vector2d across(-axis.y(), axis.x());
+  auto widthAt = [&](double s) {
+    const auto e = sectionExtent(pts, a, axis, across, s);
+    return e ? e->second - e->first : 0.0;
+  };
+  if (widthAt(0.05 * length) < widthAt(0.95 * length)) return {b, a};
+  return {a, b};
+}
+
+// ---------------------------------------------------------------------------- curl
+
+const char* toString(CurlKind kind) {
+  switch (kind) {
+    case CurlKind::None: return "none";
+    case CurlKind::Parabola: return "parabola";
+    case CurlKind::Sine: return "sine";
+    case CurlKind::Auto: return "auto";
+  }
+  return "?";
+}
+
+CurlKind curlKindFromString(const std::string& word) {
+  for (CurlKind k : {CurlKind::None, CurlKind::Parabola, CurlKind::Sine, CurlKind::Auto}) {
+    if (word == toString(k)) return k;
+  }
+  throw InputError("unknown curl \"" + word + "\"; use parabola, sine, auto or none");
+}
+
+std::array<double, 5> curlFeatureHeights(CurlKind kind) {
+  switch (kind) {
+    case CurlKind::None: return {0, 0, 0, 0, 0};
+    case CurlKind::Parabola: return {0, 0.75, 1, 0.75, 0};
+    case CurlKind::Sine: return {0, 1, 0, 1, 0};
+    case CurlKind::Auto: break;
+  }
+  throw std::invalid_argument("curlFeatureHeights: Auto is a choice, not a profile");
+}
+
+double curlHeight(CurlKind kind, double t) {
+  const std::array<double, 5> h = curlFeatureHeights(kind);
+  Eigen::MatrixXd values(5, 1);
+  for (int i = 0; i < 5; ++i) values(i, 0) = h[static_cast<std::size_t>(i)];
+  static const std::vector<double> params{0.0, 0.25, 0.5, 0.75, 1.0};
+  return interpolateNaturalCubic(params, values).evaluate(std::clamp(t, 0.0, 1.0))[0];
+}
+
+// ---------------------------------------------------------------------------- Laplacian
+
+std::vector<Eigen::Vector3d> laplacianDeform(const Mesh& mesh,
+                                             const std::vector<std::pair<std::uint32_t, Eigen::Vector3d>>& handles) {
+  const auto n = static_cast<Eigen::Index>(mesh.positions.size());
+  // Cotangent weights: edge (i, j) gets cot of the angle opposite it in each of its triangles.
+  std::vector<std::map<std::uint32_t, double>> w(mesh.positions.size());
+  for (const auto& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t i = t[static_cast<std::size_t>((k + 1) % 3)];
+      const std::uint32_t j = t[static_cast<std::size_t>((k + 2) % 3)];
+      const Eigen::Vector3d e1 = mesh.positions[i] - mesh.positions[t[static_cast<std::size_t>(k)]];
+      const Eigen::Vector3d e2 = mesh.positions[j] - mesh.positions[t[static_cast<std::size_t>(k)]];
+      const double cross = e1.cross(e2).norm();
+      const double cot = cross > 0.0 ? e1.dot(e2) / cross : 0.0;
+      w[i][j] += cot;
+      w[j][i] += cot;
+    }
+  }
+  // Every connected part of the mesh needs a handle, or it floats (L has constant vectors in
+  // its kernel, one per part).
+  std::vector<std::uint32_t> part(mesh.positions.size());
+  for (std::uint32_t i = 0; i < part.size(); ++i) part[i] = i;
+  const auto find = [&](std::uint32_t i) {
+    while (part[i] != i) i = part[i] = part[part[i]];
+    return i;
+  };
+  for (const auto& t : mesh.triangles) {
+    part[find(t[1])] = find(t[0]);
+    part[find(t[2])] = find(t[0]);
+  }
+  std::vector<char> held(mesh.positions.size(), 0);
+  for (const auto& h : handles) {
+    if (h.first < held.size()) held[find(h.first)] = 1;
+  }
+  for (std::uint32_t i = 0; i < part.size(); ++i) {
+    if (!held[find(i)]) {
+      throw InputError("laplacianDeform: vertex " + std::to_string(i) +
+                       " is in a part of the mesh with no handle; hold at least one vertex of every part");
+    }
+  }
+  std::vector<char> fixed(mesh.positions.size(), 0);
+  Eigen::MatrixXd target = Eigen::MatrixXd::Zero(n, 3);
+  for (const auto& [index, p] : handles) {
+    if (index >= mesh.positions.size()) throw InputError("laplacianDeform: handle index out of range");
+    fixed[index] = 1;
+    target.row(index) = p.transpose();
+  }
+  // L: row i = v_i - sum_j d_ij v_j with d_ij = w_ij / sum_j w_ij (sum 1, seed 001); a row
+  // whose cotangents cancel (obtuse fans) falls back to uniform weights.
+  std::vector<Eigen::Triplet<double>> entries;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& row = w[static_cast<std::size_t>(i)];
+    if (row.empty()) {
+      if (!fixed[static_cast<std::size_t>(i)]) {
+        throw InputError("laplacianDeform: vertex " + std::to_string(i) + " is free but in no triangle");
+      }
+      continue;
+    }
+    double sum = 0.0;
+    double sumAbs = 0.0;
+    for (const auto& [j, wij] : row) {
+      sum += wij;
+      sumAbs += std::abs(wij);
+    }
+    const bool uniform = std::abs(sum) <= 1e-9 * sumAbs || sumAbs == 0.0;
+    entries.emplace_back(i, i, 1.0);
+    for (const auto& [j, wij] : row) {
+      entries.emplace_back(i, static_cast<Eigen::Index>(j),
+                           uniform ? -1.0 / static_cast<double>(row.size()) : -wij / sum);
+    }
+  }
+  Eigen::SparseMatrix<double> L(n, n);
+  L.setFromTriplets(entries.begin(), entries.end());
+  Eigen::MatrixXd V(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) V.row(i) = mesh.positions[static_cast<std::size_t>(i)].transpose();
+  const Eigen::MatrixXd delta = L * V;
+
+  // Unknowns: the free vertices. Minimise |L_F x_F - (delta - L_H x_H)|^2.
+  std::vector<Eigen::Index> freeIndex(mesh.positions.size(), -1);
+  Eigen::Index freeCount = 0;
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    if (!fixed[i]) freeIndex[i] = freeCount++;
+  }
+  std::vector<Eigen::Vector3d> out(mesh.positions);
+  for (const auto& [index, p] : handles) out[index] = p;
+  if (freeCount == 0) return out;
+  std::vector<Eigen::Triplet<double>> freeEntries;
+  Eigen::MatrixXd rhs = delta;
+  for (int k = 0; k < L.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, k); it; ++it) {
+      const auto col = static_cast<std::size_t>(it.col());
+      if (freeIndex[col] >= 0) {
+        freeEntries.emplace_back(it.row(), freeIndex[col], it.value());
+      } else {
+        rhs.row(it.row()) -= it.value() * target.row(it.col());
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> LF(n, freeCount);
+  LF.setFromTriplets(freeEntries.begin(), freeEntries.end());
+  const Eigen::SparseMatrix<double> normal = LF.transpose() * LF;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
+  if (solver.info() != Eigen::Success) {
+    throw InputError(
+        "laplacianDeform: the handles leave part of the mesh free to float; hold at least one vertex of every part");
+  }
+  const Eigen::MatrixXd x = solver.solve(LF.transpose() * rhs);
+  if (solver.info() != Eigen::Success || !x.allFinite()) {
+    throw InputError("laplacianDeform: the deformation has no unique solution; hold more of the mesh");
+  }
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    if (freeIndex[i] >= 0) out[i] = x.row(freeIndex[i]).transpose();
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------- the 2-D leaf
+
+namespace {
+
+double trianglesArea(const std::vector<Eigen::Vector3d>& p, const std::vector<std::array<std::uint32_t, 3>>& tris,
+                     double sxy) {
+  double area = 0.0;
+  for (const auto& t : tris) {
+    const Eigen::Vector3d a(sxy * p[t[0]].x(), sxy * p[t[0]].y(), p[t[0]].z());
+    const Eigen::Vector3d b(sxy * p[t[1]].x(), sxy * p[t[1]].y(), p[t[1]].z());
+    const Eigen::Vector3d c(sxy * p[t[2]].x(), sxy * p[t[2]].y(), p[t[2]].z());
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  return area;
+}
+
+void computeNormals(Mesh& mesh) {
+  mesh.normals.assign(mesh.positions.size(), Eigen::Vector3d::Zero());
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d n =
+        (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    for (std::uint32_t v : t) mesh.normals[v] += n;
+  }
+  for (auto& n : mesh.normals) n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+}
+
+// The in-plane factor s with area(s x, s y, z) = target (area grows with s): bracketed
+// regula falsi (Illinois), to 1e-10 relative.
+double constrainArea(const Mesh& mesh, double target) {
+  auto f = [&](double s) { return trianglesArea(mesh.positions, mesh.triangles, s) - target; };
+  double lo = 0.0;
+  double flo = f(lo);
+  double hi = 1.0;
+  double fhi = f(hi);
+  while (fhi < 0.0) {
+    lo = hi;
+    flo = fhi;
+    hi *= 2.0;
+    fhi = f(hi);
+    if (hi > 1e6) throw InputError("the area constraint cannot be met: the measured area is far above the model's");
+  }
+  if (flo > 0.0)
+    throw InputError(
+        "the area constraint cannot be met: the curl alone makes the leaf larger than its measured area; lower "
+        "--amplitude");
+  int side = 0;
+  double s = hi;
+  for (int it = 0; it < 100; ++it) {
+    s = (lo * fhi - hi * flo) / (fhi - flo);
+    const double fs = f(s);
+    if (std::abs(fs) <= 1e-10 * target) break;
+    if (fs < 0.0) {
+      lo = s;
+      flo = fs;
+      if (side == -1) fhi /= 2.0;
+      side = -1;
+    } else {
+      hi = s;
+      fhi = fs;
+      if (side == 1) flo /= 2.0;
+      side = 1;
+    }
+  }
+  return s;
+}
+
+struct FlatLeaf {
+  BladeSurface blade;
+  Mesh mesh;  // z = 0
+  std::vector<std::uint32_t> margin;
+  std::vector<double> marginT;
+  double widthMm = 0.0;
+};
+
+FlatLeaf flatLeaf(const std::vector<Eigen::Vector2d>& local, const Leaf2dOptions& o) {
+  double ymin = std::numeric_limits<double>::infinity();
+  double ymax = -ymin;
+  Eigen::Vector2d lowest = local[0];
+  Eigen::Vector2d highest = local[0];
+  for (const auto& p : local) {
+    if (p.y() < ymin) {
+      ymin = p.y();
+      lowest = p;
+    }
+    if (p.y() > ymax) {
+      ymax = p.y();
+      highest = p;
+    }
+  }
+  const int n = o.rows;
+  FlatLeaf flat;
+  MarkerGrid grid;
+  for (int i = 0; i < n; ++i) {
+    std::array<Eigen::Vector3d, kMarkersPerRow> row;
+    if (i == 0 || i == n - 1) {
+      const Eigen::Vector2d end = i == 0 ? highest : lowest;
+      row.fill(Eigen::Vector3d(end.x(), end.y(), 0.0));
+    } else {
+      // Cosine spacing: sections crowd towards tip and base, where the margin turns.
+      const double y = ymax - (ymax - ymin) * (1.0 - std::cos(M_PI * i / (n - 1))) / 2.0;
+      const auto e =
+          sectionExtent(local, Eigen::Vector2d::Zero(), Eigen::Vector2d::UnitY(), Eigen::Vector2d::UnitX(), y);
+      if (!e || e->second - e->first <= 0.0) {
+        throw InputError("the outline has no width " + std::to_string(y) + " mm from the base; is it one closed leaf?");
+      }
+      const double right = e->second;  // +X is the leaf's right (SPEC §2.3: X = Y x Z)
+      const double left = e->first;
+      const double mid = (0.0 < right && 0.0 > left) ? 0.0 : (left + right) / 2.0;
+      const std::array<double, kMarkersPerRow> xs{right, right + (mid - right) / 3, right + 2 * (mid - right) / 3,
+                                                  mid,   mid + (left - mid) / 3,    mid + 2 * (left - mid) / 3,
+                                                  left};
+      for (std::size_t c = 0; c < kMarkersPerRow; ++c) row[c] = Eigen::Vector3d(xs[c], y, 0.0);
+      flat.widthMm = std::max(flat.widthMm, right - left);
+    }
+    grid.push_back(row);
+  }
+  flat.blade = buildBlade(grid, BladeKind::Interp);
+  const int rowSpans = n - 1;
+  const std::vector<double> us = subdivideSpans(flat.blade.rowParameters, o.segmentsPerRow * rowSpans);
+  const std::vector<double> vs = subdivideSpans(flat.blade.columnParameters, o.segmentsAcross);
+  PointGrid pts = sampleSurface(flat.blade, us, vs);
+  const auto nu = static_cast<std::uint32_t>(us.size());
+  const auto nv = static_cast<std::uint32_t>(vs.size());
+  Mesh& mesh = flat.mesh;
+  // Vertex 0: the tip; then rows 1..nu-2 of nv; last: the base.
+  mesh.positions.push_back(pts[0][0]);
+  for (std::uint32_t i = 1; i + 1 < nu; ++i) {
+    for (std::uint32_t j = 0; j < nv; ++j) mesh.positions.push_back(pts[i][j]);
+  }
+  mesh.positions.push_back(pts[nu - 1][0]);
+  for (auto& p : mesh.positions) p.z() = 0.0;
+  const auto baseIndex = static_cast<std::uint32_t>(mesh.positions.size() - 1);
+  auto index = [&](std::uint32_t i, std::uint32_t j) -> std::uint32_t {
+    if (i == 0) return 0;
+    if (i == nu - 1) return baseIndex;
+    return 1 + (i - 1) * nv + j;
+  };
+  for (std::uint32_t i = 0; i + 1 < nu; ++i) {
+    for (std::uint32_t j = 0; j + 1 < nv; ++j) {
+      const std::uint32_t a = index(i, j);
+      const std::uint32_t b = index(i, j + 1);
+      const std::uint32_t c = index(i + 1, j + 1);
+      const std::uint32_t d = index(i + 1, j);
+      if (a != b && b != c) mesh.triangles.push_back({a, b, c});
+      if (a != c && c != d) mesh.triangles.push_back({a, c, d});
+      ++mesh.quads;
+    }
+  }
+  // Faces up (+Z, the adaxial side): S_v x S_u with v right to left and u tip to base.
+  double nz = 0.0;
+  for (const auto& t : mesh.triangles) {
+    nz += (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).z();
+  }
+  if (nz < 0.0) {
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  }
+  // Margins: right base to tip, then left tip to base (tip and base once), t by arc length.
+  for (int side = 0; side < 2; ++side) {
+    std::vector<std::uint32_t> chain{baseIndex};
+    for (std::uint32_t i = nu - 2; i >= 1; --i) chain.push_back(index(i, side == 0 ? 0 : nv - 1));
+    chain.push_back(0);
+    std::vector<double> s(chain.size(), 0.0);
+    for (std::size_t k = 1; k < chain.size(); ++k) {
+      s[k] = s[k - 1] + (mesh.positions[chain[k]] - mesh.positions[chain[k - 1]]).norm();
+    }
+    if (side == 0) {
+      for (std::size_t k = 0; k < chain.size(); ++k) {
+        flat.margin.push_back(chain[k]);
+        flat.marginT.push_back(s[k] / s.back());
+      }
+    } else {
+      for (std::size_t k = chain.size() - 2; k >= 1; --k) {
+        flat.margin.push_back(chain[k]);
+        flat.marginT.push_back(s[k] / s.back());
+      }
+    }
+  }
+  return flat;
+}
+
+}  // namespace
+
+Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
+  checkOutline(outline, outline.id.empty() ? "outline" : outline.id);
+  if (o.rows < 6) throw InputError("--rows must be at least 6 (sections from tip to base)");
+  if (o.segmentsPerRow < 1 || o.segmentsAcross < 6) throw InputError("mesh segments: at least 1 per row and 6 across");
+  if (o.amplitudeMm && !(*o.amplitudeMm >= 0.0)) throw InputError("--amplitude must be >= 0 mm");
+  if (!(o.light.norm() > 0.0)) throw InputError("--light must be a non-zero direction");
+  Leaf2dModel model;
+  const auto [base, tip] = findBaseAndTip(outline);
+  model.baseMm = base;
+  model.tipMm = tip;
+  model.lengthMm = (tip - base).norm();
+  if (!(model.lengthMm > 0.0)) throw InputError("the leaf's base and tip coincide; give them apart");
+  // Leaf frame (SPEC §2.3): origin at the base, +Y to the tip, +Z up, X = Y x Z.
+  const Eigen::Vector2d axis = (tip - base) / model.lengthMm;
+  const Eigen::Vector2d right(axis.y(), -axis.x());
+  std::vector<Eigen::Vector2d> local;
+  local.reserve(outline.pointsMm.size());
+  for (const auto& p : outline.pointsMm) local.emplace_back((p - base).dot(right), (p - base).dot(axis));
+
+  FlatLeaf flat = flatLeaf(local, o);
+  model.flatBlade = flat.blade;
+  model.widthMm = flat.widthMm;
+  model.marginVertices = flat.margin;
+  model.marginT = flat.marginT;
+  model.outlineAreaMm2 = polygonArea(outline.pointsMm);
+  model.flatModelAreaMm2 = meshArea(flat.mesh);
+  model.measuredAreaMm2 = o.measuredAreaMm2         ? *o.measuredAreaMm2
+                          : outline.measuredAreaMm2 ? *outline.measuredAreaMm2
+                                                    : model.outlineAreaMm2;
+  if (!(model.measuredAreaMm2 > 0.0)) throw InputError("the measured area must be positive (mm^2)");
+  model.amplitudeMm = o.amplitudeMm ? *o.amplitudeMm : 0.1 * model.widthMm;
+  const Eigen::Vector3d light = o.light.normalized();
+
+  std::vector<CurlKind> kinds{o.curl};
+  if (o.curl == CurlKind::Auto) kinds = {CurlKind::Parabola, CurlKind::Sine};
+  std::optional<Mesh> best;
+  for (CurlKind kind : kinds) {
+    Mesh mesh = flat.mesh;
+    if (kind != CurlKind::None && model.amplitudeMm > 0.0) {
+      std::vector<std::pair<std::uint32_t, Eigen::Vector3d>> handles;
+      for (std::size_t k = 0; k < flat.margin.size(); ++k) {
+        Eigen::Vector3d p = flat.mesh.positions[flat.margin[k]];
+        p.z() = model.amplitudeMm * curlHeight(kind, flat.marginT[k]);
+        handles.emplace_back(flat.margin[k], p);
+      }
+      mesh.positions = laplacianDeform(flat.mesh, handles);
+    }
+    const double s = constrainArea(mesh, model.measuredAreaMm2);
+    for (auto& p : mesh.positions) {
+      p.x() *= s;
+      p.y() *= s;
+    }
+    computeNormals(mesh);
+    const CurlCandidate c{kind, s, meshArea(mesh), projectedArea(mesh, light)};
+    model.candidates.push_back(c);
+    if (!best || c.projectedAreaMm2 > model.projectedAreaMm2) {
+      best = std::move(mesh);
+      model.curl = kind;
+      model.inPlaneScale = c.inPlaneScale;
+      model.modelAreaMm2 = c.areaMm2;
+      model.projectedAreaMm2 = c.projectedAreaMm2;
+    }
+  }
+  model.mesh = std::move(*best);
+  model.silhouetteAreaMm2 = silhouetteArea({&model.mesh}, light);
+  return model;
+}
+
+std::string leaf2dToJson(const Leaf2dModel& m) {
+  json j;
+  j["base_mm"] = {m.baseMm.x(), m.baseMm.y()};
+  j["tip_mm"] = {m.tipMm.x(), m.tipMm.y()};
+  j["length_mm"] = m.lengthMm;
+  j["width_mm"] = m.widthMm;
+  j["outline_area_mm2"] = m.outlineAreaMm2;
+  j["flat_model_area_mm2"] = m.flatModelAreaMm2;
+  j["measured_area_mm2"] = m.measuredAreaMm2;
+  j["model_area_mm2"] = m.modelAreaMm2;
+  j["area_difference_percent"] = 100.0 * (m.modelAreaMm2 - m.measuredAreaMm2) / m.measuredAreaMm2;
+  j["projected_area_mm2"] = m.projectedAreaMm2;
+  j["silhouette_area_mm2"] = m.silhouetteAreaMm2;
+  j["curl"] = toString(m.curl);
+  j["amplitude_mm"] = m.amplitudeMm;
+  j["in_plane_scale"] = m.inPlaneScale;
+  j["candidates"] = json::array();
+  for (const auto& c : m.candidates) {
+    j["candidates"].push_back({{"curl", toString(c.kind)},
+                               {"in_plane_scale", c.inPlaneScale},
+                               {"area_mm2", c.areaMm2},
+                               {"projected_area_mm2", c.projectedAreaMm2}});
+  }
+  j["vertices"] = m.mesh.positions.size();
+  j["triangles"] = m.mesh.triangles.size();
+  return j.dump();
+}
+
+}  // namespace leafdig::model

@@ -1,0 +1,259 @@
+// 2-D leaves (seed 001): outlines, scans, curl, Laplacian deformation, area constraint.
+#include "leafdig/model/leaf2d.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/leaf_scan.hpp"
+#include "leafdig/model/metrics.hpp"
+
+namespace m = leafdig::model;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<Eigen::Vector2d> ellipse(double a, double b, int n, Eigen::Vector2d centre = {0, 0}) {
+  std::vector<Eigen::Vector2d> out;
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * i / n;
+    out.push_back(centre + Eigen::Vector2d(a * std::cos(t), b * std::sin(t)));
+  }
+  return out;
+}
+
+// The polygon inscribed in an ellipse has area (n/2) a b sin(2 pi / n).
+double inscribedArea(double a, double b, int n) {
+  return n / 2.0 * a * b * std::sin(2 * M_PI / n);
+}
+
+fs::path tempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("leafdig-leaf2d-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(Outline, ReadsJsonAndCsvAndNamesWhatIsWrong) {
+  const m::Outline2d j = m::parseOutlineJson(
+      R"({"format": "leafdig.outline/1", "units": "mm", "id": "L1", "measured_area_mm2": 100,
+          "points": [[0,0],[10,0],[10,10],[0,10],[0,9],[0,8],[0,7],[0,6],[0,0]], "base": [5, 0]})",
+      "a.json");
+  EXPECT_EQ(j.pointsMm.size(), 8u);  // the closing repeat is dropped
+  EXPECT_DOUBLE_EQ(m::polygonArea(j.pointsMm), 100.0);
+  ASSERT_TRUE(j.baseMm);
+  EXPECT_EQ(*j.measuredAreaMm2, 100.0);
+  const m::Outline2d c =
+      m::parseOutlineCsv("# a square\nx_mm,y_mm\n0,0\n10,0\n10,10\n0,10\n0,9\n0,8\n0,7\n0,6\n", "a.csv");
+  EXPECT_EQ(c.pointsMm.size(), 8u);
+
+  auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const m::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message([] {
+              (void)m::parseOutlineJson(R"({"format": "leafdig.outline/1", "units": "px", "points": []})", "p.json");
+            }).find("convert the points to millimetres"),
+            std::string::npos);
+  EXPECT_NE(message([] { (void)m::parseOutlineCsv("x_px,y_px\n0,0\n", "p.csv"); }).find("does not say millimetres"),
+            std::string::npos);
+  EXPECT_NE(message([] { (void)m::parseOutlineCsv("0,0\n1,0\n1,1\n", "few.csv"); }).find("at least 8"),
+            std::string::npos);
+  EXPECT_NE(message([] { (void)m::parseOutlineCsv("0,0\n1,zero\n", "bad.csv"); }).find("bad.csv:2: column 2"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              (void)m::parseOutlineJson(R"({"format": "leafdig.outline/1", "units": "mm", "base": [50, 50],
+                 "points": [[0,0],[10,0],[10,10],[0,10],[0,9],[0,8],[0,7],[0,6]]})",
+                                        "b.json");
+            }).find("the base (50, 50) is"),
+            std::string::npos);
+}
+
+TEST(Outline, BaseAndTipAreTheFarthestPairWithTheTipAtTheNarrowEnd) {
+  // An egg: wide at x = -40 (base), pointed towards x = +60 (tip).
+  m::Outline2d o;
+  for (int i = 0; i < 400; ++i) {
+    const double t = 2 * M_PI * i / 400;
+    const double x = std::cos(t);
+    o.pointsMm.emplace_back(x > 0 ? 60 * x : 40 * x, 30 * std::sin(t) * (x > 0 ? 1 - 0.5 * x : 1.0));
+  }
+  const auto [base, tip] = m::findBaseAndTip(o);
+  EXPECT_NEAR(base.x(), -40, 0.5);
+  EXPECT_NEAR(tip.x(), 60, 0.5);
+}
+
+TEST(Curl, TheMarginHeightsAreTheSeedsFivePoints) {
+  const std::array<double, 5> parabola{0, 0.75, 1, 0.75, 0};
+  const std::array<double, 5> sine{0, 1, 0, 1, 0};
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_NEAR(m::curlHeight(m::CurlKind::Parabola, i / 4.0), parabola[static_cast<std::size_t>(i)], 1e-12);
+    EXPECT_NEAR(m::curlHeight(m::CurlKind::Sine, i / 4.0), sine[static_cast<std::size_t>(i)], 1e-12);
+  }
+  EXPECT_EQ(m::curlHeight(m::CurlKind::None, 0.3), 0.0);
+  EXPECT_EQ(m::curlKindFromString("sine"), m::CurlKind::Sine);
+  EXPECT_THROW((void)m::curlKindFromString("helix"), m::InputError);
+}
+
+// A kite: centre c = (0, 0), A = (1, 0), B = (0, 2), C = (-1, 0), D = (0, -2), four
+// triangles around c. Cotangent weights by hand: edge c-A sees cot 2 at B and cot 2 at D
+// (w = 4), edge c-B sees cot 1/2 at A and at C (w = 1); the rim edges see the right angle at
+// c (cot 0). Normalised rows: c: z_c - (4 z_A + z_B + 4 z_C + z_D) / 10; each corner: z_i - z_c.
+// With the corners held at z = (1, 0, 0, 0) and the flat kite's sigma = 0 in z, the energy
+// (z_c - 0.4)^2 + (1 - z_c)^2 + 3 z_c^2 is least at 5 z_c = 0.4 + 1: z_c = 0.28 (the
+// harmonic value, from the centre's row alone, would be 0.4; uniform weights 0.25).
+TEST(LaplacianDeformation, MatchesTheHandSolvedKite) {
+  m::Mesh kite;
+  kite.positions = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {-1, 0, 0}, {0, -2, 0}};
+  kite.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
+  const auto out = m::laplacianDeform(kite, {{1, {1, 0, 1}}, {2, {0, 2, 0}}, {3, {-1, 0, 0}}, {4, {0, -2, 0}}});
+  EXPECT_NEAR(out[0].z(), 0.28, 1e-12);
+  EXPECT_NEAR(out[0].x(), 0.0, 1e-12);  // the in-plane differential coordinates are kept
+  EXPECT_NEAR(out[0].y(), 0.0, 1e-12);
+  EXPECT_EQ(out[1], Eigen::Vector3d(1, 0, 1));
+  // Nothing held: the mesh could float anywhere, and says so.
+  EXPECT_THROW((void)m::laplacianDeform(kite, {}), m::InputError);
+}
+
+TEST(Leaf2d, AnEllipseCurlsByTheChosenProfileAndKeepsItsMeasuredArea) {
+  const double a = 60;
+  const double b = 25;
+  m::Outline2d o;
+  o.pointsMm = ellipse(a, b, 720);
+  const double exact = inscribedArea(a, b, 720);
+  for (m::CurlKind kind : {m::CurlKind::Parabola, m::CurlKind::Sine, m::CurlKind::None}) {
+    m::Leaf2dOptions opt;
+    opt.curl = kind;
+    opt.amplitudeMm = 8;
+    const m::Leaf2dModel leaf = m::buildLeaf2d(o, opt);
+    EXPECT_NEAR(leaf.lengthMm, 2 * a, 1e-9);
+    EXPECT_NEAR(leaf.widthMm, 2 * b, 0.2);  // the widest of 28 sections
+    EXPECT_NEAR(leaf.outlineAreaMm2, exact, 1e-9 * exact);
+    EXPECT_NEAR(leaf.flatModelAreaMm2, exact, 0.005 * exact) << "flat bicubic leaf vs its outline";
+    // The area constraint: the curled leaf's surface area is the measured (outline) area.
+    EXPECT_NEAR(leaf.modelAreaMm2, exact, 1e-3 * exact);
+    EXPECT_NEAR(m::meshArea(leaf.mesh), leaf.measuredAreaMm2, 1e-8 * exact);
+    EXPECT_LE(leaf.projectedAreaMm2, leaf.modelAreaMm2 + 1e-9);
+    EXPECT_LE(leaf.silhouetteAreaMm2, leaf.modelAreaMm2 * 1.001);
+    // Curling takes the margin in: the in-plane scale is below 1 exactly when it curls.
+    if (kind == m::CurlKind::None) {
+      EXPECT_NEAR(leaf.inPlaneScale, std::sqrt(exact / leaf.flatModelAreaMm2), 1e-6);
+    } else {
+      EXPECT_LT(leaf.inPlaneScale, std::sqrt(exact / leaf.flatModelAreaMm2));
+    }
+    // The margin follows the profile: z = A h(t) at every margin vertex, base and tip at 0.
+    ASSERT_EQ(leaf.marginVertices.size(), leaf.marginT.size());
+    ASSERT_GT(leaf.marginVertices.size(), 100u);
+    for (std::size_t k = 0; k < leaf.marginVertices.size(); ++k) {
+      EXPECT_NEAR(leaf.mesh.positions[leaf.marginVertices[k]].z(), 8.0 * m::curlHeight(kind, leaf.marginT[k]), 1e-9);
+    }
+    // The leaf frame: base at the origin, tip on +Y.
+    EXPECT_NEAR(leaf.mesh.positions.back().norm(), 0.0, 1e-9);
+    EXPECT_NEAR(leaf.mesh.positions.front().y(), 2 * a * leaf.inPlaneScale, 1e-6);
+    // The interior follows smoothly: the least-squares energy over every vertex is not a
+    // maximum principle (it may overshoot the margin a little), but stays close to it.
+    for (const auto& p : leaf.mesh.positions) {
+      EXPECT_GE(p.z(), -0.05 * 8.0);
+      EXPECT_LE(p.z(), 1.05 * 8.0);
+    }
+  }
+}
+
+TEST(Leaf2d, AutoPicksTheCurlThatCatchesMostLight) {
+  m::Outline2d o;
+  o.pointsMm = ellipse(50, 30, 400);
+  m::Leaf2dOptions opt;
+  opt.curl = m::CurlKind::Auto;
+  opt.light = {0.3, 0.2, 1.0};
+  const m::Leaf2dModel leaf = m::buildLeaf2d(o, opt);
+  ASSERT_EQ(leaf.candidates.size(), 2u);
+  const auto& best = leaf.candidates[0].projectedAreaMm2 >= leaf.candidates[1].projectedAreaMm2 ? leaf.candidates[0]
+                                                                                                : leaf.candidates[1];
+  EXPECT_EQ(leaf.curl, best.kind);
+  EXPECT_DOUBLE_EQ(leaf.projectedAreaMm2, best.projectedAreaMm2);
+  for (const auto& c : leaf.candidates) EXPECT_NEAR(c.areaMm2, leaf.measuredAreaMm2, 1e-6 * leaf.measuredAreaMm2);
+  EXPECT_NE(m::leaf2dToJson(leaf).find("\"candidates\""), std::string::npos);
+}
+
+TEST(LeafScan, AScannedEllipseOfKnownAreaAt300Dpi) {
+  const fs::path dir = tempDir("ellipse");
+  const double a = 45;
+  const double b = 28;
+  const int n = 4096;
+  m::renderScan({ellipse(a, b, n, {105, 148})}, {}, {210, 297}, 300, dir / "ellipse.png");
+  const m::LeafScan scan = m::scanLeaf(dir / "ellipse.png", {300, 3});
+  const double truth = inscribedArea(a, b, n);
+  EXPECT_NEAR(scan.areaMm2, truth, 0.002 * truth);
+  EXPECT_NEAR(scan.filledAreaMm2, truth, 0.002 * truth);
+  EXPECT_EQ(scan.holes, 0);
+  EXPECT_FALSE(scan.petioleFound);
+  EXPECT_FALSE(scan.touchesBorder);
+  EXPECT_EQ(scan.otherObjects, 0);
+  EXPECT_NEAR(m::polygonArea(scan.outline.pointsMm), truth, 0.01 * truth);  // through the boundary pixels' centres
+  const auto [base, tip] = m::findBaseAndTip(scan.outline);
+  EXPECT_NEAR((tip - base).norm(), 2 * a, 0.3);
+  EXPECT_NEAR(std::abs(tip.y() - 148), 0.0, 2.0);  // the ends are flat: pixels tie within ~1 mm
+  fs::remove_all(dir);
+}
+
+TEST(LeafScan, HolesAreNotTissueAndThePetioleIsFoundAndSetApart) {
+  const fs::path dir = tempDir("petiole");
+  const double a = 40;
+  const double b = 25;
+  const Eigen::Vector2d c(100, 120);
+  // A 2 mm wide, 30 mm long petiole from the ellipse's left end; a 6 mm round hole.
+  const std::vector<Eigen::Vector2d> petiole{
+      {c.x() - a - 30, c.y() - 1}, {c.x() - a + 2, c.y() - 1}, {c.x() - a + 2, c.y() + 1}, {c.x() - a - 30, c.y() + 1}};
+  const auto hole = ellipse(3, 3, 256, {c.x() + 10, c.y() + 5});
+  m::renderScan({ellipse(a, b, 2048, c), petiole}, {hole}, {210, 297}, 300, dir / "leaf.png");
+  const m::LeafScan scan = m::scanLeaf(dir / "leaf.png", {300, 3});
+  const double blade = inscribedArea(a, b, 2048);
+  ASSERT_TRUE(scan.petioleFound);
+  EXPECT_NEAR(scan.petioleAreaMm2, 60.0, 6.0);  // 2 x 30 mm outside the blade
+  EXPECT_EQ(scan.holes, 1);
+  EXPECT_NEAR(scan.holesAreaMm2, M_PI * 9, 0.05 * M_PI * 9);
+  EXPECT_NEAR(scan.filledAreaMm2, blade, 0.004 * blade);
+  EXPECT_NEAR(scan.areaMm2, blade - M_PI * 9, 0.004 * blade);
+  ASSERT_TRUE(scan.outline.baseMm);
+  EXPECT_NEAR((*scan.outline.baseMm - Eigen::Vector2d(c.x() - a, c.y())).norm(), 0.0, 1.0);
+  // ... and the 2-D leaf built from it stands on that base with the blade's measured area.
+  const m::Leaf2dModel leaf = m::buildLeaf2d(scan.outline);
+  EXPECT_NEAR(leaf.lengthMm, 2 * a, 1.0);
+  EXPECT_NEAR(leaf.modelAreaMm2, scan.filledAreaMm2, 1e-6 * blade);
+  fs::remove_all(dir);
+}
+
+TEST(LeafScan, NamesWhatIsWrongWithTheImage) {
+  const fs::path dir = tempDir("bad");
+  auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const m::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  m::renderScan({}, {}, {50, 50}, 100, dir / "blank.png");
+  EXPECT_NE(message([&] { (void)m::scanLeaf(dir / "blank.png", {100, 3}); }).find("nearly uniform"), std::string::npos);
+  EXPECT_NE(message([&] { (void)m::scanLeaf(dir / "blank.png", {0, 3}); }).find("give --dpi"), std::string::npos);
+  m::writeFileAtomically(dir / "not.png", "this is not an image");
+  EXPECT_NE(message([&] { (void)m::scanLeaf(dir / "not.png", {300, 3}); }).find("cannot decode"), std::string::npos);
+  EXPECT_NE(message([&] {
+              (void)m::scanLeaf(dir / "missing.png", {300, 3});
+            }).find("no such image"),
+            std::string::npos);
+  // Only dust: nothing as large as a leaf.
+  m::renderScan({ellipse(1, 1, 64, {25, 25})}, {}, {50, 50}, 300, dir / "dust.png");
+  EXPECT_NE(message([&] { (void)m::scanLeaf(dir / "dust.png", {300, 3}); }).find("no leaf found"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+}  // namespace
