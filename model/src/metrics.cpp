@@ -139,8 +139,10 @@ std::vector<LeafWarning> captureWarnings(const MarkerSet& markers) {
     std::ostringstream msg;
     msg << std::fixed << std::setprecision(0) << "the last row (row " << n << ") is " << 100.0 * last / widest
         << " % as wide as the widest (row " << widestRow + 1
-        << "): it was not at the leaf base, where the blade meets the stem or petiole. The model ends at row " << n
-        << " and its area falls short of the whole leaf's; capture the leaf again with the last row at the base.";
+        << "): either it was not at the leaf base, where the blade meets the stem or petiole, or the base is broad "
+           "(winged or cordate) and its lowest veins meet the margin far up. The model ends at row "
+        << n << "'s veins and its area falls short of the whole leaf's; if the row was not at the base, capture the "
+        << "leaf again with it there.";
     out.push_back({"last-row-not-at-base", msg.str()});
   }
   return out;

@@ -25,9 +25,12 @@ void LeafSchematic::show(const acq::Snapshot& s) {
 QPointF LeafSchematic::at(int row, int col) const {
   // Leaf outline: half-width w(u) = sin(pi u)^0.8 over u in [0, 1] from the tip to the base.
   const double top = 24, bottom = height() - 30.0;
-  const double u = static_cast<double>(row) / (rows_ + 1);
+  // While rows are being taken there is room for the next below the last; once they are
+  // ended the last row sits at the base, where the protocol puts it.
+  const bool ended = has_ && (snapshot_.rowsEnded || snapshot_.complete);
+  const double u = static_cast<double>(row) / (ended ? rows_ : rows_ + 1);
   const double y = top + u * (bottom - top);
-  const double half = 0.42 * width() * std::pow(std::sin(M_PI * std::min(u, 0.98)), 0.8);
+  const double half = 0.42 * width() * std::pow(std::sin(M_PI * std::min(u, 0.93)), 0.8);
   // col 1 = right margin … 4 = midrib … 7 = left margin (seen from the top: right is right).
   const double x = width() / 2.0 + half * (4 - col) / 3.0;
   return {x, y};
@@ -70,6 +73,19 @@ void LeafSchematic::paintEvent(QPaintEvent*) {
   for (int r = 1; r <= rows_; ++r) {
     p.drawLine(at(r, 4), at(r - 1, 2) * 0.5 + at(r, 2) * 0.5);
     p.drawLine(at(r, 4), at(r - 1, 6) * 0.5 + at(r, 6) * 0.5);
+  }
+  // The leaf base, where the blade meets the petiole: the protocol's last row goes there.
+  {
+    const QPointF base(width() / 2.0, height() - 30.0);
+    p.setPen(QPen(QColor(120, 100, 50), 1.5, Qt::DashLine));
+    p.drawLine(base - QPointF(0.18 * width(), 0), base + QPointF(0.18 * width(), 0));
+    QFont small = font();
+    small.setPointSizeF(small.pointSizeF() * 0.85);
+    p.setFont(small);
+    p.setPen(palette().color(QPalette::WindowText));
+    p.drawText(QRectF(base.x() + 6, base.y() + 2, width() / 2.0 - 8, 20), Qt::AlignLeft | Qt::AlignTop,
+               tr("base: last row"));
+    p.setFont(font());
   }
   target_ = {};
   if (!has_) return;

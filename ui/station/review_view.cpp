@@ -12,6 +12,7 @@
 #include <QLineSeries>
 #include <QPushButton>
 #include <QScatterSeries>
+#include <QScrollArea>
 #include <QScrollBar>
 #include <QSplitter>
 #include <QVBoxLayout>
@@ -141,9 +142,17 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
   chart_ = new QChartView(right);
   chart_->setRenderHint(QPainter::Antialiasing);
   chart_->setMinimumHeight(240);
-  metrics_ = new QLabel(right);
+  metrics_ = new QLabel;
   metrics_->setWordWrap(true);
+  metrics_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
   metrics_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  // The metrics grow (interval, constraint, warnings): they scroll rather than push the
+  // chart and the flags under each other on a 768-pixel screen.
+  auto* metricsScroll = new QScrollArea(right);
+  metricsScroll->setWidget(metrics_);
+  metricsScroll->setWidgetResizable(true);
+  metricsScroll->setFrameShape(QFrame::NoFrame);
+  metricsScroll->setMinimumHeight(70);
   flags_ = new QListWidget(right);
   connect(flags_, &QListWidget::itemClicked, this, [this](QListWidgetItem* it) {
     const auto what = acq::whatFromString(it->data(Qt::UserRole).toString().toStdString());
@@ -174,9 +183,9 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
     if (d.exec() == QDialog::Accepted) d.run(dbPath_);
   });
   for (auto* b : {correctB, approveB, rejectB, exportB}) actions->addWidget(b);
-  flags_->setMinimumHeight(60);
+  flags_->setMinimumHeight(40);
   rl->addWidget(chart_, 3);
-  rl->addWidget(metrics_);
+  rl->addWidget(metricsScroll, 2);
   rl->addWidget(new QLabel(tr("Flags")));
   rl->addWidget(flags_, 1);
   rl->addLayout(actions);

@@ -98,8 +98,9 @@ struct LeafWarning {
 // The protocol's last row is at the leaf base, where the blade meets the stem or petiole, and
 // the blade ends there (docs/decisions.md). At the base the blade narrows: the last row's
 // width (P_N1 to P_N7) is 22–49 % of the widest row's on the synthetic leaves of every shape.
-// A last row at least 60 % as wide as the widest was not at the base: the model ends short of
-// the leaf and its area falls short of a leaf area meter's.
+// A last row at least 60 % as wide as the widest was either not at the base, or the base is
+// broad (winged, cordate) and its lowest veins meet the margin far up: either way the model
+// ends short of the leaf and its area falls short of a leaf area meter's.
 inline constexpr double kBaseRowWidthWarningRatio = 0.6;
 [[nodiscard]] std::vector<LeafWarning> captureWarnings(const MarkerSet& markers);
 
