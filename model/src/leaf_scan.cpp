@@ -2,6 +2,7 @@
 #include "leafdig/model/leaf_scan.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <opencv2/core.hpp>
@@ -279,8 +280,14 @@ void renderScan(const std::vector<std::vector<Eigen::Vector2d>>& leafPolygons,
     cv::Mat roi = image(box);
     coverage.convertTo(roi, CV_8U, -195.0 / 255.0, 255.0);
   }
+  std::string ext = png.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext != ".png" && ext != ".tif" && ext != ".tiff") {
+    throw InputError(png.string() + ": a synthetic scan is written as .png or .tif");
+  }
   std::vector<std::uint8_t> bytes;
-  if (!cv::imencode(".png", image, bytes)) throw IoError(png.string() + ": PNG encoding failed");
+  if (!cv::imencode(ext, image, bytes)) throw IoError(png.string() + ": " + ext + " encoding failed");
   writeFileAtomically(png, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 

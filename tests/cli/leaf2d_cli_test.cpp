@@ -36,6 +36,12 @@ TEST_F(Leaf2dCli, AScanOfKnownAreaGivesItsAreaAndAnOutlineTheSchemaAccepts) {
   const json o = json::parse(slurp(outline));
   EXPECT_EQ(o["units"], "mm");
   EXPECT_NEAR(o["measured_area_mm2"].get<double>(), exact, 0.002 * exact);
+  // The same leaf as a TIFF, as many flatbed scanners write.
+  const fs::path tif = dir_ / "elliptic.tif";
+  makeScan(tif, "--shape elliptic --length 180 --serration round --teeth 16");
+  const Result t = leafdig("leaf2d scan " + quote(tif) + " --dpi 300 --json");
+  ASSERT_EQ(t.exitCode, 0) << t.err;
+  EXPECT_NEAR(json::parse(t.out)["area_mm2"].get<double>(), s["area_mm2"].get<double>(), 1e-6);
 }
 
 TEST_F(Leaf2dCli, BuildsACurledLeafFromAScanWithAPetioleAndItsExportsOpenElsewhere) {

@@ -177,7 +177,7 @@ void addSynthCommands(CLI::App& app, SynthOptions& o) {
   addSynthChoice(*scan, o.choice, "");
   scan->add_option("--dpi", o.dpi, "Scan resolution, dots per inch (default 300)")->check(CLI::Range(10.0, 2400.0));
   scan->add_option("--petiole-length", o.petioleLengthMm, "Draw a 2.5 mm wide petiole this long at the base, mm");
-  scan->add_option("-o,--output", o.scan, "PNG file to write")->required();
+  scan->add_option("-o,--output", o.scan, "Image to write: .png or .tif")->required();
   scan->add_option("--truth", o.truth, "Write the truth here (exact flat blade area, base, tip, page)");
   scan->add_flag("--json", o.json, "Print the truth as JSON");
   CLI::App* figure = synth->add_subcommand("figure", "Draw every shape and serration (docs/synthetic-shapes.svg)");
@@ -196,8 +196,12 @@ namespace {
 int runScan(const SynthOptions& o) {
   const m::SyntheticLeaf leaf(synthSpecFrom(o.choice));
   if (!(o.petioleLengthMm >= 0.0)) throw m::InputError("--petiole-length must be >= 0 mm");
-  if (std::filesystem::path(o.scan).extension() != ".png")
-    throw m::InputError("-o " + o.scan + ": the scan is written as .png");
+  {
+    const std::string ext = std::filesystem::path(o.scan).extension().string();
+    if (ext != ".png" && ext != ".tif" && ext != ".tiff") {
+      throw m::InputError("-o " + o.scan + ": the scan is written as .png or .tif");
+    }
+  }
   constexpr int kPerSide = 2000;
   std::vector<Eigen::Vector2d> outline = leaf.outline(kPerSide);  // right half base to tip, then left
   const Eigen::Vector2d base0 = outline.front();

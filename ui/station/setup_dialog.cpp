@@ -2,13 +2,16 @@
 
 #include <QDialogButtonBox>
 #include <QDoubleValidator>
+#include <QFileDialog>
 #include <QFormLayout>
 #include <QHBoxLayout>
+#include <QInputDialog>
 #include <QPushButton>
 #include <QVBoxLayout>
 #include <set>
 
 #include "leafdig/acquisition/device_set.hpp"
+#include "leafdig/model/leaf_scan.hpp"
 
 namespace leafdig::station {
 namespace acq = leafdig::acquisition;
@@ -132,7 +135,25 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   form->addRow(tr("Mode"), mode_);
   form->addRow(tr("Order"), order_);
   form->addRow(tr("Operator"), operator_);
-  form->addRow(tr("Measured leaf area"), area_);
+  // The area may come from a scan of the leaf, segmented as `leafdig leaf2d scan` does.
+  auto* fromScan = new QPushButton(tr("From a scan…"));
+  fromScan->setToolTip(tr("Read the blade area (holes filled, petiole set apart) from a scan of this leaf"));
+  connect(fromScan, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, tr("Scan of the leaf"), QString(),
+                                                      tr("Images (*.png *.tif *.tiff *.jpg *.jpeg *.bmp)"));
+    if (path.isEmpty()) return;
+    bool ok = false;
+    const double dpi =
+        QInputDialog::getDouble(this, tr("Scan resolution"), tr("Dots per inch, as set in the scanner's software:"),
+                                300.0, 10.0, 4800.0, 0, &ok);
+    if (!ok) return;
+    QString problem;
+    if (!areaFromScan(path, dpi, &problem)) problem_->setText(problem);
+  });
+  auto* areaRow = new QHBoxLayout;
+  areaRow->addWidget(area_, 1);
+  areaRow->addWidget(fromScan);
+  form->addRow(tr("Measured leaf area"), areaRow);
   form->addRow(QString(), board_);
   form->addRow(tr("Digitizer"), digitizer_);
   form->addRow(tr("Caliper"), caliper_);
@@ -148,6 +169,23 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   outer->addLayout(devicesRow);
   outer->addWidget(problem_);
   outer->addWidget(buttons);
+}
+
+bool SetupDialog::areaFromScan(const QString& path, double dpi, QString* problem) {
+  try {
+    const model::LeafScan scan = model::scanLeaf(path.toStdString(), {dpi});
+    area_->setText(QString::number(scan.filledAreaMm2 / 100.0, 'f', 2));
+    QString note = tr("Area from %1: %2 cm² (blade, holes filled").arg(path).arg(scan.filledAreaMm2 / 100.0, 0, 'f', 2);
+    if (scan.petioleFound) note += tr("; petiole set apart");
+    note += ")";
+    if (scan.touchesBorder) note += tr(" — the leaf touches the scan's edge; it may be cut off");
+    area_->setToolTip(note);
+    problem_->clear();
+    return true;
+  } catch (const std::exception& e) {
+    if (problem) *problem = tr("Scan: %1").arg(QString::fromStdString(e.what()));
+    return false;
+  }
 }
 
 void SetupDialog::rescan(const devices::Inventory& inventory) {

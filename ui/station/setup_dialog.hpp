@@ -40,6 +40,10 @@ class SetupDialog : public QDialog {
   // Validated choice (call after exec() returned Accepted), or the problem in words.
   [[nodiscard]] std::optional<SetupChoice> choice(QString* problem = nullptr) const;
   void rescan(const devices::Inventory& inventory);
+  // Fills the measured area (cm²) from a scan of the leaf at `dpi` (the blade's area with its
+  // holes filled and the petiole set apart, as `leafdig leaf2d scan` reports it); false and
+  // the problem in words when the scan cannot be read.
+  bool areaFromScan(const QString& path, double dpi, QString* problem = nullptr);
 
   // For tests: the widgets.
   QComboBox* project() const { return project_; }

@@ -31,6 +31,7 @@
 #include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/model/leaf_scan.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "mesh_choice.hpp"
 #include "plant_view.hpp"
@@ -281,6 +282,26 @@ TEST(SetupDialog, ChoicesComeFromTheRegistryAndBadEntriesAreNamed) {
   EXPECT_EQ(c->setup.leafPosition, 5);
   EXPECT_EQ(c->setup.leafType, "upper");
   EXPECT_DOUBLE_EQ(*c->setup.measuredAreaMm2, 51250.0);  // cm² → mm²
+  // ... or from a scan of the leaf: a 60 x 40 mm ellipse at 300 DPI, 1885 mm² (18.85 cm²).
+  {
+    const auto scan =
+        std::filesystem::temp_directory_path() / ("leafdig-setup-scan-" + std::to_string(::getpid()) + ".png");
+    std::vector<Eigen::Vector2d> ellipse;
+    for (int i = 0; i < 1024; ++i) {
+      const double t = 2 * M_PI * i / 1024;
+      ellipse.emplace_back(50 + 30 * std::cos(t), 40 + 20 * std::sin(t));
+    }
+    leafdig::model::renderScan({ellipse}, {}, {100, 80}, 300, scan);
+    QString scanProblem;
+    ASSERT_TRUE(d.areaFromScan(QString::fromStdString(scan.string()), 300, &scanProblem)) << scanProblem.toStdString();
+    const auto fromScan = d.choice(&problem);
+    ASSERT_TRUE(fromScan.has_value()) << problem.toStdString();
+    EXPECT_NEAR(*fromScan->setup.measuredAreaMm2, 1024 / 2.0 * 30 * 20 * std::sin(2 * M_PI / 1024), 0.01 * 1885);
+    EXPECT_FALSE(d.areaFromScan("/nonexistent/scan.png", 300, &scanProblem));
+    EXPECT_TRUE(scanProblem.contains("no such image")) << scanProblem.toStdString();
+    std::filesystem::remove(scan);
+    d.measuredArea()->setText("512.5");
+  }
   EXPECT_EQ(c->setup.settings.mode, acq::Mode::Full);
   EXPECT_EQ(c->setup.settings.order, acq::Order::Interleaved);
   EXPECT_TRUE(c->setup.settings.boardFrame);

@@ -46,7 +46,8 @@ struct LeafScan {
 
 // A synthetic scan: white page of the given size (mm) at `dpi`, the polygons (mm, origin at the
 // page's lower left, y up) filled in a leaf's grey with anti-aliased edges, then `holes`
-// filled white again. Written as an 8-bit grey PNG. For ground truth and tests.
+// filled white again. Written as an 8-bit grey PNG or TIFF (by the extension, .png .tif
+// .tiff; else InputError). For ground truth and tests.
 void renderScan(const std::vector<std::vector<Eigen::Vector2d>>& leafPolygons,
                 const std::vector<std::vector<Eigen::Vector2d>>& holes, const Eigen::Vector2d& pageMm, double dpi,
                 const std::filesystem::path& png);
