@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -650,6 +651,16 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
   model.marginT = flat.marginT;
   model.outlineAreaMm2 = polygonArea(outline.pointsMm);
   model.flatModelAreaMm2 = meshArea(flat.mesh);
+  if (const double d = model.flatModelAreaMm2 / model.outlineAreaMm2 - 1.0; std::abs(d) > 0.02) {
+    std::ostringstream msg;
+    msg << std::fixed << std::setprecision(1) << "the flat B-spline leaf is " << std::abs(100.0 * d) << " % "
+        << (d > 0 ? "larger" : "smaller") << " than the outline: "
+        << (d > 0 ? "its sections span a sinus or deep lobes (a cordate base, a lobed margin) that the leaf does not "
+                    "have, and the area constraint draws the whole leaf in to compensate"
+                  : "the outline has detail the sections miss; raise --rows")
+        << ".";
+    model.warnings.emplace_back("flat-leaf-differs-from-outline", msg.str());
+  }
   model.measuredAreaMm2 = o.measuredAreaMm2         ? *o.measuredAreaMm2
                           : outline.measuredAreaMm2 ? *outline.measuredAreaMm2
                                                     : model.outlineAreaMm2;
@@ -715,6 +726,8 @@ std::string leaf2dToJson(const Leaf2dModel& m) {
                                {"area_mm2", c.areaMm2},
                                {"projected_area_mm2", c.projectedAreaMm2}});
   }
+  j["warnings"] = json::array();
+  for (const auto& [name, message] : m.warnings) j["warnings"].push_back({{"name", name}, {"message", message}});
   j["vertices"] = m.mesh.positions.size();
   j["triangles"] = m.mesh.triangles.size();
   return j.dump();

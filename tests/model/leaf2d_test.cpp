@@ -167,6 +167,27 @@ TEST(Leaf2d, AnEllipseCurlsByTheChosenProfileAndKeepsItsMeasuredArea) {
   }
 }
 
+TEST(Leaf2d, AHeartShapedLeafIsBuiltAndItsFilledSinusNamed) {
+  // A cordate leaf: the sections across the midrib span the basal sinus.
+  m::Outline2d o;
+  for (int i = 0; i < 400; ++i) {
+    const double t = 2 * M_PI * i / 400;
+    o.pointsMm.emplace_back(48 * std::pow(std::sin(t), 3),
+                            3 * (13 * std::cos(t) - 5 * std::cos(2 * t) - 2 * std::cos(3 * t) - std::cos(4 * t)));
+  }
+  o.baseMm = Eigen::Vector2d(0, 15);
+  const m::Leaf2dModel leaf = m::buildLeaf2d(o);
+  EXPECT_GT(leaf.flatModelAreaMm2, 1.02 * leaf.outlineAreaMm2);
+  ASSERT_EQ(leaf.warnings.size(), 1u);
+  EXPECT_EQ(leaf.warnings[0].first, "flat-leaf-differs-from-outline");
+  EXPECT_NE(leaf.warnings[0].second.find("sinus"), std::string::npos);
+  EXPECT_NEAR(leaf.modelAreaMm2, leaf.outlineAreaMm2, 1e-6 * leaf.outlineAreaMm2);  // still held
+  // An ellipse has nothing to fill: no warning.
+  m::Outline2d e;
+  e.pointsMm = ellipse(50, 30, 400);
+  EXPECT_TRUE(m::buildLeaf2d(e).warnings.empty());
+}
+
 TEST(Leaf2d, AutoPicksTheCurlThatCatchesMostLight) {
   m::Outline2d o;
   o.pointsMm = ellipse(50, 30, 400);

@@ -203,6 +203,7 @@ int runBuild(const Leaf2dCommandOptions& o) {
             << leaf.silhouetteAreaMm2 << " mm^2\n"
             << "  " << leaf.mesh.triangles.size() << " triangles, built in " << std::setprecision(1) << buildMs
             << " ms\n";
+  for (const auto& [name, message] : leaf.warnings) std::cout << "  warning (" << name << "): " << message << "\n";
   for (const auto& [path, bytes] : files) std::cout << "  wrote " << path << "\n";
   return 0;
 }

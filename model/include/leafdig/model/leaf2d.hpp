@@ -102,6 +102,10 @@ struct Leaf2dModel {
   std::vector<double> marginT;                // their t (arc length on the flat margin, 0 at the base)
   Eigen::Vector2d baseMm;                     // in the outline's coordinates
   Eigen::Vector2d tipMm;
+  // Named warnings, e.g. "flat-leaf-differs-from-outline" when the sections' B-spline leaf
+  // and the outline differ by more than 2 % in area (a cordate base or deep lobes, filled
+  // across: the area constraint then draws the whole leaf in).
+  std::vector<std::pair<std::string, std::string>> warnings;
 };
 
 // Throws InputError for a degenerate outline or options out of range (rows < 6, amplitude < 0).
