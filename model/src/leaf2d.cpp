@@ -469,8 +469,8 @@ void computeNormals(Mesh& mesh) {
   for (auto& n : mesh.normals) n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
 }
 
-// The in-plane factor s with area(s x, s y, z) = target (area grows with s): bracketed
-// regula falsi (Illinois), to 1e-10 relative.
+// The in-plane factor s with area(s x, s y, z) = target (area grows with s from 0 at s = 0,
+// so a root always exists): bracketed regula falsi (Illinois), to 1e-10 relative.
 double constrainArea(const Mesh& mesh, double target) {
   auto f = [&](double s) { return trianglesArea(mesh.positions, mesh.triangles, s) - target; };
   double lo = 0.0;
@@ -484,10 +484,7 @@ double constrainArea(const Mesh& mesh, double target) {
     fhi = f(hi);
     if (hi > 1e6) throw InputError("the area constraint cannot be met: the measured area is far above the model's");
   }
-  if (flo > 0.0)
-    throw InputError(
-        "the area constraint cannot be met: the curl alone makes the leaf larger than its measured area; lower "
-        "--amplitude");
+  // f(0) = -target: at s = 0 every vertex lies on the Z axis, the surface has no area.
   int side = 0;
   double s = hi;
   for (int it = 0; it < 100; ++it) {
@@ -700,6 +697,13 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
   }
   model.mesh = std::move(*best);
   model.silhouetteAreaMm2 = silhouetteArea({&model.mesh}, light);
+  if (model.inPlaneScale < 0.9 && model.curl != CurlKind::None) {
+    std::ostringstream msg;
+    msg << std::fixed << std::setprecision(1) << "holding the measured area drew the leaf in to "
+        << 100.0 * model.inPlaneScale << " % of its outline: an amplitude of " << model.amplitudeMm
+        << " mm is large for a leaf " << model.widthMm << " mm wide; check --amplitude";
+    model.warnings.emplace_back("curl-draws-leaf-in", msg.str());
+  }
   return model;
 }
 

@@ -186,6 +186,14 @@ TEST(Leaf2d, AHeartShapedLeafIsBuiltAndItsFilledSinusNamed) {
   m::Outline2d e;
   e.pointsMm = ellipse(50, 30, 400);
   EXPECT_TRUE(m::buildLeaf2d(e).warnings.empty());
+  // ... unless its curl is far too tall for it: the area still holds, the leaf is drawn in.
+  m::Leaf2dOptions tall;
+  tall.amplitudeMm = 60;
+  const m::Leaf2dModel drawnIn = m::buildLeaf2d(e, tall);
+  EXPECT_LT(drawnIn.inPlaneScale, 0.9);
+  EXPECT_NEAR(drawnIn.modelAreaMm2, drawnIn.outlineAreaMm2, 1e-6 * drawnIn.outlineAreaMm2);
+  ASSERT_EQ(drawnIn.warnings.size(), 1u);
+  EXPECT_EQ(drawnIn.warnings[0].first, "curl-draws-leaf-in");
 }
 
 TEST(Leaf2d, AutoPicksTheCurlThatCatchesMostLight) {
