@@ -320,11 +320,6 @@ class BladeDomain {
   std::vector<std::vector<double>> cells_;
 };
 
-Eigen::Vector3d safeUnit(const Eigen::Vector3d& v, const Eigen::Vector3d& fallback) {
-  const double n = v.norm();
-  return n > 1e-12 ? Eigen::Vector3d(v / n) : fallback;
-}
-
 // Lifts planar triangulations of the scaled (u, v) domain onto the blade. Points with the
 // same (u, v) become one vertex, and so does the whole tip row when the surface collapses
 // there; triangles are turned to face the adaxial side (S_v x S_u, as meshBlade) and
@@ -365,16 +360,7 @@ Mesh liftOntoBlade(const BladeSurface& blade, const BladeDomain& domain,
       mesh.triangles.push_back({a, b, c});
     }
   }
-  mesh.normals.assign(mesh.positions.size(), Eigen::Vector3d::Zero());
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& t : mesh.triangles) {
-    const Eigen::Vector3d n =
-        (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
-    for (std::uint32_t v : t) mesh.normals[v] += n;
-    mean += n;
-  }
-  const Eigen::Vector3d fallback = safeUnit(mean, Eigen::Vector3d::UnitZ());
-  for (auto& n : mesh.normals) n = safeUnit(n, fallback);
+  setAreaWeightedNormals(mesh);
   return mesh;
 }
 

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
@@ -184,9 +185,7 @@ Outline2d parseOutlineCsv(const std::string& text, const std::string& source) {
 }
 
 Outline2d readOutlineFile(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = lowerExtension(path);
   if (ext != ".json" && ext != ".csv") {
     throw InputError(path.string() + ": an outline is a .json (" + kOutlineFormat +
                      ") or .csv (x_mm,y_mm) file; a scan is a .png, .tif or .jpg image given with --dpi");
@@ -318,12 +317,29 @@ std::array<double, 5> curlFeatureHeights(CurlKind kind) {
   throw std::invalid_argument("curlFeatureHeights: Auto is a choice, not a profile");
 }
 
-double curlHeight(CurlKind kind, double t) {
+namespace {
+
+// The natural cubic spline through a curl's five heights, built once per kind.
+BSplineCurve profileCurve(CurlKind kind) {
   const std::array<double, 5> h = curlFeatureHeights(kind);
   Eigen::MatrixXd values(5, 1);
   for (int i = 0; i < 5; ++i) values(i, 0) = h[static_cast<std::size_t>(i)];
-  static const std::vector<double> params{0.0, 0.25, 0.5, 0.75, 1.0};
-  return interpolateNaturalCubic(params, values).evaluate(std::clamp(t, 0.0, 1.0))[0];
+  return interpolateNaturalCubic({0.0, 0.25, 0.5, 0.75, 1.0}, values);
+}
+
+}  // namespace
+
+double curlHeight(CurlKind kind, double t) {
+  static const BSplineCurve parabola = profileCurve(CurlKind::Parabola);
+  static const BSplineCurve sine = profileCurve(CurlKind::Sine);
+  t = std::clamp(t, 0.0, 1.0);
+  switch (kind) {
+    case CurlKind::None: return 0.0;
+    case CurlKind::Parabola: return parabola.evaluate(t)[0];
+    case CurlKind::Sine: return sine.evaluate(t)[0];
+    case CurlKind::Auto: break;
+  }
+  throw std::invalid_argument("curlHeight: Auto is a choice, not a profile");
 }
 
 // ---------------------------------------------------------------------------- Laplacian
@@ -457,16 +473,6 @@ double trianglesArea(const std::vector<Eigen::Vector3d>& p, const std::vector<st
     area += 0.5 * (b - a).cross(c - a).norm();
   }
   return area;
-}
-
-void computeNormals(Mesh& mesh) {
-  mesh.normals.assign(mesh.positions.size(), Eigen::Vector3d::Zero());
-  for (const auto& t : mesh.triangles) {
-    const Eigen::Vector3d n =
-        (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
-    for (std::uint32_t v : t) mesh.normals[v] += n;
-  }
-  for (auto& n : mesh.normals) n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
 }
 
 // The in-plane factor s with area(s x, s y, z) = target (area grows with s from 0 at s = 0,
@@ -656,7 +662,7 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
                     "have, and the area constraint draws the whole leaf in to compensate"
                   : "the outline has detail the sections miss; raise --rows")
         << ".";
-    model.warnings.emplace_back("flat-leaf-differs-from-outline", msg.str());
+    model.warnings.push_back({"flat-leaf-differs-from-outline", msg.str()});
   }
   model.measuredAreaMm2 = o.measuredAreaMm2         ? *o.measuredAreaMm2
                           : outline.measuredAreaMm2 ? *outline.measuredAreaMm2
@@ -684,7 +690,7 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
       p.x() *= s;
       p.y() *= s;
     }
-    computeNormals(mesh);
+    setAreaWeightedNormals(mesh);
     const CurlCandidate c{kind, s, meshArea(mesh), projectedArea(mesh, light)};
     model.candidates.push_back(c);
     if (!best || c.projectedAreaMm2 > model.projectedAreaMm2) {
@@ -702,7 +708,7 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
     msg << std::fixed << std::setprecision(1) << "holding the measured area drew the leaf in to "
         << 100.0 * model.inPlaneScale << " % of its outline: an amplitude of " << model.amplitudeMm
         << " mm is large for a leaf " << model.widthMm << " mm wide; check --amplitude";
-    model.warnings.emplace_back("curl-draws-leaf-in", msg.str());
+    model.warnings.push_back({"curl-draws-leaf-in", msg.str()});
   }
   return model;
 }
@@ -731,7 +737,7 @@ std::string leaf2dToJson(const Leaf2dModel& m) {
                                {"projected_area_mm2", c.projectedAreaMm2}});
   }
   j["warnings"] = json::array();
-  for (const auto& [name, message] : m.warnings) j["warnings"].push_back({{"name", name}, {"message", message}});
+  for (const LeafWarning& w : m.warnings) j["warnings"].push_back({{"name", w.name}, {"message", w.message}});
   j["vertices"] = m.mesh.positions.size();
   j["triangles"] = m.mesh.triangles.size();
   return j.dump();

@@ -155,7 +155,6 @@ LeafScan scanLeafPixels(const std::uint8_t* grey, int width, int height, std::si
         scan.petioleFound = true;
         const int petiolePixels = cv::countNonZero(petioleMask & leaf);
         scan.petioleAreaMm2 = petiolePixels * pixelArea;
-        scan.petioleLengthMm = cv::countNonZero(petioleMask) * pixelArea / std::max(options.petioleWidthMm, 1e-9) * 2.0;
         blade.setTo(0, petioleMask);
         blade = largestPart(blade);
         basePx = Eigen::Vector2d(m.m10 / m.m00, m.m01 / m.m00);
@@ -225,6 +224,10 @@ LeafScan scanLeaf(const std::filesystem::path& path, const ScanOptions& options)
 void renderScan(const std::vector<std::vector<Eigen::Vector2d>>& leafPolygons,
                 const std::vector<std::vector<Eigen::Vector2d>>& holes, const Eigen::Vector2d& pageMm, double dpi,
                 const std::filesystem::path& png) {
+  const std::string ext = lowerExtension(png);
+  if (ext != ".png" && ext != ".tif" && ext != ".tiff") {
+    throw InputError(png.string() + ": a synthetic scan is written as .png or .tif");
+  }
   if (!(dpi > 0.0)) throw InputError("renderScan: dpi must be positive");
   const double pixel = 25.4 / dpi;
   const int width = static_cast<int>(std::ceil(pageMm.x() / pixel));
@@ -279,12 +282,6 @@ void renderScan(const std::vector<std::vector<Eigen::Vector2d>>& leafPolygons,
     // Leaf grey 60 on white: grey = 255 - 195 x coverage.
     cv::Mat roi = image(box);
     coverage.convertTo(roi, CV_8U, -195.0 / 255.0, 255.0);
-  }
-  std::string ext = png.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext != ".png" && ext != ".tif" && ext != ".tiff") {
-    throw InputError(png.string() + ": a synthetic scan is written as .png or .tif");
   }
   std::vector<std::uint8_t> bytes;
   if (!cv::imencode(ext, image, bytes)) throw IoError(png.string() + ": " + ext + " encoding failed");

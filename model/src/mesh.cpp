@@ -187,7 +187,6 @@ Mesh meshBlade(const BladeSurface& blade, int segmentsPerRow, int segmentsAcross
   for (const auto& row : grid) {
     for (const auto& p : row) mesh.positions.push_back(p);
   }
-  mesh.normals.assign(mesh.positions.size(), Eigen::Vector3d::Zero());
   auto addIfNotDegenerate = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     const Eigen::Vector3d& pa = mesh.positions[a];
     const Eigen::Vector3d& pb = mesh.positions[b];
@@ -199,7 +198,6 @@ Mesh meshBlade(const BladeSurface& blade, int segmentsPerRow, int segmentsAcross
     const double longest2 = std::max({(pb - pa).squaredNorm(), (pc - pb).squaredNorm(), (pa - pc).squaredNorm()});
     if (n.norm() <= 1e-9 * longest2) return;
     mesh.triangles.push_back({a, b, c});
-    for (std::uint32_t v : {a, b, c}) mesh.normals[v] += n;  // area-weighted
   };
   for (std::uint32_t i = 0; i + 1 < us.size(); ++i) {
     for (std::uint32_t j = 0; j + 1 < nv; ++j) {
@@ -214,11 +212,21 @@ Mesh meshBlade(const BladeSurface& blade, int segmentsPerRow, int segmentsAcross
       ++mesh.quads;
     }
   }
+  setAreaWeightedNormals(mesh);
+  return mesh;
+}
+
+void setAreaWeightedNormals(Mesh& mesh) {
+  mesh.normals.assign(mesh.positions.size(), Eigen::Vector3d::Zero());
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& n : mesh.normals) mean += n;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d n =
+        (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    for (std::uint32_t v : t) mesh.normals[v] += n;  // |n| is twice the area: area-weighted
+    mean += n;
+  }
   const Eigen::Vector3d fallback = safeNormal(mean, Eigen::Vector3d::UnitZ());
   for (auto& n : mesh.normals) n = safeNormal(n, fallback);
-  return mesh;
 }
 
 LeafMesh meshLeaf(const LeafModel& model, const MeshResolution& res) {

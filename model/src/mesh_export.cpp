@@ -7,15 +7,14 @@
 #include <sstream>
 
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
 
 namespace leafdig::model {
 
 std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header);  // gltf_export.cpp
 
 MeshFormat meshFormatForPath(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = lowerExtension(path);
   if (ext == ".glb") return MeshFormat::Glb;
   if (ext == ".obj") return MeshFormat::Obj;
   if (ext == ".ply") return MeshFormat::Ply;

@@ -7,19 +7,10 @@
 #include <filesystem>
 
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
 #include "leafdig/model/mesh_compare.hpp"
 
 namespace leafdig::model {
-
-namespace {
-
-std::string lowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext;
-}
-
-}  // namespace
 
 TriangleSoup readMeshFile(const std::string& path) {
   const std::string ext = lowerExtension(path);

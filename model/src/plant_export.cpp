@@ -8,6 +8,7 @@
 
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
 #include "leafdig/model/metrics.hpp"
 #include "leafdig/model/model_json.hpp"
 
@@ -73,9 +74,7 @@ const LeafLight* lightOf(const PlantMetrics& m, int rank) {
 }  // namespace
 
 PlantFormat plantFormatForPath(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = lowerExtension(path);
   if (ext == ".glb") return PlantFormat::Glb;
   if (ext == ".obj") return PlantFormat::Obj;
   if (ext == ".ply") return PlantFormat::Ply;

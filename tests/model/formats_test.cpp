@@ -20,12 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("leafdig-test-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using test::freshDir;
 
 TEST(MarkersJson, roundTripsEveryField) {
   const MarkerSet original = test::sample("upper-curved-leaf-n14.markers.json");

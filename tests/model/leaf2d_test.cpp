@@ -2,7 +2,6 @@
 #include "leafdig/model/leaf2d.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -12,6 +11,7 @@
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/leaf_scan.hpp"
 #include "leafdig/model/metrics.hpp"
+#include "test_support.hpp"
 
 namespace m = leafdig::model;
 namespace fs = std::filesystem;
@@ -32,11 +32,15 @@ double inscribedArea(double a, double b, int n) {
   return n / 2.0 * a * b * std::sin(2 * M_PI / n);
 }
 
-fs::path tempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("leafdig-leaf2d-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+// What f throws as an InputError, or "no error".
+template <class F>
+std::string inputErrorOf(F&& f) {
+  try {
+    f();
+  } catch (const m::InputError& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
 }
 
 TEST(Outline, ReadsJsonAndCsvAndNamesWhatIsWrong) {
@@ -52,25 +56,18 @@ TEST(Outline, ReadsJsonAndCsvAndNamesWhatIsWrong) {
       m::parseOutlineCsv("# a square\nx_mm,y_mm\n0,0\n10,0\n10,10\n0,10\n0,9\n0,8\n0,7\n0,6\n", "a.csv");
   EXPECT_EQ(c.pointsMm.size(), 8u);
 
-  auto message = [](auto&& f) {
-    try {
-      f();
-    } catch (const m::InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_NE(message([] {
+  EXPECT_NE(inputErrorOf([] {
               (void)m::parseOutlineJson(R"({"format": "leafdig.outline/1", "units": "px", "points": []})", "p.json");
             }).find("convert the points to millimetres"),
             std::string::npos);
-  EXPECT_NE(message([] { (void)m::parseOutlineCsv("x_px,y_px\n0,0\n", "p.csv"); }).find("does not say millimetres"),
+  EXPECT_NE(
+      inputErrorOf([] { (void)m::parseOutlineCsv("x_px,y_px\n0,0\n", "p.csv"); }).find("does not say millimetres"),
+      std::string::npos);
+  EXPECT_NE(inputErrorOf([] { (void)m::parseOutlineCsv("0,0\n1,0\n1,1\n", "few.csv"); }).find("at least 8"),
             std::string::npos);
-  EXPECT_NE(message([] { (void)m::parseOutlineCsv("0,0\n1,0\n1,1\n", "few.csv"); }).find("at least 8"),
+  EXPECT_NE(inputErrorOf([] { (void)m::parseOutlineCsv("0,0\n1,zero\n", "bad.csv"); }).find("bad.csv:2: column 2"),
             std::string::npos);
-  EXPECT_NE(message([] { (void)m::parseOutlineCsv("0,0\n1,zero\n", "bad.csv"); }).find("bad.csv:2: column 2"),
-            std::string::npos);
-  EXPECT_NE(message([] {
+  EXPECT_NE(inputErrorOf([] {
               (void)m::parseOutlineJson(R"({"format": "leafdig.outline/1", "units": "mm", "base": [50, 50],
                  "points": [[0,0],[10,0],[10,10],[0,10],[0,9],[0,8],[0,7],[0,6]]})",
                                         "b.json");
@@ -179,8 +176,8 @@ TEST(Leaf2d, AHeartShapedLeafIsBuiltAndItsFilledSinusNamed) {
   const m::Leaf2dModel leaf = m::buildLeaf2d(o);
   EXPECT_GT(leaf.flatModelAreaMm2, 1.02 * leaf.outlineAreaMm2);
   ASSERT_EQ(leaf.warnings.size(), 1u);
-  EXPECT_EQ(leaf.warnings[0].first, "flat-leaf-differs-from-outline");
-  EXPECT_NE(leaf.warnings[0].second.find("sinus"), std::string::npos);
+  EXPECT_EQ(leaf.warnings[0].name, "flat-leaf-differs-from-outline");
+  EXPECT_NE(leaf.warnings[0].message.find("sinus"), std::string::npos);
   EXPECT_NEAR(leaf.modelAreaMm2, leaf.outlineAreaMm2, 1e-6 * leaf.outlineAreaMm2);  // still held
   // An ellipse has nothing to fill: no warning.
   m::Outline2d e;
@@ -193,7 +190,7 @@ TEST(Leaf2d, AHeartShapedLeafIsBuiltAndItsFilledSinusNamed) {
   EXPECT_LT(drawnIn.inPlaneScale, 0.9);
   EXPECT_NEAR(drawnIn.modelAreaMm2, drawnIn.outlineAreaMm2, 1e-6 * drawnIn.outlineAreaMm2);
   ASSERT_EQ(drawnIn.warnings.size(), 1u);
-  EXPECT_EQ(drawnIn.warnings[0].first, "curl-draws-leaf-in");
+  EXPECT_EQ(drawnIn.warnings[0].name, "curl-draws-leaf-in");
 }
 
 TEST(Leaf2d, AutoPicksTheCurlThatCatchesMostLight) {
@@ -213,7 +210,7 @@ TEST(Leaf2d, AutoPicksTheCurlThatCatchesMostLight) {
 }
 
 TEST(LeafScan, AScannedEllipseOfKnownAreaAt300Dpi) {
-  const fs::path dir = tempDir("ellipse");
+  const fs::path dir = m::test::freshDir("ellipse");
   const double a = 45;
   const double b = 28;
   const int n = 4096;
@@ -234,7 +231,7 @@ TEST(LeafScan, AScannedEllipseOfKnownAreaAt300Dpi) {
 }
 
 TEST(LeafScan, HolesAreNotTissueAndThePetioleIsFoundAndSetApart) {
-  const fs::path dir = tempDir("petiole");
+  const fs::path dir = m::test::freshDir("petiole");
   const double a = 40;
   const double b = 25;
   const Eigen::Vector2d c(100, 120);
@@ -261,27 +258,28 @@ TEST(LeafScan, HolesAreNotTissueAndThePetioleIsFoundAndSetApart) {
 }
 
 TEST(LeafScan, NamesWhatIsWrongWithTheImage) {
-  const fs::path dir = tempDir("bad");
-  auto message = [](auto&& f) {
-    try {
-      f();
-    } catch (const m::InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  const fs::path dir = m::test::freshDir("bad");
   m::renderScan({}, {}, {50, 50}, 100, dir / "blank.png");
-  EXPECT_NE(message([&] { (void)m::scanLeaf(dir / "blank.png", {100, 3}); }).find("nearly uniform"), std::string::npos);
-  EXPECT_NE(message([&] { (void)m::scanLeaf(dir / "blank.png", {0, 3}); }).find("give --dpi"), std::string::npos);
+  EXPECT_NE(inputErrorOf([&] {
+              (void)m::scanLeaf(dir / "blank.png", {100, 3});
+            }).find("nearly uniform"),
+            std::string::npos);
+  EXPECT_NE(inputErrorOf([&] { (void)m::scanLeaf(dir / "blank.png", {0, 3}); }).find("give --dpi"), std::string::npos);
   m::writeFileAtomically(dir / "not.png", "this is not an image");
-  EXPECT_NE(message([&] { (void)m::scanLeaf(dir / "not.png", {300, 3}); }).find("cannot decode"), std::string::npos);
-  EXPECT_NE(message([&] {
+  EXPECT_NE(inputErrorOf([&] {
+              (void)m::scanLeaf(dir / "not.png", {300, 3});
+            }).find("cannot decode"),
+            std::string::npos);
+  EXPECT_NE(inputErrorOf([&] {
               (void)m::scanLeaf(dir / "missing.png", {300, 3});
             }).find("no such image"),
             std::string::npos);
   // Only dust: nothing as large as a leaf.
   m::renderScan({ellipse(1, 1, 64, {25, 25})}, {}, {50, 50}, 300, dir / "dust.png");
-  EXPECT_NE(message([&] { (void)m::scanLeaf(dir / "dust.png", {300, 3}); }).find("no leaf found"), std::string::npos);
+  EXPECT_NE(inputErrorOf([&] {
+              (void)m::scanLeaf(dir / "dust.png", {300, 3});
+            }).find("no leaf found"),
+            std::string::npos);
   fs::remove_all(dir);
 }
 

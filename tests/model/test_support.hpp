@@ -1,5 +1,8 @@
 #pragma once
 // Shared fixtures of the model tests.
+#include <unistd.h>
+
+#include <filesystem>
 #include <string>
 
 #include "leafdig/model/markers.hpp"
@@ -13,6 +16,15 @@ inline std::string samplePath(const std::string& name) {
 
 inline MarkerSet sample(const std::string& name) {
   return readMarkersFile(samplePath(name));
+}
+
+// An empty directory of this process's own under the system's temporary folder.
+inline std::filesystem::path freshDir(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("leafdig-test-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 inline const char* const kSampleFiles[] = {"lower-leaf-n10.markers.json", "upper-small-leaf-n17.markers.json",

@@ -20,9 +20,7 @@ namespace leafdig::cli {
 namespace m = leafdig::model;
 
 bool isScanPath(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = m::lowerExtension(path);
   return ext == ".png" || ext == ".tif" || ext == ".tiff" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
 }
 
@@ -203,7 +201,7 @@ int runBuild(const Leaf2dCommandOptions& o) {
             << leaf.silhouetteAreaMm2 << " mm^2\n"
             << "  " << leaf.mesh.triangles.size() << " triangles, built in " << std::setprecision(1) << buildMs
             << " ms\n";
-  for (const auto& [name, message] : leaf.warnings) std::cout << "  warning (" << name << "): " << message << "\n";
+  for (const auto& w : leaf.warnings) std::cout << "  warning (" << w.name << "): " << w.message << "\n";
   for (const auto& [path, bytes] : files) std::cout << "  wrote " << path << "\n";
   return 0;
 }

@@ -196,12 +196,6 @@ namespace {
 int runScan(const SynthOptions& o) {
   const m::SyntheticLeaf leaf(synthSpecFrom(o.choice));
   if (!(o.petioleLengthMm >= 0.0)) throw m::InputError("--petiole-length must be >= 0 mm");
-  {
-    const std::string ext = std::filesystem::path(o.scan).extension().string();
-    if (ext != ".png" && ext != ".tif" && ext != ".tiff") {
-      throw m::InputError("-o " + o.scan + ": the scan is written as .png or .tif");
-    }
-  }
   constexpr int kPerSide = 2000;
   std::vector<Eigen::Vector2d> outline = leaf.outline(kPerSide);  // right half base to tip, then left
   const Eigen::Vector2d base0 = outline.front();

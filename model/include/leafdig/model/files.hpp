@@ -14,4 +14,7 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view byt
 // Throws IoError naming the path and the operating system's reason.
 [[nodiscard]] std::string readFile(const std::filesystem::path& path);
 
+// The path's extension in lower case, with its dot (".glb"), or empty.
+[[nodiscard]] std::string lowerExtension(const std::filesystem::path& path);
+
 }  // namespace leafdig::model

@@ -13,6 +13,7 @@
 
 #include "leafdig/model/blade.hpp"
 #include "leafdig/model/mesh.hpp"
+#include "leafdig/model/metrics.hpp"
 
 namespace leafdig::model {
 
@@ -105,7 +106,7 @@ struct Leaf2dModel {
   // Named warnings, e.g. "flat-leaf-differs-from-outline" when the sections' B-spline leaf
   // and the outline differ by more than 2 % in area (a cordate base or deep lobes, filled
   // across: the area constraint then draws the whole leaf in).
-  std::vector<std::pair<std::string, std::string>> warnings;
+  std::vector<LeafWarning> warnings;
 };
 
 // Throws InputError for a degenerate outline or options out of range (rows < 6, amplitude < 0).

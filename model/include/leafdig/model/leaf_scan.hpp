@@ -26,10 +26,9 @@ struct LeafScan {
   int holes = 0;
   bool petioleFound = false;
   double petioleAreaMm2 = 0.0;
-  double petioleLengthMm = 0.0;  // its skeleton's length, estimated as area / width
-  int otherObjects = 0;          // other dark objects of at least 1 mm^2 (dust, labels, rulers), ignored
-  bool touchesBorder = false;    // the leaf reaches the image's edge: it may be cut off
-  bool darkBackground = false;   // the background was darker than the leaf (a light box): inverted
+  int otherObjects = 0;         // other dark objects of at least 1 mm^2 (dust, labels, rulers), ignored
+  bool touchesBorder = false;   // the leaf reaches the image's edge: it may be cut off
+  bool darkBackground = false;  // the background was darker than the leaf (a light box): inverted
   int widthPx = 0;
   int heightPx = 0;
   int threshold = 0;  // Otsu's grey level

@@ -66,6 +66,10 @@ struct LeafMesh {
 // the seed's.
 [[nodiscard]] Mesh meshBlade(const BladeSurface& blade, int segmentsPerRow, int segmentsAcross);
 
+// Sets every vertex normal to the area-weighted mean of its triangles' normals, unit length;
+// a vertex with none (or whose normals cancel) gets the mesh's mean normal, else +Z.
+void setAreaWeightedNormals(Mesh& mesh);
+
 [[nodiscard]] LeafMesh meshLeaf(const LeafModel& model, const MeshResolution& resolution);
 
 // Parameters subdividing consecutive breaks: `segments` in total, spread over the spans as
