@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <string>
 #include <tuple>
@@ -265,6 +266,100 @@ TEST(PolhemusBinary, ResynchronisesOnTheTag) {
   bad[6] = 5;  // wrong payload size
   feed(st, "PAPA" + rec + bad + rec.substr(0, 10) + rec, out, dev::polhemus::decode);
   EXPECT_EQ(out.size(), 2u);
+}
+
+// How the two independent public readers of Polhemus ASCII records take a line apart: they
+// split it on white space (SoundScapeRenderer's trackerpolhemus.cpp reads the Patriot line
+// with `>>` into header, x, y, z, azimuth, elevation, roll; SofaDefrost's PolhemusUSB.py
+// splits the Liberty's `O*,2,7,1` reply on CR LF and then on white space: "ID+Err", x, y, z,
+// then the quaternion). Our decoder reads fixed columns; both must give the same numbers.
+std::vector<double> whitespaceFields(const std::string& line) {
+  std::vector<double> v;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    std::size_t j = i;
+    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    if (j > i) v.push_back(std::stod(line.substr(i, j - i)));
+    i = j;
+  }
+  return v;
+}
+
+TEST(PatriotAscii, DecodesTheSixtyByteLineSoundScapeRendererDescribes) {
+  // SSR: "The data coming from the Polhemus Patriot is similar [to the Fastrak's 47-byte
+  // line], except that only two sockets are available and each of the 6 degrees of freedom
+  // are represented by 9 bytes, leading to a total of 60 ASCII bytes" — the station header,
+  // x y z and azimuth elevation roll (`O*,2,5,1`), CR LF. Lines written out by hand, in cm
+  // (the Patriot's `U1`), the second from station 2 with a negative zero and a full field.
+  const std::string line1 = " 1     12.345   -5.678   10.000   90.000  -45.500  179.990\r\n";
+  const std::string line2 = " 2   -100.250   -0.000  123.456 -179.990   89.999    0.001\r\n";
+  ASSERT_EQ(line1.size(), 60u);
+  ASSERT_EQ(line2.size(), 60u);
+  dev::polhemus::DecoderState st;
+  st.format.model = dev::polhemus::Model::Patriot;
+  st.format.items = {2, 5, 1};
+  ASSERT_EQ(dev::polhemus::asciiLength(st.format), 60u);
+  std::vector<dev::StylusSample> out;
+  // Two lines in one read, the second split inside its first field.
+  feed(st, line1 + line2.substr(0, 9), out, dev::polhemus::decode);
+  feed(st, line2.substr(9), out, dev::polhemus::decode);
+  ASSERT_EQ(out.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto expected = whitespaceFields(k == 0 ? line1 : line2);  // as SSR reads it
+    ASSERT_EQ(expected.size(), 7u);
+    EXPECT_EQ(out[k].station, static_cast<int>(expected[0]));
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(out[k].positionMm[i], expected[1 + i] * 10.0, 1e-9) << k << i;
+    ASSERT_TRUE(out[k].orientationDeg);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR((*out[k].orientationDeg)[i], expected[4 + i], 1e-9) << k << i;
+    EXPECT_EQ(out[k].rawUnit, "cm");
+    EXPECT_EQ(out[k].raw.size(), 60u);
+  }
+  // A line one byte short (a lost character) is not taken for a record.
+  std::string shortLine = line1;
+  shortLine.erase(20, 1);
+  dev::polhemus::DecoderState st2;
+  st2.format = st.format;
+  std::vector<dev::StylusSample> none;
+  feed(st2, shortLine, none, dev::polhemus::decode);
+  EXPECT_TRUE(none.empty());
+}
+
+TEST(LibertyAscii, DecodesTheRepliesSofaDefrostSplitsIntoPositionAndQuaternion) {
+  // SofaDefrost's PolhemusUSB.py configures `U1` (cm) and `O*,2,7,1`, sends `p`, and splits
+  // the reply on CR LF: one line per sensor, "[ID+Err, x, y, z, …]" with the quaternion
+  // (w, x, y, z) after the position. Two sensors in one reply, written out by hand: the
+  // station and error character, a space, 9-character columns (quaternion to 4 decimals).
+  const std::string reply =
+      " 1     25.400  -12.700    3.175   1.0000   0.0000   0.0000   0.0000\r\n"
+      " 2      0.500   60.000  -45.125   0.7071   0.0000   0.7071   0.0000\r\n";
+  dev::polhemus::DecoderState st;
+  st.format.model = dev::polhemus::Model::Liberty;
+  st.format.items = {2, 7, 1};
+  st.format.stations = 4;
+  ASSERT_EQ(reply.size(), 2 * dev::polhemus::asciiLength(st.format));
+  std::vector<dev::StylusSample> out;
+  feed(st, reply, out, dev::polhemus::decode);
+  ASSERT_EQ(out.size(), 2u);
+  std::size_t start = 0;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const std::size_t end = reply.find("\r\n", start);
+    const auto tokens = whitespaceFields(reply.substr(start, end - start));  // as PolhemusUSB.py reads it
+    start = end + 2;
+    ASSERT_EQ(tokens.size(), 8u);
+    EXPECT_EQ(out[k].station, static_cast<int>(tokens[0]));
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(out[k].positionMm[i], tokens[1 + i] * 10.0, 1e-9);
+    ASSERT_TRUE(out[k].quaternion);
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR((*out[k].quaternion)[i], tokens[4 + i], 1e-9);
+  }
+  // A quaternion that is not of unit length (a garbled digit) is refused.
+  std::string garbled = reply.substr(0, reply.find("\r\n") + 2);
+  garbled[garbled.find("1.0000")] = '7';
+  dev::polhemus::DecoderState st2;
+  st2.format = st.format;
+  std::vector<dev::StylusSample> none;
+  feed(st2, garbled, none, dev::polhemus::decode);
+  EXPECT_TRUE(none.empty());
 }
 
 // The stylus layout VRPN's vrpn_Tracker_Liberty asks for with a button ("O1,2,7,8,10,0"):
