@@ -6,11 +6,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "fixed_text.hpp"
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/metrics.hpp"
 #include "leafdig/model/model_json.hpp"
+#include "parallel.hpp"
 
 namespace leafdig::model {
 
@@ -29,22 +31,6 @@ std::string fixed3(double v) {
   std::string s(buffer);
   if (s == "-0.000") s = "0.000";
   return s;
-}
-
-// An integer count of micrometres as a decimal with `decimals` digits after the point.
-void appendMicrometres(std::string& out, long long um, int decimals) {
-  if (um < 0) out += '-';
-  unsigned long long a = um < 0 ? static_cast<unsigned long long>(-um) : static_cast<unsigned long long>(um);
-  char digits[32];
-  int n = 0;
-  do {
-    digits[n++] = static_cast<char>('0' + a % 10);
-    a /= 10;
-  } while (a != 0 || n <= decimals);  // at least one digit before the point
-  for (int i = n - 1; i >= 0; --i) {
-    out += digits[i];
-    if (i == decimals && decimals > 0) out += '.';
-  }
 }
 
 // MTG values must not hold its syntax characters, tabs or spaces.
@@ -90,23 +76,37 @@ PlantFormat plantFormatForPath(const std::filesystem::path& path) {
 PlantMetrics computePlantMetrics(const Plant& plant, const LeafMesh& mesh, const Eigen::Vector3d& lightDirection) {
   PlantMetrics out;
   out.lightDirection = lightDirection.normalized();
-  std::vector<const Mesh*> all;
+  std::vector<const Mesh*> blades;
   for (const PlacedLeaf& leaf : plant.leaves) {
-    const Mesh* blade = bladeOf(mesh, leaf.rank);
+    blades.push_back(bladeOf(mesh, leaf.rank));
     LeafLight l;
     l.rank = leaf.rank;
-    if (blade != nullptr) {
-      l.areaMm2 = meshArea(*blade);
-      // 1024 pixels across one leaf: within 0.2 % of a 4096-pixel raster on the samples
-      // (plant_test), at a quarter of the cost; the plant's own raster keeps 2048.
-      l.silhouetteMm2 = silhouetteArea({blade}, out.lightDirection, 1024);
-      all.push_back(blade);
-    }
-    l.star = l.areaMm2 > 0 ? l.silhouetteMm2 / l.areaMm2 : 0.0;
-    out.areaMm2 += l.areaMm2;
     out.leaves.push_back(l);
   }
-  out.silhouetteMm2 = all.empty() ? 0.0 : silhouetteArea(all, out.lightDirection);
+  std::vector<const Mesh*> all;
+  for (const Mesh* b : blades)
+    if (b != nullptr) all.push_back(b);
+  // Each leaf's silhouette and the plant's are independent rasters: on every core, the
+  // plant's (the largest) first.
+  std::vector<std::size_t> order{blades.size()};
+  for (std::size_t i = 0; i < blades.size(); ++i) order.push_back(i);
+  detail::parallelFor(
+      blades.size() + 1, 0,
+      [&](std::size_t i) {
+        if (i == blades.size()) {
+          out.silhouetteMm2 = all.empty() ? 0.0 : silhouetteArea(all, out.lightDirection);
+          return;
+        }
+        if (blades[i] == nullptr) return;
+        LeafLight& l = out.leaves[i];
+        l.areaMm2 = meshArea(*blades[i]);
+        // 1024 pixels across one leaf: within 0.2 % of a 4096-pixel raster on the samples
+        // (plant_test), at a quarter of the cost; the plant's own raster keeps 2048.
+        l.silhouetteMm2 = silhouetteArea({blades[i]}, out.lightDirection, 1024);
+        l.star = l.areaMm2 > 0 ? l.silhouetteMm2 / l.areaMm2 : 0.0;
+      },
+      order);
+  for (const LeafLight& l : out.leaves) out.areaMm2 += l.areaMm2;
   out.star = out.areaMm2 > 0 ? out.silhouetteMm2 / out.areaMm2 : 0.0;
   return out;
 }
@@ -130,39 +130,43 @@ CanFile encodeCan(const LeafMesh& mesh, CanUnit unit, int plantNumber) {
     if (organ.leafRank > 999 || element > 999) throw InputError("a CARIBU label has 3 digits for leaf and element");
     char label[32];
     std::snprintf(label, sizeof label, "1%05d%03d%03d", plantNumber, organ.leafRank, element);
+    // Each vertex in micrometres once (a vertex is shared by about six triangles).
+    std::vector<Eigen::Matrix<long long, 3, 1>> um(organ.mesh.positions.size());
+    for (std::size_t i = 0; i < um.size(); ++i)
+      for (int c = 0; c < 3; ++c) um[i][c] = std::llround(organ.mesh.positions[i][c] * 1000.0);  // mm → µm
     for (const auto& t : organ.mesh.triangles) {
-      std::array<Eigen::Matrix<long long, 3, 1>, 3> v;
-      for (std::size_t k = 0; k < 3; ++k) {
-        const Eigen::Vector3d& p = organ.mesh.positions[t[k]];
-        for (int c = 0; c < 3; ++c) v[k][c] = std::llround(p[c] * 1000.0);  // mm → µm
-      }
-      const Eigen::Matrix<long long, 3, 1> n = (v[1] - v[0]).cross(v[2] - v[0]);
+      const std::array<const Eigen::Matrix<long long, 3, 1>*, 3> v{&um[t[0]], &um[t[1]], &um[t[2]]};
+      const Eigen::Matrix<long long, 3, 1> n = (*v[1] - *v[0]).cross(*v[2] - *v[0]);
       if (n.isZero()) {  // collinear once written: CARIBU rejects it
         ++out.dropped;
         continue;
       }
-      // Written straight into the file text; the geometry's length is checked in place.
-      const std::size_t lineStart = text.size();
-      text += "p 1 ";
-      text += label;
-      const std::size_t geometryStart = text.size();
-      text += " 3";
-      std::size_t lastStart = 0;
-      for (const auto& p : v) {
+      // A line is formatted in a buffer and appended once; the geometry's length is checked
+      // in place. Nine numbers of at most 20 characters each fit.
+      char line[256];
+      char* w = line;
+      for (const char c : std::string_view("p 1 ")) *w++ = c;
+      for (const char* l = label; *l != '\0'; ++l) *w++ = *l;
+      char* const geometryStart = w;
+      *w++ = ' ';
+      *w++ = '3';
+      char* lastStart = w;
+      for (const auto* p : v) {
         for (int c = 0; c < 3; ++c) {
-          text += ' ';
-          lastStart = text.size();
-          appendMicrometres(text, p[c], decimals);
+          *w++ = ' ';
+          lastStart = w;
+          w = detail::writeScaled(w, (*p)[c], decimals);
         }
       }
       // canestrad copies the last number once more into its 125-byte buffer.
-      const std::size_t geometry = text.size() - geometryStart;
-      if (geometry + 1 + (text.size() - lastStart) > 124) {
-        throw InputError("CARIBU geometry line of " + std::to_string(geometry) +
-                         " characters exceeds canestrad's 124 (line " + text.substr(lineStart, 40) +
-                         "…): the plant is too large for this unit");
+      const auto geometry = static_cast<std::size_t>(w - geometryStart);
+      if (geometry + 1 + static_cast<std::size_t>(w - lastStart) > 124) {
+        throw InputError(
+            "CARIBU geometry line of " + std::to_string(geometry) + " characters exceeds canestrad's 124 (line " +
+            std::string(line, std::min<std::ptrdiff_t>(40, w - line)) + "…): the plant is too large for this unit");
       }
-      text += '\n';
+      *w++ = '\n';
+      text.append(line, static_cast<std::size_t>(w - line));
       ++out.triangles;
     }
   }
@@ -361,6 +365,32 @@ std::vector<EncodedFile> encodePlant(const std::filesystem::path& path, const Pl
     case PlantFormat::Json: return {{path, encodePlantJson(plant, metrics)}};
   }
   return {};
+}
+
+std::vector<EncodedFile> encodePlantFiles(const std::vector<std::filesystem::path>& paths, const Plant& plant,
+                                          const LeafMesh& mesh, const PlantMetrics& metrics,
+                                          const PlantExportOptions& options, unsigned threads) {
+  // The text formats of the meshes take longest: start them first so the threads finish
+  // together (the order of the files returned does not change).
+  const auto cost = [](const std::filesystem::path& p) {
+    static const char* const kSlowestFirst[] = {".json", ".can", ".obj", ".glb", ".stl", ".ply"};
+    const std::string ext = lowerExtension(p);
+    for (std::size_t k = 0; k < std::size(kSlowestFirst); ++k)
+      if (ext == kSlowestFirst[k]) return k;
+    return std::size(kSlowestFirst);
+  };
+  std::vector<std::size_t> order(paths.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cost(paths[a]) < cost(paths[b]); });
+  std::vector<std::vector<EncodedFile>> encoded(paths.size());
+  detail::parallelFor(
+      paths.size(), threads, [&](std::size_t i) { encoded[i] = encodePlant(paths[i], plant, mesh, metrics, options); },
+      order);
+  std::vector<EncodedFile> files;
+  for (auto& e : encoded)
+    for (auto& f : e) files.push_back(std::move(f));
+  return files;
 }
 
 }  // namespace leafdig::model

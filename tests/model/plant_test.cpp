@@ -352,6 +352,35 @@ TEST(PlantExport, CaribuFilesPassTheStrictReaderWithUpperSidesFirstAndTheStemOpa
   }
 }
 
+TEST(PlantExport, EncodingManyFormatsOnSeveralThreadsGivesEachFormatsBytesInTheOrderAsked) {
+  std::string leaves;
+  for (int k = 1; k <= 3; ++k) leaves += (k > 1 ? "," : "") + markersLeaf(k, 150.0 * k);
+  const Plant p = PlantBuilder(plan(planText(leaves)), {}).build();
+  const LeafMesh mesh = meshPlant(p, MeshResolution::preset("preview"));
+  const PlantMetrics metrics = computePlantMetrics(p, mesh, Eigen::Vector3d::UnitZ());
+  const PlantExportOptions options{CanUnit::Metre, "test"};
+  const std::vector<fs::path> paths{"a.json", "b.glb", "c.can", "d.mtg", "e.obj", "f.csv", "g.stl", "h.ply"};
+  for (const unsigned threads : {1U, 2U, 5U}) {
+    const std::vector<EncodedFile> files = encodePlantFiles(paths, p, mesh, metrics, options, threads);
+    std::vector<EncodedFile> expected;
+    for (const auto& path : paths)
+      for (auto& f : encodePlant(path, p, mesh, metrics, options)) expected.push_back(std::move(f));
+    ASSERT_EQ(files.size(), 9u) << "eight formats and the CARIBU .opt beside the .can";
+    ASSERT_EQ(files.size(), expected.size());
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      EXPECT_EQ(files[i].path, expected[i].path) << threads << " threads";
+      EXPECT_TRUE(files[i].bytes == expected[i].bytes) << files[i].path << ", " << threads << " threads";
+    }
+  }
+  // One bad path among good ones: its error, in the order asked, whatever finished first.
+  EXPECT_THROW((void)encodePlantFiles({"a.glb", "b.txt", "c.obj", "d.doc"}, p, mesh, metrics, options, 2), InputError);
+  try {
+    (void)encodePlantFiles({"a.glb", "b.txt", "c.obj", "d.doc"}, p, mesh, metrics, options, 2);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("b.txt"), std::string::npos) << e.what();
+  }
+}
+
 TEST(PlantExport, TheMtgPassesTheStrictReaderWithEveryFeatureOnEveryLeaf) {
   std::string leaves;
   for (int k = 1; k <= 4; ++k) leaves += (k > 1 ? "," : "") + markersLeaf(k, 150.0 * k);

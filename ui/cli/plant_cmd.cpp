@@ -174,6 +174,7 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
       });
       if (csv && states.size() == 1) m::addAreaIntervals(p, metrics);
       const auto d = Clock::now();
+      std::vector<std::filesystem::path> paths;
       for (const auto& out : o.outputs) {
         if (o.animate) break;
         std::string path = out;
@@ -181,8 +182,9 @@ int runPlantCommands(const CLI::App& app, const PlantOptions& o) {
           const auto at = path.find("{t}");
           if (at != std::string::npos) path.replace(at, 3, formatTime(*t));
         }
-        for (auto& f : m::encodePlant(path, p, mesh, metrics, exportOptions)) files.push_back(std::move(f));
+        paths.emplace_back(path);
       }
+      for (auto& f : m::encodePlantFiles(paths, p, mesh, metrics, exportOptions)) files.push_back(std::move(f));
       const auto e = Clock::now();
       buildMs += ms(a, b);
       meshMs += ms(b, c);

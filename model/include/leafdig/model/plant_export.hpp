@@ -90,5 +90,13 @@ struct PlantExportOptions {
 [[nodiscard]] std::vector<EncodedFile> encodePlant(const std::filesystem::path& path, const Plant& plant,
                                                    const LeafMesh& mesh, const PlantMetrics& metrics,
                                                    const PlantExportOptions& options);
+// Every file for several output paths, in the order of `paths`. The formats are independent,
+// so they are encoded on up to `threads` threads at once (0: one per core of the machine);
+// a plant written in eight formats then takes about as long as its slowest encoders. The
+// first path (in order) whose encoding fails throws its error; nothing is written here.
+[[nodiscard]] std::vector<EncodedFile> encodePlantFiles(const std::vector<std::filesystem::path>& paths,
+                                                        const Plant& plant, const LeafMesh& mesh,
+                                                        const PlantMetrics& metrics, const PlantExportOptions& options,
+                                                        unsigned threads = 0);
 
 }  // namespace leafdig::model
