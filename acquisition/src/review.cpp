@@ -20,15 +20,15 @@ namespace {
 
 using nlohmann::json;
 
-db::SessionInfo infoOrThrow(const db::Store& store, std::int64_t id) {
+db::SessionInfo infoOrThrow(const db::EventStore& store, std::int64_t id) {
   const auto info = store.session(id);
   if (!info)
-    throw SessionError("there is no session " + std::to_string(id) + " in " + store.path() +
+    throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe() +
                        ": 'leafdig sessions list' shows them");
   return *info;
 }
 
-void requireChain(const db::Store& store, std::int64_t id, const std::string& doing) {
+void requireChain(const db::EventStore& store, std::int64_t id, const std::string& doing) {
   const db::ChainReport chain = store.verify(id);
   if (!chain.ok)
     throw SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
@@ -62,7 +62,7 @@ model::LeafInfo leafInfoOf(const db::SessionInfo& info) {
 
 }  // namespace
 
-ReviewedSession openForReview(const db::Store& store, std::int64_t id, std::int64_t upToSeq) {
+ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std::int64_t upToSeq) {
   ReviewedSession r{infoOrThrow(store, id), {}, Engine{}, {}, 0, 0};
   r.settings = CaptureSession::settingsFromJson(r.info.settingsJson);
   std::vector<db::Event> events = store.events(id);
@@ -117,7 +117,7 @@ std::vector<ReviewFlag> reviewFlags(const std::vector<Item>& items, double madLi
   return out;
 }
 
-std::int64_t correct(db::Store& store, std::int64_t id, const Correction& c) {
+std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c) {
   const db::SessionInfo info = infoOrThrow(store, id);
   if (info.status != "complete")
     throw std::invalid_argument("session " + std::to_string(id) + " is " + info.status +
@@ -166,7 +166,7 @@ std::int64_t correct(db::Store& store, std::int64_t id, const Correction& c) {
   return store.append(id, ev);
 }
 
-std::int64_t review(db::Store& store, std::int64_t id, const std::string& status, const std::string& who,
+std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& status, const std::string& who,
                     const std::string& why) {
   const db::SessionInfo info = infoOrThrow(store, id);
   if (status != "approved" && status != "rejected")
@@ -195,7 +195,7 @@ LeafSummary summarize(const ReviewedSession& r) {
   return s;
 }
 
-ExportResult exportSession(db::Store& store, std::int64_t id, const ExportRequest& request) {
+ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportRequest& request) {
   if (request.outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
   if (request.frame != "leaf" && request.frame != "digitizer")
     throw std::invalid_argument("unknown frame '" + request.frame + "': use leaf or digitizer");
@@ -252,7 +252,7 @@ ExportResult exportSession(db::Store& store, std::int64_t id, const ExportReques
   return result;
 }
 
-OrganLibrary organLibrary(const db::Store& store) {
+OrganLibrary organLibrary(const db::EventStore& store) {
   OrganLibrary out;
   for (const db::SessionInfo& info : store.sessions()) {
     if (info.status != "approved") continue;

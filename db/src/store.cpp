@@ -1,7 +1,6 @@
 #include "leafdig/db/store.hpp"
 
 #include <SQLiteCpp/SQLiteCpp.h>
-#include <openssl/evp.h>
 #include <sqlite3.h>
 
 #include <algorithm>
@@ -18,18 +17,6 @@ namespace leafdig::db {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string utcNow() {
-  const auto now = std::chrono::system_clock::now();
-  const std::time_t t = std::chrono::system_clock::to_time_t(now);
-  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
-  std::tm tm{};
-  ::gmtime_r(&t, &tm);
-  char buf[96];
-  std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%03lldZ", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
-                tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<long long>(ms));
-  return buf;
-}
 
 // Maps SQLite failures to what an operator can act on.
 [[noreturn]] void rethrow(const SQLite::Exception& e, const std::string& path, const std::string& doing) {
@@ -57,28 +44,7 @@ std::string utcNow() {
   }
 }
 
-std::string chainInput(const std::string& prev, std::int64_t session, std::int64_t seq, const std::string& utc,
-                       std::int64_t mono, const std::string& kind, const std::string& payload, const std::string& raw) {
-  std::string s = prev;
-  s += '\n' + std::to_string(session) + '\n' + std::to_string(seq) + '\n' + utc + '\n' + std::to_string(mono) + '\n' +
-       kind + '\n' + std::to_string(payload.size()) + ':' + payload + '\n' + std::to_string(raw.size()) + ':' + raw;
-  return s;
-}
-
 }  // namespace
-
-std::string sha256Hex(const std::string& data) {
-  unsigned char md[EVP_MAX_MD_SIZE];
-  unsigned int n = 0;
-  EVP_Digest(data.data(), data.size(), md, &n, EVP_sha256(), nullptr);
-  static const char* hex = "0123456789abcdef";
-  std::string out;
-  for (unsigned int i = 0; i < n; ++i) {
-    out += hex[md[i] >> 4];
-    out += hex[md[i] & 15];
-  }
-  return out;
-}
 
 struct Store::Impl {
   std::unique_ptr<SQLite::Database> db;
@@ -294,7 +260,7 @@ std::int64_t Store::createSession(std::int64_t leafId, std::int64_t operatorId, 
     ins.bind(7, created);
     ins.exec();
     const std::int64_t id = impl_->db->getLastInsertRowid();
-    const std::string genesis = sha256Hex("leafdig session " + std::to_string(id) + " " + created + " " + settingsJson);
+    const std::string genesis = genesisHash(id, created, settingsJson);
     SQLite::Statement up(*impl_->db, "UPDATE sessions SET genesis_hash=?1, head_hash=?1 WHERE id=?2");
     up.bind(1, genesis);
     up.bind(2, id);
@@ -306,96 +272,133 @@ std::int64_t Store::createSession(std::int64_t leafId, std::int64_t operatorId, 
   }
 }
 
+namespace {
+
+struct Head {
+  std::int64_t seq = 0;
+  std::string hash;
+};
+
+Head headOf(SQLite::Database& db, std::int64_t session, const std::string& path) {
+  SQLite::Statement head(db, "SELECT head_seq, head_hash FROM sessions WHERE id=?1");
+  head.bind(1, session);
+  if (!head.executeStep())
+    throw StoreError(StoreErrorKind::Input, "no session " + std::to_string(session) + " in " + path,
+                     "'leafdig sessions list' shows the sessions");
+  return {head.getColumn(0).getInt64(), head.getColumn(1).getString()};
+}
+
+// One event row, what it changes in the projections, and the session's head, inside the
+// caller's transaction.
+void writeEvent(SQLite::Database& db, std::int64_t session, const Event& e, const EventInput& change) {
+  SQLite::Statement ins(db,
+                        "INSERT INTO events(session_id, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+                        "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)");
+  ins.bind(1, session);
+  ins.bind(2, e.seq);
+  ins.bind(3, e.utc);
+  ins.bind(4, e.monoNs);
+  ins.bind(5, e.kind);
+  ins.bind(6, e.payloadJson);
+  ins.bind(7, e.raw);
+  ins.bind(8, e.prevHash);
+  ins.bind(9, e.hash);
+  ins.exec();
+  // Retracting first: a correction takes its item's old row out and puts the new one in.
+  if (change.retracts) {
+    for (const char* sql : {"DELETE FROM markers WHERE session_id=?1 AND seq=?2",
+                            "DELETE FROM thickness_readings WHERE session_id=?1 AND seq=?2"}) {
+      SQLite::Statement del(db, sql);
+      del.bind(1, session);
+      del.bind(2, *change.retracts);
+      del.exec();
+    }
+  }
+  if (change.projection) {
+    const Projection& p = *change.projection;
+    const bool marker = p.kind == Projection::Kind::Marker;
+    SQLite::Statement pr(db, marker ? "INSERT INTO markers(session_id, seq, what, row, col, x_mm, y_mm, z_mm) "
+                                      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"
+                                    : "INSERT INTO thickness_readings(session_id, seq, what, row, col, value_mm, raw) "
+                                      "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
+    pr.bind(1, session);
+    pr.bind(2, e.seq);
+    pr.bind(3, p.what);
+    if (p.row)
+      pr.bind(4, *p.row);
+    else
+      pr.bind(4);
+    if (p.col)
+      pr.bind(5, *p.col);
+    else
+      pr.bind(5);
+    if (marker) {
+      pr.bind(6, p.positionMm[0]);
+      pr.bind(7, p.positionMm[1]);
+      pr.bind(8, p.positionMm[2]);
+    } else {
+      pr.bind(6, p.valueMm);
+      pr.bind(7, p.raw);
+    }
+    pr.exec();
+  }
+  SQLite::Statement up(db, change.setsStatus ? "UPDATE sessions SET head_seq=?1, head_hash=?2, status=?4 WHERE id=?3"
+                                             : "UPDATE sessions SET head_seq=?1, head_hash=?2 WHERE id=?3");
+  up.bind(1, e.seq);
+  up.bind(2, e.hash);
+  up.bind(3, session);
+  if (change.setsStatus) up.bind(4, *change.setsStatus);
+  up.exec();
+}
+
+}  // namespace
+
 std::int64_t Store::append(std::int64_t session, const EventInput& ev) {
   try {
     SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
-    SQLite::Statement head(*impl_->db, "SELECT head_seq, head_hash FROM sessions WHERE id=?1");
-    head.bind(1, session);
-    if (!head.executeStep())
-      throw StoreError(StoreErrorKind::Input, "no session " + std::to_string(session) + " in " + path_,
-                       "'leafdig sessions list' shows the sessions");
-    const std::int64_t seq = head.getColumn(0).getInt64() + 1;
-    const std::string prev = head.getColumn(1).getString();
-    const std::string utc = utcNow();
-    const std::string hash = sha256Hex(chainInput(prev, session, seq, utc, ev.monoNs, ev.kind, ev.payloadJson, ev.raw));
-    SQLite::Statement ins(*impl_->db,
-                          "INSERT INTO events(session_id, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
-                          "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)");
-    ins.bind(1, session);
-    ins.bind(2, seq);
-    ins.bind(3, utc);
-    ins.bind(4, ev.monoNs);
-    ins.bind(5, ev.kind);
-    ins.bind(6, ev.payloadJson);
-    ins.bind(7, ev.raw);
-    ins.bind(8, prev);
-    ins.bind(9, hash);
-    ins.exec();
-    if (ev.projection) {
-      const Projection& p = *ev.projection;
-      const bool marker = p.kind == Projection::Kind::Marker;
-      SQLite::Statement pr(*impl_->db,
-                           marker ? "INSERT INTO markers(session_id, seq, what, row, col, x_mm, y_mm, z_mm) "
-                                    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"
-                                  : "INSERT INTO thickness_readings(session_id, seq, what, row, col, value_mm, raw) "
-                                    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)");
-      pr.bind(1, session);
-      pr.bind(2, seq);
-      pr.bind(3, p.what);
-      if (p.row)
-        pr.bind(4, *p.row);
-      else
-        pr.bind(4);
-      if (p.col)
-        pr.bind(5, *p.col);
-      else
-        pr.bind(5);
-      if (marker) {
-        pr.bind(6, p.positionMm[0]);
-        pr.bind(7, p.positionMm[1]);
-        pr.bind(8, p.positionMm[2]);
-      } else {
-        pr.bind(6, p.valueMm);
-        pr.bind(7, p.raw);
-      }
-      pr.exec();
-    }
-    if (ev.retracts) {
-      for (const char* sql : {"DELETE FROM markers WHERE session_id=?1 AND seq=?2",
-                              "DELETE FROM thickness_readings WHERE session_id=?1 AND seq=?2"}) {
-        SQLite::Statement del(*impl_->db, sql);
-        del.bind(1, session);
-        del.bind(2, *ev.retracts);
-        del.exec();
-      }
-    }
-    SQLite::Statement up(*impl_->db, ev.setsStatus
-                                         ? "UPDATE sessions SET head_seq=?1, head_hash=?2, status=?4 WHERE id=?3"
-                                         : "UPDATE sessions SET head_seq=?1, head_hash=?2 WHERE id=?3");
-    up.bind(1, seq);
-    up.bind(2, hash);
-    up.bind(3, session);
-    if (ev.setsStatus) up.bind(4, *ev.setsStatus);
-    up.exec();
+    const Head head = headOf(*impl_->db, session, path_);
+    Event e;
+    e.session = session;
+    e.seq = head.seq + 1;
+    e.utc = utcNow();
+    e.monoNs = ev.monoNs;
+    e.kind = ev.kind;
+    e.payloadJson = ev.payloadJson;
+    e.raw = ev.raw;
+    e.prevHash = head.hash;
+    e.hash = eventHash(e.prevHash, session, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw);
+    writeEvent(*impl_->db, session, e, ev);
     tx.commit();  // synchronous=FULL: durable when this returns
-    return seq;
+    return e.seq;
   } catch (const SQLite::Exception& e) {
     rethrow(e, path_, "cannot record an event in");
   }
 }
 
-std::int64_t Store::setStatus(std::int64_t session, const std::string& status, const std::string& who,
-                              const std::string& why) {
-  static const char* const kAllowed[] = {"open", "complete", "approved", "rejected", "abandoned"};
-  if (std::find(std::begin(kAllowed), std::end(kAllowed), status) == std::end(kAllowed))
-    throw StoreError(StoreErrorKind::Input, "unknown session status '" + status + "'",
-                     "use open, complete, approved, rejected or abandoned");
-  const std::string payload = nlohmann::json{{"status", status}, {"who", who}, {"why", why}}.dump();
-  EventInput ev;
-  ev.kind = "status";
-  ev.payloadJson = payload;
-  ev.setsStatus = status;  // the event and the session row change together
-  return append(session, ev);
+void Store::import(std::int64_t session, const std::vector<Event>& events) {
+  try {
+    SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
+    Head head = headOf(*impl_->db, session, path_);
+    for (const Event& e : events) {
+      const auto conflict = [&](const std::string& why) {
+        throw StoreError(
+            StoreErrorKind::Conflict,
+            "session " + std::to_string(session) + " in " + path_ + ", event " + std::to_string(e.seq) + ": " + why,
+            "nothing was taken in; the station's copy and the other differ from this event on "
+            "(docs/lab-server.md, \"Conflicts\")");
+      };
+      if (e.seq != head.seq + 1) conflict("it does not follow the station's last event " + std::to_string(head.seq));
+      if (e.prevHash != head.hash)
+        conflict("it follows another event " + std::to_string(head.seq) + " than the station's");
+      if (eventHash(e.prevHash, session, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw) != e.hash)
+        conflict("its content does not hash to its hash");
+      writeEvent(*impl_->db, session, e, changeOf(e));
+      head = {e.seq, e.hash};
+    }
+    tx.commit();
+  } catch (const SQLite::Exception& e) {
+    rethrow(e, path_, "cannot take in events into");
+  }
 }
 
 std::vector<Event> Store::events(std::int64_t session, std::int64_t fromSeq) const {
@@ -479,6 +482,7 @@ constexpr const char* kSessionSelect =
 SessionInfo readSession(SQLite::Statement& q) {
   SessionInfo s;
   s.id = q.getColumn(0).getInt64();
+  s.stationSessionId = s.id;
   s.leafId = q.getColumn(1).getInt64();
   s.project = q.getColumn(2).getString();
   s.plant = q.getColumn(3).getString();
@@ -521,7 +525,6 @@ std::vector<SessionInfo> Store::sessions() const {
 }
 
 ChainReport Store::verify(std::int64_t session) const {
-  ChainReport r;
   std::string genesis;
   std::int64_t headSeq = 0;
   std::string headHash;
@@ -529,6 +532,7 @@ ChainReport Store::verify(std::int64_t session) const {
     SQLite::Statement q(*impl_->db, "SELECT genesis_hash, head_seq, head_hash FROM sessions WHERE id=?1");
     q.bind(1, session);
     if (!q.executeStep()) {
+      ChainReport r;
       r.ok = false;
       r.problem = "no session " + std::to_string(session);
       return r;
@@ -539,32 +543,7 @@ ChainReport Store::verify(std::int64_t session) const {
   } catch (const SQLite::Exception& e) {
     rethrow(e, path_, "cannot verify");
   }
-  std::string prev = genesis;
-  std::int64_t expected = 1;
-  for (const Event& e : events(session)) {
-    ++r.events;
-    const auto fail = [&](const std::string& why) {
-      r.ok = false;
-      r.firstBadSeq = e.seq;
-      r.problem = why;
-    };
-    if (e.seq != expected)
-      fail("event " + std::to_string(expected) + " is missing");
-    else if (e.prevHash != prev)
-      fail("event " + std::to_string(e.seq) + " does not follow the previous one");
-    else if (sha256Hex(chainInput(prev, session, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw)) != e.hash)
-      fail("event " + std::to_string(e.seq) + " was changed after it was written");
-    if (!r.ok) return r;
-    prev = e.hash;
-    ++expected;
-  }
-  if (expected - 1 != headSeq || prev != headHash) {
-    r.ok = false;
-    r.firstBadSeq = expected;
-    r.problem = "the log ends at event " + std::to_string(expected - 1) + " but the session recorded " +
-                std::to_string(headSeq) + " events: events were removed";
-  }
-  return r;
+  return verifyChain(session, genesis, headSeq, headHash, events(session));
 }
 
 std::int64_t Store::recordExport(std::int64_t session, const std::string& path, const std::string& format) {

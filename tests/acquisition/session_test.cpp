@@ -63,6 +63,30 @@ bool has(const std::vector<acq::Feedback>& fs, FK k) {
   return false;
 }
 
+// The projections read back from the events alone (db::project: how the lab server and an
+// import see a session) are the ones the store kept as each event was written.
+void expectProjectionFromEventsMatchesTheStore(const leafdig::db::Store& store, std::int64_t id) {
+  const leafdig::db::Projected p = leafdig::db::project(store.events(id));
+  const auto markers = store.markers(id);
+  ASSERT_EQ(p.markers.size(), markers.size());
+  for (std::size_t i = 0; i < markers.size(); ++i) {
+    EXPECT_EQ(p.markers[i].seq, markers[i].seq);
+    EXPECT_EQ(p.markers[i].what, markers[i].what);
+    EXPECT_EQ(p.markers[i].row, markers[i].row);
+    EXPECT_EQ(p.markers[i].col, markers[i].col);
+    EXPECT_EQ(p.markers[i].positionMm, markers[i].positionMm);
+  }
+  const auto thickness = store.thickness(id);
+  ASSERT_EQ(p.thickness.size(), thickness.size());
+  for (std::size_t i = 0; i < thickness.size(); ++i) {
+    EXPECT_EQ(p.thickness[i].seq, thickness[i].seq);
+    EXPECT_EQ(p.thickness[i].what, thickness[i].what);
+    EXPECT_EQ(p.thickness[i].valueMm, thickness[i].valueMm);
+    EXPECT_EQ(p.thickness[i].raw, thickness[i].raw);
+  }
+  EXPECT_EQ(p.status.value_or("open"), store.session(id)->status);
+}
+
 class Session : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -191,6 +215,7 @@ TEST_F(Session, UndoRetakeAndTheirCancellationSurviveReplayAndUpdateTheProjectio
       EXPECT_NEAR(m.positionMm[2], moved[2], 0.1);
     }
   EXPECT_EQ(retaken, 1);
+  expectProjectionFromEventsMatchesTheStore(store, id);
 }
 
 TEST_F(Session, AFullStorePausesWithAClearMessageLosesNothingAndContinuesWhenSpaceReturns) {
@@ -452,6 +477,72 @@ TEST_F(Session, ACuratorsCorrectionIsAnEventThatReplaysAndReplacesTheProjection)
   ASSERT_TRUE(result.metrics.areaConstraint.has_value());
   req.formats = {"dxf"};
   EXPECT_THROW((void)acq::exportSession(store, id, req), std::invalid_argument);
+  expectProjectionFromEventsMatchesTheStore(store, id);
+}
+
+TEST_F(Session, ACuratorsDecisionsTakenInFromAnotherCopyOfTheSessionReplayAndChangeTheProjections) {
+  // The station's file, and a copy of it (the lab server's copy of the session, in
+  // miniature) where a curator corrects and approves: the station takes those events in.
+  const fs::path stationFile = dir_ / "station.sqlite";
+  const fs::path serverFile = dir_ / "server.sqlite";
+  std::int64_t id = 0;
+  {
+    leafdig::db::Store store(stationFile.string());
+    id = create(store);
+    acq::CaptureSession s(store, id);
+    Hand h{&s};
+    captureRows(h, 3);
+    ASSERT_TRUE(has(h.press(point(3, 7), 3200), FK::Undone));  // an undo among the events
+    ASSERT_TRUE(has(h.press(point(3, 7)), FK::Accepted));
+    finish(h);
+  }
+  fs::copy_file(stationFile, serverFile);
+  leafdig::db::Store station(stationFile.string());
+  leafdig::db::Store server(serverFile.string());
+  const auto head = station.session(id)->headSeq;
+  acq::Correction c;
+  c.what = acq::What::MidribThickness;
+  c.row = 2;
+  c.col = 4;
+  c.valueMm = 1.75;
+  c.who = "curator";
+  c.reason = "the caliper slipped off the midrib";
+  (void)acq::correct(server, id, c);
+  (void)acq::review(server, id, "approved", "curator", "");
+  const auto decisions = server.events(id, head + 1);
+  ASSERT_EQ(decisions.size(), 2u);
+
+  station.import(id, decisions);
+  EXPECT_TRUE(station.verify(id).ok);
+  EXPECT_EQ(station.session(id)->status, "approved");
+  EXPECT_EQ(station.session(id)->headHash, server.session(id)->headHash);
+  expectProjectionFromEventsMatchesTheStore(station, id);
+  const auto thickness = station.thickness(id);
+  const auto serverThickness = server.thickness(id);
+  ASSERT_EQ(thickness.size(), serverThickness.size());
+  for (std::size_t i = 0; i < thickness.size(); ++i) {
+    EXPECT_EQ(thickness[i].seq, serverThickness[i].seq);
+    EXPECT_EQ(thickness[i].valueMm, serverThickness[i].valueMm);
+  }
+  EXPECT_DOUBLE_EQ(
+      acq::findItem(acq::openForReview(station, id).engine.items(), acq::What::MidribThickness, 2, 4)->valueMm, 1.75);
+
+  // Taken in twice, or an event that does not follow: refused, naming it, nothing changed.
+  const auto before = station.events(id).size();
+  try {
+    station.import(id, decisions);
+    FAIL() << "taken in twice";
+  } catch (const leafdig::db::StoreError& e) {
+    EXPECT_EQ(e.kind(), leafdig::db::StoreErrorKind::Conflict);
+    EXPECT_NE(std::string(e.what()).find("event " + std::to_string(head + 1)), std::string::npos) << e.what();
+  }
+  auto forged = server.events(id, server.session(id)->headSeq)[0];
+  forged.seq += 1;
+  forged.prevHash = station.session(id)->headHash;
+  forged.payloadJson = R"({"status":"rejected","who":"mallory","why":""})";
+  EXPECT_THROW(station.import(id, {forged}), leafdig::db::StoreError);  // its hash does not match
+  EXPECT_EQ(station.events(id).size(), before);
+  EXPECT_EQ(station.session(id)->status, "approved");
 }
 
 TEST_F(Session, StepByStepReplayShowsTheLeafAsItWasAfterEachEvent) {

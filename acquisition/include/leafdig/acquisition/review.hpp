@@ -31,7 +31,7 @@ struct ReviewedSession {
 
 // Opens a session of any status. upToSeq > 0 replays only events 1..upToSeq (step-by-step
 // replay in review). Throws SessionError when it does not exist or does not replay.
-[[nodiscard]] ReviewedSession openForReview(const db::Store& store, std::int64_t id, std::int64_t upToSeq = 0);
+[[nodiscard]] ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std::int64_t upToSeq = 0);
 
 // One finding a curator should look at.
 struct ReviewFlag {
@@ -56,11 +56,11 @@ struct Correction {
 // final; open ones are still being captured). Throws std::invalid_argument naming what is
 // wrong (no reason, unknown item, value of the wrong kind or outside the settings' range)
 // and SessionError when the session's chain is broken.
-std::int64_t correct(db::Store& store, std::int64_t id, const Correction& c);
+std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c);
 
 // approve: only complete sessions; reject: complete ones, with a reason. Checks the chain
 // first. Returns the status event's seq.
-std::int64_t review(db::Store& store, std::int64_t id, const std::string& status, const std::string& who,
+std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& status, const std::string& who,
                     const std::string& why);
 
 struct ExportRequest {
@@ -80,7 +80,7 @@ struct ExportResult {
 };
 // Writes each file atomically and records it in `exports`. Throws std::invalid_argument
 // (unknown format, no directory) and model::InputError (the capture is not a whole leaf).
-ExportResult exportSession(db::Store& store, std::int64_t id, const ExportRequest& request);
+ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportRequest& request);
 // The format names exportSession knows, in order.
 [[nodiscard]] const std::vector<std::string>& exportFormats();
 
@@ -99,6 +99,6 @@ struct OrganLibrary {
   std::vector<model::LibraryLeaf> leaves;
   std::vector<std::string> skipped;
 };
-[[nodiscard]] OrganLibrary organLibrary(const db::Store& store);
+[[nodiscard]] OrganLibrary organLibrary(const db::EventStore& store);
 
 }  // namespace leafdig::acquisition

@@ -1,0 +1,181 @@
+// The hash chain's rules and what each event kind changes (docs/schema.md), shared by the
+// station's SQLite file and the lab server.
+#include "leafdig/db/event_store.hpp"
+
+#include <openssl/evp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <map>
+#include <nlohmann/json.hpp>
+
+namespace leafdig::db {
+
+std::string sha256Hex(const std::string& data) {
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned int n = 0;
+  EVP_Digest(data.data(), data.size(), md, &n, EVP_sha256(), nullptr);
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (unsigned int i = 0; i < n; ++i) {
+    out += hex[md[i] >> 4];
+    out += hex[md[i] & 15];
+  }
+  return out;
+}
+
+std::string eventHash(const std::string& prev, std::int64_t session, std::int64_t seq, const std::string& utc,
+                      std::int64_t mono, const std::string& kind, const std::string& payload, const std::string& raw) {
+  std::string s = prev;
+  s += '\n' + std::to_string(session) + '\n' + std::to_string(seq) + '\n' + utc + '\n' + std::to_string(mono) + '\n' +
+       kind + '\n' + std::to_string(payload.size()) + ':' + payload + '\n' + std::to_string(raw.size()) + ':' + raw;
+  return sha256Hex(s);
+}
+
+std::string genesisHash(std::int64_t stationSessionId, const std::string& createdUtc, const std::string& settingsJson) {
+  return sha256Hex("leafdig session " + std::to_string(stationSessionId) + " " + createdUtc + " " + settingsJson);
+}
+
+ChainReport verifyChain(std::int64_t stationSessionId, const std::string& genesis, std::int64_t headSeq,
+                        const std::string& headHash, const std::vector<Event>& events) {
+  ChainReport r;
+  std::string prev = genesis;
+  std::int64_t expected = 1;
+  for (const Event& e : events) {
+    ++r.events;
+    const auto fail = [&](const std::string& why) {
+      r.ok = false;
+      r.firstBadSeq = e.seq;
+      r.problem = why;
+    };
+    if (e.seq != expected)
+      fail("event " + std::to_string(expected) + " is missing");
+    else if (e.prevHash != prev)
+      fail("event " + std::to_string(e.seq) + " does not follow the previous one");
+    else if (eventHash(prev, stationSessionId, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw) != e.hash)
+      fail("event " + std::to_string(e.seq) + " was changed after it was written");
+    if (!r.ok) return r;
+    prev = e.hash;
+    ++expected;
+  }
+  if (expected - 1 != headSeq || prev != headHash) {
+    r.ok = false;
+    r.firstBadSeq = expected;
+    r.problem = "the log ends at event " + std::to_string(expected - 1) + " but the session recorded " +
+                std::to_string(headSeq) + " events: events were removed";
+  }
+  return r;
+}
+
+std::string utcNow() {
+  const auto now = std::chrono::system_clock::now();
+  const std::time_t t = std::chrono::system_clock::to_time_t(now);
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
+  std::tm tm{};
+  ::gmtime_r(&t, &tm);
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%03lldZ", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<long long>(ms));
+  return buf;
+}
+
+std::int64_t EventStore::setStatus(std::int64_t session, const std::string& status, const std::string& who,
+                                   const std::string& why) {
+  static const char* const kAllowed[] = {"open", "complete", "approved", "rejected", "abandoned"};
+  if (std::find(std::begin(kAllowed), std::end(kAllowed), status) == std::end(kAllowed))
+    throw StoreError(StoreErrorKind::Input, "unknown session status '" + status + "'",
+                     "use open, complete, approved, rejected or abandoned");
+  EventInput ev;
+  ev.kind = "status";
+  ev.payloadJson = nlohmann::json{{"status", status}, {"who", who}, {"why", why}}.dump();
+  ev.setsStatus = status;  // the event and the session's status change together
+  return append(session, ev);
+}
+
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void unreadable(const Event& e, const std::string& why) {
+  throw StoreError(StoreErrorKind::Input,
+                   "event " + std::to_string(e.seq) + " (" + e.kind + ") of session " + std::to_string(e.session) +
+                       " cannot be read: " + why,
+                   "the event is kept as it is; report it with the session's export (docs/schema.md lists the "
+                   "payload of each kind)");
+}
+
+std::optional<int> optionalIndex(const json& j, const char* key) {
+  if (!j.contains(key) || j.at(key).is_null()) return std::nullopt;
+  return j.at(key).get<int>();
+}
+
+// An item of an `accepted`-like payload as a projection row.
+Projection projectionOfItem(const json& item, const std::string& raw) {
+  Projection p;
+  p.what = item.at("what").get<std::string>();
+  p.row = optionalIndex(item, "row");
+  p.col = optionalIndex(item, "col");
+  if (item.contains("position_mm")) {
+    p.kind = Projection::Kind::Marker;
+    for (std::size_t k = 0; k < 3; ++k) p.positionMm[k] = item.at("position_mm").at(k).get<double>();
+  } else {
+    p.kind = Projection::Kind::Thickness;
+    p.valueMm = item.at("value_mm").get<double>();
+    p.raw = raw;
+  }
+  return p;
+}
+
+}  // namespace
+
+EventInput changeOf(const Event& e) {
+  EventInput in;
+  in.kind = e.kind;
+  in.payloadJson = e.payloadJson;
+  in.raw = e.raw;
+  in.monoNs = e.monoNs;
+  const bool carriesItem = e.kind == "accepted" || e.kind == "retake_cancelled";
+  const bool retracts = e.kind == "undone" || e.kind == "retake";
+  if (!carriesItem && !retracts && e.kind != "corrected" && e.kind != "status") return in;
+  try {
+    const json p = json::parse(e.payloadJson);
+    if (carriesItem) in.projection = projectionOfItem(p, e.raw);
+    if (retracts) in.retracts = p.at("seq").get<std::int64_t>();
+    if (e.kind == "corrected") {
+      in.retracts = p.at("seq").get<std::int64_t>();
+      in.projection = projectionOfItem(p.at("corrected"), e.raw);
+    }
+    if (e.kind == "status") in.setsStatus = p.at("status").get<std::string>();
+  } catch (const json::exception& x) {
+    unreadable(e, x.what());
+  }
+  return in;
+}
+
+Projected project(const std::vector<Event>& events) {
+  std::map<std::int64_t, MarkerRow> markers;
+  std::map<std::int64_t, ThicknessRow> thickness;
+  Projected out;
+  for (const Event& e : events) {
+    const EventInput c = changeOf(e);
+    if (c.retracts) {
+      markers.erase(*c.retracts);
+      thickness.erase(*c.retracts);
+    }
+    if (c.projection) {
+      const Projection& p = *c.projection;
+      if (p.kind == Projection::Kind::Marker)
+        markers[e.seq] = MarkerRow{e.seq, p.what, p.row, p.col, p.positionMm};
+      else
+        thickness[e.seq] = ThicknessRow{e.seq, p.what, p.row, p.col, p.valueMm, p.raw};
+    }
+    if (c.setsStatus) out.status = c.setsStatus;
+  }
+  for (auto& [seq, m] : markers) out.markers.push_back(std::move(m));
+  for (auto& [seq, t] : thickness) out.thickness.push_back(std::move(t));
+  return out;
+}
+
+}  // namespace leafdig::db
