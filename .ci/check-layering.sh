@@ -21,6 +21,13 @@ if [ -n "$cv" ]; then
   echo "OpenCV header outside model/src/leaf_scan.cpp:"; echo "$cv"; fail=1
 fi
 
+# 4. libpq only in db/src/pg.hpp (the lab server's thin client layer) and the tests' own
+#    PostgreSQL helper.
+pq=$(sources model devices db acquisition ui tests | grep -v -e '^db/src/pg.hpp$' -e '^tests/support/pg_cluster.hpp$' | xargs -r grep -lE '#\s*include\s*[<"]libpq-fe.h' || true)
+if [ -n "$pq" ]; then
+  echo "libpq header outside db/src/pg.hpp:"; echo "$pq"; fail=1
+fi
+
 check() {  # module, forbidden modules...
   local module=$1; shift
   for other in "$@"; do
@@ -35,5 +42,5 @@ check model devices db acquisition ui
 check devices model db acquisition ui
 check db devices acquisition ui
 check acquisition ui
-[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, dependencies point one way"
+[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, dependencies point one way"
 exit $fail

@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "item_json.hpp"
@@ -53,7 +56,35 @@ const char* toString(Feedback::Kind k) {
   return nameIn(kFeedbackNames, k);
 }
 
+std::string stationSettingsFile() {
+  const char* xdg = std::getenv("XDG_CONFIG_HOME");
+  const char* home = std::getenv("HOME");
+  const std::filesystem::path base =
+      (xdg && *xdg) ? std::filesystem::path(xdg) : std::filesystem::path(home ? home : ".") / ".config";
+  return (base / "leafdig" / "station.ini").string();
+}
+
 std::string thisStation() {
+  // [station] id = … in the station's settings file (the INI the Qt station writes too).
+  std::ifstream in(stationSettingsFile());
+  std::string line, section;
+  while (std::getline(in, line)) {
+    const auto trim = [](std::string t) {
+      const auto a = t.find_first_not_of(" \t\r");
+      const auto b = t.find_last_not_of(" \t\r");
+      return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+    };
+    line = trim(line);
+    if (line.size() > 2 && line.front() == '[' && line.back() == ']') {
+      section = line.substr(1, line.size() - 2);
+      continue;
+    }
+    const auto eq = line.find('=');
+    if (section == "station" && eq != std::string::npos && trim(line.substr(0, eq)) == "id") {
+      const std::string id = trim(line.substr(eq + 1));
+      if (!id.empty()) return id;
+    }
+  }
   char host[256] = {};
   return ::gethostname(host, sizeof host - 1) == 0 ? std::string(host) : std::string();
 }

@@ -5,6 +5,7 @@
 #include <openssl/evp.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -79,6 +80,58 @@ std::string utcNow() {
   std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%03lldZ", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
                 tm.tm_hour, tm.tm_min, tm.tm_sec, static_cast<long long>(ms));
   return buf;
+}
+
+void checkStationId(const std::string& id) {
+  const auto refuse = [&](const std::string& why) {
+    throw StoreError(StoreErrorKind::Input, "the station id '" + id + "' " + why,
+                     "name the station with --station (or [station] id= in the settings file): 1 to 64 letters, "
+                     "digits, '.', '_' or '-', starting with a letter or digit");
+  };
+  if (id.empty()) refuse("is empty");
+  if (id.size() > 64) refuse("is longer than 64 characters");
+  if (std::isalnum(static_cast<unsigned char>(id[0])) == 0) refuse("does not start with a letter or digit");
+  for (const char c : id)
+    if (std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '.' && c != '_' && c != '-')
+      refuse(std::string("holds '") + c + "'");
+}
+
+std::optional<std::size_t> badTextByte(const std::string& s) {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c == 0) return i;
+    std::size_t n = 0;
+    std::uint32_t cp = 0;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    if ((c & 0xE0) == 0xC0) {
+      n = 1;
+      cp = c & 0x1F;
+    } else if ((c & 0xF0) == 0xE0) {
+      n = 2;
+      cp = c & 0x0F;
+    } else if ((c & 0xF8) == 0xF0) {
+      n = 3;
+      cp = c & 0x07;
+    } else {
+      return i;
+    }
+    for (std::size_t k = 1; k <= n; ++k) {
+      if (i + k >= s.size()) return i;
+      const auto d = static_cast<unsigned char>(s[i + k]);
+      if ((d & 0xC0) != 0x80) return i;
+      cp = (cp << 6) | (d & 0x3F);
+    }
+    // Overlong forms, surrogates and code points past U+10FFFF are not UTF-8.
+    if ((n == 1 && cp < 0x80) || (n == 2 && cp < 0x800) || (n == 3 && cp < 0x10000) || cp > 0x10FFFF ||
+        (cp >= 0xD800 && cp <= 0xDFFF))
+      return i;
+    i += n + 1;
+  }
+  return std::nullopt;
 }
 
 std::int64_t EventStore::setStatus(std::int64_t session, const std::string& status, const std::string& who,

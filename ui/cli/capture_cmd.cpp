@@ -19,6 +19,7 @@
 #include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/db/lab.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -53,7 +54,8 @@ int reportStoreError(const db::StoreError& e) {
     case db::StoreErrorKind::NotLeafdig:
     case db::StoreErrorKind::TooNew:
     case db::StoreErrorKind::Corrupt:
-    case db::StoreErrorKind::Input: return 2;
+    case db::StoreErrorKind::Input:
+    case db::StoreErrorKind::Refused: return 2;
     default: return 1;
   }
 }
@@ -197,6 +199,8 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   s.leafPosition = o.leafPosition;
   s.leafType = o.leafType;
   s.operatorName = o.operatorName;
+  if (!o.station.empty()) db::checkStationId(o.station);
+  s.station = o.station;
   s.settings.mode = acq::modeFromString(o.mode);
   s.settings.order = acq::orderFromString(o.order);
   s.settings.boardFrame = o.board;
@@ -328,12 +332,14 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
 }
 
 // ---- sessions ---------------------------------------------------------------------------------
-int runList(const db::Store& store, const CaptureOptions& o) {
+int runList(const db::EventStore& store, const CaptureOptions& o) {
   const auto sessions = store.sessions();
   if (o.json) {
     json a = json::array();
     for (const auto& s : sessions)
       a.push_back({{"id", s.id},
+                   {"station", s.station},
+                   {"station_session_id", s.stationSessionId},
                    {"project", s.project},
                    {"plant", s.plant},
                    {"leaf_position", s.leafPosition},
@@ -346,18 +352,23 @@ int runList(const db::Store& store, const CaptureOptions& o) {
     std::cout << a.dump() << "\n";
     return 0;
   }
-  std::cout << std::left << std::setw(6) << "id" << std::setw(10) << "status" << std::setw(28) << "leaf"
-            << std::setw(14) << "operator" << std::setw(8) << "events"
+  // On the lab server each session also carries its station and the id it has there.
+  const bool server = db::isServerUrl(o.db);
+  std::cout << std::left << std::setw(6) << "id" << (server ? "station:id            " : "") << std::setw(10)
+            << "status" << std::setw(28) << "leaf" << std::setw(14) << "operator" << std::setw(8) << "events"
             << "created (UTC)\n";
-  for (const auto& s : sessions)
-    std::cout << std::setw(6) << s.id << std::setw(10) << s.status << std::setw(28)
+  for (const auto& s : sessions) {
+    std::cout << std::setw(6) << s.id;
+    if (server) std::cout << std::setw(22) << (s.station + ":" + std::to_string(s.stationSessionId));
+    std::cout << std::setw(10) << s.status << std::setw(28)
               << (s.project + "/" + s.plant + "/" + std::to_string(s.leafPosition)) << std::setw(14) << s.operatorName
               << std::setw(8) << s.headSeq << s.createdUtc << "\n";
-  if (sessions.empty()) std::cout << "(no sessions in " << store.path() << ")\n";
+  }
+  if (sessions.empty()) std::cout << "(no sessions in " << store.describe() << ")\n";
   return 0;
 }
 
-int runShow(const db::Store& store, const CaptureOptions& o) {
+int runShow(const db::EventStore& store, const CaptureOptions& o) {
   const acq::ReviewedSession r = acq::openForReview(store, o.id);
   const db::ChainReport chain = store.verify(o.id);
   json tip = nullptr;
@@ -378,6 +389,8 @@ int runShow(const db::Store& store, const CaptureOptions& o) {
                          {"value_mm", t.valueMm}});
   if (o.json) {
     json j{{"id", o.id},
+           {"station", r.info.station},
+           {"station_session_id", r.info.stationSessionId},
            {"status", r.info.status},
            {"step", stepJson(r.engine.step(), r.engine.prompt())},
            {"tip", tip},
@@ -404,7 +417,7 @@ int runShow(const db::Store& store, const CaptureOptions& o) {
   return 0;
 }
 
-int runVerify(const db::Store& store, const CaptureOptions& o) {
+int runVerify(const db::EventStore& store, const CaptureOptions& o) {
   std::vector<std::int64_t> ids;
   const bool all = o.all || o.id == 0;
   if (all)
@@ -434,22 +447,24 @@ int runVerify(const db::Store& store, const CaptureOptions& o) {
                          : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " + c.problem)
                 << "\n";
   }
-  // Every page of the file as well (opening for capture checks only what capture touches).
-  if (all) {
-    const std::string pages = store.checkPages();
+  // Every page of a station's file as well (opening for capture checks only what capture
+  // touches); the lab server checks its own pages.
+  const auto* file = dynamic_cast<const db::Store*>(&store);
+  if (all && file) {
+    const std::string pages = file->checkPages();
     if (pages != "ok") {
       ok = false;
-      std::cerr << "leafdig: " << store.path() << " has damaged pages (" << pages
+      std::cerr << "leafdig: " << file->path() << " has damaged pages (" << pages
                 << "): restore it from a backup; the file was not modified\n";
     } else if (!o.json) {
-      std::cout << "pages: every page of " << store.path() << " checked, OK\n";
+      std::cout << "pages: every page of " << file->path() << " checked, OK\n";
     }
   }
   if (o.json) std::cout << a.dump() << "\n";
   return ok ? 0 : 1;
 }
 
-int runReview(db::Store& store, const CaptureOptions& o, const std::string& status) {
+int runReview(db::EventStore& store, const CaptureOptions& o, const std::string& status) {
   const auto seq = acq::review(store, o.id, status, o.who, o.why);
   if (o.json)
     std::cout << json{{"session", o.id}, {"status", status}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
@@ -458,7 +473,7 @@ int runReview(db::Store& store, const CaptureOptions& o, const std::string& stat
   return 0;
 }
 
-int runCorrect(db::Store& store, const CaptureOptions& o) {
+int runCorrect(db::EventStore& store, const CaptureOptions& o) {
   acq::Correction c;
   c.what = acq::whatFromString(o.what);
   c.row = o.row;
@@ -478,7 +493,7 @@ int runCorrect(db::Store& store, const CaptureOptions& o) {
   return 0;
 }
 
-int runExport(db::Store& store, const CaptureOptions& o) {
+int runExport(db::EventStore& store, const CaptureOptions& o) {
   acq::ExportRequest request;
   request.formats = o.formats;
   request.frame = o.frame;
@@ -615,6 +630,10 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
     c->add_option("--seed", o.seed, "Seed of the simulation (noise, mistakes, faults)");
     c->add_option("--speed", o.speed, "Time scale of the simulated operator and devices (e.g. 10)");
     c->add_flag("--no-mistakes", o.noMistakes, "The virtual operator makes no deliberate mistakes");
+    c->add_option(
+        "--station", o.station,
+        "This station's id, stored with the session (default: [station] id= in ~/.config/leafdig/station.ini, "
+        "else the host name)");
   };
   CLI::App* capture = app.add_subcommand("capture", "Guided capture of one leaf into the station's database");
   addCaptureOptions(capture);
@@ -642,7 +661,8 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
   CLI::App* corr = sessions->add_subcommand("correct", "Curator: correct one marker or reading, saying why");
   CLI::App* exp = sessions->add_subcommand("export", "Export a session's leaf: meshes, model, markers, CSV");
   for (CLI::App* c : {list, show, verify, approve, reject, corr, exp}) {
-    c->add_option("--db", o.db, "SQLite file (default: the station's)");
+    c->add_option("--db", o.db,
+                  "SQLite file (default: the station's), or the lab server's postgresql:// URL (docs/lab.md)");
     c->add_flag("--json", o.json, "JSON output");
   }
   addCaptureOptions(resume);
@@ -678,6 +698,8 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
   demo->add_option("--synth-leaves", o.synthLeaves,
                    "Synthetic leaves with a known area captured after the samples (default 2, up to 20)");
   demo->add_option("--stylus-noise", o.stylusNoiseMm, "Noise of the simulated stylus per axis, σ in mm (default 0.3)");
+  demo->add_option("--station", o.station,
+                   "This station's id, stored with every session (default: settings, host name)");
 }
 
 int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {
@@ -700,9 +722,10 @@ int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {
   try {
     const bool writes = s->get_subcommand("approve")->parsed() || s->get_subcommand("reject")->parsed() ||
                         s->get_subcommand("export")->parsed() || s->get_subcommand("correct")->parsed();
-    if (!std::filesystem::exists(dbPath(o)))
+    if (!db::isServerUrl(o.db) && !std::filesystem::exists(dbPath(o)))
       throw std::invalid_argument("no database at " + dbPath(o) + ": give --db FILE (capture creates one)");
-    db::Store store(dbPath(o), !writes);
+    const std::unique_ptr<db::EventStore> opened = db::openEventStore(dbPath(o), !writes);
+    db::EventStore& store = *opened;
     if (s->get_subcommand("list")->parsed()) return runList(store, o);
     if (s->get_subcommand("show")->parsed()) return runShow(store, o);
     if (s->get_subcommand("verify")->parsed()) return runVerify(store, o);

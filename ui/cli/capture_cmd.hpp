@@ -10,7 +10,8 @@
 namespace leafdig::cli {
 
 struct CaptureOptions {
-  std::string db;
+  std::string db;       // a station's SQLite file, or (sessions list/show/…) a postgresql:// URL
+  std::string station;  // --station: this station's id (default: settings file, else host name)
   bool json = false;
   // capture
   std::string project = "default", plant = "plant-1", digitizer, caliper, mode = "standard", order = "sequential",

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <mutex>
@@ -10,6 +11,8 @@
 #include <sstream>
 #include <thread>
 
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/db/event_store.hpp"
 #include "leafdig/devices/links.hpp"
 #include "leafdig/devices/registry.hpp"
 #include "leafdig/devices/sim.hpp"
@@ -342,7 +345,25 @@ int runSim(const DevicesOptions& o) {
 
 // ---- doctor --------------------------------------------------------------------------------
 int runDoctor(const DevicesOptions& o) {
-  const auto checks = dev::doctorChecks();
+  auto checks = dev::doctorChecks();
+  // The id this station's sessions carry (and the lab server knows it by).
+  {
+    const std::string id = acquisition::thisStation();
+    const bool fromFile = std::filesystem::exists(acquisition::stationSettingsFile());
+    dev::Check station;
+    station.what = "station id";
+    station.detail = "'" + id + "'";
+    station.ok = true;
+    try {
+      db::checkStationId(id);
+      station.detail += fromFile ? " ([station] id in " + acquisition::stationSettingsFile() + ", or the host name)"
+                                 : " (the host name; set [station] id= in " + acquisition::stationSettingsFile() + ")";
+    } catch (const db::StoreError& e) {
+      station.ok = false;
+      station.remedy = e.remedy();
+    }
+    checks.insert(checks.begin(), station);
+  }
   int problems = 0;
   json j = json::array();
   for (const auto& c : checks) {

@@ -7,6 +7,7 @@
 
 #include "capture_cmd.hpp"
 #include "devices_cmd.hpp"
+#include "lab_cmd.hpp"
 #include "leaf2d_cmd.hpp"
 #include "leafdig/version.hpp"
 #include "mesh_cmd.hpp"
@@ -45,6 +46,9 @@ int main(int argc, char** argv) {
   leafdig::cli::CaptureOptions captureOptions;
   leafdig::cli::addCaptureCommands(app, captureOptions);
 
+  leafdig::cli::LabOptions labOptions;
+  leafdig::cli::addLabCommands(app, labOptions);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -65,5 +69,6 @@ int main(int argc, char** argv) {
   if (const int rc = leafdig::cli::runLeaf2dCommands(app, leaf2dOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runDevicesCommands(app, deviceOptions); rc >= 0) return rc;
   if (const int rc = leafdig::cli::runCaptureCommands(app, captureOptions); rc >= 0) return rc;
+  if (const int rc = leafdig::cli::runLabCommands(app, labOptions); rc >= 0) return rc;
   return 1;
 }

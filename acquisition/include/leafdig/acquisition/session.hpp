@@ -80,9 +80,14 @@ struct Snapshot {
   std::shared_ptr<const Preview> preview;  // null when not requested
 };
 
-// This machine's name: the station a new session records (SessionSetup::station default)
-// and the one whose interrupted sessions a front end offers to resume. Empty if unknown.
+// This station's id: the one a new session records (SessionSetup::station default) and
+// whose interrupted sessions a front end offers to resume. `[station] id = …` in the
+// settings file (stationSettingsFile()), else the host name; empty if neither is known.
+// `--station` on the command line overrides it (SessionSetup::station).
 [[nodiscard]] std::string thisStation();
+// $XDG_CONFIG_HOME/leafdig/station.ini (~/.config/leafdig/station.ini), shared with the Qt
+// station's settings.
+[[nodiscard]] std::string stationSettingsFile();
 
 class SessionError : public std::runtime_error {
  public:

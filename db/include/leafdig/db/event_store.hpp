@@ -135,6 +135,11 @@ class EventStore {
 // Checks `events` (1, 2, … in order) against the genesis and the recorded head.
 [[nodiscard]] ChainReport verifyChain(std::int64_t stationSessionId, const std::string& genesis, std::int64_t headSeq,
                                       const std::string& headHash, const std::vector<Event>& events);
+// Station ids go to the server: 1–64 of letters, digits, '.', '_' and '-', starting with a
+// letter or digit (a host name fits). Throws StoreError(Input) saying what is wrong.
+void checkStationId(const std::string& id);
+// Text the server stores must be UTF-8 without NUL bytes; the first offending byte, or none.
+[[nodiscard]] std::optional<std::size_t> badTextByte(const std::string& text);
 // UTC now as stored: 2026-11-21T11:07:55.041Z.
 [[nodiscard]] std::string utcNow();
 

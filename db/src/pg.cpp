@@ -1,0 +1,132 @@
+#include "pg.hpp"
+
+#include <charconv>
+#include <cstdlib>
+
+#include "leafdig/db/lab.hpp"
+
+namespace leafdig::db::pg {
+
+std::int64_t Result::int64(int row, int col) const {
+  const std::string t = text(row, col);
+  std::int64_t v = 0;
+  std::from_chars(t.data(), t.data() + t.size(), v);
+  return v;
+}
+
+double Result::number(int row, int col) const {
+  return std::strtod(text(row, col).c_str(), nullptr);
+}
+
+namespace {
+
+std::string field(const PGresult* r, int code) {
+  const char* f = PQresultErrorField(r, code);
+  return f ? f : "";
+}
+
+}  // namespace
+
+Connection::Connection(const std::string& url) : where_(redactUrl(url)) {
+  // libpq takes a URL or key=value pairs; a connect timeout unless the caller set one, and
+  // our name in the server's activity view.
+  const char* keys[] = {"dbname", "connect_timeout", "application_name", nullptr};
+  const char* values[] = {url.c_str(), "10", "leafdig", nullptr};
+  conn_ = PQconnectdbParams(keys, values, 1);  // expand_dbname: the URL's own settings win
+  if (conn_ == nullptr || PQstatus(conn_) != CONNECTION_OK) {
+    std::string why = conn_ ? PQerrorMessage(conn_) : "out of memory";
+    while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
+    if (conn_) PQfinish(conn_);
+    conn_ = nullptr;
+    throw Error(StoreErrorKind::Unreachable, "cannot connect to the lab server " + where_ + ": " + why,
+                "check the URL (host, port, database, user), the network and the password (~/.pgpass or "
+                "PGPASSFILE; docs/lab.md); nothing was changed",
+                "08001");
+  }
+  // Every timestamp the server shows in UTC, and text in UTF-8 whatever the server's locale.
+  (void)exec("SET TIME ZONE 'UTC'");
+  if (PQsetClientEncoding(conn_, "UTF8") != 0)
+    throw Error(StoreErrorKind::Input, "the lab server " + where_ + " cannot talk UTF-8",
+                "create the database with ENCODING 'UTF8'", "22021");
+}
+
+Connection::~Connection() {
+  if (conn_) PQfinish(conn_);
+}
+
+Result Connection::exec(const std::string& sql, const std::vector<Param>& params) {
+  std::vector<const char*> values;
+  values.reserve(params.size());
+  for (const auto& p : params) values.push_back(p ? p->c_str() : nullptr);
+  return check(
+      PQexecParams(conn_, sql.c_str(), static_cast<int>(values.size()), nullptr, values.data(), nullptr, nullptr, 0));
+}
+
+void Connection::execScript(const std::string& sql) {
+  (void)check(PQexec(conn_, sql.c_str()));
+}
+
+Result Connection::check(PGresult* r) {
+  const ExecStatusType status = r ? PQresultStatus(r) : PGRES_FATAL_ERROR;
+  if (status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK) return Result(r);
+  // The server's own words: its primary message, detail and hint, and the SQLSTATE.
+  std::string state = r ? field(r, PG_DIAG_SQLSTATE) : "";
+  std::string message = r ? field(r, PG_DIAG_MESSAGE_PRIMARY) : "";
+  const std::string detail = r ? field(r, PG_DIAG_MESSAGE_DETAIL) : "";
+  std::string hint = r ? field(r, PG_DIAG_MESSAGE_HINT) : "";
+  if (r) PQclear(r);
+  if (message.empty()) {
+    message = PQerrorMessage(conn_);
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+  }
+  if (!detail.empty()) message += " (" + detail + ")";
+  const bool lost = PQstatus(conn_) == CONNECTION_BAD || state.rfind("08", 0) == 0 || state.empty();
+  StoreErrorKind kind = StoreErrorKind::Input;
+  if (lost) {
+    kind = StoreErrorKind::Unreachable;
+    if (state.empty()) state = "08006";
+    if (hint.empty())
+      hint =
+          "the connection to the lab server was lost; what was not committed was rolled back on the server: "
+          "run the command again, it continues where the server stands";
+  } else if (state == "42501") {
+    kind = StoreErrorKind::Refused;
+  } else if (state.rfind("LD", 0) == 0 || state == "23505" || state == "40001") {
+    kind = StoreErrorKind::Conflict;
+  }
+  if (hint.empty()) hint = "the lab server refused it; nothing of this statement was kept";
+  throw Error(kind, "lab server " + where_ + ": " + message, hint, state);
+}
+
+void Connection::rollback() noexcept {
+  if (conn_ && PQtransactionStatus(conn_) != PQTRANS_IDLE) PQclear(PQexec(conn_, "ROLLBACK"));
+}
+
+std::string Connection::quoteIdentifier(const std::string& name) const {
+  char* q = PQescapeIdentifier(conn_, name.c_str(), name.size());
+  if (!q)
+    throw Error(StoreErrorKind::Input, "cannot quote the name '" + name + "'", "use a shorter plain name", "22000");
+  std::string out(q);
+  PQfreemem(q);
+  return out;
+}
+
+std::string Connection::quoteLiteral(const std::string& value) const {
+  char* q = PQescapeLiteral(conn_, value.c_str(), value.size());
+  if (!q) throw Error(StoreErrorKind::Input, "cannot quote a value", "check the text is UTF-8", "22000");
+  std::string out(q);
+  PQfreemem(q);
+  return out;
+}
+
+std::string Connection::encryptPassword(const std::string& password, const std::string& login) const {
+  char* v = PQencryptPasswordConn(conn_, password.c_str(), login.c_str(), "scram-sha-256");
+  if (!v)
+    throw Error(StoreErrorKind::Input, std::string("cannot encrypt the password: ") + PQerrorMessage(conn_),
+                "check the password file holds one line of text", "22000");
+  std::string out(v);
+  PQfreemem(v);
+  return out;
+}
+
+}  // namespace leafdig::db::pg

@@ -1,0 +1,87 @@
+// A thin RAII layer over libpq (the PostgreSQL client library, Debian libpq-dev) for the lab
+// server: one connection, statements with parameters only (never text pasted into SQL),
+// results as strings, failures as StoreError with the server's own words. Private to db/.
+//
+// libpqxx was the other candidate; Debian 12 ships 6.4, which predates C++20, and we need
+// only parameterised statements, transactions and libpq's escaping of identifiers for the
+// few DDL statements that take no parameters: this file is that much.
+//
+// Thread contract: one thread at a time per connection.
+#pragma once
+
+#include <libpq-fe.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "leafdig/db/event_store.hpp"
+
+namespace leafdig::db::pg {
+
+// A failure the server reported, with its SQLSTATE (23505: the row is there already, …).
+class Error : public StoreError {
+ public:
+  Error(StoreErrorKind kind, const std::string& what, std::string remedy, std::string state)
+      : StoreError(kind, what, std::move(remedy)), state_(std::move(state)) {}
+  [[nodiscard]] const std::string& sqlState() const noexcept { return state_; }
+
+ private:
+  std::string state_;
+};
+
+// A parameter: text, or SQL NULL.
+using Param = std::optional<std::string>;
+
+class Result {
+ public:
+  explicit Result(PGresult* r) : r_(r, &PQclear) {}
+  [[nodiscard]] int rows() const { return PQntuples(r_.get()); }
+  [[nodiscard]] bool isNull(int row, int col) const { return PQgetisnull(r_.get(), row, col) != 0; }
+  [[nodiscard]] std::string text(int row, int col) const {
+    return std::string(PQgetvalue(r_.get(), row, col), static_cast<std::size_t>(PQgetlength(r_.get(), row, col)));
+  }
+  [[nodiscard]] std::int64_t int64(int row, int col) const;
+  [[nodiscard]] double number(int row, int col) const;
+
+ private:
+  std::unique_ptr<PGresult, void (*)(PGresult*)> r_;
+};
+
+class Connection {
+ public:
+  // Connects (libpq URL or key=value string; `connect_timeout` 10 s unless the URL says).
+  // Throws StoreError(Unreachable) with the server's words and the URL without password.
+  explicit Connection(const std::string& url);
+  Connection(const Connection&) = delete;
+  Connection& operator=(const Connection&) = delete;
+  ~Connection();
+
+  // Runs one statement with $1, $2, … parameters. Throws StoreError: Refused for a
+  // permission or policy refusal, Conflict for a chain the server refused, Unreachable for
+  // a lost connection, Input otherwise; the message is the server's, the remedy its hint.
+  Result exec(const std::string& sql, const std::vector<Param>& params = {});
+  // Several statements without parameters (the schema's migrations): our own text only.
+  void execScript(const std::string& sql);
+  void begin() { (void)exec("BEGIN"); }
+  void commit() { (void)exec("COMMIT"); }
+  void rollback() noexcept;
+
+  [[nodiscard]] std::string quoteIdentifier(const std::string& name) const;
+  [[nodiscard]] std::string quoteLiteral(const std::string& value) const;
+  // A SCRAM-SHA-256 verifier of the password, computed here: the password itself never
+  // travels to the server or into its logs.
+  [[nodiscard]] std::string encryptPassword(const std::string& password, const std::string& login) const;
+  [[nodiscard]] const std::string& where() const { return where_; }  // the redacted URL
+  [[nodiscard]] std::string user() const { return PQuser(conn_); }
+
+ private:
+  Result check(PGresult* r);
+
+  PGconn* conn_ = nullptr;
+  std::string where_;
+};
+
+}  // namespace leafdig::db::pg

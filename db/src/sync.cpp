@@ -1,0 +1,244 @@
+// Push and pull between a station's file and the lab server (docs/lab.md, "Sync").
+#include <algorithm>
+#include <map>
+
+#include "leafdig/db/lab.hpp"
+#include "pg.hpp"
+
+namespace leafdig::db {
+namespace {
+
+std::string label(const SessionInfo& s) {
+  return s.station + ":" + std::to_string(s.id);
+}
+
+struct ServerHead {
+  std::int64_t id = 0, headSeq = 0;
+  std::string headHash, genesis;
+};
+
+// The server's view of a station's sessions, by their id at the station.
+std::map<std::int64_t, ServerHead> serverHeads(pg::Connection& c, const std::string& station) {
+  const auto r = c.exec(
+      "SELECT station_session_id, id, head_seq, head_hash, genesis_hash FROM leafdig.sessions WHERE station = $1",
+      {station});
+  std::map<std::int64_t, ServerHead> out;
+  for (int i = 0; i < r.rows(); ++i) out[r.int64(i, 0)] = {r.int64(i, 1), r.int64(i, 2), r.text(i, 3), r.text(i, 4)};
+  return out;
+}
+
+std::string genesisOf(const SessionInfo& s) {
+  return genesisHash(s.id, s.createdUtc, s.settingsJson);
+}
+
+// A session's text that the server cannot hold as it is (not UTF-8, or a NUL byte).
+std::optional<std::string> untransportable(const SessionInfo& s, const std::vector<Event>& events) {
+  const std::pair<const char*, const std::string*> fields[] = {
+      {"project", &s.project},    {"plant", &s.plant},           {"operator", &s.operatorName},
+      {"leaf type", &s.leafType}, {"settings", &s.settingsJson}, {"creation time", &s.createdUtc}};
+  for (const auto& [name, text] : fields)
+    if (const auto bad = badTextByte(*text))
+      return std::string("its ") + name + " is not UTF-8 text (byte " + std::to_string(*bad) + ")";
+  for (const Event& e : events)
+    for (const std::string* text : {&e.payloadJson, &e.raw, &e.kind, &e.utc})
+      if (const auto bad = badTextByte(*text))
+        return "event " + std::to_string(e.seq) + " holds text that is not UTF-8 (byte " + std::to_string(*bad) + ")";
+  return std::nullopt;
+}
+
+void insertSession(pg::Connection& c, const SessionInfo& s) {
+  (void)c.exec(
+      "INSERT INTO leafdig.sessions(station, station_session_id, project, plant, leaf_position, leaf_type, "
+      "measured_area_mm2, operator, mode, capture_order, settings_json, created_utc, genesis_hash) "
+      "VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13)",
+      {s.station, std::to_string(s.id), s.project, s.plant, std::to_string(s.leafPosition), s.leafType,
+       s.measuredAreaMm2 ? std::optional<std::string>(std::to_string(*s.measuredAreaMm2)) : std::nullopt,
+       s.operatorName, s.mode, s.order, s.settingsJson, s.createdUtc, genesisOf(s)});
+}
+
+// Events [first, last) in one statement of many rows (the server checks them in order).
+void insertEvents(pg::Connection& c, std::int64_t serverId, const std::string& station,
+                  const std::vector<Event>& events, std::size_t first, std::size_t last) {
+  constexpr std::size_t kColumns = 10;
+  std::string sql =
+      "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+      "VALUES ";
+  std::vector<pg::Param> params;
+  params.reserve((last - first) * kColumns);
+  for (std::size_t i = first; i < last; ++i) {
+    const Event& e = events[i];
+    sql += i == first ? "(" : ",(";
+    for (std::size_t k = 0; k < kColumns; ++k) {
+      sql += (k ? ",$" : "$") + std::to_string(params.size() + k + 1);
+    }
+    sql += ')';
+    for (auto& v : {std::to_string(serverId), station, std::to_string(e.seq), e.utc, std::to_string(e.monoNs), e.kind,
+                    e.payloadJson, e.raw, e.prevHash, e.hash})
+      params.emplace_back(v);
+  }
+  (void)c.exec(sql, params);
+}
+
+}  // namespace
+
+PushReport push(Store& local, const std::string& url, const SyncOptions& options) {
+  PushReport report;
+  std::vector<SessionInfo> sessions = local.sessions();
+  if (options.station) {
+    checkStationId(*options.station);
+    sessions.erase(std::remove_if(sessions.begin(), sessions.end(),
+                                  [&](const SessionInfo& s) { return s.station != *options.station; }),
+                   sessions.end());
+  }
+  pg::Connection c(url);
+  std::map<std::string, std::map<std::int64_t, ServerHead>> heads;  // by station
+  const auto problem = [&](const SessionInfo& s, const std::string& what, const std::string& remedy) {
+    report.problems.push_back({s.station, s.id, what, remedy});
+    if (options.progress) options.progress("session " + label(s) + ": " + what);
+  };
+  // Statements of at most this many rows (libpq takes up to 65 535 parameters).
+  constexpr std::size_t kRowsPerStatement = 500;
+  for (const SessionInfo& s : sessions) {
+    ++report.sessionsSeen;
+    try {
+      checkStationId(s.station);
+    } catch (const StoreError& e) {
+      problem(s, e.what(), e.remedy());
+      continue;
+    }
+    auto stationHeads = heads.find(s.station);
+    if (stationHeads == heads.end()) stationHeads = heads.emplace(s.station, serverHeads(c, s.station)).first;
+    for (int attempt = 0;; ++attempt) {
+      try {
+        const auto found = stationHeads->second.find(s.id);
+        const bool onServer = found != stationHeads->second.end();
+        ServerHead head = onServer ? found->second : ServerHead{0, 0, genesisOf(s), genesisOf(s)};
+        if (onServer && head.genesis != genesisOf(s)) {
+          problem(s,
+                  "the server holds another session " + label(s) +
+                      " (created at another time or with other settings): two stations use the id '" + s.station + "'",
+                  "give each station its own id (--station, or [station] id= in the settings file) and push again");
+          break;
+        }
+        if (head.headSeq > s.headSeq) {
+          ++report.sessionsBehind;  // a curator's events: `sync pull` takes them in
+          break;
+        }
+        const std::vector<Event> events = local.events(s.id, std::max<std::int64_t>(head.headSeq, 1));
+        if (head.headSeq > 0 && (events.empty() || events.front().seq != head.headSeq)) {
+          problem(s, "the station's file lacks event " + std::to_string(head.headSeq) + " that the server holds",
+                  "run 'leafdig sessions verify' on the station's file");
+          break;
+        }
+        const std::string localHashAtServerHead = head.headSeq == 0 ? genesisOf(s) : events.front().hash;
+        if (localHashAtServerHead != head.headHash) {
+          problem(s,
+                  "the station's copy and the server's differ at event " + std::to_string(head.headSeq) +
+                      " (the server's holds another event there)",
+                  "nothing was sent for this session; a curator decides which copy stands (docs/lab.md, Conflicts)");
+          break;
+        }
+        if (head.headSeq == s.headSeq) {
+          ++report.sessionsUpToDate;
+          break;
+        }
+        const std::size_t from = head.headSeq == 0 ? 0 : 1;  // events[0] is the server's head, already there
+        if (const auto bad = untransportable(s, events)) {
+          problem(s, *bad, "the lab server keeps text as UTF-8; this session stays on the station");
+          break;
+        }
+        std::int64_t serverId = head.id;
+        for (std::size_t at = from; at < events.size();) {
+          const std::size_t end = std::min(events.size(), at + options.eventsPerTransaction);
+          c.begin();
+          try {
+            if (serverId == 0) {
+              insertSession(c, s);
+              serverId = c.exec("SELECT id FROM leafdig.sessions WHERE station = $1 AND station_session_id = $2",
+                                {s.station, std::to_string(s.id)})
+                             .int64(0, 0);
+            }
+            for (std::size_t k = at; k < end; k += kRowsPerStatement)
+              insertEvents(c, serverId, s.station, events, k, std::min(end, k + kRowsPerStatement));
+            c.commit();
+          } catch (...) {
+            c.rollback();
+            throw;
+          }
+          ++report.transactions;
+          if (head.id == 0 && at == from) ++report.sessionsNew;
+          report.eventsSent += static_cast<std::int64_t>(end - at);
+          stationHeads->second[s.id] = {serverId, events[end - 1].seq, events[end - 1].hash, genesisOf(s)};
+          head.id = serverId;
+          at = end;
+        }
+        if (options.progress)
+          options.progress("session " + label(s) + ": events " + std::to_string(events[from].seq) + " to " +
+                           std::to_string(events.back().seq) + " sent");
+        break;
+      } catch (const pg::Error& e) {
+        if (e.kind() == StoreErrorKind::Unreachable) throw;
+        if (e.kind() == StoreErrorKind::Conflict && attempt == 0) {
+          // Someone else (a second push of this file, a curator) moved the session on the
+          // server since we looked: look again, once.
+          stationHeads->second = serverHeads(c, s.station);
+          continue;
+        }
+        problem(s, e.what(), e.remedy());
+        break;
+      }
+    }
+  }
+  return report;
+}
+
+PullReport pull(Store& local, const std::string& url, const SyncOptions& options) {
+  PullReport report;
+  std::vector<SessionInfo> sessions = local.sessions();
+  if (options.station) checkStationId(*options.station);
+  pg::Connection c(url);
+  std::map<std::string, std::map<std::int64_t, ServerHead>> heads;
+  for (const SessionInfo& s : sessions) {
+    if (options.station && s.station != *options.station) continue;
+    ++report.sessionsSeen;
+    try {
+      checkStationId(s.station);
+    } catch (const StoreError&) {
+      continue;  // never pushed: nothing to pull
+    }
+    auto stationHeads = heads.find(s.station);
+    if (stationHeads == heads.end()) stationHeads = heads.emplace(s.station, serverHeads(c, s.station)).first;
+    const auto found = stationHeads->second.find(s.id);
+    if (found == stationHeads->second.end() || found->second.headSeq <= s.headSeq) continue;
+    const ServerHead& head = found->second;
+    try {
+      if (head.genesis != genesisOf(s))
+        throw StoreError(
+            StoreErrorKind::Conflict,
+            "the server holds another session " + label(s) + ": two stations use the id '" + s.station + "'",
+            "give each station its own id (--station)");
+      const auto r = c.exec(
+          "SELECT seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash FROM leafdig.events "
+          "WHERE session_id = $1 AND seq > $2 ORDER BY seq",
+          {std::to_string(head.id), std::to_string(s.headSeq)});
+      std::vector<Event> events;
+      for (int i = 0; i < r.rows(); ++i)
+        events.push_back(Event{s.id, r.int64(i, 0), r.text(i, 1), r.int64(i, 2), r.text(i, 3), r.text(i, 4),
+                               r.text(i, 5), r.text(i, 6), r.text(i, 7)});
+      local.import(s.id, events);
+      ++report.sessionsUpdated;
+      report.eventsTaken += static_cast<std::int64_t>(events.size());
+      if (options.progress)
+        options.progress("session " + label(s) + ": " + std::to_string(events.size()) + " event(s) taken in");
+    } catch (const pg::Error& e) {
+      if (e.kind() == StoreErrorKind::Unreachable) throw;
+      report.problems.push_back({s.station, s.id, e.what(), e.remedy()});
+    } catch (const StoreError& e) {
+      if (e.kind() == StoreErrorKind::DiskFull || e.kind() == StoreErrorKind::Io) throw;
+      report.problems.push_back({s.station, s.id, e.what(), e.remedy()});
+    }
+  }
+  return report;
+}
+
+}  // namespace leafdig::db

@@ -1,0 +1,211 @@
+// `leafdig server` and `leafdig sync` as a lab uses them, against a real PostgreSQL cluster
+// started for these tests: set-up, push, review on the server, pull; refusals with exit
+// codes and words; passwords never printed; and `sync push` killed with SIGKILL at seeded
+// random instants, the server checked after every kill with libpq directly.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <random>
+#include <thread>
+
+#include "../support/pg_cluster.hpp"
+#include "../support/station_sessions.hpp"
+#include "cli_support.hpp"
+#include "leafdig/db/lab.hpp"
+
+extern char** environ;
+
+namespace {
+
+using leafdig::test::PgCluster;
+using leafdig::test::Sql;
+
+PgCluster* cluster = nullptr;
+
+class ClusterEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override { cluster = new PgCluster(); }
+  void TearDown() override {
+    delete cluster;
+    cluster = nullptr;
+  }
+};
+const auto* const kEnvironment = ::testing::AddGlobalTestEnvironment(new ClusterEnvironment);
+
+class LabCli : public Cli {
+ protected:
+  void SetUp() override {
+    Cli::SetUp();
+    database_ = cluster->createDatabase();
+    admin_ = cluster->adminUrl(database_);
+  }
+  // A login made through the CLI, with its password in a file.
+  std::string addUser(const std::string& login, const std::string& role, const std::string& station = "") {
+    const std::string password = "s3cret-" + login;
+    const fs::path pw = write(login + ".pw", password + "\n");
+    const Result r = leafdig("server add-user --url " + quote(admin_) + " --login " + login + " --role " + role +
+                             (station.empty() ? "" : " --station " + station) + " --password-file " + quote(pw));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return cluster->url(login, password, database_);
+  }
+  pid_t spawn(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
+    std::vector<std::string> all{LEAFDIG_CLI};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = 0;
+    EXPECT_EQ(posix_spawn(&pid, LEAFDIG_CLI, &fa, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&fa);
+    return pid;
+  }
+  // Every event on the server, per station session, as text; and the same from a file.
+  std::map<std::int64_t, std::vector<std::string>> serverHashes(const std::string& url) {
+    std::map<std::int64_t, std::vector<std::string>> out;
+    for (const auto& r : Sql(url).rows(
+             "SELECT s.station_session_id, e.seq, e.hash, e.prev_hash, e.utc, e.payload_json FROM leafdig.events e "
+             "JOIN leafdig.sessions s ON s.id = e.session_id ORDER BY 1, 2"))
+      out[std::stoll(r[0])].push_back(r[1] + " " + r[2] + " " + r[3] + " " + r[4] + " " + r[5]);
+    return out;
+  }
+  static std::map<std::int64_t, std::vector<std::string>> fileHashes(const leafdig::db::Store& s) {
+    std::map<std::int64_t, std::vector<std::string>> out;
+    for (const auto& info : s.sessions())
+      for (const auto& e : s.events(info.id))
+        out[info.id].push_back(std::to_string(e.seq) + " " + e.hash + " " + e.prevHash + " " + e.utc + " " +
+                               e.payloadJson);
+    return out;
+  }
+
+  std::string database_, admin_;
+};
+
+TEST_F(LabCli, ALabSetsUpPushesReviewsOnTheServerAndTheStationTakesTheDecisionsIn) {
+  const Result init = leafdig("server init --url " + quote(admin_) + " --json");
+  ASSERT_EQ(init.exitCode, 0) << init.err;
+  EXPECT_EQ(json::parse(init.out).at("to_version"), 1);
+  EXPECT_EQ(leafdig("server init --url " + quote(admin_) + " --json").exitCode, 0);  // again: nothing to do
+  const std::string tech = addUser("tech_bench_a_" + database_, "technician", "bench-a");
+  const std::string curator = addUser("carla_" + database_, "curator");
+  const std::string reader = addUser("rita_" + database_, "reader");
+  const fs::path file = dir_ / "station.sqlite";
+  {
+    leafdig::db::Store s(file.string());
+    for (int leaf = 1; leaf <= 3; ++leaf) (void)leafdig::test::captureSession(s, "bench-a", leaf);
+  }
+  Result push = leafdig("sync push --db " + quote(file) + " --to " + quote(tech) + " --json");
+  ASSERT_EQ(push.exitCode, 0) << push.err;
+  const json pushed = json::parse(push.out);
+  EXPECT_EQ(pushed.at("new_sessions"), 3);
+  EXPECT_GT(pushed.at("events_sent").get<int>(), 90);
+  // The password is not printed, even in the URL it was given in.
+  EXPECT_EQ(push.out.find("s3cret"), std::string::npos) << push.out;
+  EXPECT_NE(pushed.at("to").get<std::string>().find(":***@"), std::string::npos);
+  push = leafdig("sync push --db " + quote(file) + " --to " + quote(tech) + " --json");
+  EXPECT_EQ(json::parse(push.out).at("events_sent"), 0);
+  EXPECT_EQ(json::parse(push.out).at("up_to_date"), 3);
+
+  // The curators' list, from the server.
+  const Result list = leafdig("sessions list --json --db " + quote(curator));
+  ASSERT_EQ(list.exitCode, 0) << list.err;
+  const json sessions = json::parse(list.out);
+  ASSERT_EQ(sessions.size(), 3u);
+  EXPECT_EQ(sessions[0].at("station"), "bench-a");
+  const std::string first = std::to_string(sessions[0].at("id").get<int>());
+  EXPECT_EQ(leafdig("sessions verify --db " + quote(reader)).exitCode, 0);
+  // A technician's approval is refused by the server, in words, with exit code 2.
+  const Result denied = leafdig("sessions approve " + first + " --who tom --db " + quote(tech));
+  EXPECT_EQ(denied.exitCode, 2);
+  EXPECT_NE(denied.err.find("may not approve, reject or correct sessions (session bench-a:1"), std::string::npos)
+      << denied.err;
+  EXPECT_EQ(denied.err.find("s3cret"), std::string::npos);
+  // A reader's too.
+  EXPECT_EQ(leafdig("sessions reject " + first + " --who rita --why x --db " + quote(reader)).exitCode, 2);
+  // The curator approves; the station takes it in.
+  const Result approved = leafdig("sessions approve " + first + " --who carla --db " + quote(curator));
+  ASSERT_EQ(approved.exitCode, 0) << approved.err;
+  const Result pull = leafdig("sync pull --db " + quote(file) + " --from " + quote(tech) + " --json");
+  ASSERT_EQ(pull.exitCode, 0) << pull.err;
+  EXPECT_EQ(json::parse(pull.out).at("events_taken"), 1);
+  const json local = json::parse(leafdig("sessions list --json --db " + quote(file)).out);
+  EXPECT_EQ(local[0].at("status"), "approved");
+  EXPECT_EQ(local[1].at("status"), "complete");
+  EXPECT_EQ(leafdig("sessions verify --db " + quote(file)).exitCode, 0);
+
+  // Bad input is named: not a URL, a technician without a station, a missing password file.
+  Result bad = leafdig("sync push --db " + quote(file) + " --to /tmp/not-a-server");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("not a postgresql:// URL"), std::string::npos);
+  bad = leafdig("server add-user --url " + quote(admin_) + " --login t2 --role technician --password-file " +
+                quote(write("t2.pw", "x\n")));
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("give --station"), std::string::npos);
+  bad = leafdig("server add-user --url " + quote(admin_) + " --login t3 --role reader --password-file " +
+                quote(dir_ / "missing.pw"));
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("cannot read the password file"), std::string::npos);
+}
+
+TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNextRunContinues) {
+  const fs::path file = dir_ / "station.sqlite";
+  {
+    leafdig::db::Store s(file.string());
+    for (int leaf = 1; leaf <= 24; ++leaf) (void)leafdig::test::captureSession(s, "bench-k", leaf, 2 + leaf % 4);
+  }
+  const leafdig::db::Store local(file.string(), true);
+  const auto expected = fileHashes(local);
+  const char* runsEnv = std::getenv("LEAFDIG_KILL_RUNS");
+  const int runs = std::max(50, runsEnv ? std::atoi(runsEnv) : 50);
+  std::mt19937 rng(20261124);
+  std::uniform_int_distribution<int> killAfterMs(5, 250);
+  int killedMidPush = 0;
+  for (int run = 0; run < runs; ++run) {
+    // Each run on an empty server: the push is killed at a random instant, then run again.
+    const std::string fresh = "kill" + std::to_string(run) + "_" + std::to_string(::getpid());
+    Sql(cluster->adminUrl()).rows("CREATE DATABASE " + fresh + " ENCODING 'UTF8' TEMPLATE template0");
+    admin_ = cluster->adminUrl(fresh);
+    database_ = fresh;
+    ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
+    const std::string url = addUser("tech_" + fresh, "technician", "bench-k");
+    const fs::path out = dir_ / "push.out", err = dir_ / "push.err";
+    const pid_t pid = spawn({"sync", "push", "--db", file.string(), "--to", url, "--batch", "7"}, out, err);
+    std::this_thread::sleep_for(std::chrono::milliseconds(killAfterMs(rng)));
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    // Whatever reached the server is, for every session, exactly the start of the station's
+    // copy: nothing lost in the middle, nothing twice, every chain whole.
+    const auto onServer = serverHashes(admin_);
+    std::size_t events = 0, all = 0;
+    for (const auto& [id, hashes] : onServer) {
+      const auto& mine = expected.at(id);
+      ASSERT_LE(hashes.size(), mine.size()) << "run " << run;
+      EXPECT_EQ(hashes, std::vector<std::string>(mine.begin(), mine.begin() + static_cast<long>(hashes.size())))
+          << "run " << run << " session " << id;
+      events += hashes.size();
+    }
+    for (const auto& [id, hashes] : expected) all += hashes.size();
+    if (WIFSIGNALED(status) && events > 0 && events < all) ++killedMidPush;
+    if (HasFailure()) FAIL() << "run " << run << ": " << slurp(err);
+    // The next push continues where the server stands: it then holds exactly the file.
+    const Result rest = leafdig("sync push --db " + quote(file) + " --to " + quote(url) + " --json");
+    ASSERT_EQ(rest.exitCode, 0) << rest.err;
+    EXPECT_EQ(json::parse(rest.out).at("events_sent").get<std::size_t>(), all - events) << "run " << run;
+    EXPECT_EQ(serverHashes(admin_), expected) << "run " << run;
+    leafdig::db::LabStore server(admin_);
+    for (const auto& s : server.sessions()) EXPECT_TRUE(server.verify(s.id).ok) << "run " << run;
+    if (HasFailure()) FAIL() << "run " << run << " (continued): " << rest.err;
+  }
+  EXPECT_GT(killedMidPush, runs / 3) << "most kills should land in the middle of a push";
+  std::printf("sync push kill -9: %d runs, %d killed mid-push, server always a prefix of the station\n", runs,
+              killedMidPush);
+}
+
+}  // namespace

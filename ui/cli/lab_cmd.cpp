@@ -1,0 +1,213 @@
+#include "lab_cmd.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "leafdig/db/lab.hpp"
+
+namespace leafdig::cli {
+namespace {
+
+using nlohmann::json;
+
+int report(const db::StoreError& e) {
+  std::cerr << "leafdig: " << e.what() << "\n";
+  if (!e.remedy().empty()) std::cerr << "  what to do: " << e.remedy() << "\n";
+  switch (e.kind()) {
+    case db::StoreErrorKind::Input:
+    case db::StoreErrorKind::NotLeafdig:
+    case db::StoreErrorKind::TooNew:
+    case db::StoreErrorKind::Corrupt:
+    case db::StoreErrorKind::Refused: return 2;
+    default: return 1;
+  }
+}
+
+std::string stationFile(const LabOptions& o) {
+  return o.db.empty() ? db::Store::defaultPath() : o.db;
+}
+
+std::string readPassword(const std::string& file) {
+  std::ifstream in(file);
+  if (!in)
+    throw db::StoreError(db::StoreErrorKind::Input, "cannot read the password file " + file,
+                         "give a file holding the password on its first line");
+  std::string line;
+  std::getline(in, line);
+  while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
+  if (line.empty())
+    throw db::StoreError(db::StoreErrorKind::Input, "the password file " + file + " holds no password",
+                         "put the password on its first line");
+  return line;
+}
+
+json problemsJson(const std::vector<db::SyncProblem>& problems) {
+  json a = json::array();
+  for (const auto& p : problems)
+    a.push_back(
+        {{"station", p.station}, {"session", p.stationSessionId}, {"problem", p.problem}, {"remedy", p.remedy}});
+  return a;
+}
+
+void printProblems(const std::vector<db::SyncProblem>& problems) {
+  for (const auto& p : problems) {
+    std::cerr << "leafdig: session " << p.station << ":" << p.stationSessionId << " not synced: " << p.problem << "\n";
+    if (!p.remedy.empty()) std::cerr << "  what to do: " << p.remedy << "\n";
+  }
+}
+
+int runPush(const LabOptions& o) {
+  const std::string path = stationFile(o);
+  if (!std::filesystem::exists(path))
+    throw db::StoreError(db::StoreErrorKind::Input, "no station database at " + path, "give --db FILE");
+  db::Store local(path, true);
+  db::SyncOptions options;
+  if (!o.station.empty()) options.station = o.station;
+  options.eventsPerTransaction = o.eventsPerTransaction;
+  if (!o.json) options.progress = [](const std::string& line) { std::cout << "  " << line << "\n" << std::flush; };
+  const auto t0 = std::chrono::steady_clock::now();
+  const db::PushReport r = db::push(local, o.url, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (o.json) {
+    std::cout << json{{"to", db::redactUrl(o.url)},          {"sessions", r.sessionsSeen},
+                      {"new_sessions", r.sessionsNew},       {"up_to_date", r.sessionsUpToDate},
+                      {"behind", r.sessionsBehind},          {"events_sent", r.eventsSent},
+                      {"transactions", r.transactions},      {"seconds", seconds},
+                      {"problems", problemsJson(r.problems)}}
+                     .dump()
+              << "\n";
+  } else {
+    std::cout << "pushed " << r.eventsSent << " event(s) of " << r.sessionsSeen << " session(s) to "
+              << db::redactUrl(o.url) << " (" << r.sessionsNew << " new, " << r.sessionsUpToDate << " already there"
+              << (r.sessionsBehind ? ", " + std::to_string(r.sessionsBehind) + " with curator decisions to pull" : "")
+              << ")\n";
+  }
+  printProblems(r.problems);
+  return r.problems.empty() ? 0 : 1;
+}
+
+int runPull(const LabOptions& o) {
+  const std::string path = stationFile(o);
+  if (!std::filesystem::exists(path))
+    throw db::StoreError(db::StoreErrorKind::Input, "no station database at " + path, "give --db FILE");
+  db::Store local(path);
+  db::SyncOptions options;
+  if (!o.station.empty()) options.station = o.station;
+  if (!o.json) options.progress = [](const std::string& line) { std::cout << "  " << line << "\n" << std::flush; };
+  const db::PullReport r = db::pull(local, o.url, options);
+  if (o.json)
+    std::cout << json{{"from", db::redactUrl(o.url)},
+                      {"sessions", r.sessionsSeen},
+                      {"updated", r.sessionsUpdated},
+                      {"events_taken", r.eventsTaken},
+                      {"problems", problemsJson(r.problems)}}
+                     .dump()
+              << "\n";
+  else
+    std::cout << "took in " << r.eventsTaken << " event(s) for " << r.sessionsUpdated << " session(s) from "
+              << db::redactUrl(o.url) << "\n";
+  printProblems(r.problems);
+  return r.problems.empty() ? 0 : 1;
+}
+
+int runInit(const LabOptions& o) {
+  const db::ServerInit r = db::initServer(o.url);
+  if (o.json) {
+    std::cout << json{{"url", db::redactUrl(o.url)},
+                      {"from_version", r.fromVersion},
+                      {"to_version", r.toVersion},
+                      {"roles_created", r.rolesCreated}}
+                     .dump()
+              << "\n";
+  } else {
+    std::cout << "lab server " << db::redactUrl(o.url) << ": schema "
+              << (r.fromVersion == r.toVersion
+                      ? "already at version " + std::to_string(r.toVersion)
+                      : "version " + std::to_string(r.fromVersion) + " -> " + std::to_string(r.toVersion))
+              << "\n";
+    for (const auto& role : r.rolesCreated) std::cout << "  created group role " << role << "\n";
+    std::cout << "next: leafdig server add-user --url URL --login NAME --role technician|curator|reader\n";
+  }
+  return 0;
+}
+
+int runAddUser(const LabOptions& o) {
+  const auto role = db::labRoleFromString(o.role);
+  if (!role)
+    throw db::StoreError(db::StoreErrorKind::Input, "unknown role '" + o.role + "'",
+                         "use technician, curator or reader");
+  std::optional<std::string> password;
+  if (!o.passwordFile.empty()) password = readPassword(o.passwordFile);
+  const db::AddedUser u = db::addUser(o.url, o.login, *role, o.station, password);
+  if (o.json)
+    std::cout << json{{"login", u.login},
+                      {"role", db::toString(u.role)},
+                      {"created", u.created},
+                      {"station", u.station}}
+                     .dump()
+              << "\n";
+  else
+    std::cout << (u.created ? "created login " : "login ") << u.login << ": " << db::toString(u.role)
+              << (u.station.empty() ? "" : " of station " + u.station) << "\n";
+  return 0;
+}
+
+}  // namespace
+
+void addLabCommands(CLI::App& app, LabOptions& o) {
+  CLI::App* server = app.add_subcommand("server", "The lab's PostgreSQL server: create its schema, add logins");
+  server->require_subcommand(1);
+  CLI::App* init = server->add_subcommand("init", "Create or migrate the schema and the three group roles (admin)");
+  CLI::App* add =
+      server->add_subcommand("add-user", "Put a login in its group: technician (of one station), curator, reader");
+  for (CLI::App* c : {init, add}) {
+    c->add_option("--url", o.url, "postgresql://ADMIN@HOST/DB (the password from ~/.pgpass or PGPASSWORD)")->required();
+    c->add_flag("--json", o.json, "JSON output");
+  }
+  add->add_option("--login", o.login, "The login role (created when --password-file is given)")->required();
+  add->add_option("--role", o.role, "technician, curator or reader")
+      ->required()
+      ->check(CLI::IsMember({"technician", "curator", "reader"}));
+  add->add_option("--station", o.station, "A technician's station id (required for technicians only)");
+  add->add_option("--password-file", o.passwordFile, "File whose first line is the new login's password");
+
+  CLI::App* sync = app.add_subcommand("sync", "Send this station's sessions to the lab server, bring decisions back");
+  sync->require_subcommand(1);
+  CLI::App* push = sync->add_subcommand("push", "Send every event the server lacks (idempotent, resumable)");
+  CLI::App* pull = sync->add_subcommand("pull", "Take in the curators' decisions on this station's sessions");
+  push->add_option("--to", o.url, "The lab server's postgresql:// URL")->required();
+  pull->add_option("--from", o.url, "The lab server's postgresql:// URL")->required();
+  push->add_option("--batch", o.eventsPerTransaction, "Events per transaction (default 2000)")
+      ->check(CLI::Range(1, 100000));
+  for (CLI::App* c : {push, pull}) {
+    c->add_option("--db", o.db, "The station's SQLite file (default: the station's)");
+    c->add_option("--station", o.station, "Only this station's sessions (default: every session in the file)");
+    c->add_flag("--json", o.json, "JSON output");
+  }
+}
+
+int runLabCommands(CLI::App& app, const LabOptions& o) {
+  CLI::App* server = app.get_subcommand("server");
+  CLI::App* sync = app.get_subcommand("sync");
+  if (!server->parsed() && !sync->parsed()) return -1;
+  try {
+    if (!db::isServerUrl(o.url))
+      throw db::StoreError(db::StoreErrorKind::Input, "'" + db::redactUrl(o.url) + "' is not a postgresql:// URL",
+                           "give the lab server as postgresql://USER@HOST[:PORT]/DATABASE (docs/lab.md)");
+    if (server->get_subcommand("init")->parsed()) return runInit(o);
+    if (server->get_subcommand("add-user")->parsed()) return runAddUser(o);
+    if (sync->get_subcommand("push")->parsed()) return runPush(o);
+    if (sync->get_subcommand("pull")->parsed()) return runPull(o);
+  } catch (const db::StoreError& e) {
+    return report(e);
+  } catch (const std::exception& e) {
+    std::cerr << "leafdig: " << e.what() << "\n";
+    return 1;
+  }
+  return -1;
+}
+
+}  // namespace leafdig::cli
