@@ -10,6 +10,7 @@
 #include <QPushButton>
 #include <QVBoxLayout>
 
+#include "leafdig/db/lab.hpp"
 #include "leafdig/model/errors.hpp"
 
 namespace leafdig::station {
@@ -19,7 +20,8 @@ BatchResult exportBatch(const std::string& dbPath, const std::vector<std::int64_
                         const acq::ExportRequest& request,
                         const std::function<bool(int, int, const QString&)>& progress) {
   BatchResult out;
-  db::Store store(dbPath);
+  const std::unique_ptr<db::EventStore> opened = db::openEventStore(dbPath, false);
+  db::EventStore& store = *opened;
   const int total = static_cast<int>(sessions.size());
   for (int k = 0; k < total; ++k) {
     const std::int64_t id = sessions[static_cast<std::size_t>(k)];

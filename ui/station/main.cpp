@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "leafdig/db/lab.hpp"
 #include "leafdig/version.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"
@@ -55,8 +56,14 @@ int main(int argc, char** argv) {
   const QCommandLineOption plantPlan("plant", "Open this plant plan (leafdig.plant/1) in the Plant view", "PLAN");
   const QCommandLineOption plantShot("plant-screenshot",
                                      "With --plant: save the window once the plant is shown, then exit", "PNG");
+  const QCommandLineOption noAudio("no-audio",
+                                   "No sound cues (nothing loaded through Qt Multimedia); the system beep still marks "
+                                   "a rejection and a device error");
+  const QCommandLineOption station(
+      "station",
+      "This station's id, stored with every session (default: [station] id= in the settings, or the host name)", "ID");
   p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, reviewShot, quit,
-                setupDialog, settingsFile, firstFrame, plantPlan, plantShot});
+                setupDialog, settingsFile, firstFrame, plantPlan, plantShot, noAudio, station});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -72,6 +79,16 @@ int main(int argc, char** argv) {
   o.setup.caliper = p.value(caliper).toStdString();
   o.resume = p.value(resume).toLongLong();
   o.settingsFile = p.value(settingsFile);
+  o.audio = !p.isSet(noAudio);
+  o.setup.station = p.value(station).toStdString();
+  if (p.isSet(station)) {
+    try {
+      leafdig::db::checkStationId(o.setup.station);
+    } catch (const leafdig::db::StoreError& e) {
+      std::fprintf(stderr, "leafdig-station: %s\n  %s\n", e.what(), e.remedy().c_str());
+      return 2;
+    }
+  }
   if (!(o.speed > 0 && o.speed <= 50)) {
     std::fprintf(stderr, "leafdig-station: --speed must be in (0, 50]\n");
     return 2;
@@ -106,6 +123,19 @@ int main(int argc, char** argv) {
   }
   w.show();
   const bool interactive = !p.isSet(quit) && !p.isSet(firstFrame);
+  if (leafdig::db::isServerUrl(o.db)) {
+    // The lab server: review (and export, plants) only.
+    w.reviewLabServer();
+    if (p.isSet(reviewShot)) {
+      QTimer::singleShot(1500, &app, [&] {
+        const QImage shot = w.grab().toImage();
+        const bool saved = shot.save(p.value(reviewShot));
+        std::printf("review screenshot %s\n", saved ? "saved" : "NOT saved");
+        app.exit(saved ? 0 : 1);
+      });
+    }
+    return app.exec();
+  }
   if (interactive && o.resume == 0) w.offerResume();
   // Without devices given (and nothing to resume), the set-up dialog asks for them.
   const bool needSetup = p.isSet(setupDialog) || (!o.simulate && w.options().resume == 0 &&

@@ -16,6 +16,7 @@
 #include <filesystem>
 
 #include "leafdig/acquisition/review.hpp"
+#include "leafdig/db/lab.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -133,10 +134,9 @@ QString PlantView::openPlan(const QString& path) {
     m::PlantPlan plan = m::readPlantPlan(path.toStdString());
     std::vector<m::LibraryLeaf> library;
     if (plan.libraryDb) {
-      if (!std::filesystem::exists(*plan.libraryDb))
+      if (!db::isServerUrl(*plan.libraryDb) && !std::filesystem::exists(*plan.libraryDb))
         return tr("The plan's library %1 does not exist.").arg(QString::fromStdString(*plan.libraryDb));
-      db::Store store(*plan.libraryDb, true);
-      library = acquisition::organLibrary(store).leaves;
+      library = acquisition::organLibrary(*db::openEventStore(*plan.libraryDb, true)).leaves;
     }
     return usePlan(std::move(plan), std::move(library));
   } catch (const std::exception& e) {
@@ -152,10 +152,9 @@ void PlantView::setDatabase(const std::string& path) {
 void PlantView::refreshLibrary() {
   libraryList_->clear();
   approved_.clear();
-  if (db_.empty() || !std::filesystem::exists(db_)) return;
+  if (db_.empty() || (!db::isServerUrl(db_) && !std::filesystem::exists(db_))) return;
   try {
-    db::Store store(db_, true);
-    approved_ = acquisition::organLibrary(store).leaves;
+    approved_ = acquisition::organLibrary(*db::openEventStore(db_, true)).leaves;
   } catch (const std::exception& e) {
     status_->setText(QString::fromStdString(e.what()));
     return;

@@ -20,6 +20,7 @@
 #include <set>
 
 #include "export_dialog.hpp"
+#include "leafdig/db/lab.hpp"
 #include "leafdig/model/errors.hpp"
 
 namespace leafdig::station {
@@ -85,9 +86,9 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
   outer->addLayout(filters);
 
   auto* split = new QSplitter(Qt::Vertical, this);
-  sessions_ = new QTableWidget(0, 8, split);
+  sessions_ = new QTableWidget(0, 9, split);
   sessions_->setHorizontalHeaderLabels({tr("id"), tr("project"), tr("plant"), tr("leaf"), tr("status"), tr("operator"),
-                                        tr("created (UTC)"), tr("events")});
+                                        tr("created (UTC)"), tr("events"), tr("station")});
   sessions_->setSelectionBehavior(QAbstractItemView::SelectRows);
   sessions_->horizontalHeader()->setStretchLastSection(true);
   sessions_->verticalHeader()->hide();
@@ -213,11 +214,11 @@ void ReviewView::setDatabase(const std::string& path) {
 void ReviewView::refreshSessions() {
   all_.clear();
   try {
-    if (!store_ && !dbPath_.empty()) store_ = std::make_unique<db::Store>(dbPath_);
+    if (!store_ && !dbPath_.empty()) store_ = db::openEventStore(dbPath_, false);
     if (store_) all_ = store_->sessions();
   } catch (const std::exception& e) {
-    banner_->setText(
-        tr("REVIEW · cannot open %1: %2").arg(QString::fromStdString(dbPath_), QString::fromStdString(e.what())));
+    banner_->setText(tr("REVIEW · cannot open %1: %2")
+                         .arg(QString::fromStdString(db::redactUrl(dbPath_)), QString::fromStdString(e.what())));
     return;
   }
   filling_ = true;
@@ -258,14 +259,12 @@ void ReviewView::applyFilters() {
     if (!date_->text().isEmpty() && !QString::fromStdString(s.createdUtc).startsWith(date_->text().trimmed())) continue;
     const int r = sessions_->rowCount();
     sessions_->insertRow(r);
-    const QStringList values{QString::number(s.id),
-                             QString::fromStdString(s.project),
-                             QString::fromStdString(s.plant),
-                             QString::number(s.leafPosition),
-                             QString::fromStdString(s.status),
-                             QString::fromStdString(s.operatorName),
-                             QString::fromStdString(s.createdUtc),
-                             QString::number(s.headSeq)};
+    const QStringList values{QString::number(s.id), QString::fromStdString(s.project), QString::fromStdString(s.plant),
+                             QString::number(s.leafPosition), QString::fromStdString(s.status),
+                             QString::fromStdString(s.operatorName), QString::fromStdString(s.createdUtc),
+                             QString::number(s.headSeq),
+                             // the station that captured it, and its id there (the lab server's ids are its own)
+                             QString::fromStdString(s.station + ":" + std::to_string(s.stationSessionId))};
     for (int c = 0; c < values.size(); ++c) sessions_->setItem(r, c, cell(values[c]));
   }
   sessions_->resizeColumnsToContents();

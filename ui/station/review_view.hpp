@@ -69,7 +69,7 @@ class ReviewView : public QWidget {
 
   StationSettings settings_;
   std::string dbPath_;
-  std::unique_ptr<db::Store> store_;
+  std::unique_ptr<db::EventStore> store_;  // the station's file, or the lab server
   std::optional<acquisition::ReviewedSession> current_;
   std::vector<db::SessionInfo> all_;
   std::pair<std::int64_t, std::int64_t> chainOf_{0, -1};  // (session, head seq) chain_ is for

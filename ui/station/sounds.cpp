@@ -48,7 +48,8 @@ QByteArray synthesizeWav(const std::vector<std::pair<double, double>>& tones, in
   return wav + pcm;
 }
 
-Sounds::Sounds(QObject* parent) : QObject(parent) {
+Sounds::Sounds(QObject* parent, bool audio) : QObject(parent) {
+  if (!audio) return;
   const std::array<std::vector<std::pair<double, double>>, 4> tones{{
       {{1318.5, 0.07}},                                              // accept: one short high tick
       {{220.0, 0.12}, {0, 0.05}, {220.0, 0.12}},                     // reject: two low buzzes
@@ -73,24 +74,24 @@ QString Sounds::file(Cue cue) const {
 
 bool Sounds::loading() const {
   return std::any_of(effects_.begin(), effects_.end(),
-                     [](const auto& e) { return e->status() == QSoundEffect::Loading; });
+                     [](const auto& e) { return e && e->status() == QSoundEffect::Loading; });
 }
 
 void Sounds::setVolume(double v) {
-  for (auto& e : effects_) e->setVolume(static_cast<float>(std::clamp(v, 0.0, 1.0)));
+  for (auto& e : effects_)
+    if (e) e->setVolume(static_cast<float>(std::clamp(v, 0.0, 1.0)));
 }
 
 void Sounds::play(Cue cue) {
   const auto i = static_cast<std::size_t>(cue);
   ++requested_[i];
   if (muted_) return;
-  QSoundEffect& e = *effects_[i];
-  if (e.status() == QSoundEffect::Error || QMediaDevices::audioOutputs().isEmpty()) {
+  if (!effects_[i] || effects_[i]->status() == QSoundEffect::Error || QMediaDevices::audioOutputs().isEmpty()) {
     // No sound output (or it failed): the important cues still make a noise.
     if (cue == Cue::Reject || cue == Cue::DeviceError) QApplication::beep();
     return;
   }
-  e.play();
+  effects_[i]->play();
   ++played_[i];
 }
 

@@ -1,7 +1,9 @@
 // Audible cues (aesthetics §3): distinct short sounds for accept, reject, step done and a
 // device error, synthesised once at start-up into WAV files and preloaded as QSoundEffects,
 // so a cue starts without decoding. With no audio output the station beeps (reject, error)
-// and says so in the settings; muting silences all of them.
+// and says so in the settings; muting silences all of them. Without audio (`--no-audio`:
+// a machine with no sound, or where Qt Multimedia is not wanted) nothing is synthesised or
+// loaded and the two important cues are the system beep.
 #pragma once
 
 #include <QObject>
@@ -18,7 +20,7 @@ class Sounds : public QObject {
   Q_OBJECT
 
  public:
-  explicit Sounds(QObject* parent = nullptr);
+  explicit Sounds(QObject* parent = nullptr, bool audio = true);
   void play(Cue cue);
   void setMuted(bool muted) { muted_ = muted; }
   [[nodiscard]] bool muted() const { return muted_; }
@@ -30,7 +32,10 @@ class Sounds : public QObject {
   // Whether a cue's sound has finished loading (Ready, or Error when there is no output);
   // Qt loads the samples on a thread of its own. Tests wait for it before they end: Qt 6.4
   // leaks a sample whose effect is destroyed mid-load.
-  [[nodiscard]] QSoundEffect::Status status(Cue cue) const { return effects_[static_cast<std::size_t>(cue)]->status(); }
+  [[nodiscard]] QSoundEffect::Status status(Cue cue) const {
+    const auto& e = effects_[static_cast<std::size_t>(cue)];
+    return e ? e->status() : QSoundEffect::Null;
+  }
   [[nodiscard]] bool loading() const;
   // The WAV file behind a cue (valid while this object lives).
   [[nodiscard]] QString file(Cue cue) const;

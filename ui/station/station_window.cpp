@@ -16,6 +16,7 @@
 #include <fstream>
 
 #include "export_dialog.hpp"
+#include "leafdig/db/lab.hpp"
 #include "leafdig/devices/registry.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/version.hpp"
@@ -48,7 +49,7 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   if (options_.settingsFile.isEmpty()) options_.settingsFile = defaultSettingsFile();
   settings_ = StationSettings::load(options_.settingsFile);
   setWindowTitle(QStringLiteral("leafdig station %1").arg(QString::fromLatin1(kVersion)));
-  sounds_ = new Sounds(this);
+  sounds_ = new Sounds(this, options_.audio);
 
   tabs_ = new QTabWidget(this);
   tabs_->setFocusPolicy(Qt::NoFocus);
@@ -332,7 +333,7 @@ std::vector<db::SessionInfo> StationWindow::interruptedSessions() const {
   try {
     if (!std::ifstream(dbPath()).good()) return out;
     db::Store store(dbPath(), true);
-    const std::string station = acq::thisStation();
+    const std::string station = options_.setup.station.empty() ? acq::thisStation() : options_.setup.station;
     for (const auto& s : store.sessions())
       if (s.status == "open" && (station.empty() || s.station == station)) out.push_back(s);
   } catch (const std::exception&) {
@@ -385,7 +386,23 @@ bool StationWindow::newSessionDialog() {
   return start();
 }
 
+void StationWindow::reviewLabServer() {
+  const QString where = QString::fromStdString(db::redactUrl(options_.db));
+  banner_->setText(tr("Reviewing the lab server %1. Capture writes this station's own file: start the station "
+                      "without --db postgresql://… to capture.")
+                       .arg(where));
+  review_->setDatabase(options_.db);
+  tabs_->setCurrentWidget(review_);
+  statusBar()->showMessage(tr("lab server %1").arg(where));
+}
+
 bool StationWindow::start() {
+  if (db::isServerUrl(dbPath())) {
+    banner_->setText(
+        tr("Cannot capture into the lab server: capture writes this station's own file, and "
+           "'leafdig sync push' sends it. Leave out --db postgresql://… to capture."));
+    return false;
+  }
   stopCapture();
   run_.reset();
   last_.reset();

@@ -38,6 +38,7 @@ struct StationOptions {
   acquisition::SessionSetup setup;  // project, plant, …, devices (ignored when simulating)
   std::int64_t resume = 0;          // a session to continue; 0: a new one
   QString settingsFile;             // empty: defaultSettingsFile()
+  bool audio = true;                // false: no sound cues loaded, the system beep only (--no-audio)
 };
 
 class StationWindow : public QMainWindow {
@@ -49,6 +50,9 @@ class StationWindow : public QMainWindow {
   // Opens the store and the session, starts the devices and the capture thread. Returns
   // false (and shows why in the banner) when the store or the devices cannot be opened.
   bool start();
+  // With --db postgresql://…: the lab server, for review only (capture always writes the
+  // station's own file). Opens the Review tab on the server's sessions.
+  void reviewLabServer();
   // Ends the capture; an unfinished session is paused with the reason (resumable).
   void stopCapture();
   // Shows the set-up dialog; starts a new session with what was chosen. False: cancelled.

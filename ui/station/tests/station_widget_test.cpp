@@ -22,15 +22,18 @@
 #include <QTableWidget>
 #include <QTest>
 #include <QValueAxis>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <optional>
 
+#include "../../../tests/support/pg_cluster.hpp"
 #include "export_dialog.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/db/lab.hpp"
 #include "leafdig/model/leaf_scan.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "mesh_choice.hpp"
@@ -46,6 +49,12 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
+
+// The ThreadSanitizer pass runs the station without Qt Multimedia (whose sample-cache
+// threads are not built with TSan, tests/tsan-qt.supp): LEAFDIG_TEST_NO_AUDIO=1.
+bool audio() {
+  return std::getenv("LEAFDIG_TEST_NO_AUDIO") == nullptr;
+}
 
 std::vector<acq::Feedback> press(acq::CaptureSession& s, std::int64_t& t, const Eigen::Vector3d& p) {
   std::vector<acq::Feedback> out;
@@ -76,6 +85,7 @@ TEST(StationWindow, TheBannerStepListAndFeedbackFollowTheSession) {
       leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
 
   leafdig::station::StationOptions options;
+  options.audio = audio();
   options.settingsFile = QString::fromStdString((dir / "station.ini").string());
   leafdig::station::StationWindow w(options);
   EXPECT_TRUE(w.windowTitle().startsWith("leafdig"));
@@ -137,13 +147,15 @@ fs::path freshDir(const std::string& tag) {
 // A complete leaf in `store` (its first `rows` rows), captured through a real session.
 // `shown` sees every snapshot along the way.
 std::int64_t completeLeaf(leafdig::db::Store& store, std::optional<double> areaMm2 = {}, std::size_t rows = 3,
-                          const std::function<void(const acq::Snapshot&)>& shown = {}) {
+                          const std::function<void(const acq::Snapshot&)>& shown = {},
+                          const std::string& station = {}) {
   const auto leaf =
       leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
   acq::SessionSetup setup;
   setup.project = "p";
   setup.plant = "pl";
   setup.measuredAreaMm2 = areaMm2;
+  setup.station = station;
   const auto id = acq::CaptureSession::create(store, setup);
   acq::CaptureSession s(store, id);
   std::int64_t t = 0;
@@ -390,6 +402,49 @@ TEST(ReviewView, ACuratorBrowsesSelectsCorrectsReplaysAndApproves) {
   fs::remove_all(dir);
 }
 
+TEST(ReviewView, TheLabServersSessionsAreReviewedFromTheStationAndTheDecisionGoesBack) {
+  // A real PostgreSQL server (started for this test), a station's session pushed to it, and
+  // the review view on the server's URL as a curator opens it (leafdig-station --db URL).
+  leafdig::test::PgCluster cluster;
+  const std::string database = cluster.createDatabase();
+  const std::string admin = cluster.adminUrl(database);
+  (void)leafdig::db::initServer(admin);
+  (void)leafdig::db::addUser(admin, "tech_w", leafdig::db::LabRole::Technician, "bench-w", std::string("pw-t"));
+  (void)leafdig::db::addUser(admin, "carla_w", leafdig::db::LabRole::Curator, "", std::string("pw-c"));
+  const std::string tech = cluster.url("tech_w", "pw-t", database);
+  const std::string curator = cluster.url("carla_w", "pw-c", database);
+  const fs::path dir = freshDir("review-lab");
+  leafdig::db::Store station((dir / "s.sqlite").string());
+  const std::int64_t id = completeLeaf(station, 40000.0, 3, {}, "bench-w");
+  const std::int64_t second = completeLeaf(station, 40000.0, 3, {}, "bench-w");
+  ASSERT_TRUE(leafdig::db::push(station, tech).problems.empty());
+
+  leafdig::station::ReviewView v(leafdig::station::StationSettings{});
+  v.resize(1400, 900);
+  v.setDatabase(curator);
+  ASSERT_EQ(v.sessionsTable()->rowCount(), 2);  // newest first
+  EXPECT_EQ(v.sessionsTable()->item(1, 8)->text().toStdString(), "bench-w:" + std::to_string(id));
+  EXPECT_EQ(v.sessionsTable()->item(0, 8)->text().toStdString(), "bench-w:" + std::to_string(second));
+  const std::int64_t serverId = v.sessionsTable()->item(1, 0)->text().toLongLong();
+  const std::int64_t serverSecond = v.sessionsTable()->item(0, 0)->text().toLongLong();
+  ASSERT_TRUE(v.openSession(serverId));
+  EXPECT_TRUE(v.bannerText().contains("chain OK")) << v.bannerText().toStdString();
+  EXPECT_EQ(v.markersTable()->rowCount(), 1 + 21 + 6 + 1);
+  EXPECT_TRUE(v.approve("carla").isEmpty()) << v.bannerText().toStdString();
+  EXPECT_TRUE(v.bannerText().contains("approved")) << v.bannerText().toStdString();
+  // A technician's view of the same session: the server refuses the approval, and says so.
+  leafdig::station::ReviewView t(leafdig::station::StationSettings{});
+  t.setDatabase(tech);
+  ASSERT_TRUE(t.openSession(serverSecond));
+  EXPECT_FALSE(t.approve("tom").isEmpty());
+  EXPECT_TRUE(t.bannerText().contains("only curators review")) << t.bannerText().toStdString();
+  // The station takes the decision in.
+  EXPECT_EQ(leafdig::db::pull(station, tech).eventsTaken, 1);
+  EXPECT_EQ(station.session(id)->status, "approved");
+  EXPECT_EQ(station.session(second)->status, "complete");
+  fs::remove_all(dir);
+}
+
 TEST(ExportBatch, ExportsEachSessionReportsTheOnesThatCannotAndCancels) {
   const fs::path dir = freshDir("export");
   const std::string db = (dir / "s.sqlite").string();
@@ -462,6 +517,7 @@ TEST(ExportBatch, ExportsEachSessionReportsTheOnesThatCannotAndCancels) {
 TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
   const fs::path dir = freshDir("devices");
   leafdig::station::StationOptions o;
+  o.audio = audio();
   o.db = (dir / "s.sqlite").string();
   o.simulate = true;
   o.speed = 2;
@@ -523,6 +579,7 @@ TEST(StationLayout, NothingIsCutOffAt1366x768And1920x1080) {
     id = completeLeaf(store, 40000.0, 10, [&](const acq::Snapshot& s) { last = s; });
   }
   leafdig::station::StationOptions options;
+  options.audio = audio();
   options.settingsFile = QString::fromStdString((dir / "station.ini").string());
   options.db = db;
   for (const QSize size : {QSize(1366, 768), QSize(1920, 1080)}) {
