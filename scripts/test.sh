@@ -50,6 +50,8 @@ bench_smoke build/ci/tests/leafdig_leaf2d_bench
 bench_smoke build/ci/tests/leafdig_plant_bench --benchmark_filter='PlantAssemble|PlantSilhouette/0|PlantEncode/(5|6)'
 bench_smoke build/ci/tests/leafdig_mesh_bench --benchmark_filter='AdaptiveLeaf/30|SeedLeaf|SeedAxisOrgan/170'
 bench_smoke env LEAFDIG_BENCH_LEAVES=200 build/ci/tests/leafdig_capture_bench
+# The lab server's push, incremental push and listing, on a PostgreSQL cluster of its own.
+bench_smoke env LEAFDIG_BENCH_LEAVES=20 build/ci/tests/leafdig_lab_bench
 # The station's preview frame, snapshot → screen and start-up, on a real window under Xvfb
 # (Mesa llvmpipe); it fails if the preview draws nothing or the station does not start.
 bench_smoke xvfb-run -a -s "-screen 0 1920x1080x24" build/ci/tests/leafdig_station_bench

@@ -1,0 +1,169 @@
+// The lab server (issue 17 targets): pushing a station of 1 000 leaves (events per second),
+// an incremental push with nothing new (≤ 200 ms), listing 10 000 sessions from the server.
+// A real PostgreSQL cluster started by the benchmark (tests/support/pg_cluster.hpp).
+// LEAFDIG_BENCH_LEAVES scales both files down for the smoke run. Results: docs/benchmarks.md.
+#include <benchmark/benchmark.h>
+#include <sqlite3.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+
+#include "../support/pg_cluster.hpp"
+#include "../support/station_sessions.hpp"
+#include "leafdig/db/lab.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace db = leafdig::db;
+
+leafdig::test::PgCluster& cluster() {
+  static leafdig::test::PgCluster c;
+  return c;
+}
+
+int scaled(int leaves) {
+  const char* e = std::getenv("LEAFDIG_BENCH_LEAVES");
+  return e ? std::max(2, std::min(leaves, std::atoi(e))) : leaves;
+}
+
+// A station file of `leaves` complete sessions. The first is written as a capture writes it
+// (test::captureSession, `rows` rows); the others are copies of its events re-chained for
+// their own id (valid hashes: the server checks every one), written in one transaction.
+fs::path stationFile(int leaves, int rows) {
+  const fs::path path = fs::temp_directory_path() /
+                        ("leafdig-labbench-" + std::to_string(leaves) + "x" + std::to_string(rows) + ".sqlite");
+  if (fs::exists(path)) return path;
+  std::vector<db::Event> events;
+  {
+    db::Store s(path.string());
+    const auto first = leafdig::test::captureSession(s, "bench-lab", 1, rows);
+    events = s.events(first);
+    const auto op = s.ensureOperator("ana");
+    const auto plant = s.ensurePlant(s.ensureProject("tobacco-2026"), "P-07");
+    for (int leaf = 2; leaf <= leaves; ++leaf)
+      (void)s.createSession(s.ensureLeaf(plant, leaf, "middle"), op, "bench-lab", "standard", "sequential",
+                            R"({"engine":{"still_mm":0.5}})");
+  }
+  sqlite3* raw = nullptr;
+  sqlite3_open(path.c_str(), &raw);
+  sqlite3_exec(raw, "PRAGMA synchronous=OFF; BEGIN", nullptr, nullptr, nullptr);
+  sqlite3_stmt* ins = nullptr;
+  sqlite3_prepare_v2(raw,
+                     "INSERT INTO events(session_id, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+                     "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
+                     -1, &ins, nullptr);
+  sqlite3_stmt* head = nullptr;
+  sqlite3_prepare_v2(raw, "UPDATE sessions SET head_seq=?1, head_hash=?2, status='complete' WHERE id=?3", -1, &head,
+                     nullptr);
+  sqlite3_stmt* genesis = nullptr;
+  sqlite3_prepare_v2(raw, "SELECT genesis_hash FROM sessions WHERE id=?1", -1, &genesis, nullptr);
+  for (std::int64_t id = 2; id <= leaves; ++id) {
+    sqlite3_bind_int64(genesis, 1, id);
+    sqlite3_step(genesis);
+    std::string prev = reinterpret_cast<const char*>(sqlite3_column_text(genesis, 0));
+    sqlite3_reset(genesis);
+    for (const db::Event& e : events) {
+      const std::string hash = db::eventHash(prev, id, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw);
+      sqlite3_bind_int64(ins, 1, id);
+      sqlite3_bind_int64(ins, 2, e.seq);
+      sqlite3_bind_text(ins, 3, e.utc.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_int64(ins, 4, e.monoNs);
+      sqlite3_bind_text(ins, 5, e.kind.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_text(ins, 6, e.payloadJson.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_text(ins, 7, e.raw.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_text(ins, 8, prev.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_text(ins, 9, hash.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_step(ins);
+      sqlite3_reset(ins);
+      prev = hash;
+    }
+    sqlite3_bind_int64(head, 1, events.back().seq);
+    sqlite3_bind_text(head, 2, prev.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_int64(head, 3, id);
+    sqlite3_step(head);
+    sqlite3_reset(head);
+  }
+  for (sqlite3_stmt* st : {ins, head, genesis}) sqlite3_finalize(st);
+  sqlite3_exec(raw, "COMMIT", nullptr, nullptr, nullptr);
+  sqlite3_close(raw);
+  return path;
+}
+
+// A fresh lab database with the schema and a technician of station bench-lab.
+std::string freshServer() {
+  static int n = 0;
+  const std::string name = cluster().createDatabase();
+  (void)db::initServer(cluster().adminUrl(name));
+  const std::string login = "tech_bench_" + std::to_string(::getpid()) + "_" + std::to_string(++n);
+  (void)db::addUser(cluster().adminUrl(name), login, db::LabRole::Technician, "bench-lab", std::string("pw"));
+  return cluster().url(login, "pw", name);
+}
+
+std::int64_t eventsIn(const db::Store& s) {
+  std::int64_t n = 0;
+  for (const auto& info : s.sessions()) n += info.headSeq;
+  return n;
+}
+
+// A station of 1 000 leaves (14 rows each: ~130 events) pushed to an empty server.
+void BM_PushStation(benchmark::State& state) {
+  const fs::path file = stationFile(scaled(static_cast<int>(state.range(0))), 14);
+  const db::Store local(file.string(), true);
+  const std::int64_t events = eventsIn(local);
+  db::Store writable(file.string(), true);
+  double seconds = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const std::string url = freshServer();
+    state.ResumeTiming();
+    const auto t0 = std::chrono::steady_clock::now();
+    const db::PushReport r = db::push(writable, url);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (r.eventsSent != events || !r.problems.empty()) state.SkipWithError("the push did not send every event");
+  }
+  state.counters["leaves"] = static_cast<double>(local.sessions().size());
+  state.counters["events"] = static_cast<double>(events);
+  state.counters["events_per_s"] = static_cast<double>(events) * static_cast<double>(state.iterations()) / seconds;
+}
+BENCHMARK(BM_PushStation)->Arg(1000)->Iterations(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same station pushed again: nothing new (what a station does every few minutes).
+void BM_PushNothingNew(benchmark::State& state) {
+  const fs::path file = stationFile(scaled(1000), 14);
+  db::Store local(file.string(), true);
+  const std::string url = freshServer();
+  (void)db::push(local, url);
+  for (auto _ : state) {
+    const db::PushReport r = db::push(local, url);
+    if (r.eventsSent != 0) state.SkipWithError("a second push sent events");
+    benchmark::DoNotOptimize(r.sessionsUpToDate);
+  }
+  state.counters["leaves"] = static_cast<double>(local.sessions().size());
+}
+BENCHMARK(BM_PushNothingNew)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Listing 10 000 sessions from the server, as `sessions list --db postgresql://…` and the
+// review view do (short sessions: the listing reads the sessions table, not the events).
+void BM_ListSessionsFromServer(benchmark::State& state) {
+  const int leaves = scaled(static_cast<int>(state.range(0)));
+  const fs::path file = stationFile(leaves, 1);
+  db::Store local(file.string(), true);
+  const std::string url = freshServer();
+  (void)db::push(local, url);
+  db::LabStore server(url);
+  std::size_t n = 0;
+  for (auto _ : state) {
+    n = server.sessions().size();
+    benchmark::DoNotOptimize(n);
+  }
+  if (n != static_cast<std::size_t>(leaves)) state.SkipWithError("not every session listed");
+  state.counters["sessions"] = static_cast<double>(n);
+}
+BENCHMARK(BM_ListSessionsFromServer)->Arg(10000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
