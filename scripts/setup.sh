@@ -9,7 +9,8 @@
 # libmeshoptimizer-dev (the meshing study's peer simplifier), libassimp-dev (reading meshes
 # to compare), libopencv-dev (segmenting leaf scans, model/src/leaf_scan.cpp only), libpq-dev
 # (the lab's PostgreSQL server, db/src/pg.cpp only)), postgresql (the server the lab tests
-# start in a temporary directory; its packaged cluster is not used),
+# start in a temporary directory; its packaged cluster is not used) with openssl (their TLS
+# certificate),
 # clang + libclang-rt-14-dev (libFuzzer targets), clang-format-14 (the format check), Qt 6 for the station (qt6-base-dev,
 # qt6-multimedia-dev for the sound cues, qt6-charts-dev for the review plots,
 # libqt6opengl6-dev, libgl-dev) with Mesa's software OpenGL and Xvfb for its tests
@@ -24,7 +25,7 @@ packages=(cmake ninja-build g++ ccache pkg-config libeigen3-dev nlohmann-json3-d
           libtinygltf-dev libgtest-dev libgmock-dev libbenchmark-dev libsqlite3-dev assimp-utils
           libserialport-dev libhidapi-dev libusb-1.0-0-dev clang libclang-rt-14-dev
           libsqlitecpp-dev libssl-dev clang-format-14 libcgal-dev libmeshoptimizer-dev libassimp-dev libopencv-dev
-          libpq-dev postgresql
+          libpq-dev postgresql openssl
           qt6-base-dev libqt6opengl6-dev qt6-multimedia-dev qt6-charts-dev libgl-dev libgl1-mesa-dri xvfb xauth
           fonts-dejavu-core python3 dpkg-dev desktop-file-utils file)
 missing=()

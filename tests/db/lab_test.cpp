@@ -506,4 +506,33 @@ TEST_F(Lab, ABadPasswordOrAnUnreachableServerIsNamedWithoutThePassword) {
             "SCRAM-SHA-256$");
 }
 
+TEST(LabTls, SyncRunsOverTlsWithTheServersCertificateVerifiedAndAWrongOneIsRefused) {
+  PgCluster tls(true);
+  const std::string database = tls.createDatabase();
+  (void)db::initServer(tls.adminUrl(database));
+  (void)db::addUser(tls.adminUrl(database), "tech_tls", db::LabRole::Technician, "bench-t", std::string("pw"));
+  const fs::path dir = fs::temp_directory_path() / ("leafdig-lab-tls-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  db::Store station((dir / "s.sqlite").string());
+  (void)captureSession(station, "bench-t", 1);
+  // verify-full: the certificate must chain to the given root and name the host.
+  const std::string url = "postgresql://tech_tls:pw@localhost:" + std::to_string(tls.port()) + "/" + database +
+                          "?sslmode=verify-full&sslrootcert=" + tls.certificateFile();
+  const auto report = db::push(station, url);
+  EXPECT_TRUE(report.problems.empty());
+  EXPECT_GT(report.eventsSent, 0);
+  EXPECT_EQ(Sql(url).value("SELECT ssl::text FROM pg_stat_ssl WHERE pid = pg_backend_pid()"), "true");
+  // Another root certificate (the system's, which did not sign it): refused before anything is sent.
+  const std::string wrong = "postgresql://tech_tls:pw@localhost:" + std::to_string(tls.port()) + "/" + database +
+                            "?sslmode=verify-full&sslrootcert=/etc/ssl/certs/ca-certificates.crt";
+  try {
+    (void)db::push(station, wrong);
+    FAIL() << "connected with a root that did not sign the server's certificate";
+  } catch (const db::StoreError& e) {
+    EXPECT_EQ(e.kind(), db::StoreErrorKind::Unreachable);
+    EXPECT_NE(std::string(e.what()).find("certificate"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace

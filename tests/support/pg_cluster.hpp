@@ -116,7 +116,9 @@ class PgCluster {
  public:
   static constexpr const char* kAdmin = "leafdig_admin";
 
-  PgCluster() {
+  // tls: the server also speaks TLS with a self-signed certificate for localhost and
+  // 127.0.0.1 (certificateFile() is its own root, for sslmode=verify-full).
+  explicit PgCluster(bool tls = false) {
     bin_ = bindir();
     char tmpl[] = "/tmp/leafdig-pg-XXXXXX";
     if (::mkdtemp(tmpl) == nullptr) throw std::runtime_error("mkdtemp failed");
@@ -137,10 +139,24 @@ class PgCluster {
     if (run({bin_ + "/initdb", "-D", (dir_ / "data").string(), "-U", kAdmin, "--pwfile", (dir_ / "pw").string(),
              "--auth-local=trust", "--auth-host=scram-sha-256", "-E", "UTF8", "--locale=C", "--no-sync"}) != 0)
       throw std::runtime_error("initdb failed: " + logText());
+    std::string tlsOptions;
+    if (tls) {
+      const std::string key = (dir_ / "server.key").string();
+      if (runCommand({"openssl", "req", "-new", "-x509", "-days", "2", "-nodes", "-subj", "/CN=localhost", "-addext",
+                      "subjectAltName=DNS:localhost,IP:127.0.0.1", "-keyout", key, "-out", certificateFile()},
+                     log_) != 0)
+        throw std::runtime_error("openssl could not make a certificate: " + logText());
+      if (::geteuid() == 0) {
+        const passwd* pw = ::getpwnam("postgres");
+        for (const auto& f : {key, certificateFile()}) (void)::chown(f.c_str(), pw->pw_uid, pw->pw_gid);
+      }
+      std::filesystem::permissions(key, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+      tlsOptions = " -c ssl=on -c ssl_cert_file=" + certificateFile() + " -c ssl_key_file=" + key;
+    }
     for (int attempt = 0; attempt < 5; ++attempt) {
       port_ = freeLocalPort();
       const std::string options = "-p " + std::to_string(port_) + " -k " + dir_.string() +
-                                  " -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=60";
+                                  " -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=60" + tlsOptions;
       if (run({bin_ + "/pg_ctl", "-D", (dir_ / "data").string(), "-l", log_, "-w", "-t", "60", "-o", options,
                "start"}) == 0) {
         started_ = true;
@@ -158,6 +174,7 @@ class PgCluster {
   }
 
   [[nodiscard]] int port() const { return port_; }
+  [[nodiscard]] std::string certificateFile() const { return (dir_ / "server.crt").string(); }
   [[nodiscard]] const std::string& adminPassword() const { return password_; }
   // postgresql://login:password@127.0.0.1:port/db (the password percent-encoded).
   [[nodiscard]] std::string url(const std::string& login, const std::string& password, const std::string& db,
