@@ -95,7 +95,7 @@ m::MarkerSet makeLeaf(const LeafShape& s) {
 
   for (int i = 0; i < s.rows; ++i) {
     const double q = s.rows == 1 ? 0.5 : static_cast<double>(i) / (s.rows - 1);
-    const double x = 0.07 + 0.88 * std::pow(q, 1.08);  // row position, 0 tip .. 1 base
+    const double x = 0.07 + 0.93 * std::pow(q, 1.08);  // row position, 0 tip .. 1 base (the last row at the base)
     const double arc = x * s.lengthMm;
     const double angle = (s.veinAngleTipDeg + (s.veinAngleBaseDeg - s.veinAngleTipDeg) * q) * std::numbers::pi / 180;
     m::MarkerRow row;
@@ -138,12 +138,12 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(dir);
   const LeafShape shapes[] = {
       // Wide lower leaf with narrow wings.
-      {"lower-leaf-n10.markers.json", "S-lower-10", "lower", 4, 10, 620, 165, 0.55, 0.05, 28, 22, 6, 52, 40, false},
+      {"lower-leaf-n10.markers.json", "S-lower-10", "lower", 4, 10, 620, 165, 0.55, 0.05, 28, 22, 6, 52, 62, false},
       // Small upper leaf with wide wings.
-      {"upper-small-leaf-n17.markers.json", "S-upper-17", "upper", 17, 17, 390, 85, 0.62, 0.32, 22, 10, 3, 48, 34,
+      {"upper-small-leaf-n17.markers.json", "S-upper-17", "upper", 17, 17, 390, 85, 0.62, 0.32, 22, 10, 3, 48, 62,
        false},
       // Strongly curved upper leaf, per-row margin thickness.
-      {"upper-curved-leaf-n14.markers.json", "S-curved-14", "upper", 15, 14, 460, 105, 0.5, 0.15, 105, 16, 4, 50, 36,
+      {"upper-curved-leaf-n14.markers.json", "S-curved-14", "upper", 15, 14, 460, 105, 0.5, 0.15, 105, 16, 4, 50, 62,
        true},
   };
   try {

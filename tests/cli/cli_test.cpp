@@ -30,10 +30,11 @@ TEST_F(Cli, jsonReportsTable1CountsAndMetricsForEverySample) {
   struct Row {
     const char* file;
     int vv, vq, bv, bq;
+    bool broadBase;  // its lowest veins meet the margin far up: the base-row warning stands
   };
-  for (const Row& row : {Row{"lower-leaf-n10.markers.json", 3610, 3500, 1581, 1500},
-                         Row{"upper-small-leaf-n17.markers.json", 6130, 5950, 2666, 2550},
-                         Row{"upper-curved-leaf-n14.markers.json", 5050, 4900, 2201, 2100}}) {
+  for (const Row& row : {Row{"lower-leaf-n10.markers.json", 3610, 3500, 1581, 1500, false},
+                         Row{"upper-small-leaf-n17.markers.json", 6130, 5950, 2666, 2550, true},
+                         Row{"upper-curved-leaf-n14.markers.json", 5050, 4900, 2201, 2100, false}}) {
     const Result r = leafdig("model build " + quote(sample(row.file)) + " --resolution paper --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const json out = json::parse(r.out);
@@ -45,10 +46,15 @@ TEST_F(Cli, jsonReportsTable1CountsAndMetricsForEverySample) {
     EXPECT_LE(out["metrics"]["projected_area_mm2"].get<double>(), out["metrics"]["blade_area_mm2"].get<double>());
     EXPECT_TRUE(out["metrics"]["area_resolution"]["converged"].get<bool>());
     EXPECT_TRUE(out["metrics"]["area_constraint"].is_object());
-    // The samples' rows stop mid-leaf (written before the last row moved to the leaf base):
-    // named, so a curator knows why their area falls short of the meter's.
-    ASSERT_EQ(out["metrics"]["warnings"].size(), 1u) << row.file;
-    EXPECT_EQ(out["metrics"]["warnings"][0]["name"], "last-row-not-at-base");
+    // The samples' last rows are at the leaf base; the small upper leaf's wide wings make
+    // its lowest veins meet the margin far up, which the warning names as its second cause.
+    if (row.broadBase) {
+      ASSERT_EQ(out["metrics"]["warnings"].size(), 1u) << row.file;
+      EXPECT_EQ(out["metrics"]["warnings"][0]["name"], "last-row-not-at-base");
+      EXPECT_NE(out["metrics"]["warnings"][0]["message"].get<std::string>().find("winged"), std::string::npos);
+    } else {
+      EXPECT_TRUE(out["metrics"]["warnings"].empty()) << row.file << ": " << out["metrics"]["warnings"].dump();
+    }
   }
 }
 

@@ -73,7 +73,7 @@ struct CanFile {
 // its axis, each leaf's insertion point (translation) and its growth as a scale (width,
 // length, length) of the full-grown leaf in its leaf frame; leaves not yet appeared are
 // shrunk to nothing. `final` is the plant at full size, `states` the series (with times).
-// A visual: each key lies within 0.1 mm of the exact state on the samples (the blade's
+// A visual: each key lies within 0.5 mm of the exact state on the samples (the blade's
 // chord-length parameters do not follow an anisotropic scale); the per-time files are exact.
 [[nodiscard]] std::string encodeGrowthGlb(const Plant& final, const std::vector<Plant>& states, const MeshOptions& mesh,
                                           const std::string& generator);
