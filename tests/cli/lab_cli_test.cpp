@@ -153,6 +153,46 @@ TEST_F(LabCli, ALabSetsUpPushesReviewsOnTheServerAndTheStationTakesTheDecisionsI
   EXPECT_NE(bad.err.find("cannot read the password file"), std::string::npos);
 }
 
+TEST_F(LabCli, ACapturedLeafIsShownCorrectedAndExportedFromTheServerAsFromItsFile) {
+  ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
+  const std::string tech = addUser("tech_bench_c_" + database_, "technician", "bench-c");
+  const std::string curator = addUser("carla_c_" + database_, "curator");
+  const fs::path file = dir_ / "station.sqlite";
+  // A real capture (simulated devices, the virtual technician), at this station's id.
+  const Result captured = leafdig("capture --simulate --speed 12 --no-mistakes --station bench-c --db " + quote(file) +
+                                  " --markers " + quote(sample("lower-leaf-n10.markers.json")) + " </dev/null");
+  ASSERT_EQ(captured.exitCode, 0) << captured.err;
+  EXPECT_EQ(leafdig("capture --simulate --station 'bad id' --db " + quote(file)).exitCode, 2);
+  ASSERT_EQ(leafdig("sync push --db " + quote(file) + " --to " + quote(tech)).exitCode, 0);
+  const json list = json::parse(leafdig("sessions list --json --db " + quote(curator)).out);
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_EQ(list[0].at("station"), "bench-c");
+  const std::string id = std::to_string(list[0].at("id").get<int>());
+  // `show` from the server equals `show` from the file, but for the server's own id.
+  json fromServer = json::parse(leafdig("sessions show " + id + " --json --db " + quote(curator)).out);
+  json fromFile = json::parse(leafdig("sessions show 1 --json --db " + quote(file)).out);
+  EXPECT_EQ(fromServer.at("chain_ok"), true);
+  for (const char* key : {"markers", "thickness", "tip", "status", "events", "step", "station"})
+    EXPECT_EQ(fromServer.at(key), fromFile.at(key)) << key;
+  // A curator corrects a reading on the server; the export carries it; the station takes it in.
+  const Result corrected = leafdig("sessions correct " + id +
+                                   " --what midrib_thickness --row 2 --col 4 --value 1.7 --who carla "
+                                   "--why 'caliper on the vein' --db " +
+                                   quote(curator));
+  ASSERT_EQ(corrected.exitCode, 0) << corrected.err;
+  const Result exported = leafdig("sessions export " + id + " --format markers,csv --out " + quote(dir_ / "out") +
+                                  " --db " + quote(curator));
+  ASSERT_EQ(exported.exitCode, 0) << exported.err;
+  const std::string thickness = slurp(dir_ / "out" / ("session-" + id + ".thickness.csv"));
+  EXPECT_NE(thickness.find("1.7"), std::string::npos) << thickness;
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.exports"), "3");  // markers JSON + two CSVs, recorded
+  ASSERT_EQ(leafdig("sync pull --db " + quote(file) + " --from " + quote(tech)).exitCode, 0);
+  fromFile = json::parse(leafdig("sessions show 1 --json --db " + quote(file)).out);
+  fromServer = json::parse(leafdig("sessions show " + id + " --json --db " + quote(curator)).out);
+  EXPECT_EQ(fromServer.at("thickness"), fromFile.at("thickness"));
+  EXPECT_EQ(fromServer.at("events"), fromFile.at("events"));
+}
+
 TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNextRunContinues) {
   const fs::path file = dir_ / "station.sqlite";
   {
