@@ -220,26 +220,7 @@ std::optional<SessionInfo> LabStore::session(std::int64_t id) const {
 }
 
 std::vector<Event> LabStore::events(std::int64_t session, std::int64_t fromSeq) const {
-  const auto r = conn_->exec(
-      "SELECT seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash FROM leafdig.events "
-      "WHERE session_id = $1 AND seq >= $2 ORDER BY seq",
-      {std::to_string(session), std::to_string(fromSeq)});
-  std::vector<Event> out;
-  out.reserve(static_cast<std::size_t>(r.rows()));
-  for (int i = 0; i < r.rows(); ++i) {
-    Event e;
-    e.session = session;
-    e.seq = r.int64(i, 0);
-    e.utc = r.text(i, 1);
-    e.monoNs = r.int64(i, 2);
-    e.kind = r.text(i, 3);
-    e.payloadJson = r.text(i, 4);
-    e.raw = r.text(i, 5);
-    e.prevHash = r.text(i, 6);
-    e.hash = r.text(i, 7);
-    out.push_back(std::move(e));
-  }
-  return out;
+  return pg::readEvents(*conn_, session, fromSeq, session);
 }
 
 std::vector<MarkerRow> LabStore::markers(std::int64_t session) const {
@@ -318,4 +299,20 @@ std::unique_ptr<EventStore> openEventStore(const std::string& pathOrUrl, bool re
   return std::make_unique<Store>(pathOrUrl, readOnly);
 }
 
+namespace pg {
+
+std::vector<Event> readEvents(Connection& c, std::int64_t serverSession, std::int64_t fromSeq, std::int64_t asSession) {
+  const auto r = c.exec(
+      "SELECT seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash FROM leafdig.events "
+      "WHERE session_id = $1 AND seq >= $2 ORDER BY seq",
+      {std::to_string(serverSession), std::to_string(fromSeq)});
+  std::vector<Event> out;
+  out.reserve(static_cast<std::size_t>(r.rows()));
+  for (int i = 0; i < r.rows(); ++i)
+    out.push_back(Event{asSession, r.int64(i, 0), r.text(i, 1), r.int64(i, 2), r.text(i, 3), r.text(i, 4), r.text(i, 5),
+                        r.text(i, 6), r.text(i, 7)});
+  return out;
+}
+
+}  // namespace pg
 }  // namespace leafdig::db

@@ -84,4 +84,8 @@ class Connection {
   std::string where_;
 };
 
+// The events of a server session from `fromSeq` on, in order, named as session `asSession`
+// (the server's id for LabStore, the file's for a pull).
+std::vector<Event> readEvents(Connection& c, std::int64_t serverSession, std::int64_t fromSeq, std::int64_t asSession);
+
 }  // namespace leafdig::db::pg

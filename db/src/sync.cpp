@@ -217,14 +217,7 @@ PullReport pull(Store& local, const std::string& url, const SyncOptions& options
             StoreErrorKind::Conflict,
             "the server holds another session " + label(s) + ": two stations use the id '" + s.station + "'",
             "give each station its own id (--station)");
-      const auto r = c.exec(
-          "SELECT seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash FROM leafdig.events "
-          "WHERE session_id = $1 AND seq > $2 ORDER BY seq",
-          {std::to_string(head.id), std::to_string(s.headSeq)});
-      std::vector<Event> events;
-      for (int i = 0; i < r.rows(); ++i)
-        events.push_back(Event{s.id, r.int64(i, 0), r.text(i, 1), r.int64(i, 2), r.text(i, 3), r.text(i, 4),
-                               r.text(i, 5), r.text(i, 6), r.text(i, 7)});
+      const std::vector<Event> events = pg::readEvents(c, head.id, s.headSeq + 1, s.id);
       local.import(s.id, events);
       ++report.sessionsUpdated;
       report.eventsTaken += static_cast<std::int64_t>(events.size());

@@ -17,8 +17,6 @@
 
 #include "cli_support.hpp"
 
-extern char** environ;
-
 namespace {
 
 std::vector<json> jsonLines(const std::string& text) {
@@ -49,29 +47,6 @@ std::map<std::int64_t, json> acknowledged(const std::vector<json>& lines) {
 
 class CaptureCli : public Cli {
  protected:
-  // Starts leafdig in the background with stdout/stderr to files and stdin from /dev/null.
-  pid_t spawn(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
-    std::vector<std::string> all{LEAFDIG_CLI};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, LEAFDIG_CLI, &fa, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    EXPECT_EQ(rc, 0);
-    return pid;
-  }
-  static int reap(pid_t pid) {
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    return status;
-  }
   json show(const fs::path& db, std::int64_t id) {
     const Result r = leafdig("sessions show " + std::to_string(id) + " --db " + quote(db) + " --json");
     EXPECT_EQ(r.exitCode, 0) << r.err;

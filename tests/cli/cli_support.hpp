@@ -1,7 +1,9 @@
 // The command-line test fixture: runs `leafdig` as a user would (shell, files, exit codes).
 #pragma once
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,6 +15,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+extern char** environ;
 
 namespace {
 
@@ -60,6 +64,31 @@ class Cli : public ::testing::Test {
   }
 
   Result leafdig(const std::string& args) { return run(quote(LEAFDIG_CLI) + " " + args); }
+
+  // Starts leafdig in the background with stdout/stderr to files and stdin from /dev/null
+  // (for tests that kill it at a chosen instant); reap() waits for it.
+  pid_t spawn(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
+    std::vector<std::string> all{LEAFDIG_CLI};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, LEAFDIG_CLI, &fa, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    EXPECT_EQ(rc, 0);
+    return pid;
+  }
+  static int reap(pid_t pid) {
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return status;
+  }
 
   static std::string sample(const std::string& name) {
     return std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/" + name;

@@ -11,36 +11,27 @@
 #include <random>
 #include <thread>
 
-#include "../support/pg_cluster.hpp"
+#include "../support/pg_cluster_environment.hpp"
 #include "../support/station_sessions.hpp"
 #include "cli_support.hpp"
 #include "leafdig/db/lab.hpp"
-
-extern char** environ;
 
 namespace {
 
 using leafdig::test::PgCluster;
 using leafdig::test::Sql;
 
-PgCluster* cluster = nullptr;
-
-class ClusterEnvironment : public ::testing::Environment {
- public:
-  void SetUp() override { cluster = new PgCluster(); }
-  void TearDown() override {
-    delete cluster;
-    cluster = nullptr;
-  }
-};
-const auto* const kEnvironment = ::testing::AddGlobalTestEnvironment(new ClusterEnvironment);
+const auto* const kEnvironment = ::testing::AddGlobalTestEnvironment(new leafdig::test::PgClusterEnvironment);
+PgCluster& clusterOf() {
+  return leafdig::test::PgClusterEnvironment::cluster();
+}
 
 class LabCli : public Cli {
  protected:
   void SetUp() override {
     Cli::SetUp();
-    database_ = cluster->createDatabase();
-    admin_ = cluster->adminUrl(database_);
+    database_ = clusterOf().createDatabase();
+    admin_ = clusterOf().adminUrl(database_);
   }
   // A login made through the CLI, with its password in a file.
   std::string addUser(const std::string& login, const std::string& role, const std::string& station = "") {
@@ -49,22 +40,7 @@ class LabCli : public Cli {
     const Result r = leafdig("server add-user --url " + quote(admin_) + " --login " + login + " --role " + role +
                              (station.empty() ? "" : " --station " + station) + " --password-file " + quote(pw));
     EXPECT_EQ(r.exitCode, 0) << r.err;
-    return cluster->url(login, password, database_);
-  }
-  pid_t spawn(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
-    std::vector<std::string> all{LEAFDIG_CLI};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid = 0;
-    EXPECT_EQ(posix_spawn(&pid, LEAFDIG_CLI, &fa, nullptr, argv.data(), environ), 0);
-    posix_spawn_file_actions_destroy(&fa);
-    return pid;
+    return clusterOf().url(login, password, database_);
   }
   // Every event on the server, per station session, as text; and the same from a file.
   std::map<std::int64_t, std::vector<std::string>> serverHashes(const std::string& url) {
@@ -209,8 +185,8 @@ TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNext
   for (int run = 0; run < runs; ++run) {
     // Each run on an empty server: the push is killed at a random instant, then run again.
     const std::string fresh = "kill" + std::to_string(run) + "_" + std::to_string(::getpid());
-    Sql(cluster->adminUrl()).rows("CREATE DATABASE " + fresh + " ENCODING 'UTF8' TEMPLATE template0");
-    admin_ = cluster->adminUrl(fresh);
+    Sql(clusterOf().adminUrl()).rows("CREATE DATABASE " + fresh + " ENCODING 'UTF8' TEMPLATE template0");
+    admin_ = clusterOf().adminUrl(fresh);
     database_ = fresh;
     ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
     const std::string url = addUser("tech_" + fresh, "technician", "bench-k");
@@ -218,8 +194,7 @@ TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNext
     const pid_t pid = spawn({"sync", "push", "--db", file.string(), "--to", url, "--batch", "7"}, out, err);
     std::this_thread::sleep_for(std::chrono::milliseconds(killAfterMs(rng)));
     ::kill(pid, SIGKILL);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
+    const int status = reap(pid);
     // Whatever reached the server is, for every session, exactly the start of the station's
     // copy: nothing lost in the middle, nothing twice, every chain whole.
     const auto onServer = serverHashes(admin_);

@@ -15,7 +15,7 @@
 #include <thread>
 
 #include "../support/cutting_proxy.hpp"
-#include "../support/pg_cluster.hpp"
+#include "../support/pg_cluster_environment.hpp"
 #include "../support/station_sessions.hpp"
 #include "leafdig/db/store.hpp"
 
@@ -27,17 +27,10 @@ using leafdig::test::Sql;
 
 namespace {
 
-PgCluster* cluster = nullptr;
-
-class ClusterEnvironment : public ::testing::Environment {
- public:
-  void SetUp() override { cluster = new PgCluster(); }
-  void TearDown() override {
-    delete cluster;
-    cluster = nullptr;
-  }
-};
-const auto* const kEnvironment = ::testing::AddGlobalTestEnvironment(new ClusterEnvironment);
+const auto* const kEnvironment = ::testing::AddGlobalTestEnvironment(new leafdig::test::PgClusterEnvironment);
+PgCluster& clusterOf() {
+  return leafdig::test::PgClusterEnvironment::cluster();
+}
 
 class Lab : public ::testing::Test {
  protected:
@@ -46,8 +39,8 @@ class Lab : public ::testing::Test {
                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    database_ = cluster->createDatabase();
-    admin_ = cluster->adminUrl(database_);
+    database_ = clusterOf().createDatabase();
+    admin_ = clusterOf().adminUrl(database_);
     (void)db::initServer(admin_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -57,7 +50,7 @@ class Lab : public ::testing::Test {
     const std::string name = std::string(db::toString(role)) + "_" + database_ + "_" + std::to_string(++logins_);
     const std::string password = "pw \"" + name + "\" 's";
     (void)db::addUser(admin_, name, role, station, password);
-    return cluster->url(name, password, database_);
+    return clusterOf().url(name, password, database_);
   }
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
 
@@ -125,14 +118,14 @@ TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   sql.rows("CREATE DATABASE ascii_" + database_ +
            " ENCODING 'SQL_ASCII' TEMPLATE template0 LC_COLLATE 'C' LC_CTYPE 'C'");
   try {
-    (void)db::initServer(cluster->adminUrl("ascii_" + database_));
+    (void)db::initServer(clusterOf().adminUrl("ascii_" + database_));
     FAIL() << "initialised a SQL_ASCII database";
   } catch (const db::StoreError& e) {
     EXPECT_NE(std::string(e.what()).find("not UTF-8"), std::string::npos) << e.what();
   }
   // A store that was never initialised is named as such.
   try {
-    db::LabStore store(cluster->adminUrl("postgres"));
+    db::LabStore store(clusterOf().adminUrl("postgres"));
     FAIL();
   } catch (const db::StoreError& e) {
     EXPECT_EQ(e.kind(), db::StoreErrorKind::NotLeafdig);
@@ -415,9 +408,9 @@ TEST_F(Lab, AConnectionCutInTheMiddleOfATransactionLosesNothingAndTheNextPushCom
   o.eventsPerTransaction = 10;
   int cuts = 0;
   for (const std::size_t cutAfter : {30'000u, 30'000u, 30'000u}) {
-    leafdig::test::CuttingProxy proxy(cluster->port(), cutAfter);
+    leafdig::test::CuttingProxy proxy(clusterOf().port(), cutAfter);
     try {
-      (void)db::push(station, cluster->url(name, "pw", database_, proxy.port()), o);
+      (void)db::push(station, clusterOf().url(name, "pw", database_, proxy.port()), o);
     } catch (const db::StoreError& e) {
       EXPECT_EQ(e.kind(), db::StoreErrorKind::Unreachable) << e.what();
       EXPECT_EQ(std::string(e.what()).find(":pw@"), std::string::npos) << "the password stays out: " << e.what();
@@ -434,7 +427,7 @@ TEST_F(Lab, AConnectionCutInTheMiddleOfATransactionLosesNothingAndTheNextPushCom
     }
   }
   EXPECT_EQ(cuts, 3) << "the proxy cut each push's connection in the middle";
-  const auto rest = db::push(station, cluster->url(name, "pw", database_), o);
+  const auto rest = db::push(station, clusterOf().url(name, "pw", database_), o);
   EXPECT_TRUE(rest.problems.empty());
   EXPECT_EQ(serverEvents(), fileEvents(station));
   db::LabStore reader(login(db::LabRole::Reader));
@@ -486,8 +479,8 @@ TEST_F(Lab, ABadPasswordOrAnUnreachableServerIsNamedWithoutThePassword) {
   (void)db::addUser(admin_, name, db::LabRole::Technician, "bench-a", std::string("right"));
   db::Store station(file("a.sqlite"));
   (void)captureSession(station, "bench-a", 1);
-  for (const std::string& url : {cluster->url(name, "wrong-secret", database_),
-                                 cluster->url(name, "wrong-secret", database_, leafdig::test::freeLocalPort())}) {
+  for (const std::string& url : {clusterOf().url(name, "wrong-secret", database_),
+                                 clusterOf().url(name, "wrong-secret", database_, leafdig::test::freeLocalPort())}) {
     try {
       (void)db::push(station, url);
       FAIL() << "pushed";

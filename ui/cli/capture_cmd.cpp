@@ -29,6 +29,7 @@
 #include "leafdig/model/model_json.hpp"
 #include "leafdig/model/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
+#include "store_errors.hpp"
 #include "synth_cmd.hpp"
 
 namespace leafdig::cli {
@@ -45,19 +46,6 @@ void onSignal(int) {
 
 std::string dbPath(const CaptureOptions& o) {
   return o.db.empty() ? db::Store::defaultPath() : o.db;
-}
-
-int reportStoreError(const db::StoreError& e) {
-  std::cerr << "leafdig: " << e.what() << "\n";
-  if (!e.remedy().empty()) std::cerr << "  what to do: " << e.remedy() << "\n";
-  switch (e.kind()) {
-    case db::StoreErrorKind::NotLeafdig:
-    case db::StoreErrorKind::TooNew:
-    case db::StoreErrorKind::Corrupt:
-    case db::StoreErrorKind::Input:
-    case db::StoreErrorKind::Refused: return 2;
-    default: return 1;
-  }
 }
 
 // Says what went wrong and returns the exit code of the README: 2 for input the user must

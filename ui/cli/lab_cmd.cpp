@@ -7,24 +7,12 @@
 #include <nlohmann/json.hpp>
 
 #include "leafdig/db/lab.hpp"
+#include "store_errors.hpp"
 
 namespace leafdig::cli {
 namespace {
 
 using nlohmann::json;
-
-int report(const db::StoreError& e) {
-  std::cerr << "leafdig: " << e.what() << "\n";
-  if (!e.remedy().empty()) std::cerr << "  what to do: " << e.remedy() << "\n";
-  switch (e.kind()) {
-    case db::StoreErrorKind::Input:
-    case db::StoreErrorKind::NotLeafdig:
-    case db::StoreErrorKind::TooNew:
-    case db::StoreErrorKind::Corrupt:
-    case db::StoreErrorKind::Refused: return 2;
-    default: return 1;
-  }
-}
 
 std::string stationFile(const LabOptions& o) {
   return o.db.empty() ? db::Store::defaultPath() : o.db;
@@ -202,7 +190,7 @@ int runLabCommands(CLI::App& app, const LabOptions& o) {
     if (sync->get_subcommand("push")->parsed()) return runPush(o);
     if (sync->get_subcommand("pull")->parsed()) return runPull(o);
   } catch (const db::StoreError& e) {
-    return report(e);
+    return reportStoreError(e);
   } catch (const std::exception& e) {
     std::cerr << "leafdig: " << e.what() << "\n";
     return 1;
