@@ -139,6 +139,10 @@ TEST_F(LabCli, ACapturedLeafIsShownCorrectedAndExportedFromTheServerAsFromItsFil
                                   " --markers " + quote(sample("lower-leaf-n10.markers.json")) + " </dev/null");
   ASSERT_EQ(captured.exitCode, 0) << captured.err;
   EXPECT_EQ(leafdig("capture --simulate --station 'bad id' --db " + quote(file)).exitCode, 2);
+  const Result intoServer = leafdig("capture --simulate --db " + quote(tech));
+  EXPECT_EQ(intoServer.exitCode, 2);
+  EXPECT_NE(intoServer.err.find("capture writes the station's own file"), std::string::npos) << intoServer.err;
+  EXPECT_EQ(intoServer.err.find("s3cret"), std::string::npos);
   ASSERT_EQ(leafdig("sync push --db " + quote(file) + " --to " + quote(tech)).exitCode, 0);
   const json list = json::parse(leafdig("sessions list --json --db " + quote(curator)).out);
   ASSERT_EQ(list.size(), 1u);

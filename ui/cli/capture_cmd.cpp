@@ -178,6 +178,11 @@ struct RunResult {
 };
 
 acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
+  if (db::isServerUrl(o.db))
+    throw std::invalid_argument(
+        "capture writes the station's own file, not the lab server: give --db FILE, and send it with "
+        "'leafdig sync push --db FILE --to " +
+        db::redactUrl(o.db) + "'");
   acq::RunRequest r;
   r.db = dbPath(o);
   r.resume = resumeId.value_or(0);
