@@ -52,9 +52,12 @@ std::int64_t newSession(leafdig::db::Store& store, int position) {
 }
 
 // Stylus samples of one press on p; returns the release sample (not yet fed).
-acq::StylusInput feedPress(acq::CaptureSession& s, std::int64_t& t, const acq::Vec3& p, std::mt19937& rng) {
+// `stillSamples` of 8 ms before the button goes down (a second tap of a double press comes
+// sooner than the engine's 0.5 s double-tap window: 10).
+acq::StylusInput feedPress(acq::CaptureSession& s, std::int64_t& t, const acq::Vec3& p, std::mt19937& rng,
+                           int stillSamples = 70) {
   std::normal_distribution<double> n(0.0, 0.1);
-  for (int i = 0; i < 70; ++i)
+  for (int i = 0; i < stillSamples; ++i)
     (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, false, "ok", "01 x"});
   for (int i = 0; i < 25; ++i)
     (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, true, "ok", "01 x"});
@@ -178,7 +181,7 @@ void captureCompleteSession(leafdig::db::Store& store, int position) {
     (void)s.onStylus(feedPress(s, t, {tip.x(), tip.y(), tip.z()}, rng));
     for (int r = 1; r <= static_cast<int>(leaf().rows.size()); ++r) {
       for (int c = 1; c <= 7; ++c) (void)s.onStylus(feedPress(s, t, at(r, c), rng));
-      if (r == 3) (void)s.onStylus(feedPress(s, t, at(r, 7), rng));  // a double press, rejected
+      if (r == 3) (void)s.onStylus(feedPress(s, t, at(r, 7), rng, 10));  // a double press, rejected
     }
     (void)s.endRows(t += 500 * kMs);
     for (int r = 1; r <= static_cast<int>(leaf().rows.size()); ++r) {
@@ -186,7 +189,10 @@ void captureCompleteSession(leafdig::db::Store& store, int position) {
       (void)s.onCaliper({t += 900 * kMs, 0.7 - 0.02 * r, "+0000.68\r\n"});
     }
     (void)s.onCaliper({t += 900 * kMs, 0.24, "+0000.24\r\n"});
-    if (!s.snapshot(false).complete) std::fprintf(stderr, "bench fixture: the session did not complete\n");
+    if (!s.snapshot(false).complete) {
+      std::fprintf(stderr, "bench fixture: the session did not complete (%s)\n", s.snapshot(false).prompt.c_str());
+      std::exit(1);
+    }
   }
   acq::Correction c;
   c.what = acq::What::MidribThickness;
