@@ -333,6 +333,17 @@ Decision Engine::decidePoint(const StylusInput& release) {
         return reject("point " + std::to_string(st.col) + " goes back along row " + std::to_string(st.row) +
                       " (markers are taken right to left): take point " + std::to_string(st.col));
     }
+    // A row starts on the right margin: its first point lies nearer the previous row's first
+    // point than that row's last (left-margin) one. A second, slow press on the last point of
+    // the row before (outside the double-tap window) would otherwise become this row's first
+    // point and shift every point after it.
+    if (st.col == 1 && st.row >= 2) {
+      const Item* right = find(What::Marker, st.row - 1, 1);
+      const Item* left = find(What::Marker, st.row - 1, 7);
+      if (right && left && distanceMm(mean, left->positionMm) < distanceMm(mean, right->positionMm))
+        return reject("row " + std::to_string(st.row) + " starts on the right margin, by row " +
+                      std::to_string(st.row - 1) + "'s point 1; this is by its point 7 (the left margin)");
+    }
     if (st.col >= 3 && prev) {
       double sum = 0;
       for (int c = 2; c < st.col; ++c)

@@ -156,6 +156,16 @@ TEST_F(EngineRow, RejectsOrderSpacingAndMidribMistakes) {
   EXPECT_EQ(op.press(pt(2, 4)).kind, Kind::Accepted);
 }
 
+TEST_F(EngineRow, ASlowSecondPressOnARowsLastPointIsNotTakenForTheNextRowsFirst) {
+  // Row 1 ended at point 7 (the left margin). Pressed there again, slowly (outside the
+  // double-tap window): it is not row 2's point 1, which starts on the right margin.
+  const auto d = op.press(pt(1, 7));
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("row 2 starts on the right margin"), std::string::npos) << d.reason;
+  EXPECT_EQ(op.press(pt(2, 1)).kind, Kind::Accepted);
+  for (int c = 2; c <= 7; ++c) EXPECT_EQ(op.press(pt(2, c)).kind, Kind::Accepted) << c;
+}
+
 TEST_F(EngineRow, UndoGoesBackOneStepAndEndingRowsNeedsEnoughRows) {
   auto d = engine.endRows();
   EXPECT_EQ(d.kind, Kind::Rejected);
