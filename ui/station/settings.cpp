@@ -100,6 +100,12 @@ StationSettings StationSettings::load(const QString& file, QStringList* problems
   e.minThicknessMm = number("capture/min_thickness_mm", e.minThicknessMm, 0.001, 5);
   e.maxThicknessMm = number("capture/max_thickness_mm", e.maxThicknessMm, 1, 100);
   s.exportDir = q.value("export/dir", QDir::homePath() + "/leafdig-exports").toString();
+  s.labUrl = q.value("lab/url", QString()).toString().trimmed();
+  if (!s.labUrl.isEmpty() && !s.labUrl.startsWith("postgresql://") && !s.labUrl.startsWith("postgres://")) {
+    note(QObject::tr("lab/url = %1 is not a postgresql:// URL; no lab server").arg(s.labUrl));
+    s.labUrl.clear();
+  }
+  s.labSyncMinutes = static_cast<int>(number("lab/sync_minutes", s.labSyncMinutes, 0, 1440));
   return s;
 }
 
@@ -120,6 +126,8 @@ void StationSettings::save(const QString& file) const {
   q.setValue("capture/min_thickness_mm", engine.minThicknessMm);
   q.setValue("capture/max_thickness_mm", engine.maxThicknessMm);
   q.setValue("export/dir", exportDir);
+  q.setValue("lab/url", labUrl);
+  q.setValue("lab/sync_minutes", labSyncMinutes);
   q.sync();
 }
 

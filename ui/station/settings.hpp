@@ -27,6 +27,11 @@ struct StationSettings {
   std::map<Action, QKeySequence> shortcuts;  // filled with the defaults below
   acquisition::Settings engine;              // tolerances and stillness for new sessions
   QString exportDir;                         // last export destination
+  // The lab's PostgreSQL server this station syncs to (docs/lab.md): a postgresql:// URL
+  // without its password (libpq reads ~/.pgpass); empty: no lab server. Every
+  // `labSyncMinutes` the station pushes its sessions and pulls decisions (0: only by hand).
+  QString labUrl;
+  int labSyncMinutes = 0;
 
   StationSettings();
   // Reads from the INI file (missing keys keep their defaults; out-of-range values are

@@ -62,6 +62,18 @@ SettingsDialog::SettingsDialog(const StationSettings& s, QWidget* parent) : QDia
   cf->addRow(tr("Thinnest reading accepted"), minT_);
   cf->addRow(tr("Thickest reading accepted"), maxT_);
 
+  auto* lab = new QGroupBox(tr("Lab server"));
+  auto* lf = new QFormLayout(lab);
+  labUrl_ = new QLineEdit(s.labUrl);
+  labUrl_->setPlaceholderText(tr("postgresql://LOGIN@HOST/DATABASE (the password in ~/.pgpass)"));
+  labMinutes_ = new QSpinBox;
+  labMinutes_->setRange(0, 1440);
+  labMinutes_->setSuffix(tr(" min"));
+  labMinutes_->setSpecialValueText(tr("only by hand"));
+  labMinutes_->setValue(s.labSyncMinutes);
+  lf->addRow(tr("Server"), labUrl_);
+  lf->addRow(tr("Sync every"), labMinutes_);
+
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
   connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
@@ -69,6 +81,7 @@ SettingsDialog::SettingsDialog(const StationSettings& s, QWidget* parent) : QDia
   outer->addWidget(display);
   outer->addWidget(sound);
   outer->addWidget(capture);
+  outer->addWidget(lab);
   outer->addWidget(buttons);
 }
 
@@ -86,6 +99,8 @@ StationSettings SettingsDialog::result() const {
   s.engine.midribToleranceMm = midrib_->value();
   s.engine.minThicknessMm = minT_->value();
   s.engine.maxThicknessMm = std::max(maxT_->value(), minT_->value() * 2);
+  s.labUrl = labUrl_->text().trimmed();
+  s.labSyncMinutes = labMinutes_->value();
   return s;
 }
 

@@ -7,6 +7,8 @@
 #include <QDialog>
 #include <QDoubleSpinBox>
 #include <QKeySequenceEdit>
+#include <QLineEdit>
+#include <QSpinBox>
 #include <map>
 
 #include "settings.hpp"
@@ -26,12 +28,16 @@ class SettingsDialog : public QDialog {
   QCheckBox* sounds() const { return sounds_; }
   QKeySequenceEdit* shortcut(Action a) const { return keys_.at(a); }
   QDoubleSpinBox* stillWindowMs() const { return still_; }
+  QLineEdit* labUrl() const { return labUrl_; }
+  QSpinBox* labSyncMinutes() const { return labMinutes_; }
 
  private:
   StationSettings base_;
   QComboBox *units_, *theme_;
   QDoubleSpinBox *font_, *volume_, *still_, *stillTol_, *spacing_, *midrib_, *minT_, *maxT_;
   QCheckBox* sounds_;
+  QLineEdit* labUrl_;
+  QSpinBox* labMinutes_;
   std::map<Action, QKeySequenceEdit*> keys_;
 };
 

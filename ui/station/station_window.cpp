@@ -11,6 +11,7 @@
 #include <QShortcut>
 #include <QSplitter>
 #include <QStatusBar>
+#include <QTime>
 #include <QToolBar>
 #include <QVBoxLayout>
 #include <fstream>
@@ -130,6 +131,9 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
       settings_.save(options_.settingsFile);
     }
   });
+  syncAction_ = bar->addAction(tr("Sync with lab"), this, [this] { syncWithLab(); });
+  syncAction_->setToolTip(tr("Send this station's sessions to the lab server and take the curators' decisions in"));
+  connect(&syncTimer_, &QTimer::timeout, this, [this] { syncWithLab(); });
   QAction* mute = bar->addAction(tr("Sound"));
   mute->setCheckable(true);
   mute->setChecked(settings_.sounds);
@@ -162,6 +166,58 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
 StationWindow::~StationWindow() {
   qApp->removeEventFilter(this);
   stopCapture();
+  if (syncThread_.joinable()) syncThread_.join();  // its result is posted to this window: wait for it
+}
+
+void StationWindow::syncWithLab() {
+  const std::string url = settings_.labUrl.toStdString();
+  if (url.empty() || syncing_ || db::isServerUrl(dbPath())) return;
+  if (syncThread_.joinable()) syncThread_.join();
+  syncing_ = true;
+  syncAction_->setEnabled(false);
+  statusBar()->showMessage(tr("Lab: syncing with %1…").arg(QString::fromStdString(db::redactUrl(url))));
+  // The thread has its own connections to the file (SQLite lets it read beside the capture,
+  // and its few writes wait for the capture's) and to the server; it touches nothing of the
+  // window and hands its words back through the event loop.
+  syncThread_ = std::thread([this, url, path = dbPath()] {
+    QString text;
+    try {
+      db::PushReport pushed;
+      {
+        db::Store local(path, true);
+        pushed = db::push(local, url);
+      }
+      db::Store local(path);
+      const db::PullReport pulled = db::pull(local, url);
+      text = tr("Lab: sent %1 event(s) of %2 session(s), took in %3 decision event(s)")
+                 .arg(pushed.eventsSent)
+                 .arg(pushed.sessionsSeen)
+                 .arg(pulled.eventsTaken);
+      std::vector<db::SyncProblem> problems = pushed.problems;
+      problems.insert(problems.end(), pulled.problems.begin(), pulled.problems.end());
+      if (!problems.empty())
+        text += tr("; %1 session(s) not synced, e.g. %2:%3: %4")
+                    .arg(problems.size())
+                    .arg(QString::fromStdString(problems.front().station))
+                    .arg(problems.front().stationSessionId)
+                    .arg(QString::fromStdString(problems.front().problem));
+    } catch (const db::StoreError& e) {
+      text = tr("Lab: not synced: %1 (%2)").arg(QString::fromStdString(e.what()), QString::fromStdString(e.remedy()));
+    } catch (const std::exception& e) {
+      text = tr("Lab: not synced: %1").arg(QString::fromStdString(e.what()));
+    }
+    QMetaObject::invokeMethod(
+        this,
+        [this, text] {
+          labStatus_ = text + QStringLiteral(" · ") + QTime::currentTime().toString("HH:mm");
+          statusBar()->showMessage(labStatus_);
+          syncAction_->setEnabled(!settings_.labUrl.isEmpty());
+          review_->setDatabase(dbPath());  // (opens it if the review had not yet)
+          review_->refreshSessions();      // decisions taken in show at once
+          syncing_ = false;
+        },
+        Qt::QueuedConnection);
+  });
 }
 
 void StationWindow::applySettings(const StationSettings& s) {
@@ -171,6 +227,11 @@ void StationWindow::applySettings(const StationSettings& s) {
   if (auto* app = qobject_cast<QApplication*>(QApplication::instance())) applyTheme(*app, s);
   review_->setSettings(s);
   buildShortcuts();
+  syncAction_->setEnabled(!s.labUrl.isEmpty() && !syncing_);
+  if (!s.labUrl.isEmpty() && s.labSyncMinutes > 0)
+    syncTimer_.start(s.labSyncMinutes * 60 * 1000);
+  else
+    syncTimer_.stop();
 }
 
 void StationWindow::buildShortcuts() {

@@ -61,6 +61,13 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] std::vector<db::SessionInfo> interruptedSessions() const;
   // Asks whether to resume the newest interrupted session; sets options().resume if so.
   void offerResume();
+  // Sends this station's sessions to the lab server of the settings and takes the curators'
+  // decisions in (leafdig sync push + pull), on a thread of its own: capture goes on. The
+  // outcome is in labStatusText() and the status bar. Does nothing while a sync runs, or
+  // without a lab server in the settings.
+  void syncWithLab();
+  [[nodiscard]] QString labStatusText() const { return labStatus_; }
+  [[nodiscard]] bool syncing() const { return syncing_; }
 
   [[nodiscard]] PreviewWidget* preview() const { return preview_; }
   [[nodiscard]] LeafSchematic* schematic() const { return schematic_; }
@@ -117,7 +124,11 @@ class StationWindow : public QMainWindow {
   ReviewView* review_ = nullptr;
   PlantView* plant_ = nullptr;
   Sounds* sounds_ = nullptr;
-  QTimer deviceTimer_, cursorTimer_;
+  QTimer deviceTimer_, cursorTimer_, syncTimer_;
+  QAction* syncAction_ = nullptr;
+  std::thread syncThread_;  // the last sync with the lab server (joined before the next)
+  std::atomic<bool> syncing_{false};
+  QString labStatus_;
   std::vector<QObject*> shortcutObjects_;
   std::optional<acquisition::Item> retakeTarget_;
 

@@ -445,6 +445,61 @@ TEST(ReviewView, TheLabServersSessionsAreReviewedFromTheStationAndTheDecisionGoe
   fs::remove_all(dir);
 }
 
+TEST(StationWindow, SyncsWithTheLabServerOfItsSettingsAndShowsTheCuratorsDecision) {
+  leafdig::test::PgCluster cluster;
+  const std::string database = cluster.createDatabase();
+  const std::string admin = cluster.adminUrl(database);
+  (void)leafdig::db::initServer(admin);
+  (void)leafdig::db::addUser(admin, "tech_s", leafdig::db::LabRole::Technician, "bench-s", std::string("pw-t"));
+  (void)leafdig::db::addUser(admin, "carla_s", leafdig::db::LabRole::Curator, "", std::string("pw-c"));
+  const fs::path dir = freshDir("sync-lab");
+  const std::string file = (dir / "s.sqlite").string();
+  std::int64_t id = 0;
+  {
+    leafdig::db::Store store(file);
+    id = completeLeaf(store, 40000.0, 3, {}, "bench-s");
+  }
+  // The lab server in the station's settings, set through the settings dialog.
+  const QString ini = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationSettings settings;
+  leafdig::station::SettingsDialog d(settings);
+  d.labUrl()->setText(QString::fromStdString(cluster.url("tech_s", "pw-t", database)));
+  d.labSyncMinutes()->setValue(15);
+  d.result().save(ini);
+  EXPECT_EQ(leafdig::station::StationSettings::load(ini).labSyncMinutes, 15);
+
+  leafdig::station::StationOptions options;
+  options.audio = audio();
+  options.db = file;
+  options.settingsFile = ini;
+  leafdig::station::StationWindow w(options);
+  w.syncWithLab();
+  QTRY_VERIFY_WITH_TIMEOUT(!w.syncing(), 30000);
+  EXPECT_TRUE(w.labStatusText().contains("sent")) << w.labStatusText().toStdString();
+  leafdig::db::LabStore curator(cluster.url("carla_s", "pw-c", database));
+  ASSERT_EQ(curator.sessions().size(), 1u);
+  EXPECT_EQ(curator.sessions()[0].headSeq, leafdig::db::Store(file, true).session(id)->headSeq);
+  // A curator approves on the server; the next sync brings it to the station's file and review.
+  (void)curator.setStatus(curator.sessions()[0].id, "approved", "carla", "");
+  w.syncWithLab();
+  QTRY_VERIFY_WITH_TIMEOUT(!w.syncing(), 30000);
+  EXPECT_TRUE(w.labStatusText().contains("took in 1 decision")) << w.labStatusText().toStdString();
+  EXPECT_EQ(leafdig::db::Store(file, true).session(id)->status, "approved");
+  bool shown = false;
+  for (int r = 0; r < w.review()->sessionsTable()->rowCount(); ++r)
+    shown = shown || w.review()->sessionsTable()->item(r, 4)->text() == "approved";
+  EXPECT_TRUE(shown);
+  // A server that cannot be reached: said, nothing else happens.
+  auto unreachable = w.settings();
+  unreachable.labUrl = QString::fromStdString(cluster.url("tech_s", "pw-t", database, leafdig::test::freeLocalPort()));
+  w.applySettings(unreachable);
+  w.syncWithLab();
+  QTRY_VERIFY_WITH_TIMEOUT(!w.syncing(), 30000);
+  EXPECT_TRUE(w.labStatusText().contains("not synced")) << w.labStatusText().toStdString();
+  EXPECT_FALSE(w.labStatusText().contains("pw-t")) << "the password stays out of the window";
+  fs::remove_all(dir);
+}
+
 TEST(ExportBatch, ExportsEachSessionReportsTheOnesThatCannotAndCancels) {
   const fs::path dir = freshDir("export");
   const std::string db = (dir / "s.sqlite").string();
