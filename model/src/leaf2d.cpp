@@ -15,6 +15,7 @@
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/interpolation.hpp"
 #include "leafdig/model/metrics.hpp"
+#include "planar_triangulation.hpp"
 
 namespace leafdig::model {
 
@@ -626,6 +627,227 @@ FlatLeaf flatLeaf(const std::vector<Eigen::Vector2d>& local, const Leaf2dOptions
   return flat;
 }
 
+// The x at which each edge of `poly` crosses the horizontal line y (half-open rule, so a
+// vertex on the line counts once), sorted.
+std::vector<double> crossingsAt(const std::vector<Eigen::Vector2d>& poly, double y) {
+  std::vector<double> xs;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Eigen::Vector2d& p = poly[i];
+    const Eigen::Vector2d& q = poly[(i + 1) % poly.size()];
+    if ((p.y() <= y && y < q.y()) || (q.y() <= y && y < p.y())) {
+      xs.push_back(p.x() + (y - p.y()) / (q.y() - p.y()) * (q.x() - p.x()));
+    }
+  }
+  std::sort(xs.begin(), xs.end());
+  return xs;
+}
+
+// Whether some line across the midrib (y = const in the leaf frame) crosses the outline more
+// than twice over a gap wider than `gapMm`: a sinus or a lobe that sections taken from one
+// margin to the other would fill.
+bool hasSinus(const std::vector<Eigen::Vector2d>& local, double gapMm) {
+  double ymin = std::numeric_limits<double>::infinity();
+  double ymax = -ymin;
+  for (const auto& p : local) {
+    ymin = std::min(ymin, p.y());
+    ymax = std::max(ymax, p.y());
+  }
+  constexpr int kLevels = 400;
+  for (int i = 1; i < kLevels; ++i) {
+    const std::vector<double> xs = crossingsAt(local, ymin + (ymax - ymin) * i / kLevels);
+    for (std::size_t k = 1; k + 2 < xs.size(); k += 2) {
+      if (xs[k + 1] - xs[k] > gapMm) return true;
+    }
+  }
+  return false;
+}
+
+// The point of the closed polygon nearest p, as a parameter along it: segment i + t.
+double nearestParameter(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  double at = 0.0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Eigen::Vector2d& a = poly[i];
+    const Eigen::Vector2d ab = poly[(i + 1) % poly.size()] - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    const double d = (a + t * ab - p).squaredNorm();
+    if (d < best) {
+      best = d;
+      at = static_cast<double>(i) + t;
+    }
+  }
+  return at >= static_cast<double>(poly.size()) ? 0.0 : at;
+}
+
+// from, the polygon's corners strictly between parameters sa and sb going forward, to: a
+// margin chain.
+std::vector<Eigen::Vector2d> chainBetween(const std::vector<Eigen::Vector2d>& poly, double sa, double sb,
+                                          const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+  const auto n = static_cast<double>(poly.size());
+  if (sb <= sa) sb += n;
+  std::vector<Eigen::Vector2d> chain{from};
+  for (auto k = static_cast<long>(std::floor(sa)) + 1; static_cast<double>(k) < sb; ++k) {
+    chain.push_back(poly[static_cast<std::size_t>(k % static_cast<long>(poly.size()))]);
+  }
+  chain.push_back(to);
+  return chain;
+}
+
+// The chain resampled at equal arc length, no piece longer than `spacing`, ends kept.
+std::vector<Eigen::Vector2d> resampleChain(const std::vector<Eigen::Vector2d>& chain, double spacing) {
+  std::vector<double> s(chain.size(), 0.0);
+  for (std::size_t k = 1; k < chain.size(); ++k) s[k] = s[k - 1] + (chain[k] - chain[k - 1]).norm();
+  const int pieces = std::max(2, static_cast<int>(std::ceil(s.back() / spacing)));
+  std::vector<Eigen::Vector2d> out{chain.front()};
+  std::size_t seg = 1;
+  for (int i = 1; i < pieces; ++i) {
+    const double target = s.back() * i / pieces;
+    while (seg + 1 < chain.size() && s[seg] < target) ++seg;
+    const double len = s[seg] - s[seg - 1];
+    const double t = len > 0.0 ? (target - s[seg - 1]) / len : 0.0;
+    out.push_back(chain[seg - 1] + t * (chain[seg] - chain[seg - 1]));
+  }
+  out.push_back(chain.back());
+  return out;
+}
+
+// The flat leaf trimmed to the outline: the flat surface is the plane z = 0, so the sections'
+// B-spline surface cut along the outline is the outline's own region. Meshed by a constrained
+// Delaunay triangulation of the outline (resampled every h / 2, base and tip corners) and a
+// hexagonal lattice of interior points every h, where h gives about as many vertices as the
+// sections' mesh. Tip first, base last, margin and t as flatLeaf's.
+FlatLeaf trimmedFlatLeaf(const std::vector<Eigen::Vector2d>& local, double lengthMm, double widthMm,
+                         const Leaf2dOptions& o) {
+  const double h = std::sqrt(lengthMm * widthMm / (o.segmentsPerRow * (o.rows - 1) * o.segmentsAcross));
+  const Eigen::Vector2d base(0.0, 0.0);
+  const Eigen::Vector2d tip(0.0, lengthMm);
+  const double sBase = nearestParameter(local, base);
+  const double sTip = nearestParameter(local, tip);
+  if (sBase == sTip) throw InputError("the base and the tip meet the outline at one point");
+  std::vector<Eigen::Vector2d> one = resampleChain(chainBetween(local, sBase, sTip, base, tip), h / 2);
+  std::vector<Eigen::Vector2d> other = resampleChain(chainBetween(local, sTip, sBase, tip, base), h / 2);
+  std::reverse(other.begin(), other.end());  // base to tip as well
+  double meanOne = 0.0;
+  double meanOther = 0.0;
+  for (const auto& p : one) meanOne += p.x() / static_cast<double>(one.size());
+  for (const auto& p : other) meanOther += p.x() / static_cast<double>(other.size());
+  const std::vector<Eigen::Vector2d>& right = meanOne >= meanOther ? one : other;  // +X: SPEC §2.3
+  const std::vector<Eigen::Vector2d>& left = meanOne >= meanOther ? other : one;
+
+  // Vertices: the tip, the right margin (tip to base), the left margin (tip to base), the
+  // interior lattice, the base.
+  FlatLeaf flat;
+  flat.widthMm = widthMm;
+  std::vector<Eigen::Vector2d> points{tip};
+  for (std::size_t k = right.size() - 2; k >= 1; --k) points.push_back(right[k]);
+  for (std::size_t k = left.size() - 2; k >= 1; --k) points.push_back(left[k]);
+  const auto marginCount = points.size();
+  // The polygon, counter-clockwise: base, up the right margin, tip, down the left.
+  std::vector<Eigen::Vector2d> polygon(right.begin(), right.end());
+  for (std::size_t k = left.size() - 2; k >= 1; --k) polygon.push_back(left[k]);
+
+  double xmin = std::numeric_limits<double>::infinity();
+  double xmax = -xmin;
+  double ymin = xmin;
+  double ymax = -xmin;
+  for (const auto& p : polygon) {
+    xmin = std::min(xmin, p.x());
+    xmax = std::max(xmax, p.x());
+    ymin = std::min(ymin, p.y());
+    ymax = std::max(ymax, p.y());
+  }
+  // Edges bucketed by cell (side h) for the distance test: a point nearer than h / 2 to an
+  // edge meets it within its own cell or a neighbour.
+  const auto cols = static_cast<long>(std::ceil((xmax - xmin) / h)) + 1;
+  const auto rows = static_cast<long>(std::ceil((ymax - ymin) / h)) + 1;
+  std::vector<std::vector<std::uint32_t>> cells(static_cast<std::size_t>(cols * rows));
+  auto cellOf = [&](double v, double lo, long count) {
+    return std::clamp(static_cast<long>(std::floor((v - lo) / h)), 0L, count - 1);
+  };
+  for (std::uint32_t i = 0; i < polygon.size(); ++i) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    for (long cy = cellOf(std::min(a.y(), b.y()), ymin, rows); cy <= cellOf(std::max(a.y(), b.y()), ymin, rows); ++cy) {
+      for (long cx = cellOf(std::min(a.x(), b.x()), xmin, cols); cx <= cellOf(std::max(a.x(), b.x()), xmin, cols);
+           ++cx) {
+        cells[static_cast<std::size_t>(cy * cols + cx)].push_back(i);
+      }
+    }
+  }
+  auto nearEdge = [&](const Eigen::Vector2d& p) {
+    const long cx = cellOf(p.x(), xmin, cols);
+    const long cy = cellOf(p.y(), ymin, rows);
+    for (long y = std::max(0L, cy - 1); y <= std::min(rows - 1, cy + 1); ++y) {
+      for (long x = std::max(0L, cx - 1); x <= std::min(cols - 1, cx + 1); ++x) {
+        for (std::uint32_t i : cells[static_cast<std::size_t>(y * cols + x)]) {
+          const Eigen::Vector2d& a = polygon[i];
+          const Eigen::Vector2d ab = polygon[(i + 1) % polygon.size()] - a;
+          const double len2 = ab.squaredNorm();
+          const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+          if ((a + t * ab - p).norm() < h / 2) return true;
+        }
+      }
+    }
+    return false;
+  };
+  const double rowStep = h * std::sqrt(3.0) / 2.0;
+  for (long j = 0; ymin + (static_cast<double>(j) + 0.5) * rowStep < ymax; ++j) {
+    const double y = ymin + (static_cast<double>(j) + 0.5) * rowStep;
+    const std::vector<double> xs = crossingsAt(polygon, y);
+    for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {  // the inside spans of this row
+      const double offset = (j % 2 == 0 ? 0.0 : 0.5) * h;
+      for (auto i = static_cast<long>(std::ceil((xs[k] - xmin - offset) / h));; ++i) {
+        const Eigen::Vector2d p(xmin + offset + static_cast<double>(i) * h, y);
+        if (p.x() >= xs[k + 1]) break;
+        if (!nearEdge(p)) points.push_back(p);
+      }
+    }
+  }
+  points.push_back(base);
+
+  const detail::PlanarTriangulation tri = detail::triangulatePolygon(
+      polygon, std::vector<Eigen::Vector2d>(points.begin() + static_cast<long>(marginCount), points.end() - 1));
+  std::map<std::pair<double, double>, std::uint32_t> indexOf;
+  for (std::uint32_t i = 0; i < points.size(); ++i) indexOf[{points[i].x(), points[i].y()}] = i;
+  std::vector<std::uint32_t> mine(tri.points.size());
+  for (std::size_t i = 0; i < tri.points.size(); ++i) {
+    const auto it = indexOf.find({tri.points[i].x(), tri.points[i].y()});
+    if (it == indexOf.end()) throw std::logic_error("trimmedFlatLeaf: the triangulation moved a point");
+    mine[i] = it->second;
+  }
+  Mesh& mesh = flat.mesh;
+  for (const auto& p : points) mesh.positions.emplace_back(p.x(), p.y(), 0.0);
+  for (const auto& t : tri.triangles) mesh.triangles.push_back({mine[t[0]], mine[t[1]], mine[t[2]]});  // +Z up
+
+  // Margins as flatLeaf's: right base to tip, then left tip to base, t by arc length.
+  const auto baseIndex = static_cast<std::uint32_t>(points.size() - 1);
+  for (int side = 0; side < 2; ++side) {
+    const std::vector<Eigen::Vector2d>& chain = side == 0 ? right : left;
+    const std::uint32_t first =
+        side == 0 ? 1 : static_cast<std::uint32_t>(right.size() - 1);  // its vertex nearest the tip
+    std::vector<std::uint32_t> ids{baseIndex};
+    for (std::size_t k = 1; k + 1 < chain.size(); ++k) {
+      ids.push_back(first + static_cast<std::uint32_t>(chain.size() - 2 - k));
+    }
+    ids.push_back(0);
+    std::vector<double> s(chain.size(), 0.0);
+    for (std::size_t k = 1; k < chain.size(); ++k) s[k] = s[k - 1] + (chain[k] - chain[k - 1]).norm();
+    if (side == 0) {
+      for (std::size_t k = 0; k < ids.size(); ++k) {
+        flat.margin.push_back(ids[k]);
+        flat.marginT.push_back(s[k] / s.back());
+      }
+    } else {
+      for (std::size_t k = ids.size() - 2; k >= 1; --k) {
+        flat.margin.push_back(ids[k]);
+        flat.marginT.push_back(s[k] / s.back());
+      }
+    }
+  }
+  return flat;
+}
+
 }  // namespace
 
 Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
@@ -650,16 +872,30 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
   FlatLeaf flat = flatLeaf(local, o);
   model.flatBlade = flat.blade;
   model.widthMm = flat.widthMm;
+  model.outlineAreaMm2 = polygonArea(outline.pointsMm);
+  const double sectionsDifference = meshArea(flat.mesh) / model.outlineAreaMm2 - 1.0;
+  if (sectionsDifference > 0.01 && hasSinus(local, 0.02 * flat.widthMm)) {
+    // The sections span a sinus or lobes the leaf does not have: mesh inside the outline.
+    // A given base so far off the margin that the outline would cross itself keeps the
+    // sections' leaf, with the warning below.
+    try {
+      FlatLeaf trimmed = trimmedFlatLeaf(local, model.lengthMm, flat.widthMm, o);
+      trimmed.blade = std::move(flat.blade);
+      flat = std::move(trimmed);
+      model.trimmedToOutline = true;
+    } catch (const InputError&) {
+    }
+  }
   model.marginVertices = flat.margin;
   model.marginT = flat.marginT;
-  model.outlineAreaMm2 = polygonArea(outline.pointsMm);
   model.flatModelAreaMm2 = meshArea(flat.mesh);
   if (const double d = model.flatModelAreaMm2 / model.outlineAreaMm2 - 1.0; std::abs(d) > 0.02) {
     std::ostringstream msg;
     msg << std::fixed << std::setprecision(1) << "the flat B-spline leaf is " << std::abs(100.0 * d) << " % "
         << (d > 0 ? "larger" : "smaller") << " than the outline: "
         << (d > 0 ? "its sections span a sinus or deep lobes (a cordate base, a lobed margin) that the leaf does not "
-                    "have, and the area constraint draws the whole leaf in to compensate"
+                    "have, and the area constraint draws the whole leaf in to compensate (the outline could not be "
+                    "meshed as it is: check that the base lies on the margin)"
                   : "the outline has detail the sections miss; raise --rows")
         << ".";
     model.warnings.push_back({"flat-leaf-differs-from-outline", msg.str()});
@@ -721,6 +957,7 @@ std::string leaf2dToJson(const Leaf2dModel& m) {
   j["width_mm"] = m.widthMm;
   j["outline_area_mm2"] = m.outlineAreaMm2;
   j["flat_model_area_mm2"] = m.flatModelAreaMm2;
+  j["flat_leaf"] = m.trimmedToOutline ? "trimmed-to-outline" : "sections";
   j["measured_area_mm2"] = m.measuredAreaMm2;
   j["model_area_mm2"] = m.modelAreaMm2;
   j["area_difference_percent"] = 100.0 * (m.modelAreaMm2 - m.measuredAreaMm2) / m.measuredAreaMm2;

@@ -143,6 +143,11 @@ class CoarsenessCriteria {
 }  // namespace
 
 PlanarTriangulation triangulatePolygon(const std::vector<Eigen::Vector2d>& polygon) {
+  return triangulatePolygon(polygon, {});
+}
+
+PlanarTriangulation triangulatePolygon(const std::vector<Eigen::Vector2d>& polygon,
+                                       const std::vector<Eigen::Vector2d>& inside) {
   if (polygon.size() < 3) throw InputError("a polygon to triangulate needs at least three corners");
   PolyCdt cdt;
   try {
@@ -156,8 +161,14 @@ PlanarTriangulation triangulatePolygon(const std::vector<Eigen::Vector2d>& polyg
   if (cdt.number_of_vertices() != polygon.size())
     throw InputError("the polygon to triangulate repeats a corner (" + std::to_string(polygon.size()) + " corners, " +
                      std::to_string(cdt.number_of_vertices()) + " distinct)");
+  for (const auto& p : inside) cdt.insert(toCgal(p));
+  if (cdt.number_of_vertices() != polygon.size() + inside.size())
+    throw InputError("a point to triangulate repeats another or lies on the polygon");
   markNesting(cdt);
-  return collect(cdt, [](PolyCdt::Finite_faces_iterator f) { return f->info().nesting % 2 == 1; });
+  PlanarTriangulation out = collect(cdt, [](PolyCdt::Finite_faces_iterator f) { return f->info().nesting % 2 == 1; });
+  if (out.points.size() != polygon.size() + inside.size())
+    throw InputError("a point to triangulate lies outside the polygon");
+  return out;
 }
 
 PlanarTriangulation refineConvexPolygon(const std::vector<Eigen::Vector2d>& polygon,

@@ -21,6 +21,13 @@ struct PlanarTriangulation {
 // InputError when the polygon has fewer than three corners or is not simple.
 [[nodiscard]] PlanarTriangulation triangulatePolygon(const std::vector<Eigen::Vector2d>& polygon);
 
+// The same with `inside` points added as vertices (each strictly inside the polygon; none
+// repeated or on an edge): every point of the result is one of the polygon's corners or one
+// of `inside`, with exactly its coordinates. Throws InputError as above, and when a point
+// repeats another or lies outside.
+[[nodiscard]] PlanarTriangulation triangulatePolygon(const std::vector<Eigen::Vector2d>& polygon,
+                                                     const std::vector<Eigen::Vector2d>& inside);
+
 // How much too coarse a triangle is: 1 or less is fine.
 using Coarseness = std::function<double(const Eigen::Vector2d&, const Eigen::Vector2d&, const Eigen::Vector2d&)>;
 

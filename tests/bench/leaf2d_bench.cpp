@@ -73,6 +73,30 @@ void BM_Leaf2dBuild(benchmark::State& state) {
 }
 BENCHMARK(BM_Leaf2dBuild)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
 
+// A cordate leaf (a heart curve 96 x 66 mm, 400 points, the base at the sinus): the flat leaf
+// trimmed to the outline, meshed by a constrained Delaunay triangulation.
+void BM_Leaf2dBuildCordate(benchmark::State& state) {
+  m::Outline2d outline;
+  for (int i = 0; i < 400; ++i) {
+    const double t = 2 * M_PI * i / 400;
+    outline.pointsMm.emplace_back(48 * std::pow(std::sin(t), 3),
+                                  3 * (13 * std::cos(t) - 5 * std::cos(2 * t) - 2 * std::cos(3 * t) - std::cos(4 * t)));
+  }
+  outline.baseMm = Eigen::Vector2d(0, 15);
+  std::size_t triangles = 0;
+  bool trimmed = false;
+  for (auto _ : state) {
+    const m::Leaf2dModel leaf = m::buildLeaf2d(outline);
+    triangles = leaf.mesh.triangles.size();
+    trimmed = leaf.trimmedToOutline;
+    benchmark::DoNotOptimize(std::as_const(triangles));
+  }
+  if (!trimmed) state.SkipWithError("the cordate leaf was not trimmed to its outline");
+  state.SetLabel("parabola, heart-shaped outline trimmed at its sinus; target 50 ms");
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+BENCHMARK(BM_Leaf2dBuildCordate)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 int main(int argc, char** argv) {

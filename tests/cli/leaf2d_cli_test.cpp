@@ -111,6 +111,38 @@ TEST_F(Leaf2dCli, BuildsFromJsonAndCsvOutlinesInMillimetres) {
   EXPECT_NE(t.out.find("silhouette"), std::string::npos) << t.out;
 }
 
+TEST_F(Leaf2dCli, ACordateOutlineIsMeshedInsideItsSinus) {
+  // A heart-shaped leaf, the base at the sinus's apex: the flat leaf is the outline's region
+  // (reported as trimmed, no warning, no drawing in), and its meshes open elsewhere.
+  json points = json::array();
+  for (int i = 0; i < 400; ++i) {
+    const double t = 2 * M_PI * i / 400;
+    points.push_back({48 * std::pow(std::sin(t), 3),
+                      3 * (13 * std::cos(t) - 5 * std::cos(2 * t) - 2 * std::cos(3 * t) - std::cos(4 * t))});
+  }
+  std::ofstream(dir_ / "heart.json")
+      << json{{"format", "leafdig.outline/1"}, {"units", "mm"}, {"points", points}, {"base", {0, 15}}}.dump();
+  const fs::path obj = dir_ / "heart.obj", glb = dir_ / "heart.glb";
+  const Result r = leafdig("leaf2d build " + quote(dir_ / "heart.json") + " --curl none -o " + quote(obj) + " -o " +
+                           quote(glb) + " --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json b = json::parse(r.out);
+  EXPECT_EQ(b["flat_leaf"], "trimmed-to-outline");
+  EXPECT_TRUE(b["warnings"].empty()) << r.out;
+  const double outline = b["outline_area_mm2"].get<double>();
+  EXPECT_NEAR(b["flat_model_area_mm2"].get<double>(), outline, 0.003 * outline);
+  EXPECT_NEAR(b["in_plane_scale"].get<double>(), 1.0, 0.002);
+  EXPECT_NEAR(b["length_mm"].get<double>(), 66.0, 1e-6);  // sinus apex to the heart's point
+  EXPECT_EQ(run("assimp info " + quote(obj)).exitCode, 0);
+  const Result v = run("node " + quote(tools() + "validate-gltf.mjs") + " " + quote(glb));
+  ASSERT_EQ(v.exitCode, 0) << v.out << v.err;
+  EXPECT_EQ(json::parse(v.out)["numErrors"], 0) << v.out;
+  const Result t = leafdig("leaf2d build " + quote(dir_ / "heart.json"));
+  ASSERT_EQ(t.exitCode, 0) << t.err;
+  EXPECT_NE(t.out.find("trimmed to the outline"), std::string::npos) << t.out;
+  EXPECT_EQ(t.out.find("warning"), std::string::npos) << t.out;
+}
+
 TEST_F(Leaf2dCli, RefusesWhatItCannotReadAndWritesNothing) {
   const fs::path png = dir_ / "s.png", out = dir_ / "out.glb";
   makeScan(png, "--shape oblong --length 120");

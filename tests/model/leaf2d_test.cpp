@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -164,21 +165,101 @@ TEST(Leaf2d, AnEllipseCurlsByTheChosenProfileAndKeepsItsMeasuredArea) {
   }
 }
 
-TEST(Leaf2d, AHeartShapedLeafIsBuiltAndItsFilledSinusNamed) {
-  // A cordate leaf: the sections across the midrib span the basal sinus.
+bool insidePolygon(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
+        p.x() < poly[j].x() + (p.y() - poly[j].y()) / (poly[i].y() - poly[j].y()) * (poly[i].x() - poly[j].x())) {
+      in = !in;
+    }
+  }
+  return in;
+}
+
+// Whether some triangle of the mesh, seen from +Z, covers p.
+bool covers(const m::Mesh& mesh, const Eigen::Vector2d& p) {
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector2d a = mesh.positions[t[0]].head<2>();
+    const Eigen::Vector2d b = mesh.positions[t[1]].head<2>();
+    const Eigen::Vector2d c = mesh.positions[t[2]].head<2>();
+    auto side = [&](const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+      return (v - u).x() * (p - u).y() - (v - u).y() * (p - u).x();
+    };
+    if (side(a, b) >= 0 && side(b, c) >= 0 && side(c, a) >= 0) return true;
+  }
+  return false;
+}
+
+TEST(Leaf2d, AHeartShapedLeafFollowsItsSinus) {
+  // A cordate leaf: sections across the midrib would span the basal sinus; the flat leaf is
+  // trimmed to the outline instead, so the lobes are leaf and the sinus is not.
   m::Outline2d o;
   for (int i = 0; i < 400; ++i) {
     const double t = 2 * M_PI * i / 400;
     o.pointsMm.emplace_back(48 * std::pow(std::sin(t), 3),
                             3 * (13 * std::cos(t) - 5 * std::cos(2 * t) - 2 * std::cos(3 * t) - std::cos(4 * t)));
   }
-  o.baseMm = Eigen::Vector2d(0, 15);
-  const m::Leaf2dModel leaf = m::buildLeaf2d(o);
-  EXPECT_GT(leaf.flatModelAreaMm2, 1.02 * leaf.outlineAreaMm2);
-  ASSERT_EQ(leaf.warnings.size(), 1u);
-  EXPECT_EQ(leaf.warnings[0].name, "flat-leaf-differs-from-outline");
-  EXPECT_NE(leaf.warnings[0].message.find("sinus"), std::string::npos);
-  EXPECT_NEAR(leaf.modelAreaMm2, leaf.outlineAreaMm2, 1e-6 * leaf.outlineAreaMm2);  // still held
+  o.baseMm = Eigen::Vector2d(0, 15);  // the sinus's apex; the tip is the heart's point, (0, -51)
+  m::Leaf2dOptions flatOpt;
+  flatOpt.curl = m::CurlKind::None;
+  const m::Leaf2dModel flat = m::buildLeaf2d(o, flatOpt);
+  EXPECT_TRUE(flat.trimmedToOutline);
+  EXPECT_TRUE(flat.warnings.empty()) << flat.warnings[0].message;
+  EXPECT_NEAR(flat.flatModelAreaMm2, flat.outlineAreaMm2, 0.003 * flat.outlineAreaMm2);
+  EXPECT_NEAR(flat.inPlaneScale, 1.0, 0.002);  // nothing filled, nothing to draw in
+  EXPECT_NE(m::leaf2dToJson(flat).find("\"flat_leaf\":\"trimmed-to-outline\""), std::string::npos);
+  // Outline coordinates -> leaf frame: origin at the base, +Y to the tip (down the page), +X
+  // the leaf's right (-x of the page).
+  auto frame = [&](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    return Eigen::Vector2d(-p.x(), 15.0 - p.y()) * flat.inPlaneScale;
+  };
+  EXPECT_NEAR(flat.mesh.positions.back().norm(), 0.0, 1e-9);                                 // the base
+  EXPECT_NEAR((flat.mesh.positions.front().head<2>() - frame({0, -51})).norm(), 0.0, 1e-6);  // the tip
+  // The sinus is not leaf; both lobes and the blade are.
+  for (const Eigen::Vector2d& sinus : {Eigen::Vector2d(0, 20), Eigen::Vector2d(0, 30), Eigen::Vector2d(2, 26)}) {
+    ASSERT_FALSE(insidePolygon(o.pointsMm, sinus));
+    EXPECT_FALSE(covers(flat.mesh, frame(sinus))) << sinus.transpose();
+  }
+  for (const Eigen::Vector2d& leaf :
+       {Eigen::Vector2d(24, 25), Eigen::Vector2d(-24, 25), Eigen::Vector2d(0, 10), Eigen::Vector2d(0, -40)}) {
+    ASSERT_TRUE(insidePolygon(o.pointsMm, leaf));
+    EXPECT_TRUE(covers(flat.mesh, frame(leaf))) << leaf.transpose();
+  }
+  // Every margin vertex lies on the outline, the right margin at +X; no triangle is degenerate.
+  std::vector<Eigen::Vector2d> framed;
+  for (const auto& p : o.pointsMm) framed.push_back(frame(p));
+  for (std::uint32_t v : flat.marginVertices) {
+    double d = 1e9;
+    for (std::size_t i = 0; i < framed.size(); ++i) {
+      const Eigen::Vector2d a = framed[i];
+      const Eigen::Vector2d ab = framed[(i + 1) % framed.size()] - a;
+      const double t = std::clamp((flat.mesh.positions[v].head<2>() - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      d = std::min(d, (a + t * ab - flat.mesh.positions[v].head<2>()).norm());
+    }
+    EXPECT_LT(d, 1e-6) << "margin vertex " << v;
+  }
+  EXPECT_GT(flat.mesh.positions[flat.marginVertices[flat.marginVertices.size() / 4]].x(), 0.0);
+  EXPECT_LT(flat.mesh.positions[flat.marginVertices[3 * flat.marginVertices.size() / 4]].x(), 0.0);
+  for (const auto& t : flat.mesh.triangles) {
+    const Eigen::Vector3d n = (flat.mesh.positions[t[1]] - flat.mesh.positions[t[0]])
+                                  .cross(flat.mesh.positions[t[2]] - flat.mesh.positions[t[0]]);
+    EXPECT_GT(n.z(), 1e-6);  // faces up, none of zero area
+  }
+  // Curled: the margin, sinus edges included, follows the profile from the base, and the
+  // measured area holds.
+  for (m::CurlKind kind : {m::CurlKind::Parabola, m::CurlKind::Sine}) {
+    m::Leaf2dOptions opt;
+    opt.curl = kind;
+    opt.amplitudeMm = 6;
+    const m::Leaf2dModel leaf = m::buildLeaf2d(o, opt);
+    EXPECT_TRUE(leaf.trimmedToOutline);
+    ASSERT_EQ(leaf.marginVertices.size(), leaf.marginT.size());
+    for (std::size_t k = 0; k < leaf.marginVertices.size(); ++k) {
+      EXPECT_NEAR(leaf.mesh.positions[leaf.marginVertices[k]].z(), 6.0 * m::curlHeight(kind, leaf.marginT[k]), 1e-9);
+    }
+    EXPECT_NEAR(leaf.modelAreaMm2, leaf.outlineAreaMm2, 1e-6 * leaf.outlineAreaMm2);
+    EXPECT_GT(leaf.inPlaneScale, 0.95);
+  }
   // An ellipse has nothing to fill: no warning.
   m::Outline2d e;
   e.pointsMm = ellipse(50, 30, 400);

@@ -73,6 +73,29 @@ TEST(PlanarTriangulation, ANonConvexPolygonIsTriangulatedInsideOnly) {
   EXPECT_EQ(t.triangles.size(), 4U);
 }
 
+TEST(PlanarTriangulation, InsidePointsBecomeVerticesExactlyAndOutsidePointsAreRefused) {
+  // An L-shaped (non-convex) polygon and points inside it: n + k vertices, n + 2k - 2
+  // triangles (Euler), every inside point kept with its very coordinates, none across the
+  // notch.
+  const std::vector<Eigen::Vector2d> l{{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 4}, {0, 4}};
+  const std::vector<Eigen::Vector2d> inside{{0.5, 0.5}, {2.25, 0.5}, {0.5, 2.5}, {0.3, 3.7}};
+  const PlanarTriangulation t = triangulatePolygon(l, inside);
+  ASSERT_EQ(t.points.size(), l.size() + inside.size());
+  EXPECT_EQ(t.triangles.size(), l.size() + 2 * inside.size() - 2);
+  for (const auto& p : inside) {
+    EXPECT_EQ(std::count_if(t.points.begin(), t.points.end(), [&](const Eigen::Vector2d& q) { return q == p; }), 1);
+  }
+  double area = 0.0;
+  for (const auto& tri : t.triangles) {
+    const double a2 = twiceArea(t.points[tri[0]], t.points[tri[1]], t.points[tri[2]]);
+    ASSERT_GT(a2, 0.0);
+    area += a2 / 2.0;
+  }
+  EXPECT_NEAR(area, 7.0, 1e-12);                                        // the L's area: the notch is not covered
+  EXPECT_THROW((void)triangulatePolygon(l, {{2.5, 2.5}}), InputError);  // in the notch
+  EXPECT_THROW((void)triangulatePolygon(l, {{0.5, 0.5}, {0.5, 0.5}}), InputError);
+}
+
 TEST(PlanarTriangulation, ACrossingOrDegeneratePolygonIsAnInputError) {
   EXPECT_THROW((void)triangulatePolygon({{0, 0}, {1, 1}, {1, 0}, {0, 1}}), InputError);  // a bow tie
   EXPECT_THROW((void)triangulatePolygon({{0, 0}, {1, 0}}), InputError);

@@ -185,7 +185,8 @@ int runBuild(const Leaf2dCommandOptions& o) {
   std::cout << std::fixed << std::setprecision(1) << o.input << ":\n";
   if (scan) printScan(*scan);
   std::cout << "  length " << leaf.lengthMm << " mm, width " << leaf.widthMm << " mm\n"
-            << "  outline area " << leaf.outlineAreaMm2 << " mm^2; flat B-spline leaf " << leaf.flatModelAreaMm2
+            << "  outline area " << leaf.outlineAreaMm2 << " mm^2; flat B-spline leaf "
+            << (leaf.trimmedToOutline ? "trimmed to the outline (its sinus or lobes) " : "") << leaf.flatModelAreaMm2
             << " mm^2\n"
             << "  curl " << m::toString(leaf.curl) << ", amplitude " << leaf.amplitudeMm << " mm";
   if (leaf.candidates.size() > 1) {

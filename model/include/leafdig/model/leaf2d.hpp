@@ -86,7 +86,11 @@ struct CurlCandidate {
 
 struct Leaf2dModel {
   BladeSurface flatBlade;  // bicubic interpolation of the sections, leaf frame, z = 0
-  Mesh mesh;               // the curled, area-constrained blade in the leaf frame (SPEC §2.3)
+  // True when the sections span a sinus or lobes the outline does not have (a cordate base,
+  // a lobed margin): the flat leaf is then that surface trimmed to the outline, i.e. the
+  // outline's own region (the flat surface is the plane z = 0), meshed inside the outline.
+  bool trimmedToOutline = false;
+  Mesh mesh;  // the curled, area-constrained blade in the leaf frame (SPEC §2.3)
   CurlKind curl = CurlKind::None;
   double amplitudeMm = 0.0;
   double inPlaneScale = 1.0;
@@ -103,9 +107,10 @@ struct Leaf2dModel {
   std::vector<double> marginT;                // their t (arc length on the flat margin, 0 at the base)
   Eigen::Vector2d baseMm;                     // in the outline's coordinates
   Eigen::Vector2d tipMm;
-  // Named warnings, e.g. "flat-leaf-differs-from-outline" when the sections' B-spline leaf
-  // and the outline differ by more than 2 % in area (a cordate base or deep lobes, filled
-  // across: the area constraint then draws the whole leaf in).
+  // Named warnings, e.g. "flat-leaf-differs-from-outline" when the flat leaf and the outline
+  // still differ by more than 2 % in area (sections that miss detail; or a sinus filled
+  // across because the outline could not be meshed as it is: the area constraint then draws
+  // the whole leaf in).
   std::vector<LeafWarning> warnings;
 };
 
