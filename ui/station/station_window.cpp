@@ -325,12 +325,16 @@ QString StationWindow::chipText(Role role) const {
   return chips_.at(role)->text();
 }
 
-QString StationWindow::chipLabel(const devices::DeviceStatus& s, Role role) {
+QString StationWindow::chipLabel(const devices::DeviceStatus& s, Role role, double simulationSpeed) {
   QString text =
       QString::fromStdString(s.device.empty() ? (role == Role::Digitizer ? "Digitizer" : "Caliper") : s.device);
   text += " · " + QString::fromLatin1(devices::toString(s.state));
   if (s.state == devices::LinkState::Streaming || s.state == devices::LinkState::Warning) {
-    if (role == Role::Digitizer || s.rateHz > 0) text += QString(" · %1 Hz").arg(s.rateHz, 0, 'f', 0);
+    if (role == Role::Digitizer || s.rateHz > 0) {
+      const bool scaled = simulationSpeed > 0 && simulationSpeed != 1.0;
+      text += QString(" · %1 Hz").arg(scaled ? s.rateHz / simulationSpeed : s.rateHz, 0, 'f', 0);
+      if (scaled) text += QString(" (simulated ×%1)").arg(simulationSpeed, 0, 'g', 3);
+    }
     if (s.lastSampleAgeS >= 0) text += QString(" · last %1 s ago").arg(s.lastSampleAgeS, 0, 'f', 1);
   }
   if (!s.remedy.empty() && s.state != devices::LinkState::Streaming) {
@@ -364,7 +368,7 @@ void StationWindow::refreshDevices() {
   if (!run_) return;
   for (const Role role : {Role::Digitizer, Role::Caliper}) {
     const devices::DeviceStatus s = run_->devices().status(role);
-    const QString text = chipLabel(s, role);
+    const QString text = chipLabel(s, role, options_.simulate ? options_.speed : 1.0);
     QToolButton* b = chip(role);
     b->setText(text);
     b->setToolTip(QString::fromStdString(s.where) + "\n" + QString::fromStdString(s.message) +

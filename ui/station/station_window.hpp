@@ -78,7 +78,10 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] QString feedbackText() const { return feedback_->text(); }
   [[nodiscard]] QString chipText(acquisition::DeviceSet::Role role) const;
   // A device chip's text: name, state, rate and age; message and remedy wrapped into short lines.
-  [[nodiscard]] static QString chipLabel(const devices::DeviceStatus& status, acquisition::DeviceSet::Role role);
+  // A device chip's text. Under a simulation running `simulationSpeed` times faster than
+  // real time, the rate is the device's own (wall rate / speed), marked as simulated.
+  [[nodiscard]] static QString chipLabel(const devices::DeviceStatus& status, acquisition::DeviceSet::Role role,
+                                         double simulationSpeed = 1.0);
   [[nodiscard]] const std::optional<acquisition::Snapshot>& lastSnapshot() const { return last_; }
   [[nodiscard]] std::int64_t sessionId() const { return sessionId_; }
   [[nodiscard]] Sounds& sounds() { return *sounds_; }

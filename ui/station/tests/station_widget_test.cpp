@@ -740,6 +740,20 @@ TEST(StationLayout, ADeviceChipWrapsALongRemedyIntoShortLines) {
   EXPECT_GE(label.count('\n'), 3);
 }
 
+TEST(StationLayout, ASimulationRunFasterThanRealTimeShowsTheDevicesOwnRate) {
+  leafdig::devices::DeviceStatus s;
+  s.device = "FASTRAK";
+  s.state = leafdig::devices::LinkState::Streaming;
+  s.rateHz = 961.0;  // 120 Hz on the wire of a simulation run 8 times faster
+  s.lastSampleAgeS = 0.0;
+  const QString fast = leafdig::station::StationWindow::chipLabel(s, acq::DeviceSet::Role::Digitizer, 8.0);
+  EXPECT_TRUE(fast.contains("· 120 Hz (simulated ×8)")) << fast.toStdString();
+  EXPECT_FALSE(fast.contains("961")) << fast.toStdString();
+  const QString real = leafdig::station::StationWindow::chipLabel(s, acq::DeviceSet::Role::Digitizer);
+  EXPECT_TRUE(real.contains("· 961 Hz ·")) << real.toStdString();
+  EXPECT_FALSE(real.contains("simulated")) << real.toStdString();
+}
+
 // The live preview keeps the growing leaf in view, and moves only when the leaf outgrows the
 // framing: every marker stays on screen, the leaf fills the view, the view does not jump.
 TEST(PreviewFraming, TheGrowingLeafStaysFramedAndTheViewMovesOnlyWhenItOutgrowsIt) {
