@@ -136,11 +136,13 @@ int main(int argc, char** argv) {
     }
     return app.exec();
   }
-  if (interactive && o.resume == 0) w.offerResume();
+  if (interactive && o.resume == 0 && !p.isSet(plantShot)) w.offerResume();
   // Without devices given (and nothing to resume), the set-up dialog asks for them.
   const bool needSetup = p.isSet(setupDialog) || (!o.simulate && w.options().resume == 0 &&
                                                   (o.setup.digitizer.empty() || o.setup.caliper.empty()));
-  if (needSetup) {
+  if (p.isSet(plantShot) && !o.simulate && o.setup.digitizer.empty()) {
+    // A picture of the Plant view alone: no capture to start, no devices to ask for.
+  } else if (needSetup) {
     if (!interactive) {
       std::fprintf(stderr, "leafdig-station: give --digitizer and --caliper, or --simulate to try it\n");
       return 2;

@@ -159,6 +159,13 @@ void PlantView::refreshLibrary() {
     status_->setText(QString::fromStdString(e.what()));
     return;
   }
+  if (approved_.empty()) {
+    // Say why the list is empty rather than show an empty box (not a leaf: not checkable).
+    auto* none = new QListWidgetItem(tr("No approved leaf in this database yet: approve sessions in Review"));
+    none->setFlags(Qt::NoItemFlags);
+    libraryList_->addItem(none);
+    return;
+  }
   std::stable_sort(approved_.begin(), approved_.end(), [](const auto& a, const auto& b) {
     return a.markers.leaf.position.value_or(0) < b.markers.leaf.position.value_or(0);
   });
@@ -181,8 +188,8 @@ QString PlantView::planFromApprovedLeaves() {
   if (approved_.empty()) refreshLibrary();  // (keeps the operator's ticks otherwise)
   // The ticked leaves, in leaf-position order, each one placed as itself.
   std::vector<m::LibraryLeaf> picked;
-  for (int i = 0; i < libraryList_->count(); ++i)
-    if (libraryList_->item(i)->checkState() == Qt::Checked) picked.push_back(approved_[static_cast<std::size_t>(i)]);
+  for (std::size_t i = 0; i < approved_.size() && i < static_cast<std::size_t>(libraryList_->count()); ++i)
+    if (libraryList_->item(static_cast<int>(i))->checkState() == Qt::Checked) picked.push_back(approved_[i]);
   if (approved_.empty()) return tr("No approved leaf yet: approve sessions in the Review view first.");
   if (picked.empty()) return tr("Tick at least one approved leaf.");
   m::PlantPlan plan;

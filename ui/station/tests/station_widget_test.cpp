@@ -897,6 +897,18 @@ TEST(PlantView, TheTickedApprovedLeavesOfTheStationMakeThePlant) {
     ASSERT_TRUE(run.shutdown("done").complete) << "simulated capture " << position;
   }
   {
+    // Nothing approved yet: the list says so (a line that is not a leaf), and a plant of
+    // the approved leaves is refused in words.
+    leafdig::station::PlantView none;
+    none.setDatabase(db);
+    ASSERT_EQ(none.libraryList()->count(), 1);
+    EXPECT_TRUE(none.libraryList()->item(0)->text().contains("approve sessions in Review"));
+    EXPECT_FALSE(none.libraryList()->item(0)->flags() & Qt::ItemIsUserCheckable);
+    EXPECT_TRUE(none.planFromApprovedLeaves().contains("No approved leaf"))
+        << none.planFromApprovedLeaves().toStdString();
+    EXPECT_EQ(none.plant(), nullptr);
+  }
+  {
     leafdig::db::Store store(db);
     for (std::int64_t id : {1, 2}) (void)acq::review(store, id, "approved", "cur", "");
   }
