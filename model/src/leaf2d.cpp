@@ -521,6 +521,26 @@ struct FlatLeaf {
   double widthMm = 0.0;
 };
 
+// Appends one side of the margin, given as its mesh vertices from the base to the tip, with
+// t by arc length from the base: the right side whole, base to tip; the left side tip to
+// base without the tip and the base (the right side has them).
+void addMarginSide(FlatLeaf& flat, const std::vector<std::uint32_t>& baseToTip, bool right) {
+  const auto& p = flat.mesh.positions;
+  std::vector<double> s(baseToTip.size(), 0.0);
+  for (std::size_t k = 1; k < baseToTip.size(); ++k) s[k] = s[k - 1] + (p[baseToTip[k]] - p[baseToTip[k - 1]]).norm();
+  if (right) {
+    for (std::size_t k = 0; k < baseToTip.size(); ++k) {
+      flat.margin.push_back(baseToTip[k]);
+      flat.marginT.push_back(s[k] / s.back());
+    }
+  } else {
+    for (std::size_t k = baseToTip.size() - 2; k >= 1; --k) {
+      flat.margin.push_back(baseToTip[k]);
+      flat.marginT.push_back(s[k] / s.back());
+    }
+  }
+}
+
 FlatLeaf flatLeaf(const std::vector<Eigen::Vector2d>& local, const Leaf2dOptions& o) {
   double ymin = std::numeric_limits<double>::infinity();
   double ymax = -ymin;
@@ -608,21 +628,7 @@ FlatLeaf flatLeaf(const std::vector<Eigen::Vector2d>& local, const Leaf2dOptions
     std::vector<std::uint32_t> chain{baseIndex};
     for (std::uint32_t i = nu - 2; i >= 1; --i) chain.push_back(index(i, side == 0 ? 0 : nv - 1));
     chain.push_back(0);
-    std::vector<double> s(chain.size(), 0.0);
-    for (std::size_t k = 1; k < chain.size(); ++k) {
-      s[k] = s[k - 1] + (mesh.positions[chain[k]] - mesh.positions[chain[k - 1]]).norm();
-    }
-    if (side == 0) {
-      for (std::size_t k = 0; k < chain.size(); ++k) {
-        flat.margin.push_back(chain[k]);
-        flat.marginT.push_back(s[k] / s.back());
-      }
-    } else {
-      for (std::size_t k = chain.size() - 2; k >= 1; --k) {
-        flat.margin.push_back(chain[k]);
-        flat.marginT.push_back(s[k] / s.back());
-      }
-    }
+    addMarginSide(flat, chain, side == 0);
   }
   return flat;
 }
@@ -831,19 +837,7 @@ FlatLeaf trimmedFlatLeaf(const std::vector<Eigen::Vector2d>& local, double lengt
       ids.push_back(first + static_cast<std::uint32_t>(chain.size() - 2 - k));
     }
     ids.push_back(0);
-    std::vector<double> s(chain.size(), 0.0);
-    for (std::size_t k = 1; k < chain.size(); ++k) s[k] = s[k - 1] + (chain[k] - chain[k - 1]).norm();
-    if (side == 0) {
-      for (std::size_t k = 0; k < ids.size(); ++k) {
-        flat.margin.push_back(ids[k]);
-        flat.marginT.push_back(s[k] / s.back());
-      }
-    } else {
-      for (std::size_t k = ids.size() - 2; k >= 1; --k) {
-        flat.margin.push_back(ids[k]);
-        flat.marginT.push_back(s[k] / s.back());
-      }
-    }
+    addMarginSide(flat, ids, side == 0);
   }
   return flat;
 }
