@@ -119,8 +119,10 @@ std::string leaf2dFigureSvg(const Outline2d& outline, double amplitudeMm) {
     for (const auto& p : local) svg << xy(v, p) << " ";
     svg << "\" fill=\"none\" stroke=\"black\" stroke-width=\"1\"/>\n";
     svg << "<circle cx=\"" << v.offset.x() << "\" cy=\"" << v.offset.y() << "\" r=\"3\" fill=\"red\"/>\n";
-    svg << "<text x=\"" << kPanel / 2
-        << "\" y=\"20\" text-anchor=\"middle\">outline, flat bicubic leaf (base red)</text>\n";
+    svg << "<text x=\"" << kPanel / 2 << "\" y=\"20\" text-anchor=\"middle\">"
+        << (flat.trimmedToOutline ? "outline, flat leaf trimmed to it (base red)"
+                                  : "outline, flat bicubic leaf (base red)")
+        << "</text>\n";
   }
   shadedPanel(svg, parabola, kPanel, "parabola-like curl");
   shadedPanel(svg, sine, 2 * kPanel, "sine-like curl");

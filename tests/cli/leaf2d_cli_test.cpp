@@ -112,19 +112,17 @@ TEST_F(Leaf2dCli, BuildsFromJsonAndCsvOutlinesInMillimetres) {
 }
 
 TEST_F(Leaf2dCli, ACordateOutlineIsMeshedInsideItsSinus) {
-  // A heart-shaped leaf, the base at the sinus's apex: the flat leaf is the outline's region
-  // (reported as trimmed, no warning, no drawing in), and its meshes open elsewhere.
-  json points = json::array();
-  for (int i = 0; i < 400; ++i) {
-    const double t = 2 * M_PI * i / 400;
-    points.push_back({48 * std::pow(std::sin(t), 3),
-                      3 * (13 * std::cos(t) - 5 * std::cos(2 * t) - 2 * std::cos(3 * t) - std::cos(4 * t))});
-  }
-  std::ofstream(dir_ / "heart.json")
-      << json{{"format", "leafdig.outline/1"}, {"units", "mm"}, {"points", points}, {"base", {0, 15}}}.dump();
+  // The shipped heart-shaped sample, the base at the sinus's apex: the flat leaf is the
+  // outline's region (reported as trimmed, no warning, no drawing in), and its meshes open
+  // elsewhere.
+  const std::string heart = std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/cordate.outline.json";
+  const Result valid =
+      run("node " + quote(tools() + "validate-schema.mjs") + " " +
+          quote(std::string(LEAFDIG_SOURCE_DIR) + "/data/schema/leafdig.outline-1.schema.json") + " " + quote(heart));
+  EXPECT_EQ(valid.exitCode, 0) << valid.out << valid.err;
   const fs::path obj = dir_ / "heart.obj", glb = dir_ / "heart.glb";
-  const Result r = leafdig("leaf2d build " + quote(dir_ / "heart.json") + " --curl none -o " + quote(obj) + " -o " +
-                           quote(glb) + " --json");
+  const Result r =
+      leafdig("leaf2d build " + quote(heart) + " --curl none -o " + quote(obj) + " -o " + quote(glb) + " --json");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const json b = json::parse(r.out);
   EXPECT_EQ(b["flat_leaf"], "trimmed-to-outline");
@@ -137,7 +135,7 @@ TEST_F(Leaf2dCli, ACordateOutlineIsMeshedInsideItsSinus) {
   const Result v = run("node " + quote(tools() + "validate-gltf.mjs") + " " + quote(glb));
   ASSERT_EQ(v.exitCode, 0) << v.out << v.err;
   EXPECT_EQ(json::parse(v.out)["numErrors"], 0) << v.out;
-  const Result t = leafdig("leaf2d build " + quote(dir_ / "heart.json"));
+  const Result t = leafdig("leaf2d build " + quote(heart));
   ASSERT_EQ(t.exitCode, 0) << t.err;
   EXPECT_NE(t.out.find("trimmed to the outline"), std::string::npos) << t.out;
   EXPECT_EQ(t.out.find("warning"), std::string::npos) << t.out;
