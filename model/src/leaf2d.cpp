@@ -38,16 +38,21 @@ namespace {
 constexpr std::size_t kMinOutlinePoints = 8;
 constexpr double kEndTolerance = 5.0;  // mm: a given base or tip this far off the outline is an error
 
+// The point of segment ab nearest p, as its parameter t in [0, 1] (a + t (b - a)).
+double nearestOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  return len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+}
+
+double distanceToSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  return (a + nearestOnSegment(a, b, p) * (b - a) - p).norm();
+}
+
 double distanceToOutline(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Eigen::Vector2d& a = polygon[i];
-    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
-    const Eigen::Vector2d ab = b - a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (a + t * ab - p).norm());
-  }
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+    best = std::min(best, distanceToSegment(polygon[i], polygon[(i + 1) % polygon.size()], p));
   return best;
 }
 
@@ -221,13 +226,11 @@ std::string outlineToJson(const Outline2d& o) {
 
 namespace {
 
-// Extremes of the polygon's intersection with the line {p : (p - origin) . axis = s},
-// measured along `across`; nullopt when the line misses.
-std::optional<std::pair<double, double>> sectionExtent(const std::vector<Eigen::Vector2d>& poly,
-                                                       const Eigen::Vector2d& origin, const Eigen::Vector2d& axis,
-                                                       const Eigen::Vector2d& across, double s) {
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -lo;
+// Where the polygon's edges cross the line {p : (p - origin) . axis = s}, measured along
+// `across`, sorted (half-open rule: a vertex on the line counts once).
+std::vector<double> sectionCrossings(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& origin,
+                                     const Eigen::Vector2d& axis, const Eigen::Vector2d& across, double s) {
+  std::vector<double> ws;
   for (std::size_t i = 0; i < poly.size(); ++i) {
     const Eigen::Vector2d& p = poly[i];
     const Eigen::Vector2d& q = poly[(i + 1) % poly.size()];
@@ -235,13 +238,25 @@ std::optional<std::pair<double, double>> sectionExtent(const std::vector<Eigen::
     const double sq = (q - origin).dot(axis);
     if ((sp <= s && s < sq) || (sq <= s && s < sp)) {
       const Eigen::Vector2d x = p + (s - sp) / (sq - sp) * (q - p);
-      const double w = (x - origin).dot(across);
-      lo = std::min(lo, w);
-      hi = std::max(hi, w);
+      ws.push_back((x - origin).dot(across));
     }
   }
-  if (!(lo <= hi)) return std::nullopt;
-  return std::pair{lo, hi};
+  std::sort(ws.begin(), ws.end());
+  return ws;
+}
+
+// The same across the leaf frame's midrib: the x of each crossing of the line y.
+std::vector<double> crossingsAt(const std::vector<Eigen::Vector2d>& poly, double y) {
+  return sectionCrossings(poly, Eigen::Vector2d::Zero(), Eigen::Vector2d::UnitY(), Eigen::Vector2d::UnitX(), y);
+}
+
+// Extremes of the polygon's intersection with that line; nullopt when the line misses.
+std::optional<std::pair<double, double>> sectionExtent(const std::vector<Eigen::Vector2d>& poly,
+                                                       const Eigen::Vector2d& origin, const Eigen::Vector2d& axis,
+                                                       const Eigen::Vector2d& across, double s) {
+  const std::vector<double> ws = sectionCrossings(poly, origin, axis, across, s);
+  if (ws.empty()) return std::nullopt;
+  return std::pair{ws.front(), ws.back()};
 }
 
 }  // namespace
@@ -633,21 +648,6 @@ FlatLeaf flatLeaf(const std::vector<Eigen::Vector2d>& local, const Leaf2dOptions
   return flat;
 }
 
-// The x at which each edge of `poly` crosses the horizontal line y (half-open rule, so a
-// vertex on the line counts once), sorted.
-std::vector<double> crossingsAt(const std::vector<Eigen::Vector2d>& poly, double y) {
-  std::vector<double> xs;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Eigen::Vector2d& p = poly[i];
-    const Eigen::Vector2d& q = poly[(i + 1) % poly.size()];
-    if ((p.y() <= y && y < q.y()) || (q.y() <= y && y < p.y())) {
-      xs.push_back(p.x() + (y - p.y()) / (q.y() - p.y()) * (q.x() - p.x()));
-    }
-  }
-  std::sort(xs.begin(), xs.end());
-  return xs;
-}
-
 // Whether some line across the midrib (y = const in the leaf frame) crosses the outline more
 // than twice over a gap wider than `gapMm`: a sinus or a lobe that sections taken from one
 // margin to the other would fill.
@@ -674,10 +674,9 @@ double nearestParameter(const std::vector<Eigen::Vector2d>& poly, const Eigen::V
   double at = 0.0;
   for (std::size_t i = 0; i < poly.size(); ++i) {
     const Eigen::Vector2d& a = poly[i];
-    const Eigen::Vector2d ab = poly[(i + 1) % poly.size()] - a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    const double d = (a + t * ab - p).squaredNorm();
+    const Eigen::Vector2d& b = poly[(i + 1) % poly.size()];
+    const double t = nearestOnSegment(a, b, p);
+    const double d = (a + t * (b - a) - p).squaredNorm();
     if (d < best) {
       best = d;
       at = static_cast<double>(i) + t;
@@ -787,11 +786,7 @@ FlatLeaf trimmedFlatLeaf(const std::vector<Eigen::Vector2d>& local, double lengt
     for (long y = std::max(0L, cy - 1); y <= std::min(rows - 1, cy + 1); ++y) {
       for (long x = std::max(0L, cx - 1); x <= std::min(cols - 1, cx + 1); ++x) {
         for (std::uint32_t i : cells[static_cast<std::size_t>(y * cols + x)]) {
-          const Eigen::Vector2d& a = polygon[i];
-          const Eigen::Vector2d ab = polygon[(i + 1) % polygon.size()] - a;
-          const double len2 = ab.squaredNorm();
-          const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-          if ((a + t * ab - p).norm() < h / 2) return true;
+          if (distanceToSegment(polygon[i], polygon[(i + 1) % polygon.size()], p) < h / 2) return true;
         }
       }
     }
@@ -867,8 +862,8 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
   model.flatBlade = flat.blade;
   model.widthMm = flat.widthMm;
   model.outlineAreaMm2 = polygonArea(outline.pointsMm);
-  const double sectionsDifference = meshArea(flat.mesh) / model.outlineAreaMm2 - 1.0;
-  if (sectionsDifference > 0.01 && hasSinus(local, 0.02 * flat.widthMm)) {
+  model.flatModelAreaMm2 = meshArea(flat.mesh);
+  if (model.flatModelAreaMm2 > 1.01 * model.outlineAreaMm2 && hasSinus(local, 0.02 * flat.widthMm)) {
     // The sections span a sinus or lobes the leaf does not have: mesh inside the outline.
     // A given base so far off the margin that the outline would cross itself keeps the
     // sections' leaf, with the warning below.
@@ -877,12 +872,12 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
       trimmed.blade = std::move(flat.blade);
       flat = std::move(trimmed);
       model.trimmedToOutline = true;
+      model.flatModelAreaMm2 = meshArea(flat.mesh);
     } catch (const InputError&) {
     }
   }
   model.marginVertices = flat.margin;
   model.marginT = flat.marginT;
-  model.flatModelAreaMm2 = meshArea(flat.mesh);
   if (const double d = model.flatModelAreaMm2 / model.outlineAreaMm2 - 1.0; std::abs(d) > 0.02) {
     std::ostringstream msg;
     msg << std::fixed << std::setprecision(1) << "the flat B-spline leaf is " << std::abs(100.0 * d) << " % "
