@@ -77,9 +77,9 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] QString bannerText() const { return banner_->text(); }
   [[nodiscard]] QString feedbackText() const { return feedback_->text(); }
   [[nodiscard]] QString chipText(acquisition::DeviceSet::Role role) const;
-  // A device chip's text: name, state, rate and age; message and remedy wrapped into short lines.
-  // A device chip's text. Under a simulation running `simulationSpeed` times faster than
-  // real time, the rate is the device's own (wall rate / speed), marked as simulated.
+  // A device chip's text: name, state, rate and age; message and remedy wrapped into short
+  // lines. Under a simulation running `simulationSpeed` times faster than real time, the rate
+  // is in the simulation's clock (wall rate / speed), marked as simulated.
   [[nodiscard]] static QString chipLabel(const devices::DeviceStatus& status, acquisition::DeviceSet::Role role,
                                          double simulationSpeed = 1.0);
   [[nodiscard]] const std::optional<acquisition::Snapshot>& lastSnapshot() const { return last_; }

@@ -402,17 +402,28 @@ TEST(ReviewView, ACuratorBrowsesSelectsCorrectsReplaysAndApproves) {
   fs::remove_all(dir);
 }
 
+// A throw-away lab server (started for the test) with the schema, a technician bound to
+// `station` and a curator: their URLs (passwords pw-t and pw-c).
+struct TestLab {
+  leafdig::test::PgCluster cluster;
+  std::string database = cluster.createDatabase();
+  std::string tech = cluster.url("tech", "pw-t", database);
+  std::string curator = cluster.url("carla", "pw-c", database);
+
+  explicit TestLab(const std::string& station) {
+    const std::string admin = cluster.adminUrl(database);
+    (void)leafdig::db::initServer(admin);
+    (void)leafdig::db::addUser(admin, "tech", leafdig::db::LabRole::Technician, station, std::string("pw-t"));
+    (void)leafdig::db::addUser(admin, "carla", leafdig::db::LabRole::Curator, "", std::string("pw-c"));
+  }
+};
+
 TEST(ReviewView, TheLabServersSessionsAreReviewedFromTheStationAndTheDecisionGoesBack) {
   // A real PostgreSQL server (started for this test), a station's session pushed to it, and
   // the review view on the server's URL as a curator opens it (leafdig-station --db URL).
-  leafdig::test::PgCluster cluster;
-  const std::string database = cluster.createDatabase();
-  const std::string admin = cluster.adminUrl(database);
-  (void)leafdig::db::initServer(admin);
-  (void)leafdig::db::addUser(admin, "tech_w", leafdig::db::LabRole::Technician, "bench-w", std::string("pw-t"));
-  (void)leafdig::db::addUser(admin, "carla_w", leafdig::db::LabRole::Curator, "", std::string("pw-c"));
-  const std::string tech = cluster.url("tech_w", "pw-t", database);
-  const std::string curator = cluster.url("carla_w", "pw-c", database);
+  const TestLab lab("bench-w");
+  const std::string& tech = lab.tech;
+  const std::string& curator = lab.curator;
   const fs::path dir = freshDir("review-lab");
   leafdig::db::Store station((dir / "s.sqlite").string());
   const std::int64_t id = completeLeaf(station, 40000.0, 3, {}, "bench-w");
@@ -446,12 +457,7 @@ TEST(ReviewView, TheLabServersSessionsAreReviewedFromTheStationAndTheDecisionGoe
 }
 
 TEST(StationWindow, SyncsWithTheLabServerOfItsSettingsAndShowsTheCuratorsDecision) {
-  leafdig::test::PgCluster cluster;
-  const std::string database = cluster.createDatabase();
-  const std::string admin = cluster.adminUrl(database);
-  (void)leafdig::db::initServer(admin);
-  (void)leafdig::db::addUser(admin, "tech_s", leafdig::db::LabRole::Technician, "bench-s", std::string("pw-t"));
-  (void)leafdig::db::addUser(admin, "carla_s", leafdig::db::LabRole::Curator, "", std::string("pw-c"));
+  TestLab lab("bench-s");
   const fs::path dir = freshDir("sync-lab");
   const std::string file = (dir / "s.sqlite").string();
   std::int64_t id = 0;
@@ -463,7 +469,7 @@ TEST(StationWindow, SyncsWithTheLabServerOfItsSettingsAndShowsTheCuratorsDecisio
   const QString ini = QString::fromStdString((dir / "station.ini").string());
   leafdig::station::StationSettings settings;
   leafdig::station::SettingsDialog d(settings);
-  d.labUrl()->setText(QString::fromStdString(cluster.url("tech_s", "pw-t", database)));
+  d.labUrl()->setText(QString::fromStdString(lab.tech));
   d.labSyncMinutes()->setValue(15);
   d.result().save(ini);
   EXPECT_EQ(leafdig::station::StationSettings::load(ini).labSyncMinutes, 15);
@@ -476,7 +482,7 @@ TEST(StationWindow, SyncsWithTheLabServerOfItsSettingsAndShowsTheCuratorsDecisio
   w.syncWithLab();
   QTRY_VERIFY_WITH_TIMEOUT(!w.syncing(), 30000);
   EXPECT_TRUE(w.labStatusText().contains("sent")) << w.labStatusText().toStdString();
-  leafdig::db::LabStore curator(cluster.url("carla_s", "pw-c", database));
+  leafdig::db::LabStore curator(lab.curator);
   ASSERT_EQ(curator.sessions().size(), 1u);
   EXPECT_EQ(curator.sessions()[0].headSeq, leafdig::db::Store(file, true).session(id)->headSeq);
   // A curator approves on the server; the next sync brings it to the station's file and review.
@@ -491,7 +497,8 @@ TEST(StationWindow, SyncsWithTheLabServerOfItsSettingsAndShowsTheCuratorsDecisio
   EXPECT_TRUE(shown);
   // A server that cannot be reached: said, nothing else happens.
   auto unreachable = w.settings();
-  unreachable.labUrl = QString::fromStdString(cluster.url("tech_s", "pw-t", database, leafdig::test::freeLocalPort()));
+  unreachable.labUrl =
+      QString::fromStdString(lab.cluster.url("tech", "pw-t", lab.database, leafdig::test::freeLocalPort()));
   w.applySettings(unreachable);
   w.syncWithLab();
   QTRY_VERIFY_WITH_TIMEOUT(!w.syncing(), 30000);
