@@ -11,6 +11,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/leaf_model.hpp"
 #include "leafdig/model/metrics.hpp"
+#include "segment.hpp"
 
 namespace leafdig::model {
 
@@ -48,16 +49,10 @@ double polylineLength(const std::vector<Eigen::Vector3d>& points) {
   return length;
 }
 
-double distanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
-
 double distanceToPolyline(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& line) {
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 1; i < line.size(); ++i) best = std::min(best, distanceToSegment(p, line[i - 1], line[i]));
+  for (std::size_t i = 1; i < line.size(); ++i)
+    best = std::min(best, std::sqrt(detail::squaredDistanceToSegment(line[i - 1], line[i], p)));
   return best;
 }
 

@@ -16,6 +16,7 @@
 #include "leafdig/model/interpolation.hpp"
 #include "leafdig/model/metrics.hpp"
 #include "planar_triangulation.hpp"
+#include "segment.hpp"
 
 namespace leafdig::model {
 
@@ -38,15 +39,8 @@ namespace {
 constexpr std::size_t kMinOutlinePoints = 8;
 constexpr double kEndTolerance = 5.0;  // mm: a given base or tip this far off the outline is an error
 
-// The point of segment ab nearest p, as its parameter t in [0, 1] (a + t (b - a)).
-double nearestOnSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  return len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-}
-
 double distanceToSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  return (a + nearestOnSegment(a, b, p) * (b - a) - p).norm();
+  return std::sqrt(detail::squaredDistanceToSegment(a, b, p));
 }
 
 double distanceToOutline(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
@@ -675,7 +669,7 @@ double nearestParameter(const std::vector<Eigen::Vector2d>& poly, const Eigen::V
   for (std::size_t i = 0; i < poly.size(); ++i) {
     const Eigen::Vector2d& a = poly[i];
     const Eigen::Vector2d& b = poly[(i + 1) % poly.size()];
-    const double t = nearestOnSegment(a, b, p);
+    const double t = detail::nearestOnSegment(a, b, p);
     const double d = (a + t * (b - a) - p).squaredNorm();
     if (d < best) {
       best = d;

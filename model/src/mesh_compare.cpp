@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "leafdig/model/errors.hpp"
+#include "segment.hpp"
 
 namespace leafdig::model {
 
@@ -70,13 +71,8 @@ double squaredDistanceToTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d
   }
   const double denominator = va + vb + vc;
   if (!(denominator > 0.0)) {  // degenerate triangle: its three edges
-    auto segment = [&](const Eigen::Vector3d& s, const Eigen::Vector3d& e) {
-      const Eigen::Vector3d d = e - s;
-      const double len2 = d.squaredNorm();
-      const double t = len2 > 0.0 ? std::clamp((p - s).dot(d) / len2, 0.0, 1.0) : 0.0;
-      return (p - (s + t * d)).squaredNorm();
-    };
-    return std::min({segment(a, b), segment(b, c), segment(c, a)});
+    return std::min({detail::squaredDistanceToSegment(a, b, p), detail::squaredDistanceToSegment(b, c, p),
+                     detail::squaredDistanceToSegment(c, a, p)});
   }
   const double v = vb / denominator;
   const double w = vc / denominator;
