@@ -200,6 +200,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   if (request.frame != "leaf" && request.frame != "digitizer")
     throw std::invalid_argument("unknown frame '" + request.frame + "': use leaf or digitizer");
   const ReviewedSession r = openForReview(store, id);
+  requireChain(store, id, "exported");
   std::vector<std::string> formats = request.formats.empty() ? exportFormats() : request.formats;
   for (const auto& f : formats)
     if (std::find(exportFormats().begin(), exportFormats().end(), f) == exportFormats().end())
@@ -228,14 +229,16 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
     } else if (f == "markers") {
       files.emplace_back(base + ".markers.json", model::markersToJson(set));
     } else if (f == "csv") {
+      // From the verified events (the tables agree with them, or verify refused above).
+      const db::Projected items = db::project(store.events(id));
       std::ostringstream mk, th;
       mk << std::setprecision(17) << "session,seq,what,row,col,x_mm,y_mm,z_mm\n";
-      for (const auto& x : store.markers(id))
+      for (const auto& x : items.markers)
         mk << id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
            << (x.col ? std::to_string(*x.col) : "") << "," << x.positionMm[0] << "," << x.positionMm[1] << ","
            << x.positionMm[2] << "\n";
       th << std::setprecision(17) << "session,seq,what,row,col,thickness_mm,raw\n";
-      for (const auto& x : store.thickness(id))
+      for (const auto& x : items.thickness)
         th << id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
            << (x.col ? std::to_string(*x.col) : "") << "," << x.valueMm << "," << csvText(x.raw) << "\n";
       files.emplace_back(base + ".markers.csv", mk.str());

@@ -5,6 +5,7 @@
 #include <openssl/evp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -68,6 +69,21 @@ ChainReport verifyChain(std::int64_t stationSessionId, const std::string& genesi
                 std::to_string(headSeq) + " events: events were removed";
   }
   return r;
+}
+
+namespace {
+std::atomic<bool> gInterrupt{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "requestInterrupt is called from signal handlers");
+}  // namespace
+
+void requestInterrupt() noexcept {
+  gInterrupt.store(true, std::memory_order_relaxed);
+}
+void clearInterrupt() noexcept {
+  gInterrupt.store(false, std::memory_order_relaxed);
+}
+bool interruptRequested() noexcept {
+  return gInterrupt.load(std::memory_order_relaxed);
 }
 
 std::string utcNow() {
@@ -229,6 +245,92 @@ Projected project(const std::vector<Event>& events) {
   for (auto& [seq, m] : markers) out.markers.push_back(std::move(m));
   for (auto& [seq, t] : thickness) out.thickness.push_back(std::move(t));
   return out;
+}
+
+namespace {
+
+std::string itemName(const std::string& what, const std::optional<int>& row, const std::optional<int>& col) {
+  std::string out = what;
+  if (row) out += " row " + std::to_string(*row);
+  if (col) out += " col " + std::to_string(*col);
+  return out;
+}
+
+std::string millimetres(const std::array<double, 3>& p) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "(%.3f, %.3f, %.3f) mm", p[0], p[1], p[2]);
+  return buf;
+}
+
+std::string millimetres(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4f mm", v);
+  return buf;
+}
+
+constexpr const char* kEdited = " - the file was changed after leafdig wrote it";
+
+// The first difference between the rows a table holds and the rows its events give, by seq.
+template <typename Row, typename Describe, typename Same>
+std::optional<ProjectionMismatch> compareRows(const char* table, const std::vector<Row>& stored,
+                                              const std::vector<Row>& fromEvents, Describe describe, Same same) {
+  std::map<std::int64_t, const Row*> a, b;
+  for (const Row& r : stored) a[r.seq] = &r;
+  for (const Row& r : fromEvents) b[r.seq] = &r;
+  for (const auto& [seq, row] : b) {
+    const auto at = a.find(seq);
+    if (at == a.end())
+      return ProjectionMismatch{seq, std::string("the ") + table + " table lacks " +
+                                         itemName(row->what, row->row, row->col) + " of event " + std::to_string(seq) +
+                                         kEdited};
+    if (!same(*at->second, *row))
+      return ProjectionMismatch{seq, std::string("the ") + table + " table has " +
+                                         itemName(at->second->what, at->second->row, at->second->col) + " of event " +
+                                         std::to_string(seq) + " as " + describe(*at->second) +
+                                         ", but its event says " + itemName(row->what, row->row, row->col) + " " +
+                                         describe(*row) + kEdited};
+  }
+  for (const auto& [seq, row] : a)
+    if (b.find(seq) == b.end())
+      return ProjectionMismatch{seq, std::string("the ") + table + " table holds " +
+                                         itemName(row->what, row->row, row->col) + " for event " +
+                                         std::to_string(seq) + ", which puts no such item in" + kEdited};
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<ProjectionMismatch> projectionProblem(const std::vector<Event>& events,
+                                                    const std::vector<MarkerRow>& markers,
+                                                    const std::vector<ThicknessRow>& thickness,
+                                                    const std::string& status) {
+  Projected p;
+  try {
+    p = project(events);
+  } catch (const StoreError& e) {
+    return ProjectionMismatch{0, e.what()};
+  }
+  if (auto m = compareRows(
+          "markers", markers, p.markers, [](const MarkerRow& r) { return millimetres(r.positionMm); },
+          [](const MarkerRow& x, const MarkerRow& y) {
+            return x.what == y.what && x.row == y.row && x.col == y.col && x.positionMm == y.positionMm;
+          }))
+    return m;
+  if (auto t = compareRows(
+          "thickness_readings", thickness, p.thickness, [](const ThicknessRow& r) { return millimetres(r.valueMm); },
+          [](const ThicknessRow& x, const ThicknessRow& y) {
+            return x.what == y.what && x.row == y.row && x.col == y.col && x.valueMm == y.valueMm && x.raw == y.raw;
+          }))
+    return t;
+  const std::string expected = p.status.value_or("open");
+  if (status != expected) {
+    std::int64_t seq = 0;
+    for (const Event& e : events)
+      if (e.kind == "status") seq = e.seq;
+    return ProjectionMismatch{seq, "the session's status is '" + status + "' but its events say '" + expected + "'" +
+                                       kEdited};
+  }
+  return std::nullopt;
 }
 
 }  // namespace leafdig::db

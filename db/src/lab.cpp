@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
+#include <map>
+#include <thread>
 
 #include "lab_schema.hpp"
 #include "pg.hpp"
@@ -13,37 +16,110 @@ bool isServerUrl(const std::string& text) {
   return text.rfind("postgresql://", 0) == 0 || text.rfind("postgres://", 0) == 0;
 }
 
-std::string redactUrl(const std::string& url) {
-  std::string out = url;
-  // user:password@host
-  if (isServerUrl(out)) {
-    const std::size_t start = out.find("://") + 3;
-    const std::size_t at = out.find('@', start);
-    const std::size_t slash = out.find('/', start);
-    if (at != std::string::npos && (slash == std::string::npos || at < slash)) {
-      const std::size_t colon = out.find(':', start);
-      if (colon != std::string::npos && colon < at) out.replace(colon + 1, at - colon - 1, "***");
-    }
-  }
-  // password=… in the query (?password=x&…) or in key=value strings (password=x host=…)
-  for (std::size_t p = out.find("password="); p != std::string::npos; p = out.find("password=", p + 1)) {
-    if (p > 0 && std::isalnum(static_cast<unsigned char>(out[p - 1])) != 0) continue;  // e.g. "nopassword="
-    const std::size_t v = p + 9;
-    std::size_t end = v;
-    if (end < out.size() && out[end] == '\'') {
-      end = out.find('\'', end + 1);
-      end = end == std::string::npos ? out.size() : end + 1;
+namespace {
+
+std::string percentEncoded(const std::string& text) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string out;
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (std::isalnum(c) != 0 || c == '-' || c == '.' || c == '_' || c == '~' || c == ',' || c == '/') {
+      out += ch;
     } else {
-      while (end < out.size() && out[end] != '&' && out[end] != ' ') ++end;
+      out += '%';
+      out += hex[c >> 4];
+      out += hex[c & 15];
     }
-    out.replace(v, end - v, "***");
   }
   return out;
 }
 
+}  // namespace
+
+std::string redactUrl(const std::string& url) {
+  const bool asUrl = isServerUrl(url);
+  if (!asUrl && url.find('=') == std::string::npos) return url;  // a file's path
+  const auto parsed = pg::parseConnection(url);
+  if (!parsed) {
+    if (asUrl)
+      return url.substr(0, url.find("://") + 3) + "(a URL libpq cannot read; not shown: it may hold a password)";
+    std::string lower = url;
+    for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return lower.find("password") == std::string::npos
+               ? url  // a file's path with '=' in its name
+               : "(a connection string libpq cannot read; not shown: it may hold a password)";
+  }
+  std::map<std::string, std::string> o(parsed->begin(), parsed->end());
+  const auto take = [&](const char* key) {
+    const auto at = o.find(key);
+    if (at == o.end()) return std::optional<std::string>();
+    std::string v = at->second;
+    o.erase(at);
+    return std::optional<std::string>(v);
+  };
+  if (!asUrl) {
+    std::string out;
+    for (const auto& [key, value] : *parsed)
+      out += (out.empty() ? "" : " ") + key + "=" + (pg::isSecretOption(key) ? std::string("***") : value);
+    return out;
+  }
+  const auto user = take("user");
+  const bool password = take("password").has_value();
+  const auto host = take("host");
+  const auto port = take("port");
+  const auto dbname = take("dbname");
+  std::string out = url.substr(0, url.find("://") + 3);
+  if (user || password) out += percentEncoded(user.value_or("")) + (password ? ":***" : "") + "@";
+  if (host) out += host->find(':') != std::string::npos ? "[" + *host + "]" : percentEncoded(*host);
+  if (port) out += ":" + percentEncoded(*port);
+  if (dbname) out += "/" + percentEncoded(*dbname);
+  std::string query;
+  for (const auto& [key, value] : o)
+    query += (query.empty() ? "?" : "&") + key + "=" +
+             (pg::isSecretOption(key) ? std::string("***") : percentEncoded(value));
+  return out + query;
+}
+
 // ---- schema and roles ---------------------------------------------------------------------
 
-ServerInit initServer(const std::string& url) {
+namespace {
+
+constexpr const char* kInitLock = "4710468163";  // "LEAF" in a number
+
+// Takes init's advisory lock, waiting at most `seconds`. Any login may take an advisory lock
+// with the same number, so a holder that does not let go is named (pid, login, since when)
+// instead of being waited for without end.
+void takeInitLock(pg::Connection& c, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  for (;;) {
+    if (c.exec(std::string("SELECT pg_catalog.pg_try_advisory_lock(") + kInitLock + ")").text(0, 0) == "t") return;
+    if (std::chrono::steady_clock::now() >= deadline) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const auto holder = c.exec(
+      "SELECT a.pid, coalesce(a.usename::text, '?'), coalesce(a.application_name, ''), "
+      "coalesce(pg_catalog.to_char(a.backend_start, 'YYYY-MM-DD HH24:MI:SS'), '?') "
+      "FROM pg_catalog.pg_locks l LEFT JOIN pg_catalog.pg_stat_activity a ON a.pid = l.pid "
+      "WHERE l.locktype = 'advisory' AND l.objsubid = 1 AND l.granted AND l.pid <> pg_catalog.pg_backend_pid() "
+      "AND ((l.classid::bigint << 32) | l.objid::bigint) = " +
+      std::string(kInitLock) + " LIMIT 1");
+  std::string who = "another connection";
+  std::string remedy = "wait until it ends, then run init again; nothing was changed";
+  if (holder.rows() == 1) {
+    who = "connection " + holder.text(0, 0) + " (login " + holder.text(0, 1) +
+          (holder.text(0, 2).empty() ? "" : ", " + holder.text(0, 2)) + ", connected " + holder.text(0, 3) + " UTC)";
+    remedy = "if it is not another init, end it (SELECT pg_terminate_backend(" + holder.text(0, 0) +
+             ") as the administrator) and run init again; nothing was changed";
+  }
+  throw StoreError(StoreErrorKind::Busy,
+                   "server init waited " + std::to_string(static_cast<int>(seconds)) + " s for its lock on " +
+                       c.where() + ": " + who + " holds it",
+                   remedy);
+}
+
+}  // namespace
+
+ServerInit initServer(const std::string& url, double lockWaitSeconds) {
   pg::Connection c(url);
   ServerInit out;
   const std::string encoding = c.exec("SHOW server_encoding").text(0, 0);
@@ -52,7 +128,7 @@ ServerInit initServer(const std::string& url) {
                      "the database at " + c.where() + " stores text as " + encoding + ", not UTF-8",
                      "create the lab's database with ENCODING 'UTF8' (createdb -E UTF8 …) and run init on it");
   // One init at a time (two administrators, or a retry beside a slow first run).
-  (void)c.exec("SELECT pg_advisory_lock(4710468163)");  // "LEAF" in a number
+  takeInitLock(c, lockWaitSeconds);
   try {
     for (const char* role : detail::kLabRoles) {
       if (c.exec("SELECT 1 FROM pg_roles WHERE rolname = $1", {std::string(role)}).rows() == 0) {
@@ -86,10 +162,10 @@ ServerInit initServer(const std::string& url) {
     }
     out.toVersion = kLabSchemaVersion;
   } catch (...) {
-    (void)c.exec("SELECT pg_advisory_unlock(4710468163)");
+    (void)c.exec(std::string("SELECT pg_catalog.pg_advisory_unlock(") + kInitLock + ")");
     throw;
   }
-  (void)c.exec("SELECT pg_advisory_unlock(4710468163)");
+  (void)c.exec(std::string("SELECT pg_catalog.pg_advisory_unlock(") + kInitLock + ")");
   return out;
 }
 

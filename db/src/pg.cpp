@@ -1,5 +1,6 @@
 #include "pg.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 
@@ -18,6 +19,52 @@ double Result::number(int row, int col) const {
   return std::strtod(text(row, col).c_str(), nullptr);
 }
 
+bool isSecretOption(const std::string& key) {
+  return key == "password" || key == "sslpassword";
+}
+
+// libpq's own reading of a URL or key=value string (the same parser the connection uses),
+// or nothing when libpq cannot read it. libpq's error text is dropped: it may quote the
+// password.
+std::optional<ConnectionOptions> parseConnection(const std::string& text) {
+  char* error = nullptr;
+  PQconninfoOption* options = PQconninfoParse(text.c_str(), &error);
+  if (error) PQfreemem(error);
+  if (!options) return std::nullopt;
+  ConnectionOptions out;
+  for (const PQconninfoOption* o = options; o->keyword; ++o)
+    if (o->val) out.emplace_back(o->keyword, o->val);
+  PQconninfoFree(options);
+  return out;
+}
+
+std::vector<std::string> connectionSecrets(const std::string& url) {
+  std::vector<std::string> out;
+  if (const auto parsed = parseConnection(url))
+    for (const auto& [key, value] : *parsed)
+      if (isSecretOption(key) && !value.empty()) out.push_back(value);
+  // As typed, too: user:PASSWORD@ before libpq decodes it (or when it cannot).
+  if (isServerUrl(url)) {
+    const std::size_t start = url.find("://") + 3;
+    const std::size_t slash = url.find('/', start);
+    const std::size_t at = url.rfind('@', slash == std::string::npos ? std::string::npos : slash);
+    if (at != std::string::npos && at > start) {
+      const std::size_t colon = url.find(':', start);
+      if (colon != std::string::npos && colon < at && at > colon + 1)
+        out.push_back(url.substr(colon + 1, at - colon - 1));
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const std::string& a, const std::string& b) { return a.size() > b.size(); });
+  return out;
+}
+
+std::string withoutSecrets(std::string text, const std::vector<std::string>& secrets) {
+  for (const std::string& secret : secrets)
+    for (std::size_t p = text.find(secret); p != std::string::npos; p = text.find(secret, p + 3))
+      text.replace(p, secret.size(), "***");
+  return text;
+}
+
 namespace {
 
 std::string field(const PGresult* r, int code) {
@@ -27,7 +74,15 @@ std::string field(const PGresult* r, int code) {
 
 }  // namespace
 
-Connection::Connection(const std::string& url) : where_(redactUrl(url)) {
+Connection::Connection(const std::string& url) : where_(redactUrl(url)), secrets_(connectionSecrets(url)) {
+  // A URL libpq cannot read is refused before anything is sent, without libpq's words
+  // (which quote the part it could not read, password and all).
+  if (!parseConnection(url))
+    throw Error(StoreErrorKind::Input, "the lab server's address " + where_ + " cannot be read by libpq",
+                "write it as postgresql://USER@HOST[:PORT]/DATABASE[?sslmode=…]: every % followed by two hex digits, "
+                "only libpq's parameter names (sslmode, sslrootcert, connect_timeout, …); keep the password in "
+                "~/.pgpass (docs/lab.md). It is not repeated here because it may hold a password",
+                "08P01");
   // libpq takes a URL or key=value pairs; a connect timeout unless the caller set one, and
   // our name in the server's activity view.
   const char* keys[] = {"dbname", "connect_timeout", "application_name", nullptr};
@@ -38,7 +93,8 @@ Connection::Connection(const std::string& url) : where_(redactUrl(url)) {
     while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
     if (conn_) PQfinish(conn_);
     conn_ = nullptr;
-    throw Error(StoreErrorKind::Unreachable, "cannot connect to the lab server " + where_ + ": " + why,
+    throw Error(StoreErrorKind::Unreachable,
+                "cannot connect to the lab server " + where_ + ": " + withoutSecrets(why, secrets_),
                 "check the URL (host, port, database, user), the network and the password (~/.pgpass or "
                 "PGPASSFILE; docs/lab.md); nothing was changed",
                 "08001");
@@ -95,7 +151,8 @@ Result Connection::check(PGresult* r) {
     kind = StoreErrorKind::Conflict;
   }
   if (hint.empty()) hint = "the lab server refused it; nothing of this statement was kept";
-  throw Error(kind, "lab server " + where_ + ": " + message, hint, state);
+  throw Error(kind, "lab server " + where_ + ": " + withoutSecrets(message, secrets_), withoutSecrets(hint, secrets_),
+              state);
 }
 
 void Connection::rollback() noexcept {

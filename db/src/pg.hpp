@@ -32,6 +32,18 @@ class Error : public StoreError {
   std::string state_;
 };
 
+// libpq's own reading of a URL or key=value string (the parser the connection uses): every
+// option it sets, in libpq's order; nothing when libpq cannot read it (libpq's words are
+// dropped: they may quote the password).
+using ConnectionOptions = std::vector<std::pair<std::string, std::string>>;
+std::optional<ConnectionOptions> parseConnection(const std::string& text);
+// password and sslpassword: never printed.
+bool isSecretOption(const std::string& key);
+// The secrets a URL carries (libpq's reading, and the user:PASSWORD@ part as typed), longest
+// first; and a text with each of them replaced by ***.
+std::vector<std::string> connectionSecrets(const std::string& url);
+std::string withoutSecrets(std::string text, const std::vector<std::string>& secrets);
+
 // A parameter: text, or SQL NULL.
 using Param = std::optional<std::string>;
 
@@ -82,6 +94,7 @@ class Connection {
 
   PGconn* conn_ = nullptr;
   std::string where_;
+  std::vector<std::string> secrets_;  // scrubbed from every message
 };
 
 // The events of a server session from `fromSeq` on, in order, named as session `asSession`

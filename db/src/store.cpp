@@ -18,11 +18,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Why the progress handler stopped a statement (SQLITE_INTERRUPT).
+enum class Stop { None, Signal, TimeLimit };
+thread_local Stop lastStop = Stop::None;
+thread_local double lastLimitSeconds = 0;
+
 // Maps SQLite failures to what an operator can act on.
 [[noreturn]] void rethrow(const SQLite::Exception& e, const std::string& path, const std::string& doing) {
   const int code = e.getErrorCode() & 0xff;
   const std::string what = doing + " " + path + ": " + e.what();
   switch (code) {
+    case SQLITE_INTERRUPT:
+      if (lastStop == Stop::TimeLimit)
+        throw StoreError(StoreErrorKind::Tampered,
+                         doing + " " + path + ": a statement ran longer than " +
+                             std::to_string(static_cast<int>(lastLimitSeconds)) + " s and was stopped",
+                         "a leafdig file answers every question in well under a second; this one does not: check it "
+                         "with 'leafdig sessions verify --all'; nothing was changed");
+      throw StoreError(StoreErrorKind::Interrupted, doing + " " + path + ": interrupted",
+                       "nothing acknowledged was lost; run the command again");
     case SQLITE_FULL:
       throw StoreError(StoreErrorKind::DiskFull, what,
                        "the disk holding " + path +
@@ -46,8 +60,37 @@ namespace fs = std::filesystem;
 
 }  // namespace
 
+namespace {
+// The progress handler's state: statements stop on a signal, or past the time limit of the
+// operation that runs them (OperationClock).
+struct Budget {
+  double limitSeconds = Store::kDefaultTimeLimitSeconds;
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+};
+
+// Sets the deadline of one operation of a Store (all its statements together); nested
+// operations keep the outer one's.
+class OperationClock {
+ public:
+  explicit OperationClock(Budget& budget) : budget_(budget), outer_(budget.deadline) {
+    if (outer_ == std::chrono::steady_clock::time_point::max())
+      budget_.deadline = std::chrono::steady_clock::now() +
+                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>(budget_.limitSeconds));
+  }
+  OperationClock(const OperationClock&) = delete;
+  OperationClock& operator=(const OperationClock&) = delete;
+  ~OperationClock() { budget_.deadline = outer_; }
+
+ private:
+  Budget& budget_;
+  std::chrono::steady_clock::time_point outer_;
+};
+}  // namespace
+
 struct Store::Impl {
   std::unique_ptr<SQLite::Database> db;
+  Budget budget;
 };
 
 std::string Store::defaultPath() {
@@ -62,6 +105,122 @@ namespace {
 void refuseDamaged(const std::string& path, const std::string& problem) {
   throw StoreError(StoreErrorKind::Corrupt, path + " is damaged (" + problem + ")",
                    "restore it from a backup; the file was not modified");
+}
+
+// ---- a file from elsewhere ------------------------------------------------------------------
+// A station file is input like any other: a curator opens files technicians send, and sync
+// reads them. Before anything in it is read, every connection is made defensive and the
+// schema is compared with ours (docs/schema.md, "Files from elsewhere").
+
+int onProgress(void* context) {
+  const auto* b = static_cast<const Budget*>(context);
+  if (interruptRequested()) {
+    lastStop = Stop::Signal;
+    return 1;
+  }
+  if (std::chrono::steady_clock::now() > b->deadline) {
+    lastStop = Stop::TimeLimit;
+    lastLimitSeconds = b->limitSeconds;
+    return 1;
+  }
+  return 0;
+}
+
+// Defensive mode (no writes to the schema by pragmas), no functions with side effects from
+// the file's own schema, no views at all, and a progress handler (signals, time limit).
+void harden(SQLite::Database& db, Budget* budget) {
+  sqlite3* h = db.getHandle();
+  (void)sqlite3_db_config(h, SQLITE_DBCONFIG_DEFENSIVE, 1, nullptr);
+  (void)sqlite3_db_config(h, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, nullptr);
+  (void)sqlite3_db_config(h, SQLITE_DBCONFIG_ENABLE_VIEW, 0, nullptr);
+  // A command that only reads (or refuses) leaves the file and its -wal as it found them; a
+  // connection that wrote checkpoints on close (~Store).
+  (void)sqlite3_db_config(h, SQLITE_DBCONFIG_NO_CKPT_ON_CLOSE, 1, nullptr);
+  sqlite3_progress_handler(h, 10000, &onProgress, budget);
+}
+
+struct SchemaEntry {
+  std::string type, name, table, sql;
+};
+
+std::vector<SchemaEntry> readSchema(SQLite::Database& db) {
+  std::vector<SchemaEntry> out;
+  SQLite::Statement q(db, "SELECT type, name, tbl_name, coalesce(sql, '') FROM sqlite_master ORDER BY type, name");
+  while (q.executeStep())
+    out.push_back({q.getColumn(0).getString(), q.getColumn(1).getString(), q.getColumn(2).getString(),
+                   q.getColumn(3).getString()});
+  return out;
+}
+
+// Our schema at `version`: the migrations run in memory, read back as SQLite stores them.
+std::vector<SchemaEntry> expectedSchema(int version) {
+  SQLite::Database mem(":memory:", SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+  for (int v = 0; v < version; ++v) mem.exec(detail::kMigrations[static_cast<std::size_t>(v)]);
+  return readSchema(mem);
+}
+
+std::string quoted(const std::string& name) {
+  std::string out = "'";
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "'";
+}
+
+// Every table, index, trigger and view of the file against ours: anything extra, missing or
+// defined otherwise is named. (sqlite_stat1..4, written by ANALYZE, only steer query plans.)
+void checkSchema(SQLite::Database& db, const std::string& path, int version) {
+  const std::vector<SchemaEntry> expected = expectedSchema(version);
+  const std::vector<SchemaEntry> actual = readSchema(db);
+  std::vector<std::string> problems;
+  for (const SchemaEntry& e : expected) {
+    const auto at = std::find_if(actual.begin(), actual.end(),
+                                 [&](const SchemaEntry& a) { return a.type == e.type && a.name == e.name; });
+    if (at == actual.end())
+      problems.push_back("the " + e.type + " " + quoted(e.name) + " is missing");
+    else if (at->sql != e.sql || at->table != e.table)
+      problems.push_back("the " + e.type + " " + quoted(e.name) + " is defined otherwise than leafdig defines it");
+  }
+  for (const SchemaEntry& a : actual) {
+    const bool ours = std::any_of(expected.begin(), expected.end(),
+                                  [&](const SchemaEntry& e) { return a.type == e.type && a.name == e.name; });
+    if (ours || (a.type == "table" && a.name.rfind("sqlite_stat", 0) == 0)) continue;
+    problems.push_back("an extra " + a.type + " " + quoted(a.name) +
+                       (a.type == "trigger" || a.type == "index" ? " on " + quoted(a.table) : ""));
+  }
+  if (problems.empty()) return;
+  std::string list;
+  for (const auto& p : problems) list += (list.empty() ? "" : "; ") + p;
+  throw StoreError(StoreErrorKind::Tampered,
+                   path + " holds what leafdig never writes: " + list,
+                   "the file was changed by another program and is not opened: nothing in it was read, and the file "
+                   "was not modified; ask for the station's own copy, or look at it with sqlite3 (.schema)");
+}
+
+// Rows that name what is not in the file: a session whose leaf or operator was deleted, a
+// leaf without its plant, … (the small tables; events and projections are checked per
+// session by verify).
+void checkReferences(SQLite::Database& db, const std::string& path) {
+  std::vector<std::string> problems;
+  for (const char* table : {"plants", "leaves", "sessions", "exports"}) {
+    SQLite::Statement q(db, std::string("PRAGMA foreign_key_check(") + table + ")");
+    while (q.executeStep() && problems.size() < 5)
+      problems.push_back(q.getColumn(0).getString() + " row " + q.getColumn(1).getString() + " names a " +
+                         q.getColumn(2).getString() + " row that is not there");
+  }
+  if (problems.empty()) return;
+  std::string list;
+  for (const auto& p : problems) list += (list.empty() ? "" : "; ") + p;
+  throw StoreError(StoreErrorKind::Tampered, path + " has rows that name what was removed: " + list,
+                   "rows were deleted by another program; the file is not opened and was not modified: ask for the "
+                   "station's own copy");
 }
 
 void checkWhatCaptureTouches(SQLite::Database& db, const std::string& path) {
@@ -85,6 +244,7 @@ void checkWhatCaptureTouches(SQLite::Database& db, const std::string& path) {
 }  // namespace
 
 std::string Store::checkPages() const {
+  OperationClock clock(impl_->budget);
   try {
     std::string problems;
     SQLite::Statement q(*impl_->db, "PRAGMA quick_check");
@@ -98,10 +258,13 @@ std::string Store::checkPages() const {
 Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Impl>()), path_(path) {
   std::error_code ec;
   const bool exists = fs::exists(path, ec) && fs::file_size(path, ec) > 0;
+  OperationClock clock(impl_->budget);
   try {
     if (exists) {
-      // Look before touching: a foreign, damaged or newer file is refused unmodified.
+      // Look before touching: a foreign, damaged, newer or doctored file is refused unmodified,
+      // before any of its tables is read.
       SQLite::Database probe(path, SQLite::OPEN_READONLY);
+      harden(probe, &impl_->budget);
       const int appId = probe.execAndGet("PRAGMA application_id").getInt();
       const int version = probe.execAndGet("PRAGMA user_version").getInt();
       const int tables = probe.execAndGet("SELECT count(*) FROM sqlite_master").getInt();
@@ -114,6 +277,16 @@ Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Im
                          path + " was written by a newer leafdig (schema " + std::to_string(version) +
                              "; this program knows up to " + std::to_string(kSchemaVersion) + ")",
                          "install a newer leafdig to open it; the file was not modified");
+      if (version < 0 || (version == 0 && tables > 0))
+        throw StoreError(StoreErrorKind::Tampered,
+                         path + " says it is leafdig schema version " + std::to_string(version) +
+                             (version < 0 ? ", which no leafdig writes" : " but holds tables"),
+                         "its PRAGMA user_version was changed by another program; the file was not modified: ask "
+                         "for the station's own copy");
+      if (tables > 0) {
+        checkSchema(probe, path, version);
+        checkReferences(probe, path);
+      }
       // A writer must not append into a damaged file, but checking every page costs 0.6 s
       // for 10 000 leaves (docs/benchmarks.md). It checks what capture touches: the small
       // tables whole, and the right edge of the event log and of its projections, where
@@ -128,6 +301,7 @@ Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Im
     }
     impl_->db = std::make_unique<SQLite::Database>(
         path, readOnly ? SQLite::OPEN_READONLY : (SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE), 5000);
+    harden(*impl_->db, &impl_->budget);
     if (!readOnly) {
       impl_->db->exec("PRAGMA journal_mode=WAL");
       impl_->db->exec("PRAGMA synchronous=FULL");
@@ -148,7 +322,16 @@ Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Im
   }
 }
 
-Store::~Store() = default;
+Store::~Store() {
+  // A connection that wrote checkpoints its -wal into the file as it closes (the file alone
+  // then holds everything); one that only read, or refused, leaves both as they were.
+  if (impl_ && impl_->db && sqlite3_total_changes(impl_->db->getHandle()) > 0)
+    (void)sqlite3_db_config(impl_->db->getHandle(), SQLITE_DBCONFIG_NO_CKPT_ON_CLOSE, 0, nullptr);
+}
+
+void Store::setTimeLimit(double seconds) {
+  impl_->budget.limitSeconds = seconds;
+}
 
 int Store::schemaVersion() const {
   return impl_->db->execAndGet("PRAGMA user_version").getInt();
@@ -354,6 +537,7 @@ void writeEvent(SQLite::Database& db, std::int64_t session, const Event& e, cons
 }  // namespace
 
 std::int64_t Store::append(std::int64_t session, const EventInput& ev) {
+  OperationClock clock(impl_->budget);
   try {
     SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
     const Head head = headOf(*impl_->db, session, path_);
@@ -376,6 +560,7 @@ std::int64_t Store::append(std::int64_t session, const EventInput& ev) {
 }
 
 void Store::import(std::int64_t session, const std::vector<Event>& events) {
+  OperationClock clock(impl_->budget);
   try {
     SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
     Head head = headOf(*impl_->db, session, path_);
@@ -402,6 +587,7 @@ void Store::import(std::int64_t session, const std::vector<Event>& events) {
 }
 
 std::vector<Event> Store::events(std::int64_t session, std::int64_t fromSeq) const {
+  OperationClock clock(impl_->budget);
   std::vector<Event> out;
   try {
     SQLite::Statement q(*impl_->db,
@@ -429,6 +615,7 @@ std::vector<Event> Store::events(std::int64_t session, std::int64_t fromSeq) con
 }
 
 std::vector<MarkerRow> Store::markers(std::int64_t session) const {
+  OperationClock clock(impl_->budget);
   std::vector<MarkerRow> out;
   try {
     SQLite::Statement q(*impl_->db,
@@ -450,6 +637,7 @@ std::vector<MarkerRow> Store::markers(std::int64_t session) const {
 }
 
 std::vector<ThicknessRow> Store::thickness(std::int64_t session) const {
+  OperationClock clock(impl_->budget);
   std::vector<ThicknessRow> out;
   try {
     SQLite::Statement q(
@@ -503,6 +691,7 @@ SessionInfo readSession(SQLite::Statement& q) {
 }  // namespace
 
 std::optional<SessionInfo> Store::session(std::int64_t id) const {
+  OperationClock clock(impl_->budget);
   try {
     SQLite::Statement q(*impl_->db, std::string(kSessionSelect) + "WHERE s.id=?1");
     q.bind(1, id);
@@ -514,6 +703,7 @@ std::optional<SessionInfo> Store::session(std::int64_t id) const {
 }
 
 std::vector<SessionInfo> Store::sessions() const {
+  OperationClock clock(impl_->budget);
   std::vector<SessionInfo> out;
   try {
     SQLite::Statement q(*impl_->db, std::string(kSessionSelect) + "ORDER BY s.id");
@@ -525,11 +715,12 @@ std::vector<SessionInfo> Store::sessions() const {
 }
 
 ChainReport Store::verify(std::int64_t session) const {
+  OperationClock clock(impl_->budget);
   std::string genesis;
   std::int64_t headSeq = 0;
-  std::string headHash;
+  std::string headHash, status;
   try {
-    SQLite::Statement q(*impl_->db, "SELECT genesis_hash, head_seq, head_hash FROM sessions WHERE id=?1");
+    SQLite::Statement q(*impl_->db, "SELECT genesis_hash, head_seq, head_hash, status FROM sessions WHERE id=?1");
     q.bind(1, session);
     if (!q.executeStep()) {
       ChainReport r;
@@ -540,10 +731,20 @@ ChainReport Store::verify(std::int64_t session) const {
     genesis = q.getColumn(0).getString();
     headSeq = q.getColumn(1).getInt64();
     headHash = q.getColumn(2).getString();
+    status = q.getColumn(3).getString();
   } catch (const SQLite::Exception& e) {
     rethrow(e, path_, "cannot verify");
   }
-  return verifyChain(session, genesis, headSeq, headHash, events(session));
+  const std::vector<Event> log = events(session);
+  ChainReport r = verifyChain(session, genesis, headSeq, headHash, log);
+  if (!r.ok) return r;
+  // The tables read by other tools (and by the CSV export) must be what the events say.
+  if (const auto problem = projectionProblem(log, markers(session), thickness(session), status)) {
+    r.ok = false;
+    r.firstBadSeq = problem->seq;
+    r.problem = problem->text;
+  }
+  return r;
 }
 
 std::int64_t Store::recordExport(std::int64_t session, const std::string& path, const std::string& format) {

@@ -66,7 +66,7 @@ class LabCli : public Cli {
 TEST_F(LabCli, ALabSetsUpPushesReviewsOnTheServerAndTheStationTakesTheDecisionsIn) {
   const Result init = leafdig("server init --url " + quote(admin_) + " --json");
   ASSERT_EQ(init.exitCode, 0) << init.err;
-  EXPECT_EQ(json::parse(init.out).at("to_version"), 1);
+  EXPECT_EQ(json::parse(init.out).at("to_version"), leafdig::db::kLabSchemaVersion);
   EXPECT_EQ(leafdig("server init --url " + quote(admin_) + " --json").exitCode, 0);  // again: nothing to do
   const std::string tech = addUser("tech_bench_a_" + database_, "technician", "bench-a");
   const std::string curator = addUser("carla_" + database_, "curator");
@@ -129,6 +129,54 @@ TEST_F(LabCli, ALabSetsUpPushesReviewsOnTheServerAndTheStationTakesTheDecisionsI
   EXPECT_NE(bad.err.find("cannot read the password file"), std::string::npos);
 }
 
+// The attacks of issue 25 that go through leafdig rather than plain SQL: a station file whose
+// technician reopens an approved session or writes a status outside the closed set, pushed
+// with `sync push`; `server init` while another login holds its lock.
+TEST_F(LabCli, AStationFileCannotOverturnADecisionOrFakeOneAndInitNamesWhoHoldsItsLock) {
+  ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
+  const std::string tech = addUser("tech_bench_d_" + database_, "technician", "bench-d");
+  const std::string curator = addUser("carla_d_" + database_, "curator");
+  const std::string reader = addUser("rita_d_" + database_, "reader");
+  const fs::path file = dir_ / "station.sqlite";
+  std::int64_t decided = 0, open = 0;
+  {
+    leafdig::db::Store s(file.string());
+    decided = leafdig::test::captureSession(s, "bench-d", 1);
+    open = leafdig::test::captureSession(s, "bench-d", 2, 3, "tobacco-2026", "P-07", "ana", /*complete=*/false);
+  }
+  ASSERT_EQ(leafdig("sync push --db " + quote(file) + " --to " + quote(tech)).exitCode, 0);
+  const json listed = json::parse(leafdig("sessions list --json --db " + quote(curator)).out);
+  const std::string serverId = std::to_string(listed[0].at("id").get<int>());
+  ASSERT_EQ(leafdig("sessions approve " + serverId + " --who carla --db " + quote(curator)).exitCode, 0);
+  ASSERT_EQ(leafdig("sync pull --db " + quote(file) + " --from " + quote(tech)).exitCode, 0);
+  {
+    leafdig::db::Store s(file.string());
+    (void)s.setStatus(decided, "open", "ana", "reopened to fix a point");  // the technician's own file
+    leafdig::db::EventInput fake;
+    fake.kind = "status";
+    fake.payloadJson = R"({"status":"approved ","who":"ana","why":""})";
+    (void)s.append(open, fake);
+  }
+  const Result push = leafdig("sync push --db " + quote(file) + " --to " + quote(tech));
+  EXPECT_EQ(push.exitCode, 1);
+  EXPECT_NE(push.err.find("session bench-d:" + std::to_string(decided) + " not synced"), std::string::npos) << push.err;
+  EXPECT_NE(push.err.find("the decision is final"), std::string::npos) << push.err;
+  EXPECT_NE(push.err.find("its status is not one of open, complete, approved, rejected, abandoned"), std::string::npos)
+      << push.err;
+  const json after = json::parse(leafdig("sessions list --json --db " + quote(reader)).out);
+  EXPECT_EQ(after[0].at("status"), "approved");
+  EXPECT_EQ(after[1].at("status"), "open");
+  // Init waits a moment for its lock, then says which login holds it.
+  Sql holder(reader);
+  (void)holder.value("SELECT pg_advisory_lock(4710468163)::text");
+  const Result blocked = leafdig("server init --lock-wait 1 --url " + quote(admin_));
+  EXPECT_EQ(blocked.exitCode, 1);
+  EXPECT_NE(blocked.err.find("holds it"), std::string::npos) << blocked.err;
+  EXPECT_NE(blocked.err.find("login rita_d_" + database_), std::string::npos) << blocked.err;
+  (void)holder.value("SELECT pg_advisory_unlock(4710468163)::text");
+  EXPECT_EQ(leafdig("server init --lock-wait 1 --url " + quote(admin_)).exitCode, 0);
+}
+
 TEST_F(LabCli, ACapturedLeafIsShownCorrectedAndExportedFromTheServerAsFromItsFile) {
   ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
   const std::string tech = addUser("tech_bench_c_" + database_, "technician", "bench-c");
@@ -184,19 +232,46 @@ TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNext
   const char* runsEnv = std::getenv("LEAFDIG_KILL_RUNS");
   const int runs = std::max(50, runsEnv ? std::atoi(runsEnv) : 50);
   std::mt19937 rng(20261124);
-  std::uniform_int_distribution<int> killAfterMs(5, 250);
-  int killedMidPush = 0;
+  // Kill instants come from what this run sees, not from the machine's speed (issue 26): every
+  // other run waits for the push to report k of its sessions sent (k random) and kills it
+  // then, in the middle by construction; the others kill at a random instant within the
+  // duration of a whole push measured here first.
+  const auto freshServer = [&](const std::string& name) {
+    Sql(clusterOf().adminUrl()).rows("CREATE DATABASE " + name + " ENCODING 'UTF8' TEMPLATE template0");
+    admin_ = clusterOf().adminUrl(name);
+    database_ = name;
+    EXPECT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
+    return addUser("tech_" + name, "technician", "bench-k");
+  };
+  double wholePushMs = 0;
+  {
+    const std::string url = freshServer("killmeasure_" + std::to_string(::getpid()));
+    const auto t0 = std::chrono::steady_clock::now();
+    ASSERT_EQ(leafdig("sync push --db " + quote(file) + " --to " + quote(url) + " --batch 7").exitCode, 0);
+    wholePushMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+  std::uniform_int_distribution<int> sessionsSent(1, static_cast<int>(expected.size()) - 2);
+  std::uniform_real_distribution<double> fraction(0.02, 0.98);
+  int killedMidPush = 0, killedAfterProgress = 0;
   for (int run = 0; run < runs; ++run) {
-    // Each run on an empty server: the push is killed at a random instant, then run again.
+    // Each run on an empty server: the push is killed at a chosen instant, then run again.
     const std::string fresh = "kill" + std::to_string(run) + "_" + std::to_string(::getpid());
-    Sql(clusterOf().adminUrl()).rows("CREATE DATABASE " + fresh + " ENCODING 'UTF8' TEMPLATE template0");
-    admin_ = clusterOf().adminUrl(fresh);
-    database_ = fresh;
-    ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
-    const std::string url = addUser("tech_" + fresh, "technician", "bench-k");
+    const std::string url = freshServer(fresh);
     const fs::path out = dir_ / "push.out", err = dir_ / "push.err";
     const pid_t pid = spawn({"sync", "push", "--db", file.string(), "--to", url, "--batch", "7"}, out, err);
-    std::this_thread::sleep_for(std::chrono::milliseconds(killAfterMs(rng)));
+    if (run % 2 == 0) {
+      const auto lines = static_cast<std::size_t>(sessionsSent(rng));
+      const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+      for (;;) {
+        const std::string text = slurp(out);
+        std::size_t sent = 0;
+        for (auto at = text.find(" sent\n"); at != std::string::npos; at = text.find(" sent\n", at + 1)) ++sent;
+        if (sent >= lines || std::chrono::steady_clock::now() > give_up) break;
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+    } else {
+      std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(fraction(rng) * wholePushMs));
+    }
     ::kill(pid, SIGKILL);
     const int status = reap(pid);
     // Whatever reached the server is, for every session, exactly the start of the station's
@@ -211,7 +286,10 @@ TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNext
       events += hashes.size();
     }
     for (const auto& [id, hashes] : expected) all += hashes.size();
-    if (WIFSIGNALED(status) && events > 0 && events < all) ++killedMidPush;
+    if (WIFSIGNALED(status) && events > 0 && events < all) {
+      ++killedMidPush;
+      if (run % 2 == 0) ++killedAfterProgress;
+    }
     if (HasFailure()) FAIL() << "run " << run << ": " << slurp(err);
     // The next push continues where the server stands: it then holds exactly the file.
     const Result rest = leafdig("sync push --db " + quote(file) + " --to " + quote(url) + " --json");
@@ -222,7 +300,9 @@ TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNext
     for (const auto& s : server.sessions()) EXPECT_TRUE(server.verify(s.id).ok) << "run " << run;
     if (HasFailure()) FAIL() << "run " << run << " (continued): " << rest.err;
   }
-  EXPECT_GT(killedMidPush, runs / 3) << "most kills should land in the middle of a push";
+  // A run that waited for k < n - 1 sessions to be reported sent killed a push with sessions
+  // still to send: in the middle, whatever the machine's speed.
+  EXPECT_EQ(killedAfterProgress, (runs + 1) / 2) << "a kill after a progress line landed outside a push";
   std::printf("sync push kill -9: %d runs, %d killed mid-push, server always a prefix of the station\n", runs,
               killedMidPush);
 }

@@ -76,6 +76,41 @@ class Lab : public ::testing::Test {
     return out;
   }
 
+  // A session pushed by its station's technician: its server id and its id at the station.
+  struct Pushed {
+    std::string serverId;
+    std::int64_t stationId = 0;
+  };
+  Pushed pushOne(db::Store& station, const std::string& stationName, const std::string& tech, bool complete = true) {
+    const auto id = captureSession(station, stationName, static_cast<int>(station.sessions().size()) + 1, 2,
+                                   "tobacco-2026", "P-07", "ana", complete);
+    EXPECT_TRUE(db::push(station, tech).problems.empty());
+    return {Sql(admin_).value("SELECT id FROM leafdig.sessions WHERE station = $1 AND station_session_id = $2",
+                              {stationName, std::to_string(id)}),
+            id};
+  }
+  // Appends one event to a server session through plain SQL as the login of `sql`, chained
+  // exactly right (the server's own head and hash): "" when the server takes it, else its words.
+  std::string appendBySql(Sql&& sql, const Pushed& s, const std::string& station, const std::string& kind,
+                          const std::string& payload) {
+    Sql admin(admin_);
+    const auto head = admin.rows("SELECT head_seq, head_hash FROM leafdig.sessions WHERE id = $1", {s.serverId});
+    const std::int64_t seq = std::stoll(head[0][0]) + 1;
+    const std::string utc = "2026-11-25T10:00:00.000Z";
+    const std::string hash = db::eventHash(head[0][1], s.stationId, seq, utc, 7, kind, payload, "");
+    return sql.error(
+        "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+        "VALUES ($1, $2, $3, $4, 7, $5, $6, '', $7, $8)",
+        {s.serverId, station, std::to_string(seq), utc, kind, payload, head[0][1], hash});
+  }
+  std::string appendBySql(Sql& sql, const Pushed& s, const std::string& station, const std::string& kind,
+                          const std::string& payload) {
+    return appendBySql(std::move(sql), s, station, kind, payload);
+  }
+  std::string statusOf(const Pushed& s) {
+    return Sql(admin_).value("SELECT status FROM leafdig.sessions WHERE id = $1", {s.serverId});
+  }
+
   fs::path dir_;
   std::string database_, admin_;
   int logins_ = 0;
@@ -84,13 +119,25 @@ class Lab : public ::testing::Test {
 TEST(LabUrl, PasswordsAreRedactedInEveryForm) {
   EXPECT_EQ(db::redactUrl("postgresql://tech:s3cret@lab.example:5432/leafdig"),
             "postgresql://tech:***@lab.example:5432/leafdig");
-  EXPECT_EQ(db::redactUrl("postgres://tech@lab/leafdig?sslmode=verify-full&password=s3cret&x=1"),
-            "postgres://tech@lab/leafdig?sslmode=verify-full&password=***&x=1");
+  EXPECT_EQ(db::redactUrl("postgres://tech@lab/leafdig?sslmode=verify-full&password=s3cret&connect_timeout=5"),
+            "postgres://tech:***@lab/leafdig?connect_timeout=5&sslmode=verify-full");
   EXPECT_EQ(db::redactUrl("host=lab user=tech password='a b' dbname=leafdig"),
-            "host=lab user=tech password=*** dbname=leafdig");
+            "user=tech password=*** dbname=leafdig host=lab");
   EXPECT_EQ(db::redactUrl("postgresql://lab/leafdig"), "postgresql://lab/leafdig");
   EXPECT_TRUE(db::isServerUrl("postgresql://lab/x"));
   EXPECT_FALSE(db::isServerUrl("/home/ana/station.sqlite"));
+  EXPECT_EQ(db::redactUrl("/home/ana/station.sqlite"), "/home/ana/station.sqlite");
+  // Every way of writing a password that libpq reads (issue 25): a %-escaped key, the TLS
+  // key's password, spaces around '=', and a URL libpq cannot read at all.
+  for (const std::string& url : {std::string("postgresql://tech@lab/leafdig?pass%77ord=SECRET"),
+                                 std::string("postgresql://tech@lab/leafdig?sslpassword=SECRET&sslmode=require"),
+                                 std::string("host=lab user=tech password = SECRET dbname=leafdig"),
+                                 std::string("postgresql://tech:SE%zzCRET@lab/leafdig"),
+                                 std::string("postgresql://tech:SE%2FCRET@lab/x"), std::string("password = 'SECRET")}) {
+    const std::string shown = db::redactUrl(url);
+    EXPECT_EQ(shown.find("SECRET"), std::string::npos) << url << " -> " << shown;
+    EXPECT_EQ(shown.find("CRET"), std::string::npos) << url << " -> " << shown;
+  }
 }
 
 TEST(LabText, StationIdsAndUtf8AreChecked) {
@@ -107,12 +154,12 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "1");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "2");
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 1);
-  EXPECT_EQ(again.toVersion, 1);
+  EXPECT_EQ(again.fromVersion, 2);
+  EXPECT_EQ(again.toVersion, 2);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -180,7 +227,7 @@ TEST_F(Lab, APushSendsEveryEventExactlyAndASecondPushSendsNothing) {
 
 TEST_F(Lab, TheServerRechecksEveryChainAndNamesTheSessionAndEventItRefuses) {
   db::Store station(file("a.sqlite"));
-  const auto id = captureSession(station, "bench-a", 1);
+  const auto id = captureSession(station, "bench-a", 1, 3, "tobacco-2026", "P-07", "ana", /*complete=*/false);
   const std::string tech = login(db::LabRole::Technician, "bench-a");
   ASSERT_TRUE(db::push(station, tech).problems.empty());
   Sql sql(tech);
@@ -286,6 +333,271 @@ TEST_F(Lab, EachRoleIsHeldToWhatItMayDoByTheServer) {
   Sql sqlA(techA);
   EXPECT_EQ(sqlA.value("SELECT count(*) FROM leafdig.events WHERE station = 'bench-b'"), "0");
   EXPECT_EQ(Sql(reader).value("SELECT count(*) > 0 FROM leafdig.events WHERE station = 'bench-b'"), "t");
+}
+
+// ---- the lab server under attack (issue 25): each through plain SQL as the role ----------------
+
+TEST_F(Lab, AfterACuratorsDecisionNothingFollowsFromATechnicianNeitherBySqlNorByPush) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech);
+  db::LabStore curator(login(db::LabRole::Curator));
+  (void)curator.setStatus(std::stoll(s.serverId), "approved", "carla", "");
+  Sql asTech(tech);
+  for (const char* status : {"open", "abandoned", "complete"}) {
+    const std::string refused =
+        appendBySql(asTech, s, "bench-a", "status", std::string(R"({"status":")") + status + R"(","who":"ana"})");
+    EXPECT_NE(refused.find("was approved by a curator: the decision is final"), std::string::npos) << refused;
+  }
+  EXPECT_NE(appendBySql(asTech, s, "bench-a", "paused", R"({"reason":"x"})").find("the decision is final"),
+            std::string::npos);
+  EXPECT_EQ(statusOf(s), "approved");
+  // The same from the station's file: the decision pulled, then the file reopened and pushed.
+  ASSERT_TRUE(db::pull(station, tech).problems.empty());
+  (void)station.setStatus(s.stationId, "open", "ana", "reopened by hand");
+  const auto pushed = db::push(station, tech);
+  ASSERT_EQ(pushed.problems.size(), 1u);
+  EXPECT_NE(pushed.problems[0].problem.find("the decision is final"), std::string::npos) << pushed.problems[0].problem;
+  EXPECT_EQ(statusOf(s), "approved");
+  // A curator cannot decide twice either (the decision stands as taken).
+  EXPECT_NE(appendBySql(Sql(admin_), s, "bench-a", "status", R"({"status":"rejected","who":"carla","why":"x"})")
+                .find("the decision is final"),
+            std::string::npos);
+  // Every other station pulls the one decision.
+  db::Store copy(file("b.sqlite"));
+  EXPECT_EQ(db::LabStore(login(db::LabRole::Reader)).session(std::stoll(s.serverId))->status, "approved");
+}
+
+TEST_F(Lab, StatusesAreAClosedSetAndATechnicianOnlyEndsItsOwnCapture) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech, /*complete=*/false);
+  Sql asTech(tech);
+  for (const char* fake : {"approved ", "APPROVED", "approved\u200b", "finished", ""}) {
+    const std::string refused =
+        appendBySql(asTech, s, "bench-a", "status", nlohmann::json{{"status", fake}, {"who", "ana"}}.dump());
+    EXPECT_NE(refused.find("its status is not one of open, complete, approved, rejected, abandoned"), std::string::npos)
+        << fake << ": " << refused;
+  }
+  EXPECT_NE(appendBySql(asTech, s, "bench-a", "status", R"({"status":7})").find("its status is not one of"),
+            std::string::npos);
+  EXPECT_NE(appendBySql(asTech, s, "bench-a", "status", R"({"status":"open","who":"ana"})")
+                .find("a capture ends as complete or abandoned, not open"),
+            std::string::npos);
+  EXPECT_EQ(statusOf(s), "open");
+  // A status the server does not know cannot be written around the trigger either.
+  EXPECT_NE(Sql(admin_)
+                .error("UPDATE leafdig.sessions SET status = 'approved ' WHERE id = " + s.serverId)
+                .find("sessions_status_known"),
+            std::string::npos);
+  // Its own capture's end is the technician's.
+  EXPECT_EQ(appendBySql(asTech, s, "bench-a", "status", R"({"status":"complete","who":"ana","why":"done"})"), "");
+  EXPECT_EQ(statusOf(s), "complete");
+  EXPECT_EQ(db::LabStore(login(db::LabRole::Reader)).sessions().front().status, "complete");
+}
+
+TEST_F(Lab, ACuratorsCorrectionIsTheCuratorsAloneAndNoTechnicianUndoesIt) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech);
+  db::LabStore curator(login(db::LabRole::Curator));
+  const auto id = std::stoll(s.serverId);
+  const db::MarkerRow tip = curator.markers(id).front();
+  ASSERT_EQ(tip.what, "tip");
+  nlohmann::json payload{{"what", "tip"},
+                         {"row", nullptr},
+                         {"col", nullptr},
+                         {"seq", tip.seq},
+                         {"position_mm", {tip.positionMm[0], tip.positionMm[1], tip.positionMm[2]}}};
+  payload["corrected"] = {{"what", "tip"}, {"row", nullptr}, {"col", nullptr}, {"position_mm", {1.5, 2.5, 3.5}}};
+  payload["reason"] = "slipped";
+  payload["who"] = "carla";
+  db::EventInput corrected;
+  corrected.kind = "corrected";
+  corrected.payloadJson = payload.dump();
+  const auto correction = curator.append(id, corrected);
+  Sql asTech(tech);
+  const std::string undo =
+      appendBySql(asTech, s, "bench-a", "undone",
+                  nlohmann::json{{"what", "tip"}, {"row", nullptr}, {"col", nullptr}, {"seq", correction}}.dump());
+  EXPECT_NE(undo.find("its capture is over and only a curator adds to it"), std::string::npos) << undo;
+  const std::string retip =
+      appendBySql(asTech, s, "bench-a", "accepted", R"({"what":"tip","row":null,"col":null,"position_mm":[99,99,99]})");
+  EXPECT_NE(retip.find("its capture is over"), std::string::npos) << retip;
+  // Not even an administrator's capture event undoes a correction: a curator corrects again.
+  EXPECT_NE(
+      appendBySql(Sql(admin_), s, "bench-a", "undone", nlohmann::json{{"what", "tip"}, {"seq", correction}}.dump())
+          .find("its capture is over"),
+      std::string::npos);
+  (void)curator.setStatus(id, "approved", "carla", "");
+  int tips = 0;
+  for (const auto& m : db::LabStore(login(db::LabRole::Reader)).markers(id))
+    if (m.what == "tip") {
+      ++tips;
+      EXPECT_EQ(m.positionMm, (std::array<double, 3>{1.5, 2.5, 3.5}));
+    }
+  EXPECT_EQ(tips, 1);
+}
+
+TEST_F(Lab, ATemporaryPgRolesTableMakesNoTechnicianAnAdministrator) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech);
+  Sql asTech(tech);
+  ASSERT_EQ(asTech.error("CREATE TEMP TABLE pg_roles (rolname name, rolsuper boolean)"), "");
+  ASSERT_EQ(asTech.error("INSERT INTO pg_roles VALUES (current_user, true)"), "");
+  EXPECT_EQ(asTech.value("SELECT leafdig.is_admin(session_user)::text"), "false");
+  ASSERT_EQ(asTech.error("CREATE TEMP TABLE pg_namespace (nspname name, nspowner oid)"), "");
+  ASSERT_EQ(asTech.error("INSERT INTO pg_namespace SELECT 'leafdig', oid FROM pg_catalog.pg_roles WHERE rolname = "
+                         "current_user"),
+            "");
+  EXPECT_EQ(asTech.value("SELECT leafdig.is_admin(session_user)::text"), "false");
+  const std::string approve =
+      appendBySql(asTech, s, "bench-a", "status", R"({"status":"approved","who":"ana","why":""})");
+  EXPECT_NE(approve.find("only curators review"), std::string::npos) << approve;
+  EXPECT_EQ(statusOf(s), "complete");
+  // Every function of the schema searches the catalogs first and the temporary schema last.
+  for (const auto& row : Sql(admin_).rows(
+           "SELECT p.proname, coalesce(array_to_string(p.proconfig, ','), '') FROM pg_proc p JOIN pg_namespace n ON "
+           "n.oid = p.pronamespace WHERE n.nspname = 'leafdig'"))
+    EXPECT_EQ(row[1], "search_path=pg_catalog, pg_temp") << row[0];
+}
+
+TEST_F(Lab, IdsSignaturesAndArrivalTimesAreTheServersAlone) {
+  db::Store a(file("a.sqlite"));
+  db::Store b(file("b.sqlite"));
+  const std::string techA = login(db::LabRole::Technician, "bench-a");
+  const std::string techB = login(db::LabRole::Technician, "bench-b");
+  const Pushed s = pushOne(a, "bench-a", techA);
+  Sql asTech(techA);
+  const std::string next = Sql(admin_).value("SELECT coalesce(max(id), 0) + 1 FROM leafdig.sessions");
+  // Claiming the next session ids: refused, whatever the syntax.
+  const std::string claim = asTech.error(
+      "INSERT INTO leafdig.sessions(id, station, station_session_id, project, plant, leaf_position, operator, mode, "
+      "capture_order, settings_json, created_utc, genesis_hash) OVERRIDING SYSTEM VALUE VALUES ($1, 'bench-a', 999, "
+      "'p', 'p', 1, 'x', 'standard', 'sequential', '{}', 't', $2)",
+      {next, db::genesisHash(999, "t", "{}")});
+  EXPECT_NE(claim.find("permission denied"), std::string::npos) << claim;
+  for (const std::string column : {"pushed_by", "head_seq", "status", "first_pushed"})
+    EXPECT_NE(asTech
+                  .error("INSERT INTO leafdig.sessions(station, station_session_id, project, plant, leaf_position, "
+                         "operator, mode, capture_order, settings_json, created_utc, genesis_hash, " +
+                             column +
+                             ") VALUES ('bench-a', 998, 'p', 'p', 1, 'x', 'standard', 'sequential', '{}', 't', $1, "
+                             "DEFAULT)",
+                         {db::genesisHash(998, "t", "{}")})
+                  .find("permission denied"),
+              std::string::npos)
+        << column;
+  // …so another station's new session still goes.
+  (void)pushOne(b, "bench-b", techB);
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.sessions"), "2");
+  // An export is signed by the login that records it.
+  EXPECT_NE(asTech
+                .error("INSERT INTO leafdig.exports(session_id, path, format, utc, written_by) VALUES ($1, 'x.glb', "
+                       "'glb', 't', 'carla')",
+                       {s.serverId})
+                .find("permission denied"),
+            std::string::npos);
+  EXPECT_NE(asTech
+                .error("INSERT INTO leafdig.exports(id, session_id, path, format, utc) OVERRIDING SYSTEM VALUE "
+                       "VALUES (77, $1, 'x.glb', 'glb', 't')",
+                       {s.serverId})
+                .find("permission denied"),
+            std::string::npos);
+  EXPECT_EQ(asTech.error("INSERT INTO leafdig.exports(session_id, path, format, utc) VALUES ($1, 'x.glb', 'glb', 't')",
+                         {s.serverId}),
+            "");
+  const std::string techLogin = asTech.value("SELECT current_user");
+  EXPECT_EQ(Sql(admin_).value("SELECT written_by FROM leafdig.exports"), techLogin);
+  // An event's signature and arrival time likewise.
+  EXPECT_NE(asTech
+                .error("INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, "
+                       "prev_hash, hash, written_by) VALUES ($1, 'bench-a', 99, 't', 1, 'paused', '{}', '', 'x', "
+                       "'y', 'carla')",
+                       {s.serverId})
+                .find("permission denied"),
+            std::string::npos);
+}
+
+TEST_F(Lab, ARefusalNamesNothingOfWhatTheLoginMayNotSee) {
+  db::Store a(file("a.sqlite"));
+  db::Store b(file("b.sqlite"));
+  const std::string techA = login(db::LabRole::Technician, "bench-a");
+  const std::string techB = login(db::LabRole::Technician, "bench-b");
+  (void)pushOne(a, "bench-a", techA);
+  const Pushed other = pushOne(b, "bench-b", techB, /*complete=*/false);
+  Sql asA(techA);
+  const std::string insert =
+      "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+      "VALUES ($1, 'bench-a', 1, 't', 1, 'paused', '{}', '', 'x', 'y')";
+  const std::string aboutB = asA.error(insert, {other.serverId});
+  const std::string aboutNothing = asA.error(insert, {"987654"});
+  EXPECT_EQ(aboutB.find("bench-b"), std::string::npos) << aboutB;
+  const auto headB = Sql(admin_).value("SELECT head_seq FROM leafdig.sessions WHERE id = $1", {other.serverId});
+  EXPECT_EQ(aboutB.find(" " + headB), std::string::npos) << "event count leaked: " << aboutB;
+  // The same words as for a session that does not exist at all, but for its number.
+  std::string x = aboutB;
+  x.replace(x.find(other.serverId), other.serverId.size(), "987654");
+  EXPECT_EQ(x, aboutNothing);
+  // …also when the event names station bench-b itself.
+  const std::string named = asA.error(
+      "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+      "VALUES ($1, 'bench-b', 1, 't', 1, 'paused', '{}', '', 'x', 'y')",
+      {other.serverId});
+  EXPECT_EQ(named.find("bench-b:"), std::string::npos) << named;
+  EXPECT_EQ(named.find(" " + headB), std::string::npos) << named;
+}
+
+TEST_F(Lab, OnlyWhatLeafdigWritesIsTakenSoNoSessionIsLeftUnreadable) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech, /*complete=*/false);
+  Sql asTech(tech);
+  const std::vector<std::pair<std::pair<std::string, std::string>, std::string>> bad{
+      {{"accepted", "not json"}, "its payload is not JSON"},
+      {{"accepted", "[1,2]"}, "not a JSON object"},
+      {{"hack", "{}"}, "its kind is not one leafdig writes"},
+      {{"accepted", R"({"what":"marker","row":1,"col":1})"}, "its payload is not an item"},
+      {{"accepted", R"({"what":"marker","row":1,"col":1,"position_mm":[1,2]})"}, "its payload is not an item"},
+      {{"accepted", R"({"what":"lasers","row":1,"col":1,"value_mm":1})"}, "its payload is not an item"},
+      {{"accepted", R"({"what":"midrib_thickness","row":1,"col":4,"value_mm":-1})"}, "its payload is not an item"},
+      {{"undone", R"({"what":"marker","seq":"3"})"}, "does not name an earlier event"},
+      {{"undone", R"({"what":"marker","seq":99999})"}, "does not name an earlier event"},
+      {{"undone", R"({"what":"marker","seq":1.5})"}, "does not name an earlier event"},
+  };
+  for (const auto& [event, words] : bad) {
+    const std::string refused = appendBySql(asTech, s, "bench-a", event.first, event.second);
+    EXPECT_NE(refused.find(words), std::string::npos) << event.first << " " << event.second << ": " << refused;
+  }
+  // An undo names a captured item: event 2 (the first marker) yes; a `rows_ended` no.
+  const auto rowsEnded =
+      Sql(admin_).value("SELECT seq FROM leafdig.events WHERE session_id = $1 AND kind = 'rows_ended'", {s.serverId});
+  EXPECT_NE(appendBySql(asTech, s, "bench-a", "undone", R"({"what":"marker","seq":)" + rowsEnded + "}")
+                .find("which is not a captured item"),
+            std::string::npos);
+  // The session still reads on the server and pulls at the station.
+  db::LabStore reader(login(db::LabRole::Reader));
+  EXPECT_TRUE(reader.verify(std::stoll(s.serverId)).ok);
+  EXPECT_FALSE(reader.markers(std::stoll(s.serverId)).empty());
+  EXPECT_TRUE(db::pull(station, tech).problems.empty());
+}
+
+TEST_F(Lab, InitWaitsForItsLockAndThenNamesWhoHoldsIt) {
+  const std::string reader = login(db::LabRole::Reader);
+  Sql holder(reader);
+  ASSERT_EQ(holder.value("SELECT pg_advisory_lock(4710468163)::text"), "");  // void
+  const std::string readerLogin = holder.value("SELECT current_user");
+  try {
+    (void)db::initServer(admin_, 0.5);
+    FAIL() << "init ran while another login held its lock";
+  } catch (const db::StoreError& e) {
+    EXPECT_EQ(e.kind(), db::StoreErrorKind::Busy) << e.what();
+    EXPECT_NE(std::string(e.what()).find("login " + readerLogin), std::string::npos) << e.what();
+    EXPECT_NE(e.remedy().find("pg_terminate_backend"), std::string::npos) << e.remedy();
+  }
+  (void)holder.value("SELECT pg_advisory_unlock(4710468163)::text");
+  EXPECT_EQ(db::initServer(admin_, 0.5).toVersion, db::kLabSchemaVersion);
 }
 
 TEST_F(Lab, ACuratorsDecisionsComeBackToTheStationThatCapturedTheSession) {

@@ -40,10 +40,12 @@ class StoreTest : public ::testing::Test {
     const auto leaf = s.ensureLeaf(s.ensurePlant(s.ensureProject("tobacco-2026"), "P07"), 5, "middle");
     return s.createSession(leaf, op, "bench-1", "standard", "sequential", R"({"still_mm":0.5})");
   }
+  // An accepted marker as capture writes it: the payload says what the projection holds.
   static EventInput marker(int row, int col, double x) {
     EventInput e;
     e.kind = "accepted";
-    e.payloadJson = R"({"what":"marker"})";
+    e.payloadJson =
+        nlohmann::json{{"what", "marker"}, {"row", row}, {"col", col}, {"position_mm", {x, 2.0, 3.0}}}.dump();
     e.raw = "01   1.00   2.00   3.00\\r\\n";
     e.monoNs = 123456789;
     e.projection = Projection{Projection::Kind::Marker, row, col, "marker", {x, 2, 3}, 0, ""};
@@ -113,10 +115,13 @@ TEST_F(StoreTest, AppendsEventsWithProjectionsAndUndo) {
   EXPECT_EQ(s.append(id, marker(1, 2, 20)), 2);
   EventInput t;
   t.kind = "accepted";
+  t.payloadJson = R"({"what":"midrib_thickness","row":1,"col":4,"value_mm":1.25})";
+  t.raw = "+001.250\\r";
   t.projection = Projection{Projection::Kind::Thickness, 1, 4, "midrib_thickness", {}, 1.25, "+001.250\\r"};
   EXPECT_EQ(s.append(id, t), 3);
   EventInput undo;
   undo.kind = "undone";
+  undo.payloadJson = R"({"what":"marker","row":1,"col":2,"seq":2})";
   undo.retracts = 2;
   EXPECT_EQ(s.append(id, undo), 4);
   const auto m = s.markers(id);
@@ -149,9 +154,10 @@ TEST_F(StoreTest, EventsCannotBeEditedAndTamperingIsFound) {
   }
   sql(path_, "UPDATE events SET payload_json='{}' WHERE seq=3", false);  // the trigger refuses
   sql(path_, "DELETE FROM events WHERE seq=5", false);
-  // Someone drops the triggers and edits event 3 anyway.
+  // Someone drops the trigger, edits event 3 and puts the trigger back as it was.
   sql(path_, "DROP TRIGGER events_no_update; UPDATE events SET raw='01 9.99' WHERE session_id=" + std::to_string(id) +
-                 " AND seq=3");
+                 " AND seq=3; CREATE TRIGGER events_no_update BEFORE UPDATE ON events\n"
+                 "  BEGIN SELECT RAISE(ABORT, 'events are append-only: record a correction event instead'); END");
   {
     Store s(path_);
     const auto r = s.verify(id);
@@ -159,6 +165,9 @@ TEST_F(StoreTest, EventsCannotBeEditedAndTamperingIsFound) {
     EXPECT_EQ(*r.firstBadSeq, 3);
     EXPECT_NE(r.problem.find("changed"), std::string::npos);
   }
+  // Without the trigger the file is not opened at all: the missing trigger is named.
+  sql(path_, "DROP TRIGGER events_no_update");
+  expectRefusedUnchanged(StoreErrorKind::Tampered, "the trigger 'events_no_update' is missing");
 }
 
 TEST_F(StoreTest, TruncationIsFound) {
@@ -168,7 +177,10 @@ TEST_F(StoreTest, TruncationIsFound) {
     id = newSession(s);
     for (int i = 1; i <= 5; ++i) s.append(id, marker(1, i, i));
   }
-  sql(path_, "DROP TRIGGER events_no_delete; DELETE FROM markers WHERE seq=5; DELETE FROM events WHERE seq=5");
+  sql(path_,
+      "DROP TRIGGER events_no_delete; DELETE FROM markers WHERE seq=5; DELETE FROM events WHERE seq=5; "
+      "CREATE TRIGGER events_no_delete BEFORE DELETE ON events\n"
+      "  BEGIN SELECT RAISE(ABORT, 'events are append-only: record a correction event instead'); END");
   Store s(path_);
   const auto r = s.verify(id);
   EXPECT_FALSE(r.ok);
@@ -376,6 +388,173 @@ TEST_F(StoreTest, DefaultPathFollowsXdg) {
   ::setenv("XDG_DATA_HOME", dir_.c_str(), 1);
   EXPECT_EQ(Store::defaultPath(), (dir_ / "leafdig" / "station.sqlite").string());
   ::unsetenv("XDG_DATA_HOME");
+}
+
+// ---- files from someone else (issue 25): each a copy of a real file with one statement added --
+
+class CraftedFile : public StoreTest {
+ protected:
+  // A station file with one session of 12 markers, a reading and a status, closed.
+  std::int64_t capture() {
+    Store s(path_);
+    const auto id = newSession(s);
+    for (int i = 1; i <= 12; ++i) s.append(id, marker(1 + (i - 1) / 6, 1 + (i - 1) % 6, i));
+    s.setStatus(id, "complete", "ana", "all steps captured");
+    return id;
+  }
+  // Opening, read-only and for writing, is refused, named, before anything is read; the
+  // file is not changed.
+  void expectRefusedBothWays(const std::string& messagePart) {
+    expectRefusedUnchanged(StoreErrorKind::Tampered, messagePart);
+    try {
+      Store reader(path_, true);
+      FAIL() << "a reader opened it";
+    } catch (const StoreError& e) {
+      EXPECT_EQ(e.kind(), StoreErrorKind::Tampered) << e.what();
+      EXPECT_NE(std::string(e.what()).find(messagePart), std::string::npos) << e.what();
+    }
+  }
+  static std::string scalar(const std::string& path, const std::string& query) {
+    sqlite3* db = nullptr;
+    EXPECT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+    sqlite3_stmt* st = nullptr;
+    std::string out;
+    if (sqlite3_prepare_v2(db, query.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW &&
+        sqlite3_column_text(st, 0))
+      out = reinterpret_cast<const char*>(sqlite3_column_text(st, 0));
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+    return out;
+  }
+};
+
+TEST_F(CraftedFile, ATriggerThatRewritesMarkersIsRefusedByNameAndNeverFires) {
+  const auto id = capture();
+  sql(path_,
+      "CREATE TRIGGER evil AFTER INSERT ON events BEGIN UPDATE markers SET x_mm = x_mm + 100 WHERE session_id = "
+      "NEW.session_id; INSERT INTO operators(name, role) VALUES ('pwned-' || NEW.seq, 'curator'); END;");
+  expectRefusedBothWays("an extra trigger 'evil' on 'events'");
+  EXPECT_EQ(scalar(path_, "SELECT count(*) FROM operators WHERE name LIKE 'pwned-%'"), "0");
+  EXPECT_EQ(scalar(path_, "SELECT x_mm FROM markers WHERE session_id = " + std::to_string(id) + " AND seq = 1"), "1.0");
+}
+
+TEST_F(CraftedFile, AViewInPlaceOfATableIsRefusedByNameBeforeItIsRead) {
+  (void)capture();
+  sql(path_,
+      "ALTER TABLE markers RENAME TO markers_real; CREATE VIEW markers AS SELECT session_id, seq, what, row, col, "
+      "x_mm + 50 AS x_mm, y_mm, z_mm FROM markers_real;");
+  expectRefusedBothWays("the table 'markers' is missing");
+  expectRefusedBothWays("an extra view 'markers'");
+}
+
+TEST_F(CraftedFile, AnEndlessViewIsRefusedInsteadOfRun) {
+  (void)capture();
+  // A `sessions` view over a recursive CTE that never ends: reading it would never return.
+  sql(path_,
+      "ALTER TABLE sessions RENAME TO sessions_real; CREATE VIEW sessions AS WITH RECURSIVE n(i) AS (SELECT 1 UNION "
+      "ALL SELECT i + 1 FROM n) SELECT s.* FROM sessions_real s, n;");
+  expectRefusedBothWays("an extra view 'sessions'");
+}
+
+TEST_F(CraftedFile, AChangedTableOrAnExtraIndexOrTableIsRefusedAndAnalyzeIsNot) {
+  (void)capture();
+  sql(path_, "ANALYZE");  // sqlite_stat1 only steers query plans
+  { Store s(path_, true); }
+  sql(path_, "CREATE INDEX markers_by_x ON markers(x_mm)");
+  expectRefusedBothWays("an extra index 'markers_by_x' on 'markers'");
+  sql(path_, "DROP INDEX markers_by_x; ALTER TABLE markers ADD COLUMN note TEXT");
+  expectRefusedBothWays("the table 'markers' is defined otherwise");
+}
+
+TEST_F(CraftedFile, ASchemaVersionOfMinusOneOrZeroIsRefusedNotMigrated) {
+  (void)capture();
+  sql(path_, "PRAGMA user_version = -1");
+  expectRefusedBothWays("schema version -1, which no leafdig writes");
+  sql(path_, "PRAGMA user_version = 0");
+  expectRefusedBothWays("schema version 0 but holds tables");
+}
+
+TEST_F(CraftedFile, ASessionWhoseLeafWasDeletedIsNamed) {
+  (void)capture();
+  sql(path_, "PRAGMA foreign_keys = OFF; DELETE FROM leaves;");
+  expectRefusedBothWays("sessions row 1 names a leaves row that is not there");
+}
+
+TEST_F(CraftedFile, AProjectionEditedBehindTheEventsIsFoundByVerifyNamingTheItem) {
+  const auto id = capture();
+  sql(path_, "UPDATE markers SET x_mm = x_mm + 100 WHERE seq = 8");
+  {
+    Store s(path_, true);
+    const auto r = s.verify(id);
+    EXPECT_FALSE(r.ok);
+    EXPECT_EQ(r.firstBadSeq, 8);
+    EXPECT_NE(r.problem.find("the markers table has marker row 2 col 2 of event 8 as (108.000, 2.000, 3.000) mm, "
+                             "but its event says marker row 2 col 2 (8.000, 2.000, 3.000) mm"),
+              std::string::npos)
+        << r.problem;
+  }
+  sql(path_, "UPDATE markers SET x_mm = x_mm - 100 WHERE seq = 8; DELETE FROM markers WHERE seq = 3");
+  EXPECT_NE(Store(path_, true).verify(id).problem.find("lacks marker row 1 col 3 of event 3"), std::string::npos);
+  sql(path_, "INSERT INTO markers VALUES (" + std::to_string(id) +
+                 ", 3, 'marker', 1, 3, 3.0, 2.0, 3.0); UPDATE sessions SET status = 'approved'");
+  EXPECT_NE(Store(path_, true).verify(id).problem.find("the session's status is 'approved' but its events say 'complete'"),
+            std::string::npos);
+}
+
+// A -wal beside the file is part of it (SQLite's rule; after a crash it holds the last
+// acknowledged events): what it holds is checked as the file is, and a command that refuses
+// changes neither the file nor its -wal.
+TEST_F(CraftedFile, WhatAWalHoldsIsCheckedAndARefusalLeavesFileAndWalUnchanged) {
+  const auto id = capture();
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path_.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_db_config(db, SQLITE_DBCONFIG_NO_CKPT_ON_CLOSE, 1, nullptr), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "PRAGMA wal_autocheckpoint=0; UPDATE markers SET y_mm = 77 WHERE seq = 5", nullptr,
+                           nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  const std::string wal = path_ + "-wal";
+  ASSERT_TRUE(fs::exists(wal) && fs::file_size(wal) > 0);
+  const std::string file = bytes(path_), walBytes = bytes(wal);
+  {
+    Store s(path_);  // opened for writing, as `sessions approve` does
+    const auto r = s.verify(id);
+    EXPECT_FALSE(r.ok);
+    EXPECT_EQ(r.firstBadSeq, 5);
+  }
+  EXPECT_EQ(bytes(path_), file) << "a refusing command checkpointed the -wal into the file";
+  EXPECT_EQ(bytes(wal), walBytes);
+}
+
+TEST_F(CraftedFile, NoOperationRunsPastItsTimeLimitAndASignalStopsAStatement) {
+  std::int64_t id = 0;
+  {
+    Store s(path_);
+    id = newSession(s);
+    for (int i = 1; i <= 3000; ++i) s.append(id, marker(1 + i / 7, 1 + i % 7, i));
+  }
+  Store s(path_, true);
+  s.setTimeLimit(1e-9);
+  try {
+    (void)s.events(id);
+    FAIL() << "the operation was not stopped at its time limit";
+  } catch (const StoreError& e) {
+    EXPECT_EQ(e.kind(), StoreErrorKind::Tampered) << e.what();
+    EXPECT_NE(std::string(e.what()).find("ran longer than"), std::string::npos) << e.what();
+  }
+  s.setTimeLimit(Store::kDefaultTimeLimitSeconds);
+  EXPECT_EQ(s.events(id).size(), 3000u);
+  leafdig::db::requestInterrupt();
+  try {
+    (void)s.verify(id);
+    FAIL() << "a requested interrupt did not stop the statement";
+  } catch (const StoreError& e) {
+    EXPECT_EQ(e.kind(), StoreErrorKind::Interrupted) << e.what();
+  }
+  leafdig::db::clearInterrupt();
+  EXPECT_TRUE(s.verify(id).ok);
 }
 
 TEST(Sha256, KnownVector) {

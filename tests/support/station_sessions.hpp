@@ -13,10 +13,11 @@ namespace db = leafdig::db;
 
 // A session as a station writes it: the tip and `rows` rows of 7 markers (one undone and
 // taken again), a midrib and a vein-origin reading per row, the end of the rows and the
-// edge reading, then `complete`. Returns the session's id in the file.
+// edge reading, then `complete` (unless `complete` is false: the session stays open, as one
+// being captured). Returns the session's id in the file.
 inline std::int64_t captureSession(db::Store& s, const std::string& station, int leaf, int rows = 3,
                                    const std::string& project = "tobacco-2026", const std::string& plant = "P-07",
-                                   const std::string& operatorName = "ana") {
+                                   const std::string& operatorName = "ana", bool complete = true) {
   const auto op = s.ensureOperator(operatorName);
   const auto leafId = s.ensureLeaf(s.ensurePlant(s.ensureProject(project), plant), leaf, "middle", 12345.5);
   const auto id = s.createSession(leafId, op, station, "standard", "sequential", R"({"engine":{"still_mm":0.5}})");
@@ -66,7 +67,7 @@ inline std::int64_t captureSession(db::Store& s, const std::string& station, int
     (void)reading("midrib_thickness", r, 4, 2.0 - 0.1 * r);
     (void)reading("vein_origin_thickness", r, 4, 1.0 - 0.05 * r);
   }
-  (void)s.setStatus(id, "complete", operatorName, "all steps captured");
+  if (complete) (void)s.setStatus(id, "complete", operatorName, "all steps captured");
   return id;
 }
 

@@ -31,6 +31,7 @@
 #include "leafdig/version.hpp"
 #include "store_errors.hpp"
 #include "synth_cmd.hpp"
+#include "terminal_text.hpp"
 
 namespace leafdig::cli {
 namespace {
@@ -40,8 +41,13 @@ namespace m = leafdig::model;
 using nlohmann::json;
 
 std::atomic<bool> interrupted{false};
+// Before a capture starts (opening and checking the file), a signal also stops the SQLite
+// statement that runs: a doctored file cannot hold the process. Once capture runs, the
+// watcher stops it in order (the last events are still written).
+std::atomic<bool> captureRunning{false};
 void onSignal(int) {
   interrupted = true;
+  if (!captureRunning) db::requestInterrupt();
 }
 
 std::string dbPath(const CaptureOptions& o) {
@@ -57,16 +63,16 @@ int reportFailure(const std::exception_ptr& error, const char* inputPrefix = "")
   } catch (const db::StoreError& e) {
     return reportStoreError(e);
   } catch (const m::InputError& e) {
-    std::cerr << "leafdig: " << inputPrefix << e.what() << "\n";
+    std::cerr << "leafdig: " << inputPrefix << terminalMessage(e.what()) << "\n";
     return 2;
   } catch (const acq::SessionError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
+    std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
     return 2;
   } catch (const std::invalid_argument& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
+    std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
+    std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
     return 1;
   }
 }
@@ -256,6 +262,9 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
     }
   };
   acq::CaptureRun run(request, observer);
+  if (interrupted) throw db::StoreError(db::StoreErrorKind::Interrupted, "capture interrupted while opening",
+                                        "nothing was captured; run the command again");
+  captureRunning = true;
   id = run.sessionId();
   if (onStart) onStart(id);
   if (!quiet && !o.json)
@@ -352,10 +361,10 @@ int runList(const db::EventStore& store, const CaptureOptions& o) {
             << "created (UTC)\n";
   for (const auto& s : sessions) {
     std::cout << std::setw(6) << s.id;
-    if (server) std::cout << std::setw(22) << (s.station + ":" + std::to_string(s.stationSessionId));
-    std::cout << std::setw(10) << s.status << std::setw(28)
-              << (s.project + "/" + s.plant + "/" + std::to_string(s.leafPosition)) << std::setw(14) << s.operatorName
-              << std::setw(8) << s.headSeq << s.createdUtc << "\n";
+    if (server) std::cout << std::setw(22) << terminalText(s.station + ":" + std::to_string(s.stationSessionId));
+    std::cout << std::setw(10) << terminalText(s.status) << std::setw(28)
+              << terminalText(s.project + "/" + s.plant + "/" + std::to_string(s.leafPosition)) << std::setw(14)
+              << terminalText(s.operatorName) << std::setw(8) << s.headSeq << terminalText(s.createdUtc) << "\n";
   }
   if (sessions.empty()) std::cout << "(no sessions in " << store.describe() << ")\n";
   return 0;
@@ -364,9 +373,11 @@ int runList(const db::EventStore& store, const CaptureOptions& o) {
 int runShow(const db::EventStore& store, const CaptureOptions& o) {
   const acq::ReviewedSession r = acq::openForReview(store, o.id);
   const db::ChainReport chain = store.verify(o.id);
+  // What the events say (a table edited behind them shows as chain_ok false, with the problem).
+  const db::Projected projected = db::project(store.events(o.id));
   json tip = nullptr;
   json markers = json::array(), board = json::array(), thickness = json::array();
-  for (const auto& mk : store.markers(o.id)) {
+  for (const auto& mk : projected.markers) {
     const json pos = {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]};
     if (mk.what == "tip")
       tip = pos;
@@ -375,7 +386,7 @@ int runShow(const db::EventStore& store, const CaptureOptions& o) {
     else
       markers.push_back({{"row", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}});
   }
-  for (const auto& t : store.thickness(o.id))
+  for (const auto& t : projected.thickness)
     thickness.push_back({{"what", t.what},
                          {"row", t.row ? json(*t.row) : json(nullptr)},
                          {"col", t.col ? json(*t.col) : json(nullptr)},
@@ -391,6 +402,7 @@ int runShow(const db::EventStore& store, const CaptureOptions& o) {
            {"thickness", thickness},
            {"events", chain.events},
            {"chain_ok", chain.ok},
+           {"problem", chain.problem},
            {"project", r.info.project},
            {"plant", r.info.plant},
            {"leaf_position", r.info.leafPosition},
@@ -402,11 +414,13 @@ int runShow(const db::EventStore& store, const CaptureOptions& o) {
     std::cout << j.dump() << "\n";
     return 0;
   }
-  std::cout << "session " << o.id << " · " << r.info.status << " · " << r.info.project << "/" << r.info.plant
-            << "/leaf " << r.info.leafPosition << " · " << r.info.mode << " · operator " << r.info.operatorName << "\n"
+  std::cout << "session " << o.id << " · " << terminalText(r.info.status) << " · "
+            << terminalText(r.info.project + "/" + r.info.plant) << "/leaf " << r.info.leafPosition << " · "
+            << terminalText(r.info.mode) << " · operator " << terminalText(r.info.operatorName) << "\n"
             << "  step: " << r.engine.prompt() << "\n  " << markers.size() << " markers"
             << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
-            << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + chain.problem) << "\n";
+            << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem))
+            << "\n";
   return 0;
 }
 
@@ -437,7 +451,8 @@ int runVerify(const db::EventStore& store, const CaptureOptions& o) {
     else
       std::cout << "session " << id << ": " << c.events << " events, "
                 << (c.ok ? "chain OK"
-                         : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " + c.problem)
+                         : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " +
+                               terminalText(c.problem))
                 << "\n";
   }
   // Every page of a station's file as well (opening for capture checks only what capture
@@ -716,7 +731,8 @@ int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {
     const bool writes = s->get_subcommand("approve")->parsed() || s->get_subcommand("reject")->parsed() ||
                         s->get_subcommand("export")->parsed() || s->get_subcommand("correct")->parsed();
     if (!db::isServerUrl(o.db) && !std::filesystem::exists(dbPath(o)))
-      throw std::invalid_argument("no database at " + dbPath(o) + ": give --db FILE (capture creates one)");
+      throw std::invalid_argument("no database at " + db::redactUrl(dbPath(o)) +
+                                  ": give --db FILE (capture creates one), or the lab server as postgresql://…");
     const std::unique_ptr<db::EventStore> opened = db::openEventStore(dbPath(o), !writes);
     db::EventStore& store = *opened;
     if (s->get_subcommand("list")->parsed()) return runList(store, o);

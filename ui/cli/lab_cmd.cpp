@@ -8,6 +8,7 @@
 
 #include "leafdig/db/lab.hpp"
 #include "store_errors.hpp"
+#include "terminal_text.hpp"
 
 namespace leafdig::cli {
 namespace {
@@ -42,8 +43,9 @@ json problemsJson(const std::vector<db::SyncProblem>& problems) {
 
 void printProblems(const std::vector<db::SyncProblem>& problems) {
   for (const auto& p : problems) {
-    std::cerr << "leafdig: session " << p.station << ":" << p.stationSessionId << " not synced: " << p.problem << "\n";
-    if (!p.remedy.empty()) std::cerr << "  what to do: " << p.remedy << "\n";
+    std::cerr << "leafdig: session " << terminalText(p.station) << ":" << p.stationSessionId
+              << " not synced: " << terminalMessage(p.problem) << "\n";
+    if (!p.remedy.empty()) std::cerr << "  what to do: " << terminalMessage(p.remedy) << "\n";
   }
 }
 
@@ -55,7 +57,8 @@ int runPush(const LabOptions& o) {
   db::SyncOptions options;
   if (!o.station.empty()) options.station = o.station;
   options.eventsPerTransaction = o.eventsPerTransaction;
-  if (!o.json) options.progress = [](const std::string& line) { std::cout << "  " << line << "\n" << std::flush; };
+  if (!o.json)
+    options.progress = [](const std::string& line) { std::cout << "  " << terminalText(line) << "\n" << std::flush; };
   const auto t0 = std::chrono::steady_clock::now();
   const db::PushReport r = db::push(local, o.url, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -84,7 +87,8 @@ int runPull(const LabOptions& o) {
   db::Store local(path);
   db::SyncOptions options;
   if (!o.station.empty()) options.station = o.station;
-  if (!o.json) options.progress = [](const std::string& line) { std::cout << "  " << line << "\n" << std::flush; };
+  if (!o.json)
+    options.progress = [](const std::string& line) { std::cout << "  " << terminalText(line) << "\n" << std::flush; };
   const db::PullReport r = db::pull(local, o.url, options);
   if (o.json)
     std::cout << json{{"from", db::redactUrl(o.url)},
@@ -102,7 +106,7 @@ int runPull(const LabOptions& o) {
 }
 
 int runInit(const LabOptions& o) {
-  const db::ServerInit r = db::initServer(o.url);
+  const db::ServerInit r = db::initServer(o.url, o.lockWaitSeconds);
   if (o.json) {
     std::cout << json{{"url", db::redactUrl(o.url)},
                       {"from_version", r.fromVersion},
@@ -155,6 +159,9 @@ void addLabCommands(CLI::App& app, LabOptions& o) {
     c->add_option("--url", o.url, "postgresql://ADMIN@HOST/DB (the password from ~/.pgpass or PGPASSWORD)")->required();
     c->add_flag("--json", o.json, "JSON output");
   }
+  init->add_option("--lock-wait", o.lockWaitSeconds,
+                   "Seconds to wait for another init's lock before naming who holds it (default 30)")
+      ->check(CLI::Range(0.0, 3600.0));
   add->add_option("--login", o.login, "The login role (created when --password-file is given)")->required();
   add->add_option("--role", o.role, "technician, curator or reader")
       ->required()
@@ -192,7 +199,7 @@ int runLabCommands(CLI::App& app, const LabOptions& o) {
   } catch (const db::StoreError& e) {
     return reportStoreError(e);
   } catch (const std::exception& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
+    std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
     return 1;
   }
   return -1;

@@ -13,6 +13,7 @@ struct LabOptions {
   std::string station;
   std::string login, role, passwordFile;
   std::size_t eventsPerTransaction = 2000;
+  double lockWaitSeconds = 30;  // server init
   bool json = false;
 };
 

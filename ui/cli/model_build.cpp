@@ -1,6 +1,7 @@
 #include "model_build.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -77,6 +78,29 @@ Eigen::Vector3d parseLight(const std::string& text) {
 
 namespace {
 
+// The same file named twice (an input as an output, or one output twice) would be read and
+// overwritten: refused before anything is read or written.
+bool sameFile(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
+  return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+}
+
+void refuseSameFile(const ModelBuildOptions& o) {
+  std::vector<std::pair<std::string, std::string>> named;  // option, path
+  named.emplace_back("the markers file", o.markersPath);
+  if (!o.measuredAreaScan.empty()) named.emplace_back("--measured-area-scan", o.measuredAreaScan);
+  const std::size_t inputs = named.size();
+  for (const auto& out : o.outputs) named.emplace_back("-o", out);
+  if (!o.modelJsonPath.empty()) named.emplace_back("--model-json", o.modelJsonPath);
+  for (std::size_t i = 0; i < named.size(); ++i)
+    for (std::size_t j = std::max(i + 1, inputs); j < named.size(); ++j)
+      if (sameFile(named[i].second, named[j].second))
+        throw m::InputError(named[j].first + " " + named[j].second + " is the same file as " + named[i].first +
+                            (i < inputs ? ": it would overwrite the input" : ": it would be written twice") +
+                            "; give another output path");
+}
+
 nlohmann::json countsJson(const m::MeshCounts& c) {
   return {{"vertices", c.vertices}, {"quads", c.quads}, {"triangles", c.triangles}};
 }
@@ -87,6 +111,7 @@ int runModelBuild(const ModelBuildOptions& o) {
   try {
     // Everything the user typed is checked before any work or any file is touched.
     // Meshes by encodeMesh; the simulation formats through the leaf as a plant of one leaf.
+    refuseSameFile(o);
     std::vector<std::optional<m::MeshFormat>> formats;
     for (const std::string& out : o.outputs) {
       const m::PlantFormat f = m::plantFormatForPath(out);

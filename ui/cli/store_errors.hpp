@@ -6,18 +6,21 @@
 #include <iostream>
 
 #include "leafdig/db/event_store.hpp"
+#include "terminal_text.hpp"
 
 namespace leafdig::cli {
 
 inline int reportStoreError(const db::StoreError& e) {
-  std::cerr << "leafdig: " << e.what() << "\n";
-  if (!e.remedy().empty()) std::cerr << "  what to do: " << e.remedy() << "\n";
+  std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
+  if (!e.remedy().empty()) std::cerr << "  what to do: " << terminalMessage(e.remedy()) << "\n";
   switch (e.kind()) {
     case db::StoreErrorKind::NotLeafdig:
     case db::StoreErrorKind::TooNew:
     case db::StoreErrorKind::Corrupt:
     case db::StoreErrorKind::Input:
-    case db::StoreErrorKind::Refused: return 2;
+    case db::StoreErrorKind::Refused:
+    case db::StoreErrorKind::Tampered: return 2;
+    case db::StoreErrorKind::Interrupted: return 130;
     default: return 1;
   }
 }

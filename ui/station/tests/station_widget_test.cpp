@@ -1,6 +1,7 @@
 // The station window's logic on Qt's offscreen platform: snapshots and feedback from a real
 // capture session drive the banner, the step list, the device chips and the feedback line.
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <unistd.h>
 
 #include <QApplication>
@@ -399,6 +400,52 @@ TEST(ReviewView, ACuratorBrowsesSelectsCorrectsReplaysAndApproves) {
   EXPECT_FALSE(v.reject("curator", "late").isEmpty());
   EXPECT_FALSE(v.openSession(open + 50));
   EXPECT_TRUE(v.bannerText().contains("no session")) << v.bannerText().toStdString();
+  fs::remove_all(dir);
+}
+
+// A station file from someone else (issue 25): a copy with a trigger added is not opened,
+// the view says why and the file is unchanged; a marker moved behind its event shows as a
+// broken chain naming the item, and cannot be approved.
+TEST(ReviewView, ACraftedCopyOfAStationFileIsRefusedByNameAndAnEditedOneCannotBeApproved) {
+  const fs::path dir = freshDir("review-crafted");
+  const std::string db = (dir / "s.sqlite").string();
+  std::int64_t id = 0;
+  {
+    leafdig::db::Store store(db);
+    id = completeLeaf(store, 40000.0);
+  }
+  const auto sql = [](const std::string& file, const std::string& statement) {
+    sqlite3* h = nullptr;
+    ASSERT_EQ(sqlite3_open(file.c_str(), &h), SQLITE_OK);
+    EXPECT_EQ(sqlite3_exec(h, statement.c_str(), nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(h);
+  };
+  const std::string trigger = (dir / "trigger.sqlite").string();
+  fs::copy_file(db, trigger);
+  sql(trigger, "CREATE TRIGGER evil AFTER INSERT ON events BEGIN UPDATE markers SET x_mm = x_mm + 100; END;");
+  const auto bytes = [](const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string before = bytes(trigger);
+  {
+    leafdig::station::ReviewView v(leafdig::station::StationSettings{});
+    v.setDatabase(trigger);
+    EXPECT_EQ(v.sessionsTable()->rowCount(), 0);
+    EXPECT_TRUE(v.bannerText().contains("cannot open")) << v.bannerText().toStdString();
+    EXPECT_TRUE(v.bannerText().contains("an extra trigger 'evil' on 'events'")) << v.bannerText().toStdString();
+    EXPECT_FALSE(v.openSession(id));
+  }
+  EXPECT_EQ(bytes(trigger), before);
+  const std::string moved = (dir / "moved.sqlite").string();
+  fs::copy_file(db, moved);
+  sql(moved, "UPDATE markers SET x_mm = x_mm + 100 WHERE row = 2 AND col = 2");
+  leafdig::station::ReviewView v(leafdig::station::StationSettings{});
+  v.setDatabase(moved);
+  ASSERT_TRUE(v.openSession(id));
+  EXPECT_TRUE(v.bannerText().contains("the markers table has marker row 2 col 2")) << v.bannerText().toStdString();
+  EXPECT_FALSE(v.approve("curator").isEmpty());
+  EXPECT_EQ(leafdig::db::Store(moved, true).session(id)->status, "complete");
   fs::remove_all(dir);
 }
 

@@ -78,7 +78,8 @@ struct ExportResult {
   model::LeafMetrics metrics;
   std::size_t rows = 0;
 };
-// Writes each file atomically and records it in `exports`. Throws std::invalid_argument
+// Checks the chain and the tables against the events (a session that fails verify is not
+// exported: SessionError), writes each file atomically and records it in `exports`. Throws std::invalid_argument
 // (unknown format, no directory) and model::InputError (the capture is not a whole leaf).
 ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportRequest& request);
 // The format names exportSession knows, in order.

@@ -14,8 +14,23 @@
 namespace leafdig::db {
 
 // Refused: the server (or a station login) may not do this; Conflict: the station's copy of
-// a session and the server's differ (SPEC §4, docs/lab-server.md).
-enum class StoreErrorKind { NotLeafdig, TooNew, Corrupt, DiskFull, Busy, Io, Input, Refused, Conflict, Unreachable };
+// a session and the server's differ (docs/lab.md); Tampered: a station file holds what
+// leafdig never writes (an extra trigger or view, a changed table, a projection that is not
+// its events'); Interrupted: a signal stopped a statement (requestInterrupt).
+enum class StoreErrorKind {
+  NotLeafdig,
+  TooNew,
+  Corrupt,
+  DiskFull,
+  Busy,
+  Io,
+  Input,
+  Refused,
+  Conflict,
+  Unreachable,
+  Tampered,
+  Interrupted
+};
 
 class StoreError : public std::runtime_error {
  public:
@@ -140,6 +155,12 @@ class EventStore {
 void checkStationId(const std::string& id);
 // Text the server stores must be UTF-8 without NUL bytes; the first offending byte, or none.
 [[nodiscard]] std::optional<std::size_t> badTextByte(const std::string& text);
+// Stops every SQLite statement of this process that is running or starts later with
+// StoreError(Interrupted); async-signal-safe (a signal handler calls it). clearInterrupt()
+// lets statements run again.
+void requestInterrupt() noexcept;
+void clearInterrupt() noexcept;
+[[nodiscard]] bool interruptRequested() noexcept;
 // UTC now as stored: 2026-11-21T11:07:55.041Z.
 [[nodiscard]] std::string utcNow();
 
@@ -156,5 +177,16 @@ struct Projected {
   std::optional<std::string> status;    // the last status event's, if any
 };
 [[nodiscard]] Projected project(const std::vector<Event>& events);
+// Where a store's projection tables (and its session's status) differ from what its verified
+// events say — an edit by another program — naming the item and its event; nothing when they
+// agree.
+struct ProjectionMismatch {
+  std::int64_t seq = 0;
+  std::string text;
+};
+[[nodiscard]] std::optional<ProjectionMismatch> projectionProblem(const std::vector<Event>& events,
+                                                                  const std::vector<MarkerRow>& markers,
+                                                                  const std::vector<ThicknessRow>& thickness,
+                                                                  const std::string& status);
 
 }  // namespace leafdig::db

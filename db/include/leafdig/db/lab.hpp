@@ -25,8 +25,10 @@ class Connection;
 
 // postgresql://… or postgres://… (a libpq connection URL).
 [[nodiscard]] bool isServerUrl(const std::string& text);
-// The URL with its password (user:PASSWORD@, password=… in the query) replaced by ***: the
-// only form of a URL leafdig prints or stores.
+// The URL as libpq reads it, with its password and sslpassword (wherever and however written:
+// user:PASSWORD@, ?password=, ?pass%77ord=, password = x) replaced by ***: the only form of a
+// URL leafdig prints or stores. A URL libpq cannot read is not shown at all (it may hold a
+// password); a file's path comes back as it is.
 [[nodiscard]] std::string redactUrl(const std::string& url);
 
 // Creates the schema (or migrates it to this leafdig's version) and the three group roles
@@ -36,8 +38,8 @@ struct ServerInit {
   int fromVersion = 0, toVersion = 0;
   std::vector<std::string> rolesCreated;
 };
-ServerInit initServer(const std::string& url);
-inline constexpr int kLabSchemaVersion = 1;
+ServerInit initServer(const std::string& url, double lockWaitSeconds = 30);
+inline constexpr int kLabSchemaVersion = 2;
 
 enum class LabRole { Technician, Curator, Reader };
 [[nodiscard]] const char* toString(LabRole role);

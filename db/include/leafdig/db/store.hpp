@@ -23,9 +23,15 @@ inline constexpr std::int32_t kApplicationId = 0x4C454146;  // "LEAF"
 class Store final : public EventStore {
  public:
   // Opens (creating when missing) and migrates. A file that is not a leafdig database, is
-  // corrupt, or was written by a newer leafdig is refused with StoreError and not modified.
-  // A writer checks the pages capture touches (the small tables, the right edge of the
-  // event log); checkPages() checks them all.
+  // corrupt, or was written by a newer leafdig is refused with StoreError and not modified;
+  // so is a file another program changed (docs/schema.md, "Files from elsewhere"): its schema
+  // is compared with ours before any table is read (an extra trigger, view, index or table,
+  // or a missing or redefined one, is named: StoreError Tampered), rows that name deleted
+  // rows are named, and every connection is defensive (no views, no untrusted functions, a
+  // progress handler that honours requestInterrupt and a time limit). A writer checks the
+  // pages capture touches (the small tables, the right edge of the event log); checkPages()
+  // checks them all. A Store that wrote checkpoints the -wal into the file on close; one that
+  // only read leaves the file and its -wal as they were.
   explicit Store(const std::string& path, bool readOnly = false);
   ~Store() override;
 
@@ -60,11 +66,17 @@ class Store final : public EventStore {
   [[nodiscard]] std::vector<ThicknessRow> thickness(std::int64_t session) const override;
   [[nodiscard]] std::optional<SessionInfo> session(std::int64_t id) const override;
   [[nodiscard]] std::vector<SessionInfo> sessions() const override;
+  // The chain (verifyChain), then the markers and thickness_readings tables and the
+  // session's status against what the verified events give (projectionProblem).
   [[nodiscard]] ChainReport verify(std::int64_t session) const override;
   // Checks every page of the file (SQLite's quick_check): "ok", or what is damaged. Opening
   // for writing checks only what capture touches; this is the full check.
   [[nodiscard]] std::string checkPages() const;
   std::int64_t recordExport(std::int64_t session, const std::string& path, const std::string& format) override;
+  // No statement of one operation (opening, a read, a verify) runs longer than this: past it,
+  // the operation stops with StoreError(Tampered) instead of never returning. Default 60 s.
+  static constexpr double kDefaultTimeLimitSeconds = 60;
+  void setTimeLimit(double seconds);
   // Caps the file at `pages` database pages (a quota; SQLite reports "full" beyond it, as
   // for a full disk). 0 restores SQLite's default.
   void setMaxPages(std::int64_t pages);
