@@ -293,8 +293,8 @@ std::optional<ProjectionMismatch> compareRows(const char* table, const std::vect
   for (const auto& [seq, row] : a)
     if (b.find(seq) == b.end())
       return ProjectionMismatch{seq, std::string("the ") + table + " table holds " +
-                                         itemName(row->what, row->row, row->col) + " for event " +
-                                         std::to_string(seq) + ", which puts no such item in" + kEdited};
+                                         itemName(row->what, row->row, row->col) + " for event " + std::to_string(seq) +
+                                         ", which puts no such item in" + kEdited};
   return std::nullopt;
 }
 
@@ -327,8 +327,8 @@ std::optional<ProjectionMismatch> projectionProblem(const std::vector<Event>& ev
     std::int64_t seq = 0;
     for (const Event& e : events)
       if (e.kind == "status") seq = e.seq;
-    return ProjectionMismatch{seq, "the session's status is '" + status + "' but its events say '" + expected + "'" +
-                                       kEdited};
+    return ProjectionMismatch{
+        seq, "the session's status is '" + status + "' but its events say '" + expected + "'" + kEdited};
   }
   return std::nullopt;
 }

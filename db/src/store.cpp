@@ -74,9 +74,9 @@ class OperationClock {
  public:
   explicit OperationClock(Budget& budget) : budget_(budget), outer_(budget.deadline) {
     if (outer_ == std::chrono::steady_clock::time_point::max())
-      budget_.deadline = std::chrono::steady_clock::now() +
-                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                             std::chrono::duration<double>(budget_.limitSeconds));
+      budget_.deadline =
+          std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                 std::chrono::duration<double>(budget_.limitSeconds));
   }
   OperationClock(const OperationClock&) = delete;
   OperationClock& operator=(const OperationClock&) = delete;
@@ -198,8 +198,7 @@ void checkSchema(SQLite::Database& db, const std::string& path, int version) {
   if (problems.empty()) return;
   std::string list;
   for (const auto& p : problems) list += (list.empty() ? "" : "; ") + p;
-  throw StoreError(StoreErrorKind::Tampered,
-                   path + " holds what leafdig never writes: " + list,
+  throw StoreError(StoreErrorKind::Tampered, path + " holds what leafdig never writes: " + list,
                    "the file was changed by another program and is not opened: nothing in it was read, and the file "
                    "was not modified; ask for the station's own copy, or look at it with sqlite3 (.schema)");
 }

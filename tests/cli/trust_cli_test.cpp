@@ -78,10 +78,11 @@ TEST_F(TrustCli, ATriggerAddedToTheFileIsNamedAndNeverFires) {
 }
 
 TEST_F(TrustCli, AViewThatShiftsMarkersIsNamed) {
-  expectEveryCommandRefuses(crafted("view.sqlite",
-                                    "ALTER TABLE markers RENAME TO markers_real; CREATE VIEW markers AS SELECT "
-                                    "session_id, seq, what, row, col, x_mm + 50 AS x_mm, y_mm, z_mm FROM markers_real;"),
-                            "an extra view 'markers'");
+  expectEveryCommandRefuses(
+      crafted("view.sqlite",
+              "ALTER TABLE markers RENAME TO markers_real; CREATE VIEW markers AS SELECT "
+              "session_id, seq, what, row, col, x_mm + 50 AS x_mm, y_mm, z_mm FROM markers_real;"),
+      "an extra view 'markers'");
 }
 
 TEST_F(TrustCli, AnEndlessViewHangsNothing) {
@@ -110,8 +111,9 @@ TEST_F(TrustCli, DroppedAppendOnlyTriggersAndDeletedLeavesAreNamed) {
 }
 
 TEST_F(TrustCli, AMarkerMovedBehindItsEventIsFoundAndStopsApprovalAndExport) {
-  const fs::path f = crafted("moved.sqlite", "UPDATE markers SET x_mm = x_mm + 100 WHERE session_id = 2 AND row = 2 "
-                                             "AND col = 3");
+  const fs::path f = crafted("moved.sqlite",
+                             "UPDATE markers SET x_mm = x_mm + 100 WHERE session_id = 2 AND row = 2 "
+                             "AND col = 3");
   const std::string seq = scalar(f, "SELECT seq FROM markers WHERE session_id = 2 AND row = 2 AND col = 3");
   const Result verify = leafdig("sessions verify --all --db " + quote(f));
   EXPECT_EQ(verify.exitCode, 1) << verify.out << verify.err;
@@ -149,8 +151,9 @@ TEST_F(TrustCli, WhatAWalHoldsIsCheckedAndARefusalLeavesFileAndWalAsTheyWere) {
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(f.c_str(), &db), SQLITE_OK);
   ASSERT_EQ(sqlite3_db_config(db, SQLITE_DBCONFIG_NO_CKPT_ON_CLOSE, 1, nullptr), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "PRAGMA journal_mode=WAL; PRAGMA wal_autocheckpoint=0; UPDATE sessions SET status = "
-                             "'approved' WHERE id = 2",
+  ASSERT_EQ(sqlite3_exec(db,
+                         "PRAGMA journal_mode=WAL; PRAGMA wal_autocheckpoint=0; UPDATE sessions SET status = "
+                         "'approved' WHERE id = 2",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);

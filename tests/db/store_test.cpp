@@ -497,8 +497,9 @@ TEST_F(CraftedFile, AProjectionEditedBehindTheEventsIsFoundByVerifyNamingTheItem
   EXPECT_NE(Store(path_, true).verify(id).problem.find("lacks marker row 1 col 3 of event 3"), std::string::npos);
   sql(path_, "INSERT INTO markers VALUES (" + std::to_string(id) +
                  ", 3, 'marker', 1, 3, 3.0, 2.0, 3.0); UPDATE sessions SET status = 'approved'");
-  EXPECT_NE(Store(path_, true).verify(id).problem.find("the session's status is 'approved' but its events say 'complete'"),
-            std::string::npos);
+  EXPECT_NE(
+      Store(path_, true).verify(id).problem.find("the session's status is 'approved' but its events say 'complete'"),
+      std::string::npos);
 }
 
 // A -wal beside the file is part of it (SQLite's rule; after a crash it holds the last

@@ -262,8 +262,9 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
     }
   };
   acq::CaptureRun run(request, observer);
-  if (interrupted) throw db::StoreError(db::StoreErrorKind::Interrupted, "capture interrupted while opening",
-                                        "nothing was captured; run the command again");
+  if (interrupted)
+    throw db::StoreError(db::StoreErrorKind::Interrupted, "capture interrupted while opening",
+                         "nothing was captured; run the command again");
   captureRunning = true;
   id = run.sessionId();
   if (onStart) onStart(id);

@@ -28,10 +28,14 @@ inline std::string terminalText(const std::string& text, bool keepLines = false)
       continue;
     }
     if (c < 0x20 || c == 0x7f) {
-      if (c == '\n') out += "\\n";
-      else if (c == '\t') out += "\\t";
-      else if (c == '\r') out += "\\r";
-      else hex(c);
+      if (c == '\n')
+        out += "\\n";
+      else if (c == '\t')
+        out += "\\t";
+      else if (c == '\r')
+        out += "\\r";
+      else
+        hex(c);
       ++i;
       continue;
     }
