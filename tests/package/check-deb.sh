@@ -30,7 +30,10 @@ done
 dpkg-deb -e "$deb" "$work/control"
 [ -x "$work/control/postinst" ] || fail "no postinst (udev reload)"
 dpkg-deb -x "$deb" "$work/root"
-desktop-file-validate "$work/root/usr/share/applications/leafdig-station.desktop" || fail "desktop entry invalid"
+desktop-file-validate "$work/root/usr/share/applications/leafdig-station.desktop" >"$work/desktop.txt" 2>&1 ||
+  fail "desktop entry invalid: $(cat "$work/desktop.txt")"
+# Hints too (two main categories put the station in the menu twice).
+[ ! -s "$work/desktop.txt" ] || fail "desktop-file-validate: $(cat "$work/desktop.txt")"
 # Stripped programs that run, and build a leaf from the installed sample.
 file "$work/root/usr/bin/leafdig" 2>/dev/null | grep -q "not stripped" && fail "leafdig is not stripped"
 "$work/root/usr/bin/leafdig" --version | grep -q "$(dpkg-deb -f "$deb" Version)" || fail "leafdig --version"
