@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -62,28 +63,29 @@ thread_local double lastLimitSeconds = 0;
 
 namespace {
 // The progress handler's state: statements stop on a signal, or past the time limit of the
-// operation that runs them (OperationClock).
+// operation that runs them (OperationClock). A Store is shared between threads (the capture
+// thread appends while the window reads), and SQLite runs the handler in the thread that runs
+// the statement: the deadline is that thread's, the limit the Store's.
 struct Budget {
-  double limitSeconds = Store::kDefaultTimeLimitSeconds;
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  std::atomic<double> limitSeconds{Store::kDefaultTimeLimitSeconds};
 };
+thread_local std::chrono::steady_clock::time_point operationDeadline = std::chrono::steady_clock::time_point::max();
 
-// Sets the deadline of one operation of a Store (all its statements together); nested
-// operations keep the outer one's.
+// Sets the deadline of one operation of a Store (all its statements together) on this thread;
+// nested operations keep the outer one's.
 class OperationClock {
  public:
-  explicit OperationClock(Budget& budget) : budget_(budget), outer_(budget.deadline) {
+  explicit OperationClock(const Budget& budget) : outer_(operationDeadline) {
     if (outer_ == std::chrono::steady_clock::time_point::max())
-      budget_.deadline =
+      operationDeadline =
           std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                 std::chrono::duration<double>(budget_.limitSeconds));
+                                                 std::chrono::duration<double>(budget.limitSeconds.load()));
   }
   OperationClock(const OperationClock&) = delete;
   OperationClock& operator=(const OperationClock&) = delete;
-  ~OperationClock() { budget_.deadline = outer_; }
+  ~OperationClock() { operationDeadline = outer_; }
 
  private:
-  Budget& budget_;
   std::chrono::steady_clock::time_point outer_;
 };
 }  // namespace
@@ -118,9 +120,9 @@ int onProgress(void* context) {
     lastStop = Stop::Signal;
     return 1;
   }
-  if (std::chrono::steady_clock::now() > b->deadline) {
+  if (std::chrono::steady_clock::now() > operationDeadline) {
     lastStop = Stop::TimeLimit;
-    lastLimitSeconds = b->limitSeconds;
+    lastLimitSeconds = b->limitSeconds.load();
     return 1;
   }
   return 0;
