@@ -2,29 +2,50 @@
 # The whole test suite: set up and build the `ci` preset, run every test (unit, CLI,
 # exports checked by the Khronos glTF validator and assimp, samples, layering), then the
 # same suite under AddressSanitizer + UndefinedBehaviorSanitizer.
-# Then the threaded device tests under ThreadSanitizer, and every codec's fuzzer for 15 s.
-# Set LEAFDIG_SKIP_ASAN=1 / LEAFDIG_SKIP_TSAN=1 / LEAFDIG_SKIP_FUZZ=1 to skip a pass locally.
+# Then the threaded device tests under ThreadSanitizer, and every fuzz target for 10 s.
+# Then a short soak run. Set LEAFDIG_SKIP_ASAN=1 / LEAFDIG_SKIP_TSAN=1 / LEAFDIG_SKIP_FUZZ=1 /
+# LEAFDIG_SKIP_SOAK=1 to skip a pass locally.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
+# Each pass says how long it took (CI's budget is 45 minutes on two cores).
+started=$(date +%s); passStarted=$started
+passDone() {
+  local now; now=$(date +%s)
+  echo "leafdig test: $1 took $((now - passStarted)) s ($((now - started)) s so far)"
+  passStarted=$now
+}
 "$root/scripts/setup.sh" ci
+passDone "set-up and the ci build"
 "$root/.ci/check-layering.sh" "$root"
 "$root/.ci/check-format.sh" "$root"
 ctest --preset ci -j"$(nproc)"
+passDone "the ci tests"
+# A short soak (about two minutes; scripts/soak.sh has the long one): capture with faults,
+# kill -9, a full disk and lab pushes, then every acknowledged event checked.
+if [ "${LEAFDIG_SKIP_SOAK:-0}" != "1" ]; then
+  "$root/scripts/soak.sh" --short
+  passDone "the short soak"
+fi
 if [ "${LEAFDIG_SKIP_ASAN:-0}" != "1" ]; then
   cmake --preset asan >/dev/null
   cmake --build --preset asan -j"$(nproc)"
+  passDone "the ASan+UBSan build"
   ctest --preset asan -j"$(nproc)"
+  passDone "the ASan+UBSan tests"
 fi
 # The device drivers and emulators are threaded: their tests again under ThreadSanitizer.
 if [ "${LEAFDIG_SKIP_TSAN:-0}" != "1" ]; then
   cmake --preset tsan >/dev/null
   cmake --build --preset tsan -j"$(nproc)"
+  passDone "the TSan build"
   ctest --preset tsan -j"$(nproc)"
+  passDone "the TSan tests"
 fi
 # Every codec's libFuzzer target, for a bounded time from the seed corpus.
 if [ "${LEAFDIG_SKIP_FUZZ:-0}" != "1" ]; then
-  "$root/scripts/fuzz.sh" "${LEAFDIG_FUZZ_SECONDS:-15}"
+  "$root/scripts/fuzz.sh" "${LEAFDIG_FUZZ_SECONDS:-10}"
+  passDone "the fuzzers"
 fi
 # The benchmarks must still run (a quick smoke pass; numbers live in docs/benchmarks.md).
 # A benchmark that reports an error (SkipWithError), or a binary that runs none, fails here.
@@ -55,4 +76,5 @@ bench_smoke env LEAFDIG_BENCH_LEAVES=20 build/ci/tests/leafdig_lab_bench
 # The station's preview frame, snapshot → screen and start-up, on a real window under Xvfb
 # (Mesa llvmpipe); it fails if the preview draws nothing or the station does not start.
 bench_smoke xvfb-run -a -s "-screen 0 1920x1080x24" build/ci/tests/leafdig_station_bench
+passDone "the benchmark smokes"
 echo "leafdig: all tests passed"
