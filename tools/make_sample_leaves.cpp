@@ -81,7 +81,7 @@ Eigen::Vector3d bladePoint(const LeafShape& s, double arc, double x) {
 
 m::MarkerSet makeLeaf(const LeafShape& s) {
   m::MarkerSet set;
-  set.leaf = {s.id, "P-demo", s.position, s.type, std::nullopt};
+  set.leaf = {s.id, "P-demo", s.position, s.type, std::nullopt, std::nullopt, std::nullopt, std::nullopt};
   set.tipMm = midrib(s, 0.0).unaryExpr([](double v) { return round(v, 0.01); });
   set.edgeThicknessMm = 0.3;
 

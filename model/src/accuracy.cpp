@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "draws.hpp"
@@ -68,6 +70,7 @@ struct Job {
   double sigmaMm;
   std::uint64_t seed;
   std::size_t firstResult;
+  bool interpOnly;  // a toothed leaf: the interp blade and its interval alone
 };
 
 struct TruthLeaf {
@@ -87,8 +90,9 @@ void measure(const AccuracyPlan& plan, const TruthLeaf& truth, const Job& job, s
   double veinSum = 0.0, veinMax = 0.0, modelMidrib = 0.0;
   std::size_t veinCount = 0;
   const double trueMidrib = polylineLength(truth.midrib);
-  for (std::size_t b = 0; b < plan.blades.size(); ++b) {
-    const LeafModel model = buildLeafModel(markers, {plan.blades[b], nullptr});
+  const std::vector<BladeKind> blades = job.interpOnly ? std::vector<BladeKind>{BladeKind::Interp} : plan.blades;
+  for (std::size_t b = 0; b < blades.size(); ++b) {
+    const LeafModel model = buildLeafModel(markers, {blades[b], nullptr});
     if (b == 0) {
       for (const Vein& v : model.veins) {
         const std::vector<Eigen::Vector3d>* target = nullptr;
@@ -114,7 +118,7 @@ void measure(const AccuracyPlan& plan, const TruthLeaf& truth, const Job& job, s
     const BladeAreaEstimate est = convergedBladeArea(model.blade, kUp, 2e-4, 8);
     AccuracyResult r;
     r.leaf = leafCase;
-    r.blade = plan.blades[b];
+    r.blade = blades[b];
     r.trueAreaMm2 = truth.area;
     r.modelAreaMm2 = est.areaMm2;
     r.areaErrorPercent = (est.areaMm2 - truth.area) / truth.area * 100.0;
@@ -123,7 +127,7 @@ void measure(const AccuracyPlan& plan, const TruthLeaf& truth, const Job& job, s
     r.midribErrorPercent = (modelMidrib - trueMidrib) / trueMidrib * 100.0;
     r.veinMeanMm = veinCount ? veinSum / static_cast<double>(veinCount) : 0.0;
     r.veinMaxMm = veinMax;
-    if (plan.blades[b] == BladeKind::Interp && plan.coverageDraws > 0 && job.sigmaMm > 0.0) {
+    if (blades[b] == BladeKind::Interp && plan.coverageDraws > 0 && job.sigmaMm > 0.0) {
       AreaUncertaintyOptions o;
       o.sigmaMm = job.sigmaMm;
       o.draws = plan.coverageDraws;
@@ -132,6 +136,10 @@ void measure(const AccuracyPlan& plan, const TruthLeaf& truth, const Job& job, s
       r.intervalChecked = true;
       r.interval = u;
       r.inInterval = truth.area >= u.low95Mm2 && truth.area <= u.high95Mm2;
+      // The same capture had its serration not been declared: no margin term.
+      const double low = std::max(0.0, u.noiseLowMm2);
+      const double high = u.noiseHighMm2 + std::max(u.interpolationMm2, u.systematicMm2);
+      r.inIntervalUndeclared = truth.area >= low && truth.area <= high;
     }
     results[job.firstResult + b] = r;
   }
@@ -154,6 +162,61 @@ double interpolationErrorEstimate(const MarkerSet& markers, BladeKind blade) {
   const double halfArea = bladeAreaAt(half, blade, 2 * est.segmentsPerRow, est.segmentsAcross);
   return std::abs(est.areaMm2 - halfArea);
 }
+
+namespace {
+
+// The margin's length through the markers (tip to each row's end, both sides) and the widest
+// row's width.
+std::pair<double, double> marginLengthAndWidth(const MarkerSet& markers) {
+  double width = 0.0;
+  for (const MarkerRow& row : markers.rows)
+    width = std::max(width, (row.pointsMm[0] - row.pointsMm[kMarkersPerRow - 1]).norm());
+  return {marginSpacingMm(markers) * 2.0 * static_cast<double>(markers.rows.size()), width};
+}
+
+std::string millimetres(double v) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(v < 1 ? 2 : 1) << v;
+  return out.str();
+}
+
+void addMarginTerm(const MarkerSet& markers, AreaUncertainty& u) {
+  const auto [length, width] = marginLengthAndWidth(markers);
+  const LeafInfo& leaf = markers.leaf;
+  if (leaf.marginFromScan && !leaf.marginFromScan->empty()) {
+    // Measured: the markers may stand anywhere between the margin's sinuses and its tips.
+    const MarginSample at = marginAt(*leaf.marginFromScan, marginSpacingMm(markers));
+    u.marginHighMm2 = length * at.insideMm;
+    u.marginLowMm2 = length * at.outsideMm;
+    u.margin = "a scan of the leaf: its margin runs " + millimetres(at.outsideMm) + " mm outside and " +
+               millimetres(at.insideMm) + " mm inside a smooth margin at the markers' spacing (" +
+               millimetres(at.spacingMm) + " mm)";
+    return;
+  }
+  if (!leaf.serration) {
+    u.margin = "not declared";
+    u.note =
+        "the leaf's serration was not declared: teeth between the markers are not in this interval (declare it, "
+        "none if the margin is entire, or give a scan of the leaf)";
+    return;
+  }
+  if (*leaf.serration == Serration::None) {
+    u.margin = "none (an entire margin)";
+    return;
+  }
+  // Declared teeth of depth D along the margin's length: the markers sample the profile at
+  // unknown phases, so the model's margin lies anywhere from the sinuses (0) to the tips
+  // (max) while the truth holds the profile's mean: the interval reaches up by length × D ×
+  // mean and down by length × D × (max − mean) (docs/accuracy.md, "Toothed margins").
+  const double depth = leaf.toothDepthMm.value_or(kDefaultToothDepthFraction * width);
+  const ToothSpread spread = toothSpread(*leaf.serration);
+  u.marginHighMm2 = length * depth * spread.mean;
+  u.marginLowMm2 = length * depth * (spread.max - spread.mean);
+  u.margin = std::string("declared: ") + toString(*leaf.serration) + " teeth " + millimetres(depth) + " mm deep" +
+             (leaf.toothDepthMm ? "" : " (1.5 % of the width: the depth was not given)");
+}
+
+}  // namespace
 
 AreaUncertainty areaUncertainty(const MarkerSet& markers, const AreaUncertaintyOptions& options) {
   if (!(options.sigmaMm >= 0.0 && options.sigmaMm <= 20.0)) {
@@ -196,8 +259,9 @@ AreaUncertainty areaUncertainty(const MarkerSet& markers, const AreaUncertaintyO
   u.systematicMm2 = options.blade == BladeKind::Interp
                         ? systematicUnderestimate(static_cast<int>(markers.rows.size())) * u.areaMm2
                         : 0.0;
-  u.low95Mm2 = u.noiseLowMm2;
-  u.high95Mm2 = u.noiseHighMm2 + std::max(u.interpolationMm2, u.systematicMm2);
+  addMarginTerm(markers, u);
+  u.low95Mm2 = std::max(0.0, u.noiseLowMm2 - u.marginLowMm2);  // an area is never negative
+  u.high95Mm2 = u.noiseHighMm2 + std::max(u.interpolationMm2, u.systematicMm2) + u.marginHighMm2;
   return u;
 }
 
@@ -209,6 +273,9 @@ AccuracyPlan AccuracyPlan::full() {
   p.sigmasMm = {0.0, 0.25, 0.5, 1.0};
   p.blades = {BladeKind::Interp, BladeKind::Approx, BladeKind::Bezier, BladeKind::Nurbs};
   p.seedsPerNoisyCase = 8;
+  p.margins = {Serration::Round, Serration::Sharp, Serration::Straight, Serration::Acuminate};
+  p.marginSigmasMm = {0.25, 0.5, 1.0};
+  p.marginSeeds = 3;
   return p;
 }
 
@@ -221,6 +288,9 @@ AccuracyPlan AccuracyPlan::quick() {
   p.blades = {BladeKind::Interp, BladeKind::Approx};
   p.seedsPerNoisyCase = 3;
   p.coverageDraws = 16;
+  p.margins = {Serration::Straight};
+  p.marginSigmasMm = {0.5};
+  p.marginSeeds = 1;
   return p;
 }
 
@@ -247,14 +317,38 @@ std::vector<AccuracyResult> runAccuracyStudy(const AccuracyPlan& plan, int threa
       }
     }
   }
+  // The toothed leaves: the same shapes, lengths and rows with each serration.
+  const std::size_t smoothLeaves = leaves.size();
+  for (Serration serration : plan.margins) {
+    for (std::size_t l = 0; l < smoothLeaves; ++l) {
+      SyntheticLeafSpec spec = leaves[l].leaf.spec();
+      spec.outline.serration = serration;
+      spec.outline.teethPerSide = 20;
+      spec.outline.toothDepthMm =
+          0.015 * spec.outline.widthMm.value_or(spec.outline.lengthMm / aspectRatio(spec.outline.shape));
+      SyntheticLeaf leaf(spec);
+      AccuracyCase c = leaves[l].base;
+      c.serration = serration;
+      const double area = leaf.area();
+      leaves.push_back({c, leaf, area, leaf.midrib(2049), leaf.veins(129)});
+    }
+  }
   std::vector<Job> jobs;
   std::size_t next = 0;
-  for (std::size_t l = 0; l < leaves.size(); ++l) {
+  for (std::size_t l = 0; l < smoothLeaves; ++l) {
     for (double sigma : plan.sigmasMm) {
       const int seeds = sigma > 0.0 ? plan.seedsPerNoisyCase : 1;
       for (int s = 0; s < seeds; ++s) {
-        jobs.push_back({l, sigma, static_cast<std::uint64_t>(s + 1), next});
+        jobs.push_back({l, sigma, static_cast<std::uint64_t>(s + 1), next, false});
         next += plan.blades.size();
+      }
+    }
+  }
+  for (std::size_t l = smoothLeaves; l < leaves.size(); ++l) {
+    for (double sigma : plan.marginSigmasMm) {
+      for (int s = 0; s < plan.marginSeeds; ++s) {
+        jobs.push_back({l, sigma, static_cast<std::uint64_t>(s + 1), next, true});
+        next += 1;  // interp only
       }
     }
   }

@@ -115,7 +115,6 @@ PointGrid sampleSurface(const BladeSurface& s, const std::vector<double>& us, co
   const auto nu = static_cast<int>(s.controlNet.size());
   const auto nv = static_cast<int>(s.controlNet.front().size());
   const bool rational = !s.weights.empty();
-  const Eigen::MatrixXd bu = basisRows(s.degreeU, s.knotsU, nu, us);
   const Eigen::MatrixXd bv = basisRows(s.degreeV, s.knotsV, nv, vs);
   // Homogeneous control net, nu by (4 nv): [w x, w y, w z, w] per control point.
   Eigen::MatrixXd net(nu, 4 * nv);
@@ -126,7 +125,20 @@ PointGrid sampleSurface(const BladeSurface& s, const std::vector<double>& us, co
       net(i, 4 * j + 3) = w;
     }
   }
-  const Eigen::MatrixXd along = bu * net;  // #us by (4 nv): curves in v, one per u
+  // Curves in v, one per u: only the degreeU + 1 basis functions that are non-zero at u
+  // contribute (local support), summed in order of the control rows, so the cost is linear in
+  // the rows (a dense #us-by-nu product made 1 000 rows cost seconds; issue 26).
+  Eigen::MatrixXd along = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(us.size()), 4 * nv);
+  for (std::size_t a = 0; a < us.size(); ++a) {
+    const double u = std::clamp(us[a], s.knotsU.front(), s.knotsU.back());
+    const int span = findSpan(s.degreeU, s.knotsU, u);
+    const Eigen::MatrixXd b = basisDerivatives(span, s.degreeU, s.knotsU, u, 0);
+    for (int c = 0; c < 4 * nv; ++c) {
+      double sum = 0.0;
+      for (int k = 0; k <= s.degreeU; ++k) sum += b(0, k) * net(span - s.degreeU + k, c);
+      along(static_cast<Eigen::Index>(a), c) = sum;
+    }
+  }
   PointGrid out(us.size(), std::vector<Eigen::Vector3d>(vs.size()));
   for (std::size_t a = 0; a < us.size(); ++a) {
     for (std::size_t b = 0; b < vs.size(); ++b) {

@@ -1,6 +1,7 @@
 #include "leafdig/model/files.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -60,13 +61,40 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view byt
   }
 }
 
-std::string readFile(const std::filesystem::path& path) {
+std::string readFile(const std::filesystem::path& path, std::uintmax_t maxBytes) {
+  // A device, a FIFO or a directory is not read at all (/dev/zero would never end, a FIFO
+  // would block), and a file larger than any real one is refused before it is read.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) fail("cannot open", path, errno);
+  if (!S_ISREG(st.st_mode))
+    throw InputError(path.string() + " is not a regular file (" +
+                     (S_ISDIR(st.st_mode)    ? "a folder"
+                      : S_ISFIFO(st.st_mode) ? "a named pipe"
+                      : S_ISCHR(st.st_mode)  ? "a character device"
+                      : S_ISBLK(st.st_mode)  ? "a block device"
+                                             : "a socket") +
+                     "): give the path of a file");
+  const auto tooLarge = [&](std::uintmax_t bytes) {
+    throw InputError(path.string() + " is " + std::to_string(bytes >> 20) + " MB; " +
+                     "a file leafdig reads is at most " + std::to_string(maxBytes >> 20) +
+                     " MB. Is this the right file?");
+  };
+  if (static_cast<std::uintmax_t>(st.st_size) > maxBytes) tooLarge(static_cast<std::uintmax_t>(st.st_size));
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("cannot open", path, errno);
-  std::ostringstream out;
-  out << in.rdbuf();
+  std::string out;
+  out.resize(static_cast<std::size_t>(st.st_size));
+  in.read(out.data(), static_cast<std::streamsize>(out.size()));
   if (in.bad()) fail("cannot read", path, errno);
-  return out.str();
+  out.resize(static_cast<std::size_t>(in.gcount()));
+  // It may have grown since: read on, up to the bound.
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    out.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (out.size() > maxBytes) tooLarge(out.size());
+  }
+  if (in.bad()) fail("cannot read", path, errno);
+  return out;
 }
 
 std::string lowerExtension(const std::filesystem::path& path) {

@@ -1,9 +1,12 @@
 #pragma once
 // Private helpers shared by the JSON readers and writers of this module.
 #include <charconv>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+
+#include "leafdig/model/errors.hpp"
 
 namespace leafdig::model::detail {
 
@@ -16,8 +19,17 @@ namespace leafdig::model::detail {
 // "nonfinite:NaN" etc. produced by parseJsonLeniently, or empty.
 [[nodiscard]] std::string nonFiniteToken(const nlohmann::json& value);
 
-// Shortest decimal form that reads back to the same double.
+// The document as text, after checking that every number in it is finite (nlohmann would
+// write NaN and infinities as null): InputError naming the key otherwise.
+[[nodiscard]] std::string dumpFinite(const nlohmann::json& doc, int indent = -1);
+
+// Shortest decimal form that reads back to the same double. A value that is not finite has no
+// JSON (or MTG, or CSV) form: InputError, before a file is written.
 inline std::string formatNumber(double value) {
+  if (!std::isfinite(value))
+    throw InputError(
+        "a number to write is not finite: the input holds numbers beyond what a leaf or plant can be. "
+        "Nothing was written");
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, result.ptr);

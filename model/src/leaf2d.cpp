@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,209 +15,15 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/interpolation.hpp"
+#include "leafdig/model/limits.hpp"
 #include "leafdig/model/metrics.hpp"
+#include "outline_check.hpp"
 #include "planar_triangulation.hpp"
 #include "segment.hpp"
 
 namespace leafdig::model {
 
 using nlohmann::json;
-
-// ---------------------------------------------------------------------------- outlines
-
-double polygonArea(const std::vector<Eigen::Vector2d>& polygon) {
-  double twice = 0.0;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Eigen::Vector2d& p = polygon[i];
-    const Eigen::Vector2d& q = polygon[(i + 1) % polygon.size()];
-    twice += p.x() * q.y() - q.x() * p.y();
-  }
-  return std::abs(twice) / 2.0;
-}
-
-namespace {
-
-constexpr std::size_t kMinOutlinePoints = 8;
-constexpr double kEndTolerance = 5.0;  // mm: a given base or tip this far off the outline is an error
-
-double distanceToSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
-  return std::sqrt(detail::squaredDistanceToSegment(a, b, p));
-}
-
-double distanceToOutline(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < polygon.size(); ++i)
-    best = std::min(best, distanceToSegment(polygon[i], polygon[(i + 1) % polygon.size()], p));
-  return best;
-}
-
-void checkOutline(const Outline2d& o, const std::string& source) {
-  if (o.pointsMm.size() < kMinOutlinePoints) {
-    throw InputError(source + ": the outline has " + std::to_string(o.pointsMm.size()) + " points; at least " +
-                     std::to_string(kMinOutlinePoints) + " are needed to follow a leaf's margin");
-  }
-  for (std::size_t i = 0; i < o.pointsMm.size(); ++i) {
-    if (!o.pointsMm[i].allFinite()) {
-      throw InputError(source + ": outline point " + std::to_string(i + 1) + " is not a finite number; fix the file");
-    }
-  }
-  if (polygonArea(o.pointsMm) <= 0.0) {
-    throw InputError(source + ": the outline encloses no area (its points lie on a line); check the columns");
-  }
-  for (const auto& [name, end] : {std::pair{"base", o.baseMm}, std::pair{"tip", o.tipMm}}) {
-    if (end && distanceToOutline(o.pointsMm, *end) > kEndTolerance) {
-      std::ostringstream msg;
-      msg << source << ": the " << name << " (" << end->x() << ", " << end->y() << ") is "
-          << distanceToOutline(o.pointsMm, *end) << " mm from the outline; it must lie on the margin (within "
-          << kEndTolerance << " mm) — check that it is in the outline's millimetres";
-      throw InputError(msg.str());
-    }
-  }
-  if (o.measuredAreaMm2 && !(*o.measuredAreaMm2 > 0.0)) {
-    throw InputError(source + ": measured_area_mm2 must be a positive area in mm^2");
-  }
-}
-
-Eigen::Vector2d jsonPoint(const json& v, const std::string& source, const std::string& where) {
-  if (!v.is_array() || v.size() != 2)
-    throw InputError(source + ": " + where + ": expected [x, y] in mm, found " + v.dump());
-  Eigen::Vector2d p;
-  for (int k = 0; k < 2; ++k) {
-    const json& c = v[static_cast<std::size_t>(k)];
-    const std::string token = detail::nonFiniteToken(c);
-    if (!token.empty() || !c.is_number()) {
-      throw InputError(source + ": " + where + ": coordinate " + "xy"[k] + " is " + (token.empty() ? c.dump() : token) +
-                       ", not a finite number; fix the file");
-    }
-    p[k] = c.get<double>();
-  }
-  return p;
-}
-
-}  // namespace
-
-Outline2d parseOutlineJson(const std::string& text, const std::string& source) {
-  const json doc = detail::parseJsonLeniently(text, source);
-  if (!doc.is_object()) throw InputError(source + ": expected a " + std::string(kOutlineFormat) + " JSON object");
-  const auto format = doc.find("format");
-  if (format == doc.end() || !format->is_string() || format->get<std::string>() != kOutlineFormat) {
-    throw InputError(source + ": \"format\" must be \"" + kOutlineFormat + "\"" +
-                     (format == doc.end() ? std::string(" (the key is missing)") : ", found " + format->dump()));
-  }
-  const auto units = doc.find("units");
-  if (units == doc.end() || !units->is_string() || units->get<std::string>() != "mm") {
-    throw InputError(source + ": \"units\" must be \"mm\"" +
-                     (units == doc.end() ? std::string(" (the key is missing)") : ", found " + units->dump()) +
-                     "; convert the points to millimetres (pixels: multiply by 25.4 / DPI, or give the image "
-                     "itself with --dpi)");
-  }
-  const auto points = doc.find("points");
-  if (points == doc.end() || !points->is_array()) {
-    throw InputError(source + ": \"points\" must be an array of [x, y] in mm");
-  }
-  Outline2d o;
-  for (std::size_t i = 0; i < points->size(); ++i) {
-    o.pointsMm.push_back(jsonPoint((*points)[i], source, "points[" + std::to_string(i) + "]"));
-  }
-  if (o.pointsMm.size() > 1 && o.pointsMm.front() == o.pointsMm.back()) o.pointsMm.pop_back();
-  if (auto it = doc.find("base"); it != doc.end() && !it->is_null()) o.baseMm = jsonPoint(*it, source, "base");
-  if (auto it = doc.find("tip"); it != doc.end() && !it->is_null()) o.tipMm = jsonPoint(*it, source, "tip");
-  if (auto it = doc.find("measured_area_mm2"); it != doc.end() && !it->is_null()) {
-    if (!it->is_number()) throw InputError(source + ": measured_area_mm2 must be a number (mm^2)");
-    o.measuredAreaMm2 = it->get<double>();
-  }
-  if (auto it = doc.find("id"); it != doc.end() && it->is_string()) o.id = it->get<std::string>();
-  checkOutline(o, source);
-  return o;
-}
-
-Outline2d parseOutlineCsv(const std::string& text, const std::string& source) {
-  Outline2d o;
-  std::istringstream in(text);
-  std::string line;
-  int lineNo = 0;
-  bool sawData = false;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
-    const std::string where = source + ":" + std::to_string(lineNo);
-    const auto comma = line.find(',');
-    if (comma == std::string::npos) throw InputError(where + ": expected \"x_mm,y_mm\", found \"" + line + "\"");
-    const std::string a = line.substr(0, comma);
-    const std::string b = line.substr(comma + 1);
-    const bool letters = std::any_of(line.begin(), line.end(), [](unsigned char c) { return std::isalpha(c) != 0; });
-    if (!sawData && letters && a.find("nan") == std::string::npos && a.find("inf") == std::string::npos) {
-      // A header: its units must be millimetres.
-      const bool mm = a.find("mm") != std::string::npos && b.find("mm") != std::string::npos;
-      const bool bare =
-          a.find_first_not_of(" \txX") == std::string::npos && b.find_first_not_of(" \tyY") == std::string::npos;
-      if (!mm && !bare) {
-        throw InputError(where + ": the header \"" + line +
-                         "\" does not say millimetres; the columns must be x_mm,y_mm (convert pixels with "
-                         "25.4 / DPI, or give the image itself with --dpi)");
-      }
-      sawData = true;  // only one header
-      continue;
-    }
-    sawData = true;
-    Eigen::Vector2d p;
-    for (int k = 0; k < 2; ++k) {
-      const std::string field = k == 0 ? a : b;
-      std::size_t used = 0;
-      double v = std::numeric_limits<double>::quiet_NaN();
-      try {
-        v = std::stod(field, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || field.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(v)) {
-        throw InputError(where + ": column " + std::to_string(k + 1) + " (\"" + field +
-                         "\") is not a finite number in mm; fix the line");
-      }
-      p[k] = v;
-    }
-    o.pointsMm.push_back(p);
-  }
-  if (o.pointsMm.size() > 1 && o.pointsMm.front() == o.pointsMm.back()) o.pointsMm.pop_back();
-  checkOutline(o, source);
-  return o;
-}
-
-Outline2d readOutlineFile(const std::filesystem::path& path) {
-  const std::string ext = lowerExtension(path);
-  if (ext != ".json" && ext != ".csv") {
-    throw InputError(path.string() + ": an outline is a .json (" + kOutlineFormat +
-                     ") or .csv (x_mm,y_mm) file; a scan is a .png, .tif or .jpg image given with --dpi");
-  }
-  std::string text;
-  try {
-    text = readFile(path);
-  } catch (const IoError& e) {
-    throw InputError(std::string(e.what()) + "; check the path");
-  }
-  if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(path.string() + ": the file is empty");
-  return ext == ".json" ? parseOutlineJson(text, path.string()) : parseOutlineCsv(text, path.string());
-}
-
-std::string outlineToJson(const Outline2d& o) {
-  std::ostringstream out;
-  out << "{\"format\": \"" << kOutlineFormat << "\", \"units\": \"mm\"";
-  if (!o.id.empty()) out << ", \"id\": " << json(o.id).dump();
-  if (o.baseMm)
-    out << ", \"base\": [" << detail::formatNumber(o.baseMm->x()) << ", " << detail::formatNumber(o.baseMm->y()) << "]";
-  if (o.tipMm)
-    out << ", \"tip\": [" << detail::formatNumber(o.tipMm->x()) << ", " << detail::formatNumber(o.tipMm->y()) << "]";
-  if (o.measuredAreaMm2) out << ", \"measured_area_mm2\": " << detail::formatNumber(*o.measuredAreaMm2);
-  out << ",\n \"points\": [";
-  for (std::size_t i = 0; i < o.pointsMm.size(); ++i) {
-    out << (i ? ",\n  " : "\n  ") << "[" << detail::formatNumber(o.pointsMm[i].x()) << ", "
-        << detail::formatNumber(o.pointsMm[i].y()) << "]";
-  }
-  out << "]}\n";
-  return out.str();
-}
 
 namespace {
 
@@ -780,7 +587,8 @@ FlatLeaf trimmedFlatLeaf(const std::vector<Eigen::Vector2d>& local, double lengt
     for (long y = std::max(0L, cy - 1); y <= std::min(rows - 1, cy + 1); ++y) {
       for (long x = std::max(0L, cx - 1); x <= std::min(cols - 1, cx + 1); ++x) {
         for (std::uint32_t i : cells[static_cast<std::size_t>(y * cols + x)]) {
-          if (distanceToSegment(polygon[i], polygon[(i + 1) % polygon.size()], p) < h / 2) return true;
+          if (std::sqrt(detail::squaredDistanceToSegment(polygon[i], polygon[(i + 1) % polygon.size()], p)) < h / 2)
+            return true;
         }
       }
     }
@@ -834,7 +642,7 @@ FlatLeaf trimmedFlatLeaf(const std::vector<Eigen::Vector2d>& local, double lengt
 }  // namespace
 
 Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
-  checkOutline(outline, outline.id.empty() ? "outline" : outline.id);
+  detail::checkOutline(outline, outline.id.empty() ? "outline" : outline.id);
   if (o.rows < 6) throw InputError("--rows must be at least 6 (sections from tip to base)");
   if (o.segmentsPerRow < 1 || o.segmentsAcross < 6) throw InputError("mesh segments: at least 1 per row and 6 across");
   if (o.amplitudeMm && !(*o.amplitudeMm >= 0.0)) throw InputError("--amplitude must be >= 0 mm");
@@ -960,7 +768,7 @@ std::string leaf2dToJson(const Leaf2dModel& m) {
   for (const LeafWarning& w : m.warnings) j["warnings"].push_back({{"name", w.name}, {"message", w.message}});
   j["vertices"] = m.mesh.positions.size();
   j["triangles"] = m.mesh.triangles.size();
-  return j.dump();
+  return detail::dumpFinite(j);
 }
 
 }  // namespace leafdig::model

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <fstream>
+#include <iomanip>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -13,6 +15,8 @@
 
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/image_header.hpp"
+#include "leafdig/model/limits.hpp"
 
 namespace leafdig::model {
 
@@ -48,11 +52,33 @@ cv::Mat largestPart(const cv::Mat& mask) {
 
 }  // namespace
 
+void checkScanSize(std::uint64_t width, std::uint64_t height, double dpi) {
+  if (!(dpi >= kMinScanDpi && dpi <= kMaxScanDpi)) {
+    std::ostringstream out;
+    out << "--dpi " << dpi << " is not a scanner's resolution (" << kMinScanDpi << " to " << kMaxScanDpi
+        << " dots per inch; e.g. 300, as set in the scanner's software)";
+    throw InputError(out.str());
+  }
+  const double sideMm = static_cast<double>(std::max(width, height)) / dpi * 25.4;
+  const std::uint64_t pixels = width * height;
+  if (pixels > kMaxScanPixels || sideMm > kMaxScanSideMm) {
+    std::ostringstream out;
+    out << "a leaf scan of " << width << " x " << height << " px at " << dpi << " DPI is " << std::fixed
+        << std::setprecision(1) << sideMm / 1000.0 << " m wide (" << std::setprecision(0)
+        << static_cast<double>(pixels) / 1e6 << " million pixels): a scanner's bed is under " << kMaxScanSideMm / 1000.0
+        << " m and leafdig reads at most " << kMaxScanPixels / 1'000'000
+        << " million pixels. Check --dpi, or scan at a lower resolution";
+    throw InputError(out.str());
+  }
+}
+
 LeafScan scanLeafPixels(const std::uint8_t* grey, int width, int height, std::size_t stride,
                         const ScanOptions& options) {
   if (!(options.dpi > 0.0) || !std::isfinite(options.dpi)) {
     throw InputError("the scan's resolution is needed: give --dpi (e.g. 300, as set in the scanner's software)");
   }
+  checkScanSize(static_cast<std::uint64_t>(std::max(width, 0)), static_cast<std::uint64_t>(std::max(height, 0)),
+                options.dpi);
   if (!(options.petioleWidthMm >= 0.0)) throw InputError("--petiole-width must be >= 0 mm (0: no petiole search)");
   if (width < 8 || height < 8)
     throw InputError("the image is too small to hold a leaf (" + std::to_string(width) + " x " +
@@ -196,6 +222,23 @@ LeafScan scanLeaf(const std::filesystem::path& path, const ScanOptions& options)
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path.string() + ": no such image file; check the path");
+  }
+  if (!(options.dpi > 0.0) || !std::isfinite(options.dpi))
+    throw InputError(path.string() +
+                     ": the scan's resolution is needed: give --dpi (e.g. 300, as set in the scanner's software)");
+  // Its size from the header, bounded before a pixel is decoded.
+  {
+    std::ifstream in(path, std::ios::binary);
+    const auto header = readImageHeader(in);
+    if (!header)
+      throw InputError(path.string() +
+                       ": cannot decode the image: it is not a PNG, TIFF, JPEG or BMP (or its header "
+                       "is damaged); give the scan as one of these");
+    try {
+      checkScanSize(header->width, header->height, options.dpi);
+    } catch (const InputError& e) {
+      throw InputError(path.string() + ": " + e.what());
+    }
   }
   cv::Mat image;
   try {

@@ -1,9 +1,12 @@
 #include "leafdig/model/markers.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/limits.hpp"
 
 namespace leafdig::model {
 
@@ -31,9 +34,59 @@ void requirePositive(const std::optional<double>& value, const std::string& wher
            "caliper or correct the file.";
     throw InputError(out.str());
   }
+  if (*value > kMaxThicknessMm) {
+    std::ostringstream out;
+    out << where << ": " << what << " is " << *value << " mm; a caliper reading of a leaf is at most "
+        << kMaxThicknessMm << " mm. Re-measure it, or check the file's units.";
+    throw InputError(out.str());
+  }
 }
 
 }  // namespace
+
+const char* toString(Serration serration) {
+  switch (serration) {
+    case Serration::None: return "none";
+    case Serration::Round: return "round";
+    case Serration::Sharp: return "sharp";
+    case Serration::Straight: return "straight";
+    case Serration::Acuminate: return "acuminate";
+  }
+  return "?";
+}
+
+Serration serrationFromString(const std::string& word) {
+  for (Serration s : {Serration::None, Serration::Round, Serration::Sharp, Serration::Straight, Serration::Acuminate})
+    if (word == toString(s)) return s;
+  throw InputError("unknown serration '" + word + "': use none, round, sharp, straight or acuminate");
+}
+
+// Tooth profile in units of D at θ = n φ (docs/synthetic-leaves.md).
+double toothProfile(Serration s, double theta) {
+  const double sn = std::abs(std::sin(theta));
+  const double cs = std::abs(std::cos(theta));
+  switch (s) {
+    case Serration::None: return 0.0;
+    case Serration::Round: return sn;
+    case Serration::Sharp: return 1.0 - cs;
+    case Serration::Straight: return sn + 1.0 - cs;
+    case Serration::Acuminate: return sn + (1.0 - cs) * (1.0 - cs);
+  }
+  return 0.0;
+}
+
+ToothSpread toothSpread(Serration s) {
+  // Over one period of the profile (π), finely: the mean by the midpoint rule, the largest
+  // sample (the profiles are smooth between their kinks, which fall on samples).
+  constexpr int kSamples = 4096;
+  ToothSpread out;
+  for (int k = 0; k < kSamples; ++k) {
+    const double h = toothProfile(s, 3.14159265358979323846 * (k + 0.5) / kSamples);
+    out.mean += h / kSamples;
+    out.max = std::max(out.max, toothProfile(s, 3.14159265358979323846 * k / kSamples));
+  }
+  return out;
+}
 
 const char* toString(ThicknessMode mode) {
   switch (mode) {
@@ -136,6 +189,10 @@ void validateMarkerGeometry(const MarkerSet& markers) {
         "the marker set has no rows; digitize at least one row of 7 markers below "
         "the tip");
   }
+  if (markers.rows.size() > kMaxRows) {
+    throw InputError("the marker set has " + std::to_string(markers.rows.size()) + " rows; a leaf takes at most " +
+                     std::to_string(kMaxRows) + " (a 1 m leaf with a row every millimetre)");
+  }
   for (int axis = 0; axis < 3; ++axis) {
     if (!std::isfinite(markers.tipMm[axis])) {
       throw InputError("tip: coordinate " + std::string(1, "xyz"[axis]) +
@@ -150,6 +207,46 @@ void validateMarkerGeometry(const MarkerSet& markers) {
                            " is not a finite number; re-digitize this marker");
         }
       }
+    }
+  }
+  // Within what a digitizer measures, and the size of a leaf.
+  const auto bounded = [](const Eigen::Vector3d& p, const std::string& name) {
+    if (p.cwiseAbs().maxCoeff() > kMaxCoordinateMm)
+      throw InputError(name + " is at " + formatPoint(p) + " mm, beyond what a digitizer measures (" +
+                       std::to_string(static_cast<int>(kMaxCoordinateMm / 1000)) +
+                       " m from its origin); check the file's units and numbers");
+  };
+  bounded(markers.tipMm, "the tip");
+  Eigen::Vector3d low = markers.tipMm, high = markers.tipMm;
+  for (std::size_t i = 0; i < markers.rows.size(); ++i)
+    for (int j = 0; j < kMarkersPerRow; ++j) {
+      const Eigen::Vector3d& p = markers.rows[i].pointsMm[j];
+      bounded(p, pointName(static_cast<int>(i), j));
+      low = low.cwiseMin(p);
+      high = high.cwiseMax(p);
+    }
+  if ((high - low).norm() > kMaxLeafSpanMm) {
+    std::ostringstream out;
+    out << "the markers span " << (high - low).norm() << " mm; one leaf spans at most " << kMaxLeafSpanMm
+        << " mm. Check the file's units, or a marker far from the others";
+    throw InputError(out.str());
+  }
+  // A blade needs breadth: markers on one line (or one point) make a leaf of no area.
+  {
+    Eigen::Vector3d mean = markers.tipMm;
+    for (const MarkerRow& row : markers.rows)
+      for (const Eigen::Vector3d& p : row.pointsMm) mean += p;
+    mean /= static_cast<double>(1 + kMarkersPerRow * markers.rows.size());
+    Eigen::Matrix3d scatter = (markers.tipMm - mean) * (markers.tipMm - mean).transpose();
+    for (const MarkerRow& row : markers.rows)
+      for (const Eigen::Vector3d& p : row.pointsMm) scatter += (p - mean) * (p - mean).transpose();
+    const Eigen::Vector3d spread = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues();  // ascending
+    const double length = std::sqrt(std::max(spread[2], 0.0));
+    const double breadth = std::sqrt(std::max(spread[1], 0.0));
+    if (breadth <= 1e-3 * length || breadth < 1e-3) {
+      throw InputError(
+          "the markers lie on one line: a leaf's rows run across its midrib and give it breadth. Re-digitize the "
+          "rows (7 points each, right to left across the leaf)");
     }
   }
   auto checkPair = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const std::string& nameA,
@@ -175,6 +272,32 @@ void validateMarkerGeometry(const MarkerSet& markers) {
       }
     }
   }
+}
+
+MarginSample marginAt(const MarginFromScan& margin, double spacingMm) {
+  if (margin.empty()) return {spacingMm, 0.0, 0.0};
+  if (spacingMm <= margin.front().spacingMm) return margin.front();
+  for (std::size_t k = 1; k < margin.size(); ++k) {
+    const MarginSample& a = margin[k - 1];
+    const MarginSample& b = margin[k];
+    if (spacingMm <= b.spacingMm) {
+      const double t = (spacingMm - a.spacingMm) / (b.spacingMm - a.spacingMm);
+      return {spacingMm, a.outsideMm + t * (b.outsideMm - a.outsideMm), a.insideMm + t * (b.insideMm - a.insideMm)};
+    }
+  }
+  return margin.back();
+}
+
+double marginSpacingMm(const MarkerSet& markers) {
+  if (markers.rows.empty()) return 0.0;
+  double length = 0.0;
+  Eigen::Vector3d right = markers.tipMm, left = markers.tipMm;
+  for (const MarkerRow& row : markers.rows) {
+    length += (row.pointsMm[0] - right).norm() + (row.pointsMm[kMarkersPerRow - 1] - left).norm();
+    right = row.pointsMm[0];
+    left = row.pointsMm[kMarkersPerRow - 1];
+  }
+  return length / static_cast<double>(2 * markers.rows.size());
 }
 
 MarkerGrid markerGrid(const MarkerSet& markers) {

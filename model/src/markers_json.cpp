@@ -6,6 +6,7 @@
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/limits.hpp"
 
 namespace leafdig::model {
 
@@ -31,7 +32,29 @@ class Reader {
     return *it;
   }
 
-  // A finite number times `scale`; NaN, Infinity, strings and null are named errors.
+  // A finite number times `scale`; NaN, Infinity, strings and null are named errors, and so
+  // is a value beyond `limit` (in mm after scaling): `limitWhy` says what bounds it.
+  double bounded(const json& value, const std::string& where, const std::string& what, double scale, double low,
+                 double high, const std::string& bound) const {
+    const double v = number(value, where, what, scale);
+    if (!(v >= low && v <= high)) {
+      std::ostringstream out;
+      out << what << " is " << v << " mm; " << bound << ". Check the number and the file's \"units\"";
+      fail(where, out.str());
+    }
+    return v;
+  }
+  double thickness(const json& value, const std::string& where, const std::string& what, double scale) const {
+    return bounded(value, where, what, scale, -kMaxThicknessMm, kMaxThicknessMm,
+                   "a caliper reading of a leaf is at most " + detail::formatNumber(kMaxThicknessMm) + " mm");
+  }
+  std::optional<double> optionalThickness(const json& object, const char* key, const std::string& where,
+                                          double scale) const {
+    const auto it = object.find(key);
+    if (it == object.end() || it->is_null()) return std::nullopt;
+    return thickness(*it, where, key, scale);
+  }
+
   double number(const json& value, const std::string& where, const std::string& what, double scale) const {
     const std::string token = detail::nonFiniteToken(value);
     if (!token.empty()) {
@@ -56,7 +79,10 @@ class Reader {
     }
     Eigen::Vector3d p;
     for (int axis = 0; axis < 3; ++axis) {
-      p[axis] = number(value[static_cast<std::size_t>(axis)], where, std::string("coordinate ") + "xyz"[axis], scale);
+      p[axis] =
+          bounded(value[static_cast<std::size_t>(axis)], where, std::string("coordinate ") + "xyz"[axis], scale,
+                  -kMaxCoordinateMm, kMaxCoordinateMm,
+                  "a digitizer measures within " + detail::formatNumber(kMaxCoordinateMm / 1000) + " m of its origin");
     }
     return p;
   }
@@ -113,6 +139,48 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
       m.leaf.position = v->get<int>();
     }
     m.leaf.measuredAreaMm2 = reader.optionalNumber(leaf, "measured_area_mm2", "leaf", 1.0);
+    if (const auto v = leaf.find("serration"); v != leaf.end() && !v->is_null()) {
+      if (!v->is_string()) reader.fail("leaf.serration", "must be none, round, sharp, straight or acuminate");
+      try {
+        m.leaf.serration = serrationFromString(v->get<std::string>());
+      } catch (const InputError& e) {
+        reader.fail("leaf.serration", e.what());
+      }
+    }
+    if (const auto v = leaf.find("tooth_depth_mm"); v != leaf.end() && !v->is_null()) {
+      m.leaf.toothDepthMm =
+          reader.bounded(*v, "leaf", "tooth_depth_mm", scale, 1e-9, kMaxThicknessMm,
+                         "a tooth of a leaf's margin is at most " + detail::formatNumber(kMaxThicknessMm) + " mm deep");
+      if (!m.leaf.serration || *m.leaf.serration == Serration::None)
+        reader.fail("leaf.tooth_depth_mm", "is given but the leaf's serration is not: add \"serration\"");
+    }
+    if (const auto v = leaf.find("margin_from_scan"); v != leaf.end() && !v->is_null()) {
+      if (!v->is_array() || v->empty() || v->size() > 64)
+        reader.fail("leaf.margin_from_scan",
+                    "must be a list of 1 to 64 {\"spacing_mm\", \"outside_mm\", \"inside_mm\"}, by spacing");
+      MarginFromScan margin;
+      for (std::size_t k = 0; k < v->size(); ++k) {
+        const std::string where = "leaf.margin_from_scan[" + std::to_string(k) + "]";
+        const std::string bound = "a leaf's margin detail is at most " + detail::formatNumber(kMaxThicknessMm) + " mm";
+        MarginSample sample;
+        sample.spacingMm = reader.bounded(reader.require((*v)[k], "spacing_mm", where), where, "spacing_mm", scale,
+                                          1e-3, kMaxLeafSpanMm, "a spacing along a leaf's margin is at most 3 m");
+        sample.outsideMm = reader.bounded(reader.require((*v)[k], "outside_mm", where), where, "outside_mm", scale, 0.0,
+                                          kMaxThicknessMm, bound);
+        sample.insideMm = reader.bounded(reader.require((*v)[k], "inside_mm", where), where, "inside_mm", scale, 0.0,
+                                         kMaxThicknessMm, bound);
+        if (!margin.empty() && !(sample.spacingMm > margin.back().spacingMm))
+          reader.fail(where, "spacings must increase");
+        margin.push_back(sample);
+      }
+      m.leaf.marginFromScan = margin;
+    }
+    if (m.leaf.measuredAreaMm2 && !(*m.leaf.measuredAreaMm2 > 0 && *m.leaf.measuredAreaMm2 <= kMaxLeafAreaMm2)) {
+      std::ostringstream out;
+      out << "measured_area_mm2 is " << *m.leaf.measuredAreaMm2 << " mm^2; a leaf's area is positive and at most "
+          << kMaxLeafAreaMm2 / 1e6 << " m^2";
+      reader.fail("leaf", out.str());
+    }
   }
   if (const auto it = doc.find("mode"); it != doc.end() && !it->is_null()) {
     if (!it->is_string()) reader.fail("mode", "must be \"standard\", \"full\" or \"small\"");
@@ -129,6 +197,10 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
   if (rows.empty()) {
     reader.fail("rows", "no rows; a leaf needs at least one row of 7 markers below the tip");
   }
+  if (rows.size() > kMaxRows) {
+    reader.fail("rows", std::to_string(rows.size()) + " rows; a leaf takes at most " + std::to_string(kMaxRows) +
+                            " (a 1 m leaf with a row every millimetre)");
+  }
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const std::string where = "row " + std::to_string(i + 1);
     const json& row = rows[i];
@@ -142,21 +214,21 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
     for (std::size_t j = 0; j < kMarkersPerRow; ++j) {
       r.pointsMm[j] = reader.point(points[j], pointWhere(i, j), scale);
     }
-    r.midribThicknessMm = reader.optionalNumber(row, "midrib_thickness", where, thicknessScale);
-    r.veinOriginThicknessMm = reader.optionalNumber(row, "vein_origin_thickness", where, thicknessScale);
-    r.edgeThicknessMm = reader.optionalNumber(row, "edge_thickness", where, thicknessScale);
+    r.midribThicknessMm = reader.optionalThickness(row, "midrib_thickness", where, thicknessScale);
+    r.veinOriginThicknessMm = reader.optionalThickness(row, "vein_origin_thickness", where, thicknessScale);
+    r.edgeThicknessMm = reader.optionalThickness(row, "edge_thickness", where, thicknessScale);
     if (const auto it = row.find("thickness"); it != row.end() && !it->is_null()) {
       if (!it->is_array() || it->size() != kMarkersPerRow) {
         reader.fail(where, "\"thickness\" must list 7 values (null where not measured)");
       }
       for (std::size_t j = 0; j < kMarkersPerRow; ++j) {
         const json& t = (*it)[j];
-        if (!t.is_null()) r.measuredThicknessMm[j] = reader.number(t, pointWhere(i, j), "thickness", thicknessScale);
+        if (!t.is_null()) r.measuredThicknessMm[j] = reader.thickness(t, pointWhere(i, j), "thickness", thicknessScale);
       }
     }
     m.rows.push_back(r);
   }
-  m.edgeThicknessMm = reader.optionalNumber(doc, "edge_thickness", "top level", thicknessScale);
+  m.edgeThicknessMm = reader.optionalThickness(doc, "edge_thickness", "top level", thicknessScale);
   return m;
 }
 
@@ -189,6 +261,15 @@ std::string markersToJson(const MarkerSet& m) {
   if (m.leaf.position) leaf["position"] = *m.leaf.position;
   if (!m.leaf.type.empty()) leaf["type"] = m.leaf.type;
   if (m.leaf.measuredAreaMm2) leaf["measured_area_mm2"] = *m.leaf.measuredAreaMm2;
+  if (m.leaf.serration) leaf["serration"] = toString(*m.leaf.serration);
+  if (m.leaf.toothDepthMm) leaf["tooth_depth_mm"] = *m.leaf.toothDepthMm;
+  if (m.leaf.marginFromScan) {
+    json margin = json::array();
+    for (const MarginSample& sample : *m.leaf.marginFromScan)
+      margin.push_back(
+          {{"spacing_mm", sample.spacingMm}, {"outside_mm", sample.outsideMm}, {"inside_mm", sample.insideMm}});
+    leaf["margin_from_scan"] = margin;
+  }
   out << "  \"leaf\": " << leaf.dump() << ",\n";
   if (m.mode) out << "  \"mode\": \"" << toString(*m.mode) << "\",\n";
   out << "  \"tip\": ";

@@ -175,7 +175,23 @@ std::string encodeStl(const LeafMesh& mesh, const ExportHeader& h) {
 
 }  // namespace
 
+void requireFiniteMesh(const LeafMesh& mesh) {
+  for (const auto& organ : mesh.organs) {
+    for (const auto& v : organ.mesh.positions)
+      if (!v.allFinite())
+        throw InputError("the " + organ.name +
+                         " has coordinates that are not finite numbers: the input holds numbers beyond what a leaf "
+                         "can be. Nothing was written; check the markers and the thickness readings");
+    for (const auto& n : organ.mesh.normals)
+      if (!n.allFinite())
+        throw InputError("the " + organ.name +
+                         " has normals that are not finite numbers: its geometry is degenerate. "
+                         "Nothing was written; check the markers");
+  }
+}
+
 std::string encodeMesh(const LeafMesh& mesh, MeshFormat format, const ExportHeader& header) {
+  requireFiniteMesh(mesh);  // every format: no NaN or infinity ever reaches a file
   switch (format) {
     case MeshFormat::Obj: return encodeObj(mesh, header);
     case MeshFormat::Ply: return encodePly(mesh, header);

@@ -60,7 +60,7 @@ std::string modelToJson(const LeafModel& model, const std::string& frame, const 
                   {"row_parameters", b.rowParameters},
                   {"column_parameters", b.columnParameters}};
   doc["metrics"] = json::parse(metricsToJson(metrics));
-  return doc.dump(1) + "\n";
+  return detail::dumpFinite(doc, 1) + "\n";
 }
 
 namespace {

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <sstream>
 
 #include "draws.hpp"
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/limits.hpp"
 #include "leafdig/model/markers_json.hpp"
 
 namespace leafdig::model {
@@ -235,7 +237,19 @@ Plant PlantBuilder::build(std::optional<double> time) const {
     throw InputError("plant " + plan_.id + " has no \"growth\" in its plan: a time needs growth parameters");
   }
   double heightFactor = 1.0;
-  if (time) heightFactor = logistic(plan_.growth->stemRate, plan_.growth->stemMidpoint, *time);
+  if (time) {
+    if (!std::isfinite(*time))
+      throw InputError("the time " + std::to_string(*time) + " is not a finite number: give a time in " +
+                       (plan_.growth->timeUnit.empty() ? std::string("days") : plan_.growth->timeUnit));
+    heightFactor = logistic(plan_.growth->stemRate, plan_.growth->stemMidpoint, *time);
+    if (!(heightFactor >= kMinGrowthFactor)) {
+      std::ostringstream out;
+      out << "plant " << plan_.id << " at time " << *time << " has a stem " << heightFactor
+          << " of its final height: it has not emerged yet (its stem's growth midpoint is "
+          << plan_.growth->stemMidpoint << "). Choose a later time";
+      throw InputError(out.str());
+    }
+  }
   const double stemHeight = plan_.stem.heightMm * heightFactor;
   Plant plant{plan_.id,
               time,
@@ -254,6 +268,7 @@ Plant PlantBuilder::build(std::optional<double> time) const {
       const double tau = *time - (r.plan.rank - 1) * g.plastochron;
       if (tau < 0.0) continue;  // not yet appeared
       lengthFactor = logistic(g.leafRate, g.leafMidpoint, tau);
+      if (!(lengthFactor >= kMinGrowthFactor)) continue;  // not yet visible: a leaf of no size
       widthFactor = g.widthAtEmergence + (1.0 - g.widthAtEmergence) * lengthFactor;
     }
     PlacedLeaf leaf;

@@ -98,12 +98,13 @@ PlantMetrics computePlantMetrics(const Plant& plant, const LeafMesh& mesh, const
           return;
         }
         if (blades[i] == nullptr) return;
+        // The leaf alone, as a lone leaf's metrics have it (leafSilhouette); the plant's own
+        // raster keeps 2048 pixels.
         LeafLight& l = out.leaves[i];
-        l.areaMm2 = meshArea(*blades[i]);
-        // 1024 pixels across one leaf: within 0.2 % of a 4096-pixel raster on the samples
-        // (plant_test), at a quarter of the cost; the plant's own raster keeps 2048.
-        l.silhouetteMm2 = silhouetteArea({blades[i]}, out.lightDirection, 1024);
-        l.star = l.areaMm2 > 0 ? l.silhouetteMm2 / l.areaMm2 : 0.0;
+        const LeafSilhouette alone = leafSilhouette(*blades[i], out.lightDirection);
+        l.areaMm2 = alone.meshAreaMm2;
+        l.silhouetteMm2 = alone.silhouetteMm2;
+        l.star = alone.star;
       },
       order);
   for (const LeafLight& l : out.leaves) out.areaMm2 += l.areaMm2;
@@ -344,11 +345,12 @@ std::string encodePlantJson(const Plant& plant, const PlantMetrics& metrics) {
       {"area_mm2", metrics.areaMm2},
       {"silhouette_mm2", metrics.silhouetteMm2},
       {"star", metrics.star}};
-  return doc.dump() + "\n";
+  return detail::dumpFinite(doc) + "\n";
 }
 
 std::vector<EncodedFile> encodePlant(const std::filesystem::path& path, const Plant& plant, const LeafMesh& mesh,
                                      const PlantMetrics& metrics, const PlantExportOptions& options) {
+  requireFiniteMesh(mesh);
   const ExportHeader header{plant.id, "plant", options.generator};
   switch (plantFormatForPath(path)) {
     case PlantFormat::Glb: return {{path, encodeMesh(mesh, MeshFormat::Glb, header)}};

@@ -5,6 +5,7 @@
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/limits.hpp"
 #include "leafdig/model/plant.hpp"
 
 namespace leafdig::model {
@@ -27,16 +28,28 @@ class PlanReader {
     return object.at(key);
   }
 
+  // Every number of a plan is a length, an angle, a time or a factor: none is beyond a
+  // million (a plant is at most 10 m, a time at most 100 000 days or degree-days).
   double number(const json& value, const std::string& where) const {
     if (!value.is_number()) fail(where, "expected a number, found " + std::string(value.type_name()));
     const double v = value.get<double>();
     if (!std::isfinite(v)) fail(where, "not a finite number");
+    if (std::abs(v) > kMaxPlanNumber)
+      fail(where, detail::formatNumber(v) + " is beyond any length, angle or time of a plant (at most " +
+                      detail::formatNumber(kMaxPlanNumber) + "); check the number and the plan's units");
     return v;
   }
 
   double positive(const json& value, const std::string& where) const {
     const double v = number(value, where);
     if (!(v > 0.0)) fail(where, detail::formatNumber(v) + " must be greater than zero");
+    return v;
+  }
+
+  // A positive number at most `high` (`what` says what bounds it).
+  double within(const json& value, const std::string& where, double high, const std::string& what) const {
+    const double v = positive(value, where);
+    if (v > high) fail(where, detail::formatNumber(v) + " is more than " + what);
     return v;
   }
 
@@ -102,6 +115,8 @@ PlantPlan parsePlantPlan(std::string_view text, const std::string& source, const
       Eigen::Vector4d p;
       for (int k = 0; k < 4; ++k) p[k] = mm * r.number(points[i][static_cast<std::size_t>(k)], at);
       if (!(p[3] > 0.0)) r.fail(at, "the diameter must be greater than zero");
+      if (p.head<3>().cwiseAbs().maxCoeff() > kMaxCoordinateMm || p[3] > kMaxStemDiameterMm)
+        r.fail(at, "beyond a plant's 10 m or a stem's 1 m diameter; check the numbers and the plan's units");
       if (!plan.stem.points.empty() && (p.head<3>() - plan.stem.points.back().head<3>()).norm() < 1e-6)
         r.fail(at, "coincides with the point before it; remove one");
       plan.stem.points.push_back(p);
@@ -111,9 +126,12 @@ PlantPlan parsePlantPlan(std::string_view text, const std::string& source, const
     plan.stem.baseDiameterMm = plan.stem.points.front()[3];
     plan.stem.topDiameterMm = plan.stem.points.back()[3];
   } else {
-    plan.stem.heightMm = mm * r.positive(r.required(stem, "height", "stem"), "stem.height");
-    plan.stem.baseDiameterMm = mm * r.positive(r.required(stem, "base_diameter", "stem"), "stem.base_diameter");
-    plan.stem.topDiameterMm = mm * r.positive(r.required(stem, "top_diameter", "stem"), "stem.top_diameter");
+    plan.stem.heightMm = mm * r.within(r.required(stem, "height", "stem"), "stem.height", kMaxCoordinateMm / mm,
+                                       "a plant's height (10 m)");
+    plan.stem.baseDiameterMm = mm * r.within(r.required(stem, "base_diameter", "stem"), "stem.base_diameter",
+                                             kMaxStemDiameterMm / mm, "a stem's diameter (1 m)");
+    plan.stem.topDiameterMm = mm * r.within(r.required(stem, "top_diameter", "stem"), "stem.top_diameter",
+                                            kMaxStemDiameterMm / mm, "a stem's diameter (1 m)");
   }
 
   if (doc.contains("phyllotaxis") && !doc.at("phyllotaxis").is_null()) {
@@ -167,7 +185,8 @@ PlantPlan parsePlantPlan(std::string_view text, const std::string& source, const
     if (leaf.inclinationDeg && (*leaf.inclinationDeg < 0.0 || *leaf.inclinationDeg > 180.0))
       r.fail(at + ".inclination_deg", "must be from 0 (upright) through 90 (flat) to 180 (hanging)");
     leaf.rollDeg = r.optionalNumber(l, "roll_deg", at).value_or(0.0);
-    if (l.contains("scale") && !l.at("scale").is_null()) leaf.scale = r.positive(l.at("scale"), at + ".scale");
+    if (l.contains("scale") && !l.at("scale").is_null())
+      leaf.scale = r.within(l.at("scale"), at + ".scale", 100.0, "a hundred times the leaf's size");
     leaf.bendDeg = r.optionalNumber(l, "bend_deg", at);
     plan.leaves.push_back(std::move(leaf));
   }
@@ -205,10 +224,12 @@ PlantPlan parsePlantPlan(std::string_view text, const std::string& source, const
     }
     growth.plastochron = r.positive(r.required(g, "plastochron", "growth"), "growth.plastochron");
     const json& leaf = r.required(g, "leaf", "growth");
-    growth.leafRate = r.positive(r.required(leaf, "rate", "growth.leaf"), "growth.leaf.rate");
+    growth.leafRate = r.within(r.required(leaf, "rate", "growth.leaf"), "growth.leaf.rate", kMaxGrowthRate,
+                               "any growth rate (1 000 per time unit)");
     growth.leafMidpoint = r.positive(r.required(leaf, "midpoint", "growth.leaf"), "growth.leaf.midpoint");
     const json& stemGrowth = r.required(g, "stem", "growth");
-    growth.stemRate = r.positive(r.required(stemGrowth, "rate", "growth.stem"), "growth.stem.rate");
+    growth.stemRate = r.within(r.required(stemGrowth, "rate", "growth.stem"), "growth.stem.rate", kMaxGrowthRate,
+                               "any growth rate (1 000 per time unit)");
     growth.stemMidpoint = r.positive(r.required(stemGrowth, "midpoint", "growth.stem"), "growth.stem.midpoint");
     growth.widthAtEmergence = r.optionalNumber(g, "width_at_emergence", "growth").value_or(0.4);
     if (!(growth.widthAtEmergence > 0.0 && growth.widthAtEmergence < 1.0))

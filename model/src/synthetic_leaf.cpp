@@ -60,20 +60,6 @@ const GaussLegendre<12>& innerRule() {
   return rule;
 }
 
-// Tooth profile in units of D at θ = n φ (docs/synthetic-leaves.md).
-double tooth(Serration s, double theta) {
-  const double sn = std::abs(std::sin(theta));
-  const double cs = std::abs(std::cos(theta));
-  switch (s) {
-    case Serration::None: return 0.0;
-    case Serration::Round: return sn;
-    case Serration::Sharp: return 1.0 - cs;
-    case Serration::Straight: return sn + 1.0 - cs;
-    case Serration::Acuminate: return sn + (1.0 - cs) * (1.0 - cs);
-  }
-  return 0.0;
-}
-
 // Five-point central difference. The result is evaluated into the function's own value
 // type: returning an Eigen expression would keep references to the four temporaries.
 template <typename F>
@@ -104,17 +90,6 @@ const char* toString(LeafShape shape) {
   return "?";
 }
 
-const char* toString(Serration serration) {
-  switch (serration) {
-    case Serration::None: return "none";
-    case Serration::Round: return "round";
-    case Serration::Sharp: return "sharp";
-    case Serration::Straight: return "straight";
-    case Serration::Acuminate: return "acuminate";
-  }
-  return "?";
-}
-
 const char* toString(ToothDirection direction) {
   return direction == ToothDirection::Horizontal ? "horizontal" : "normal";
 }
@@ -123,12 +98,6 @@ LeafShape leafShapeFromString(const std::string& word) {
   for (LeafShape s : {LeafShape::Oblong, LeafShape::Elliptic, LeafShape::Ovate, LeafShape::Obovate, LeafShape::Tobacco})
     if (word == toString(s)) return s;
   throw InputError("unknown leaf shape '" + word + "': use oblong, elliptic, ovate, obovate or tobacco");
-}
-
-Serration serrationFromString(const std::string& word) {
-  for (Serration s : {Serration::None, Serration::Round, Serration::Sharp, Serration::Straight, Serration::Acuminate})
-    if (word == toString(s)) return s;
-  throw InputError("unknown serration '" + word + "': use none, round, sharp, straight or acuminate");
 }
 
 ToothDirection toothDirectionFromString(const std::string& word) {
@@ -259,7 +228,7 @@ Eigen::Vector2d SyntheticLeaf::baseOutline(int side, double phi, Eigen::Vector2d
 Eigen::Vector2d SyntheticLeaf::outlinePoint(int side, double phi) const {
   const OutlineSpec& o = spec_.outline;
   if (o.serration == Serration::None) return baseOutline(side, phi);
-  const double delta = o.toothDepthMm * tooth(o.serration, o.teethPerSide * phi);
+  const double delta = o.toothDepthMm * toothProfile(o.serration, o.teethPerSide * phi);
   if (o.toothDirection == ToothDirection::Horizontal)
     return baseOutline(side, phi) + Eigen::Vector2d(side * delta, 0.0);
   Eigen::Vector2d t;
@@ -473,6 +442,11 @@ MarkerSet SyntheticLeaf::markers(double noiseMm, std::uint64_t seed) const {
   set.leaf.plant = spec_.plant;
   set.leaf.type = spec_.type;
   set.leaf.measuredAreaMm2 = roundTo(area(), 1.0);
+  // A toothed margin is declared as the leaf was made: its serration and tooth depth.
+  if (spec_.outline.serration != Serration::None) {
+    set.leaf.serration = spec_.outline.serration;
+    set.leaf.toothDepthMm = spec_.outline.toothDepthMm;
+  }
   set.edgeThicknessMm = 0.3;
   set.tipMm = sample(surfacePoint({0.0, spec_.outline.lengthMm}));
   const std::array<std::vector<Eigen::Vector2d>, 2> margins{marginSamples(+1), marginSamples(-1)};

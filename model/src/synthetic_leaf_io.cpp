@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "json_text.hpp"
 #include "leafdig/model/synthetic_leaf.hpp"
 
 namespace leafdig::model {
@@ -85,7 +86,7 @@ std::string truthToJson(const SyntheticLeaf& leaf, double noiseMm, std::uint64_t
                      {"points", pts}});
   }
   doc["veins"] = veins;
-  return doc.dump(1) + "\n";
+  return detail::dumpFinite(doc, 1) + "\n";
 }
 
 FigurePanel figurePanel(const SyntheticLeaf& leaf, const std::string& caption) {

@@ -2,6 +2,8 @@
 // docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <unsupported/Eigen/Splines>
 #include <utility>
 
@@ -75,6 +77,47 @@ void BM_AreaInterval(benchmark::State& state) {
 BENCHMARK(BM_AreaInterval)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_ConvergedMetrics)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// A long leaf with `rows` rows (up to the 1 000 leafdig takes), 2.4 m at most, cupped: what a
+// hostile or very patient capture hands `model build`. The whole of `model build --json`'s
+// work (model, export mesh, metrics with the area interval): its time per row must not grow
+// with the rows (issue 26: a dense product made 1 000 rows cost seconds, 4 000 ten times that).
+m::MarkerSet longLeaf(int rows) {
+  m::MarkerSet set;
+  const double length = std::min(3.0 * rows, 2400.0);
+  const double width = 0.3 * length;
+  set.tipMm = {0, length + 5, 0};
+  set.edgeThicknessMm = 0.3;
+  for (int i = 1; i <= rows; ++i) {
+    const double t = static_cast<double>(i) / rows;
+    const double halfWidth = width / 2 * std::sin(3.14159265358979 * std::min(t, 0.98)) + 1;
+    m::MarkerRow row;
+    for (int j = 0; j < m::kMarkersPerRow; ++j) {
+      const double across = (3 - j) / 3.0;
+      row.pointsMm[static_cast<std::size_t>(j)] = {across * halfWidth, length * (1 - t) * 0.999 + 0.001 * length,
+                                                   5 * std::sin(across * 1.3)};
+    }
+    row.midribThicknessMm = 2.0;
+    row.veinOriginThicknessMm = 1.0;
+    set.rows.push_back(row);
+  }
+  return set;
+}
+void BM_ManyRows(benchmark::State& state) {
+  const m::MarkerSet markers = longLeaf(static_cast<int>(state.range(0)));
+  const m::MeshResolution resolution = m::MeshResolution::preset("export");
+  for (auto _ : state) {
+    const m::LeafModel leaf = m::buildLeafModel(markers);
+    const m::LeafMesh mesh = m::meshLeaf(leaf, resolution);
+    benchmark::DoNotOptimize(m::computeLeafMetrics(leaf, {0, 0, 1}));
+    benchmark::DoNotOptimize(mesh.organs.size());
+  }
+  state.counters["rows"] = static_cast<double>(markers.rows.size());
+  // Seconds per row and iteration: flat across the row counts when the cost is linear.
+  state.counters["s_per_row"] = benchmark::Counter(static_cast<double>(state.iterations()) * state.range(0),
+                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ManyRows)->Arg(125)->Arg(250)->Arg(500)->Arg(1000)->Unit(benchmark::kMillisecond);
 
 // The contour of the 17-row leaf as 4-D data balls (2N + 1 = 35 points), and longer
 // synthetic curves to show how each solver scales.

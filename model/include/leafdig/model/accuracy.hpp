@@ -35,6 +35,7 @@ struct AccuracyCase {
   int rows = 12;
   double sigmaMm = 0.0;
   std::uint64_t seed = 1;
+  Serration serration = Serration::None;  // the margin's teeth (20 per side, 1.5 % of the width deep)
 };
 
 struct AccuracyResult {
@@ -49,6 +50,8 @@ struct AccuracyResult {
   double veinMeanMm = 0.0;  // distance of the model's vein centre lines from the true veins
   double veinMaxMm = 0.0;
   bool inInterval = false;  // the true area inside areaUncertainty's 95 % interval (when checked)
+  // …and inside the interval a leaf whose serration was not declared gets (no margin term).
+  bool inIntervalUndeclared = false;
   bool intervalChecked = false;
   AreaUncertainty interval;  // when checked
 };
@@ -63,6 +66,13 @@ struct AccuracyPlan {
   // The interval's coverage is checked on every noisy interp capture (the interval assuming
   // the σ the capture had), with this many draws (0: never).
   int coverageDraws = 32;
+  // Toothed margins (issue 26): every shape, length and row count again with each of these
+  // serrations (declared as the leaf has it), captured with each of marginSigmasMm and
+  // marginSeeds seeds, interp only, every capture's interval checked. The tables above are
+  // of the smooth leaves alone.
+  std::vector<Serration> margins;
+  std::vector<double> marginSigmasMm;
+  int marginSeeds = 0;
 
   // The study of docs/accuracy.md, and a small one for tests and CI.
   [[nodiscard]] static AccuracyPlan full();

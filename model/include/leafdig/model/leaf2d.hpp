@@ -30,6 +30,16 @@ struct Outline2d {
   std::string id;
 };
 
+// How far the outline runs outside and inside a smooth margin (its moving average over
+// `spacingMm` of arc: the markers' spacing along the margin), as the 97.5th and 2.5th
+// percentiles of its signed distance about their mean: the margin detail the markers of a
+// capture cannot see between them, for the area interval (LeafInfo::marginFromScan). Throws
+// InputError for an outline of fewer than 8 points or a spacing that is not positive.
+[[nodiscard]] MarginSample marginFromOutline(const Outline2d& outline, double spacingMm);
+// The same at the spacings a capture's rows give (5 to 80 mm), for when the markers are not
+// taken yet (the station's set-up reads the scan before the capture).
+[[nodiscard]] MarginFromScan marginProfile(const Outline2d& outline);
+
 // `leafdig.outline/1` JSON ({"format", "units": "mm", "points": [[x, y], ...], optional
 // "base", "tip", "measured_area_mm2", "id"}) or CSV (`x_mm,y_mm` rows, an optional header
 // naming the columns; `#` comments), chosen by the extension (.json, .csv). Throws

@@ -39,6 +39,10 @@ struct LeafScan {
 // problem and what to do: missing DPI, an unreadable file, no leaf found, a uniform image.
 [[nodiscard]] LeafScan scanLeaf(const std::filesystem::path& image, const ScanOptions& options);
 
+// A scan's resolution and size are what a scanner makes (limits.hpp: 25–20 000 DPI, at most
+// 400 million pixels and 2 m on a side); throws InputError saying which and what to do.
+void checkScanSize(std::uint64_t widthPx, std::uint64_t heightPx, double dpi);
+
 // The same on grey pixels in memory (row-major, `stride` bytes per row).
 [[nodiscard]] LeafScan scanLeafPixels(const std::uint8_t* grey, int width, int height, std::size_t stride,
                                       const ScanOptions& options);

@@ -27,12 +27,49 @@ struct MarkerRow {
   std::array<std::optional<double>, kMarkersPerRow> measuredThicknessMm;  // overrides
 };
 
+// Margin teeth (seed 002's profiles; docs/synthetic-leaves.md): none, round, sharp, straight,
+// acuminate. A technician declares the leaf's (set-up dialog, markers file), the synthetic
+// leaves are made with one.
+enum class Serration { None, Round, Sharp, Straight, Acuminate };
+[[nodiscard]] const char* toString(Serration serration);
+// Throws InputError naming the accepted words.
+[[nodiscard]] Serration serrationFromString(const std::string& word);
+// The tooth profile in units of the tooth depth D at θ = n φ (n teeth per side), and its mean
+// and largest value over a tooth: the margin between the markers lies between the profile's
+// sinus (0) and tip (max), on average at the mean.
+[[nodiscard]] double toothProfile(Serration serration, double theta);
+struct ToothSpread {
+  double mean = 0.0, max = 0.0;
+};
+[[nodiscard]] ToothSpread toothSpread(Serration serration);
+// The default tooth depth when none is given: 1.5 % of the leaf's width (the synthetic
+// leaves' default).
+inline constexpr double kDefaultToothDepthFraction = 0.015;
+
+// How far a leaf's true margin runs outside and inside a smooth margin through points taken
+// on it `spacingMm` apart, measured on a scan of the leaf (marginFromOutline), at one spacing
+// or several (the markers' spacing is known only once the leaf is captured).
+struct MarginSample {
+  double spacingMm = 0.0;
+  double outsideMm = 0.0;  // the margin's reach beyond the smooth curve (its teeth' tips)
+  double insideMm = 0.0;   // and within it (its sinuses)
+};
+using MarginFromScan = std::vector<MarginSample>;  // by spacing, increasing
+// The sample at `spacingMm`, linearly between the scan's spacings (the nearest beyond them).
+[[nodiscard]] MarginSample marginAt(const MarginFromScan& margin, double spacingMm);
+
 struct LeafInfo {
   std::string id;
   std::string plant;
   std::optional<int> position;
   std::string type;
   std::optional<double> measuredAreaMm2;
+  // The margin's detail that markers cannot see between them (the area interval's margin
+  // term): the declared serration (absent: not declared; the interval says so), its tooth
+  // depth (absent: kDefaultToothDepthFraction of the width), or what a scan showed.
+  std::optional<Serration> serration;
+  std::optional<double> toothDepthMm;
+  std::optional<MarginFromScan> marginFromScan;
 };
 
 struct MarkerSet {
@@ -68,6 +105,10 @@ struct LeafThickness {
 // consecutive markers along any vein or the blade's columns. Throws InputError naming the
 // row and point (numbered from 1 as in the spec) and what to do.
 void validateMarkerGeometry(const MarkerSet& markers);
+
+// The markers' mean spacing along the margin: the margin's length through them (tip to each
+// row's ends, both sides) over its 2N segments.
+[[nodiscard]] double marginSpacingMm(const MarkerSet& markers);
 
 // The blade's grid Q_kl, k = 0..N (k = 0 is the tip repeated 7 times), l = 0..6.
 using MarkerGrid = std::vector<std::array<Eigen::Vector3d, kMarkersPerRow>>;

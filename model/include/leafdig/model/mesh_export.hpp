@@ -26,6 +26,9 @@ struct ExportHeader {
 // plant, 0 otherwise). STL: binary, facet normals.
 // GLB: glTF 2.0 binary, one named node per organ under a node named after the leaf.
 [[nodiscard]] std::string encodeMesh(const LeafMesh& mesh, MeshFormat format, const ExportHeader& header);
+// Throws InputError naming the organ when a position or normal is not finite: checked before
+// any file is written (encodeMesh and the plant encoders call it).
+void requireFiniteMesh(const LeafMesh& mesh);
 
 // The rotation from a leafdig frame (+Z up) to glTF's (+Y up): (x, y, z) -> (x, z, -y).
 [[nodiscard]] Eigen::Vector3d toGltfAxes(const Eigen::Vector3d& p);

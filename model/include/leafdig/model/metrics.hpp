@@ -80,6 +80,13 @@ struct AreaUncertainty {
   double noiseHighMm2 = 0.0;
   double interpolationMm2 = 0.0;  // the row-drop interpolation estimate
   double systematicMm2 = 0.0;     // interp's measured under-estimate for this row count, upwards
+  // The margin between the markers (issue 26): how much area teeth (or a scan's margin
+  // detail) may hold beyond the smooth margin through the markers (upwards) and how much the
+  // markers may stand on tooth tips (downwards). Zero when the serration is none or not declared.
+  double marginHighMm2 = 0.0;
+  double marginLowMm2 = 0.0;
+  std::string margin;  // "declared: straight, teeth 3.0 mm deep", "a scan …", "none", "not declared"
+  std::string note;    // what the interval leaves out, in words (e.g. undeclared teeth); empty when nothing
   double sigmaMm = 0.0;
   int draws = 0;
   [[nodiscard]] double halfWidthPercent() const { return 50.0 * (high95Mm2 - low95Mm2) / areaMm2; }
@@ -104,6 +111,16 @@ struct LeafWarning {
 inline constexpr double kBaseRowWidthWarningRatio = 0.6;
 [[nodiscard]] std::vector<LeafWarning> captureWarnings(const MarkerSet& markers);
 
+// Seed 001's light metrics of one leaf (SPEC §2.6), the same as a plant's per leaf
+// (computePlantMetrics): the blade mesh's area, its silhouette (displayed) area for the
+// light at 1024 pixels across the leaf, and STAR = silhouette / area.
+struct LeafSilhouette {
+  double meshAreaMm2 = 0.0;
+  double silhouetteMm2 = 0.0;
+  double star = 0.0;
+};
+[[nodiscard]] LeafSilhouette leafSilhouette(const Mesh& blade, const Eigen::Vector3d& lightDirection);
+
 struct LeafMetrics {
   BladeAreaEstimate blade;
   Eigen::Vector3d lightDirection;                // unit, in the model's frame
@@ -111,12 +128,17 @@ struct LeafMetrics {
   std::optional<AreaConstraint> areaConstraint;  // when the leaf has a measured area
   std::optional<AreaUncertainty> areaInterval;   // blade area's 95 % interval (FASTRAK accuracy)
   std::vector<LeafWarning> warnings;             // captureWarnings of the markers
+  std::optional<LeafSilhouette> silhouette;      // of the exported mesh's blade (addSilhouette)
 };
 
 // Light direction in the model's frame; measured area from the marker set's leaf info. The
 // area interval uses the FASTRAK's stated accuracy, 64 draws, a seed from the markers.
 [[nodiscard]] LeafMetrics computeLeafMetrics(const LeafModel& model, const Eigen::Vector3d& lightDirection,
                                              double areaThresholdPercent = 5.0);
+
+// The silhouette and STAR of `mesh`'s blade for the metrics' light (the mesh exported with
+// them: model build, session export, review at the export resolution).
+void addSilhouette(LeafMetrics& metrics, const LeafMesh& mesh);
 
 // The metrics as a JSON object (text), the shape `leafdig model build --json` prints.
 [[nodiscard]] std::string metricsToJson(const LeafMetrics& metrics);

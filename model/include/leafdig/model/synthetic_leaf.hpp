@@ -26,16 +26,14 @@
 namespace leafdig::model {
 
 enum class LeafShape { Oblong, Elliptic, Ovate, Obovate, Tobacco };
-enum class Serration { None, Round, Sharp, Straight, Acuminate };
+// Serration (none, round, sharp, straight, acuminate) and its profile: markers.hpp.
 // Teeth pushed out horizontally (the seed's T_y = 0) or along the margin's outward normal.
 enum class ToothDirection { Horizontal, Normal };
 
 [[nodiscard]] const char* toString(LeafShape shape);
-[[nodiscard]] const char* toString(Serration serration);
 [[nodiscard]] const char* toString(ToothDirection direction);
 // Throw InputError naming the accepted words.
 [[nodiscard]] LeafShape leafShapeFromString(const std::string& word);
-[[nodiscard]] Serration serrationFromString(const std::string& word);
 [[nodiscard]] ToothDirection toothDirectionFromString(const std::string& word);
 
 // Length-to-width ratio of the base rectangle: oblong 3, elliptic 1.5, ovate, obovate and

@@ -1,0 +1,81 @@
+// libFuzzer targets for the files a user hands us (issue 26), one per kind, chosen at compile
+// time (LEAFDIG_FUZZ_FILE): markers, plant plans, outlines (JSON and CSV) and scans' headers.
+// Each input is read as that file: it is either refused with InputError or read into values
+// within the bounds of limits.hpp; anything else (a crash, another exception, a number out of
+// bounds, a hang past libFuzzer's timeout) is a finding.
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/image_header.hpp"
+#include "leafdig/model/leaf2d.hpp"
+#include "leafdig/model/limits.hpp"
+#include "leafdig/model/markers.hpp"
+#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/plant.hpp"
+
+namespace m = leafdig::model;
+
+namespace {
+
+void require(bool ok) {
+  if (!ok) std::abort();
+}
+
+void checkPoint(const Eigen::Vector3d& p) {
+  require(p.allFinite() && p.cwiseAbs().maxCoeff() <= m::kMaxCoordinateMm);
+}
+
+void markers(const std::string& text) {
+  const m::MarkerSet set = m::parseMarkersJson(text, "fuzz");
+  require(!set.rows.empty() && set.rows.size() <= m::kMaxRows);
+  checkPoint(set.tipMm);
+  for (const auto& row : set.rows)
+    for (const auto& p : row.pointsMm) checkPoint(p);
+  m::validateMarkerGeometry(set);
+  const m::LeafThickness t = m::applyThicknessRule(set);
+  for (const auto& row : t.rows) {
+    require(row.midribMm > 0 && row.midribMm <= m::kMaxThicknessMm);
+    for (double v : row.lateralMm) require(std::isfinite(v) && v <= m::kMaxThicknessMm);
+  }
+}
+
+void plan(const std::string& text) {
+  const m::PlantPlan p = m::parsePlantPlan(text, "fuzz", "/nonexistent");
+  require(std::isfinite(p.stem.heightMm) && p.stem.heightMm > 0 && p.stem.heightMm <= m::kMaxCoordinateMm);
+  require(!p.leaves.empty());
+  for (const auto& l : p.leaves) require(l.insertionHeightMm >= 0 && l.insertionHeightMm <= p.stem.heightMm);
+}
+
+void outline(const std::string& text, bool json) {
+  const m::Outline2d o = json ? m::parseOutlineJson(text, "fuzz") : m::parseOutlineCsv(text, "fuzz");
+  require(o.pointsMm.size() >= 8);
+  for (const auto& p : o.pointsMm) require(p.allFinite() && p.cwiseAbs().maxCoeff() <= m::kMaxCoordinateMm);
+  require(m::polygonArea(o.pointsMm) > 0);
+}
+
+void imageHeader(const std::string& bytes) {
+  std::istringstream in(bytes);
+  const auto h = m::readImageHeader(in);
+  if (h) require(!h->format.empty());
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  const std::string kind = LEAFDIG_FUZZ_FILE;
+  try {
+    if (kind == "markers") markers(text);
+    if (kind == "plan") plan(text);
+    if (kind == "outline_json") outline(text, true);
+    if (kind == "outline_csv") outline(text, false);
+    if (kind == "image_header") imageHeader(text);
+  } catch (const m::InputError&) {
+    // refused in words: what a bad file should get
+  }
+  return 0;
+}
