@@ -35,6 +35,9 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
       // The virtual technician reads the leaf area meter too: the leaf's recorded area (a
       // synthetic leaf's exact area) unless the operator typed one.
       if (!setup.measuredAreaMm2) setup.measuredAreaMm2 = setup.simulatedLeaf->leaf.measuredAreaMm2;
+      // …and knows its margin, as a technician declares it in the set-up.
+      if (!setup.serration) setup.serration = setup.simulatedLeaf->leaf.serration;
+      if (!setup.toothDepthMm) setup.toothDepthMm = setup.simulatedLeaf->leaf.toothDepthMm;
       setup.digitizer = "fastrak:simulated";
       setup.caliper = "sylvac:simulated";
       setup.timeScale = request.simulation.speed;
@@ -79,7 +82,7 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     digitizer = rig_->digitizerSpec();
     caliper = rig_->caliperSpec();
   }
-  devices_ = std::make_unique<DeviceSet>(digitizer, caliper, *loop_);
+  devices_ = std::make_unique<DeviceSet>(digitizer, caliper, *loop_, rig_ ? rig_->digitizerRateHz() : 0.0);
 }
 
 void CaptureRun::prepareSimulation(const RunRequest& request) {

@@ -51,11 +51,14 @@ dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
   return c;
 }
 
-DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop)
+DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop,
+                     double digitizerRateHz)
     : loop_(loop), digitizerSpec_(digitizerSpec), caliperSpec_(caliperSpec) {
   dev::Driver::Callbacks cb{[&loop](const dev::DeviceEvent& e) { loop.post(e); },
                             [&loop](const dev::DeviceStatus& s) { loop.postStatus(s); }};
-  digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(parseDigitizerSpec(digitizerSpec)), cb);
+  dev::DigitizerConfig digitizer = parseDigitizerSpec(digitizerSpec);
+  digitizer.recordRateHz = digitizerRateHz;
+  digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(digitizer)), cb);
   caliper_ = std::make_unique<dev::Driver>(dev::makeCaliperLink(parseCaliperSpec(caliperSpec)), cb);
 }
 DeviceSet::~DeviceSet() {

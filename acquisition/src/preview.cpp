@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/mesh_method.hpp"
 
 namespace leafdig::acquisition {
 namespace {
@@ -129,13 +130,21 @@ Preview buildPreview(const std::vector<Item>& items, const Settings& settings,
       else
         p.model.veins.insert(p.model.veins.begin(), std::move(midrib));
     }
-    p.mesh = m::meshLeaf(p.model, m::MeshResolution::preset("preview"));
+    for (const double e : kPreviewLevelsMm) {
+      m::MeshOptions o;
+      o.method = m::MeshMethod::Adaptive;
+      o.resolution = m::MeshResolution::preset("preview");
+      o.maxErrorMm = e;
+      p.levels.push_back({e, m::meshLeaf(p.model, o)});
+    }
+    p.mesh = p.levels.back().mesh;
   } catch (const std::exception& e) {
     // Coincident markers and the like: the operator sees the note; the capture goes on
     // (validation already refused what it can, and undo/retake fix the rest).
     p.notes.push_back(std::string("preview not built: ") + e.what());
     p.model = {};
     p.mesh = {};
+    p.levels.clear();
   }
   p.model.markers = set;
   p.provisionalThickness = usedProvisional;

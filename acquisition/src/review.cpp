@@ -57,6 +57,7 @@ model::LeafInfo leafInfoOf(const db::SessionInfo& info) {
   leaf.position = info.leafPosition;
   leaf.type = info.leafType;
   leaf.measuredAreaMm2 = info.measuredAreaMm2;
+  readLeafMargin(info.settingsJson, leaf);
   return leaf;
 }
 
@@ -192,6 +193,8 @@ LeafSummary summarize(const ReviewedSession& r) {
   const model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
   LeafSummary s{model::buildLeafModel(set, {}), {}};
   s.metrics = model::computeLeafMetrics(s.model, Eigen::Vector3d(0, 0, 1), 5.0);
+  // Silhouette and STAR of the mesh an export writes (model build's default resolution).
+  model::addSilhouette(s.metrics, model::meshLeaf(s.model, model::MeshResolution::preset("export")));
   return s;
 }
 
@@ -217,6 +220,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   const model::LeafMesh mesh = model::meshLeaf(leaf, meshOptions);
   ExportResult result;
   result.metrics = model::computeLeafMetrics(leaf, Eigen::Vector3d(0, 0, 1), 5.0);
+  model::addSilhouette(result.metrics, mesh);
   result.rows = set.rows.size();
   const model::ExportHeader header{info.id, request.frame, std::string("leafdig ") + kVersion};
   const std::string base = request.outDir + "/session-" + std::to_string(id);
@@ -243,6 +247,27 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
            << (x.col ? std::to_string(*x.col) : "") << "," << x.valueMm << "," << csvText(x.raw) << "\n";
       files.emplace_back(base + ".markers.csv", mk.str());
       files.emplace_back(base + ".thickness.csv", th.str());
+      // The leaf's numbers in one row (a spreadsheet of many sessions: concatenate these).
+      const model::LeafMetrics& lm = result.metrics;
+      std::ostringstream me;
+      me << std::setprecision(17);
+      const auto cell = [&me](std::optional<double> v) {
+        if (v) me << *v;
+        me << ",";
+      };
+      me << "session,rows,blade_area_mm2,area_low95_mm2,area_high95_mm2,projected_area_mm2,silhouette_mm2,star,"
+            "mesh_area_mm2,measured_area_mm2,margin\n"
+         << id << "," << set.rows.size() << ",";
+      cell(lm.blade.areaMm2);
+      cell(lm.areaInterval ? std::optional<double>(lm.areaInterval->low95Mm2) : std::nullopt);
+      cell(lm.areaInterval ? std::optional<double>(lm.areaInterval->high95Mm2) : std::nullopt);
+      cell(lm.blade.projectedAreaMm2);
+      cell(lm.silhouette ? std::optional<double>(lm.silhouette->silhouetteMm2) : std::nullopt);
+      cell(lm.silhouette ? std::optional<double>(lm.silhouette->star) : std::nullopt);
+      cell(lm.silhouette ? std::optional<double>(lm.silhouette->meshAreaMm2) : std::nullopt);
+      cell(lm.areaConstraint ? std::optional<double>(lm.areaConstraint->measuredMm2) : std::nullopt);
+      me << csvText(lm.areaInterval ? lm.areaInterval->margin : "") << "\n";
+      files.emplace_back(base + ".metrics.csv", me.str());
     }
   }
   std::filesystem::create_directories(request.outDir);

@@ -151,9 +151,43 @@ std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup)
                 {"simulated", setup.simulated},
                 {"time_scale", setup.timeScale}};
   if (setup.simulatedLeaf) settings["simulated_leaf"] = json::parse(model::markersToJson(*setup.simulatedLeaf));
+  if (const auto margin = leafMarginJson(setup)) settings["leaf_margin"] = *margin;
   const std::string station = setup.station.empty() ? thisStation() : setup.station;
   return store.createSession(leaf, op, station, toString(setup.settings.mode), toString(setup.settings.order),
                              settings.dump());
+}
+
+std::optional<json> leafMarginJson(const SessionSetup& setup) {
+  if (!setup.serration && !setup.toothDepthMm && !setup.marginFromScan) return std::nullopt;
+  json j = json::object();
+  if (setup.serration) j["serration"] = model::toString(*setup.serration);
+  if (setup.toothDepthMm) j["tooth_depth_mm"] = *setup.toothDepthMm;
+  if (setup.marginFromScan) {
+    json samples = json::array();
+    for (const model::MarginSample& m : *setup.marginFromScan)
+      samples.push_back({{"spacing_mm", m.spacingMm}, {"outside_mm", m.outsideMm}, {"inside_mm", m.insideMm}});
+    j["from_scan"] = samples;
+  }
+  return j;
+}
+
+void readLeafMargin(const std::string& settingsJson, model::LeafInfo& leaf) {
+  try {
+    const json j = json::parse(settingsJson);
+    if (!j.contains("leaf_margin")) return;
+    const json& m = j.at("leaf_margin");
+    if (m.contains("serration")) leaf.serration = model::serrationFromString(m.at("serration").get<std::string>());
+    if (m.contains("tooth_depth_mm")) leaf.toothDepthMm = m.at("tooth_depth_mm").get<double>();
+    if (m.contains("from_scan")) {
+      model::MarginFromScan samples;
+      for (const json& x : m.at("from_scan"))
+        samples.push_back(
+            {x.at("spacing_mm").get<double>(), x.at("outside_mm").get<double>(), x.at("inside_mm").get<double>()});
+      leaf.marginFromScan = samples;
+    }
+  } catch (const std::exception& e) {
+    throw SessionError(std::string("the session's leaf margin cannot be read: ") + e.what());
+  }
 }
 
 Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Event>& events,

@@ -25,6 +25,7 @@ SimulatedRig::SimulatedRig(const SimulationOptions& o) {
   const std::string tag = std::to_string(::getpid()) + "-" + std::to_string(o.seed);
   sim::EmulatorOptions d;
   d.rateHz = std::min(120.0 * o.speed, 960.0);
+  digitizerRateHz_ = d.rateHz;
   d.linkPath = o.linkDir + "/leafdig-sim-fastrak-" + tag;
   d.faults = sim::FaultPlan::parse(o.digitizerFaults);
   d.faults.seed = o.seed;

@@ -1,12 +1,15 @@
 // Digitizer links: FASTRAK, Patriot, Liberty, MicroScribe, generic line.
 #include <algorithm>
 #include <cctype>
+#include <map>
+#include <optional>
 #include <stdexcept>
 
 #include "leafdig/devices/fastrak.hpp"
 #include "leafdig/devices/links.hpp"
 #include "leafdig/devices/microscribe.hpp"
 #include "leafdig/devices/polhemus.hpp"
+#include "leafdig/devices/record_clock.hpp"
 #include "serial_link.hpp"
 
 namespace leafdig::devices {
@@ -119,14 +122,24 @@ class SerialDigitizer : public DeviceLink {
     const std::size_t from = out.size();
     for (auto& s : samples_) {
       s.t = t;
+      // A streaming device's records by their count, per receiver (issue 26).
+      if (recordPeriodS_) s.deviceTime = clocks_.try_emplace(s.station, *recordPeriodS_).first->second.stamp(t);
       out.emplace_back(std::move(s));
     }
     noteStatus(out, from);
   }
 
+  // Streaming links time their records by count at this period (a new count on every open).
+  void streamAt(double nativeRateHz) {
+    recordPeriodS_ = 1.0 / (cfg_.recordRateHz > 0 ? cfg_.recordRateHz : nativeRateHz);
+    clocks_.clear();
+  }
+
   DigitizerConfig cfg_;
   detail::PortOpener open_;
   std::unique_ptr<SerialPort> port_;
+  std::optional<double> recordPeriodS_;
+  std::map<int, RecordClock> clocks_;
   std::string badStatus_, baudNote_;
   Clock::time_point badStatusAt_{};
   std::vector<StylusSample> samples_;
@@ -172,6 +185,7 @@ class FastrakLink final : public SerialDigitizer {
                         "power-cycle the FASTRAK; if it persists, its firmware may not support these commands");
     dec_ = fastrak::DecoderState{};
     dec_.format = f;
+    streamAt(120.0);  // continuous output: 120 records a second for one receiver
     send("C");
   }
   void pump(std::chrono::milliseconds timeout, std::vector<DeviceEvent>& out) override {
@@ -230,6 +244,7 @@ class PolhemusLink final : public SerialDigitizer {
     drain(*port_, 40ms, 300ms);
     dec_ = polhemus::DecoderState{};
     dec_.format = f;
+    streamAt(model_ == polhemus::Model::Patriot ? 60.0 : 240.0);
     send("C\r");
   }
   void pump(std::chrono::milliseconds timeout, std::vector<DeviceEvent>& out) override {

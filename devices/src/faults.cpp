@@ -60,6 +60,9 @@ FaultPlan FaultPlan::parse(const std::string& spec) {
     else if (key == "stall") {
       f.stall = probability(key, value);
       if (!extra.empty()) f.stallSeconds = seconds(key, extra);
+    } else if (key == "delay") {
+      f.delay = probability(key, value);
+      if (!extra.empty()) f.delaySeconds = seconds(key, extra);
     } else if (key == "unplug") {
       f.unplug = probability(key, value);
       if (!extra.empty()) f.unplugSeconds = seconds(key, extra);
@@ -85,15 +88,15 @@ FaultPlan FaultPlan::parse(const std::string& spec) {
       }
     } else {
       throw std::invalid_argument("unknown fault '" + key +
-                                  "': use garbage, bitflip, truncate, stall, reset, unplug, status, baud, seed");
+                                  "': use garbage, bitflip, truncate, stall, delay, reset, unplug, status, baud, seed");
     }
   }
   return f;
 }
 
 bool FaultPlan::any() const {
-  return garbage > 0 || bitflip > 0 || truncate > 0 || stall > 0 || reset > 0 || unplug > 0 || status > 0 ||
-         deviceBaud > 0;
+  return garbage > 0 || bitflip > 0 || truncate > 0 || stall > 0 || delay > 0 || reset > 0 || unplug > 0 ||
+         status > 0 || deviceBaud > 0;
 }
 
 }  // namespace leafdig::devices::sim

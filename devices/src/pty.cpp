@@ -230,6 +230,21 @@ void Emulator::sendRecord(const std::string& bytes, const Vec3& truth, bool butt
     log_.truncated += cut;
     if (logRecords_) sent_.push_back({bytes, out, truth, button});
   }
+  // A delay: the records keep being made on time but reach the host later, all at once.
+  const double t = now();
+  if (f.delay > 0 && heldUntil_ < t && u(rng_) < f.delay) {
+    std::lock_guard lock(mutex_);
+    ++log_.delays;
+    heldUntil_ = t + f.delaySeconds;
+  }
+  if (t < heldUntil_) {
+    held_ += out;
+    return;
+  }
+  if (!held_.empty()) {
+    out = held_ + out;
+    held_.clear();
+  }
   sendReply(out);
 }
 
@@ -271,6 +286,11 @@ void Emulator::run() {
       std::this_thread::sleep_for(std::chrono::milliseconds(timeoutMs > 0 ? timeoutMs : 2));  // no host yet
     }
     onTick(now());
+    if (!held_.empty() && now() >= heldUntil_) {  // a delay is over: the burst goes out
+      std::string burst;
+      burst.swap(held_);
+      sendReply(burst);
+    }
     if (!streaming()) continue;
     if (options_.burst) {
       if (options_.burstRecords > 0 && recordsSent() >= options_.burstRecords) {

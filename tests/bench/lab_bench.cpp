@@ -130,6 +130,68 @@ void BM_PushStation(benchmark::State& state) {
 }
 BENCHMARK(BM_PushStation)->Arg(1000)->Iterations(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The machine's limit for the same rows (issue 26): COPY of every event of the same station
+// into a table of the same columns with no trigger, no policy and no key, as the admin. The
+// ratio to BM_PushStation is what the server's per-row checks (who may add what, the closed
+// sets, the chain's SHA-256 and the session's head) cost.
+void BM_CopyBaseline(benchmark::State& state) {
+  const fs::path file = stationFile(scaled(static_cast<int>(state.range(0))), 14);
+  const db::Store local(file.string(), true);
+  std::string rows;  // COPY's text format: tab-separated, \N for NULL, backslashes escaped
+  const auto field = [&rows](const std::string& v) {
+    for (const char c : v) {
+      if (c == '\\' || c == '\t' || c == '\n' || c == '\r') {
+        rows += '\\';
+        rows += c == '\t' ? 't' : c == '\n' ? 'n' : c == '\r' ? 'r' : '\\';
+      } else {
+        rows += c;
+      }
+    }
+  };
+  std::int64_t events = 0;
+  for (const auto& info : local.sessions())
+    for (const db::Event& e : local.events(info.id)) {
+      rows += std::to_string(info.id) + "\tbench-lab\t" + std::to_string(e.seq) + "\t";
+      field(e.utc);
+      rows += "\t" + std::to_string(e.monoNs) + "\t";
+      for (const std::string* v : {&e.kind, &e.payloadJson, &e.raw, &e.prevHash}) {
+        field(*v);
+        rows += '\t';
+      }
+      field(e.hash);
+      rows += '\n';
+      ++events;
+    }
+  double seconds = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const std::string name = cluster().createDatabase();
+    PGconn* c = PQconnectdb(cluster().adminUrl(name).c_str());
+    PQclear(PQexec(c,
+                   "CREATE TABLE plain (session_id bigint, station text, seq bigint, utc text, mono_ns bigint, "
+                   "kind text, payload_json text, raw text, prev_hash text, hash text)"));
+    state.ResumeTiming();
+    const auto t0 = std::chrono::steady_clock::now();
+    PQclear(PQexec(c, "BEGIN"));
+    PQclear(PQexec(c, "COPY plain FROM STDIN"));
+    const bool sent =
+        PQputCopyData(c, rows.data(), static_cast<int>(rows.size())) == 1 && PQputCopyEnd(c, nullptr) == 1;
+    PGresult* r = PQgetResult(c);
+    const bool ok = sent && PQresultStatus(r) == PGRES_COMMAND_OK;
+    PQclear(r);
+    while ((r = PQgetResult(c)) != nullptr) PQclear(r);
+    PQclear(PQexec(c, "COMMIT"));
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    PGresult* count = PQexec(c, "SELECT count(*) FROM plain");
+    if (!ok || std::atoll(PQgetvalue(count, 0, 0)) != events) state.SkipWithError("COPY did not take every row");
+    PQclear(count);
+    PQfinish(c);
+  }
+  state.counters["events"] = static_cast<double>(events);
+  state.counters["events_per_s"] = static_cast<double>(events) * static_cast<double>(state.iterations()) / seconds;
+}
+BENCHMARK(BM_CopyBaseline)->Arg(1000)->Iterations(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // The same station pushed again: nothing new (what a station does every few minutes).
 void BM_PushNothingNew(benchmark::State& state) {
   const fs::path file = stationFile(scaled(1000), 14);

@@ -213,7 +213,7 @@ TEST_F(LabCli, ACapturedLeafIsShownCorrectedAndExportedFromTheServerAsFromItsFil
   ASSERT_EQ(exported.exitCode, 0) << exported.err;
   const std::string thickness = slurp(dir_ / "out" / ("session-" + id + ".thickness.csv"));
   EXPECT_NE(thickness.find("1.7"), std::string::npos) << thickness;
-  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.exports"), "3");  // markers JSON + two CSVs, recorded
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.exports"), "4");  // markers JSON + three CSVs, recorded
   ASSERT_EQ(leafdig("sync pull --db " + quote(file) + " --from " + quote(tech)).exitCode, 0);
   fromFile = json::parse(leafdig("sessions show 1 --json --db " + quote(file)).out);
   fromServer = json::parse(leafdig("sessions show " + id + " --json --db " + quote(curator)).out);

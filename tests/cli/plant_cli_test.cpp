@@ -254,3 +254,88 @@ TEST_F(PlantCli, ASingleLeafExportsToCaribuMtgAndCsvToo) {
 }
 
 }  // namespace
+
+namespace {
+
+// A CARIBU-style interception from above: the .can's triangles (read strictly, in metres)
+// projected onto the ground on a 0.25 mm grid, every grid point under any triangle counted
+// once: the area a parallel light from +Z would lose to the leaf. Independent of leafdig's
+// silhouette raster (another grid, another inside test, the exported single-precision file).
+double interceptionFromAboveMm2(const std::vector<leafdig::test::CanTriangle>& triangles) {
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const auto& t : triangles)
+    for (const auto& v : t.v)
+      for (int k = 0; k < 2; ++k) {
+        lo[k] = std::min(lo[k], 1000.0 * v[static_cast<std::size_t>(k)]);
+        hi[k] = std::max(hi[k], 1000.0 * v[static_cast<std::size_t>(k)]);
+      }
+  const double h = 0.25;
+  const auto nx = static_cast<std::size_t>((hi[0] - lo[0]) / h) + 2,
+             ny = static_cast<std::size_t>((hi[1] - lo[1]) / h) + 2;
+  std::vector<char> covered(nx * ny, 0);
+  for (const auto& t : triangles) {
+    double x[3], y[3];
+    for (int k = 0; k < 3; ++k) {
+      x[k] = 1000.0 * t.v[static_cast<std::size_t>(k)][0];
+      y[k] = 1000.0 * t.v[static_cast<std::size_t>(k)][1];
+    }
+    const double d = (y[1] - y[2]) * (x[0] - x[2]) + (x[2] - x[1]) * (y[0] - y[2]);
+    if (d == 0) continue;  // edge-on from above
+    const auto i0 = static_cast<std::size_t>((std::min({x[0], x[1], x[2]}) - lo[0]) / h);
+    const auto i1 = static_cast<std::size_t>((std::max({x[0], x[1], x[2]}) - lo[0]) / h) + 1;
+    const auto j0 = static_cast<std::size_t>((std::min({y[0], y[1], y[2]}) - lo[1]) / h);
+    const auto j1 = static_cast<std::size_t>((std::max({y[0], y[1], y[2]}) - lo[1]) / h) + 1;
+    for (std::size_t j = j0; j <= j1 && j < ny; ++j)
+      for (std::size_t i = i0; i <= i1 && i < nx; ++i) {
+        const double px = lo[0] + (static_cast<double>(i) + 0.5) * h, py = lo[1] + (static_cast<double>(j) + 0.5) * h;
+        const double a = ((y[1] - y[2]) * (px - x[2]) + (x[2] - x[1]) * (py - y[2])) / d;
+        const double b = ((y[2] - y[0]) * (px - x[2]) + (x[0] - x[2]) * (py - y[2])) / d;
+        if (a >= 0 && b >= 0 && a + b <= 1) covered[j * nx + i] = 1;
+      }
+  }
+  double n = 0;
+  for (char c : covered) n += c;
+  return n * h * h;
+}
+
+TEST_F(PlantCli, ALoneLeafsSilhouetteAndStarAreThePlantPathsAndMatchACaribuStyleInterception) {
+  for (const std::string name : {"lower-leaf-n10", "upper-curved-leaf-n14"}) {
+    const fs::path can = dir_ / (name + ".can"), csv = dir_ / (name + ".csv");
+    const Result r = leafdig("model build " + quote(sample(name + ".markers.json")) + " --json -o " + quote(can) +
+                             " -o " + quote(csv));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json m = json::parse(r.out).at("metrics");
+    const double silhouette = m.at("silhouette_mm2").get<double>();
+    const double star = m.at("star").get<double>();
+    EXPECT_NEAR(star, silhouette / m.at("mesh_area_mm2").get<double>(), 1e-12);
+    EXPECT_GT(star, 0.3);
+    EXPECT_LE(star, 1.0);
+    EXPECT_LE(silhouette, m.at("projected_area_mm2").get<double>() * 1.01) << "overlaps count once";
+    // The plant path's per-leaf numbers for the same leaf and light: the CSV's columns.
+    const auto lines = leafdig::test::linesOf(slurp(csv));
+    ASSERT_GE(lines.size(), 2u);
+    const auto header = leafdig::test::splitExact(lines[0], ',');
+    const auto row = leafdig::test::splitExact(lines[1], ',');
+    const auto column = [&](const std::string& key) {
+      const auto at = std::find(header.begin(), header.end(), key);
+      EXPECT_NE(at, header.end()) << key;
+      return std::stod(row.at(static_cast<std::size_t>(at - header.begin())));
+    };
+    EXPECT_NEAR(column("silhouette_mm2"), silhouette, 0.0005) << name;
+    EXPECT_NEAR(column("star"), star, 1e-9) << name;
+    // CARIBU's view of the exported file: the same area intercepted from above, within 0.5 %.
+    const auto opt = leafdig::test::readOptStrictly(slurp(fs::path(can).replace_extension(".opt")));
+    const auto triangles = leafdig::test::readCanStrictly(slurp(can), opt);
+    // The blade is the leaf's last element (midrib, laterals, contour, blade): the silhouette
+    // counts the blade alone, as the plant's does.
+    int bladeElement = 0;
+    for (const auto& t : triangles) bladeElement = std::max(bladeElement, t.element);
+    std::vector<leafdig::test::CanTriangle> blade;
+    for (const auto& t : triangles)
+      if (t.element == bladeElement) blade.push_back(t);
+    const double intercepted = interceptionFromAboveMm2(blade);
+    EXPECT_NEAR(intercepted / silhouette, 1.0, 0.005) << name << ": interception " << intercepted;
+  }
+}
+
+}  // namespace

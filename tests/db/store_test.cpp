@@ -348,9 +348,10 @@ TEST_F(StoreTest, AReaderAndAWriterDoNotBlockEachOther) {
   sqlite3_stmt* st = nullptr;
   ASSERT_EQ(sqlite3_prepare_v2(db, "SELECT seq FROM events ORDER BY seq", -1, &st, nullptr), SQLITE_OK);
   ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);  // read transaction open
-  const auto t0 = std::chrono::steady_clock::now();
+  // The append commits while the reader's transaction stays open: without WAL it would wait
+  // the busy timeout out and fail (the reader does not let go until after it), whatever the
+  // machine's speed (issue 26: no test asserts on the machine's speed).
   EXPECT_EQ(writer.append(id, marker(1, 4, 4)), 4);
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
   sqlite3_finalize(st);
   sqlite3_close(db);
   EXPECT_EQ(before.size(), 3u);

@@ -3,7 +3,9 @@
 
 #include <array>
 #include <cctype>
+#include <chrono>
 #include <cmath>
+#include <random>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "leafdig/devices/line_digitizer.hpp"
 #include "leafdig/devices/microscribe.hpp"
 #include "leafdig/devices/polhemus.hpp"
+#include "leafdig/devices/record_clock.hpp"
 
 namespace dev = leafdig::devices;
 namespace {
@@ -716,6 +719,68 @@ TEST(CaliperNumbers, ParsesWhatGaugesTypeAndNothingElse) {
   EXPECT_FALSE(dev::calipers::parseNumber("nan"));
   EXPECT_FALSE(dev::calipers::parseNumber(""));
   EXPECT_FALSE(std::signbit(dev::calipers::parseNumber("-0.000")->value));
+}
+
+}  // namespace
+
+// ---- the device's clock (issue 26) ----------------------------------------------------------
+
+namespace {
+
+using leafdig::devices::Clock;
+using leafdig::devices::RecordClock;
+
+Clock::time_point at(double seconds) {
+  return Clock::time_point{} + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+double seconds(Clock::time_point t) {
+  return std::chrono::duration<double>(t - Clock::time_point{}).count();
+}
+
+TEST(RecordClock, RecordsDeliveredInDelayedBurstsAreTimedByTheirCount) {
+  // A FASTRAK at 120 Hz read by a busy host: most records 2–6 ms late, but now and then the
+  // host does not read for up to 0.6 s and gets them all at once.
+  RecordClock clock(1.0 / 120);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(0.002, 0.006);
+  double heldUntil = -1;
+  std::vector<double> device, arrival;
+  for (int k = 0; k < 2400; ++k) {
+    const double made = 10.0 + k / 120.0;
+    if (k % 300 == 150) heldUntil = made + 0.6;  // a 0.6 s burst every 2.5 s
+    const double got = made < heldUntil ? heldUntil : made + jitter(rng);
+    arrival.push_back(got);
+    device.push_back(seconds(clock.stamp(at(got))));
+  }
+  // Once a little-delayed record has been seen (the anchor settles within a few records and
+  // then moves by microseconds), every record is one period after the one before, bursts or not.
+  for (std::size_t k = 1; k < device.size(); ++k) {
+    if (k > 60) {
+      ASSERT_NEAR(device[k] - device[k - 1], 1.0 / 120, 5e-5) << k;
+    }
+    ASSERT_LE(device[k], arrival[k] + 1e-9) << "never later than it arrived";
+    ASSERT_NEAR(device[k] - device[k - 1], 1.0 / 120, 0.004) << k;
+  }
+  EXPECT_NEAR(device.back() - device.front(), 2399 / 120.0, 0.004);
+  // A press from record 140 to 182 (0.35 s) that straddles the burst at 150: by arrival it
+  // looks held almost twice as long.
+  EXPECT_NEAR(device[182] - device[140], 0.35, 1e-4);
+  EXPECT_GT(arrival[182] - arrival[140], 0.6);
+}
+
+TEST(RecordClock, AGapStartsANewCountAndAnotherRateIsTakenUp) {
+  RecordClock clock(1.0 / 120);
+  for (int k = 0; k < 100; ++k) (void)clock.stamp(at(1.0 + k / 120.0));
+  // An unplug: two seconds without records; the next one is timed when it came.
+  EXPECT_DOUBLE_EQ(seconds(clock.stamp(at(4.0))), 4.0);
+  EXPECT_NEAR(seconds(clock.stamp(at(4.0 + 1 / 120.0))), 4.0 + 1 / 120.0, 1e-9);
+  // A stream that really runs at 100 Hz (a serial line too slow for 120): after a few blocks
+  // its records are timed 10 ms apart.
+  RecordClock slow(1.0 / 120);
+  std::vector<double> device;
+  for (int k = 0; k < 3000; ++k) device.push_back(seconds(slow.stamp(at(20.0 + k / 100.0))));
+  EXPECT_NEAR(device[2999] - device[2998], 0.01, 1e-6);
+  EXPECT_NEAR(device[2999] - device[2500], 4.99, 1e-3);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/limits.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/model/mesh_export.hpp"
 #include "leafdig/model/metrics.hpp"
@@ -197,6 +198,14 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   s.plant = o.plant;
   s.leafPosition = o.leafPosition;
   s.leafType = o.leafType;
+  if (!o.serration.empty()) s.serration = m::serrationFromString(o.serration);
+  if (o.toothDepthMm) {
+    if (!(*o.toothDepthMm > 0 && *o.toothDepthMm <= m::kMaxThicknessMm))
+      throw std::invalid_argument("--tooth-depth must be a depth in mm, above 0 and at most 100");
+    if (!s.serration || *s.serration == m::Serration::None)
+      throw std::invalid_argument("--tooth-depth is the depth of the teeth --serration declares: give --serration too");
+    s.toothDepthMm = o.toothDepthMm;
+  }
   s.operatorName = o.operatorName;
   if (!o.station.empty()) db::checkStationId(o.station);
   s.station = o.station;
@@ -652,6 +661,12 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
       ->check(CLI::PositiveNumber);
   capture->add_option("--leaf-type", o.leafType,
                       "Leaf type for the organ library (e.g. lower, middle, upper; plant plans draw by it)");
+  capture
+      ->add_option("--serration", o.serration,
+                   "The leaf's margin: none (entire), round, sharp, straight or acuminate teeth; the area interval "
+                   "accounts for teeth the markers cannot see (default: not declared, and the interval says so)")
+      ->check(CLI::IsMember({"none", "round", "sharp", "straight", "acuminate"}));
+  capture->add_option("--tooth-depth", o.toothDepthMm, "Depth of the teeth in mm (default: 1.5 % of the leaf's width)");
   capture->add_option("--mode", o.mode, "standard (default), full or small")
       ->check(CLI::IsMember({"standard", "full", "small"}));
   capture->add_option("--order", o.order, "sequential (default: all points, then thicknesses) or interleaved")

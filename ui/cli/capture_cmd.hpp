@@ -18,6 +18,8 @@ struct CaptureOptions {
               operatorName = "technician";
   int leafPosition = 1;
   std::string leafType;
+  std::string serration;               // the leaf's declared margin teeth ("" : not declared)
+  std::optional<double> toothDepthMm;  // their depth
   bool board = false;
   // simulation
   bool simulate = false, noMistakes = false;

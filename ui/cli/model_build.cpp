@@ -148,12 +148,15 @@ int runModelBuild(const ModelBuildOptions& o) {
       // The 3-D model has no holes: it is compared with the blade's area with holes filled.
       scan = m::scanLeaf(o.measuredAreaScan, {*o.scanDpi});
       markers.leaf.measuredAreaMm2 = scan->filledAreaMm2;
+      // The scan's margin at the markers' spacing along it: the interval's margin term.
+      markers.leaf.marginFromScan = m::MarginFromScan{m::marginFromOutline(scan->outline, m::marginSpacingMm(markers))};
     }
     m::LeafModel leaf = m::buildLeafModel(markers, {m::bladeKindFromString(o.blade), nullptr});
     if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
 
     const m::LeafMesh mesh = m::meshLeaf(leaf, meshOptions);
-    const m::LeafMetrics metrics = m::computeLeafMetrics(leaf, light, o.areaThresholdPercent);
+    m::LeafMetrics metrics = m::computeLeafMetrics(leaf, light, o.areaThresholdPercent);
+    m::addSilhouette(metrics, mesh);
     const m::ExportHeader header{leaf.markers.leaf.id, o.frame, std::string("leafdig ") + leafdig::kVersion};
 
     // Encode everything first, then write: a build error never leaves some files written.

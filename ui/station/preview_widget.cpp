@@ -10,6 +10,7 @@
 #include <QWheelEvent>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -152,16 +153,19 @@ void PreviewSurface::addBatch(std::vector<Batch>& into, const std::vector<float>
 
 void PreviewSurface::upload() {
   const PreviewWidget& w = *owner_;
-  if (w.meshDirty_) {
+  // The level of detail follows the zoom: a new one is uploaded when the view needs another.
+  const model::LeafMesh* mesh = w.meshForView();
+  if (w.meshDirty_ || mesh != uploaded_) {
     release(meshes_);
-    if (w.preview_) {
+    uploaded_ = mesh;
+    if (mesh) {
       // One batch for the veins and one for the blade: each vertex once, triangles as
       // indices (a software rasteriser shades a shared vertex once, not six times). The vein
       // tubes are closed and wound outwards (tested in the model), so their back faces are
       // culled; the blade is seen from both sides.
       std::vector<float> data[2];
       std::vector<std::uint32_t> indices[2];
-      for (const auto& o : w.preview_->mesh.organs) {
+      for (const auto& o : mesh->organs) {
         const int k = o.kind == model::OrganKind::Blade ? 1 : 0;
         const auto base = static_cast<std::uint32_t>(data[k].size() / 6);
         data[k].reserve(data[k].size() + o.mesh.positions.size() * 6);
@@ -482,6 +486,31 @@ void PreviewWidget::setStylusCursor(const std::optional<acquisition::Vec3>& posi
 void PreviewWidget::setHighlight(const std::optional<acquisition::Item>& item) {
   highlight_ = item;
   changed(false);
+}
+
+double PreviewWidget::pixelsPerMm() const {
+  // A millimetre at the centre of the view, distance × radius away, through the vertical
+  // field of view onto the widget's height in device pixels.
+  const double depth = static_cast<double>(view_.distance) * static_cast<double>(view_.radius);
+  const double halfHeight = depth * std::tan(static_cast<double>(kFovYDeg) * std::numbers::pi / 360.0);
+  return halfHeight > 0 ? 0.5 * static_cast<double>(height()) * devicePixelRatioF() / halfHeight : 0.0;
+}
+
+const model::LeafMesh* PreviewWidget::meshForView() const {
+  if (!preview_) return nullptr;
+  if (preview_->levels.empty()) return &preview_->mesh;
+  const double halfPixelMm = pixelsPerMm() > 0 ? 0.5 / pixelsPerMm() : 0.0;
+  for (const auto& level : preview_->levels)  // coarse to fine
+    if (level.maxErrorMm <= halfPixelMm) return &level.mesh;
+  return &preview_->levels.back().mesh;
+}
+
+double PreviewWidget::drawnErrorMm() const {
+  if (!preview_) return 0.0;
+  const model::LeafMesh* mesh = meshForView();
+  for (const auto& level : preview_->levels)
+    if (&level.mesh == mesh) return level.maxErrorMm;
+  return 0.0;
 }
 
 QMatrix4x4 PreviewWidget::viewProjection(QSizeF size) const {

@@ -66,7 +66,8 @@ class PreviewSurface : public QOpenGLWindow, protected QOpenGLFunctions_3_3_Core
 
   PreviewWidget* owner_;
   QOpenGLShaderProgram program_;
-  std::vector<Batch> meshes_, points_;  // rebuilt when the leaf changes / when a marker or the cursor does
+  std::vector<Batch> meshes_, points_;         // rebuilt when the leaf changes / when a marker or the cursor does
+  const model::LeafMesh* uploaded_ = nullptr;  // the mesh in meshes_ (a level of the preview)
   bool glReady_ = false;
 };
 
@@ -112,6 +113,12 @@ class PreviewWidget : public QWidget {
   // Frame time of the last paint, and how many triangles it drew (for tests and benchmarks).
   [[nodiscard]] double lastFrameMs() const { return lastFrameMs_; }
   [[nodiscard]] std::size_t trianglesDrawn() const { return trianglesDrawn_; }
+  // Screen pixels per millimetre at the view's centre, and the preview mesh drawn for it: the
+  // coarsest level whose error is under half a pixel (else the finest), or the preview's one
+  // mesh when it has no levels. drawnErrorMm() is that level's error (0: the one mesh).
+  [[nodiscard]] double pixelsPerMm() const;
+  [[nodiscard]] const model::LeafMesh* meshForView() const;
+  [[nodiscard]] double drawnErrorMm() const;
 
  signals:
   void itemPicked(const leafdig::acquisition::Item& item);

@@ -403,11 +403,18 @@ void ReviewView::fill() {
                        .arg(s.metrics.markerGridHeronAreaMm2, 0, 'f', 0);
     if (s.metrics.areaInterval) {
       const auto& u = *s.metrics.areaInterval;
-      text += "\n" + tr("95 % interval %1 – %2 mm² (digitizer accuracy %3 mm and the rows' interpolation)")
+      text += "\n" + tr("95 % interval %1 – %2 mm² (digitizer accuracy %3 mm, the rows' interpolation, margin: %4)")
                          .arg(u.low95Mm2, 0, 'f', 0)
                          .arg(u.high95Mm2, 0, 'f', 0)
-                         .arg(u.sigmaMm, 0, 'f', 2);
+                         .arg(u.sigmaMm, 0, 'f', 2)
+                         .arg(QString::fromStdString(u.margin));
+      if (!u.note.empty()) text += "\n" + tr("Note: %1").arg(QString::fromStdString(u.note));
     }
+    if (s.metrics.silhouette)
+      text += "\n" + tr("Silhouette from above %1 mm² · STAR %2 (silhouette / the mesh's %3 mm²)")
+                         .arg(s.metrics.silhouette->silhouetteMm2, 0, 'f', 0)
+                         .arg(s.metrics.silhouette->star, 0, 'f', 3)
+                         .arg(s.metrics.silhouette->meshAreaMm2, 0, 'f', 0);
     if (s.metrics.areaConstraint) {
       const auto& a = *s.metrics.areaConstraint;
       text += "\n" + tr("Measured area %1 mm² · model differs by %2 % · %3")

@@ -110,6 +110,23 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   v->setNotation(QDoubleValidator::StandardNotation);
   area_->setValidator(v);
   if (d.measuredAreaMm2) area_->setText(QString::number(*d.measuredAreaMm2 / 100.0));
+  // The margin, for the area interval: teeth the markers cannot see between them.
+  serration_ = new QComboBox;
+  serration_->addItem(tr("not declared"), QString());
+  for (const char* word : {"none", "round", "sharp", "straight", "acuminate"})
+    serration_->addItem(QString::fromLatin1(word), QString::fromLatin1(word));
+  if (d.serration)
+    serration_->setCurrentIndex(serration_->findData(QString::fromLatin1(model::toString(*d.serration))));
+  serration_->setToolTip(
+      tr("The leaf's margin teeth: the area's 95 % interval then accounts for the teeth between the markers "
+         "(none: an entire margin). Not declared: the interval says teeth are not in it."));
+  toothDepth_ = new QLineEdit;
+  toothDepth_->setPlaceholderText(tr("tooth depth, mm (default 1.5 % of the width)"));
+  auto* depthValidator = new QDoubleValidator(0.01, 100.0, 3, toothDepth_);
+  depthValidator->setNotation(QDoubleValidator::StandardNotation);
+  toothDepth_->setValidator(depthValidator);
+  if (d.toothDepthMm) toothDepth_->setText(QString::number(*d.toothDepthMm));
+  marginFromScan_ = d.marginFromScan;
   board_ = new QCheckBox(tr("Start with 3 board points (origin, +X, +Y)"));
   board_->setChecked(d.settings.boardFrame);
   digitizer_ = new QComboBox;
@@ -154,6 +171,10 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   areaRow->addWidget(area_, 1);
   areaRow->addWidget(fromScan);
   form->addRow(tr("Measured leaf area"), areaRow);
+  auto* marginRow = new QHBoxLayout;
+  marginRow->addWidget(serration_);
+  marginRow->addWidget(toothDepth_, 1);
+  form->addRow(tr("Margin teeth"), marginRow);
   form->addRow(QString(), board_);
   form->addRow(tr("Digitizer"), digitizer_);
   form->addRow(tr("Caliper"), caliper_);
@@ -180,6 +201,7 @@ bool SetupDialog::areaFromScan(const QString& path, double dpi, QString* problem
     note += ")";
     if (scan.touchesBorder) note += tr(" — the leaf touches the scan's edge; it may be cut off");
     area_->setToolTip(note);
+    marginFromScan_ = model::marginProfile(scan.outline);  // the interval's margin term, measured
     problem_->clear();
     return true;
   } catch (const std::exception& e) {
@@ -216,6 +238,19 @@ std::optional<SetupChoice> SetupDialog::choice(QString* problem) const {
     if (!ok || !(any > 0)) return fail(tr("The measured area must be a positive number of cm² (or leave it empty)."));
     s.measuredAreaMm2 = any * 100.0;
   }
+  if (const QString word = serration_->currentData().toString(); !word.isEmpty())
+    s.serration = model::serrationFromString(word.toStdString());
+  if (!toothDepth_->text().trimmed().isEmpty()) {
+    bool ok = false;
+    const double mm = QLocale().toDouble(toothDepth_->text().trimmed(), &ok);
+    const double any = ok ? mm : toothDepth_->text().trimmed().toDouble(&ok);
+    if (!ok || !(any > 0 && any <= 100))
+      return fail(tr("The tooth depth must be a number of mm above 0 and at most 100 (or leave it empty)."));
+    if (!s.serration || *s.serration == model::Serration::None)
+      return fail(tr("A tooth depth is for a toothed margin: choose the margin's teeth, or leave the depth empty."));
+    s.toothDepthMm = any;
+  }
+  s.marginFromScan = marginFromScan_;
   s.settings = engine_;
   s.settings.mode = acq::modeFromString(mode_->currentText().toStdString());
   s.settings.order = acq::orderFromString(order_->currentText().toStdString());

@@ -41,8 +41,9 @@ class SetupDialog : public QDialog {
   [[nodiscard]] std::optional<SetupChoice> choice(QString* problem = nullptr) const;
   void rescan(const devices::Inventory& inventory);
   // Fills the measured area (cm²) from a scan of the leaf at `dpi` (the blade's area with its
-  // holes filled and the petiole set apart, as `leafdig leaf2d scan` reports it); false and
-  // the problem in words when the scan cannot be read.
+  // holes filled and the petiole set apart, as `leafdig leaf2d scan` reports it), and keeps
+  // what its margin shows for the area interval; false and the problem in words when the scan
+  // cannot be read.
   bool areaFromScan(const QString& path, double dpi, QString* problem = nullptr);
 
   // For tests: the widgets.
@@ -54,6 +55,8 @@ class SetupDialog : public QDialog {
   QComboBox* order() const { return order_; }
   QComboBox* operatorName() const { return operator_; }
   QLineEdit* measuredArea() const { return area_; }
+  QComboBox* serration() const { return serration_; }
+  QLineEdit* toothDepth() const { return toothDepth_; }
   QCheckBox* board() const { return board_; }
   QComboBox* digitizer() const { return digitizer_; }
   QComboBox* caliper() const { return caliper_; }
@@ -63,9 +66,10 @@ class SetupDialog : public QDialog {
 
  private:
   acquisition::Settings engine_;
-  QComboBox *project_, *plant_, *mode_, *order_, *operator_, *digitizer_, *caliper_;
+  QComboBox *project_, *plant_, *mode_, *order_, *operator_, *digitizer_, *caliper_, *serration_;
   QSpinBox* position_;
-  QLineEdit *type_, *area_;
+  QLineEdit *type_, *area_, *toothDepth_;
+  std::optional<model::MarginFromScan> marginFromScan_;  // from "From a scan…"
   QCheckBox* board_;
   QLabel* problem_;
 };

@@ -576,7 +576,7 @@ TEST(ExportBatch, ExportsEachSessionReportsTheOnesThatCannotAndCancels) {
     return true;
   });
   EXPECT_FALSE(result.cancelled);
-  EXPECT_EQ(result.written.size(), 3u);  // glb + two CSVs
+  EXPECT_EQ(result.written.size(), 4u);  // glb + three CSVs (markers, thickness, metrics)
   ASSERT_EQ(result.failed.size(), 1u);
   EXPECT_EQ(result.failed[0].first, unfinished);
   EXPECT_EQ(calls, 3);

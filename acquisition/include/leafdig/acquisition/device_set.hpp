@@ -25,7 +25,9 @@ class DeviceSet {
  public:
   enum class Role { Digitizer, Caliper };
   // Throws std::invalid_argument for a spec that does not parse (nothing is opened then).
-  DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop);
+  // digitizerRateHz: the digitizer's record rate when it is not the device's own (a simulator).
+  DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop,
+            double digitizerRateHz = 0);
   DeviceSet(const DeviceSet&) = delete;
   DeviceSet& operator=(const DeviceSet&) = delete;
   ~DeviceSet();

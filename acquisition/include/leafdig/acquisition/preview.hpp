@@ -30,9 +30,19 @@ struct ProvisionalThickness {
 [[nodiscard]] model::MarkerSet toMarkerSet(const std::vector<Item>& items, const Settings& settings,
                                            const model::LeafInfo& leaf = {});
 
+// The preview's meshes by the screen-space error they are made for (issue 26): the adaptive
+// mesher within maxErrorMm of the model; a view draws the coarsest whose error is under half
+// a pixel at its zoom (the exact model is for exports, not for the screen).
+struct PreviewLevel {
+  double maxErrorMm = 0.0;
+  model::LeafMesh mesh;
+};
+inline constexpr double kPreviewLevelsMm[] = {0.5, 0.15};
+
 struct Preview {
   model::LeafModel model;             // veins so far; blade.controlNet empty until two rows are complete
-  model::LeafMesh mesh;               // at the "preview" resolution
+  model::LeafMesh mesh;               // the finest of `levels` (the adaptive mesh within 0.15 mm)
+  std::vector<PreviewLevel> levels;   // coarse to fine (kPreviewLevelsMm)
   bool provisionalThickness = false;  // some radii are ProvisionalThickness, not measured
   std::vector<std::string> notes;     // why a part is missing (e.g. a degenerate row)
 };

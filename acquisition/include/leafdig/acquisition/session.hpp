@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -31,6 +32,11 @@ struct SessionSetup {
   int leafPosition = 1;                   // on the stem, from the base
   std::string leafType;                   // free text ("cauline", "lower", …); optional
   std::optional<double> measuredAreaMm2;  // from a leaf area meter; drives the area constraint
+  // The leaf's margin for the area interval (model::LeafInfo): declared serration and tooth
+  // depth, or what a scan showed; kept in the session's settings ("leaf_margin").
+  std::optional<model::Serration> serration;
+  std::optional<double> toothDepthMm;
+  std::optional<model::MarginFromScan> marginFromScan;
   std::string operatorName = "technician";
   std::string station;  // empty: this machine's host name
   Settings settings;
@@ -41,6 +47,13 @@ struct SessionSetup {
   // that a resumed simulation goes on with the same leaf.
   std::optional<model::MarkerSet> simulatedLeaf;
 };
+
+// The leaf's margin as a session's settings keep it ("leaf_margin": {"serration",
+// "tooth_depth_mm", "from_scan": [{"spacing_mm", "outside_mm", "inside_mm"}…]}), absent when
+// nothing was said;
+// and read back into a leaf's info (unknown words and bad numbers: SessionError).
+[[nodiscard]] std::optional<nlohmann::json> leafMarginJson(const SessionSetup& setup);
+void readLeafMargin(const std::string& settingsJson, model::LeafInfo& leaf);
 
 // What a front end announces (after it was committed; seq is the event's number).
 struct Feedback {

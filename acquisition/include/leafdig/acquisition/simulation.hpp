@@ -37,6 +37,8 @@ class SimulatedRig {
   ~SimulatedRig();
   [[nodiscard]] std::string digitizerSpec() const;  // "fastrak:<pty symlink>"
   [[nodiscard]] std::string caliperSpec() const;    // "sylvac:<pty symlink>"
+  // The simulated FASTRAK's record rate (120 Hz times the speed, at most 960 Hz).
+  [[nodiscard]] double digitizerRateHz() const { return digitizerRateHz_; }
   devices::sim::OperatorHand& hand() { return *hand_; }
   devices::sim::VirtualCaliper& caliper() { return *caliper_; }
   devices::sim::Emulator& digitizerEmulator() { return *digitizer_; }
@@ -46,6 +48,7 @@ class SimulatedRig {
   std::shared_ptr<devices::sim::OperatorHand> hand_;
   std::shared_ptr<devices::sim::VirtualCaliper> caliper_;
   std::unique_ptr<devices::sim::Emulator> digitizer_, gauge_;
+  double digitizerRateHz_ = 120.0;
 };
 
 class VirtualOperator {

@@ -30,7 +30,10 @@ struct DigitizerConfig {
   bool autobaud = true;    // try the other usual rates when the device does not answer
   bool binary = false;     // FASTRAK / Patriot / Liberty binary records
   std::string hemisphere;  // FASTRAK "0,0,1" → "H1,0,0,1"; empty: leave as is
-  line::Config line;       // for DigitizerKind::Line
+  // The stream's record rate, for timing records by the device's clock (RecordClock); 0: the
+  // device's own (FASTRAK 120 Hz, Patriot 60 Hz, Liberty 240 Hz). A simulator says its own.
+  double recordRateHz = 0;
+  line::Config line;  // for DigitizerKind::Line
   // Opens the port; defaults to openSerialPort. Tests substitute their own.
   std::function<std::unique_ptr<SerialPort>(const std::string&, const SerialSettings&)> openPort;
 };

@@ -15,7 +15,10 @@ using Clock = std::chrono::steady_clock;
 using Vec3 = std::array<double, 3>;
 
 struct StylusSample {
-  Clock::time_point t{};                            // monotonic, taken once when the bytes arrived
+  Clock::time_point t{};  // monotonic, taken once when the bytes arrived
+  // When the device took the record, by its own clock (RecordClock: a streaming digitizer's
+  // record count at its rate); absent where the protocol gives nothing better than arrival.
+  std::optional<Clock::time_point> deviceTime;
   int station = 1;                                  // receiver / arm number (1-based)
   Vec3 positionMm{};                                // device frame, millimetres
   std::optional<Vec3> orientationDeg;               // azimuth, elevation, roll (degrees)

@@ -25,12 +25,14 @@ namespace leafdig::devices::sim {
 // Per-record probabilities, plus durations. Spec: comma-separated key=value, e.g.
 //   "garbage=0.01,bitflip=0.005,truncate=0.01,stall=0.002:1.5,reset=0.001,unplug=0.001:0.5,
 //    status=0.01:x,baud=9600,seed=7"
-// stall=P:S stalls S seconds; unplug=P:S stays unplugged S seconds; status=P:L sets the
+// stall=P:S stalls S seconds; unplug=P:S stays unplugged S seconds; delay=P:S holds its
+// output back S seconds (records go on being made on time) and then delivers them in one
+// burst, as a busy host or a USB-serial adapter's latency does; status=P:L sets the
 // status letter L; baud=N makes the device run at N baud (a host at another rate sees
 // garbage and is not understood).
 struct FaultPlan {
-  double garbage = 0, bitflip = 0, truncate = 0, stall = 0, reset = 0, unplug = 0, status = 0;
-  double stallSeconds = 1.5, unplugSeconds = 0.5;
+  double garbage = 0, bitflip = 0, truncate = 0, stall = 0, reset = 0, unplug = 0, status = 0, delay = 0;
+  double stallSeconds = 1.5, unplugSeconds = 0.5, delaySeconds = 0.5;
   char statusLetter = 'x';
   int deviceBaud = 0;
   std::uint64_t seed = 1;
@@ -40,7 +42,7 @@ struct FaultPlan {
 
 struct FaultLog {
   std::uint64_t records = 0, garbage = 0, bitflips = 0, truncated = 0, stalls = 0, resets = 0, unplugs = 0,
-                statusLetters = 0, garbledBytes = 0;
+                statusLetters = 0, garbledBytes = 0, delays = 0;
 };
 
 // ---- virtual stylus and caliper -----------------------------------------------------------
@@ -226,6 +228,8 @@ class Emulator {
   std::vector<SentRecord> sent_;
   std::mt19937_64 rng_;
   double stalledUntil_ = -1;
+  double heldUntil_ = -1;  // a delay fault: output held back until then, then sent at once
+  std::string held_;
   double start_ = 0;
 };
 
