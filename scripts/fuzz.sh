@@ -1,22 +1,49 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan+UBSan) and runs each codec's fuzzer for a bounded
-# time, starting from the seed corpus in tests/fuzz/corpus (new inputs go to a temporary
-# directory, so the repository corpus only changes when someone adds seeds on purpose).
-# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 10)
+# Builds the libFuzzer targets (clang, ASan+UBSan) and runs each one: every codec, and the
+# readers of the files a user hands us (markers, plant plans, outlines in JSON and CSV, scans'
+# headers). Each starts from its seed corpus in tests/fuzz/corpus/<target>.
+#
+# Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 10; new inputs go to a temporary
+#                                                directory: the repository corpus only
+#                                                changes when someone adds seeds on purpose)
+#        scripts/fuzz.sh --long [RUNS]          (every target to RUNS executions, default 10^7,
+#                                                with its corpus kept in build/fuzz-corpus/
+#                                                between runs; prints executions, time and
+#                                                corpus size per target for docs/benchmarks.md)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-seconds=${1:-10}
+long=0
+runs=10000000
+seconds=10
+if [ "${1:-}" = "--long" ]; then
+  long=1
+  runs=${2:-$runs}
+else
+  seconds=${1:-10}
+fi
 cd "$root"
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j"$(nproc)"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for corpus in tests/fuzz/corpus/*/; do
-  codec=$(basename "$corpus")
-  mkdir -p "$work/$codec"
-  echo "fuzz: $codec for ${seconds}s"
-  (cd "$work" && "$root/build/fuzz/tests/fuzz/fuzz_$codec" -max_total_time="$seconds" -print_final_stats=1 \
-     "$work/$codec" "$root/$corpus" 2>"$work/$codec.log") || { tail -40 "$work/$codec.log"; exit 1; }
-  grep -E "stat::number_of_executed_units" "$work/$codec.log" | sed "s/^/  /"
+  target=$(basename "$corpus")
+  if [ "$long" = 1 ]; then
+    kept="$root/build/fuzz-corpus/$target"
+    mkdir -p "$kept"
+    echo "fuzz --long: $target to $runs executions"
+    start=$(date +%s)
+    (cd "$work" && "$root/build/fuzz/tests/fuzz/fuzz_$target" -runs="$runs" -print_final_stats=1 \
+       "$kept" "$root/$corpus" 2>"$work/$target.log") || { tail -40 "$work/$target.log"; exit 1; }
+    end=$(date +%s)
+    executed=$(grep -E "stat::number_of_executed_units" "$work/$target.log" | awk '{print $2}')
+    echo "  $target: $executed executions in $((end - start)) s, corpus $(ls "$kept" | wc -l) inputs, clean"
+  else
+    mkdir -p "$work/$target"
+    echo "fuzz: $target for ${seconds}s"
+    (cd "$work" && "$root/build/fuzz/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -print_final_stats=1 \
+       "$work/$target" "$root/$corpus" 2>"$work/$target.log") || { tail -40 "$work/$target.log"; exit 1; }
+    grep -E "stat::number_of_executed_units" "$work/$target.log" | sed "s/^/  /"
+  fi
 done
-echo "fuzz: all codecs clean"
+echo "fuzz: every target clean"
