@@ -18,6 +18,7 @@ passDone() {
 "$root/scripts/setup.sh" ci
 passDone "set-up and the ci build"
 "$root/.ci/check-layering.sh" "$root"
+"$root/.ci/check-architecture.sh" "$root"
 "$root/.ci/check-format.sh" "$root"
 ctest --preset ci -j"$(nproc)"
 passDone "the ci tests"

@@ -571,7 +571,7 @@ void Store::import(std::int64_t session, const std::vector<Event>& events) {
             StoreErrorKind::Conflict,
             "session " + std::to_string(session) + " in " + path_ + ", event " + std::to_string(e.seq) + ": " + why,
             "nothing was taken in; the station's copy and the other differ from this event on "
-            "(docs/lab-server.md, \"Conflicts\")");
+            "(docs/lab.md, \"Conflicts\")");
       };
       if (e.seq != head.seq + 1) conflict("it does not follow the station's last event " + std::to_string(head.seq));
       if (e.prevHash != head.hash)
