@@ -303,13 +303,17 @@ void Emulator::run() {
       }
       continue;
     }
+    // A streaming device makes its records on its own clock, whatever the host does: an
+    // emulator woken late (a busy machine) makes the records it owes at once, as the device
+    // would have made them and its cable delivered them late — the host times them by their
+    // count (RecordClock). Only after a quarter of a second behind (a stall) does it skip.
     const double tn = now();
-    if (tn >= nextTick) {
+    for (int owed = 0; tn >= nextTick && owed < 256; ++owed) {
       produce(static_cast<double>(k) / rate, k);
       ++k;
       nextTick += 1.0 / rate;
-      if (tn - nextTick > 0.25) nextTick = tn;  // fell far behind (a stall): do not burst
     }
+    if (tn - nextTick > 0.25) nextTick = tn;  // fell far behind (a stall): do not burst
   }
 }
 

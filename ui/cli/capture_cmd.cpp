@@ -228,6 +228,12 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   r.simulation.mistakes = !o.noMistakes;
   r.leafFile = o.markers;
   if (o.stylusNoiseMm) r.simulation.stylusNoiseMm = *o.stylusNoiseMm;
+  // The terminal draws no model: JSON lines need no preview at all, and the human terminal
+  // only its "provisional thickness" note. Building the preview's meshes (two adaptive levels
+  // since issue 26, for the station's window) on the capture thread after every item would
+  // only delay the next decision — on a loaded machine past the simulated technician's
+  // patience, who then pressed the old marker again.
+  r.previews = !o.json;
   if (!o.synth.empty()) {
     if (!o.simulate && !resumeId) throw std::invalid_argument("--synth is the simulated leaf: add --simulate");
     if (!o.markers.empty()) throw std::invalid_argument("give --markers or --synth, not both");
