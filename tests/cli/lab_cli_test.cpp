@@ -300,9 +300,11 @@ TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNext
     for (const auto& s : server.sessions()) EXPECT_TRUE(server.verify(s.id).ok) << "run " << run;
     if (HasFailure()) FAIL() << "run " << run << " (continued): " << rest.err;
   }
-  // A run that waited for k < n - 1 sessions to be reported sent killed a push with sessions
-  // still to send: in the middle, whatever the machine's speed.
-  EXPECT_EQ(killedAfterProgress, (runs + 1) / 2) << "a kill after a progress line landed outside a push";
+  // A run that waited for k < n - 1 sessions to be reported sent kills a push with sessions
+  // still to send — unless, on a loaded machine (ASan beside a build), the push finishes
+  // between the line and the signal (seen once: 24 of 25). The invariants above hold either
+  // way; here only that the mid-push case was exercised, not how often the machine allowed it.
+  EXPECT_GT(killedAfterProgress, 0) << "no kill after a progress line landed inside a push";
   std::printf("sync push kill -9: %d runs, %d killed mid-push, server always a prefix of the station\n", runs,
               killedMidPush);
 }
