@@ -46,11 +46,13 @@ Command parseCommand(const std::string& line) {
   return c;
 }
 
-CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale, bool previews)
+CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale, bool previews,
+                         bool previewMeshes)
     : session_(session),
       listener_(std::move(listener)),
       timeScale_(timeScale > 0 ? timeScale : 1.0),
       previews_(previews),
+      previewMeshes_(previewMeshes),
       t0_(Clock::now()) {}
 
 std::int64_t CaptureLoop::monoNs(Clock::time_point t) const {
@@ -106,7 +108,7 @@ void CaptureLoop::stop() {
 void CaptureLoop::deliver(const std::vector<Feedback>& feedback) {
   for (const Feedback& f : feedback)
     if (listener_.onFeedback) listener_.onFeedback(f);
-  if (!feedback.empty() && listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_));
+  if (!feedback.empty() && listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_, previewMeshes_));
 }
 
 void CaptureLoop::handle(const Item_& item, bool& quit) {
@@ -148,7 +150,7 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
 }
 
 Snapshot CaptureLoop::run() {
-  if (listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_));
+  if (listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_, previewMeshes_));
   bool quit = false;
   auto lastRetry = Clock::now();
   while (!quit && !stop_ && !session_.ended()) {
@@ -169,7 +171,7 @@ Snapshot CaptureLoop::run() {
       if (quit || session_.ended()) break;
     }
   }
-  return session_.snapshot(previews_);
+  return session_.snapshot(previews_, previewMeshes_);
 }
 
 }  // namespace leafdig::acquisition

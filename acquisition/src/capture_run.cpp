@@ -73,7 +73,8 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     if (observer_.onSnapshot) observer_.onSnapshot(s);
   };
   previews_ = request.previews;
-  loop_ = std::make_unique<CaptureLoop>(*session_, listener, timeScale_, previews_);
+  previewMeshes_ = request.previewMeshes;
+  loop_ = std::make_unique<CaptureLoop>(*session_, listener, timeScale_, previews_, previewMeshes_);
 
   std::string digitizer = request.digitizer.empty() ? setup_.digitizer : request.digitizer;
   std::string caliper = request.caliper.empty() ? setup_.caliper : request.caliper;
@@ -145,7 +146,7 @@ Snapshot CaptureRun::shutdown(const std::string& why) {
     const auto feedback = session_->pause(why, loop_->monoNs(CaptureLoop::Clock::now()));
     for (const Feedback& f : feedback)
       if (observer_.onFeedback) observer_.onFeedback(f);
-    if (!feedback.empty() && observer_.onSnapshot) observer_.onSnapshot(session_->snapshot(previews_));
+    if (!feedback.empty() && observer_.onSnapshot) observer_.onSnapshot(session_->snapshot(previews_, previewMeshes_));
   }
   last_ = session_->snapshot(false);
   return *last_;

@@ -99,8 +99,8 @@ model::MarkerSet toMarkerSet(const std::vector<Item>& items, const Settings& set
   return set;
 }
 
-Preview buildPreview(const std::vector<Item>& items, const Settings& settings,
-                     const ProvisionalThickness& provisional) {
+Preview buildPreview(const std::vector<Item>& items, const Settings& settings, const ProvisionalThickness& provisional,
+                     bool meshes) {
   Preview p;
   const Item* tip = findItem(items, What::Tip, 0, 0);
   if (!tip) return p;
@@ -131,13 +131,14 @@ Preview buildPreview(const std::vector<Item>& items, const Settings& settings,
         p.model.veins.insert(p.model.veins.begin(), std::move(midrib));
     }
     for (const double e : kPreviewLevelsMm) {
+      if (!meshes) break;
       m::MeshOptions o;
       o.method = m::MeshMethod::Adaptive;
       o.resolution = m::MeshResolution::preset("preview");
       o.maxErrorMm = e;
       p.levels.push_back({e, m::meshLeaf(p.model, o)});
     }
-    p.mesh = p.levels.back().mesh;
+    if (!p.levels.empty()) p.mesh = p.levels.back().mesh;
   } catch (const std::exception& e) {
     // Coincident markers and the like: the operator sees the note; the capture goes on
     // (validation already refused what it can, and undo/retake fix the rest).

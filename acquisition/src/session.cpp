@@ -506,7 +506,7 @@ std::vector<Feedback> CaptureSession::deviceStatus(const std::string& device, co
   return out;
 }
 
-Snapshot CaptureSession::snapshot(bool withPreview) const {
+Snapshot CaptureSession::snapshot(bool withPreview, bool withMeshes) const {
   Snapshot s;
   s.session = id_;
   s.version = version_;
@@ -521,7 +521,8 @@ Snapshot CaptureSession::snapshot(bool withPreview) const {
   s.paused = paused_;
   s.pauseReason = pauseReason_;
   s.status = status_;
-  if (withPreview) s.preview = std::make_shared<const Preview>(buildPreview(s.items, engine_.settings()));
+  if (withPreview)
+    s.preview = std::make_shared<const Preview>(buildPreview(s.items, engine_.settings(), {}, withMeshes));
   return s;
 }
 

@@ -5,6 +5,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -39,10 +40,22 @@ void Emulator::start() {
   linkPath_ = options_.linkPath;
   if (linkPath_.empty())
     linkPath_ = "/tmp/leafdig-sim-" + kind() + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-  if (!openPty())
+  if (!openPty()) {
+    const int err = errno;
+    // The stable link is made in a folder the user may have named (--link): say so when it
+    // is that folder, not the pseudo-terminal, that failed.
+    const std::string folder = linkPath_.find('/') == std::string::npos
+                                   ? std::string(".")
+                                   : linkPath_.substr(0, std::max<std::size_t>(1, linkPath_.rfind('/')));
+    if (::access(folder.c_str(), W_OK) != 0)
+      throw DeviceError(options_.linkPath.empty() ? DeviceErrorKind::Io : DeviceErrorKind::Config,
+                        "cannot make the link " + linkPath_ +
+                            " to the simulator's pseudo-terminal: " + std::string(std::strerror(err)),
+                        "give --link a path in a folder that exists and that you may write to");
     throw DeviceError(DeviceErrorKind::Unsupported,
-                      "cannot create a pseudo-terminal: " + std::string(std::strerror(errno)),
+                      "cannot create a pseudo-terminal: " + std::string(std::strerror(err)),
                       "check that /dev/ptmx exists and /dev/pts is mounted");
+  }
   powerOn();
   start_ = monotonicSeconds();
   stop_ = false;

@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <atomic>
-#include <csignal>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "commands.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
@@ -30,7 +30,7 @@
 #include "leafdig/model/model_json.hpp"
 #include "leafdig/model/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
-#include "store_errors.hpp"
+#include "signals.hpp"
 #include "synth_cmd.hpp"
 #include "terminal_text.hpp"
 
@@ -41,41 +41,8 @@ namespace acq = leafdig::acquisition;
 namespace m = leafdig::model;
 using nlohmann::json;
 
-std::atomic<bool> interrupted{false};
-// Before a capture starts (opening and checking the file), a signal also stops the SQLite
-// statement that runs: a doctored file cannot hold the process. Once capture runs, the
-// watcher stops it in order (the last events are still written).
-std::atomic<bool> captureRunning{false};
-void onSignal(int) {
-  interrupted = true;
-  if (!captureRunning) db::requestInterrupt();
-}
-
 std::string dbPath(const CaptureOptions& o) {
   return o.db.empty() ? db::Store::defaultPath() : o.db;
-}
-
-// Says what went wrong and returns the exit code of the README: 2 for input the user must
-// fix (options, files, device specs, a foreign or damaged database), 1 for the rest.
-// `inputPrefix` goes before a model input error's message.
-int reportFailure(const std::exception_ptr& error, const char* inputPrefix = "") {
-  try {
-    std::rethrow_exception(error);
-  } catch (const db::StoreError& e) {
-    return reportStoreError(e);
-  } catch (const m::InputError& e) {
-    std::cerr << "leafdig: " << inputPrefix << terminalMessage(e.what()) << "\n";
-    return 2;
-  } catch (const acq::SessionError& e) {
-    std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
-    return 1;
-  }
 }
 
 std::string samplesDir(const std::string& given) {
@@ -229,11 +196,13 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   r.leafFile = o.markers;
   if (o.stylusNoiseMm) r.simulation.stylusNoiseMm = *o.stylusNoiseMm;
   // The terminal draws no model: JSON lines need no preview at all, and the human terminal
-  // only its "provisional thickness" note. Building the preview's meshes (two adaptive levels
-  // since issue 26, for the station's window) on the capture thread after every item would
-  // only delay the next decision — on a loaded machine past the simulated technician's
-  // patience, who then pressed the old marker again.
+  // only its "provisional thickness" note (the model, not its meshes). Building the preview's
+  // meshes (two adaptive levels since issue 26, for the station's window) on the capture
+  // thread after every item would only delay the next decision — on a loaded machine, or
+  // under ASan, past the simulated technician's patience, who then pressed the old marker
+  // again (a plant-library test's captures ran into its 15-minute limit that way).
   r.previews = !o.json;
+  r.previewMeshes = false;
   if (!o.synth.empty()) {
     if (!o.simulate && !resumeId) throw std::invalid_argument("--synth is the simulated leaf: add --simulate");
     if (!o.markers.empty()) throw std::invalid_argument("give --markers or --synth, not both");
@@ -277,10 +246,10 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
     }
   };
   acq::CaptureRun run(request, observer);
-  if (interrupted)
+  if (interrupted())
     throw db::StoreError(db::StoreErrorKind::Interrupted, "capture interrupted while opening",
                          "nothing was captured; run the command again");
-  captureRunning = true;
+  setCaptureRunning(true);
   id = run.sessionId();
   if (onStart) onStart(id);
   if (!quiet && !o.json)
@@ -316,7 +285,7 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   });
   std::thread watcher([&] {
     while (!done && !run.finished()) {
-      if (interrupted) run.requestStop();
+      if (interrupted()) run.requestStop();
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });
@@ -324,9 +293,9 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   done = true;
   input.join();
   watcher.join();
-  result.last = run.shutdown(interrupted ? "capture interrupted" : "capture stopped by the operator");
+  result.last = run.shutdown(interrupted() ? "capture interrupted" : "capture stopped by the operator");
   result.stats = run.operatorStats();
-  result.exitCode = interrupted ? 130 : 0;
+  result.exitCode = interrupted() ? 130 : 0;
   if (!quiet && !o.json && !result.last.complete && result.last.status == "open")
     std::cout << "  session " << id << " kept at: " << result.last.prompt
               << "\n  continue with: leafdig sessions resume " << id << " --db " << run.dbPath() << "\n";
@@ -334,19 +303,14 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
 }
 
 int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
-  try {
-    if (!o.simulate && !resumeId && (o.digitizer.empty() || o.caliper.empty()))
-      throw std::invalid_argument(
-          "capture needs --digitizer KIND:PORT and --caliper KIND:PORT (or --simulate): see 'leafdig devices list'");
-    std::signal(SIGINT, onSignal);
-    std::signal(SIGTERM, onSignal);
-    const RunResult r = runSession(requestFrom(o, resumeId), o, false, [&](std::int64_t id) {
-      if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
-    });
-    return r.exitCode;
-  } catch (...) {
-    return reportFailure(std::current_exception());
-  }
+  if (!o.simulate && !resumeId && (o.digitizer.empty() || o.caliper.empty()))
+    throw std::invalid_argument(
+        "capture needs --digitizer KIND:PORT and --caliper KIND:PORT (or --simulate): see 'leafdig devices list'");
+  installSignalHandlers();
+  const RunResult r = runSession(requestFrom(o, resumeId), o, false, [&](std::int64_t id) {
+    if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
+  });
+  return r.exitCode;
 }
 
 // ---- sessions ---------------------------------------------------------------------------------
@@ -572,7 +536,7 @@ int runDemo(const CaptureOptions& o) {
   c.project = "demo";
   std::cout << "leafdig demo: a virtual technician captures " << leaves.size()
             << " leaves with a simulated FASTRAK and Sylvac caliper over pseudo-terminals\n  database " << c.db << "\n";
-  std::signal(SIGINT, onSignal);
+  installSignalHandlers();
   int position = 0;
   for (const DemoLeaf& leaf : leaves) {
     c.plant = "plant-1";
@@ -580,7 +544,10 @@ int runDemo(const CaptureOptions& o) {
     c.seed = o.seed + static_cast<std::uint64_t>(position);
     c.markers = leaf.file;
     c.synth = leaf.synth;
-    const acq::RunRequest request = requestFrom(c, std::nullopt);
+    acq::RunRequest request = requestFrom(c, std::nullopt);
+    // The demo prints a line per leaf and draws nothing: no live preview (its meshes, built
+    // after every item, made a demo under ASan on a loaded machine take 15 minutes, not 2).
+    request.previews = false;
     const std::size_t rows = request.leaf ? request.leaf->rows.size() : m::readMarkersFile(leaf.file).rows.size();
     std::int64_t id = 0;
     const auto t0 = std::chrono::steady_clock::now();
@@ -591,7 +558,7 @@ int runDemo(const CaptureOptions& o) {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!r.last.complete) {
       std::cout << "not complete (" << r.last.prompt << ")\n";
-      return interrupted ? 130 : 1;
+      return interrupted() ? 130 : 1;
     }
     db::Store store(c.db);
     int rejected = 0;
@@ -632,9 +599,7 @@ int runDemo(const CaptureOptions& o) {
   return 0;
 }
 
-}  // namespace
-
-void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
+void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   const auto addCaptureOptions = [&o](CLI::App* c) {
     c->add_option("--db", o.db, "SQLite file (default: the station's, under $XDG_DATA_HOME/leafdig)");
     c->add_flag("--json", o.json, "One JSON object per line, each after it is committed (README: the contract)");
@@ -732,42 +697,44 @@ void addCaptureCommands(CLI::App& app, CaptureOptions& o) {
                    "This station's id, stored with every session (default: settings, host name)");
 }
 
-int runCaptureCommands(CLI::App& app, const CaptureOptions& options) {
-  CaptureOptions o = options;
-  if (app.get_subcommand("capture")->parsed()) return runCapture(o, std::nullopt);
-  if (app.get_subcommand("demo")->parsed()) {
-    if (app.get_subcommand("demo")->count("--speed") == 0) o.speed = 8.0;
-    try {
-      return runDemo(o);
-    } catch (const db::StoreError& e) {
-      return reportStoreError(e);
-    } catch (const std::exception& e) {
-      std::cerr << "leafdig: " << e.what() << "\n";
-      return 1;
-    }
-  }
+// Runs a `sessions` command on the store of --db (read-only unless it writes).
+template <class Run>
+int withStore(const CaptureOptions& o, bool writes, Run run) {
+  if (!db::isServerUrl(o.db) && !std::filesystem::exists(dbPath(o)))
+    throw std::invalid_argument("no database at " + db::redactUrl(dbPath(o)) +
+                                ": give --db FILE (capture creates one), or the lab server as postgresql://…");
+  const std::unique_ptr<db::EventStore> store = db::openEventStore(dbPath(o), !writes);
+  return run(*store, o);
+}
+
+}  // namespace
+
+void addCaptureCommands(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<CaptureOptions>();
+  declareCaptureCommands(app, *o);
+  table.add(app.get_subcommand("capture"), [o] { return runCapture(*o, std::nullopt); });
+  CLI::App* demo = app.get_subcommand("demo");
+  table.add(demo, [o, demo] {
+    CaptureOptions d = *o;
+    if (demo->count("--speed") == 0) d.speed = 8.0;
+    return runDemo(d);
+  });
   CLI::App* s = app.get_subcommand("sessions");
-  if (!s->parsed()) return -1;
-  if (s->get_subcommand("resume")->parsed()) return runCapture(o, o.id);
-  try {
-    const bool writes = s->get_subcommand("approve")->parsed() || s->get_subcommand("reject")->parsed() ||
-                        s->get_subcommand("export")->parsed() || s->get_subcommand("correct")->parsed();
-    if (!db::isServerUrl(o.db) && !std::filesystem::exists(dbPath(o)))
-      throw std::invalid_argument("no database at " + db::redactUrl(dbPath(o)) +
-                                  ": give --db FILE (capture creates one), or the lab server as postgresql://…");
-    const std::unique_ptr<db::EventStore> opened = db::openEventStore(dbPath(o), !writes);
-    db::EventStore& store = *opened;
-    if (s->get_subcommand("list")->parsed()) return runList(store, o);
-    if (s->get_subcommand("show")->parsed()) return runShow(store, o);
-    if (s->get_subcommand("verify")->parsed()) return runVerify(store, o);
-    if (s->get_subcommand("approve")->parsed()) return runReview(store, o, "approved");
-    if (s->get_subcommand("reject")->parsed()) return runReview(store, o, "rejected");
-    if (s->get_subcommand("export")->parsed()) return runExport(store, o);
-    if (s->get_subcommand("correct")->parsed()) return runCorrect(store, o);
-  } catch (...) {
-    return reportFailure(std::current_exception(), "cannot export: ");
-  }
-  return -1;
+  table.add(s->get_subcommand("resume"), [o] { return runCapture(*o, o->id); });
+  table.add(s->get_subcommand("list"), [o] { return withStore(*o, false, runList); });
+  table.add(s->get_subcommand("show"), [o] { return withStore(*o, false, runShow); });
+  table.add(s->get_subcommand("verify"), [o] { return withStore(*o, false, runVerify); });
+  table.add(s->get_subcommand("approve"), [o] {
+    return withStore(*o, true,
+                     [](db::EventStore& store, const CaptureOptions& c) { return runReview(store, c, "approved"); });
+  });
+  table.add(s->get_subcommand("reject"), [o] {
+    return withStore(*o, true,
+                     [](db::EventStore& store, const CaptureOptions& c) { return runReview(store, c, "rejected"); });
+  });
+  table.add(s->get_subcommand("correct"), [o] { return withStore(*o, true, runCorrect); });
+  table.add(
+      s->get_subcommand("export"), [o] { return withStore(*o, true, runExport); }, "cannot export: ");
 }
 
 }  // namespace leafdig::cli

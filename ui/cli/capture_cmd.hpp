@@ -44,8 +44,8 @@ struct CaptureOptions {
   int synthLeaves = 2;
 };
 
-void addCaptureCommands(CLI::App& app, CaptureOptions& options);
-// Returns the exit code, or -1 when none of these commands was chosen.
-int runCaptureCommands(CLI::App& app, const CaptureOptions& options);
+class CommandTable;
+// Registers `capture`, `demo` and `sessions list|show|verify|resume|approve|reject|correct|export`.
+void addCaptureCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

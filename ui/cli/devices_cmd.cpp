@@ -1,7 +1,5 @@
 #include "devices_cmd.hpp"
 
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "commands.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/db/event_store.hpp"
 #include "leafdig/devices/links.hpp"
@@ -18,21 +17,13 @@
 #include "leafdig/devices/sim.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/markers_json.hpp"
+#include "signals.hpp"
 
 namespace leafdig::cli {
 namespace {
 
 namespace dev = leafdig::devices;
 using nlohmann::json;
-
-std::atomic<bool> interrupted{false};
-void onSignal(int) {
-  interrupted = true;
-}
-void installSignals() {
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
-}
 
 std::string hex4(std::uint16_t v) {
   char b[8];
@@ -146,62 +137,52 @@ std::string sampleText(const dev::DeviceEvent& e, dev::Clock::time_point t0) {
 
 int runListen(const DevicesOptions& o) {
   if (o.digitizer.empty() == o.caliper.empty()) {
-    std::cerr << "leafdig: give either --digitizer KIND or --caliper KIND\n";
-    return 2;
+    throw model::InputError("give either --digitizer KIND or --caliper KIND");
   }
   std::unique_ptr<dev::DeviceLink> link;
   dev::DriverOptions dopts;
   dopts.filterStylus = !o.noFilter;
   if (o.pollMs > 0) dopts.pollEvery = std::chrono::milliseconds(o.pollMs);
-  try {
-    if (!o.digitizer.empty()) {
-      dev::DigitizerConfig c;
-      c.kind = dev::digitizerKindFromString(o.digitizer);
-      if (o.port.empty()) {
-        std::cerr << "leafdig: --digitizer needs --port PATH (see 'leafdig devices list', or start 'leafdig sim')\n";
-        return 2;
-      }
-      c.port = o.port;
-      c.baud = o.baud;
-      c.binary = o.binary;
-      if (c.kind == dev::DigitizerKind::Line) {
-        if (o.lineConfig.empty()) {
-          std::cerr << "leafdig: --digitizer line needs --line-config FILE (a JSON description; docs/devices.md)\n";
-          return 2;
-        }
-        std::ifstream in(o.lineConfig);
-        if (!in) {
-          std::cerr << "leafdig: cannot read " << o.lineConfig << "\n";
-          return 2;
-        }
-        std::stringstream ss;
-        ss << in.rdbuf();
-        c.line = dev::line::parseConfig(ss.str());
-      }
-      link = dev::makeDigitizerLink(std::move(c));
-    } else {
-      dev::CaliperConfig c;
-      c.kind = dev::caliperKindFromString(o.caliper);
-      c.port = o.port;
-      c.baud = o.baud;
-      c.unit = o.unit;
-      c.dtrTrigger = o.dtrTrigger;
-      c.grabKeyboard = !o.noGrab;
-      if (!o.hid.empty()) {
-        if (o.hid.rfind("/dev/", 0) == 0)
-          c.hidPath = o.hid;
-        else if (!dev::parseVidPid(o.hid, c.vid, c.pid)) {
-          std::cerr << "leafdig: --hid must be VID:PID in hex (e.g. 0fe7:4001) or a /dev/hidraw path\n";
-          return 2;
-        }
-      }
-      link = dev::makeCaliperLink(std::move(c));
+  if (!o.digitizer.empty()) {
+    dev::DigitizerConfig c;
+    c.kind = dev::digitizerKindFromString(o.digitizer);
+    if (o.port.empty()) {
+      throw model::InputError("--digitizer needs --port PATH (see 'leafdig devices list', or start 'leafdig sim')");
     }
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
+    c.port = o.port;
+    c.baud = o.baud;
+    c.binary = o.binary;
+    if (c.kind == dev::DigitizerKind::Line) {
+      if (o.lineConfig.empty()) {
+        throw model::InputError("--digitizer line needs --line-config FILE (a JSON description; docs/devices.md)");
+      }
+      std::ifstream in(o.lineConfig);
+      if (!in) {
+        throw model::InputError("cannot read " + o.lineConfig);
+      }
+      std::stringstream ss;
+      ss << in.rdbuf();
+      c.line = dev::line::parseConfig(ss.str());
+    }
+    link = dev::makeDigitizerLink(std::move(c));
+  } else {
+    dev::CaliperConfig c;
+    c.kind = dev::caliperKindFromString(o.caliper);
+    c.port = o.port;
+    c.baud = o.baud;
+    c.unit = o.unit;
+    c.dtrTrigger = o.dtrTrigger;
+    c.grabKeyboard = !o.noGrab;
+    if (!o.hid.empty()) {
+      if (o.hid.rfind("/dev/", 0) == 0)
+        c.hidPath = o.hid;
+      else if (!dev::parseVidPid(o.hid, c.vid, c.pid)) {
+        throw model::InputError("--hid must be VID:PID in hex (e.g. 0fe7:4001) or a /dev/hidraw path");
+      }
+    }
+    link = dev::makeCaliperLink(std::move(c));
   }
-  installSignals();
+  installSignalHandlers();
   const auto t0 = dev::Clock::now();
   std::mutex m;
   std::vector<dev::DeviceEvent> queue;
@@ -223,7 +204,7 @@ int runListen(const DevicesOptions& o) {
                      dopts);
   driver.start();
   int printed = 0;
-  while (!interrupted) {
+  while (!interrupted()) {
     std::vector<dev::DeviceEvent> batch;
     {
       std::lock_guard lock(m);
@@ -252,7 +233,7 @@ int runListen(const DevicesOptions& o) {
   std::cerr << "leafdig: " << printed << " samples; " << st.stats.records << " records decoded, " << st.stats.dropped
             << " corrupt records dropped, " << st.stats.discardedBytes << " stray bytes skipped, " << st.filtered
             << " samples withheld by the spike filter, " << st.reconnects << " reconnects\n";
-  if (printed == 0 && !interrupted) {
+  if (printed == 0 && !interrupted()) {
     std::cerr << "leafdig: no samples received. Last state: " << lastBeforeStop.message
               << (lastBeforeStop.remedy.empty() ? "" : "\n  what to do: " + lastBeforeStop.remedy) << "\n";
     return 1;
@@ -266,20 +247,13 @@ int runSim(const DevicesOptions& o) {
   try {
     eo.faults = dev::sim::FaultPlan::parse(o.faults);
   } catch (const std::invalid_argument& e) {
-    std::cerr << "leafdig: --faults: " << e.what() << "\n";
-    return 2;
+    throw model::InputError(std::string("--faults: ") + e.what());
   }
   if (o.faults.find("seed=") == std::string::npos) eo.faults.seed = o.seed;
   eo.rateHz = o.rate;
   eo.linkPath = o.link;
   eo.pressEveryS = o.pressEvery;
-  model::MarkerSet markers;
-  try {
-    markers = model::readMarkersFile(o.markers);
-  } catch (const model::InputError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
-  }
+  const model::MarkerSet markers = model::readMarkersFile(o.markers);
   // Protocol order: the tip, then every row right to left; thicknesses row by row.
   std::vector<dev::Vec3> targets{{markers.tipMm.x(), markers.tipMm.y(), markers.tipMm.z()}};
   std::vector<double> thickness;
@@ -312,23 +286,17 @@ int runSim(const DevicesOptions& o) {
   else if (o.simKind == "uwave")
     emu = dev::sim::makeUWave(caliper, eo);
   else {
-    std::cerr << "leafdig: unknown simulator '" << o.simKind
-              << "': use fastrak, patriot, liberty, microscribe, sylvac, mitutoyo or uwave\n";
-    return 2;
+    throw model::InputError("unknown simulator '" + o.simKind +
+                            "': use fastrak, patriot, liberty, microscribe, sylvac, mitutoyo or uwave");
   }
-  try {
-    emu->start();
-  } catch (const dev::DeviceError& e) {
-    std::cerr << "leafdig: " << e.what() << " — " << e.remedy() << "\n";
-    return 1;
-  }
-  installSignals();
+  emu->start();
+  installSignalHandlers();
   std::cout << emu->path() << std::endl;
   std::cerr << "leafdig: " << o.simKind << " emulator on " << emu->path() << " (now " << emu->ptyPath() << "), "
             << targets.size() << " markers, " << thickness.size() << " thicknesses"
             << (eo.faults.any() ? ", faults: " + o.faults : std::string()) << ". Stop with Ctrl-C.\n";
   const auto t0 = std::chrono::steady_clock::now();
-  while (!interrupted) {
+  while (!interrupted()) {
     if (o.simSeconds > 0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >= o.simSeconds)
       break;
@@ -383,9 +351,7 @@ int runDoctor(const DevicesOptions& o) {
   return 0;
 }
 
-}  // namespace
-
-void addDevicesCommands(CLI::App& app, DevicesOptions& o) {
+void declareDevicesCommands(CLI::App& app, DevicesOptions& o) {
   CLI::App* devices = app.add_subcommand("devices", "List, test and listen to digitizers and calipers");
   devices->require_subcommand(1);
   CLI::App* list = devices->add_subcommand("list", "Serial ports, HID and USB devices, with known profiles");
@@ -424,14 +390,16 @@ void addDevicesCommands(CLI::App& app, DevicesOptions& o) {
   doctor->add_flag("--json", o.json, "Machine-readable output");
 }
 
-int runDevicesCommands(CLI::App& app, const DevicesOptions& o) {
-  if (CLI::App* d = app.get_subcommand("devices"); d->parsed()) {
-    if (d->get_subcommand("list")->parsed()) return runList(o);
-    if (d->get_subcommand("listen")->parsed()) return runListen(o);
-  }
-  if (app.get_subcommand("sim")->parsed()) return runSim(o);
-  if (app.get_subcommand("doctor")->parsed()) return runDoctor(o);
-  return -1;
+}  // namespace
+
+void addDevicesCommands(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<DevicesOptions>();
+  declareDevicesCommands(app, *o);
+  CLI::App* devices = app.get_subcommand("devices");
+  table.add(devices->get_subcommand("list"), [o] { return runList(*o); });
+  table.add(devices->get_subcommand("listen"), [o] { return runListen(*o); });
+  table.add(app.get_subcommand("sim"), [o] { return runSim(*o); });
+  table.add(app.get_subcommand("doctor"), [o] { return runDoctor(*o); });
 }
 
 }  // namespace leafdig::cli

@@ -19,8 +19,8 @@ struct DevicesOptions {
   std::uint64_t seed = 1;
 };
 
-void addDevicesCommands(CLI::App& app, DevicesOptions& options);
-// Returns the exit code, or -1 when none of these commands was chosen.
-int runDevicesCommands(CLI::App& app, const DevicesOptions& options);
+class CommandTable;
+// Registers `devices list`, `devices listen`, `sim` and `doctor`.
+void addDevicesCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

@@ -6,8 +6,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "commands.hpp"
 #include "leafdig/db/lab.hpp"
-#include "store_errors.hpp"
 #include "terminal_text.hpp"
 
 namespace leafdig::cli {
@@ -147,9 +147,7 @@ int runAddUser(const LabOptions& o) {
   return 0;
 }
 
-}  // namespace
-
-void addLabCommands(CLI::App& app, LabOptions& o) {
+void declareLabCommands(CLI::App& app, LabOptions& o) {
   CLI::App* server = app.add_subcommand("server", "The lab's PostgreSQL server: create its schema, add logins");
   server->require_subcommand(1);
   CLI::App* init = server->add_subcommand("init", "Create or migrate the schema and the three group roles (admin)");
@@ -184,25 +182,28 @@ void addLabCommands(CLI::App& app, LabOptions& o) {
   }
 }
 
-int runLabCommands(CLI::App& app, const LabOptions& o) {
-  CLI::App* server = app.get_subcommand("server");
-  CLI::App* sync = app.get_subcommand("sync");
-  if (!server->parsed() && !sync->parsed()) return -1;
-  try {
-    if (!db::isServerUrl(o.url))
-      throw db::StoreError(db::StoreErrorKind::Input, "'" + db::redactUrl(o.url) + "' is not a postgresql:// URL",
-                           "give the lab server as postgresql://USER@HOST[:PORT]/DATABASE (docs/lab.md)");
-    if (server->get_subcommand("init")->parsed()) return runInit(o);
-    if (server->get_subcommand("add-user")->parsed()) return runAddUser(o);
-    if (sync->get_subcommand("push")->parsed()) return runPush(o);
-    if (sync->get_subcommand("pull")->parsed()) return runPull(o);
-  } catch (const db::StoreError& e) {
-    return reportStoreError(e);
-  } catch (const std::exception& e) {
-    std::cerr << "leafdig: " << terminalMessage(e.what()) << "\n";
-    return 1;
-  }
-  return -1;
+// The lab server's URL, checked before anything is opened.
+void checkServerUrl(const LabOptions& o) {
+  if (!db::isServerUrl(o.url))
+    throw db::StoreError(db::StoreErrorKind::Input, "'" + db::redactUrl(o.url) + "' is not a postgresql:// URL",
+                         "give the lab server as postgresql://USER@HOST[:PORT]/DATABASE (docs/lab.md)");
+}
+
+}  // namespace
+
+void addLabCommands(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<LabOptions>();
+  declareLabCommands(app, *o);
+  const auto add = [&](CLI::App* command, int (*run)(const LabOptions&)) {
+    table.add(command, [o, run] {
+      checkServerUrl(*o);
+      return run(*o);
+    });
+  };
+  add(app.get_subcommand("server")->get_subcommand("init"), runInit);
+  add(app.get_subcommand("server")->get_subcommand("add-user"), runAddUser);
+  add(app.get_subcommand("sync")->get_subcommand("push"), runPush);
+  add(app.get_subcommand("sync")->get_subcommand("pull"), runPull);
 }
 
 }  // namespace leafdig::cli

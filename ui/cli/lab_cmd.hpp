@@ -17,8 +17,8 @@ struct LabOptions {
   bool json = false;
 };
 
-void addLabCommands(CLI::App& app, LabOptions& options);
-// Returns the exit code, or -1 when none of these commands was chosen.
-int runLabCommands(CLI::App& app, const LabOptions& options);
+class CommandTable;
+// Registers `server init`, `server add-user`, `sync push` and `sync pull`.
+void addLabCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "commands.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/leaf2d.hpp"
@@ -24,7 +25,9 @@ bool isScanPath(const std::string& path) {
   return ext == ".png" || ext == ".tif" || ext == ".tiff" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
 }
 
-void addLeaf2dCommands(CLI::App& app, Leaf2dCommandOptions& o) {
+namespace {
+
+void declareLeaf2dCommands(CLI::App& app, Leaf2dCommandOptions& o) {
   CLI::App* leaf2d = app.add_subcommand("leaf2d", "Leaves known only in 2-D: outlines and scans (seed 001)");
   leaf2d->require_subcommand(1);
   auto scanOptions = [&](CLI::App* c) {
@@ -59,8 +62,6 @@ void addLeaf2dCommands(CLI::App& app, Leaf2dCommandOptions& o) {
   scan->add_option("-o,--output", o.outlineOut, "Write the outline (leafdig.outline/1 JSON)");
   scan->add_flag("--json", o.json, "Print the areas and counts as one JSON object");
 }
-
-namespace {
 
 nlohmann::json scanJson(const m::LeafScan& s) {
   nlohmann::json j = {{"area_mm2", s.areaMm2},
@@ -209,17 +210,13 @@ int runBuild(const Leaf2dCommandOptions& o) {
 
 }  // namespace
 
-int runLeaf2dCommands(const CLI::App& app, const Leaf2dCommandOptions& o) {
-  const CLI::App* leaf2d = app.get_subcommand("leaf2d");
-  if (!leaf2d->parsed()) return -1;
-  try {
-    if (leaf2d->got_subcommand("build")) return runBuild(o);
-    if (leaf2d->got_subcommand("scan")) return runScan(o);
-    if (leaf2d->got_subcommand("figure")) return runFigure(o);
-  } catch (...) {
-    return reportModelFailure(std::current_exception());
-  }
-  return 1;
+void addLeaf2dCommands(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<Leaf2dCommandOptions>();
+  declareLeaf2dCommands(app, *o);
+  CLI::App* leaf2d = app.get_subcommand("leaf2d");
+  table.add(leaf2d->get_subcommand("build"), [o] { return runBuild(*o); });
+  table.add(leaf2d->get_subcommand("scan"), [o] { return runScan(*o); });
+  table.add(leaf2d->get_subcommand("figure"), [o] { return runFigure(*o); });
 }
 
 }  // namespace leafdig::cli

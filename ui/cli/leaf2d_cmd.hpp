@@ -23,9 +23,9 @@ struct Leaf2dCommandOptions {
   bool json = false;
 };
 
-void addLeaf2dCommands(CLI::App& app, Leaf2dCommandOptions& options);
-// Returns the exit code when a leaf2d command was given, -1 otherwise.
-int runLeaf2dCommands(const CLI::App& app, const Leaf2dCommandOptions& options);
+class CommandTable;
+// Registers `leaf2d build`, `leaf2d scan` and `leaf2d figure`.
+void addLeaf2dCommands(CLI::App& app, CommandTable& table);
 
 // True for the image extensions a scan may have (.png .tif .tiff .jpg .jpeg .bmp).
 [[nodiscard]] bool isScanPath(const std::string& path);

@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <iostream>
 
+#include "commands.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/leaf_model.hpp"
@@ -95,7 +96,9 @@ nlohmann::json meshReportJson(const m::LeafMesh& mesh, const m::MeshOptions& o,
   return out;
 }
 
-void addMeshCommands(CLI::App& app, MeshCommandOptions& o) {
+namespace {
+
+std::pair<CLI::App*, CLI::App*> declareMeshCommands(CLI::App& app, MeshCommandOptions& o) {
   CLI::App* mesh = app.add_subcommand("mesh", "Measure meshes: distances between meshes, the meshing study");
   mesh->require_subcommand(1);
   CLI::App* compare =
@@ -118,9 +121,8 @@ void addMeshCommands(CLI::App& app, MeshCommandOptions& o) {
                    "Sample points per side and part while searching (the final figures use twice as many)")
       ->check(CLI::Range(1000, 10'000'000));
   study->add_flag("--json", o.json, "Print the result as JSON");
+  return {compare, study};
 }
-
-namespace {
 
 int runCompare(const MeshCommandOptions& o) {
   const m::TriangleSoup a = m::readMeshFile(o.a);
@@ -220,15 +222,11 @@ int runStudy(const MeshCommandOptions& o) {
 
 }  // namespace
 
-int runMeshCommands(const CLI::App& app, const MeshCommandOptions& o) {
-  const CLI::App* mesh = app.get_subcommand("mesh");
-  if (!mesh->parsed()) return -1;
-  try {
-    if (mesh->got_subcommand("compare")) return runCompare(o);
-    return runStudy(o);
-  } catch (...) {
-    return reportModelFailure(std::current_exception());
-  }
+void addMeshCommands(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<MeshCommandOptions>();
+  const auto [compare, study] = declareMeshCommands(app, *o);
+  table.add(compare, [o] { return runCompare(*o); });
+  table.add(study, [o] { return runStudy(*o); });
 }
 
 }  // namespace leafdig::cli

@@ -45,8 +45,8 @@ struct MeshCommandOptions {
   bool json = false;
 };
 
-void addMeshCommands(CLI::App& app, MeshCommandOptions& options);
-// Returns the exit code when a mesh command was given, -1 otherwise.
-int runMeshCommands(const CLI::App& app, const MeshCommandOptions& options);
+class CommandTable;
+// Registers `mesh compare` and `mesh study`.
+void addMeshCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "commands.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/leaf_model.hpp"
@@ -24,7 +25,9 @@ namespace leafdig::cli {
 
 namespace m = leafdig::model;
 
-void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
+namespace {
+
+void declareModelBuild(CLI::App& model, ModelBuildOptions& o) {
   CLI::App* build =
       model.add_subcommand("build", "Build the BBSC veins and blade from a leafdig.markers/1 file and export them");
   build->add_option("markers", o.markersPath, "Marker file (leafdig.markers/1 JSON)")->required();
@@ -61,6 +64,8 @@ void addModelBuildCommand(CLI::App& model, ModelBuildOptions& o) {
   build->add_flag("--json", o.json, "Print metrics and mesh counts as one JSON object");
   addMeshChoice(*build, o.mesh);
 }
+
+}  // namespace
 
 Eigen::Vector3d parseLight(const std::string& text) {
   std::stringstream in(text);
@@ -108,174 +113,163 @@ nlohmann::json countsJson(const m::MeshCounts& c) {
 }  // namespace
 
 int runModelBuild(const ModelBuildOptions& o) {
-  try {
-    // Everything the user typed is checked before any work or any file is touched.
-    // Meshes by encodeMesh; the simulation formats through the leaf as a plant of one leaf.
-    refuseSameFile(o);
-    std::vector<std::optional<m::MeshFormat>> formats;
-    for (const std::string& out : o.outputs) {
-      const m::PlantFormat f = m::plantFormatForPath(out);
-      if (f == m::PlantFormat::Json) {
-        throw m::InputError("output " + out + ": write the model document with --model-json");
-      }
-      const bool simulation = f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv;
-      formats.push_back(simulation ? std::nullopt : std::optional<m::MeshFormat>(m::meshFormatForPath(out)));
+  // Everything the user typed is checked before any work or any file is touched.
+  // Meshes by encodeMesh; the simulation formats through the leaf as a plant of one leaf.
+  refuseSameFile(o);
+  std::vector<std::optional<m::MeshFormat>> formats;
+  for (const std::string& out : o.outputs) {
+    const m::PlantFormat f = m::plantFormatForPath(out);
+    if (f == m::PlantFormat::Json) {
+      throw m::InputError("output " + out + ": write the model document with --model-json");
     }
-    const Eigen::Vector3d light = parseLight(o.light);
-    if (o.measuredAreaMm2 && !(*o.measuredAreaMm2 > 0.0)) {
-      throw m::InputError("--measured-area must be a positive area in mm^2");
-    }
-    m::MeshResolution resolution = m::MeshResolution::preset(o.resolution);
-    if (!o.caps.empty()) {
-      resolution.caps = o.caps == "sphere" ? m::CapStyle::Sphere : m::CapStyle::None;
-      if (resolution.caps == m::CapStyle::Sphere && resolution.capRings == 0) resolution.capRings = 3;
-    }
-
-    const m::MeshOptions meshOptions = meshOptionsFrom(o.mesh, resolution);
-
-    if (!o.measuredAreaScan.empty() && o.measuredAreaMm2) {
-      throw m::InputError("give --measured-area or --measured-area-scan, not both");
-    }
-    if (!o.measuredAreaScan.empty() && !o.scanDpi) {
-      throw m::InputError("--measured-area-scan needs the scan's resolution: give --dpi (e.g. 300)");
-    }
-    if (o.scanDpi && o.measuredAreaScan.empty()) throw m::InputError("--dpi is for --measured-area-scan");
-
-    m::MarkerSet markers = m::readMarkersFile(o.markersPath);
-    if (o.measuredAreaMm2) markers.leaf.measuredAreaMm2 = o.measuredAreaMm2;
-    std::optional<m::LeafScan> scan;
-    if (!o.measuredAreaScan.empty()) {
-      // The 3-D model has no holes: it is compared with the blade's area with holes filled.
-      scan = m::scanLeaf(o.measuredAreaScan, {*o.scanDpi});
-      markers.leaf.measuredAreaMm2 = scan->filledAreaMm2;
-      // The scan's margin at the markers' spacing along it: the interval's margin term.
-      markers.leaf.marginFromScan = m::MarginFromScan{m::marginFromOutline(scan->outline, m::marginSpacingMm(markers))};
-    }
-    m::LeafModel leaf = m::buildLeafModel(markers, {m::bladeKindFromString(o.blade), nullptr});
-    if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
-
-    const m::LeafMesh mesh = m::meshLeaf(leaf, meshOptions);
-    m::LeafMetrics metrics = m::computeLeafMetrics(leaf, light, o.areaThresholdPercent);
-    m::addSilhouette(metrics, mesh);
-    const m::ExportHeader header{leaf.markers.leaf.id, o.frame, std::string("leafdig ") + leafdig::kVersion};
-
-    // Encode everything first, then write: a build error never leaves some files written.
-    std::vector<std::pair<std::string, std::string>> files;
-    std::optional<m::Plant> alone;  // made when a simulation format is asked for
-    std::optional<m::LeafMesh> aloneMesh;
-    std::optional<m::PlantMetrics> aloneMetrics;
-    for (std::size_t i = 0; i < o.outputs.size(); ++i) {
-      if (formats[i]) {
-        files.emplace_back(o.outputs[i], m::encodeMesh(mesh, *formats[i], header));
-        continue;
-      }
-      if (!alone) {
-        // CARIBU's leaf field must not be 000 (the stem, opaque): the leaf's position, or 1.
-        const int rank = std::clamp(leaf.markers.leaf.position.value_or(1), 1, 999);
-        alone = m::singleLeafPlant(leaf, rank, o.markersPath);
-        aloneMesh = m::meshPlant(*alone, meshOptions);
-        aloneMetrics = m::computePlantMetrics(*alone, *aloneMesh, light);
-        if (metrics.areaInterval && !aloneMetrics->leaves.empty()) {  // the leaf's own, already computed
-          aloneMetrics->leaves.front().bladeAreaLow95Mm2 = metrics.areaInterval->low95Mm2;
-          aloneMetrics->leaves.front().bladeAreaHigh95Mm2 = metrics.areaInterval->high95Mm2;
-        }
-      }
-      for (auto& f :
-           m::encodePlant(o.outputs[i], *alone, *aloneMesh, *aloneMetrics, {m::CanUnit::Metre, header.generator}))
-        files.emplace_back(f.path.string(), std::move(f.bytes));
-    }
-    if (!o.modelJsonPath.empty()) {
-      files.emplace_back(o.modelJsonPath, m::modelToJson(leaf, o.frame, metrics));
-    }
-    for (const auto& [path, bytes] : files) m::writeFileAtomically(path, bytes);
-
-    const m::MeshCounts veins = m::countVeins(mesh);
-    const m::MeshCounts blade = m::countBlade(mesh);
-    if (o.json) {
-      nlohmann::json out;
-      out["leaf"] = leaf.markers.leaf.id;
-      out["rows"] = leaf.markers.rows.size();
-      out["points"] = 7 * leaf.markers.rows.size() + 1;
-      out["thickness_mode"] = m::toString(leaf.thickness.mode);
-      out["blade"] = o.blade;
-      out["resolution"] = resolution.name;
-      out["frame"] = o.frame;
-      out["metrics"] = nlohmann::json::parse(m::metricsToJson(metrics));
-      if (scan) {
-        out["measured_area_scan"] = {
-            {"file", o.measuredAreaScan}, {"dpi", *o.scanDpi},    {"filled_area_mm2", scan->filledAreaMm2},
-            {"area_mm2", scan->areaMm2},  {"holes", scan->holes}, {"petiole", scan->petioleFound}};
-      }
-      std::optional<m::MeshDistance> measured;
-      std::optional<double> referenceError;
-      if (meshOptions.method != m::MeshMethod::Uniform && !o.mesh.noMeasure) {
-        const m::MeshSubject subject(leaf);
-        measured = subject.measure(mesh, 100'000);
-        referenceError = subject.referenceErrorMm();
-      }
-      out["mesh"] = meshReportJson(mesh, meshOptions, measured, referenceError);
-      out["mesh"]["veins"] = countsJson(veins);
-      out["mesh"]["blade"] = countsJson(blade);
-      nlohmann::json warnings = nlohmann::json::array();
-      for (const auto& w : mesh.warnings) {
-        warnings.push_back({{"organ", w.organ}, {"parameter", w.parameter}, {"message", w.message}});
-      }
-      out["warnings"] = warnings;
-      nlohmann::json written = nlohmann::json::array();
-      for (const auto& f : files) written.push_back(f.first);
-      out["outputs"] = written;
-      std::cout << out.dump() << "\n";
-    } else {
-      std::cout << "leaf " << (leaf.markers.leaf.id.empty() ? "(no id)" : leaf.markers.leaf.id) << ": "
-                << leaf.markers.rows.size() << " rows, " << 7 * leaf.markers.rows.size() + 1 << " points, "
-                << m::toString(leaf.thickness.mode) << " thickness mode\n"
-                << "  veins: " << veins.vertices << " vertices, " << veins.quads << " quads, " << veins.triangles
-                << " triangles\n"
-                << "  blade: " << blade.vertices << " vertices, " << blade.quads << " quads, " << blade.triangles
-                << " triangles (" << o.blade << ", " << m::toString(meshOptions.method) << ": "
-                << m::describe(meshOptions) << ")\n"
-                << "  blade area " << metrics.blade.areaMm2 << " mm^2, projected " << metrics.blade.projectedAreaMm2
-                << " mm^2\n";
-      if (metrics.areaInterval) {
-        std::cout << "  blade area 95 % interval " << metrics.areaInterval->low95Mm2 << " – "
-                  << metrics.areaInterval->high95Mm2 << " mm^2 (digitizer accuracy " << metrics.areaInterval->sigmaMm
-                  << " mm, rows' interpolation)\n";
-      }
-      if (scan) {
-        std::cout << "  scan " << o.measuredAreaScan << ": blade " << scan->filledAreaMm2 << " mm^2 (tissue "
-                  << scan->areaMm2 << " mm^2, " << scan->holes << " hole(s); petiole "
-                  << (scan->petioleFound ? "set apart" : "none found") << ")\n";
-      }
-      if (metrics.areaConstraint) {
-        const auto& a = *metrics.areaConstraint;
-        std::cout << "  measured area " << a.measuredMm2 << " mm^2: model differs by " << a.differencePercent << " %"
-                  << (a.exceeded ? " — ABOVE the threshold" : "") << "\n";
-      }
-      for (const auto& w : metrics.warnings) std::cout << "  warning (" << w.name << "): " << w.message << "\n";
-      for (const auto& w : mesh.warnings) {
-        std::cout << "  warning: " << w.organ << " at t=" << w.parameter << ": " << w.message << "\n";
-      }
-      for (const auto& f : files) std::cout << "  wrote " << f.first << "\n";
-    }
-    return 0;
-  } catch (...) {
-    return reportModelFailure(std::current_exception());
+    const bool simulation = f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv;
+    formats.push_back(simulation ? std::nullopt : std::optional<m::MeshFormat>(m::meshFormatForPath(out)));
   }
+  const Eigen::Vector3d light = parseLight(o.light);
+  if (o.measuredAreaMm2 && !(*o.measuredAreaMm2 > 0.0)) {
+    throw m::InputError("--measured-area must be a positive area in mm^2");
+  }
+  m::MeshResolution resolution = m::MeshResolution::preset(o.resolution);
+  if (!o.caps.empty()) {
+    resolution.caps = o.caps == "sphere" ? m::CapStyle::Sphere : m::CapStyle::None;
+    if (resolution.caps == m::CapStyle::Sphere && resolution.capRings == 0) resolution.capRings = 3;
+  }
+
+  const m::MeshOptions meshOptions = meshOptionsFrom(o.mesh, resolution);
+
+  if (!o.measuredAreaScan.empty() && o.measuredAreaMm2) {
+    throw m::InputError("give --measured-area or --measured-area-scan, not both");
+  }
+  if (!o.measuredAreaScan.empty() && !o.scanDpi) {
+    throw m::InputError("--measured-area-scan needs the scan's resolution: give --dpi (e.g. 300)");
+  }
+  if (o.scanDpi && o.measuredAreaScan.empty()) throw m::InputError("--dpi is for --measured-area-scan");
+
+  m::MarkerSet markers = m::readMarkersFile(o.markersPath);
+  if (o.measuredAreaMm2) markers.leaf.measuredAreaMm2 = o.measuredAreaMm2;
+  std::optional<m::LeafScan> scan;
+  if (!o.measuredAreaScan.empty()) {
+    // The 3-D model has no holes: it is compared with the blade's area with holes filled.
+    scan = m::scanLeaf(o.measuredAreaScan, {*o.scanDpi});
+    markers.leaf.measuredAreaMm2 = scan->filledAreaMm2;
+    // The scan's margin at the markers' spacing along it: the interval's margin term.
+    markers.leaf.marginFromScan = m::MarginFromScan{m::marginFromOutline(scan->outline, m::marginSpacingMm(markers))};
+  }
+  m::LeafModel leaf = m::buildLeafModel(markers, {m::bladeKindFromString(o.blade), nullptr});
+  if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
+
+  const m::LeafMesh mesh = m::meshLeaf(leaf, meshOptions);
+  m::LeafMetrics metrics = m::computeLeafMetrics(leaf, light, o.areaThresholdPercent);
+  m::addSilhouette(metrics, mesh);
+  const m::ExportHeader header{leaf.markers.leaf.id, o.frame, std::string("leafdig ") + leafdig::kVersion};
+
+  // Encode everything first, then write: a build error never leaves some files written.
+  std::vector<std::pair<std::string, std::string>> files;
+  std::optional<m::Plant> alone;  // made when a simulation format is asked for
+  std::optional<m::LeafMesh> aloneMesh;
+  std::optional<m::PlantMetrics> aloneMetrics;
+  for (std::size_t i = 0; i < o.outputs.size(); ++i) {
+    if (formats[i]) {
+      files.emplace_back(o.outputs[i], m::encodeMesh(mesh, *formats[i], header));
+      continue;
+    }
+    if (!alone) {
+      // CARIBU's leaf field must not be 000 (the stem, opaque): the leaf's position, or 1.
+      const int rank = std::clamp(leaf.markers.leaf.position.value_or(1), 1, 999);
+      alone = m::singleLeafPlant(leaf, rank, o.markersPath);
+      aloneMesh = m::meshPlant(*alone, meshOptions);
+      aloneMetrics = m::computePlantMetrics(*alone, *aloneMesh, light);
+      if (metrics.areaInterval && !aloneMetrics->leaves.empty()) {  // the leaf's own, already computed
+        aloneMetrics->leaves.front().bladeAreaLow95Mm2 = metrics.areaInterval->low95Mm2;
+        aloneMetrics->leaves.front().bladeAreaHigh95Mm2 = metrics.areaInterval->high95Mm2;
+      }
+    }
+    for (auto& f :
+         m::encodePlant(o.outputs[i], *alone, *aloneMesh, *aloneMetrics, {m::CanUnit::Metre, header.generator}))
+      files.emplace_back(f.path.string(), std::move(f.bytes));
+  }
+  if (!o.modelJsonPath.empty()) {
+    files.emplace_back(o.modelJsonPath, m::modelToJson(leaf, o.frame, metrics));
+  }
+  for (const auto& [path, bytes] : files) m::writeFileAtomically(path, bytes);
+
+  const m::MeshCounts veins = m::countVeins(mesh);
+  const m::MeshCounts blade = m::countBlade(mesh);
+  if (o.json) {
+    nlohmann::json out;
+    out["leaf"] = leaf.markers.leaf.id;
+    out["rows"] = leaf.markers.rows.size();
+    out["points"] = 7 * leaf.markers.rows.size() + 1;
+    out["thickness_mode"] = m::toString(leaf.thickness.mode);
+    out["blade"] = o.blade;
+    out["resolution"] = resolution.name;
+    out["frame"] = o.frame;
+    out["metrics"] = nlohmann::json::parse(m::metricsToJson(metrics));
+    if (scan) {
+      out["measured_area_scan"] = {
+          {"file", o.measuredAreaScan}, {"dpi", *o.scanDpi},    {"filled_area_mm2", scan->filledAreaMm2},
+          {"area_mm2", scan->areaMm2},  {"holes", scan->holes}, {"petiole", scan->petioleFound}};
+    }
+    std::optional<m::MeshDistance> measured;
+    std::optional<double> referenceError;
+    if (meshOptions.method != m::MeshMethod::Uniform && !o.mesh.noMeasure) {
+      const m::MeshSubject subject(leaf);
+      measured = subject.measure(mesh, 100'000);
+      referenceError = subject.referenceErrorMm();
+    }
+    out["mesh"] = meshReportJson(mesh, meshOptions, measured, referenceError);
+    out["mesh"]["veins"] = countsJson(veins);
+    out["mesh"]["blade"] = countsJson(blade);
+    nlohmann::json warnings = nlohmann::json::array();
+    for (const auto& w : mesh.warnings) {
+      warnings.push_back({{"organ", w.organ}, {"parameter", w.parameter}, {"message", w.message}});
+    }
+    out["warnings"] = warnings;
+    nlohmann::json written = nlohmann::json::array();
+    for (const auto& f : files) written.push_back(f.first);
+    out["outputs"] = written;
+    std::cout << out.dump() << "\n";
+  } else {
+    std::cout << "leaf " << (leaf.markers.leaf.id.empty() ? "(no id)" : leaf.markers.leaf.id) << ": "
+              << leaf.markers.rows.size() << " rows, " << 7 * leaf.markers.rows.size() + 1 << " points, "
+              << m::toString(leaf.thickness.mode) << " thickness mode\n"
+              << "  veins: " << veins.vertices << " vertices, " << veins.quads << " quads, " << veins.triangles
+              << " triangles\n"
+              << "  blade: " << blade.vertices << " vertices, " << blade.quads << " quads, " << blade.triangles
+              << " triangles (" << o.blade << ", " << m::toString(meshOptions.method) << ": "
+              << m::describe(meshOptions) << ")\n"
+              << "  blade area " << metrics.blade.areaMm2 << " mm^2, projected " << metrics.blade.projectedAreaMm2
+              << " mm^2\n";
+    if (metrics.areaInterval) {
+      std::cout << "  blade area 95 % interval " << metrics.areaInterval->low95Mm2 << " – "
+                << metrics.areaInterval->high95Mm2 << " mm^2 (digitizer accuracy " << metrics.areaInterval->sigmaMm
+                << " mm, rows' interpolation)\n";
+    }
+    if (scan) {
+      std::cout << "  scan " << o.measuredAreaScan << ": blade " << scan->filledAreaMm2 << " mm^2 (tissue "
+                << scan->areaMm2 << " mm^2, " << scan->holes << " hole(s); petiole "
+                << (scan->petioleFound ? "set apart" : "none found") << ")\n";
+    }
+    if (metrics.areaConstraint) {
+      const auto& a = *metrics.areaConstraint;
+      std::cout << "  measured area " << a.measuredMm2 << " mm^2: model differs by " << a.differencePercent << " %"
+                << (a.exceeded ? " — ABOVE the threshold" : "") << "\n";
+    }
+    for (const auto& w : metrics.warnings) std::cout << "  warning (" << w.name << "): " << w.message << "\n";
+    for (const auto& w : mesh.warnings) {
+      std::cout << "  warning: " << w.organ << " at t=" << w.parameter << ": " << w.message << "\n";
+    }
+    for (const auto& f : files) std::cout << "  wrote " << f.first << "\n";
+  }
+  return 0;
 }
 
-int reportModelFailure(const std::exception_ptr& error) {
-  try {
-    std::rethrow_exception(error);
-  } catch (const m::InputError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 2;
-  } catch (const m::IoError& e) {
-    std::cerr << "leafdig: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "leafdig: internal error: " << e.what() << "\n";
-    return 1;
-  }
+void addModelCommands(CLI::App& app, CommandTable& table) {
+  CLI::App* model = app.add_subcommand("model", "Build leaf models from marker files");
+  model->require_subcommand(1);
+  auto o = std::make_shared<ModelBuildOptions>();
+  declareModelBuild(*model, *o);
+  table.add(model->get_subcommand("build"), [o] { return runModelBuild(*o); });
 }
 
 }  // namespace leafdig::cli

@@ -2,7 +2,6 @@
 // `leafdig model build`: markers file -> veins + blade -> mesh and model exports.
 #include <CLI/CLI.hpp>
 #include <Eigen/Core>
-#include <exception>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,16 +27,14 @@ struct ModelBuildOptions {
   MeshChoice mesh;
 };
 
-void addModelBuildCommand(CLI::App& model, ModelBuildOptions& options);
+class CommandTable;
+// Registers `model build`.
+void addModelCommands(CLI::App& app, CommandTable& table);
 
 // "x,y,z" (not all zero) as a light direction; throws model::InputError naming the option.
 [[nodiscard]] Eigen::Vector3d parseLight(const std::string& text);
 
-// Says what a failure of a model command was and returns its exit code: 2 for an
-// InputError (the user's file or option), 1 for an IoError or anything else.
-int reportModelFailure(const std::exception_ptr& error);
-
-// Runs the command; returns the process exit code (0 ok, 2 bad input, 1 other failure).
+// Runs the command; returns 0 and throws what failed (the error map, failure.hpp, says it).
 int runModelBuild(const ModelBuildOptions& options);
 
 }  // namespace leafdig::cli

@@ -23,8 +23,8 @@ struct PlantOptions {
   MeshChoice mesh;
 };
 
-void addPlantCommands(CLI::App& app, PlantOptions& options);
-// Returns the exit code when a plant command was given, -1 otherwise.
-int runPlantCommands(const CLI::App& app, const PlantOptions& options);
+class CommandTable;
+// Registers `plant build` and `plant grow`.
+void addPlantCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <thread>
 
+#include "commands.hpp"
 #include "leafdig/model/accuracy.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -156,7 +157,9 @@ SynthChoice parseSynthSpec(const std::string& text) {
   return c;
 }
 
-void addSynthCommands(CLI::App& app, SynthOptions& o) {
+namespace {
+
+void declareSynthCommands(CLI::App& app, SynthOptions& o) {
   CLI::App* synth = app.add_subcommand("synth", "Synthetic ground-truth leaves (seed 002) for tests and studies");
   synth->require_subcommand(1);
   CLI::App* leaf = synth->add_subcommand(
@@ -190,8 +193,6 @@ void addSynthCommands(CLI::App& app, SynthOptions& o) {
   study->add_option("--threads", o.threads, "Worker threads (default: every core)")->check(CLI::Range(0, 256));
   study->add_flag("--json", o.json, "Print a summary as JSON");
 }
-
-namespace {
 
 int runScan(const SynthOptions& o) {
   const m::SyntheticLeaf leaf(synthSpecFrom(o.choice));
@@ -389,18 +390,14 @@ int runStudy(const SynthOptions& o) {
 
 }  // namespace
 
-int runSynthCommands(const CLI::App& app, const SynthOptions& o) {
-  const CLI::App* synth = app.get_subcommand("synth");
-  if (!synth->parsed()) return -1;
-  try {
-    if (synth->got_subcommand("leaf")) return runLeaf(o);
-    if (synth->got_subcommand("figure")) return runFigure(o);
-    if (synth->got_subcommand("scan")) return runScan(o);
-    if (synth->got_subcommand("study")) return runStudy(o);
-  } catch (...) {
-    return reportModelFailure(std::current_exception());
-  }
-  return 1;
+void addSynthCommands(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<SynthOptions>();
+  declareSynthCommands(app, *o);
+  CLI::App* synth = app.get_subcommand("synth");
+  table.add(synth->get_subcommand("leaf"), [o] { return runLeaf(*o); });
+  table.add(synth->get_subcommand("scan"), [o] { return runScan(*o); });
+  table.add(synth->get_subcommand("figure"), [o] { return runFigure(*o); });
+  table.add(synth->get_subcommand("study"), [o] { return runStudy(*o); });
 }
 
 }  // namespace leafdig::cli

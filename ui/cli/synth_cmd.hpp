@@ -52,8 +52,8 @@ struct SynthOptions {
   int threads = 0;  // 0: every core
 };
 
-void addSynthCommands(CLI::App& app, SynthOptions& options);
-// Returns the exit code when a synth command was given, -1 otherwise.
-int runSynthCommands(const CLI::App& app, const SynthOptions& options);
+class CommandTable;
+// Registers `synth leaf`, `synth scan`, `synth figure` and `synth study`.
+void addSynthCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

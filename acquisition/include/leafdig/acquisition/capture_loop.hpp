@@ -42,7 +42,9 @@ class CaptureLoop {
  public:
   using Clock = std::chrono::steady_clock;
   // timeScale > 1 runs a simulated capture faster: the engine sees device time x timeScale.
-  CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale = 1.0, bool previews = true);
+  // `previews`: snapshots carry the live preview; `previewMeshes`: with its meshes.
+  CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale = 1.0, bool previews = true,
+              bool previewMeshes = true);
 
   void post(const devices::DeviceEvent& e);
   // A foot pedal (or key) held down acts as the stylus button: stylus samples posted while
@@ -71,6 +73,7 @@ class CaptureLoop {
   LoopListener listener_;
   double timeScale_;
   bool previews_;
+  bool previewMeshes_;
   Clock::time_point t0_;
   mutable std::mutex mutex_;
   std::condition_variable cv_;

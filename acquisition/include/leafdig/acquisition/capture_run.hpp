@@ -43,7 +43,8 @@ struct RunRequest {
   std::string leafFile;
   // Or the leaf itself (a synthetic leaf made for this run); at most one of the two.
   std::optional<model::MarkerSet> leaf;
-  bool previews = true;  // snapshots carry the live preview model
+  bool previews = true;       // snapshots carry the live preview model
+  bool previewMeshes = true;  // and its meshes (a view draws them; a terminal does not)
 };
 
 struct RunObserver {
@@ -97,6 +98,7 @@ class CaptureRun {
   SessionSetup setup_;
   double timeScale_ = 1.0;
   bool previews_ = true;
+  bool previewMeshes_ = true;
   std::unique_ptr<CaptureSession> session_;
   std::unique_ptr<CaptureLoop> loop_;
   std::unique_ptr<SimulatedRig> rig_;

@@ -48,7 +48,9 @@ struct Preview {
 };
 
 // Never throws for a partial or odd capture: what cannot be built is left out and noted.
+// `meshes` false: the model and its notes only, no `levels` and no `mesh` (a terminal draws
+// nothing; the meshes are most of the cost).
 [[nodiscard]] Preview buildPreview(const std::vector<Item>& items, const Settings& settings,
-                                   const ProvisionalThickness& provisional = {});
+                                   const ProvisionalThickness& provisional = {}, bool meshes = true);
 
 }  // namespace leafdig::acquisition

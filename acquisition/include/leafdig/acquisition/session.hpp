@@ -130,7 +130,8 @@ class CaptureSession {
   std::vector<Feedback> deviceStatus(const std::string& device, const std::string& state, const std::string& message,
                                      std::int64_t monoNs = 0);
 
-  [[nodiscard]] Snapshot snapshot(bool withPreview = true) const;
+  // `withMeshes` false: the preview's model without its meshes (buildPreview).
+  [[nodiscard]] Snapshot snapshot(bool withPreview = true, bool withMeshes = true) const;
   [[nodiscard]] std::int64_t id() const { return id_; }
   [[nodiscard]] const Engine& engine() const { return engine_; }
   [[nodiscard]] bool paused() const { return paused_; }

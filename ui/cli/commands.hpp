@@ -1,0 +1,43 @@
+// leafdig's commands in one table. Each command file registers its commands (the CLI11
+// subcommand and the function that runs it); main parses once, and the table runs the one
+// command chosen inside the one error map (failure.hpp) and returns its exit code.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace leafdig::cli {
+
+class CommandTable {
+ public:
+  using Run = std::function<int()>;
+
+  // `command` is a leaf of the command tree (`capture`, `sessions approve`); `run` returns
+  // the exit code and throws what failed. `inputContext` goes before a bad input's message
+  // ("cannot export: ").
+  void add(CLI::App* command, Run run, std::string inputContext = {});
+
+  // After parsing: runs the command CLI11 chose; a failure is reported on `err` through the
+  // error map. Returns the process's exit code (1 if no registered command was chosen).
+  [[nodiscard]] int run(std::ostream& err) const;
+
+  // Every registered command's full name ("sessions approve"), in registration order.
+  [[nodiscard]] std::vector<std::string> names() const;
+
+ private:
+  struct Entry {
+    CLI::App* command;
+    Run run;
+    std::string inputContext;
+  };
+  std::vector<Entry> entries_;
+};
+
+// Registers every command of leafdig on `app` and `table`. The options the commands parse
+// into live in `app` (CLI11 keeps them alive for the parse and the run).
+void addAllCommands(CLI::App& app, CommandTable& table);
+
+}  // namespace leafdig::cli
