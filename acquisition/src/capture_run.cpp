@@ -10,7 +10,7 @@ namespace {
 
 std::string defaultLeafFile() {
   const std::string dir = samplesDir();
-  return (dir.empty() ? std::string(kSourceDataDir) + "/samples" : dir) + "/lower-leaf-n10.markers.json";
+  return (dir.empty() ? sourceDataDir() + "/samples" : dir) + "/lower-leaf-n10.markers.json";
 }
 
 void checkSpeed(double speed) {
