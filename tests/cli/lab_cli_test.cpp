@@ -230,7 +230,8 @@ TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNext
   const leafdig::db::Store local(file.string(), true);
   const auto expected = fileHashes(local);
   const char* runsEnv = std::getenv("LEAFDIG_KILL_RUNS");
-  const int runs = std::max(50, runsEnv ? std::atoi(runsEnv) : 50);
+  // 50 kills on the plain build; the ASan pass asks for fewer (LEAFDIG_KILL_RUNS).
+  const int runs = std::max(4, runsEnv ? std::atoi(runsEnv) : 50);
   std::mt19937 rng(20261124);
   // Kill instants come from what this run sees, not from the machine's speed (issue 26): every
   // other run waits for the push to report k of its sessions sent (k random) and kills it
