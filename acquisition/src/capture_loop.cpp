@@ -46,14 +46,21 @@ Command parseCommand(const std::string& line) {
   return c;
 }
 
-CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale, bool previews,
-                         bool previewMeshes)
+CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale, PreviewDetail preview,
+                         PreviewBuilder builder)
     : session_(session),
       listener_(std::move(listener)),
       timeScale_(timeScale > 0 ? timeScale : 1.0),
-      previews_(previews),
-      previewMeshes_(previewMeshes),
+      preview_(preview),
+      builder_(builder ? std::move(builder)
+                       : PreviewBuilder([](const std::vector<Item>& items, const Settings& settings) {
+                           return buildPreview(items, settings, {}, true);
+                         })),
       t0_(Clock::now()) {}
+
+CaptureLoop::~CaptureLoop() {
+  stopWorker();
+}
 
 std::int64_t CaptureLoop::monoNs(Clock::time_point t) const {
   return static_cast<std::int64_t>(
@@ -108,7 +115,66 @@ void CaptureLoop::stop() {
 void CaptureLoop::deliver(const std::vector<Feedback>& feedback) {
   for (const Feedback& f : feedback)
     if (listener_.onFeedback) listener_.onFeedback(f);
-  if (!feedback.empty() && listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_, previewMeshes_));
+  if (!feedback.empty()) publish();
+}
+
+void CaptureLoop::publish() {
+  if (preview_ != PreviewDetail::Meshes) {
+    if (listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(preview_ == PreviewDetail::Model, false));
+    return;
+  }
+  Snapshot s = session_.snapshot(false);
+  PreviewJob job{s.version, s.items, session_.engine().settings()};
+  {
+    std::lock_guard lock(publishMutex_);
+    s.preview = latest_.preview;  // the newest built so far
+    s.previewVersion = latest_.previewVersion;
+    latest_ = s;
+    if (listener_.onSnapshot) listener_.onSnapshot(s);
+  }
+  {
+    std::lock_guard lock(jobMutex_);
+    job_ = std::move(job);
+  }
+  jobCv_.notify_one();
+}
+
+void CaptureLoop::buildPreviews() {
+  for (;;) {
+    PreviewJob job;
+    {
+      std::unique_lock lock(jobMutex_);
+      jobCv_.wait(lock, [&] { return job_.has_value() || workerStop_; });
+      if (!job_) return;  // stopping, and the newest request is built
+      job = std::move(*job_);
+      job_.reset();
+    }
+    std::shared_ptr<const Preview> built;
+    try {
+      built = std::make_shared<const Preview>(builder_(job.items, job.settings));
+    } catch (const std::exception& e) {
+      // buildPreview leaves out what it cannot build; this is memory or worse. Say so on the
+      // screen and keep capturing: the preview is never the record.
+      auto failed = std::make_shared<Preview>();
+      failed->notes.push_back(std::string("the preview could not be built: ") + e.what());
+      built = std::move(failed);
+    }
+    std::lock_guard lock(publishMutex_);
+    if (job.version < latest_.previewVersion) continue;
+    latest_.preview = built;
+    latest_.previewVersion = job.version;
+    if (listener_.onSnapshot) listener_.onSnapshot(latest_);
+  }
+}
+
+void CaptureLoop::stopWorker() {
+  if (!worker_.joinable()) return;
+  {
+    std::lock_guard lock(jobMutex_);
+    workerStop_ = true;
+  }
+  jobCv_.notify_one();
+  worker_.join();
 }
 
 void CaptureLoop::handle(const Item_& item, bool& quit) {
@@ -150,7 +216,11 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
 }
 
 Snapshot CaptureLoop::run() {
-  if (listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(previews_, previewMeshes_));
+  if (preview_ == PreviewDetail::Meshes && !worker_.joinable()) {
+    workerStop_ = false;
+    worker_ = std::thread([this] { buildPreviews(); });
+  }
+  publish();
   bool quit = false;
   auto lastRetry = Clock::now();
   while (!quit && !stop_ && !session_.ended()) {
@@ -171,7 +241,10 @@ Snapshot CaptureLoop::run() {
       if (quit || session_.ended()) break;
     }
   }
-  return session_.snapshot(previews_, previewMeshes_);
+  if (preview_ != PreviewDetail::Meshes) return session_.snapshot(preview_ == PreviewDetail::Model, false);
+  stopWorker();  // builds the newest request first: latest_ has the preview of its version
+  std::lock_guard lock(publishMutex_);
+  return latest_;
 }
 
 }  // namespace leafdig::acquisition

@@ -72,9 +72,8 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     if (operator_) operator_->observe(s);
     if (observer_.onSnapshot) observer_.onSnapshot(s);
   };
-  previews_ = request.previews;
-  previewMeshes_ = request.previewMeshes;
-  loop_ = std::make_unique<CaptureLoop>(*session_, listener, timeScale_, previews_, previewMeshes_);
+  preview_ = request.preview;
+  loop_ = std::make_unique<CaptureLoop>(*session_, listener, timeScale_, preview_);
 
   std::string digitizer = request.digitizer.empty() ? setup_.digitizer : request.digitizer;
   std::string caliper = request.caliper.empty() ? setup_.caliper : request.caliper;
@@ -146,7 +145,8 @@ Snapshot CaptureRun::shutdown(const std::string& why) {
     const auto feedback = session_->pause(why, loop_->monoNs(CaptureLoop::Clock::now()));
     for (const Feedback& f : feedback)
       if (observer_.onFeedback) observer_.onFeedback(f);
-    if (!feedback.empty() && observer_.onSnapshot) observer_.onSnapshot(session_->snapshot(previews_, previewMeshes_));
+    if (!feedback.empty() && observer_.onSnapshot)
+      observer_.onSnapshot(session_->snapshot(preview_ != PreviewDetail::None, preview_ == PreviewDetail::Meshes));
   }
   last_ = session_->snapshot(false);
   return *last_;

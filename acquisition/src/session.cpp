@@ -521,8 +521,10 @@ Snapshot CaptureSession::snapshot(bool withPreview, bool withMeshes) const {
   s.paused = paused_;
   s.pauseReason = pauseReason_;
   s.status = status_;
-  if (withPreview)
+  if (withPreview) {
     s.preview = std::make_shared<const Preview>(buildPreview(s.items, engine_.settings(), {}, withMeshes));
+    s.previewVersion = s.version;
+  }
   return s;
 }
 

@@ -195,9 +195,15 @@ void VirtualOperator::act(const Snapshot& s) {
 
 void VirtualOperator::run() {
   using Clock = std::chrono::steady_clock;
-  const auto patience = std::chrono::duration<double>(2.5 / options_.speed + 0.4);
-  auto actedAt = Clock::now() - std::chrono::hours(1);
+  // A technician waits for the station's answer before acting again, and acts again only when
+  // none comes (a press the digitizer lost). How long is "none" depends on the station: at
+  // least 2.5 s of the simulation's time, and four times the slowest answer seen so far, so a
+  // slow station (a loaded PC, a sanitizer) is waited for instead of answered twice — a second
+  // caliper reading would land on the next step, be undone, and so on.
+  const auto basePatience = std::chrono::duration<double>(2.5 / options_.speed + 0.4);
+  std::chrono::duration<double> slowestAnswer{0};
   std::uint64_t versionAtAction = ~0ull;
+  bool awaiting = false;
   Clock::time_point idleSince{};
   bool idle = false;
   while (!stop_) {
@@ -217,14 +223,19 @@ void VirtualOperator::run() {
     const auto now = Clock::now();
     if (!idle) {
       idle = true;
-      idleSince = now;
+      idleSince = now;  // the gesture has ended (a caliper reading is sent at once)
     }
     // Give the release time to reach the station, then act on what it says.
     if (now - idleSince < std::chrono::milliseconds(10)) continue;
     const bool answered = snap->version != versionAtAction;
-    if (!answered && now - actedAt < patience) continue;
+    if (answered && awaiting) {
+      awaiting = false;
+      slowestAnswer = std::max(slowestAnswer, std::chrono::duration<double>(now - idleSince));
+    }
+    const auto patience = std::max(basePatience, 4 * slowestAnswer);
+    if (!answered && now - idleSince < patience) continue;
     versionAtAction = snap->version;
-    actedAt = now;
+    awaiting = true;
     act(*snap);
     idle = false;
   }

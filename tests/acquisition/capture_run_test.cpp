@@ -40,7 +40,7 @@ acq::RunRequest simulatedRequest(const fs::path& dir, const std::string& leafFil
   r.simulation.mistakes = false;
   r.simulation.linkDir = dir.string();
   r.leafFile = leafFile;
-  r.previews = false;
+  r.preview = acq::PreviewDetail::None;
   return r;
 }
 

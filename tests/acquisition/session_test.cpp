@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <future>
 #include <mutex>
 #include <random>
 #include <set>
@@ -609,7 +610,7 @@ TEST_F(Session, APedalHeldDownIsTheStylusButton) {
     std::lock_guard lock(mutex);
     kinds.push_back(f.kind);
   };
-  acq::CaptureLoop loop(session, listener, 1.0, false);
+  acq::CaptureLoop loop(session, listener, 1.0, acq::PreviewDetail::None);
   std::thread capture([&] { (void)loop.run(); });
   const auto t0 = leafdig::devices::Clock::now();
   int n = 0;
@@ -648,7 +649,7 @@ TEST_F(Session, RawDeviceRecordsAreStoredAsTextWithRealLineEndsAndEscapedBinary)
   const auto id = create(store);
   acq::CaptureSession session(store, id);
   (void)session.pause("checking the raw column");
-  acq::CaptureLoop loop(session, {}, 1.0, false);
+  acq::CaptureLoop loop(session, {}, 1.0, acq::PreviewDetail::None);
   std::thread capture([&] { (void)loop.run(); });
   leafdig::devices::CaliperReading r;
   r.t = leafdig::devices::Clock::now();
@@ -663,4 +664,72 @@ TEST_F(Session, RawDeviceRecordsAreStoredAsTextWithRealLineEndsAndEscapedBinary)
   ASSERT_EQ(events.back().kind, "ignored_reading");  // paused: kept, but changes nothing
   EXPECT_EQ(events.back().raw, "+0001.23\r\n\\x00\\xff\\\\");
   EXPECT_TRUE(store.verify(id).ok);
+}
+
+// The station draws meshes of the preview; building them must never hold up the next decision
+// (a technician answered late presses again). With a builder that blocks, every command is
+// still answered, its snapshot carries the preview built so far (none yet), and once the
+// builder is free the worker builds only the newest request, not every one it missed.
+TEST_F(Session, ThePreviewWorkerNeverHoldsUpTheCaptureThreadAndBuildsOnlyTheNewest) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  const auto id = create(store);
+  acq::CaptureSession session(store, id);
+  std::promise<void> release;
+  const std::shared_future<void> released = release.get_future().share();
+  std::atomic<int> builds{0};
+  std::mutex mutex;
+  std::vector<acq::Snapshot> snapshots;
+  int feedback = 0;
+  acq::LoopListener listener;
+  listener.onFeedback = [&](const acq::Feedback&) {
+    std::lock_guard lock(mutex);
+    ++feedback;
+  };
+  listener.onSnapshot = [&](const acq::Snapshot& s) {
+    std::lock_guard lock(mutex);
+    snapshots.push_back(s);
+  };
+  const acq::PreviewBuilder builder = [&](const std::vector<acq::Item>& items, const acq::Settings& settings) {
+    ++builds;
+    released.wait();
+    return acq::buildPreview(items, settings, {}, false);
+  };
+  acq::CaptureLoop loop(session, listener, 1.0, acq::PreviewDetail::Meshes, builder);
+  std::thread capture([&] { (void)loop.run(); });
+  acq::Command pause = acq::parseCommand("pause checking the worker");
+  acq::Command resume = acq::parseCommand("resume");
+  for (int i = 0; i < 3; ++i) {
+    loop.command(pause);
+    loop.command(resume);
+  }
+  const auto answered = [&] {
+    std::lock_guard lock(mutex);
+    return feedback;
+  };
+  for (int i = 0; i < 1000 && answered() < 6; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::vector<acq::Snapshot> whileBlocked;
+  {
+    std::lock_guard lock(mutex);
+    whileBlocked = snapshots;
+  }
+  const int answeredWhileBlocked = answered(), buildsWhileBlocked = builds.load();
+  release.set_value();
+  loop.stop();
+  capture.join();
+  ASSERT_EQ(answeredWhileBlocked, 6) << "the capture thread waited for the preview";
+  ASSERT_EQ(whileBlocked.size(), 7u);  // the first, and one per answer
+  for (const auto& s : whileBlocked) EXPECT_EQ(s.preview, nullptr);
+  EXPECT_LE(buildsWhileBlocked, 1);
+  EXPECT_LE(builds.load(), 2) << "the worker built requests that a newer one had replaced";
+  std::lock_guard lock(mutex);
+  ASSERT_GE(snapshots.size(), 8u);
+  for (std::size_t i = 1; i < snapshots.size(); ++i) {
+    EXPECT_GE(snapshots[i].version, snapshots[i - 1].version);
+    EXPECT_GE(snapshots[i].previewVersion, snapshots[i - 1].previewVersion);
+    EXPECT_LE(snapshots[i].previewVersion, snapshots[i].version);
+  }
+  const acq::Snapshot& last = snapshots.back();
+  ASSERT_NE(last.preview, nullptr);
+  EXPECT_EQ(last.previewVersion, last.version);
+  EXPECT_EQ(last.version, session.snapshot(false).version);
 }

@@ -68,7 +68,7 @@ TEST(SimulatedCapture, TheVirtualOperatorCapturesALeafThroughRealDriversAndEvery
   // Snapshots without the live preview: its two adaptive levels are the station window's, and
   // under ThreadSanitizer they made each answer slower than the simulated technician's patience
   // (it then pressed the previous marker again). The preview is checked at the end.
-  acq::CaptureLoop loop(session, listener, so.speed, false);
+  acq::CaptureLoop loop(session, listener, so.speed, acq::PreviewDetail::None);
   acq::DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop);
   devices.start();
   op.start();

@@ -201,8 +201,7 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   // thread after every item would only delay the next decision — on a loaded machine, or
   // under ASan, past the simulated technician's patience, who then pressed the old marker
   // again (a plant-library test's captures ran into its 15-minute limit that way).
-  r.previews = !o.json;
-  r.previewMeshes = false;
+  r.preview = o.json ? acq::PreviewDetail::None : acq::PreviewDetail::Model;
   if (!o.synth.empty()) {
     if (!o.simulate && !resumeId) throw std::invalid_argument("--synth is the simulated leaf: add --simulate");
     if (!o.markers.empty()) throw std::invalid_argument("give --markers or --synth, not both");
@@ -547,7 +546,7 @@ int runDemo(const CaptureOptions& o) {
     acq::RunRequest request = requestFrom(c, std::nullopt);
     // The demo prints a line per leaf and draws nothing: no live preview (its meshes, built
     // after every item, made a demo under ASan on a loaded machine take 15 minutes, not 2).
-    request.previews = false;
+    request.preview = acq::PreviewDetail::None;
     const std::size_t rows = request.leaf ? request.leaf->rows.size() : m::readMarkersFile(leaf.file).rows.size();
     std::int64_t id = 0;
     const auto t0 = std::chrono::steady_clock::now();

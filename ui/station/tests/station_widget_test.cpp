@@ -944,7 +944,7 @@ TEST(PlantView, TheTickedApprovedLeavesOfTheStationMakeThePlant) {
     r.simulation.speed = 40;
     r.simulation.seed = static_cast<std::uint64_t>(position);
     r.simulation.mistakes = false;
-    r.previews = false;
+    r.preview = acq::PreviewDetail::None;
     acq::CaptureRun run(r, {});
     run.start();
     run.wait();  // the virtual technician completes the leaf

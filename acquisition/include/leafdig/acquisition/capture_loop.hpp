@@ -3,7 +3,9 @@
 // order, and hands every committed feedback and a fresh snapshot to the front end.
 //
 // Thread contract: post*() and command() from any thread; run() on the thread that owns the
-// session; the listener's callbacks run on that thread and must not block for long.
+// session. onFeedback runs on that thread; onSnapshot on it or, with PreviewDetail::Meshes, on
+// the preview worker — never two at once, versions never going back. Neither may block for
+// long.
 #pragma once
 
 #include <atomic>
@@ -15,6 +17,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <variant>
 
 #include "leafdig/acquisition/session.hpp"
@@ -38,13 +41,28 @@ struct LoopListener {
   std::function<void(const Snapshot&)> onSnapshot;  // after every committed change
 };
 
+// What the snapshots carry of the live preview.
+enum class PreviewDetail {
+  None,   // nothing (scripts, the demo)
+  Model,  // the preview's model without meshes, built on the capture thread (a terminal)
+  // The model and its meshes (a view draws them), built on a preview worker that keeps only
+  // the newest request: the capture thread never waits for a mesh, and every snapshot carries
+  // the newest preview built so far (Snapshot::previewVersion; the worker catches up).
+  Meshes,
+};
+
+// How the worker builds a preview (buildPreview with meshes unless a test says otherwise).
+using PreviewBuilder = std::function<Preview(const std::vector<Item>& items, const Settings& settings)>;
+
 class CaptureLoop {
  public:
   using Clock = std::chrono::steady_clock;
   // timeScale > 1 runs a simulated capture faster: the engine sees device time x timeScale.
-  // `previews`: snapshots carry the live preview; `previewMeshes`: with its meshes.
-  CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale = 1.0, bool previews = true,
-              bool previewMeshes = true);
+  CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale = 1.0,
+              PreviewDetail preview = PreviewDetail::Meshes, PreviewBuilder builder = {});
+  ~CaptureLoop();
+  CaptureLoop(const CaptureLoop&) = delete;
+  CaptureLoop& operator=(const CaptureLoop&) = delete;
 
   void post(const devices::DeviceEvent& e);
   // A foot pedal (or key) held down acts as the stylus button: stylus samples posted while
@@ -56,7 +74,7 @@ class CaptureLoop {
   void stop();  // run() returns soon after
 
   // Runs until the session is complete or abandoned, a Quit command, or stop(). Returns the
-  // last snapshot.
+  // last snapshot, with the preview of its own version (the worker finishes it first).
   Snapshot run();
 
   [[nodiscard]] std::int64_t monoNs(Clock::time_point t) const;
@@ -68,12 +86,21 @@ class CaptureLoop {
   using Item_ = std::variant<devices::DeviceEvent, devices::DeviceStatus, Command>;
   void handle(const Item_& item, bool& quit);
   void deliver(const std::vector<Feedback>& feedback);
+  void publish();        // a snapshot of the session to the listener (and a preview request)
+  void buildPreviews();  // the preview worker
+  void stopWorker();     // finishes the newest request, then joins
+
+  struct PreviewJob {
+    std::uint64_t version = 0;
+    std::vector<Item> items;
+    Settings settings;
+  };
 
   CaptureSession& session_;
   LoopListener listener_;
   double timeScale_;
-  bool previews_;
-  bool previewMeshes_;
+  PreviewDetail preview_;
+  PreviewBuilder builder_;
   Clock::time_point t0_;
   mutable std::mutex mutex_;
   std::condition_variable cv_;
@@ -82,6 +109,14 @@ class CaptureLoop {
   std::atomic<bool> stop_{false};
   std::atomic<bool> pedal_{false};
   std::map<std::string, std::string> deviceStates_;
+  // The preview worker (PreviewDetail::Meshes).
+  std::mutex publishMutex_;  // one onSnapshot at a time; guards latest_
+  Snapshot latest_;          // the last snapshot delivered
+  std::mutex jobMutex_;
+  std::condition_variable jobCv_;
+  std::optional<PreviewJob> job_;  // the newest request; an older one not yet started is dropped
+  bool workerStop_ = false;
+  std::thread worker_;
 };
 
 }  // namespace leafdig::acquisition

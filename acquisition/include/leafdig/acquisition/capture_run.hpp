@@ -43,8 +43,9 @@ struct RunRequest {
   std::string leafFile;
   // Or the leaf itself (a synthetic leaf made for this run); at most one of the two.
   std::optional<model::MarkerSet> leaf;
-  bool previews = true;       // snapshots carry the live preview model
-  bool previewMeshes = true;  // and its meshes (a view draws them; a terminal does not)
+  // What snapshots carry of the live preview: a view draws meshes (built off the capture
+  // thread), a terminal prints from the model, scripts need none.
+  PreviewDetail preview = PreviewDetail::Meshes;
 };
 
 struct RunObserver {
@@ -97,8 +98,7 @@ class CaptureRun {
   std::int64_t id_ = 0;
   SessionSetup setup_;
   double timeScale_ = 1.0;
-  bool previews_ = true;
-  bool previewMeshes_ = true;
+  PreviewDetail preview_ = PreviewDetail::Meshes;
   std::unique_ptr<CaptureSession> session_;
   std::unique_ptr<CaptureLoop> loop_;
   std::unique_ptr<SimulatedRig> rig_;

@@ -90,7 +90,8 @@ struct Snapshot {
   bool rowsEnded = false, complete = false, retaking = false, paused = false;
   std::string pauseReason;
   std::string status;                      // the session's status in the store
-  std::shared_ptr<const Preview> preview;  // null when not requested
+  std::shared_ptr<const Preview> preview;  // null when not requested (or not built yet)
+  std::uint64_t previewVersion = 0;        // the version `preview` was built for (≤ version)
 };
 
 // This station's id: the one a new session records (SessionSetup::station default) and
