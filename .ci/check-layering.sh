@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Architecture rules as a check (docs/ARCHITECTURE.md):
+# Architecture rules as a check (docs/architecture.md):
 #  1. Qt headers only under ui/.
 #  2. Dependencies point one way: ui -> acquisition -> {devices, db, model}; db may use
 #     model; devices and model use no other leafdig module.
@@ -42,5 +42,30 @@ check model devices db acquisition ui
 check devices model db acquisition ui
 check db devices acquisition ui
 check acquisition ui
-[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, dependencies point one way"
+
+# 5. Rooms inside devices/ (devices/README.md): codecs and transports use only the root;
+#    links and sim use codecs and transports, never each other. A room is its header folder
+#    and its source folder; a source includes another room's private header as "room/x.hpp".
+roomCheck() {  # module, room, forbidden rooms...
+  local module=$1 room=$2; shift 2
+  for other in "$@"; do
+    hits=$(sources "$module/include/leafdig/$module/$room" "$module/src/$room" |
+      xargs -r grep -lE "#\s*include\s*[<\"](leafdig/$module/)?$other/" || true)
+    if [ -n "$hits" ]; then
+      echo "$module/$room must not include $module/$other ($module/README.md: the rooms and their directions):"
+      echo "$hits"; fail=1
+    fi
+  done
+}
+roomCheck devices codecs transports links sim
+roomCheck devices transports codecs links sim
+roomCheck devices links sim
+roomCheck devices sim links
+# The root of devices/ (errors, samples) uses no room.
+rootHits=$(find devices/include/leafdig/devices devices/src -maxdepth 1 -type f \( -name '*.hpp' -o -name '*.cpp' \) |
+  xargs -r grep -lE '#\s*include\s*[<"](leafdig/devices/)?(codecs|transports|links|sim)/' || true)
+if [ -n "$rootHits" ]; then
+  echo "the root of devices/ (errors, samples) must not include a room:"; echo "$rootHits"; fail=1
+fi
+[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, dependencies point one way, devices/ rooms in their directions"
 exit $fail

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "leafdig/devices/driver.hpp"
+#include "leafdig/devices/links/driver.hpp"
 
 namespace leafdig::acquisition {
 namespace {

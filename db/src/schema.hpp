@@ -7,7 +7,7 @@
 namespace leafdig::db::detail {
 
 inline constexpr std::array<const char*, 1> kMigrations = {
-    // ---- 1: the entities of SPEC §4 ----------------------------------------------------
+    // ---- 1: the entities of docs/schema.md ----------------------------------------------------
     R"SQL(
 CREATE TABLE operators (
   id      INTEGER PRIMARY KEY,

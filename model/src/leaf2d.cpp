@@ -388,7 +388,7 @@ FlatLeaf flatLeaf(const std::vector<Eigen::Vector2d>& local, const Leaf2dOptions
       if (!e || e->second - e->first <= 0.0) {
         throw InputError("the outline has no width " + std::to_string(y) + " mm from the base; is it one closed leaf?");
       }
-      const double right = e->second;  // +X is the leaf's right (SPEC §2.3: X = Y x Z)
+      const double right = e->second;  // +X is the leaf's right (docs/method.md §5: X = Y x Z)
       const double left = e->first;
       const double mid = (0.0 < right && 0.0 > left) ? 0.0 : (left + right) / 2.0;
       const std::array<double, kMarkersPerRow> xs{right, right + (mid - right) / 3, right + 2 * (mid - right) / 3,
@@ -538,7 +538,7 @@ FlatLeaf trimmedFlatLeaf(const std::vector<Eigen::Vector2d>& local, double lengt
   double meanOther = 0.0;
   for (const auto& p : one) meanOne += p.x() / static_cast<double>(one.size());
   for (const auto& p : other) meanOther += p.x() / static_cast<double>(other.size());
-  const std::vector<Eigen::Vector2d>& right = meanOne >= meanOther ? one : other;  // +X: SPEC §2.3
+  const std::vector<Eigen::Vector2d>& right = meanOne >= meanOther ? one : other;  // +X: docs/method.md §5
   const std::vector<Eigen::Vector2d>& left = meanOne >= meanOther ? other : one;
 
   // Vertices: the tip, the right margin (tip to base), the left margin (tip to base), the
@@ -653,7 +653,7 @@ Leaf2dModel buildLeaf2d(const Outline2d& outline, const Leaf2dOptions& o) {
   model.tipMm = tip;
   model.lengthMm = (tip - base).norm();
   if (!(model.lengthMm > 0.0)) throw InputError("the leaf's base and tip coincide; give them apart");
-  // Leaf frame (SPEC §2.3): origin at the base, +Y to the tip, +Z up, X = Y x Z.
+  // Leaf frame (docs/method.md §5): origin at the base, +Y to the tip, +Z up, X = Y x Z.
   const Eigen::Vector2d axis = (tip - base) / model.lengthMm;
   const Eigen::Vector2d right(axis.y(), -axis.x());
   std::vector<Eigen::Vector2d> local;

@@ -49,7 +49,7 @@ void scaleThickness(MarkerSet& m, double factor) {
   }
 }
 
-// The leaf in its own frame (SPEC §2.3), from markers in any frame.
+// The leaf in its own frame (docs/method.md §5), from markers in any frame.
 MarkerSet toLeafFrame(const MarkerSet& markers) {
   const LeafModel model = buildLeafModel(markers);
   const Eigen::Isometry3d toLeaf = leafFrameFromDigitizer(model);

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "leafdig/devices/calipers.hpp"
-#include "leafdig/devices/fastrak.hpp"
-#include "leafdig/devices/line_digitizer.hpp"
-#include "leafdig/devices/microscribe.hpp"
-#include "leafdig/devices/polhemus.hpp"
+#include "leafdig/devices/codecs/calipers.hpp"
+#include "leafdig/devices/codecs/fastrak.hpp"
+#include "leafdig/devices/codecs/line_digitizer.hpp"
+#include "leafdig/devices/codecs/microscribe.hpp"
+#include "leafdig/devices/codecs/polhemus.hpp"
 
 namespace dev = leafdig::devices;
 

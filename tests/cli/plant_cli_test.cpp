@@ -1,6 +1,6 @@
 // `leafdig plant build|grow` driven as a modeller would: a plan file, every export format,
 // each opened by an independent reader (Khronos glTF validator, assimp, the strict MTG and
-// CARIBU readers of SPEC §5.1), reproducibility, bad plans, growth series, the organ library.
+// CARIBU readers of docs/plants.md "Formats"), reproducibility, bad plans, growth series, the organ library.
 #include "../support/strict_formats.hpp"
 #include "cli_support.hpp"
 

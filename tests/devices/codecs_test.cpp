@@ -10,12 +10,12 @@
 #include <tuple>
 #include <vector>
 
-#include "leafdig/devices/calipers.hpp"
-#include "leafdig/devices/fastrak.hpp"
-#include "leafdig/devices/line_digitizer.hpp"
-#include "leafdig/devices/microscribe.hpp"
-#include "leafdig/devices/polhemus.hpp"
-#include "leafdig/devices/record_clock.hpp"
+#include "leafdig/devices/codecs/calipers.hpp"
+#include "leafdig/devices/codecs/fastrak.hpp"
+#include "leafdig/devices/codecs/line_digitizer.hpp"
+#include "leafdig/devices/codecs/microscribe.hpp"
+#include "leafdig/devices/codecs/polhemus.hpp"
+#include "leafdig/devices/codecs/record_clock.hpp"
 
 namespace dev = leafdig::devices;
 namespace {
@@ -44,7 +44,7 @@ dev::fastrak::DecoderState fastrakDefault() {
 }
 
 TEST(FastrakAscii, DecodesTheDefaultListRecordWhoseFieldsTouch) {
-  // SoundScapeRenderer's record (research/digitizers.md §2.4): "30.01-150.70" touch.
+  // SoundScapeRenderer's record (docs/devices.md): "30.01-150.70" touch.
   auto st = fastrakDefault();
   std::vector<dev::StylusSample> out;
   feed(st, "02   20.40 -61.06  30.01-150.70 -42.08 156.93\r\n", out, dev::fastrak::decode);
@@ -129,7 +129,7 @@ TEST(FastrakAscii, ReadsTheStylusFromItem16) {
 }
 
 TEST(FastrakBinary, DecodesTheResearchNotesExample) {
-  // x=10.0 y=-5.5 z=3.25 q=(1,0,0,0), list 2,11,0 (research/digitizers.md §2.4)
+  // x=10.0 y=-5.5 z=3.25 q=(1,0,0,0), list 2,11,0 (docs/devices.md)
   dev::fastrak::DecoderState st;
   st.format.items = {2, 11, 0};
   st.format.binary = true;

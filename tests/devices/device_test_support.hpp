@@ -9,8 +9,8 @@
 #include <thread>
 #include <vector>
 
-#include "leafdig/devices/driver.hpp"
-#include "leafdig/devices/sim.hpp"
+#include "leafdig/devices/links/driver.hpp"
+#include "leafdig/devices/sim/sim.hpp"
 
 namespace leafdig::devices::testing {
 

@@ -7,8 +7,8 @@
 #include <set>
 
 #include "device_test_support.hpp"
-#include "leafdig/devices/fastrak.hpp"
-#include "leafdig/devices/links.hpp"
+#include "leafdig/devices/codecs/fastrak.hpp"
+#include "leafdig/devices/links/links.hpp"
 
 namespace dev = leafdig::devices;
 using dev::testing::Collector;

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "device_test_support.hpp"
-#include "leafdig/devices/links.hpp"
-#include "leafdig/devices/memory_serial_port.hpp"
+#include "leafdig/devices/links/links.hpp"
+#include "leafdig/devices/transports/memory_serial_port.hpp"
 
 namespace dev = leafdig::devices;
 using dev::testing::Collector;

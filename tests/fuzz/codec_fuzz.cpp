@@ -7,11 +7,11 @@
 #include <span>
 #include <vector>
 
-#include "leafdig/devices/calipers.hpp"
-#include "leafdig/devices/fastrak.hpp"
-#include "leafdig/devices/line_digitizer.hpp"
-#include "leafdig/devices/microscribe.hpp"
-#include "leafdig/devices/polhemus.hpp"
+#include "leafdig/devices/codecs/calipers.hpp"
+#include "leafdig/devices/codecs/fastrak.hpp"
+#include "leafdig/devices/codecs/line_digitizer.hpp"
+#include "leafdig/devices/codecs/microscribe.hpp"
+#include "leafdig/devices/codecs/polhemus.hpp"
 
 namespace dev = leafdig::devices;
 

@@ -1,4 +1,4 @@
-// Seed and error-bounded meshing (SPEC §2.7), and the mesh distance they are measured with.
+// Seed and error-bounded meshing (docs/meshing.md), and the mesh distance they are measured with.
 #include "leafdig/model/mesh_method.hpp"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Whole plants: placement, phyllotaxis, organ library draws, growth, plan checks, metrics,
-// and the CARIBU and MTG exports read back by the strict readers of SPEC §5.1.
+// and the CARIBU and MTG exports read back by the strict readers of docs/plants.md "Formats".
 #include "leafdig/model/plant.hpp"
 
 #include <gtest/gtest.h>

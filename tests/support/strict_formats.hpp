@@ -1,4 +1,4 @@
-// Strict readers of the simulation formats, written from SPEC §5.1 (the rules found by running
+// Strict readers of the simulation formats, written from docs/plants.md "Formats" (the rules found by running
 // OpenAlea's MTG reader and CARIBU's canestrad), independently of leafdig's writers. They
 // throw std::runtime_error naming the line and the rule broken.
 #pragma once

@@ -12,9 +12,9 @@
 #include "commands.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/db/event_store.hpp"
-#include "leafdig/devices/links.hpp"
-#include "leafdig/devices/registry.hpp"
-#include "leafdig/devices/sim.hpp"
+#include "leafdig/devices/links/links.hpp"
+#include "leafdig/devices/sim/sim.hpp"
+#include "leafdig/devices/transports/registry.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "signals.hpp"
@@ -371,7 +371,7 @@ void declareDevicesCommands(CLI::App& app, DevicesOptions& o) {
   listen->add_flag("--dtr-trigger", o.dtrTrigger, "Sylvac simplex cable: request readings by dropping DTR");
   listen->add_flag("--no-grab", o.noGrab, "HID: do not grab the gauge's keyboard node");
   listen->add_flag("--no-filter", o.noFilter, "Deliver stylus samples without the spike filter");
-  listen->add_flag("--json", o.json, "JSON lines (SPEC §5)");
+  listen->add_flag("--json", o.json, "JSON lines (docs/devices.md)");
 
   CLI::App* sim = app.add_subcommand("sim", "Run a simulated device on a pseudo-terminal");
   sim->add_option("device", o.simKind, "fastrak, patriot, liberty, microscribe, sylvac, mitutoyo or uwave")->required();

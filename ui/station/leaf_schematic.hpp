@@ -1,4 +1,4 @@
-// A schematic leaf (tip up, seen from the top side) with the marker grid of SPEC §1: done
+// A schematic leaf (tip up, seen from the top side) with the marker grid of docs/method.md §1: done
 // points filled, the next marker ringed and labelled, thickness steps shown at the midrib /
 // vein origin / margin on the back side. The operator looks here, not at the 3D view, to
 // find where the stylus goes next.

@@ -14,7 +14,7 @@
 #include <optional>
 
 #include "leafdig/acquisition/session.hpp"
-#include "leafdig/devices/registry.hpp"
+#include "leafdig/devices/transports/registry.hpp"
 
 namespace leafdig::station {
 

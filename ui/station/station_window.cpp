@@ -18,7 +18,7 @@
 
 #include "export_dialog.hpp"
 #include "leafdig/db/lab.hpp"
-#include "leafdig/devices/registry.hpp"
+#include "leafdig/devices/transports/registry.hpp"
 #include "leafdig/model/markers_json.hpp"
 #include "leafdig/version.hpp"
 #include "plant_view.hpp"

@@ -1,4 +1,4 @@
-// The capture thread of ARCHITECTURE.md: device events and operator commands arrive on a
+// The capture thread of docs/architecture.md: device events and operator commands arrive on a
 // queue from any thread; one thread (the caller of run()) feeds them to the session in
 // order, and hands every committed feedback and a fresh snapshot to the front end.
 //
@@ -21,7 +21,7 @@
 #include <variant>
 
 #include "leafdig/acquisition/session.hpp"
-#include "leafdig/devices/driver.hpp"
+#include "leafdig/devices/links/driver.hpp"
 
 namespace leafdig::acquisition {
 

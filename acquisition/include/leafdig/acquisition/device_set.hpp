@@ -7,7 +7,7 @@
 #include <string>
 
 #include "leafdig/acquisition/capture_loop.hpp"
-#include "leafdig/devices/links.hpp"
+#include "leafdig/devices/links/links.hpp"
 
 namespace leafdig::acquisition {
 

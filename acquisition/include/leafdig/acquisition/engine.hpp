@@ -1,4 +1,4 @@
-// The marker-protocol engine (SPEC §1): a state machine fed with timestamped stylus samples,
+// The marker-protocol engine (docs/method.md §1): a state machine fed with timestamped stylus samples,
 // caliper readings and operator commands. It decides (accept / reject with a reason in the
 // operator's words) and applies decisions; replaying the applied decisions of a stored
 // session rebuilds its state exactly (crash recovery and review share that path).
@@ -20,7 +20,7 @@ namespace leafdig::acquisition {
 // A point in millimetres: the one Vec3 of leafdig, the devices' (std::array<double, 3>).
 using devices::Vec3;
 
-// SPEC §1: seven markers a row, from the right margin (1) over the midrib (4) to the left
+// docs/method.md §1: seven markers a row, from the right margin (1) over the midrib (4) to the left
 // margin (7). Equal to model::kMarkersPerRow (checked in engine.cpp).
 inline constexpr int kMarkersPerRow = 7;
 
@@ -56,7 +56,7 @@ enum class What { Board, Tip, Marker, MidribThickness, VeinOriginThickness, Edge
 
 struct Step {
   What what = What::Tip;
-  int row = 0, col = 0;  // 1-based as in SPEC §1; 0 where it does not apply
+  int row = 0, col = 0;  // 1-based as in docs/method.md §1; 0 where it does not apply
   friend bool operator==(const Step&, const Step&) = default;
 };
 

@@ -15,7 +15,7 @@
 #include <thread>
 
 #include "leafdig/acquisition/capture_loop.hpp"
-#include "leafdig/devices/sim.hpp"
+#include "leafdig/devices/sim/sim.hpp"
 #include "leafdig/model/markers.hpp"
 
 namespace leafdig::acquisition {

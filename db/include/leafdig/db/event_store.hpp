@@ -1,6 +1,6 @@
 // What reviewing, exporting and syncing need of a store of capture sessions, wherever it
 // lives: the station's SQLite file (db::Store, store.hpp) or the lab's PostgreSQL server
-// (db::LabStore, lab_store.hpp). Plain data types at the boundary; the hash chain's rules
+// (db::LabStore, lab.hpp). Plain data types at the boundary; the hash chain's rules
 // (docs/schema.md) in one place for both.
 #pragma once
 
@@ -48,7 +48,7 @@ class StoreError : public std::runtime_error {
 struct Projection {
   enum class Kind { Marker, Thickness };
   Kind kind = Kind::Marker;
-  std::optional<int> row, col;         // 1-based as in SPEC §1; absent for the tip / d
+  std::optional<int> row, col;         // 1-based as in docs/method.md §1; absent for the tip / d
   std::string what;                    // "tip", "marker", "midrib_thickness", …
   std::array<double, 3> positionMm{};  // markers
   double valueMm = 0;                  // thickness readings

@@ -1,6 +1,6 @@
 // The SQLite store: one file per station, an append-only hash-chained event log per
 // session, projections (markers, thickness readings) kept in the same transactions, and
-// the entities of SPEC §4. Plain data types at the boundary; no other leafdig module.
+// the entities of docs/schema.md. Plain data types at the boundary; no other leafdig module.
 //
 // Thread contract: a Store is one SQLite connection, used by one thread at a time. Several
 // Stores (threads or processes) may open the same file: WAL lets readers and one writer

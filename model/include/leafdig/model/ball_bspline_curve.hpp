@@ -1,5 +1,5 @@
 #pragma once
-// Ball B-spline curves (SPEC §2.1): a B-spline centre curve c(t) and a B-spline radius
+// Ball B-spline curves (docs/method.md §3): a B-spline centre curve c(t) and a B-spline radius
 // r(t) held as one 4-D B-spline over (x, y, z, r), t in [0, 1].
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
@@ -23,7 +23,7 @@ struct Frame {
 
 class BallBSplineCurve {
  public:
-  // The interpolating BBSC of SPEC §2.1: chord-length parameters from the centres, natural
+  // The interpolating BBSC of docs/method.md §3: chord-length parameters from the centres, natural
   // cubic spline over all four coordinates. Throws std::invalid_argument if fewer than two
   // balls are given or two consecutive centres coincide.
   [[nodiscard]] static BallBSplineCurve interpolate(const std::vector<Ball>& dataBalls);

@@ -1,5 +1,5 @@
 #pragma once
-// Blade surfaces through the marker grid (SPEC §2.2).
+// Blade surfaces through the marker grid (docs/method.md §4).
 #include <Eigen/Core>
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // Natural cubic spline interpolation in B-spline form (NURBS Book §9.2.1 with the natural
-// end conditions of SPEC §2.1), for points of any dimension.
+// end conditions of docs/method.md §3), for points of any dimension.
 #include <Eigen/Core>
 #include <vector>
 

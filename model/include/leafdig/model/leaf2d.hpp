@@ -1,5 +1,5 @@
 #pragma once
-// Leaves known only in 2-D (seed 001, SPEC §2.6): an outline in millimetres (a file, a scan,
+// Leaves known only in 2-D (seed 001, docs/method.md §6): an outline in millimetres (a file, a scan,
 // a leaf-area-meter image) becomes a flat bicubic B-spline leaf, its margin curls by the
 // parabola-like or sine-like model, the interior follows by Laplacian (cotangent-weight)
 // deformation, and the curled leaf keeps the measured area. docs/leaf2d.md has the formulas.
@@ -100,7 +100,7 @@ struct Leaf2dModel {
   // a lobed margin): the flat leaf is then that surface trimmed to the outline, i.e. the
   // outline's own region (the flat surface is the plane z = 0), meshed inside the outline.
   bool trimmedToOutline = false;
-  Mesh mesh;  // the curled, area-constrained blade in the leaf frame (SPEC §2.3)
+  Mesh mesh;  // the curled, area-constrained blade in the leaf frame (docs/method.md §5)
   CurlKind curl = CurlKind::None;
   double amplitudeMm = 0.0;
   double inPlaneScale = 1.0;

@@ -1,5 +1,5 @@
 #pragma once
-// Leaf assembly of SPEC §2.1-§2.3: veins as BBSCs plus the blade, and the leaf frame.
+// Leaf assembly of docs/method.md §3–5: veins as BBSCs plus the blade, and the leaf frame.
 #include <Eigen/Geometry>
 #include <string>
 #include <vector>
@@ -34,7 +34,7 @@ struct LeafModelOptions {
 //   contour: P_N1 .. P_11, T, P_17 .. P_N7, radius d/2 (or per-row edge thickness / 2)
 [[nodiscard]] LeafModel buildLeafModel(const MarkerSet& markers, const LeafModelOptions& options = {});
 
-// The rigid transform from the digitizer frame to the leaf frame of SPEC §2.3: origin at
+// The rigid transform from the digitizer frame to the leaf frame of docs/method.md §5: origin at
 // P_N4, +Y towards the tip, +Z the mean adaxial blade normal (made perpendicular to Y),
 // X = Y x Z.
 [[nodiscard]] Eigen::Isometry3d leafFrameFromDigitizer(const LeafModel& model);

@@ -1,5 +1,5 @@
 #pragma once
-// The marker set of SPEC §1 and the thickness rule. All lengths in millimetres.
+// The marker set of docs/method.md §1 and the thickness rule. All lengths in millimetres.
 #include <Eigen/Core>
 #include <array>
 #include <optional>
@@ -95,13 +95,13 @@ struct LeafThickness {
 // measured thicknesses -> full; otherwise standard.
 [[nodiscard]] ThicknessMode inferThicknessMode(const MarkerSet& markers);
 
-// SPEC §1: t_1 = t_7 = d, t_2 = t_6 = (2d + r2)/3, t_3 = t_5 = (d + 2 r2)/3, t_4 = r2,
+// docs/method.md §1: t_1 = t_7 = d, t_2 = t_6 = (2d + r2)/3, t_3 = t_5 = (d + 2 r2)/3, t_4 = r2,
 // midrib r1; small mode r2 := r1; a measured value replaces the interpolated one. A
 // per-row edge thickness replaces d for that row. Throws InputError naming the row and
 // the missing or invalid thickness.
 [[nodiscard]] LeafThickness applyThicknessRule(const MarkerSet& markers);
 
-// Geometry checks of SPEC §1 input: at least one row, finite coordinates, no coincident
+// Geometry checks of docs/method.md §1 input: at least one row, finite coordinates, no coincident
 // consecutive markers along any vein or the blade's columns. Throws InputError naming the
 // row and point (numbered from 1 as in the spec) and what to do.
 void validateMarkerGeometry(const MarkerSet& markers);

@@ -1,5 +1,5 @@
 #pragma once
-// The `leafdig.markers/1` interchange format (SPEC §5; JSON Schema in
+// The `leafdig.markers/1` interchange format (docs/method.md §5 and data/schema/; JSON Schema in
 // data/schema/leafdig.markers-1.schema.json). Unknown keys are ignored; a missing required
 // key, a wrong type, an unknown unit, a non-finite number, a row without 7 points is an
 // InputError naming the source, the row and point, and what to fix.

@@ -1,5 +1,5 @@
 #pragma once
-// Triangle meshes of the leaf's organs, with named resolution parameters (SPEC §2.4).
+// Triangle meshes of the leaf's organs, with named resolution parameters (docs/method.md §5).
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -56,7 +56,7 @@ struct LeafMesh {
   std::vector<ModelWarning> warnings;
 };
 
-// Vein tube on the exact envelope of SPEC §2.1, rings at `ts` (increasing, in [0, 1]).
+// Vein tube on the exact envelope of docs/method.md §3, rings at `ts` (increasing, in [0, 1]).
 [[nodiscard]] Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices, CapStyle caps,
                             int capRings, std::vector<ModelWarning>& warnings);
 

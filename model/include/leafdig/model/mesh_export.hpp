@@ -1,5 +1,5 @@
 #pragma once
-// Mesh exports of SPEC §5. Bytes are produced in memory; callers write them with
+// Mesh exports of docs/method.md §5 and data/schema/. Bytes are produced in memory; callers write them with
 // writeFileAtomically. Millimetres and the model's axes for OBJ/PLY/STL (stated in each
 // file's header); glTF in metres with the frame's +Z mapped to glTF's +Y (up).
 #include <filesystem>

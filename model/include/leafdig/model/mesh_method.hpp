@@ -1,5 +1,5 @@
 #pragma once
-// How organs are meshed (SPEC §2.4, §2.7): uniform grids of named resolution, the seed's
+// How organs are meshed (docs/method.md §5, docs/meshing.md): uniform grids of named resolution, the seed's
 // adaptive rule (patent CN101650836: division length M, inter-segment angle α, Delaunay
 // blades), or ours, bounded by an error E in millimetres. See docs/meshing.md.
 #include <Eigen/Core>

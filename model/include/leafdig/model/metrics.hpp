@@ -1,5 +1,5 @@
 #pragma once
-// Leaf metrics of SPEC §2.6.
+// Leaf metrics of docs/method.md §6.
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
@@ -16,7 +16,7 @@ namespace leafdig::model {
 // Sum of A_k |n_k . d| over the triangles (overlaps counted repeatedly); d need not be unit.
 [[nodiscard]] double projectedArea(const Mesh& mesh, const Eigen::Vector3d& lightDirection);
 
-// The silhouette (displayed) area of SPEC §2.6 for light from `direction`: the area of the
+// The silhouette (displayed) area of docs/method.md §6 for light from `direction`: the area of the
 // union of the triangles' projections onto the plane perpendicular to it, so overlaps count
 // once. Computed on a square raster of `pixels` across the larger extent of the projection,
 // sampling pixel centres; the error is about half a pixel along the outline (under 0.5 % for
@@ -111,7 +111,7 @@ struct LeafWarning {
 inline constexpr double kBaseRowWidthWarningRatio = 0.6;
 [[nodiscard]] std::vector<LeafWarning> captureWarnings(const MarkerSet& markers);
 
-// Seed 001's light metrics of one leaf (SPEC §2.6), the same as a plant's per leaf
+// Seed 001's light metrics of one leaf (docs/method.md §6), the same as a plant's per leaf
 // (computePlantMetrics): the blade mesh's area, its silhouette (displayed) area for the
 // light at 1024 pixels across the leaf, and STAR = silhouette / area.
 struct LeafSilhouette {

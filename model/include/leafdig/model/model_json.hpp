@@ -1,5 +1,5 @@
 #pragma once
-// The `leafdig.model/1` document (SPEC §5): veins as ball B-splines (radii are radii,
+// The `leafdig.model/1` document (docs/method.md §5 and data/schema/): veins as ball B-splines (radii are radii,
 // thickness / 2), the blade surface, metrics. leafdig writes it; the reader exists so the
 // document can be checked to round-trip and reloaded by tools.
 #include <string>

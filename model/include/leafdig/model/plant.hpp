@@ -1,11 +1,11 @@
 #pragma once
-// Whole plants (SPEC §2.5; seed 000 §3, seed 003 §2.4): a stem — a BBSC axis organ — carrying
+// Whole plants (docs/method.md §9; seed 000 §3, seed 003 §2.4): a stem — a BBSC axis organ — carrying
 // leaf models placed by insertion height, azimuth, inclination and roll; phyllotaxis by a
 // divergence angle with seeded jitter; leaves drawn from an organ library with random-valued
 // transforms inside the plan's ranges; logistic growth of stem and leaves over time.
 //
 // Plant frame: millimetres, origin at the stem base, +Z up the stem axis. A leaf is first
-// put in its leaf frame (SPEC §2.3: origin P_N4, +Y to the tip, +Z adaxial), shaped there
+// put in its leaf frame (docs/method.md §5: origin P_N4, +Y to the tip, +Z adaxial), shaped there
 // (scale, bend, growth), then moved rigidly to its insertion point on the stem surface.
 //
 // Every random draw comes from the plan's seed, through one generator per leaf (seeded by

@@ -1,5 +1,5 @@
 #pragma once
-// Plant exports (SPEC §5, §5.1): meshes (GLB/OBJ/PLY/STL through encodeMesh), CARIBU
+// Plant exports (docs/method.md §5, docs/plants.md "Formats"): meshes (GLB/OBJ/PLY/STL through encodeMesh), CARIBU
 // `.can` + `.opt`, OpenAlea MTG, a CSV of organs and the `leafdig.plant-model/1` JSON.
 // Every export keeps plant / leaf / organ identity: organ names `plant/leaf-<rank>/<organ>`
 // and `plant/stem` (GLB nodes, OBJ groups, PLY organ_id + leaf_rank), CARIBU labels, MTG
@@ -28,7 +28,7 @@ struct LeafLight {
   std::optional<double> bladeAreaLow95Mm2, bladeAreaHigh95Mm2;
 };
 
-// Seed 001 / SPEC §2.6 on a plant: per leaf and for the whole plant (whose silhouette counts
+// Seed 001 / docs/method.md §6 on a plant: per leaf and for the whole plant (whose silhouette counts
 // overlaps between leaves once). Blades only: the veins lie in the blade and the stem is not
 // leaf area.
 struct PlantMetrics {

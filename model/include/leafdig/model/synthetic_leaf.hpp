@@ -1,19 +1,19 @@
 #pragma once
-// Synthetic ground-truth leaves (SPEC §2.8, seed 002; formulas in docs/synthetic-leaves.md).
+// Synthetic ground-truth leaves (docs/method.md §8, seed 002; formulas in docs/synthetic-leaves.md).
 //
 // A flat outline from the seed's deformed base rectangle — a shape profile (oblong,
 // elliptic, ovate, obovate, tobacco), sine-sum width deformations, Gaussian tip and base
 // deformations and margin serrations (round, sharp, straight, acuminate) — is bent into 3-D
 // by a smooth map (midrib droop, cupping, twist, wavy margin). Its area is integrated
 // exactly (Green's theorem over the outline, Gauss-Legendre on panels split at every kink)
-// to better than 1e-9 relative. Markers are placed by the protocol (SPEC §1: rows from tip
+// to better than 1e-9 relative. Markers are placed by the protocol (docs/method.md §1: rows from tip
 // to base along straight lateral veins, the last row at the leaf base) and sampled with
 // Gaussian noise from a counter-based generator, so a spec and seed give the same file on
 // every machine.
 //
 // Frames: the flat outline has the leaf base at the origin and the tip at (0, L); +x is the
 // right half seen from the adaxial side with the tip up. The 3-D leaf is in the leaf frame
-// of SPEC §2.3 (origin at the base, +Y towards the tip, +Z adaxial).
+// of docs/method.md §5 (origin at the base, +Y towards the tip, +Z adaxial).
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>

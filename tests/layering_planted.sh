@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The layering check must fail on a wrong include: plant one at a time in a copy of the tree
+# and expect .ci/check-layering.sh to name the file (and to pass on the unplanted copy).
+# Usage: layering_planted.sh REPO_ROOT
+set -u
+root=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fresh() {
+  rm -rf "$work/tree"; mkdir -p "$work/tree"
+  cp -r "$root"/{model,devices,db,acquisition,ui} "$work/tree/"
+}
+failures=0
+fresh
+if ! "$root/.ci/check-layering.sh" "$work/tree" >"$work/out" 2>&1; then
+  echo "the unplanted copy should pass:"; cat "$work/out"; failures=1
+fi
+plant() {  # file, include line, what it breaks
+  fresh
+  printf '%s\n' "$2" >>"$work/tree/$1"
+  if "$root/.ci/check-layering.sh" "$work/tree" >"$work/out" 2>&1; then
+    echo "not caught: $3 ($2 in $1)"; failures=1
+  elif ! grep -q "$1" "$work/out"; then
+    echo "caught but not named: $3 ($1):"; cat "$work/out"; failures=1
+  else
+    echo "caught: $3"
+  fi
+}
+plant devices/src/sim/faults.cpp '#include "leafdig/devices/links/links.hpp"' "sim using links"
+plant devices/src/links/driver.cpp '#include "leafdig/devices/sim/sim.hpp"' "links using sim"
+plant devices/src/codecs/fastrak.cpp '#include "transports/termios_speed.hpp"' "a codec using a transport's private header"
+plant devices/include/leafdig/devices/transports/hid.hpp '#include "leafdig/devices/codecs/calipers.hpp"' "a transport using a codec"
+plant devices/include/leafdig/devices/sample.hpp '#include "leafdig/devices/codecs/fastrak.hpp"' "the root using a room"
+plant model/src/banded.cpp '#include "leafdig/db/store.hpp"' "model using db"
+plant devices/src/errors.cpp '#include "leafdig/acquisition/engine.hpp"' "devices using acquisition"
+plant acquisition/src/engine.cpp '#include <QString>' "Qt outside ui/"
+plant model/src/blade.cpp '#include <opencv2/core.hpp>' "OpenCV outside leaf_scan.cpp"
+exit $failures
