@@ -45,6 +45,7 @@ for (i,) in sqlite3.connect(sys.argv[1]).execute("SELECT id FROM sessions ORDER 
   done
   rm -f "$out"/demo.sqlite.tmp*
 fi
-# Paths of this run's folder appear in some JSON ("outputs"): make them relative.
-sed -i "s#$out/##g" "$out"/*.json
+# Paths of this run's folder and of the checkout appear in some JSON ("outputs", "plan"):
+# make them relative, so two checkouts compare equal.
+sed -i -e "s#$out/##g" -e "s#$root/##g" "$out"/*.json
 echo "outputs-snapshot: $(find "$out" -type f | wc -l) files in $out"
