@@ -15,10 +15,10 @@ if [ -n "$qt" ]; then
   echo "Qt header outside ui/:"; echo "$qt"; fail=1
 fi
 
-# 3. OpenCV only in model/src/leaf_scan.cpp (behind leaf_scan.hpp; heavy to compile).
-cv=$(sources model devices db acquisition ui tests | grep -v '^model/src/leaf_scan.cpp$' | xargs -r grep -lE '#\s*include\s*[<"]opencv2/' || true)
+# 3. OpenCV only in model/src/leaf2d/leaf_scan.cpp (behind leaf_scan.hpp; heavy to compile).
+cv=$(sources model devices db acquisition ui tests | grep -v '^model/src/leaf2d/leaf_scan.cpp$' | xargs -r grep -lE '#\s*include\s*[<"]opencv2/' || true)
 if [ -n "$cv" ]; then
-  echo "OpenCV header outside model/src/leaf_scan.cpp:"; echo "$cv"; fail=1
+  echo "OpenCV header outside model/src/leaf2d/leaf_scan.cpp:"; echo "$cv"; fail=1
 fi
 
 # 4. libpq only in db/src/pg.hpp (the lab server's thin client layer) and the tests' own
@@ -61,11 +61,31 @@ roomCheck devices codecs transports links sim
 roomCheck devices transports codecs links sim
 roomCheck devices links sim
 roomCheck devices sim links
-# The root of devices/ (errors, samples) uses no room.
-rootHits=$(find devices/include/leafdig/devices devices/src -maxdepth 1 -type f \( -name '*.hpp' -o -name '*.cpp' \) |
-  xargs -r grep -lE '#\s*include\s*[<"](leafdig/devices/)?(codecs|transports|links|sim)/' || true)
-if [ -n "$rootHits" ]; then
-  echo "the root of devices/ (errors, samples) must not include a room:"; echo "$rootHits"; fail=1
-fi
-[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, dependencies point one way, devices/ rooms in their directions"
+# The root of a module with rooms uses no room.
+rootCheck() {  # module, what its root holds, rooms...
+  local module=$1 what=$2; shift 2
+  local rooms; rooms=$(IFS='|'; echo "$*")
+  local hits
+  hits=$(find "$module/include/leafdig/$module" "$module/src" -maxdepth 1 -type f \( -name '*.hpp' -o -name '*.cpp' \) |
+    xargs -r grep -lE "#\s*include\s*[<\"](leafdig/$module/)?($rooms)/" || true)
+  if [ -n "$hits" ]; then
+    echo "the root of $module/ ($what) must not include a room:"; echo "$hits"; fail=1
+  fi
+}
+rootCheck devices "errors, samples" codecs transports links sim
+
+# 6. Rooms inside model/ (model/README.md), each using only the rooms before it:
+#    spline, leaf, mesh, metrics, then synth, leaf2d and plant (never each other), then io
+#    and study (never each other).
+roomCheck model spline leaf mesh metrics synth leaf2d plant io study
+roomCheck model leaf mesh metrics synth leaf2d plant io study
+roomCheck model mesh metrics synth leaf2d plant io study
+roomCheck model metrics synth leaf2d plant io study
+roomCheck model synth leaf2d plant io study
+roomCheck model leaf2d synth plant io study
+roomCheck model plant synth leaf2d io study
+roomCheck model io study
+roomCheck model study io
+rootCheck model "errors, limits, files, image headers, JSON text" spline leaf mesh metrics synth leaf2d plant io study
+[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, dependencies point one way, devices/ and model/ rooms in their directions"
 exit $fail

@@ -7,7 +7,7 @@
 # libbenchmark-dev, libsqlite3-dev, libsqlitecpp-dev, libssl-dev, libserialport-dev,
 # libhidapi-dev, libusb-1.0-0-dev, and for meshing libcgal-dev (constrained Delaunay),
 # libmeshoptimizer-dev (the meshing study's peer simplifier), libassimp-dev (reading meshes
-# to compare), libopencv-dev (segmenting leaf scans, model/src/leaf_scan.cpp only), libpq-dev
+# to compare), libopencv-dev (segmenting leaf scans, model/src/leaf2d/leaf_scan.cpp only), libpq-dev
 # (the lab's PostgreSQL server, db/src/pg.cpp only)), postgresql (the server the lab tests
 # start in a temporary directory; its packaged cluster is not used) with openssl (their TLS
 # certificate),

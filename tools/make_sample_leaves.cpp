@@ -16,7 +16,7 @@
 #include <numbers>
 
 #include "leafdig/model/files.hpp"
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 
 namespace {
 

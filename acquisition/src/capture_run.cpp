@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/version.hpp"
 
 namespace leafdig::acquisition {

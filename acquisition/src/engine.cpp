@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "leafdig/acquisition/enum_names.hpp"
-#include "leafdig/model/markers.hpp"
+#include "leafdig/model/leaf/markers.hpp"
 
 namespace leafdig::acquisition {
 

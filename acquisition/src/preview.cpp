@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 
 #include "leafdig/model/errors.hpp"
-#include "leafdig/model/mesh_method.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
 
 namespace leafdig::acquisition {
 namespace {

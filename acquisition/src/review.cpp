@@ -10,9 +10,9 @@
 #include "item_json.hpp"
 #include "leafdig/acquisition/preview.hpp"
 #include "leafdig/model/files.hpp"
-#include "leafdig/model/markers_json.hpp"
-#include "leafdig/model/mesh_export.hpp"
-#include "leafdig/model/model_json.hpp"
+#include "leafdig/model/io/mesh_export.hpp"
+#include "leafdig/model/io/model_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/version.hpp"
 
 namespace leafdig::acquisition {

@@ -9,7 +9,7 @@
 
 #include "item_json.hpp"
 #include "leafdig/acquisition/enum_names.hpp"
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 
 namespace leafdig::acquisition {
 namespace {

@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;
 namespace fs = std::filesystem;

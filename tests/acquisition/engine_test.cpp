@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;
 using Kind = acq::Decision::Kind;

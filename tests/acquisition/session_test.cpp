@@ -20,7 +20,7 @@
 #include "leafdig/acquisition/capture_loop.hpp"
 #include "leafdig/acquisition/preview.hpp"
 #include "leafdig/acquisition/review.hpp"
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;
 namespace fs = std::filesystem;

@@ -12,7 +12,7 @@
 #include "leafdig/acquisition/capture_loop.hpp"
 #include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/simulation.hpp"
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;
 namespace fs = std::filesystem;

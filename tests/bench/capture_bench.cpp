@@ -17,7 +17,7 @@
 #include "latency_counters.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 
 namespace {
 

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <utility>
 
-#include "leafdig/model/leaf2d.hpp"
-#include "leafdig/model/leaf_scan.hpp"
-#include "leafdig/model/synthetic_leaf.hpp"
+#include "leafdig/model/leaf2d/leaf2d.hpp"
+#include "leafdig/model/leaf2d/leaf_scan.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
 
 namespace {
 

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <utility>
 
-#include "leafdig/model/leaf_model.hpp"
-#include "leafdig/model/markers_json.hpp"
-#include "leafdig/model/mesh_compare.hpp"
-#include "leafdig/model/mesh_method.hpp"
-#include "leafdig/model/mesh_study.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/mesh/mesh_compare.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
+#include "leafdig/model/study/mesh_study.hpp"
 
 namespace {
 

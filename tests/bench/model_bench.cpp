@@ -7,12 +7,12 @@
 #include <unsupported/Eigen/Splines>
 #include <utility>
 
-#include "leafdig/model/interpolation.hpp"
-#include "leafdig/model/leaf_model.hpp"
-#include "leafdig/model/markers_json.hpp"
-#include "leafdig/model/mesh.hpp"
-#include "leafdig/model/metrics.hpp"
-#include "leafdig/model/synthetic_leaf.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/mesh/mesh.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/spline/interpolation.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
 
 namespace {
 

@@ -3,9 +3,9 @@
 // command: docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
-#include "leafdig/model/metrics.hpp"
-#include "leafdig/model/plant.hpp"
-#include "leafdig/model/plant_export.hpp"
+#include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/plant/plant.hpp"
 
 namespace {
 

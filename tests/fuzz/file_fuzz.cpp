@@ -11,11 +11,11 @@
 
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/image_header.hpp"
-#include "leafdig/model/leaf2d.hpp"
+#include "leafdig/model/leaf/markers.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/leaf2d/leaf2d.hpp"
 #include "leafdig/model/limits.hpp"
-#include "leafdig/model/markers.hpp"
-#include "leafdig/model/markers_json.hpp"
-#include "leafdig/model/plant.hpp"
+#include "leafdig/model/plant/plant.hpp"
 
 namespace m = leafdig::model;
 

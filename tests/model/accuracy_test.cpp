@@ -1,13 +1,13 @@
 // The area interval and the accuracy study (issue 16): against synthetic leaves whose
 // exact area is known.
-#include "leafdig/model/accuracy.hpp"
+#include "leafdig/model/study/accuracy.hpp"
 
 #include <gtest/gtest.h>
 
 #include <set>
 
 #include "leafdig/model/errors.hpp"
-#include "leafdig/model/leaf_model.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
 
 namespace {
 

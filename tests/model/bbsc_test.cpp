@@ -4,9 +4,9 @@
 #include <map>
 #include <numbers>
 
-#include "leafdig/model/ball_bspline_curve.hpp"
-#include "leafdig/model/leaf_model.hpp"
-#include "leafdig/model/mesh.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
+#include "leafdig/model/mesh/mesh.hpp"
+#include "leafdig/model/spline/ball_bspline_curve.hpp"
 
 namespace leafdig::model {
 namespace {

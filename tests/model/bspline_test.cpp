@@ -1,11 +1,11 @@
-#include "leafdig/model/bspline.hpp"
+#include "leafdig/model/spline/bspline.hpp"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 
-#include "leafdig/model/banded.hpp"
-#include "leafdig/model/interpolation.hpp"
+#include "leafdig/model/spline/banded.hpp"
+#include "leafdig/model/spline/interpolation.hpp"
 
 namespace leafdig::model {
 namespace {

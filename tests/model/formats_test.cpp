@@ -10,9 +10,9 @@
 #include "../support/small_file_system.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
-#include "leafdig/model/markers_json.hpp"
-#include "leafdig/model/mesh_export.hpp"
-#include "leafdig/model/model_json.hpp"
+#include "leafdig/model/io/mesh_export.hpp"
+#include "leafdig/model/io/model_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 #include "test_support.hpp"
 
 namespace leafdig::model {

@@ -1,5 +1,5 @@
 // 2-D leaves (seed 001): outlines, scans, curl, Laplacian deformation, area constraint.
-#include "leafdig/model/leaf2d.hpp"
+#include "leafdig/model/leaf2d/leaf2d.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
-#include "leafdig/model/leaf_scan.hpp"
-#include "leafdig/model/metrics.hpp"
-#include "leafdig/model/synthetic_leaf.hpp"
+#include "leafdig/model/leaf2d/leaf_scan.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
 #include "test_support.hpp"
 
 namespace m = leafdig::model;
@@ -100,26 +100,6 @@ TEST(Curl, TheMarginHeightsAreTheSeedsFivePoints) {
   EXPECT_EQ(m::curlHeight(m::CurlKind::None, 0.3), 0.0);
   EXPECT_EQ(m::curlKindFromString("sine"), m::CurlKind::Sine);
   EXPECT_THROW((void)m::curlKindFromString("helix"), m::InputError);
-}
-
-// A kite: centre c = (0, 0), A = (1, 0), B = (0, 2), C = (-1, 0), D = (0, -2), four
-// triangles around c. Cotangent weights by hand: edge c-A sees cot 2 at B and cot 2 at D
-// (w = 4), edge c-B sees cot 1/2 at A and at C (w = 1); the rim edges see the right angle at
-// c (cot 0). Normalised rows: c: z_c - (4 z_A + z_B + 4 z_C + z_D) / 10; each corner: z_i - z_c.
-// With the corners held at z = (1, 0, 0, 0) and the flat kite's sigma = 0 in z, the energy
-// (z_c - 0.4)^2 + (1 - z_c)^2 + 3 z_c^2 is least at 5 z_c = 0.4 + 1: z_c = 0.28 (the
-// harmonic value, from the centre's row alone, would be 0.4; uniform weights 0.25).
-TEST(LaplacianDeformation, MatchesTheHandSolvedKite) {
-  m::Mesh kite;
-  kite.positions = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {-1, 0, 0}, {0, -2, 0}};
-  kite.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
-  const auto out = m::laplacianDeform(kite, {{1, {1, 0, 1}}, {2, {0, 2, 0}}, {3, {-1, 0, 0}}, {4, {0, -2, 0}}});
-  EXPECT_NEAR(out[0].z(), 0.28, 1e-12);
-  EXPECT_NEAR(out[0].x(), 0.0, 1e-12);  // the in-plane differential coordinates are kept
-  EXPECT_NEAR(out[0].y(), 0.0, 1e-12);
-  EXPECT_EQ(out[1], Eigen::Vector3d(1, 0, 1));
-  // Nothing held: the mesh could float anywhere, and says so.
-  EXPECT_THROW((void)m::laplacianDeform(kite, {}), m::InputError);
 }
 
 TEST(Leaf2d, AnEllipseCurlsByTheChosenProfileAndKeepsItsMeasuredArea) {

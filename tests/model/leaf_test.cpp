@@ -4,9 +4,9 @@
 #include <numbers>
 
 #include "leafdig/model/errors.hpp"
-#include "leafdig/model/leaf_model.hpp"
-#include "leafdig/model/mesh.hpp"
-#include "leafdig/model/metrics.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
+#include "leafdig/model/mesh/mesh.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
 #include "test_support.hpp"
 
 namespace leafdig::model {

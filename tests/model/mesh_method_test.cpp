@@ -1,5 +1,5 @@
 // Seed and error-bounded meshing (docs/meshing.md), and the mesh distance they are measured with.
-#include "leafdig/model/mesh_method.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,10 +9,10 @@
 #include <numbers>
 #include <random>
 
-#include "leafdig/model/leaf_model.hpp"
-#include "leafdig/model/mesh_compare.hpp"
-#include "leafdig/model/mesh_study.hpp"
-#include "leafdig/model/metrics.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
+#include "leafdig/model/mesh/mesh_compare.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/study/mesh_study.hpp"
 #include "test_support.hpp"
 
 namespace leafdig::model {

@@ -1,5 +1,5 @@
 // Our interface over CGAL's constrained Delaunay triangulation and refinement.
-#include "../../model/src/planar_triangulation.hpp"
+#include "../../model/src/mesh/planar_triangulation.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Whole plants: placement, phyllotaxis, organ library draws, growth, plan checks, metrics,
 // and the CARIBU and MTG exports read back by the strict readers of docs/plants.md "Formats".
-#include "leafdig/model/plant.hpp"
+#include "leafdig/model/plant/plant.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 
 #include "../support/strict_formats.hpp"
 #include "leafdig/model/errors.hpp"
-#include "leafdig/model/metrics.hpp"
-#include "leafdig/model/plant_export.hpp"
+#include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
 #include "test_support.hpp"
 
 #define TINYGLTF_NO_STB_IMAGE

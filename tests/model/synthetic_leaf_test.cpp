@@ -1,6 +1,6 @@
 // Synthetic ground-truth leaves: the outline formulas against hand-computed points, exact
 // areas against closed forms and an independent integration, markers by the protocol.
-#include "leafdig/model/synthetic_leaf.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <numbers>
 
 #include "leafdig/model/errors.hpp"
-#include "leafdig/model/leaf_model.hpp"
-#include "leafdig/model/metrics.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
 
 namespace leafdig::model {
 namespace {

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <string>
 
-#include "leafdig/model/markers.hpp"
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 
 namespace leafdig::model::test {
 

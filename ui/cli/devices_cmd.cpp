@@ -16,7 +16,7 @@
 #include "leafdig/devices/sim/sim.hpp"
 #include "leafdig/devices/transports/registry.hpp"
 #include "leafdig/model/errors.hpp"
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 #include "signals.hpp"
 
 namespace leafdig::cli {

@@ -10,9 +10,9 @@
 #include "commands.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
-#include "leafdig/model/leaf2d.hpp"
-#include "leafdig/model/leaf_scan.hpp"
-#include "leafdig/model/mesh_export.hpp"
+#include "leafdig/model/io/mesh_export.hpp"
+#include "leafdig/model/leaf2d/leaf2d.hpp"
+#include "leafdig/model/leaf2d/leaf_scan.hpp"
 #include "leafdig/version.hpp"
 #include "model_build.hpp"
 

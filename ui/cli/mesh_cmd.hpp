@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
-#include "leafdig/model/mesh_compare.hpp"
-#include "leafdig/model/mesh_method.hpp"
+#include "leafdig/model/mesh/mesh_compare.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
 
 namespace leafdig::cli {
 

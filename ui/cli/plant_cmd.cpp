@@ -14,9 +14,9 @@
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
-#include "leafdig/model/mesh_study.hpp"
-#include "leafdig/model/plant.hpp"
-#include "leafdig/model/plant_export.hpp"
+#include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/plant/plant.hpp"
+#include "leafdig/model/study/mesh_study.hpp"
 #include "leafdig/version.hpp"
 #include "model_build.hpp"
 

@@ -12,12 +12,12 @@
 #include <thread>
 
 #include "commands.hpp"
-#include "leafdig/model/accuracy.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
-#include "leafdig/model/leaf_scan.hpp"
-#include "leafdig/model/markers_json.hpp"
-#include "leafdig/model/mesh_export.hpp"
+#include "leafdig/model/io/mesh_export.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/leaf2d/leaf_scan.hpp"
+#include "leafdig/model/study/accuracy.hpp"
 #include "leafdig/version.hpp"
 #include "model_build.hpp"
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "leafdig/model/synthetic_leaf.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
 
 namespace leafdig::cli {
 

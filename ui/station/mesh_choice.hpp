@@ -5,7 +5,7 @@
 
 #include <QWidget>
 
-#include "leafdig/model/mesh_method.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
 
 class QComboBox;
 class QDoubleSpinBox;

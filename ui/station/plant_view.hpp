@@ -9,8 +9,8 @@
 #include <memory>
 #include <optional>
 
-#include "leafdig/model/plant.hpp"
-#include "leafdig/model/plant_export.hpp"
+#include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/plant/plant.hpp"
 
 class QLabel;
 class QListWidget;

@@ -11,7 +11,7 @@
 #include <set>
 
 #include "leafdig/acquisition/device_set.hpp"
-#include "leafdig/model/leaf_scan.hpp"
+#include "leafdig/model/leaf2d/leaf_scan.hpp"
 
 namespace leafdig::station {
 namespace acq = leafdig::acquisition;

@@ -19,7 +19,7 @@
 #include "export_dialog.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/devices/transports/registry.hpp"
-#include "leafdig/model/markers_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/version.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"

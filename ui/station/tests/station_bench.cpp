@@ -32,8 +32,8 @@
 #include <vector>
 
 #include "latency_counters.hpp"
-#include "leafdig/model/markers_json.hpp"
-#include "leafdig/model/mesh_method.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
 #include "preview_widget.hpp"
 
 namespace {

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "leafdig/acquisition/engine.hpp"
-#include "leafdig/model/leaf_model.hpp"
-#include "leafdig/model/markers.hpp"
-#include "leafdig/model/mesh.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
+#include "leafdig/model/leaf/markers.hpp"
+#include "leafdig/model/mesh/mesh.hpp"
 
 namespace leafdig::acquisition {
 

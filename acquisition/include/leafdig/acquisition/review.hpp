@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "leafdig/acquisition/session.hpp"
-#include "leafdig/model/mesh_method.hpp"
-#include "leafdig/model/metrics.hpp"
-#include "leafdig/model/plant.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/plant/plant.hpp"
 
 namespace leafdig::acquisition {
 

@@ -16,7 +16,7 @@
 
 #include "leafdig/acquisition/capture_loop.hpp"
 #include "leafdig/devices/sim/sim.hpp"
-#include "leafdig/model/markers.hpp"
+#include "leafdig/model/leaf/markers.hpp"
 
 namespace leafdig::acquisition {
 
