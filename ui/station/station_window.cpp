@@ -470,6 +470,10 @@ bool StationWindow::start() {
   }
   stopCapture();
   run_.reset();
+  {
+    const std::lock_guard lock(mailboxMutex_);
+    mailbox_.reset();  // a snapshot of the previous run not yet applied
+  }
   last_.reset();
   lastState_.clear();
   try {
@@ -494,10 +498,7 @@ bool StationWindow::start() {
       QMetaObject::invokeMethod(
           this, [this, f] { applyFeedback(f); }, Qt::QueuedConnection);
     };
-    observer.onSnapshot = [this](const acq::Snapshot& s) {
-      QMetaObject::invokeMethod(
-          this, [this, s] { applySnapshot(s); }, Qt::QueuedConnection);
-    };
+    observer.onSnapshot = [this](const acq::Snapshot& s) { postSnapshot(s); };
     run_ = std::make_unique<acq::CaptureRun>(r, observer);
     sessionId_ = run_->sessionId();
     run_->start();
@@ -620,6 +621,27 @@ void StationWindow::fillSteps(const acq::Snapshot& s) {
   }
   statusBar()->showMessage(
       tr("session %1 · %2 of %3 steps · %4 items").arg(s.session).arg(doneSteps).arg(totalSteps).arg(s.items.size()));
+}
+
+void StationWindow::postSnapshot(const acq::Snapshot& s) {
+  bool wake = false;
+  {
+    const std::lock_guard lock(mailboxMutex_);
+    wake = !mailbox_.has_value();  // a call is already queued when the slot is full
+    mailbox_ = s;
+  }
+  if (!wake) return;
+  QMetaObject::invokeMethod(
+      this,
+      [this] {
+        std::optional<acq::Snapshot> s;
+        {
+          const std::lock_guard lock(mailboxMutex_);
+          s.swap(mailbox_);
+        }
+        if (s) applySnapshot(*s);
+      },
+      Qt::QueuedConnection);
 }
 
 void StationWindow::applySnapshot(const acq::Snapshot& s) {

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -94,6 +95,11 @@ class StationWindow : public QMainWindow {
   // What the UI does with the loop's output (public for the widget tests).
   void applySnapshot(const acquisition::Snapshot& s);
   void applyFeedback(const acquisition::Feedback& f);
+  // Hands a snapshot to the window from any thread (the capture run's loop or its preview
+  // worker). It waits in one slot under a std::mutex; the GUI thread takes the newest and
+  // applies it, so a burst of snapshots is applied once and the hand-over is a lock both
+  // threads take, not Qt's event queue alone (whose lock ThreadSanitizer cannot see).
+  void postSnapshot(const acquisition::Snapshot& s);
   // Polls device status and the stylus position (10 Hz / 30 Hz timers call these).
   void refreshDevices();
   void refreshCursor();
@@ -138,6 +144,8 @@ class StationWindow : public QMainWindow {
   std::unique_ptr<acquisition::CaptureRun> run_;
   std::int64_t sessionId_ = 0;
   std::optional<acquisition::Snapshot> last_;
+  std::mutex mailboxMutex_;
+  std::optional<acquisition::Snapshot> mailbox_;  // the newest snapshot not yet applied (under mailboxMutex_)
   std::map<acquisition::DeviceSet::Role, devices::LinkState> lastState_;
 };
 
