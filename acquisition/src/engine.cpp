@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "leafdig/acquisition/enum_names.hpp"
+#include "leafdig/acquisition/point_rules.hpp"
 #include "leafdig/model/leaf/markers.hpp"
 
 namespace leafdig::acquisition {
@@ -13,22 +14,6 @@ namespace leafdig::acquisition {
 static_assert(kMarkersPerRow == model::kMarkersPerRow);
 
 namespace {
-
-// Distance of p from the line through a and b.
-double lineDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const Vec3 ap{p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-  const double len = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
-  if (len < 1e-9) return distanceMm(p, a);
-  const Vec3 c{ab[1] * ap[2] - ab[2] * ap[1], ab[2] * ap[0] - ab[0] * ap[2], ab[0] * ap[1] - ab[1] * ap[0]};
-  return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / len;
-}
-
-std::string mm(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.1f mm", v);
-  return b;
-}
 
 const char* colName(int col) {
   switch (col) {
@@ -276,105 +261,22 @@ Decision Engine::decidePoint(const StylusInput& release) {
   std::vector<const StylusInput*> window;
   for (const StylusInput& s : recent_)
     if (s.tNs >= pressedAt_ - settings_.stillWindowNs && s.tNs <= release.tNs) window.push_back(&s);
-  if (window.size() < 3)
-    return reject("too few stylus samples around the press: is the digitizer streaming? Press again");
-  Vec3 mean{};
-  for (const auto* s : window)
-    for (std::size_t k = 0; k < 3; ++k) mean[k] += s->positionMm[k] / static_cast<double>(window.size());
-  double worst = 0;
-  for (const auto* s : window) {
-    worst = std::max(worst, distanceMm(s->positionMm, mean));
-    if (s->status != "ok")
-      return reject("the digitizer reported status '" + s->status + "' during the press: retake the point");
-  }
-  if (worst > settings_.stillToleranceMm)
-    return reject("the stylus moved " + mm(worst) + " during the press: hold it still on the marker and press again");
-
-  Item item;
-  item.what = st.what;
-  item.row = st.row;
-  item.col = st.col;
-  item.positionMm = mean;
-  item.raw = window.back()->raw;
-  // Double tap: close to the previous accepted point and pressed right after it. (Distance
-  // alone would refuse the 2 mm rows near the tip of a small leaf.)
-  for (auto it = items_.rbegin(); it != items_.rend(); ++it) {
-    if (!isStylusItem(it->what)) continue;
-    const double d = distanceMm(it->positionMm, mean);
-    if (d < settings_.doubleTapMm && lastAcceptedReleaseNs_ >= 0 &&
-        pressedAt_ - lastAcceptedReleaseNs_ < settings_.doubleTapNs)
-      return reject("this point is " + mm(d) + " from the previous one: a double press? Move to the next marker");
-    break;
-  }
-  if (st.what == What::Board && st.col >= 2) {
-    const Item* origin = find(What::Board, 0, 1);
-    const Item* xAxis = find(What::Board, 0, 2);
-    if (st.col == 2 && origin && distanceMm(mean, origin->positionMm) < settings_.boardMinMm)
-      return reject("the +X point is only " + mm(distanceMm(mean, origin->positionMm)) +
-                    " from the origin: take it at least " + mm(settings_.boardMinMm) +
-                    " away along the board's X edge");
-    if (st.col == 3 && origin && xAxis &&
-        lineDistance(mean, origin->positionMm, xAxis->positionMm) < settings_.boardMinMm)
-      return reject("the +Y point is only " + mm(lineDistance(mean, origin->positionMm, xAxis->positionMm)) +
-                    " off the X axis: take it at least " + mm(settings_.boardMinMm) + " to the side");
-  }
-  if (st.what == What::Marker) {
-    const Item* prev = st.col > 1 ? find(What::Marker, st.row, st.col - 1) : nullptr;
-    const Item* prev2 = st.col > 2 ? find(What::Marker, st.row, st.col - 2) : nullptr;
-    if (prev && prev2) {
-      // Going back along the row: the path turns by more than 150° (a row bends at most at
-      // the midrib, where the lateral veins meet at 60-100°).
-      const Vec3 a{prev->positionMm[0] - prev2->positionMm[0], prev->positionMm[1] - prev2->positionMm[1],
-                   prev->positionMm[2] - prev2->positionMm[2]};
-      const Vec3 b{mean[0] - prev->positionMm[0], mean[1] - prev->positionMm[1], mean[2] - prev->positionMm[2]};
-      const double na = distanceMm(a, {0, 0, 0}), nb = distanceMm(b, {0, 0, 0});
-      if (na > 0 && nb > 0 &&
-          (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb) < std::cos(150.0 * 3.141592653589793 / 180.0))
-        return reject("point " + std::to_string(st.col) + " goes back along row " + std::to_string(st.row) +
-                      " (markers are taken right to left): take point " + std::to_string(st.col));
-    }
-    // A row starts on the right margin: its first point lies nearer the previous row's first
-    // point than that row's last (left-margin) one. A second, slow press on the last point of
-    // the row before (outside the double-tap window) would otherwise become this row's first
-    // point and shift every point after it.
-    if (st.col == 1 && st.row >= 2) {
-      const Item* right = find(What::Marker, st.row - 1, 1);
-      const Item* left = find(What::Marker, st.row - 1, 7);
-      if (right && left && distanceMm(mean, left->positionMm) < distanceMm(mean, right->positionMm))
-        return reject("row " + std::to_string(st.row) + " starts on the right margin, by row " +
-                      std::to_string(st.row - 1) + "'s point 1; this is by its point 7 (the left margin)");
-    }
-    if (st.col >= 3 && prev) {
-      double sum = 0;
-      for (int c = 2; c < st.col; ++c)
-        sum += distanceMm(find(What::Marker, st.row, c)->positionMm, find(What::Marker, st.row, c - 1)->positionMm);
-      const double spacing = sum / (st.col - 2);
-      const double here = distanceMm(mean, prev->positionMm);
-      if (here < (1 - settings_.spacingTolerance) * spacing || here > (1 + settings_.spacingTolerance) * spacing)
-        return reject("uneven spacing: " + mm(here) + " from point " + std::to_string(st.col - 1) +
-                      ", the row so far is " + mm(spacing) + " apart; was a marker skipped?");
-    }
-    if (st.col == 4 && st.row >= 2) {
-      const Item* tip = find(What::Tip, 0, 0);
-      const Item* above = find(What::Marker, st.row - 1, 4);
-      // The midrib's local direction: the two midrib points above (or the tip and row 1).
-      const Item* above2 = st.row >= 3 ? find(What::Marker, st.row - 2, 4) : tip;
-      if (tip && above && above2) {
-        if (distanceMm(mean, tip->positionMm) <= distanceMm(above->positionMm, tip->positionMm))
-          return reject("row " + std::to_string(st.row) + " must be farther from the tip than row " +
-                        std::to_string(st.row - 1));
-        const double off = lineDistance(mean, above2->positionMm, above->positionMm);
-        if (off > settings_.midribToleranceMm)
-          return reject("the 4th point should be on the midrib: it is " + mm(off) + " off the line through " +
-                        (st.row >= 3 ? "the midrib points of rows " + std::to_string(st.row - 2) + " and " +
-                                           std::to_string(st.row - 1)
-                                     : std::string("the tip and row 1's midrib point")));
-      }
-    }
-  }
+  const rules::Press press = rules::settle(window, settings_);
+  if (press.refusal) return reject(*press.refusal);
+  const rules::Candidate candidate{st, press.mean, items_, settings_};
+  // In this order: the first rule that refuses names the problem.
+  for (const rules::Refusal& refusal :
+       {rules::doublePress(candidate, pressedAt_, lastAcceptedReleaseNs_), rules::boardAxes(candidate),
+        rules::rowDirection(candidate), rules::rowStart(candidate), rules::evenSpacing(candidate),
+        rules::onMidrib(candidate)})
+    if (refusal) return reject(*refusal);
   Decision d;
   d.kind = Decision::Kind::Accepted;
-  d.item = item;
+  d.item.what = st.what;
+  d.item.row = st.row;
+  d.item.col = st.col;
+  d.item.positionMm = {press.mean.x(), press.mean.y(), press.mean.z()};
+  d.item.raw = window.back()->raw;
   return d;
 }
 
