@@ -96,6 +96,13 @@ nlohmann::json meshReportJson(const m::LeafMesh& mesh, const m::MeshOptions& o,
   return out;
 }
 
+nlohmann::json measuredMeshReportJson(const m::LeafMesh& mesh, const m::MeshOptions& options, bool noMeasure,
+                                      const std::function<m::MeshSubject()>& subject, std::size_t samplesPerPart) {
+  if (options.method == m::MeshMethod::Uniform || noMeasure) return meshReportJson(mesh, options, {}, {});
+  const m::MeshSubject s = subject();
+  return meshReportJson(mesh, options, s.measure(mesh, samplesPerPart), s.referenceErrorMm());
+}
+
 namespace {
 
 std::pair<CLI::App*, CLI::App*> declareMeshCommands(CLI::App& app, MeshCommandOptions& o) {

@@ -3,12 +3,14 @@
 // `model build` and `plant build` share (docs/meshing.md).
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "leafdig/model/mesh/mesh_compare.hpp"
 #include "leafdig/model/mesh/mesh_method.hpp"
+#include "leafdig/model/study/mesh_study.hpp"
 
 namespace leafdig::cli {
 
@@ -32,6 +34,11 @@ void addMeshChoice(CLI::App& command, MeshChoice& choice);
 [[nodiscard]] nlohmann::json meshReportJson(const model::LeafMesh& mesh, const model::MeshOptions& options,
                                             const std::optional<model::MeshDistance>& measured,
                                             std::optional<double> referenceErrorMm);
+// The same, measured against the subject's reference meshes with `samplesPerPart` samples,
+// unless the mesh is uniform or `--no-measure` was given (the subject is made only then).
+[[nodiscard]] nlohmann::json measuredMeshReportJson(const model::LeafMesh& mesh, const model::MeshOptions& options,
+                                                    bool noMeasure, const std::function<model::MeshSubject()>& subject,
+                                                    std::size_t samplesPerPart);
 
 struct MeshCommandOptions {
   std::string a, b;  // compare

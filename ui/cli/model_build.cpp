@@ -210,14 +210,8 @@ int runModelBuild(const ModelBuildOptions& o) {
           {"file", o.measuredAreaScan}, {"dpi", *o.scanDpi},    {"filled_area_mm2", scan->filledAreaMm2},
           {"area_mm2", scan->areaMm2},  {"holes", scan->holes}, {"petiole", scan->petioleFound}};
     }
-    std::optional<m::MeshDistance> measured;
-    std::optional<double> referenceError;
-    if (meshOptions.method != m::MeshMethod::Uniform && !o.mesh.noMeasure) {
-      const m::MeshSubject subject(leaf);
-      measured = subject.measure(mesh, 100'000);
-      referenceError = subject.referenceErrorMm();
-    }
-    out["mesh"] = meshReportJson(mesh, meshOptions, measured, referenceError);
+    out["mesh"] = measuredMeshReportJson(
+        mesh, meshOptions, o.mesh.noMeasure, [&] { return m::MeshSubject(leaf); }, 100'000);
     out["mesh"]["veins"] = countsJson(veins);
     out["mesh"]["blade"] = countsJson(blade);
     nlohmann::json warnings = nlohmann::json::array();

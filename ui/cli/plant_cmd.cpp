@@ -193,14 +193,8 @@ int runPlant(const PlantOptions& o, bool grow) {
     encodeMs += ms(d, e);
     nlohmann::json report = plantJson(p, mesh, metrics);
     if (o.json) {
-      std::optional<m::MeshDistance> measured;
-      std::optional<double> referenceError;
-      if (meshOptions.method != m::MeshMethod::Uniform && !o.mesh.noMeasure) {
-        const m::MeshSubject subject(p);
-        measured = subject.measure(mesh, 50'000);
-        referenceError = subject.referenceErrorMm();
-      }
-      report["mesh"] = meshReportJson(mesh, meshOptions, measured, referenceError);
+      report["mesh"] = measuredMeshReportJson(
+          mesh, meshOptions, o.mesh.noMeasure, [&] { return m::MeshSubject(p); }, 50'000);
     }
     reports.push_back(std::move(report));
   }

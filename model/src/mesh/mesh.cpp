@@ -5,6 +5,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "mesh/vein_rings.hpp"
+
 namespace leafdig::model {
 
 MeshResolution MeshResolution::preset(const std::string& name) {
@@ -229,14 +231,18 @@ void setAreaWeightedNormals(Mesh& mesh) {
   for (auto& n : mesh.normals) n = safeNormal(n, fallback);
 }
 
+std::vector<double> detail::uniformVeinParameters(const Vein& vein, const MeshResolution& res) {
+  const auto spans = static_cast<int>(vein.curve.dataParameters().size()) - 1;
+  int segments = res.lateralSegments;
+  if (vein.name == "midrib") segments = res.midribSegmentsPerRow * spans;
+  if (vein.name == "contour") segments = res.contourSegmentsPerRow * spans;
+  return subdivideSpans(vein.curve.dataParameters(), segments);
+}
+
 LeafMesh meshLeaf(const LeafModel& model, const MeshResolution& res) {
   LeafMesh out;
   for (const Vein& vein : model.veins) {
-    const auto spans = static_cast<int>(vein.curve.dataParameters().size()) - 1;
-    int segments = res.lateralSegments;
-    if (vein.name == "midrib") segments = res.midribSegmentsPerRow * spans;
-    if (vein.name == "contour") segments = res.contourSegmentsPerRow * spans;
-    const std::vector<double> ts = subdivideSpans(vein.curve.dataParameters(), segments);
+    const std::vector<double> ts = detail::uniformVeinParameters(vein, res);
     out.organs.push_back(
         {vein.name, OrganKind::Vein, meshVein(vein, ts, res.ringVertices, res.caps, res.capRings, out.warnings), 0});
   }

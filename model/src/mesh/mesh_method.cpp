@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "mesh/planar_triangulation.hpp"
+#include "mesh/vein_rings.hpp"
 
 namespace leafdig::model {
 
@@ -477,11 +478,7 @@ LeafMesh meshLeaf(const LeafModel& model, const MeshOptions& options) {
 double estimatedUniformError(const LeafModel& model, const MeshResolution& res) {
   double worst = 0.0;
   for (const Vein& vein : model.veins) {
-    const auto spans = static_cast<int>(vein.curve.dataParameters().size()) - 1;
-    int segments = res.lateralSegments;
-    if (vein.name == "midrib") segments = res.midribSegmentsPerRow * spans;
-    if (vein.name == "contour") segments = res.contourSegmentsPerRow * spans;
-    const std::vector<double> ts = subdivideSpans(vein.curve.dataParameters(), segments);
+    const std::vector<double> ts = detail::uniformVeinParameters(vein, res);
     const double rho = largestRadius(vein);
     double axis = 0.0;
     Ring previous = ringAt(vein, ts.front());
