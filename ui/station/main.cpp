@@ -2,30 +2,14 @@
 // devices and a virtual technician, for anyone to try.
 #include <QApplication>
 #include <QCommandLineParser>
-#include <QImage>
-#include <QScreen>
-#include <QTimer>
 #include <chrono>
 #include <cstdio>
 
 #include "leafdig/db/lab.hpp"
 #include "leafdig/version.hpp"
 #include "plant_view.hpp"
-#include "review_view.hpp"
+#include "script_modes.hpp"
 #include "station_window.hpp"
-
-namespace {
-
-// Pixels of the preview that are not the background: the preview really drew geometry.
-int drawnPixels(const QImage& image) {
-  const QRgb background = image.pixel(0, 0);
-  int n = 0;
-  for (int y = 0; y < image.height(); y += 2)
-    for (int x = 0; x < image.width(); x += 2) n += image.pixel(x, y) != background;
-  return n;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   const auto mainEntered = std::chrono::steady_clock::now();
@@ -101,39 +85,14 @@ int main(int argc, char** argv) {
     leafdig::station::applyTheme(app, settings);
   }
   leafdig::station::StationWindow w(o);
-  if (p.isSet(firstFrame)) {
-    // The window is usable once its preview is on screen: report the steady clock (the
-    // benchmark that started this process compares it with its own) and leave.
-    QObject::connect(
-        w.preview(), &leafdig::station::PreviewWidget::frameSwapped, &app,
-        [&] {
-          const auto now = std::chrono::steady_clock::now();
-          std::printf("first_frame steady_ns %lld main_ms %.1f\n",
-                      static_cast<long long>(
-                          std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count()),
-                      std::chrono::duration<double, std::milli>(now - mainEntered).count());
-          std::fflush(stdout);
-          // Leave from the event loop, not from inside the frame's own paint.
-          QTimer::singleShot(0, &app, [&] {
-            w.stopCapture();
-            app.quit();
-          });
-        },
-        Qt::SingleShotConnection);
-  }
+  // The window is usable once its preview is on screen (the start-up benchmark).
+  if (p.isSet(firstFrame)) leafdig::station::quitAfterFirstFrame(app, w, mainEntered);
   w.show();
   const bool interactive = !p.isSet(quit) && !p.isSet(firstFrame);
   if (leafdig::db::isServerUrl(o.db)) {
     // The lab server: review (and export, plants) only.
     w.reviewLabServer();
-    if (p.isSet(reviewShot)) {
-      QTimer::singleShot(1500, &app, [&] {
-        const QImage shot = w.grab().toImage();
-        const bool saved = shot.save(p.value(reviewShot));
-        std::printf("review screenshot %s\n", saved ? "saved" : "NOT saved");
-        app.exit(saved ? 0 : 1);
-      });
-    }
+    if (p.isSet(reviewShot)) leafdig::station::saveLabReviewScreenshot(app, w, p.value(reviewShot));
     return app.exec();
   }
   if (interactive && o.resume == 0 && !p.isSet(plantShot)) w.offerResume();
@@ -162,44 +121,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(error));
       if (p.isSet(plantShot)) return 2;
     }
-    if (p.isSet(plantShot)) {
-      QTimer::singleShot(1500, &app, [&] {
-        w.plantView()->preview()->redraw();
-        leafdig::station::PreviewWidget::grabWindow(&w).save(p.value(plantShot));
-        std::printf("plant shown: %s\n", qPrintable(w.plantView()->summaryText()));
-        std::fflush(stdout);
-        w.stopCapture();
-        app.quit();
-      });
-    }
+    if (p.isSet(plantShot)) leafdig::station::savePlantScreenshot(app, w, p.value(plantShot));
   }
-  const QString shot = p.value(screenshot);
-  QObject::connect(&w, &leafdig::station::StationWindow::captureComplete, &app, [&] {
-    // Let the last snapshot reach the screen, then report and (optionally) leave.
-    QTimer::singleShot(400, &app, [&] {
-      w.preview()->redraw();
-      const QImage frame = w.preview()->grabFramebuffer();
-      const int pixels = drawnPixels(frame);
-      if (!shot.isEmpty()) leafdig::station::PreviewWidget::grabWindow(&w).save(shot);
-      if (p.isSet(reviewShot)) {
-        w.tabs()->setCurrentIndex(1);
-        w.review()->refreshSessions();
-        (void)w.review()->openSession(w.sessionId());
-        QApplication::processEvents();
-        leafdig::station::PreviewWidget::grabWindow(&w).save(p.value(reviewShot));
-        // What the curator reads beside the screenshot, for the end-to-end test to check.
-        for (const QString& line : w.review()->metricsText().split('\n'))
-          std::printf("review metrics: %s\n", qPrintable(line));
-      }
-      std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
-                  static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels,
-                  w.preview()->lastFrameMs());
-      std::fflush(stdout);
-      if (p.isSet(quit)) {
-        w.stopCapture();
-        app.quit();
-      }
-    });
-  });
+  leafdig::station::reportWhenComplete(app, w, {p.value(screenshot), p.value(reviewShot), p.isSet(quit)});
   return QApplication::exec();
 }

@@ -51,9 +51,30 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   settings_ = StationSettings::load(options_.settingsFile);
   setWindowTitle(QStringLiteral("leafdig station %1").arg(QString::fromLatin1(kVersion)));
   sounds_ = new Sounds(this, options_.audio);
-
   tabs_ = new QTabWidget(this);
   tabs_->setFocusPolicy(Qt::NoFocus);
+  tabs_->addTab(buildCaptureTab(), tr("Capture"));
+  review_ = new ReviewView(settings_, tabs_);
+  tabs_->addTab(review_, tr("Review"));
+  plant_ = new PlantView(tabs_);
+  plant_->setDatabase(dbPath());
+  tabs_->addTab(plant_, tr("Plant"));
+  connect(tabs_, &QTabWidget::currentChanged, this, [this](int index) {
+    if (tabs_->widget(index) == plant_) plant_->refreshLibrary();  // leaves approved since
+  });
+  setCentralWidget(tabs_);
+  // As large as the screen allows, up to 1440 × 900: a 1366 × 768 laptop gets all of it.
+  const QSize room = screen() ? screen()->availableGeometry().size() : QSize(1280, 860);
+  resize(std::min(1440, room.width()), std::min(900, room.height()));
+  buildToolBar();
+  connectPreviewAndTimers();
+  qApp->installEventFilter(this);
+  applySettings(settings_);
+}
+
+// The Capture tab: the banner, the feedback line, the device chips, the steps beside the
+// leaf's schematic, and the live preview.
+QWidget* StationWindow::buildCaptureTab() {
   auto* capture = new QWidget(tabs_);
   auto* outer = new QVBoxLayout(capture);
   banner_ = new QLabel(tr("Starting…"), capture);
@@ -101,20 +122,11 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   split->addWidget(preview_);
   split->setStretchFactor(1, 1);
   outer->addWidget(split, 1);
-  tabs_->addTab(capture, tr("Capture"));
-  review_ = new ReviewView(settings_, tabs_);
-  tabs_->addTab(review_, tr("Review"));
-  plant_ = new PlantView(tabs_);
-  plant_->setDatabase(dbPath());
-  tabs_->addTab(plant_, tr("Plant"));
-  connect(tabs_, &QTabWidget::currentChanged, this, [this](int index) {
-    if (tabs_->widget(index) == plant_) plant_->refreshLibrary();  // leaves approved since
-  });
-  setCentralWidget(tabs_);
-  // As large as the screen allows, up to 1440 × 900: a 1366 × 768 laptop gets all of it.
-  const QSize room = screen() ? screen()->availableGeometry().size() : QSize(1280, 860);
-  resize(std::min(1440, room.width()), std::min(900, room.height()));
+  return capture;
+}
 
+// New session, Export, Settings, Sync with lab and Sound; none takes the keyboard's focus.
+void StationWindow::buildToolBar() {
   auto* bar = addToolBar(tr("Station"));
   bar->setMovable(false);
   bar->setFocusPolicy(Qt::NoFocus);
@@ -144,7 +156,11 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   });
   for (QAction* a : bar->actions())
     if (QWidget* w = bar->widgetForAction(a)) w->setFocusPolicy(Qt::NoFocus);
+}
 
+// Picking an item in the preview selects it for a retake; the device chips refresh at 10 Hz
+// and the stylus cursor at 30 Hz.
+void StationWindow::connectPreviewAndTimers() {
   preview_->setFocusPolicy(Qt::NoFocus);
   connect(preview_, &PreviewWidget::itemPicked, this, [this](const acq::Item& item) {
     retakeTarget_ = item;
@@ -159,8 +175,6 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   connect(&cursorTimer_, &QTimer::timeout, this, &StationWindow::refreshCursor);
   deviceTimer_.start(100);
   cursorTimer_.start(33);  // the cursor follows the latest sample at ~30 Hz, never each one
-  qApp->installEventFilter(this);
-  applySettings(settings_);
 }
 
 StationWindow::~StationWindow() {

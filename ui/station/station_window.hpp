@@ -113,6 +113,9 @@ class StationWindow : public QMainWindow {
 
  private:
   [[nodiscard]] std::string dbPath() const;  // --db, or the station's default file
+  [[nodiscard]] QWidget* buildCaptureTab();
+  void buildToolBar();
+  void connectPreviewAndTimers();
   void command(acquisition::Command c);
   void fillSteps(const acquisition::Snapshot& s);
   void buildShortcuts();

@@ -1,0 +1,94 @@
+#include "script_modes.hpp"
+
+#include <QImage>
+#include <QTimer>
+#include <cstdio>
+
+#include "plant_view.hpp"
+#include "review_view.hpp"
+
+namespace leafdig::station {
+
+namespace {
+
+// Pixels of the preview that are not the background: the preview really drew geometry.
+int drawnPixels(const QImage& image) {
+  const QRgb background = image.pixel(0, 0);
+  int n = 0;
+  for (int y = 0; y < image.height(); y += 2)
+    for (int x = 0; x < image.width(); x += 2) n += image.pixel(x, y) != background;
+  return n;
+}
+
+}  // namespace
+
+void quitAfterFirstFrame(QApplication& app, StationWindow& w, std::chrono::steady_clock::time_point mainEntered) {
+  QObject::connect(
+      w.preview(), &PreviewWidget::frameSwapped, &app,
+      [&app, &w, mainEntered] {
+        const auto now = std::chrono::steady_clock::now();
+        std::printf("first_frame steady_ns %lld main_ms %.1f\n",
+                    static_cast<long long>(
+                        std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count()),
+                    std::chrono::duration<double, std::milli>(now - mainEntered).count());
+        std::fflush(stdout);
+        // Leave from the event loop, not from inside the frame's own paint.
+        QTimer::singleShot(0, &app, [&app, &w] {
+          w.stopCapture();
+          app.quit();
+        });
+      },
+      Qt::SingleShotConnection);
+}
+
+void saveLabReviewScreenshot(QApplication& app, StationWindow& w, const QString& png) {
+  QTimer::singleShot(1500, &app, [&app, &w, png] {
+    const QImage shot = w.grab().toImage();
+    const bool saved = shot.save(png);
+    std::printf("review screenshot %s\n", saved ? "saved" : "NOT saved");
+    app.exit(saved ? 0 : 1);
+  });
+}
+
+void savePlantScreenshot(QApplication& app, StationWindow& w, const QString& png) {
+  QTimer::singleShot(1500, &app, [&app, &w, png] {
+    w.plantView()->preview()->redraw();
+    PreviewWidget::grabWindow(&w).save(png);
+    std::printf("plant shown: %s\n", qPrintable(w.plantView()->summaryText()));
+    std::fflush(stdout);
+    w.stopCapture();
+    app.quit();
+  });
+}
+
+void reportWhenComplete(QApplication& app, StationWindow& w, const CompletionReport& report) {
+  QObject::connect(&w, &StationWindow::captureComplete, &app, [&app, &w, report] {
+    // Let the last snapshot reach the screen, then report and (optionally) leave.
+    QTimer::singleShot(400, &app, [&app, &w, report] {
+      w.preview()->redraw();
+      const QImage frame = w.preview()->grabFramebuffer();
+      const int pixels = drawnPixels(frame);
+      if (!report.screenshot.isEmpty()) PreviewWidget::grabWindow(&w).save(report.screenshot);
+      if (!report.reviewScreenshot.isEmpty()) {
+        w.tabs()->setCurrentIndex(1);
+        w.review()->refreshSessions();
+        (void)w.review()->openSession(w.sessionId());
+        QApplication::processEvents();
+        PreviewWidget::grabWindow(&w).save(report.reviewScreenshot);
+        // What the curator reads beside the screenshot, for the end-to-end test to check.
+        for (const QString& line : w.review()->metricsText().split('\n'))
+          std::printf("review metrics: %s\n", qPrintable(line));
+      }
+      std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
+                  static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels,
+                  w.preview()->lastFrameMs());
+      std::fflush(stdout);
+      if (report.quit) {
+        w.stopCapture();
+        app.quit();
+      }
+    });
+  });
+}
+
+}  // namespace leafdig::station
