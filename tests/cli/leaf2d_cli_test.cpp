@@ -176,4 +176,34 @@ TEST_F(Leaf2dCli, ACapturedLeafsAreaConstraintTakesAScan) {
               b["measured_area_scan"]["filled_area_mm2"].get<double>(), 1e-6);
 }
 
+// A scan is reported in one shape wherever it appears: `leaf2d scan --json` (with the
+// command's own `input`, `outline` and `milliseconds`), `leaf2d build`'s `scan` and
+// `model build`'s `measured_area_scan` hold the same keys and the same values.
+TEST_F(Leaf2dCli, AScanHasOneJsonShapeInEveryCommandThatReportsIt) {
+  const fs::path png = dir_ / "one.png";
+  makeScan(png, "--shape ovate --length 150 --petiole-length 20");
+  const Result a = leafdig("leaf2d scan " + quote(png) + " --dpi 300 --json");
+  const Result b = leafdig("leaf2d build " + quote(png) + " --dpi 300 --json");
+  const Result c = leafdig("model build " + quote(sample("lower-leaf-n10.markers.json")) + " --measured-area-scan " +
+                           quote(png) + " --dpi 300 --json");
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  ASSERT_EQ(c.exitCode, 0) << c.err;
+  json scan = json::parse(a.out);
+  EXPECT_EQ(scan["input"], png.string());
+  EXPECT_TRUE(scan["milliseconds"]["scan"].is_number()) << a.out;
+  for (const char* own : {"input", "outline", "milliseconds"}) scan.erase(own);
+  const json inBuild = json::parse(b.out)["scan"];
+  const json inModel = json::parse(c.out)["measured_area_scan"];
+  EXPECT_EQ(scan, inBuild) << scan.dump(1) << "\n" << inBuild.dump(1);
+  EXPECT_EQ(scan, inModel) << scan.dump(1) << "\n" << inModel.dump(1);
+  EXPECT_EQ(scan["file"], png.string());
+  EXPECT_EQ(scan["dpi"], 300.0);
+  EXPECT_TRUE(scan["petiole"].get<bool>());
+  for (const char* key :
+       {"area_mm2", "filled_area_mm2", "holes", "holes_area_mm2", "petiole_area_mm2", "other_objects", "touches_border",
+        "dark_background", "width_px", "height_px", "threshold", "pixel_mm", "outline_points", "base_mm"})
+    EXPECT_TRUE(scan.contains(key)) << key;
+}
+
 }  // namespace

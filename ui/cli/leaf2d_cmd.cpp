@@ -11,6 +11,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/io/mesh_export.hpp"
+#include "leafdig/model/io/scan_json.hpp"
 #include "leafdig/model/leaf2d/leaf2d.hpp"
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
 #include "leafdig/version.hpp"
@@ -63,25 +64,6 @@ void declareLeaf2dCommands(CLI::App& app, Leaf2dCommandOptions& o) {
   scan->add_flag("--json", o.json, "Print the areas and counts as one JSON object");
 }
 
-nlohmann::json scanJson(const m::LeafScan& s) {
-  nlohmann::json j = {{"area_mm2", s.areaMm2},
-                      {"filled_area_mm2", s.filledAreaMm2},
-                      {"holes", s.holes},
-                      {"holes_area_mm2", s.holesAreaMm2},
-                      {"petiole", s.petioleFound},
-                      {"petiole_area_mm2", s.petioleAreaMm2},
-                      {"other_objects", s.otherObjects},
-                      {"touches_border", s.touchesBorder},
-                      {"dark_background", s.darkBackground},
-                      {"width_px", s.widthPx},
-                      {"height_px", s.heightPx},
-                      {"threshold", s.threshold},
-                      {"pixel_mm", s.pixelMm},
-                      {"outline_points", s.outline.pointsMm.size()}};
-  j["base_mm"] = s.outline.baseMm ? nlohmann::json{s.outline.baseMm->x(), s.outline.baseMm->y()} : nlohmann::json();
-  return j;
-}
-
 void printScan(const m::LeafScan& s) {
   std::cout << std::fixed << std::setprecision(1) << "  leaf area " << s.areaMm2 << " mm^2";
   if (s.holes) std::cout << " (" << s.holes << " hole(s), " << s.holesAreaMm2 << " mm^2, not counted)";
@@ -105,11 +87,10 @@ int runScan(const Leaf2dCommandOptions& o) {
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (!o.outlineOut.empty()) m::writeFileAtomically(o.outlineOut, m::outlineToJson(scan.outline));
   if (o.json) {
-    nlohmann::json j = scanJson(scan);
+    nlohmann::json j = nlohmann::json::parse(m::scanToJson(scan, o.input, *o.dpi));
     j["input"] = o.input;
-    j["dpi"] = *o.dpi;
     j["outline"] = o.outlineOut.empty() ? nlohmann::json() : nlohmann::json(o.outlineOut);
-    j["milliseconds"] = ms;
+    j["milliseconds"] = {{"scan", ms}};
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << o.input << " (" << scan.widthPx << " x " << scan.heightPx << " px at " << *o.dpi << " DPI):\n";
@@ -177,7 +158,7 @@ int runBuild(const Leaf2dCommandOptions& o) {
   if (o.json) {
     nlohmann::json j = nlohmann::json::parse(m::leaf2dToJson(leaf));
     j["input"] = o.input;
-    j["scan"] = scan ? scanJson(*scan) : nlohmann::json();
+    j["scan"] = scan ? nlohmann::json::parse(m::scanToJson(*scan, o.input, *o.dpi)) : nlohmann::json();
     j["outputs"] = o.outputs;
     j["milliseconds"] = {{"read", readMs}, {"build", buildMs}};
     std::cout << j.dump(2) << "\n";

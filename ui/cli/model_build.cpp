@@ -12,6 +12,7 @@
 #include "leafdig/model/io/mesh_export.hpp"
 #include "leafdig/model/io/model_json.hpp"
 #include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/io/scan_json.hpp"
 #include "leafdig/model/leaf/leaf_model.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
@@ -206,9 +207,7 @@ int runModelBuild(const ModelBuildOptions& o) {
     out["frame"] = o.frame;
     out["metrics"] = nlohmann::json::parse(m::metricsToJson(metrics));
     if (scan) {
-      out["measured_area_scan"] = {
-          {"file", o.measuredAreaScan}, {"dpi", *o.scanDpi},    {"filled_area_mm2", scan->filledAreaMm2},
-          {"area_mm2", scan->areaMm2},  {"holes", scan->holes}, {"petiole", scan->petioleFound}};
+      out["measured_area_scan"] = nlohmann::json::parse(m::scanToJson(*scan, o.measuredAreaScan, *o.scanDpi));
     }
     out["mesh"] = measuredMeshReportJson(
         mesh, meshOptions, o.mesh.noMeasure, [&] { return m::MeshSubject(leaf); }, 100'000);
