@@ -13,6 +13,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/plant/plant_frame.hpp"
 #include "test_support.hpp"
 
 #define TINYGLTF_NO_STB_IMAGE
@@ -74,6 +75,10 @@ TEST(Plant, LeavesFollowTheGoldenAngleSitOnTheStemAndLeanAtTheirInclination) {
     EXPECT_NEAR(angleBetween(l.tip - l.base, Eigen::Vector3d::UnitZ()), 20 + 10 * l.rank, 1e-6);
     const Eigen::Vector3d horizontal(l.tip.x() - l.base.x(), l.tip.y() - l.base.y(), 0);
     EXPECT_NEAR(angleBetween(horizontal, Eigen::Vector3d(l.base.x(), l.base.y(), 0)), 0.0, 1e-5);
+    // A plant digitized in place measures the angles its plan placed the leaf at.
+    const LeafPose measured = leafPose(l.base, l.tip);
+    EXPECT_NEAR(measured.azimuthDeg, l.azimuthDeg, 1e-9);
+    EXPECT_NEAR(measured.inclinationDeg, 20 + 10 * l.rank, 1e-6);
     // The model's P_N4 is the base, its tip the tip.
     EXPECT_LT((l.model.markers.rows.back().pointsMm[kMidribColumn] - l.base).norm(), 1e-9);
     EXPECT_LT((l.model.markers.tipMm - l.tip).norm(), 1e-9);

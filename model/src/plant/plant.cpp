@@ -9,6 +9,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/limits.hpp"
+#include "leafdig/model/plant/plant_frame.hpp"
 
 namespace leafdig::model {
 
@@ -308,8 +309,8 @@ Plant singleLeafPlant(const LeafModel& leaf, int rank, std::string source) {
   l.tip = leaf.markers.tipMm;
   l.insertionHeightMm = 0.0;  // not on a stem
   const Eigen::Vector3d chord = l.tip - l.base;
-  l.azimuthDeg = std::fmod(std::atan2(chord.y(), chord.x()) * 180.0 / kPi + 360.0, 360.0);
-  l.inclinationDeg = std::acos(std::clamp(chord.normalized().z(), -1.0, 1.0)) * 180.0 / kPi;
+  l.azimuthDeg = azimuthDeg(chord);
+  l.inclinationDeg = inclinationDeg(chord);
   l.lengthMm = midribLengthMm(leaf);
   l.widthMm = bladeWidthMm(leaf.markers);
   plant.leaves.push_back(std::move(l));
