@@ -1,13 +1,14 @@
 // libFuzzer targets for the files a user hands us (issue 26), one per kind, chosen at compile
-// time (LEAFDIG_FUZZ_FILE): markers, plant plans, outlines (JSON and CSV) and scans' headers.
-// Each input is read as that file: it is either refused with InputError or read into values
-// within the bounds of limits.hpp; anything else (a crash, another exception, a number out of
-// bounds, a hang past libFuzzer's timeout) is a finding.
+// time (LEAFDIG_FUZZ_FILE): markers, plant plans, plants digitized in place, outlines (JSON and CSV) and scans'
+// headers. Each input is read as that file: it is either refused with InputError or read into values within the bounds
+// of limits.hpp; anything else (a crash, another exception, a number out of bounds, a hang past libFuzzer's timeout) is
+// a finding.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <sstream>
 #include <string>
+#include <variant>
 
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/image_header.hpp"
@@ -16,6 +17,7 @@
 #include "leafdig/model/leaf2d/leaf2d.hpp"
 #include "leafdig/model/limits.hpp"
 #include "leafdig/model/plant/plant.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
 
 namespace m = leafdig::model;
 
@@ -50,6 +52,27 @@ void plan(const std::string& text) {
   for (const auto& l : p.leaves) require(l.insertionHeightMm >= 0 && l.insertionHeightMm <= p.stem.heightMm);
 }
 
+void plantMarkers(const std::string& text) {
+  const m::PlantMarkers p = m::parsePlantMarkersJson(text, "fuzz");
+  require(p.landmarksMm.size() >= 3 && !p.nodes.empty() && p.nodes.size() <= m::kMaxPlantNodes);
+  for (const auto& l : p.landmarksMm) checkPoint(l);
+  checkPoint(p.collarMm);
+  require(p.collarDiameterMm > 0 && p.collarDiameterMm <= m::kMaxThicknessMm);
+  for (const auto& n : p.nodes) {
+    checkPoint(n.pointMm);
+    require(n.diameterMm > 0 && n.diameterMm <= m::kMaxThicknessMm);
+    if (const auto* q = std::get_if<m::QuickLeaf>(&n.leaf)) {
+      checkPoint(q->baseMm);
+      checkPoint(q->tipMm);
+      checkPoint(q->sideMm);
+    }
+    if (const auto* full = std::get_if<m::MarkerSet>(&n.leaf)) require(!full->rows.empty());
+  }
+  // What it writes reads back to the same text.
+  const std::string written = m::plantMarkersToJson(p);
+  require(m::plantMarkersToJson(m::parsePlantMarkersJson(written, "written")) == written);
+}
+
 void outline(const std::string& text, bool json) {
   const m::Outline2d o = json ? m::parseOutlineJson(text, "fuzz") : m::parseOutlineCsv(text, "fuzz");
   require(o.pointsMm.size() >= 8);
@@ -71,6 +94,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     if (kind == "markers") markers(text);
     if (kind == "plan") plan(text);
+    if (kind == "plant_markers") plantMarkers(text);
     if (kind == "outline_json") outline(text, true);
     if (kind == "outline_csv") outline(text, false);
     if (kind == "image_header") imageHeader(text);

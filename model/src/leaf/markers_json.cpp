@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "json_reader.hpp"
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -14,92 +15,6 @@ using nlohmann::json;
 
 namespace {
 
-class Reader {
- public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-    throw InputError(source_ + ": " + where + ": " + what);
-  }
-
-  const json& require(const json& object, const char* key, const std::string& where) const {
-    if (!object.is_object()) fail(where, "expected an object");
-    const auto it = object.find(key);
-    if (it == object.end()) {
-      fail(where, std::string("required key \"") + key + "\" is missing; add it (see the " + kMarkersFormat +
-                      " schema in data/schema/)");
-    }
-    return *it;
-  }
-
-  // A finite number times `scale`; NaN, Infinity, strings and null are named errors, and so
-  // is a value beyond `limit` (in mm after scaling): `limitWhy` says what bounds it.
-  double bounded(const json& value, const std::string& where, const std::string& what, double scale, double low,
-                 double high, const std::string& bound) const {
-    const double v = number(value, where, what, scale);
-    if (!(v >= low && v <= high)) {
-      std::ostringstream out;
-      out << what << " is " << v << " mm; " << bound << ". Check the number and the file's \"units\"";
-      fail(where, out.str());
-    }
-    return v;
-  }
-  double thickness(const json& value, const std::string& where, const std::string& what, double scale) const {
-    return bounded(value, where, what, scale, -kMaxThicknessMm, kMaxThicknessMm,
-                   "a caliper reading of a leaf is at most " + detail::formatNumber(kMaxThicknessMm) + " mm");
-  }
-  std::optional<double> optionalThickness(const json& object, const char* key, const std::string& where,
-                                          double scale) const {
-    const auto it = object.find(key);
-    if (it == object.end() || it->is_null()) return std::nullopt;
-    return thickness(*it, where, key, scale);
-  }
-
-  double number(const json& value, const std::string& where, const std::string& what, double scale) const {
-    const std::string token = detail::nonFiniteToken(value);
-    if (!token.empty()) {
-      fail(where, what + " is " + token + ", not a finite number; re-measure or fix the file");
-    }
-    if (!value.is_number()) fail(where, what + " must be a number, found " + value.type_name());
-    const double v = value.get<double>();
-    if (!std::isfinite(v)) fail(where, what + " is not a finite number; re-measure or fix the file");
-    return v * scale;
-  }
-
-  std::optional<double> optionalNumber(const json& object, const char* key, const std::string& where,
-                                       double scale) const {
-    const auto it = object.find(key);
-    if (it == object.end() || it->is_null()) return std::nullopt;
-    return number(*it, where, key, scale);
-  }
-
-  Eigen::Vector3d point(const json& value, const std::string& where, double scale) const {
-    if (!value.is_array() || value.size() != 3) {
-      fail(where, "a marker must be [x, y, z], found " + value.dump());
-    }
-    Eigen::Vector3d p;
-    for (int axis = 0; axis < 3; ++axis) {
-      p[axis] =
-          bounded(value[static_cast<std::size_t>(axis)], where, std::string("coordinate ") + "xyz"[axis], scale,
-                  -kMaxCoordinateMm, kMaxCoordinateMm,
-                  "a digitizer measures within " + detail::formatNumber(kMaxCoordinateMm / 1000) + " m of its origin");
-    }
-    return p;
-  }
-
- private:
-  std::string source_;
-};
-
-double unitScale(const Reader& reader, const json& units) {
-  if (!units.is_string()) reader.fail("units", "must be a string: \"mm\", \"cm\" or \"in\"");
-  const auto& u = units.get_ref<const std::string&>();
-  if (u == "mm") return 1.0;
-  if (u == "cm") return 10.0;
-  if (u == "in") return 25.4;
-  reader.fail("units", "unknown unit \"" + u + "\"; use \"mm\", \"cm\" or \"in\"");
-}
-
 std::string pointWhere(std::size_t row, std::size_t point) {
   return "row " + std::to_string(row + 1) + ", point " + std::to_string(point + 1);
 }
@@ -107,7 +22,7 @@ std::string pointWhere(std::size_t row, std::size_t point) {
 }  // namespace
 
 MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
-  const Reader reader(source);
+  const detail::JsonReader reader(source, kMarkersFormat);
   if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
     throw InputError(source + ": the file is empty; expected a " + std::string(kMarkersFormat) + " JSON document");
   }
@@ -119,7 +34,7 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
     reader.fail("format", "expected \"" + std::string(kMarkersFormat) + "\", found " + format.dump() +
                               "; this is not a leafdig marker file");
   }
-  const double scale = unitScale(reader, reader.require(doc, "units", "top level"));
+  const double scale = reader.unitScale(reader.require(doc, "units", "top level"));
   double thicknessScale = scale;
   if (const auto it = doc.find("thickness_kind"); it != doc.end()) {
     if (*it == "radius") {
@@ -233,13 +148,7 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
 }
 
 MarkerSet readMarkersFile(const std::filesystem::path& path) {
-  std::string text;
-  try {
-    text = readFile(path);
-  } catch (const IoError& e) {
-    throw InputError(std::string(e.what()) + "; check the path");
-  }
-  return parseMarkersJson(text, path.string());
+  return parseMarkersJson(detail::readInputText(path), path.string());
 }
 
 namespace {

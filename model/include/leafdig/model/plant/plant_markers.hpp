@@ -1,0 +1,59 @@
+#pragma once
+// `leafdig.plant-markers/1`: a plant as a technician digitizes it where it stands (schema in
+// data/schema/leafdig.plant-markers-1.schema.json; docs/plants.md): landmarks on the pot rim,
+// the collar with its stem diameter, then node by node from the base, each with its stem
+// diameter and its leaf — a full leaf (a whole leafdig.markers/1 document), a quick leaf
+// (base, tip and the widest point of one margin) or none, with an MTG state. All points are
+// in the digitizer's frame. Unknown keys are ignored; every problem is an InputError naming
+// the source, the node and the key, and what to fix.
+#include <Eigen/Core>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "leafdig/model/leaf/markers.hpp"
+
+namespace leafdig::model {
+
+inline constexpr const char* kPlantMarkersFormat = "leafdig.plant-markers/1";
+inline constexpr std::size_t kMaxPlantNodes = 500;  // a plant digitized in place; a tall tobacco has ~40
+
+// What the MTG's `State` column says of a leaf: present and sound, or flagged.
+enum class LeafState { Alive, Dead, Broken, Yellow, Pruned };
+[[nodiscard]] const char* toString(LeafState state);  // "alive", "dead", "broken", "yellow", "pruned"
+// Throws InputError listing the states.
+[[nodiscard]] LeafState leafStateFromString(const std::string& word);
+
+struct QuickLeaf {
+  Eigen::Vector3d baseMm = Eigen::Vector3d::Zero();  // where the blade joins the petiole
+  Eigen::Vector3d tipMm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sideMm = Eigen::Vector3d::Zero();  // the widest point of one margin
+  std::string type;                                  // the organ library's type ("lower", …); empty: any
+};
+
+struct PlantNode {
+  Eigen::Vector3d pointMm = Eigen::Vector3d::Zero();        // on the stem
+  double diameterMm = 0.0;                                  // the stem's, by caliper
+  std::variant<std::monostate, MarkerSet, QuickLeaf> leaf;  // none, full, quick
+  LeafState state = LeafState::Alive;                       // of the leaf (a node without one: Alive means none)
+};
+
+struct PlantMarkers {
+  std::string plant;  // the plant's id
+  std::vector<Eigen::Vector3d> landmarksMm;
+  Eigen::Vector3d collarMm = Eigen::Vector3d::Zero();
+  double collarDiameterMm = 0.0;
+  std::vector<PlantNode> nodes;  // base to top
+};
+
+// `source` names the input in messages (a path, "<stdin>").
+[[nodiscard]] PlantMarkers parsePlantMarkersJson(std::string_view text, const std::string& source);
+// Reads and parses a file; an unreadable file is an InputError too.
+[[nodiscard]] PlantMarkers readPlantMarkersFile(const std::filesystem::path& path);
+// In millimetres; full leaves as whole markers documents.
+[[nodiscard]] std::string plantMarkersToJson(const PlantMarkers& plant);
+
+}  // namespace leafdig::model

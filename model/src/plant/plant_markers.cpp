@@ -1,0 +1,163 @@
+#include "leafdig/model/plant/plant_markers.hpp"
+
+#include <array>
+#include <utility>
+
+#include "json_reader.hpp"
+#include "json_text.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/limits.hpp"
+
+namespace leafdig::model {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr std::array<std::pair<LeafState, const char*>, 5> kStates{{{LeafState::Alive, "alive"},
+                                                                    {LeafState::Dead, "dead"},
+                                                                    {LeafState::Broken, "broken"},
+                                                                    {LeafState::Yellow, "yellow"},
+                                                                    {LeafState::Pruned, "pruned"}}};
+
+// A stem diameter by caliper: positive, at most what a stem can be.
+double stemDiameter(const detail::JsonReader& reader, const json& value, const std::string& where, double scale) {
+  const double d =
+      reader.bounded(value, where, "diameter", scale, 0.0, kMaxThicknessMm,
+                     "a stem's diameter by caliper is at most " + detail::formatNumber(kMaxThicknessMm) + " mm");
+  if (!(d > 0.0)) reader.fail(where, "diameter must be more than 0 mm: measure the stem with the caliper");
+  return d;
+}
+
+std::string text(const json& object, const char* key) {
+  const auto it = object.find(key);
+  return it != object.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+}  // namespace
+
+const char* toString(LeafState state) {
+  for (const auto& [s, name] : kStates)
+    if (s == state) return name;
+  return "?";
+}
+
+LeafState leafStateFromString(const std::string& word) {
+  for (const auto& [s, name] : kStates)
+    if (word == name) return s;
+  throw InputError("unknown leaf state \"" + word + "\"; use alive, dead, broken, yellow or pruned");
+}
+
+PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& source) {
+  const detail::JsonReader reader(source, kPlantMarkersFormat);
+  if (textIn.find_first_not_of(" \t\r\n") == std::string_view::npos)
+    throw InputError(source + ": the file is empty; expected a " + std::string(kPlantMarkersFormat) + " JSON document");
+  const json doc = detail::parseJsonLeniently(textIn, source);
+  if (!doc.is_object()) reader.fail("top level", "expected a JSON object");
+  const json& format = reader.require(doc, "format", "top level");
+  if (format != kPlantMarkersFormat)
+    reader.fail("format", "expected \"" + std::string(kPlantMarkersFormat) + "\", found " + format.dump() +
+                              "; this is not a leafdig plant-markers file");
+  const double scale = reader.unitScale(reader.require(doc, "units", "top level"));
+
+  PlantMarkers p;
+  p.plant = text(doc, "plant");
+  const json& landmarks = reader.require(doc, "landmarks", "top level");
+  if (!landmarks.is_array() || landmarks.size() < 3)
+    reader.fail("landmarks", "must list at least three points [x, y, z] on the pot rim (or a board)");
+  if (landmarks.size() > 64) reader.fail("landmarks", "at most 64 landmarks");
+  for (std::size_t i = 0; i < landmarks.size(); ++i)
+    p.landmarksMm.push_back(reader.point(landmarks[i], "landmark " + std::to_string(i + 1), scale));
+
+  const json& collar = reader.require(doc, "collar", "top level");
+  p.collarMm = reader.point(reader.require(collar, "point", "collar"), "collar", scale);
+  p.collarDiameterMm = stemDiameter(reader, reader.require(collar, "diameter", "collar"), "collar", scale);
+
+  const json& nodes = reader.require(doc, "nodes", "top level");
+  if (!nodes.is_array() || nodes.empty())
+    reader.fail("nodes", "must list the stem's nodes from the base up, at least one");
+  if (nodes.size() > kMaxPlantNodes)
+    reader.fail("nodes",
+                std::to_string(nodes.size()) + " nodes; a plant takes at most " + std::to_string(kMaxPlantNodes));
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const std::string where = "node " + std::to_string(i + 1);
+    const json& n = nodes[i];
+    PlantNode node;
+    node.pointMm = reader.point(reader.require(n, "point", where), where + " point", scale);
+    node.diameterMm = stemDiameter(reader, reader.require(n, "diameter", where), where, scale);
+    const auto leafIt = n.find("leaf");
+    if (leafIt != n.end() && !leafIt->is_null()) {
+      const json& leaf = *leafIt;
+      const std::string lw = where + " leaf";
+      if (!leaf.is_object()) reader.fail(lw, "must be null or an object with \"kind\": full, quick or none");
+      const json& kind = reader.require(leaf, "kind", lw);
+      if (const auto s = leaf.find("state"); s != leaf.end() && !s->is_null()) {
+        if (!s->is_string()) reader.fail(lw + " state", "must be alive, dead, broken, yellow or pruned");
+        try {
+          node.state = leafStateFromString(s->get<std::string>());
+        } catch (const InputError& e) {
+          reader.fail(lw + " state", e.what());
+        }
+      }
+      if (kind == "full") {
+        const json& markers = reader.require(leaf, "markers", lw);
+        node.leaf = parseMarkersJson(markers.dump(), source + ": " + lw + " markers");
+      } else if (kind == "quick") {
+        QuickLeaf q;
+        q.baseMm = reader.point(reader.require(leaf, "base", lw), lw + " base", scale);
+        q.tipMm = reader.point(reader.require(leaf, "tip", lw), lw + " tip", scale);
+        q.sideMm = reader.point(reader.require(leaf, "side", lw), lw + " side", scale);
+        q.type = text(leaf, "type");
+        node.leaf = q;
+      } else if (kind != "none") {
+        reader.fail(lw + " kind", "unknown kind " + kind.dump() + "; use \"full\", \"quick\" or \"none\"");
+      }
+    }
+    p.nodes.push_back(std::move(node));
+  }
+  return p;
+}
+
+PlantMarkers readPlantMarkersFile(const std::filesystem::path& path) {
+  return parsePlantMarkersJson(detail::readInputText(path), path.string());
+}
+
+namespace {
+
+json point(const Eigen::Vector3d& p) {
+  return json::array({p.x(), p.y(), p.z()});
+}
+
+}  // namespace
+
+std::string plantMarkersToJson(const PlantMarkers& p) {
+  json doc = {{"format", kPlantMarkersFormat}, {"units", "mm"}, {"plant", p.plant}};
+  json landmarks = json::array();
+  for (const auto& l : p.landmarksMm) landmarks.push_back(point(l));
+  doc["landmarks"] = landmarks;
+  doc["collar"] = {{"point", point(p.collarMm)}, {"diameter", p.collarDiameterMm}};
+  json nodes = json::array();
+  for (const PlantNode& n : p.nodes) {
+    json node = {{"point", point(n.pointMm)}, {"diameter", n.diameterMm}};
+    json leaf;
+    if (const auto* full = std::get_if<MarkerSet>(&n.leaf)) {
+      leaf = {{"kind", "full"}, {"markers", json::parse(markersToJson(*full))}};
+    } else if (const auto* quick = std::get_if<QuickLeaf>(&n.leaf)) {
+      leaf = {{"kind", "quick"},
+              {"base", point(quick->baseMm)},
+              {"tip", point(quick->tipMm)},
+              {"side", point(quick->sideMm)},
+              {"type", quick->type}};
+    } else if (n.state != LeafState::Alive) {
+      leaf = {{"kind", "none"}};
+    }
+    if (!leaf.is_null() && n.state != LeafState::Alive) leaf["state"] = toString(n.state);
+    node["leaf"] = leaf;
+    nodes.push_back(node);
+  }
+  doc["nodes"] = nodes;
+  return detail::dumpFinite(doc, 2) + "\n";
+}
+
+}  // namespace leafdig::model
