@@ -338,4 +338,64 @@ TEST_F(PlantCli, ALoneLeafsSilhouetteAndStarAreThePlantPathsAndMatchACaribuStyle
   }
 }
 
+// A plant digitized in place (leafdig.plant-markers/1) measured in its own frame: the shipped
+// sample's quick leaves come out at the azimuths, inclinations and sizes they were laid out
+// with, the internodes and divergences follow, and a file that cannot make a frame exits 2
+// naming the problem.
+TEST_F(PlantCli, APlantDigitizedInPlaceIsMeasuredInItsOwnFrame) {
+  const std::string sample = std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json";
+  const Result r = leafdig("plant measure " + quote(sample) + " --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["plant"], "tobacco-p12");
+  ASSERT_EQ(j["nodes"].size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) {
+    const double heights[] = {70, 160, 245, 325, 400};
+    EXPECT_NEAR(j["nodes"][i]["height_mm"].get<double>(), heights[i], 0.01) << i;
+  }
+  EXPECT_NEAR(j["nodes"][0]["internode_mm"].get<double>(), 70.01, 0.01);
+  ASSERT_EQ(j["leaves"].size(), 4u);  // node 5 has none; node 1's is flagged dead
+  EXPECT_EQ(j["leaves"][0]["kind"], "none");
+  EXPECT_EQ(j["leaves"][0]["state"], "dead");
+  EXPECT_TRUE(j["leaves"][0]["azimuth_deg"].is_null());
+  const json& full = j["leaves"][1];
+  EXPECT_EQ(full["kind"], "full");
+  EXPECT_GT(full["area_mm2"].get<double>(), 0.0);
+  EXPECT_LT(full["area_95_mm2"][0].get<double>(), full["area_mm2"].get<double>());
+  EXPECT_GT(full["area_95_mm2"][1].get<double>(), full["area_mm2"].get<double>());
+  const json& q3 = j["leaves"][2];
+  // (The sample's coordinates are written to 0.001 mm: angles hold to 0.001°.)
+  EXPECT_NEAR(q3["azimuth_deg"].get<double>(), 275.0, 1e-3);
+  EXPECT_NEAR(q3["inclination_deg"].get<double>(), 62.0, 1e-3);
+  EXPECT_NEAR(q3["chord_mm"].get<double>(), 380.0, 1e-2);
+  EXPECT_NEAR(q3["width_mm"].get<double>(), 190.0, 1e-2);
+  EXPECT_NEAR(q3["roll_deg"].get<double>(), 0.0, 1e-2);
+  EXPECT_NEAR(q3["divergence_deg"].get<double>(),
+              std::fmod(q3["azimuth_deg"].get<double>() - full["azimuth_deg"].get<double>() + 360.0, 360.0), 1e-9);
+  EXPECT_NEAR(j["leaves"][3]["divergence_deg"].get<double>(), 137.5, 1e-3);
+  EXPECT_EQ(j["divergence"]["count"], 2);
+  // The text report says the same for a person.
+  const Result text = leafdig("plant measure " + quote(sample));
+  ASSERT_EQ(text.exitCode, 0) << text.err;
+  EXPECT_NE(text.out.find("leaf at node 3 (quick): azimuth 275.0°, inclination 62.0°"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("leaf at node 1 (none, dead)"), std::string::npos) << text.out;
+
+  // Landmarks along one edge cannot make a frame: exit 2, named, with what to do.
+  const fs::path line = write("line.plant-markers.json", R"({"format": "leafdig.plant-markers/1", "units": "mm",
+    "landmarks": [[0, 0, 0], [50, 1, 0], [100, 0, 0]], "collar": {"point": [50, -80, 0], "diameter": 20},
+    "nodes": [{"point": [50, -80, 60], "diameter": 18}]})");
+  const Result bad = leafdig("plant measure " + quote(line));
+  EXPECT_EQ(bad.exitCode, 2) << bad.err;
+  EXPECT_NE(bad.err.find("nearly on one line"), std::string::npos) << bad.err;
+  // A leaf whose tip is its base: the node is named.
+  std::string doc = slurp(sample);
+  const json sampleDoc = json::parse(doc);
+  json broken = sampleDoc;
+  broken["nodes"][3]["leaf"]["tip"] = broken["nodes"][3]["leaf"]["base"];
+  const Result tipless = leafdig("plant measure " + quote(write("tipless.json", broken.dump())));
+  EXPECT_EQ(tipless.exitCode, 2) << tipless.err;
+  EXPECT_NE(tipless.err.find("node 4's leaf: the leaf's base and tip are 0.0 mm apart"), std::string::npos)
+      << tipless.err;
+}
+
 }  // namespace

@@ -27,7 +27,7 @@ namespace m = leafdig::model;
 namespace {
 
 std::pair<CLI::App*, CLI::App*> declarePlantCommands(CLI::App& app, PlantOptions& o) {
-  CLI::App* plant = app.add_subcommand("plant", "Assemble, grow and export whole plants from captured leaves");
+  CLI::App* plant = app.add_subcommand("plant", "Assemble, grow, export and measure whole plants");
   plant->require_subcommand(1);
   CLI::App* build = plant->add_subcommand("build", "Build the plant of a leafdig.plant/1 plan and export it");
   CLI::App* grow = plant->add_subcommand("grow", "Export the plant's growth states at a series of times");
@@ -254,6 +254,7 @@ void addPlantCommands(CLI::App& app, CommandTable& table) {
   const auto [build, grow] = declarePlantCommands(app, *o);
   table.add(build, [o] { return runPlant(*o, false); });
   table.add(grow, [o] { return runPlant(*o, true); });
+  addPlantMeasureCommand(*app.get_subcommand("plant"), table);
 }
 
 }  // namespace leafdig::cli

@@ -24,7 +24,9 @@ struct PlantOptions {
 };
 
 class CommandTable;
-// Registers `plant build` and `plant grow`.
+// Registers `plant build`, `plant grow` and `plant measure`.
 void addPlantCommands(CLI::App& app, CommandTable& table);
+// `plant measure` under the `plant` command (plant_measure_cmd.cpp).
+void addPlantMeasureCommand(CLI::App& plant, CommandTable& table);
 
 }  // namespace leafdig::cli

@@ -1,0 +1,83 @@
+// `leafdig plant measure`: a plant digitized in place (leafdig.plant-markers/1) measured in its
+// own frame — nodes, internodes, stem diameters, each leaf's angles and size, divergences.
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "commands.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
+#include "plant_cmd.hpp"
+
+namespace leafdig::cli {
+
+namespace m = leafdig::model;
+
+namespace {
+
+struct MeasureOptions {
+  std::string input;
+  bool json = false;
+};
+
+std::string fixed(double v, int digits) {
+  if (std::abs(v) < 0.5 * std::pow(10.0, -digits)) v = 0.0;  // no "-0.0"
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(digits) << v;
+  return out.str();
+}
+
+void printSurvey(const m::PlantSurvey& s, const std::string& input) {
+  std::cout << input << ": plant " << (s.plant.empty() ? "(no id)" : s.plant) << ", " << s.nodes.size() << " node(s), "
+            << s.leaves.size() << " leaf record(s); landmarks flat within " << fixed(s.frame.flatnessMm, 2)
+            << " mm RMS\n";
+  std::cout << "  collar: stem " << fixed(s.collarDiameterMm, 1) << " mm\n";
+  for (const m::SurveyedNode& n : s.nodes)
+    std::cout << "  node " << n.index << ": height " << fixed(n.heightMm, 1) << " mm, internode "
+              << fixed(n.internodeMm, 1) << " mm, stem " << fixed(n.diameterMm, 1) << " mm\n";
+  for (const m::SurveyedLeaf& l : s.leaves) {
+    std::cout << "  leaf at node " << l.node << " (" << l.kind;
+    if (l.state != m::LeafState::Alive) std::cout << ", " << m::toString(l.state);
+    std::cout << ")";
+    if (l.pose) {
+      std::cout << ": azimuth " << fixed(l.pose->azimuthDeg, 1) << "°, inclination " << fixed(l.pose->inclinationDeg, 1)
+                << "°, chord " << fixed(l.pose->lengthMm, 1) << " mm";
+      if (l.pose->widthMm) std::cout << ", width " << fixed(*l.pose->widthMm, 1) << " mm";
+      if (l.pose->rollDeg) std::cout << ", roll " << fixed(*l.pose->rollDeg, 1) << "°";
+    }
+    if (l.areaMm2) {
+      std::cout << ", area " << fixed(*l.areaMm2, 0) << " mm^2";
+      if (l.areaLow95Mm2 && l.areaHigh95Mm2)
+        std::cout << " (95 % " << fixed(*l.areaLow95Mm2, 0) << " – " << fixed(*l.areaHigh95Mm2, 0) << ")";
+    }
+    if (l.divergenceDeg) std::cout << ", divergence " << fixed(*l.divergenceDeg, 1) << "°";
+    std::cout << "\n";
+  }
+}
+
+int runMeasure(const MeasureOptions& o) {
+  const m::PlantMarkers markers = m::readPlantMarkersFile(o.input);
+  const m::PlantSurvey survey = m::surveyPlant(markers);
+  if (o.json) {
+    std::cout << m::plantSurveyToJson(survey) << "\n";
+  } else {
+    printSurvey(survey, o.input);
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addPlantMeasureCommand(CLI::App& plant, CommandTable& table) {
+  auto o = std::make_shared<MeasureOptions>();
+  CLI::App* measure =
+      plant.add_subcommand("measure", "Measure a plant digitized in place (leafdig.plant-markers/1) in its own frame");
+  measure->add_option("input", o->input, "Plant markers file (leafdig.plant-markers/1 JSON)")->required();
+  measure->add_flag("--json", o->json, "Print nodes, leaves, angles and divergences as one JSON object");
+  table.add(measure, [o] { return runMeasure(*o); });
+}
+
+}  // namespace leafdig::cli
