@@ -37,7 +37,8 @@ class JsonReader {
     throw InputError(source_ + ": " + where + ": " + what);
   }
 
-  const nlohmann::json& require(const nlohmann::json& object, const char* key, const std::string& where) const {
+  [[nodiscard]] const nlohmann::json& require(const nlohmann::json& object, const char* key,
+                                              const std::string& where) const {
     if (!object.is_object()) fail(where, "expected an object");
     const auto it = object.find(key);
     if (it == object.end()) {
@@ -49,8 +50,8 @@ class JsonReader {
 
   // A finite number times `scale`; NaN, Infinity, strings and null are named errors, and so
   // is a value beyond `limit` (in mm after scaling): `limitWhy` says what bounds it.
-  double bounded(const nlohmann::json& value, const std::string& where, const std::string& what, double scale,
-                 double low, double high, const std::string& bound) const {
+  [[nodiscard]] double bounded(const nlohmann::json& value, const std::string& where, const std::string& what,
+                               double scale, double low, double high, const std::string& bound) const {
     const double v = number(value, where, what, scale);
     if (!(v >= low && v <= high)) {
       std::ostringstream out;
@@ -59,18 +60,20 @@ class JsonReader {
     }
     return v;
   }
-  double thickness(const nlohmann::json& value, const std::string& where, const std::string& what, double scale) const {
+  [[nodiscard]] double thickness(const nlohmann::json& value, const std::string& where, const std::string& what,
+                                 double scale) const {
     return bounded(value, where, what, scale, -kMaxThicknessMm, kMaxThicknessMm,
                    "a caliper reading of a leaf is at most " + detail::formatNumber(kMaxThicknessMm) + " mm");
   }
-  std::optional<double> optionalThickness(const nlohmann::json& object, const char* key, const std::string& where,
-                                          double scale) const {
+  [[nodiscard]] std::optional<double> optionalThickness(const nlohmann::json& object, const char* key,
+                                                        const std::string& where, double scale) const {
     const auto it = object.find(key);
     if (it == object.end() || it->is_null()) return std::nullopt;
     return thickness(*it, where, key, scale);
   }
 
-  double number(const nlohmann::json& value, const std::string& where, const std::string& what, double scale) const {
+  [[nodiscard]] double number(const nlohmann::json& value, const std::string& where, const std::string& what,
+                              double scale) const {
     const std::string token = detail::nonFiniteToken(value);
     if (!token.empty()) {
       fail(where, what + " is " + token + ", not a finite number; re-measure or fix the file");
@@ -81,14 +84,14 @@ class JsonReader {
     return v * scale;
   }
 
-  std::optional<double> optionalNumber(const nlohmann::json& object, const char* key, const std::string& where,
-                                       double scale) const {
+  [[nodiscard]] std::optional<double> optionalNumber(const nlohmann::json& object, const char* key,
+                                                     const std::string& where, double scale) const {
     const auto it = object.find(key);
     if (it == object.end() || it->is_null()) return std::nullopt;
     return number(*it, where, key, scale);
   }
 
-  Eigen::Vector3d point(const nlohmann::json& value, const std::string& where, double scale) const {
+  [[nodiscard]] Eigen::Vector3d point(const nlohmann::json& value, const std::string& where, double scale) const {
     if (!value.is_array() || value.size() != 3) {
       fail(where, "a marker must be [x, y, z], found " + value.dump());
     }
@@ -103,7 +106,7 @@ class JsonReader {
   }
 
   // "mm", "cm" or "in": the factor to millimetres.
-  double unitScale(const nlohmann::json& units) const {
+  [[nodiscard]] double unitScale(const nlohmann::json& units) const {
     if (!units.is_string()) fail("units", "must be a string: \"mm\", \"cm\" or \"in\"");
     const auto& u = units.get_ref<const std::string&>();
     if (u == "mm") return 1.0;

@@ -102,7 +102,9 @@ PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& s
       }
       if (kind == "full") {
         const json& markers = reader.require(leaf, "markers", lw);
-        node.leaf = parseMarkersJson(markers.dump(), source + ": " + lw + " markers");
+        std::string markersSource = source;
+        markersSource.append(": ").append(lw).append(" markers");
+        node.leaf = parseMarkersJson(markers.dump(), markersSource);
       } else if (kind == "quick") {
         QuickLeaf q;
         q.baseMm = reader.point(reader.require(leaf, "base", lw), lw + " base", scale);
