@@ -264,12 +264,12 @@ Decision Engine::decidePoint(const StylusInput& release) {
   const rules::Press press = rules::settle(window, settings_);
   if (press.refusal) return reject(*press.refusal);
   const rules::Candidate candidate{st, press.mean, items_, settings_};
-  // In this order: the first rule that refuses names the problem.
-  for (const rules::Refusal& refusal :
-       {rules::doublePress(candidate, pressedAt_, lastAcceptedReleaseNs_), rules::boardAxes(candidate),
-        rules::rowDirection(candidate), rules::rowStart(candidate), rules::evenSpacing(candidate),
-        rules::onMidrib(candidate)})
-    if (refusal) return reject(*refusal);
+  // In this order: the first rule that refuses names the problem; the later ones are not run.
+  if (auto refusal = rules::doublePress(candidate, pressedAt_, lastAcceptedReleaseNs_)) return reject(*refusal);
+  using Rule = rules::Refusal (*)(const rules::Candidate&);
+  for (const Rule rule :
+       {&rules::boardAxes, &rules::rowDirection, &rules::rowStart, &rules::evenSpacing, &rules::onMidrib})
+    if (auto refusal = rule(candidate)) return reject(*refusal);
   Decision d;
   d.kind = Decision::Kind::Accepted;
   d.item.what = st.what;

@@ -16,12 +16,11 @@ std::string mm(double v) {
   return b;
 }
 
-// Accepted stylus point (what, row, col), or null.
-const Point* at(const Candidate& c, What w, int row, int col, Point& storage) {
+// The accepted stylus point (what, row, col), if there is one.
+std::optional<Point> at(const Candidate& c, What w, int row, int col) {
   const Item* i = findItem(c.items, w, row, col);
-  if (!i) return nullptr;
-  storage = toPoint(i->positionMm);
-  return &storage;
+  if (!i) return std::nullopt;
+  return toPoint(i->positionMm);
 }
 
 std::string num(int v) {
@@ -70,9 +69,8 @@ Refusal doublePress(const Candidate& c, std::int64_t pressedAtNs, std::int64_t l
 
 Refusal boardAxes(const Candidate& c) {
   if (c.step.what != What::Board || c.step.col < 2) return std::nullopt;
-  Point o, x;
-  const Point* origin = at(c, What::Board, 0, 1, o);
-  const Point* xAxis = at(c, What::Board, 0, 2, x);
+  const std::optional<Point> origin = at(c, What::Board, 0, 1);
+  const std::optional<Point> xAxis = at(c, What::Board, 0, 2);
   const double minMm = c.settings.boardMinMm;
   if (c.step.col == 2 && origin && (c.point - *origin).norm() < minMm)
     return "the +X point is only " + mm((c.point - *origin).norm()) + " from the origin: take it at least " +
@@ -86,9 +84,8 @@ Refusal boardAxes(const Candidate& c) {
 Refusal rowDirection(const Candidate& c) {
   const Step& st = c.step;
   if (st.what != What::Marker || st.col <= 2) return std::nullopt;
-  Point p1, p2;
-  const Point* prev = at(c, What::Marker, st.row, st.col - 1, p1);
-  const Point* prev2 = at(c, What::Marker, st.row, st.col - 2, p2);
+  const std::optional<Point> prev = at(c, What::Marker, st.row, st.col - 1);
+  const std::optional<Point> prev2 = at(c, What::Marker, st.row, st.col - 2);
   if (!prev || !prev2) return std::nullopt;
   const Point a = *prev - *prev2;
   const Point b = c.point - *prev;
@@ -102,9 +99,8 @@ Refusal rowDirection(const Candidate& c) {
 Refusal rowStart(const Candidate& c) {
   const Step& st = c.step;
   if (st.what != What::Marker || st.col != 1 || st.row < 2) return std::nullopt;
-  Point r, l;
-  const Point* right = at(c, What::Marker, st.row - 1, 1, r);
-  const Point* left = at(c, What::Marker, st.row - 1, kMarkersPerRow, l);
+  const std::optional<Point> right = at(c, What::Marker, st.row - 1, 1);
+  const std::optional<Point> left = at(c, What::Marker, st.row - 1, kMarkersPerRow);
   if (right && left && (c.point - *left).norm() < (c.point - *right).norm())
     return "row " + num(st.row) + " starts on the right margin, by row " + num(st.row - 1) +
            "'s point 1; this is by its point 7 (the left margin)";
@@ -114,15 +110,14 @@ Refusal rowStart(const Candidate& c) {
 Refusal evenSpacing(const Candidate& c) {
   const Step& st = c.step;
   if (st.what != What::Marker || st.col < 3) return std::nullopt;
-  Point p;
-  const Point* prev = at(c, What::Marker, st.row, st.col - 1, p);
+  const std::optional<Point> prev = at(c, What::Marker, st.row, st.col - 1);
   if (!prev) return std::nullopt;
   double sum = 0;
   for (int col = 2; col < st.col; ++col) {
-    const Item* here = findItem(c.items, What::Marker, st.row, col);
-    const Item* before = findItem(c.items, What::Marker, st.row, col - 1);
+    const std::optional<Point> here = at(c, What::Marker, st.row, col);
+    const std::optional<Point> before = at(c, What::Marker, st.row, col - 1);
     if (!here || !before) return std::nullopt;  // the engine fills a row in order: not reached
-    sum += (toPoint(here->positionMm) - toPoint(before->positionMm)).norm();
+    sum += (*here - *before).norm();
   }
   const double spacing = sum / (st.col - 2);
   const double gap = (c.point - *prev).norm();
@@ -136,11 +131,10 @@ Refusal evenSpacing(const Candidate& c) {
 Refusal onMidrib(const Candidate& c) {
   const Step& st = c.step;
   if (st.what != What::Marker || st.col != 4 || st.row < 2) return std::nullopt;
-  Point t, a, a2;
-  const Point* tip = at(c, What::Tip, 0, 0, t);
-  const Point* above = at(c, What::Marker, st.row - 1, 4, a);
+  const std::optional<Point> tip = at(c, What::Tip, 0, 0);
+  const std::optional<Point> above = at(c, What::Marker, st.row - 1, 4);
   // The midrib's local direction: the two midrib points above (or the tip and row 1).
-  const Point* above2 = st.row >= 3 ? at(c, What::Marker, st.row - 2, 4, a2) : tip;
+  const std::optional<Point> above2 = st.row >= 3 ? at(c, What::Marker, st.row - 2, 4) : tip;
   if (!tip || !above || !above2) return std::nullopt;
   if ((c.point - *tip).norm() <= (*above - *tip).norm())
     return "row " + num(st.row) + " must be farther from the tip than row " + num(st.row - 1);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 #include "leafdig/model/errors.hpp"
@@ -12,7 +13,7 @@ namespace leafdig::model {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 std::string mm(double v) {
   char b[32];
