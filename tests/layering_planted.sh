@@ -8,7 +8,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fresh() {
   rm -rf "$work/tree"; mkdir -p "$work/tree"
-  cp -r "$root"/{model,devices,db,acquisition,ui} "$work/tree/"
+  cp -r "$root"/{names,model,devices,db,acquisition,ui} "$work/tree/"
 }
 failures=0
 fresh
@@ -31,6 +31,7 @@ plant devices/src/links/driver.cpp '#include "leafdig/devices/sim/sim.hpp"' "lin
 plant devices/src/codecs/fastrak.cpp '#include "transports/termios_speed.hpp"' "a codec using a transport's private header"
 plant devices/include/leafdig/devices/transports/hid.hpp '#include "leafdig/devices/codecs/calipers.hpp"' "a transport using a codec"
 plant devices/include/leafdig/devices/sample.hpp '#include "leafdig/devices/codecs/fastrak.hpp"' "the root using a room"
+plant names/include/leafdig/names/name_table.hpp '#include "leafdig/model/errors.hpp"' "names using a module"
 plant model/src/spline/banded.cpp '#include "leafdig/db/store.hpp"' "model using db"
 plant devices/src/errors.cpp '#include "leafdig/acquisition/engine.hpp"' "devices using acquisition"
 plant acquisition/src/engine.cpp '#include <QString>' "Qt outside ui/"

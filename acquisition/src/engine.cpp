@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "leafdig/acquisition/enum_names.hpp"
 #include "leafdig/acquisition/point_rules.hpp"
 #include "leafdig/model/leaf/markers.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::acquisition {
 
@@ -61,7 +61,6 @@ int completeRows(const std::vector<Item>& items) {
 
 namespace {
 
-constexpr NameTable<Mode, 3> kModeNames{{{Mode::Standard, "standard"}, {Mode::Full, "full"}, {Mode::Small, "small"}}};
 constexpr NameTable<Order, 2> kOrderNames{{{Order::Sequential, "sequential"}, {Order::Interleaved, "interleaved"}}};
 constexpr NameTable<What, 8> kWhatNames{{{What::Board, "board"},
                                          {What::Tip, "tip"},
@@ -71,22 +70,21 @@ constexpr NameTable<What, 8> kWhatNames{{{What::Board, "board"},
                                          {What::EdgeThickness, "edge_thickness"},
                                          {What::PointThickness, "point_thickness"},
                                          {What::Done, "done"}}};
+// The items a technician can name: every word but "done", the end of the protocol.
+constexpr auto kItemNames = [] {
+  NameTable<What, kWhatNames.size() - 1> items{};
+  for (std::size_t i = 0; i < items.size(); ++i) items[i] = kWhatNames[i];
+  return items;
+}();
+static_assert(kWhatNames.back().first == What::Done);
 
 }  // namespace
 
-const char* toString(Mode m) {
-  return nameIn(kModeNames, m);
-}
 const char* toString(Order o) {
   return nameIn(kOrderNames, o);
 }
-Mode modeFromString(const std::string& s) {
-  if (const auto m = valueIn(kModeNames, s)) return *m;
-  throw std::invalid_argument("unknown capture mode '" + s + "': use standard, full or small");
-}
 Order orderFromString(const std::string& s) {
-  if (const auto o = valueIn(kOrderNames, s)) return *o;
-  throw std::invalid_argument("unknown capture order '" + s + "': use sequential or interleaved");
+  return parseName(kOrderNames, s, "capture order");
 }
 
 const char* toString(What w) {
@@ -94,11 +92,7 @@ const char* toString(What w) {
 }
 
 What whatFromString(const std::string& s) {
-  // "done" names the end of the protocol, not an item.
-  if (const auto w = valueIn(kWhatNames, s); w && *w != What::Done) return *w;
-  throw std::invalid_argument("unknown item '" + s +
-                              "': use board, tip, marker, midrib_thickness, vein_origin_thickness, edge_thickness or "
-                              "point_thickness");
+  return parseName(kItemNames, s, "item");
 }
 
 Engine::Engine(Settings s) : settings_(s) {}

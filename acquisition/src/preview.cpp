@@ -62,9 +62,7 @@ m::MarkerSet markerSet(const std::vector<Item>& items, const Settings& settings,
     set.edgeThicknessMm = provisional->edgeMm;
     usedProvisional = true;
   }
-  set.mode = settings.mode == Mode::Standard ? m::ThicknessMode::Standard
-             : settings.mode == Mode::Full   ? m::ThicknessMode::Full
-                                             : m::ThicknessMode::Small;
+  set.mode = settings.mode;
   return set;
 }
 

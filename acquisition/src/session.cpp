@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "item_json.hpp"
-#include "leafdig/acquisition/enum_names.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::acquisition {
 namespace {
@@ -113,7 +113,7 @@ Settings CaptureSession::settingsFromJson(const std::string& text) {
   const json j = json::parse(text);
   const json& e = j.contains("engine") ? j.at("engine") : j;
   Settings s;
-  s.mode = modeFromString(e.value("mode", std::string("standard")));
+  s.mode = model::thicknessModeFromString(e.value("mode", std::string("standard")));
   s.order = orderFromString(e.value("order", std::string("sequential")));
   s.doubleTapMm = e.value("double_tap_mm", s.doubleTapMm);
   s.doubleTapNs = e.value("double_tap_ns", s.doubleTapNs);

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "lab_schema.hpp"
+#include "leafdig/names/name_table.hpp"
 #include "pg.hpp"
 
 namespace leafdig::db {
@@ -169,19 +170,17 @@ ServerInit initServer(const std::string& url, double lockWaitSeconds) {
   return out;
 }
 
+namespace {
+constexpr NameTable<LabRole, 3> kLabRoles{
+    {{LabRole::Technician, "technician"}, {LabRole::Curator, "curator"}, {LabRole::Reader, "reader"}}};
+}  // namespace
+
 const char* toString(LabRole role) {
-  switch (role) {
-    case LabRole::Technician: return "technician";
-    case LabRole::Curator: return "curator";
-    case LabRole::Reader: return "reader";
-  }
-  return "reader";
+  return nameIn(kLabRoles, role);
 }
 
-std::optional<LabRole> labRoleFromString(const std::string& text) {
-  for (const LabRole r : {LabRole::Technician, LabRole::Curator, LabRole::Reader})
-    if (text == toString(r)) return r;
-  return std::nullopt;
+LabRole labRoleFromString(const std::string& text) {
+  return parseName(kLabRoles, text, "role");
 }
 
 AddedUser addUser(const std::string& url, const std::string& login, LabRole role, const std::string& station,

@@ -5,20 +5,23 @@
 #include <cstring>
 #include <string>
 
+#include "leafdig/names/name_table.hpp"
+
 namespace leafdig::devices {
 
+namespace {
+constexpr NameTable<DeviceErrorKind, 8> kErrorKinds{{{DeviceErrorKind::NotFound, "not found"},
+                                                     {DeviceErrorKind::Busy, "busy"},
+                                                     {DeviceErrorKind::Permission, "permission denied"},
+                                                     {DeviceErrorKind::Io, "I/O error"},
+                                                     {DeviceErrorKind::Protocol, "protocol error"},
+                                                     {DeviceErrorKind::Timeout, "timeout"},
+                                                     {DeviceErrorKind::Unsupported, "unsupported"},
+                                                     {DeviceErrorKind::Config, "bad configuration"}}};
+}  // namespace
+
 const char* toString(DeviceErrorKind kind) {
-  switch (kind) {
-    case DeviceErrorKind::NotFound: return "not found";
-    case DeviceErrorKind::Busy: return "busy";
-    case DeviceErrorKind::Permission: return "permission denied";
-    case DeviceErrorKind::Io: return "I/O error";
-    case DeviceErrorKind::Protocol: return "protocol error";
-    case DeviceErrorKind::Timeout: return "timeout";
-    case DeviceErrorKind::Unsupported: return "unsupported";
-    case DeviceErrorKind::Config: return "bad configuration";
-  }
-  return "error";
+  return nameIn(kErrorKinds, kind);
 }
 
 DeviceError errorFromErrno(int err, const std::string& action, const std::string& path) {

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace acq = leafdig::acquisition;
 using Kind = acq::Decision::Kind;
@@ -223,7 +224,7 @@ TEST(EngineModes, StepsFollowModeAndOrder) {
       EXPECT_EQ(engine.step(), (acq::Step{acq::What::PointThickness, 1, 1}));  // full: every point
     }
   }
-  EXPECT_THROW((void)acq::modeFromString("huge"), std::invalid_argument);
+  EXPECT_THROW((void)leafdig::model::thicknessModeFromString("huge"), leafdig::UnknownName);
   EXPECT_EQ(acq::orderFromString("interleaved"), acq::Order::Interleaved);
 }
 

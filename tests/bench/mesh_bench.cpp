@@ -105,7 +105,7 @@ void BM_SeedAxisOrgan(benchmark::State& state) {
     balls.push_back({Eigen::Vector3d(radius * std::sin(a), radius * (1.0 - std::cos(a)), 0.0), 1.5});
   }
   const m::Vein vein{"axis", m::BallBSplineCurve::interpolate(balls)};
-  std::vector<m::ModelWarning> warnings;
+  std::vector<m::Warning> warnings;
   std::vector<double> ts;
   for (int k = 0; k <= 400; ++k) ts.push_back(k / 400.0);
   const m::TriangleSoup reference = m::soupOf(m::meshVein(vein, ts, 64, m::CapStyle::None, 0, warnings));

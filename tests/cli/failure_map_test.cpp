@@ -13,6 +13,7 @@
 #include "leafdig/db/event_store.hpp"
 #include "leafdig/devices/errors.hpp"
 #include "leafdig/model/errors.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace {
 
@@ -37,6 +38,7 @@ TEST(FailureMap, EveryFamilyHasOneExitCode) {
   const std::vector<Row> rows{
       {"InputError", of(leafdig::model::InputError("row 3: bad")), 2, "input"},
       {"invalid_argument", of(std::invalid_argument("--x bad")), 2, "input"},
+      {"UnknownName", of(leafdig::UnknownName("serration", "wavy", "none or round")), 2, "input"},
       {"SessionError", of(leafdig::acquisition::SessionError("no session")), 2, "input"},
       {"DeviceError Config", of(dev::DeviceError(dev::DeviceErrorKind::Config, "bad baud", "use 9600")), 2, "input"},
       {"DeviceError NotFound", of(dev::DeviceError(dev::DeviceErrorKind::NotFound, "no port", "plug it")), 1, "io"},

@@ -160,7 +160,7 @@ TEST(BallBSplineCurve, warnsInsteadOfProducingNaNWhenTheEnvelopeDoesNotExist) {
                                 {Eigen::Vector3d(2, 0, 0), 0.1},
                                 {Eigen::Vector3d(30, 0, 0), 0.1}};
   const Vein vein{"midrib", BallBSplineCurve::interpolate(balls)};
-  std::vector<ModelWarning> warnings;
+  std::vector<Warning> warnings;
   std::vector<double> ts;
   for (int i = 0; i <= 100; ++i) ts.push_back(i / 100.0);
   const Mesh mesh = meshVein(vein, ts, 8, CapStyle::Sphere, 3, warnings);
@@ -181,7 +181,7 @@ TEST(BallBSplineCurve, rejectsCoincidentConsecutiveCentres) {
 
 TEST(VeinMesh, isClosedWithSphericalCapsAndOutwardNormals) {
   const Vein vein{"lateral-1-right", BallBSplineCurve::interpolate(wavyVein())};
-  std::vector<ModelWarning> warnings;
+  std::vector<Warning> warnings;
   std::vector<double> ts;
   for (int i = 0; i <= 30; ++i) ts.push_back(i / 30.0);
   const Mesh mesh = meshVein(vein, ts, 12, CapStyle::Sphere, 4, warnings);

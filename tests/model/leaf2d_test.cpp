@@ -13,6 +13,7 @@
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
+#include "leafdig/names/name_table.hpp"
 #include "test_support.hpp"
 
 namespace m = leafdig::model;
@@ -99,7 +100,7 @@ TEST(Curl, TheMarginHeightsAreTheSeedsFivePoints) {
   }
   EXPECT_EQ(m::curlHeight(m::CurlKind::None, 0.3), 0.0);
   EXPECT_EQ(m::curlKindFromString("sine"), m::CurlKind::Sine);
-  EXPECT_THROW((void)m::curlKindFromString("helix"), m::InputError);
+  EXPECT_THROW((void)m::curlKindFromString("helix"), leafdig::UnknownName);
 }
 
 TEST(Leaf2d, AnEllipseCurlsByTheChosenProfileAndKeepsItsMeasuredArea) {

@@ -13,6 +13,7 @@
 #include "leafdig/model/mesh/mesh_compare.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
 #include "leafdig/model/study/mesh_study.hpp"
+#include "leafdig/names/name_table.hpp"
 #include "test_support.hpp"
 
 namespace leafdig::model {
@@ -325,7 +326,7 @@ TEST(AdaptiveMesh, TheBladeHasNoCracksNoSliversAndNoFlippedTriangles) {
 
 TEST(AdaptiveMesh, VeinRingsFollowTheRadiusAndTheMidribGetsMoreThanALateral) {
   const LeafModel leaf = sampleLeaf("upper-small-leaf-n17.markers.json");
-  std::vector<ModelWarning> warnings;
+  std::vector<Warning> warnings;
   const Mesh midrib = meshVeinAdaptive(leaf.veins.front(), 0.1, CapStyle::Sphere, warnings);
   const Mesh lateral = meshVeinAdaptive(leaf.veins[1], 0.1, CapStyle::Sphere, warnings);
   EXPECT_GT(midrib.triangles.size(), lateral.triangles.size());
@@ -353,7 +354,7 @@ TEST(SeedMesh, TheAxisOrganExperimentOfThePatentInShape) {
     balls.push_back({Eigen::Vector3d(100.0 * std::sin(a), 100.0 * (1.0 - std::cos(a)), 0.0), 1.5});
   }
   const Vein vein{"axis", BallBSplineCurve::interpolate(balls)};
-  std::vector<ModelWarning> warnings;
+  std::vector<Warning> warnings;
   std::size_t previous = meshVeinSeed(vein, {2.0, 180.0, 8}, CapStyle::None, warnings).triangles.size();
   for (double alpha : {175.0, 170.0, 160.0}) {
     const std::size_t n = meshVeinSeed(vein, {2.0, alpha, 8}, CapStyle::None, warnings).triangles.size();
@@ -365,7 +366,7 @@ TEST(SeedMesh, TheAxisOrganExperimentOfThePatentInShape) {
 
 TEST(SeedMesh, BadParametersAreRefusedWithTheOptionToChange) {
   const LeafModel leaf = sampleLeaf("lower-leaf-n10.markers.json");
-  std::vector<ModelWarning> w;
+  std::vector<Warning> w;
   try {
     (void)meshVeinSeed(leaf.veins.front(), {2.0, 170.0, 2}, CapStyle::None, w);
     FAIL();
@@ -373,7 +374,7 @@ TEST(SeedMesh, BadParametersAreRefusedWithTheOptionToChange) {
     EXPECT_NE(std::string(e.what()).find("--ring"), std::string::npos);
   }
   EXPECT_THROW((void)meshBladeSeed(leaf.blade, {0.0, 170.0, 8}), InputError);
-  EXPECT_THROW((void)meshMethodFromString("fine"), InputError);
+  EXPECT_THROW((void)meshMethodFromString("fine"), leafdig::UnknownName);
 }
 
 TEST(MeshStudy, MeshoptimizerKeepsTheBorderAndReachesTheErrorOnALeaf) {

@@ -104,7 +104,7 @@ TEST(PlantMarkers, BadInputIsRefusedNamingTheNodeTheKeyAndWhatToDo) {
   EXPECT_TRUE(has(refusal(replaced(ok, "\"kind\": \"quick\"", "\"kind\": \"sketch\"")),
                   "node 2 leaf kind: unknown kind \"sketch\"; use \"full\", \"quick\" or \"none\""));
   EXPECT_TRUE(has(refusal(replaced(ok, "\"state\": \"pruned\"", "\"state\": \"eaten\"")),
-                  "node 1 leaf state: unknown leaf state \"eaten\"; use alive, dead, broken, yellow or pruned"));
+                  "node 1 leaf state: unknown leaf state \"eaten\": use alive, dead, broken, yellow or pruned"));
   EXPECT_TRUE(
       has(refusal(replaced(ok, "\"diameter\": 1.7", "\"diameter\": 0")), "node 2: diameter must be more than 0"));
   EXPECT_TRUE(has(refusal(replaced(ok, "\"diameter\": 1.5", "\"diameter\": 1e300")), "node 3: diameter is"));

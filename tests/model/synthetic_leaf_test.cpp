@@ -11,6 +11,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/leaf/leaf_model.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 namespace {
@@ -298,8 +299,8 @@ TEST(SyntheticSpec, RefusesWhatMakesNoLeaf) {
   s = defaultSyntheticSpec(LeafShape::Ovate);
   s.outline.symmetry = 0.6;
   EXPECT_NE(message(s).find("symmetry"), std::string::npos);
-  EXPECT_THROW((void)leafShapeFromString("round"), InputError);
-  EXPECT_THROW((void)serrationFromString("wavy"), InputError);
+  EXPECT_THROW((void)leafShapeFromString("round"), leafdig::UnknownName);
+  EXPECT_THROW((void)serrationFromString("wavy"), leafdig::UnknownName);
   EXPECT_THROW((void)SyntheticLeaf(defaultSyntheticSpec(LeafShape::Ovate)).markers(-1.0, 1), InputError);
 }
 

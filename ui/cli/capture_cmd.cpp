@@ -176,7 +176,7 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   s.operatorName = o.operatorName;
   if (!o.station.empty()) db::checkStationId(o.station);
   s.station = o.station;
-  s.settings.mode = acq::modeFromString(o.mode);
+  s.settings.mode = m::thicknessModeFromString(o.mode);
   s.settings.order = acq::orderFromString(o.order);
   s.settings.boardFrame = o.board;
   s.simulated = o.simulate;
@@ -253,7 +253,7 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   if (onStart) onStart(id);
   if (!quiet && !o.json)
     std::cout << "leafdig capture · session " << id << " · " << run.setup().project << " / " << run.setup().plant
-              << " / leaf " << run.setup().leafPosition << " · " << acq::toString(run.setup().settings.mode)
+              << " / leaf " << run.setup().leafPosition << " · " << m::toString(run.setup().settings.mode)
               << " mode\n  digitizer " << run.devices().spec(acq::DeviceSet::Role::Digitizer) << " · caliper "
               << run.devices().spec(acq::DeviceSet::Role::Caliper)
               << "\n  keys (then Enter): u undo · e end rows · r WHAT ROW POINT retake · p pause · resume · "

@@ -127,13 +127,10 @@ int runInit(const LabOptions& o) {
 }
 
 int runAddUser(const LabOptions& o) {
-  const auto role = db::labRoleFromString(o.role);
-  if (!role)
-    throw db::StoreError(db::StoreErrorKind::Input, "unknown role '" + o.role + "'",
-                         "use technician, curator or reader");
+  const db::LabRole role = db::labRoleFromString(o.role);
   std::optional<std::string> password;
   if (!o.passwordFile.empty()) password = readPassword(o.passwordFile);
-  const db::AddedUser u = db::addUser(o.url, o.login, *role, o.station, password);
+  const db::AddedUser u = db::addUser(o.url, o.login, role, o.station, password);
   if (o.json)
     std::cout << json{{"login", u.login},
                       {"role", db::toString(u.role)},

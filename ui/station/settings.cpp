@@ -10,18 +10,21 @@
 #include <QStyleFactory>
 #include <algorithm>
 
+#include "leafdig/names/name_table.hpp"
+
 namespace leafdig::station {
 
+namespace {
+constexpr NameTable<Action, 6> kActions{{{Action::Accept, "accept"},
+                                         {Action::Undo, "undo"},
+                                         {Action::EndRows, "end_rows"},
+                                         {Action::Retake, "retake"},
+                                         {Action::Pause, "pause"},
+                                         {Action::Resume, "resume"}}};
+}  // namespace
+
 const char* toString(Action a) {
-  switch (a) {
-    case Action::Accept: return "accept";
-    case Action::Undo: return "undo";
-    case Action::EndRows: return "end_rows";
-    case Action::Retake: return "retake";
-    case Action::Pause: return "pause";
-    case Action::Resume: return "resume";
-  }
-  return "?";
+  return nameIn(kActions, a);
 }
 
 QString actionLabel(Action a) {

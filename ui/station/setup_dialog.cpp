@@ -99,7 +99,7 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   type_->setPlaceholderText(tr("e.g. lower, middle, upper (optional)"));
   mode_ = new QComboBox;
   for (const char* m : {"standard", "full", "small"}) mode_->addItem(m);
-  mode_->setCurrentText(acq::toString(d.settings.mode));
+  mode_->setCurrentText(model::toString(d.settings.mode));
   mode_->setToolTip(tr("standard: midrib and vein origin per row; full: all 7 points; small: midrib only"));
   order_ = new QComboBox;
   for (const char* o : {"sequential", "interleaved"}) order_->addItem(o);
@@ -252,7 +252,7 @@ std::optional<SetupChoice> SetupDialog::choice(QString* problem) const {
   }
   s.marginFromScan = marginFromScan_;
   s.settings = engine_;
-  s.settings.mode = acq::modeFromString(mode_->currentText().toStdString());
+  s.settings.mode = model::thicknessModeFromString(mode_->currentText().toStdString());
   s.settings.order = acq::orderFromString(order_->currentText().toStdString());
   s.settings.boardFrame = board_->isChecked();
   const QString d = specOf(digitizer_), k = specOf(caliper_);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "codecs/codec_util.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::devices::polhemus {
 namespace {
@@ -169,8 +170,12 @@ bool parseAscii(const Format& fmt, std::string_view r, StylusSample& s) {
 
 }  // namespace
 
+namespace {
+constexpr NameTable<Model, 2> kModels{{{Model::Patriot, "patriot"}, {Model::Liberty, "liberty"}}};
+}  // namespace
+
 const char* toString(Model m) {
-  return m == Model::Patriot ? "patriot" : "liberty";
+  return nameIn(kModels, m);
 }
 
 std::size_t payloadLength(const Format& f) {

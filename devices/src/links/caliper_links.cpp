@@ -5,6 +5,7 @@
 
 #include "leafdig/devices/codecs/calipers.hpp"
 #include "leafdig/devices/links/links.hpp"
+#include "leafdig/names/name_table.hpp"
 #include "links/serial_link.hpp"
 
 namespace leafdig::devices {
@@ -211,15 +212,16 @@ class UsbItnLink final : public CaliperLinkBase {
 
 }  // namespace
 
+namespace {
+constexpr NameTable<CaliperKind, 5> kCaliperKinds{{{CaliperKind::Hid, "hid"},
+                                                   {CaliperKind::UsbItn, "usb-itn"},
+                                                   {CaliperKind::Mitutoyo, "mitutoyo"},
+                                                   {CaliperKind::UWave, "uwave"},
+                                                   {CaliperKind::Sylvac, "sylvac"}}};
+}  // namespace
+
 const char* toString(CaliperKind k) {
-  switch (k) {
-    case CaliperKind::Hid: return "hid";
-    case CaliperKind::UsbItn: return "usb-itn";
-    case CaliperKind::Mitutoyo: return "mitutoyo";
-    case CaliperKind::UWave: return "uwave";
-    case CaliperKind::Sylvac: return "sylvac";
-  }
-  return "?";
+  return nameIn(kCaliperKinds, k);
 }
 
 bool parseVidPid(const std::string& s, std::uint16_t& vid, std::uint16_t& pid) {
@@ -232,9 +234,7 @@ bool parseVidPid(const std::string& s, std::uint16_t& vid, std::uint16_t& pid) {
 }
 
 CaliperKind caliperKindFromString(const std::string& s) {
-  for (auto k : {CaliperKind::Hid, CaliperKind::UsbItn, CaliperKind::Mitutoyo, CaliperKind::UWave, CaliperKind::Sylvac})
-    if (s == toString(k)) return k;
-  throw std::invalid_argument("unknown caliper '" + s + "': use hid, usb-itn, mitutoyo, uwave or sylvac");
+  return parseName(kCaliperKinds, s, "caliper");
 }
 
 SerialSettings defaultSettings(CaliperKind k) {

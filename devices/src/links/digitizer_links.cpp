@@ -10,6 +10,7 @@
 #include "leafdig/devices/codecs/polhemus.hpp"
 #include "leafdig/devices/codecs/record_clock.hpp"
 #include "leafdig/devices/links/links.hpp"
+#include "leafdig/names/name_table.hpp"
 #include "links/serial_link.hpp"
 
 namespace leafdig::devices {
@@ -385,22 +386,20 @@ class LineLink final : public SerialDigitizer {
 
 }  // namespace
 
+namespace {
+constexpr NameTable<DigitizerKind, 5> kDigitizerKinds{{{DigitizerKind::Fastrak, "fastrak"},
+                                                       {DigitizerKind::Patriot, "patriot"},
+                                                       {DigitizerKind::Liberty, "liberty"},
+                                                       {DigitizerKind::MicroScribe, "microscribe"},
+                                                       {DigitizerKind::Line, "line"}}};
+}  // namespace
+
 const char* toString(DigitizerKind k) {
-  switch (k) {
-    case DigitizerKind::Fastrak: return "fastrak";
-    case DigitizerKind::Patriot: return "patriot";
-    case DigitizerKind::Liberty: return "liberty";
-    case DigitizerKind::MicroScribe: return "microscribe";
-    case DigitizerKind::Line: return "line";
-  }
-  return "?";
+  return nameIn(kDigitizerKinds, k);
 }
 
 DigitizerKind digitizerKindFromString(const std::string& s) {
-  for (auto k : {DigitizerKind::Fastrak, DigitizerKind::Patriot, DigitizerKind::Liberty, DigitizerKind::MicroScribe,
-                 DigitizerKind::Line})
-    if (s == toString(k)) return k;
-  throw std::invalid_argument("unknown digitizer '" + s + "': use fastrak, patriot, liberty, microscribe or line");
+  return parseName(kDigitizerKinds, s, "digitizer");
 }
 
 SerialSettings defaultSettings(DigitizerKind k) {

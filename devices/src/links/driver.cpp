@@ -2,17 +2,20 @@
 
 #include <cmath>
 
+#include "leafdig/names/name_table.hpp"
+
 namespace leafdig::devices {
 
+namespace {
+constexpr NameTable<LinkState, 5> kLinkStates{{{LinkState::Disconnected, "disconnected"},
+                                               {LinkState::Connecting, "connecting"},
+                                               {LinkState::Streaming, "streaming"},
+                                               {LinkState::Warning, "warning"},
+                                               {LinkState::Error, "error"}}};
+}  // namespace
+
 const char* toString(LinkState s) {
-  switch (s) {
-    case LinkState::Disconnected: return "disconnected";
-    case LinkState::Connecting: return "connecting";
-    case LinkState::Streaming: return "streaming";
-    case LinkState::Warning: return "warning";
-    case LinkState::Error: return "error";
-  }
-  return "unknown";
+  return nameIn(kLinkStates, s);
 }
 
 namespace {

@@ -2,6 +2,7 @@
 
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
@@ -115,7 +116,11 @@ ModelDocument parseModelJson(std::string_view text, const std::string& source) {
   }
   const json& b = need(doc, "blade", source);
   const std::string where = source + ": blade";
-  out.blade.kind = bladeKindFromString(as<std::string>(need(b, "kind", where), where));
+  try {
+    out.blade.kind = bladeKindFromString(as<std::string>(need(b, "kind", where), where));
+  } catch (const UnknownName& e) {
+    throw InputError(where + " kind: " + e.what());
+  }
   out.blade.degreeU = as<int>(need(b, "degree_u", where), where);
   out.blade.degreeV = as<int>(need(b, "degree_v", where), where);
   out.blade.knotsU = as<KnotVector>(need(b, "knots_u", where), where);

@@ -6,25 +6,23 @@
 
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/spline/interpolation.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
+namespace {
+constexpr NameTable<BladeKind, 4> kBladeKinds{{{BladeKind::Interp, "interp"},
+                                               {BladeKind::Approx, "approx"},
+                                               {BladeKind::Bezier, "bezier"},
+                                               {BladeKind::Nurbs, "nurbs"}}};
+}  // namespace
+
 const char* toString(BladeKind kind) {
-  switch (kind) {
-    case BladeKind::Interp: return "interp";
-    case BladeKind::Approx: return "approx";
-    case BladeKind::Bezier: return "bezier";
-    case BladeKind::Nurbs: return "nurbs";
-  }
-  return "interp";
+  return nameIn(kBladeKinds, kind);
 }
 
 BladeKind bladeKindFromString(const std::string& word) {
-  if (word == "interp") return BladeKind::Interp;
-  if (word == "approx") return BladeKind::Approx;
-  if (word == "bezier") return BladeKind::Bezier;
-  if (word == "nurbs") return BladeKind::Nurbs;
-  throw InputError("unknown blade kind \"" + word + "\": use interp, approx, bezier or nurbs");
+  return parseName(kBladeKinds, word, "blade kind");
 }
 
 namespace {

@@ -7,6 +7,7 @@
 
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/limits.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
@@ -44,21 +45,20 @@ void requirePositive(const std::optional<double>& value, const std::string& wher
 
 }  // namespace
 
+namespace {
+constexpr NameTable<Serration, 5> kSerrations{{{Serration::None, "none"},
+                                               {Serration::Round, "round"},
+                                               {Serration::Sharp, "sharp"},
+                                               {Serration::Straight, "straight"},
+                                               {Serration::Acuminate, "acuminate"}}};
+}  // namespace
+
 const char* toString(Serration serration) {
-  switch (serration) {
-    case Serration::None: return "none";
-    case Serration::Round: return "round";
-    case Serration::Sharp: return "sharp";
-    case Serration::Straight: return "straight";
-    case Serration::Acuminate: return "acuminate";
-  }
-  return "?";
+  return nameIn(kSerrations, serration);
 }
 
 Serration serrationFromString(const std::string& word) {
-  for (Serration s : {Serration::None, Serration::Round, Serration::Sharp, Serration::Straight, Serration::Acuminate})
-    if (word == toString(s)) return s;
-  throw InputError("unknown serration '" + word + "': use none, round, sharp, straight or acuminate");
+  return parseName(kSerrations, word, "serration");
 }
 
 // Tooth profile in units of D at θ = n φ (docs/synthetic-leaves.md).
@@ -88,20 +88,17 @@ ToothSpread toothSpread(Serration s) {
   return out;
 }
 
+namespace {
+constexpr NameTable<ThicknessMode, 3> kThicknessModes{
+    {{ThicknessMode::Standard, "standard"}, {ThicknessMode::Full, "full"}, {ThicknessMode::Small, "small"}}};
+}  // namespace
+
 const char* toString(ThicknessMode mode) {
-  switch (mode) {
-    case ThicknessMode::Standard: return "standard";
-    case ThicknessMode::Full: return "full";
-    case ThicknessMode::Small: return "small";
-  }
-  return "standard";
+  return nameIn(kThicknessModes, mode);
 }
 
 ThicknessMode thicknessModeFromString(const std::string& word) {
-  if (word == "standard") return ThicknessMode::Standard;
-  if (word == "full") return ThicknessMode::Full;
-  if (word == "small") return ThicknessMode::Small;
-  throw InputError("unknown thickness mode \"" + word + "\": use standard, full or small");
+  return parseName(kThicknessModes, word, "thickness mode");
 }
 
 ThicknessMode inferThicknessMode(const MarkerSet& markers) {

@@ -8,6 +8,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/limits.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
@@ -58,7 +59,7 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
       if (!v->is_string()) reader.fail("leaf.serration", "must be none, round, sharp, straight or acuminate");
       try {
         m.leaf.serration = serrationFromString(v->get<std::string>());
-      } catch (const InputError& e) {
+      } catch (const UnknownName& e) {
         reader.fail("leaf.serration", e.what());
       }
     }
@@ -101,7 +102,7 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
     if (!it->is_string()) reader.fail("mode", "must be \"standard\", \"full\" or \"small\"");
     try {
       m.mode = thicknessModeFromString(it->get<std::string>());
-    } catch (const InputError& e) {
+    } catch (const UnknownName& e) {
       reader.fail("mode", e.what());
     }
   }

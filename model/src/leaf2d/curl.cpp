@@ -7,24 +7,21 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/leaf2d/leaf2d.hpp"
 #include "leafdig/model/spline/interpolation.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
+namespace {
+constexpr NameTable<CurlKind, 4> kCurlKinds{
+    {{CurlKind::Parabola, "parabola"}, {CurlKind::Sine, "sine"}, {CurlKind::Auto, "auto"}, {CurlKind::None, "none"}}};
+}  // namespace
+
 const char* toString(CurlKind kind) {
-  switch (kind) {
-    case CurlKind::None: return "none";
-    case CurlKind::Parabola: return "parabola";
-    case CurlKind::Sine: return "sine";
-    case CurlKind::Auto: return "auto";
-  }
-  return "?";
+  return nameIn(kCurlKinds, kind);
 }
 
 CurlKind curlKindFromString(const std::string& word) {
-  for (CurlKind k : {CurlKind::None, CurlKind::Parabola, CurlKind::Sine, CurlKind::Auto}) {
-    if (word == toString(k)) return k;
-  }
-  throw InputError("unknown curl \"" + word + "\"; use parabola, sine, auto or none");
+  return parseName(kCurlKinds, word, "curl");
 }
 
 std::array<double, 5> curlFeatureHeights(CurlKind kind) {

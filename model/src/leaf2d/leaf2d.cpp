@@ -517,7 +517,7 @@ std::string leaf2dToJson(const Leaf2dModel& m) {
                                {"projected_area_mm2", c.projectedAreaMm2}});
   }
   j["warnings"] = json::array();
-  for (const LeafWarning& w : m.warnings) j["warnings"].push_back({{"name", w.name}, {"message", w.message}});
+  for (const Warning& w : m.warnings) j["warnings"].push_back({{"name", w.name}, {"message", w.message}});
   j["vertices"] = m.mesh.positions.size();
   j["triangles"] = m.mesh.triangles.size();
   return detail::dumpFinite(j);

@@ -35,11 +35,11 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-void addWarning(std::vector<ModelWarning>& warnings, const std::string& organ, double t, const std::string& message) {
-  for (const ModelWarning& w : warnings) {
+void addWarning(std::vector<Warning>& warnings, const std::string& organ, double t, const std::string& message) {
+  for (const Warning& w : warnings) {
     if (w.organ == organ && w.message == message) return;  // first occurrence is enough
   }
-  warnings.push_back({organ, t, message});
+  warnings.push_back({.message = message, .organ = organ, .parameter = t});
 }
 
 Eigen::Vector3d safeNormal(const Eigen::Vector3d& v, const Eigen::Vector3d& fallback) {
@@ -107,7 +107,7 @@ void addCap(Mesh& mesh, const Vein& vein, double t, const Frame& frame, const Ei
 }  // namespace
 
 Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices, CapStyle caps, int capRings,
-              std::vector<ModelWarning>& warnings) {
+              std::vector<Warning>& warnings) {
   Mesh mesh;
   // Each parameter is evaluated once; frames, circles and checks share the jets.
   std::vector<BallBSplineCurve::Jet> jets;

@@ -6,25 +6,23 @@
 #include <numbers>
 #include <sstream>
 
+#include "leafdig/names/name_table.hpp"
 #include "mesh/planar_triangulation.hpp"
 #include "mesh/vein_rings.hpp"
 
 namespace leafdig::model {
 
+namespace {
+constexpr NameTable<MeshMethod, 3> kMeshMethods{
+    {{MeshMethod::Uniform, "uniform"}, {MeshMethod::Seed, "seed"}, {MeshMethod::Adaptive, "adaptive"}}};
+}  // namespace
+
 const char* toString(MeshMethod method) {
-  switch (method) {
-    case MeshMethod::Uniform: return "uniform";
-    case MeshMethod::Seed: return "seed";
-    case MeshMethod::Adaptive: return "adaptive";
-  }
-  return "uniform";
+  return nameIn(kMeshMethods, method);
 }
 
 MeshMethod meshMethodFromString(const std::string& word) {
-  if (word == "uniform") return MeshMethod::Uniform;
-  if (word == "seed") return MeshMethod::Seed;
-  if (word == "adaptive") return MeshMethod::Adaptive;
-  throw InputError("unknown mesh method \"" + word + "\": use uniform, seed or adaptive");
+  return parseName(kMeshMethods, word, "mesh method");
 }
 
 std::string describe(const MeshOptions& o) {
@@ -391,7 +389,7 @@ std::vector<Eigen::Vector2d> seedBoundary(const BladeSurface& blade, const Blade
 
 }  // namespace
 
-Mesh meshVeinSeed(const Vein& vein, const SeedMeshParameters& p, CapStyle caps, std::vector<ModelWarning>& warnings) {
+Mesh meshVeinSeed(const Vein& vein, const SeedMeshParameters& p, CapStyle caps, std::vector<Warning>& warnings) {
   if (p.ringVertices < 3) throw InputError("a vein ring needs at least 3 vertices (--ring)");
   if (!(p.maxAngleDeg > 0.0 && p.maxAngleDeg <= 180.0))
     throw InputError("the maximum inter-segment angle must be in (0, 180] degrees (--max-angle)");
@@ -411,7 +409,7 @@ Mesh meshVeinSeed(const Vein& vein, const SeedMeshParameters& p, CapStyle caps, 
   return meshVein(vein, ts, p.ringVertices, caps, std::max(1, p.ringVertices / 4), warnings);
 }
 
-Mesh meshVeinAdaptive(const Vein& vein, double maxErrorMm, CapStyle caps, std::vector<ModelWarning>& warnings) {
+Mesh meshVeinAdaptive(const Vein& vein, double maxErrorMm, CapStyle caps, std::vector<Warning>& warnings) {
   if (!(maxErrorMm > 0.0)) throw InputError("the maximum error must be positive (--max-error, mm)");
   const double rho = largestRadius(vein);
   int n = 3;

@@ -131,7 +131,7 @@ namespace {
 // way, point after point, and rows follow each other from the tip down the midrib. A row
 // taken backwards, a point out of order or rows out of order fold the blade over itself:
 // its area counts twice (crossed margins gave three times the area).
-void orderWarnings(const MarkerSet& markers, std::vector<LeafWarning>& out) {
+void orderWarnings(const MarkerSet& markers, std::vector<Warning>& out) {
   const std::size_t n = markers.rows.size();
   Eigen::Vector3d mean = markers.tipMm;
   for (const MarkerRow& row : markers.rows)
@@ -196,8 +196,8 @@ void orderWarnings(const MarkerSet& markers, std::vector<LeafWarning>& out) {
 
 }  // namespace
 
-std::vector<LeafWarning> captureWarnings(const MarkerSet& markers) {
-  std::vector<LeafWarning> out;
+std::vector<Warning> captureWarnings(const MarkerSet& markers) {
+  std::vector<Warning> out;
   const std::size_t n = markers.rows.size();
   if (n < 2) return out;
   orderWarnings(markers, out);
@@ -294,7 +294,7 @@ std::string metricsToJson(const LeafMetrics& m) {
     j["area_constraint"] = nullptr;
   }
   j["warnings"] = nlohmann::json::array();
-  for (const LeafWarning& w : m.warnings) j["warnings"].push_back({{"name", w.name}, {"message", w.message}});
+  for (const Warning& w : m.warnings) j["warnings"].push_back({{"name", w.name}, {"message", w.message}});
   if (m.areaInterval) {
     const AreaUncertainty& u = *m.areaInterval;
     j["blade_area_95_mm2"] = {u.low95Mm2, u.high95Mm2};

@@ -347,7 +347,7 @@ LeafMesh meshPlant(const Plant& plant, const MeshOptions& options) {
       o.leafRank = leaf.rank;
       out.organs.push_back(std::move(o));
     }
-    for (ModelWarning& w : m.warnings) {
+    for (Warning& w : m.warnings) {
       w.organ = prefix + w.organ;
       out.warnings.push_back(std::move(w));
     }

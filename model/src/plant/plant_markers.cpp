@@ -8,6 +8,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/limits.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
@@ -15,11 +16,11 @@ using nlohmann::json;
 
 namespace {
 
-constexpr std::array<std::pair<LeafState, const char*>, 5> kStates{{{LeafState::Alive, "alive"},
-                                                                    {LeafState::Dead, "dead"},
-                                                                    {LeafState::Broken, "broken"},
-                                                                    {LeafState::Yellow, "yellow"},
-                                                                    {LeafState::Pruned, "pruned"}}};
+constexpr NameTable<LeafState, 5> kStates{{{LeafState::Alive, "alive"},
+                                           {LeafState::Dead, "dead"},
+                                           {LeafState::Broken, "broken"},
+                                           {LeafState::Yellow, "yellow"},
+                                           {LeafState::Pruned, "pruned"}}};
 
 // A stem diameter by caliper: positive, at most what a stem can be.
 double stemDiameter(const detail::JsonReader& reader, const json& value, const std::string& where, double scale) {
@@ -38,15 +39,11 @@ std::string text(const json& object, const char* key) {
 }  // namespace
 
 const char* toString(LeafState state) {
-  for (const auto& [s, name] : kStates)
-    if (s == state) return name;
-  return "?";
+  return nameIn(kStates, state);
 }
 
 LeafState leafStateFromString(const std::string& word) {
-  for (const auto& [s, name] : kStates)
-    if (word == name) return s;
-  throw InputError("unknown leaf state \"" + word + "\"; use alive, dead, broken, yellow or pruned");
+  return parseName(kStates, word, "leaf state");
 }
 
 PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& source) {
@@ -96,7 +93,7 @@ PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& s
         if (!s->is_string()) reader.fail(lw + " state", "must be alive, dead, broken, yellow or pruned");
         try {
           node.state = leafStateFromString(s->get<std::string>());
-        } catch (const InputError& e) {
+        } catch (const UnknownName& e) {
           reader.fail(lw + " state", e.what());
         }
       }

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <set>
 
+#include "json_reader.hpp"
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -240,13 +241,7 @@ PlantPlan parsePlantPlan(std::string_view text, const std::string& source, const
 }
 
 PlantPlan readPlantPlan(const std::filesystem::path& path) {
-  std::string text;
-  try {
-    text = readFile(path);
-  } catch (const IoError& e) {
-    throw InputError(e.what());
-  }
-  return parsePlantPlan(text, path.string(), path.parent_path());
+  return parsePlantPlan(detail::readInputText(path), path.string(), path.parent_path());
 }
 
 }  // namespace leafdig::model

@@ -9,6 +9,7 @@
 
 #include "draws.hpp"
 #include "leafdig/model/errors.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
@@ -79,31 +80,30 @@ struct SurfaceFrame {
 
 }  // namespace
 
+namespace {
+constexpr NameTable<LeafShape, 5> kLeafShapes{{{LeafShape::Oblong, "oblong"},
+                                               {LeafShape::Elliptic, "elliptic"},
+                                               {LeafShape::Ovate, "ovate"},
+                                               {LeafShape::Obovate, "obovate"},
+                                               {LeafShape::Tobacco, "tobacco"}}};
+constexpr NameTable<ToothDirection, 2> kToothDirections{
+    {{ToothDirection::Horizontal, "horizontal"}, {ToothDirection::Normal, "normal"}}};
+}  // namespace
+
 const char* toString(LeafShape shape) {
-  switch (shape) {
-    case LeafShape::Oblong: return "oblong";
-    case LeafShape::Elliptic: return "elliptic";
-    case LeafShape::Ovate: return "ovate";
-    case LeafShape::Obovate: return "obovate";
-    case LeafShape::Tobacco: return "tobacco";
-  }
-  return "?";
+  return nameIn(kLeafShapes, shape);
 }
 
 const char* toString(ToothDirection direction) {
-  return direction == ToothDirection::Horizontal ? "horizontal" : "normal";
+  return nameIn(kToothDirections, direction);
 }
 
 LeafShape leafShapeFromString(const std::string& word) {
-  for (LeafShape s : {LeafShape::Oblong, LeafShape::Elliptic, LeafShape::Ovate, LeafShape::Obovate, LeafShape::Tobacco})
-    if (word == toString(s)) return s;
-  throw InputError("unknown leaf shape '" + word + "': use oblong, elliptic, ovate, obovate or tobacco");
+  return parseName(kLeafShapes, word, "leaf shape");
 }
 
 ToothDirection toothDirectionFromString(const std::string& word) {
-  if (word == "horizontal") return ToothDirection::Horizontal;
-  if (word == "normal") return ToothDirection::Normal;
-  throw InputError("unknown tooth direction '" + word + "': use horizontal or normal");
+  return parseName(kToothDirections, word, "tooth direction");
 }
 
 double aspectRatio(LeafShape shape) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "leafdig/devices/sample.hpp"
+#include "leafdig/model/leaf/thickness_mode.hpp"
 
 namespace leafdig::acquisition {
 
@@ -24,12 +25,11 @@ using devices::Vec3;
 // margin (7). Equal to model::kMarkersPerRow (checked in engine.cpp).
 inline constexpr int kMarkersPerRow = 7;
 
-enum class Mode { Standard, Full, Small };
+// The thickness mode is the model's (one enum from the capture to the model file).
+using Mode = model::ThicknessMode;
 enum class Order { Sequential, Interleaved };
-[[nodiscard]] const char* toString(Mode m);
 [[nodiscard]] const char* toString(Order o);
-[[nodiscard]] Mode modeFromString(const std::string& s);  // throws std::invalid_argument
-[[nodiscard]] Order orderFromString(const std::string& s);
+[[nodiscard]] Order orderFromString(const std::string& s);  // throws UnknownName
 
 struct Settings {
   Mode mode = Mode::Standard;
@@ -51,7 +51,7 @@ struct Settings {
 
 enum class What { Board, Tip, Marker, MidribThickness, VeinOriginThickness, EdgeThickness, PointThickness, Done };
 [[nodiscard]] const char* toString(What w);               // "board", "tip", "marker", "midrib_thickness", …
-[[nodiscard]] What whatFromString(const std::string& s);  // throws std::invalid_argument
+[[nodiscard]] What whatFromString(const std::string& s);  // throws UnknownName
 [[nodiscard]] bool isStylusItem(What w);                  // board, tip, marker
 
 struct Step {
@@ -136,9 +136,9 @@ class Engine {
   [[nodiscard]] const Settings& settings() const { return settings_; }
 
  private:
-  Decision decidePoint(const StylusInput& release);
-  Decision decideEndRows() const;
-  Decision reject(std::string reason) const;
+  [[nodiscard]] Decision decidePoint(const StylusInput& release);
+  [[nodiscard]] Decision decideEndRows() const;
+  [[nodiscard]] Decision reject(std::string reason) const;
   [[nodiscard]] const Item* find(What w, int row, int col) const;
   [[nodiscard]] int markersInRow(int row) const;
   [[nodiscard]] std::vector<Step> thicknessSteps(int row) const;

@@ -43,7 +43,7 @@ inline constexpr int kLabSchemaVersion = 2;
 
 enum class LabRole { Technician, Curator, Reader };
 [[nodiscard]] const char* toString(LabRole role);
-[[nodiscard]] std::optional<LabRole> labRoleFromString(const std::string& text);
+[[nodiscard]] LabRole labRoleFromString(const std::string& text);  // throws UnknownName
 // Puts a login in its group; a technician is bound to exactly one station. An existing
 // login keeps its password unless one is given; a new login needs one. Throws StoreError.
 struct AddedUser {

@@ -20,12 +20,14 @@ class IoError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Something is geometrically doubtful but still produced: an envelope that does not exist
-// at some parameter, a radius that overshoots below zero. Never a NaN in the output.
-struct ModelWarning {
-  std::string organ;    // e.g. "midrib", "lateral-3-left"
-  double parameter;     // first parameter t where it happens
-  std::string message;  // operator-readable, says what was done instead
+// Something doubtful that was still produced (never a NaN in the output): a capture that
+// looks wrong (a row reversed, the last row not at the base), or geometry that had to be
+// mended (an envelope that does not exist at some parameter, a radius overshooting below 0).
+struct Warning {
+  std::string name{};      // the kind as a word, e.g. "last-row-not-at-base" (empty for geometry)
+  std::string message{};   // operator-readable, says what was done instead
+  std::string organ{};     // geometry: the organ, e.g. "midrib", "lateral-3-left"
+  double parameter = 0.0;  // geometry: the first parameter t where it happens
 };
 
 }  // namespace leafdig::model

@@ -20,7 +20,7 @@ enum class DigitizerKind { Fastrak, Patriot, Liberty, MicroScribe, Line };
 enum class CaliperKind { Hid, UsbItn, Mitutoyo, UWave, Sylvac };
 [[nodiscard]] const char* toString(DigitizerKind k);
 [[nodiscard]] const char* toString(CaliperKind k);
-[[nodiscard]] DigitizerKind digitizerKindFromString(const std::string& s);  // throws invalid_argument
+[[nodiscard]] DigitizerKind digitizerKindFromString(const std::string& s);  // throws UnknownName
 [[nodiscard]] CaliperKind caliperKindFromString(const std::string& s);
 
 struct DigitizerConfig {

@@ -6,16 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "leafdig/model/leaf/thickness_mode.hpp"
+
 namespace leafdig::model {
 
 inline constexpr int kMarkersPerRow = 7;
 inline constexpr int kMidribColumn = 3;  // 0-based index of the 4th marker
-
-enum class ThicknessMode { Standard, Full, Small };
-
-[[nodiscard]] const char* toString(ThicknessMode mode);
-// Throws InputError naming the accepted words.
-[[nodiscard]] ThicknessMode thicknessModeFromString(const std::string& word);
 
 // One row i of markers: P_i1..P_i7 right to left, the 4th on the midrib, with the
 // back-side caliper thicknesses (diameters, mm) taken for it.

@@ -114,7 +114,7 @@ struct Leaf2dModel {
   // still differ by more than 2 % in area (sections that miss detail; or a sinus filled
   // across because the outline could not be meshed as it is: the area constraint then draws
   // the whole leaf in).
-  std::vector<LeafWarning> warnings;
+  std::vector<Warning> warnings;
 };
 
 // Throws InputError for a degenerate outline or options out of range (rows < 6, amplitude < 0).

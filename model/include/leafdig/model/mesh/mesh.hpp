@@ -53,12 +53,12 @@ struct MeshResolution {
 
 struct LeafMesh {
   std::vector<Organ> organs;  // veins in model order, then "blade"
-  std::vector<ModelWarning> warnings;
+  std::vector<Warning> warnings;
 };
 
 // Vein tube on the exact envelope of docs/method.md §3, rings at `ts` (increasing, in [0, 1]).
 [[nodiscard]] Mesh meshVein(const Vein& vein, const std::vector<double>& ts, int ringVertices, CapStyle caps,
-                            int capRings, std::vector<ModelWarning>& warnings);
+                            int capRings, std::vector<Warning>& warnings);
 
 // The blade sampled on `segmentsPerRow` per marker-row span and `segmentsAcross` over the
 // whole width, vertex grid rows at the marker rows. Degenerate triangles (height under 1e-9

@@ -53,7 +53,7 @@ struct MeshOptions {
 // Seed mode: rings of `p.ringVertices` at the centre-curve points kept by mergeByAngle after
 // dividing the vein every `p.minLengthMm`; ends closed with hemispherical caps.
 [[nodiscard]] Mesh meshVeinSeed(const Vein& vein, const SeedMeshParameters& p, CapStyle caps,
-                                std::vector<ModelWarning>& warnings);
+                                std::vector<Warning>& warnings);
 // Seed mode: the blade split at the midrib into two closed polygons in its (u, v) domain,
 // their boundaries (margin, base row, midrib) divided and merged by the same rule, each
 // triangulated by constrained Delaunay without interior points, lifted onto the surface.
@@ -62,8 +62,7 @@ struct MeshOptions {
 // Error-bounded: ring count from the radius, rings placed along the vein where the chord
 // error (centre sagitta + radius change + ring rotation) would exceed the budget, so the
 // tube is within `maxErrorMm` of the vein's envelope (and caps of its end balls).
-[[nodiscard]] Mesh meshVeinAdaptive(const Vein& vein, double maxErrorMm, CapStyle caps,
-                                    std::vector<ModelWarning>& warnings);
+[[nodiscard]] Mesh meshVeinAdaptive(const Vein& vein, double maxErrorMm, CapStyle caps, std::vector<Warning>& warnings);
 // Error-bounded: constrained Delaunay refinement of the blade's (u, v) domain until every
 // triangle's interpolation-error bound (½ κ R², κ the largest normal curvature over the
 // triangle, R its smallest enclosing radius) is within `maxErrorMm`; lifted onto the surface.

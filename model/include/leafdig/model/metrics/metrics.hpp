@@ -57,12 +57,6 @@ struct AreaConstraint {
 };
 [[nodiscard]] AreaConstraint compareArea(double modelMm2, double measuredMm2, double thresholdPercent = 5.0);
 
-// A named warning about how a leaf was captured (not an error: the model is built).
-struct LeafWarning {
-  std::string name;  // e.g. "last-row-not-at-base"
-  std::string message;
-};
-
 // The protocol's last row is at the leaf base, where the blade meets the stem or petiole, and
 // the blade ends there (docs/decisions.md). At the base the blade narrows: the last row's
 // width (P_N1 to P_N7) is 22–49 % of the widest row's on the synthetic leaves of every shape.
@@ -70,7 +64,7 @@ struct LeafWarning {
 // broad (winged, cordate) and its lowest veins meet the margin far up: either way the model
 // ends short of the leaf and its area falls short of a leaf area meter's.
 inline constexpr double kBaseRowWidthWarningRatio = 0.6;
-[[nodiscard]] std::vector<LeafWarning> captureWarnings(const MarkerSet& markers);
+[[nodiscard]] std::vector<Warning> captureWarnings(const MarkerSet& markers);
 
 // Seed 001's light metrics of one leaf (docs/method.md §6), the same as a plant's per leaf
 // (computePlantMetrics): the blade mesh's area, its silhouette (displayed) area for the
@@ -88,7 +82,7 @@ struct LeafMetrics {
   double markerGridHeronAreaMm2;                 // seed 001's quad sum, for comparison only
   std::optional<AreaConstraint> areaConstraint;  // when the leaf has a measured area
   std::optional<AreaUncertainty> areaInterval;   // blade area's 95 % interval (FASTRAK accuracy)
-  std::vector<LeafWarning> warnings;             // captureWarnings of the markers
+  std::vector<Warning> warnings;                 // captureWarnings of the markers
   std::optional<LeafSilhouette> silhouette;      // of the exported mesh's blade (addSilhouette)
 };
 

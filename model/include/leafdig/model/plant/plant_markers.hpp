@@ -24,7 +24,7 @@ inline constexpr std::size_t kMaxPlantNodes = 500;  // a plant digitized in plac
 // What the MTG's `State` column says of a leaf: present and sound, or flagged.
 enum class LeafState { Alive, Dead, Broken, Yellow, Pruned };
 [[nodiscard]] const char* toString(LeafState state);  // "alive", "dead", "broken", "yellow", "pruned"
-// Throws InputError listing the states.
+// Throws UnknownName listing the states.
 [[nodiscard]] LeafState leafStateFromString(const std::string& word);
 
 struct QuickLeaf {
