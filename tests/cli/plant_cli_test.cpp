@@ -398,4 +398,187 @@ TEST_F(PlantCli, APlantDigitizedInPlaceIsMeasuredInItsOwnFrame) {
       << tipless.err;
 }
 
+TEST_F(PlantCli, APlantDigitizedInPlaceIsWrittenAsAnMtgInTheAmapConventions) {
+  const std::string sample = std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json";
+  const fs::path out = dir_ / "p12.mtg";
+  const Result r = leafdig("plant measure " + quote(sample) + " --json --mtg " + quote(out.string()));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["date"], "2026-06-12");  // the file's
+  const auto mtg = leafdig::test::readMtgStrictly(slurp(out));
+  EXPECT_EQ(mtg.nbScales(), 3);
+  std::vector<std::string> names;
+  for (const auto& [name, type] : mtg.features) names.push_back(name);
+  for (const char* amap :
+       {"XX", "YY", "ZZ", "TopDia", "Length", "Width", "Area", "Azimuth", "Inclination", "State", "Date"})
+    EXPECT_NE(std::find(names.begin(), names.end(), amap), names.end()) << amap;
+  const auto number = [](const auto& e, const char* f) { return std::stod(e.features.at(f)); };
+  // The collar I0 at the origin, then one internode per node ending at it, in order.
+  std::vector<const leafdig::test::MtgEntity*> stem, leaves;
+  for (const auto& e : mtg.entities) {
+    if (e.symbol == 'I') stem.push_back(&e);
+    if (e.symbol == 'L') leaves.push_back(&e);
+  }
+  ASSERT_EQ(stem.size(), 6u);
+  EXPECT_EQ(stem[0]->index, 0);
+  EXPECT_EQ(number(*stem[0], "ZZ"), 0.0);
+  EXPECT_NEAR(number(*stem[0], "TopDia"), j["collar_diameter_mm"].get<double>(), 5e-4);
+  for (std::size_t k = 1; k < stem.size(); ++k) {
+    const json& node = j["nodes"][k - 1];
+    EXPECT_EQ(stem[k]->index, static_cast<int>(k));
+    EXPECT_EQ(stem[k]->relation, '<');
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(number(*stem[k], std::array{"XX", "YY", "ZZ"}[static_cast<std::size_t>(c)]),
+                  node["point_mm"][static_cast<std::size_t>(c)].get<double>(), 5e-4)
+          << k;
+    EXPECT_NEAR(number(*stem[k], "TopDia"), node["diameter_mm"].get<double>(), 5e-4);
+    EXPECT_NEAR(number(*stem[k], "Length"), node["internode_mm"].get<double>(), 5e-4);
+    EXPECT_EQ(stem[k]->features.at("Date"), "12/06/2026");
+  }
+  // Each leaf branches (+) from its node's internode, with the survey's numbers.
+  ASSERT_EQ(leaves.size(), j["leaves"].size());
+  for (std::size_t k = 0; k < leaves.size(); ++k) {
+    const json& leaf = j["leaves"][k];
+    const auto& e = *leaves[k];
+    EXPECT_EQ(e.relation, '+');
+    EXPECT_EQ(e.index, leaf["node"].get<int>());
+    EXPECT_EQ(mtg.entities[static_cast<std::size_t>(e.parent)].symbol, 'I');
+    EXPECT_EQ(mtg.entities[static_cast<std::size_t>(e.parent)].index, leaf["node"].get<int>());
+    EXPECT_EQ(e.features.at("State"), leaf["state"].get<std::string>());
+    EXPECT_EQ(e.features.at("Kind"), leaf["kind"].get<std::string>());
+    EXPECT_EQ(e.features.at("Date"), "12/06/2026");
+    if (leaf["azimuth_deg"].is_null()) {
+      EXPECT_EQ(e.features.count("Azimuth"), 0u);
+      EXPECT_EQ(e.features.count("XX"), 0u);
+    } else {
+      EXPECT_NEAR(number(e, "Azimuth"), leaf["azimuth_deg"].get<double>(), 5e-4);
+      EXPECT_NEAR(number(e, "Inclination"), leaf["inclination_deg"].get<double>(), 5e-4);
+      EXPECT_NEAR(number(e, "Width"), leaf["width_mm"].get<double>(), 5e-4);
+      const double length =
+          leaf["midrib_length_mm"].is_null() ? leaf["chord_mm"].get<double>() : leaf["midrib_length_mm"].get<double>();
+      EXPECT_NEAR(number(e, "Length"), length, 5e-4);
+    }
+    if (leaf["area_mm2"].is_null())
+      EXPECT_EQ(e.features.count("Area"), 0u);
+    else
+      EXPECT_NEAR(number(e, "Area"), leaf["area_mm2"].get<double>(), 5e-4);
+  }
+
+  // --date is the survey's day over the file's; a day that is not one is refused, nothing written.
+  const Result dated =
+      leafdig("plant measure " + quote(sample) + " --mtg " + quote((dir_ / "d.mtg").string()) + " --date 2027-02-28");
+  ASSERT_EQ(dated.exitCode, 0) << dated.err;
+  EXPECT_NE(dated.out.find("(MTG, survey of 2027-02-28)"), std::string::npos) << dated.out;
+  EXPECT_NE(slurp(dir_ / "d.mtg").find("\t28/02/2027"), std::string::npos);
+  for (const char* day : {"2027-02-29", "26/11/2026", "2026-13-01", "yesterday"}) {
+    const fs::path none = dir_ / "none.mtg";
+    const Result bad = leafdig("plant measure " + quote(sample) + " --mtg " + quote(none.string()) + " --date " + day);
+    EXPECT_EQ(bad.exitCode, 2) << day << ": " << bad.err;
+    EXPECT_NE(bad.err.find("is not a day: give the survey's day as YYYY-MM-DD"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(none)) << day;
+  }
+  // A file's date that is not a day is the file's fault, named.
+  json doc = json::parse(slurp(sample));
+  doc["date"] = "2026-06-31";
+  const Result badFile = leafdig("plant measure " + quote(write("baddate.json", doc.dump())));
+  EXPECT_EQ(badFile.exitCode, 2) << badFile.err;
+  EXPECT_NE(badFile.err.find("date: must be the survey's day as \"YYYY-MM-DD\""), std::string::npos) << badFile.err;
+}
+
 }  // namespace
+
+namespace {
+
+// The frame error's lever: a point d mm from the collar moves by about σ d / R when the rim's
+// landmarks (radius R) carry noise σ (docs/plants.md, "How exact").
+double nodeTolerance(double noise, double distanceMm) {
+  return 3.0 * noise * (2.0 + distanceMm / 110.0);
+}
+
+}  // namespace
+
+TEST_F(PlantCli, ASyntheticPlantSeenThroughATransmitterAtARandomPoseIsMeasuredWithinTheDigitizersNoise) {
+  constexpr double kNoise = 0.3;
+  for (int seed = 1; seed <= 4; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const fs::path markers = dir_ / ("s" + std::to_string(seed) + ".plant-markers.json");
+    const fs::path truthFile = dir_ / ("s" + std::to_string(seed) + ".truth.json");
+    const Result made = leafdig("synth plant --nodes 9 --seed " + std::to_string(seed) + " --noise 0.3 --markers " +
+                                quote(markers) + " --truth " + quote(truthFile) + " --json");
+    ASSERT_EQ(made.exitCode, 0) << made.err;
+    const json summary = json::parse(made.out);
+    EXPECT_EQ(summary["nodes"], 9);
+    EXPECT_GE(summary["full_leaves"].get<int>(), 2);
+    EXPECT_GE(summary["quick_leaves"].get<int>(), 3);
+    const json truth = json::parse(slurp(truthFile));
+    // The transmitter is somewhere else: the file's points are not in the plant's frame.
+    const json raw = json::parse(slurp(markers));
+    EXPECT_GT(std::abs(raw["collar"]["point"][0].get<double>()) + std::abs(raw["collar"]["point"][1].get<double>()),
+              1.0);
+
+    const Result r = leafdig("plant measure " + quote(markers) + " --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json got = json::parse(r.out);
+    ASSERT_EQ(got["nodes"].size(), truth["nodes"].size());
+    double worst = 0.0;
+    for (std::size_t k = 0; k < got["nodes"].size(); ++k) {
+      double d2 = 0.0, r2 = 0.0;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double t = truth["nodes"][k]["point_mm"][c].get<double>();
+        d2 += std::pow(got["nodes"][k]["point_mm"][c].get<double>() - t, 2);
+        r2 += t * t;
+      }
+      EXPECT_LE(std::sqrt(d2), nodeTolerance(kNoise, std::sqrt(r2))) << "node " << k + 1;
+      worst = std::max(worst, std::sqrt(d2));
+      EXPECT_NEAR(got["nodes"][k]["diameter_mm"].get<double>(), truth["nodes"][k]["diameter_mm"].get<double>(), 0.1);
+    }
+    // Leaves: the same nodes, kinds and states; angles within 2°; full leaves' areas inside
+    // their 95 % interval, quick leaves' sizes within the noise.
+    ASSERT_EQ(got["leaves"].size(), truth["leaves"].size());
+    for (std::size_t k = 0; k < got["leaves"].size(); ++k) {
+      const json& g = got["leaves"][k];
+      const json& t = truth["leaves"][k];
+      SCOPED_TRACE("leaf of node " + std::to_string(t["node"].get<int>()));
+      EXPECT_EQ(g["node"], t["node"]);
+      EXPECT_EQ(g["kind"], t["kind"]);
+      EXPECT_EQ(g["state"], t["state"]);
+      if (t["azimuth_deg"].is_null()) continue;
+      const double dAzimuth = std::remainder(g["azimuth_deg"].get<double>() - t["azimuth_deg"].get<double>(), 360.0);
+      EXPECT_LE(std::abs(dAzimuth), 2.0);
+      EXPECT_LE(std::abs(g["inclination_deg"].get<double>() - t["inclination_deg"].get<double>()), 2.0);
+      if (t["kind"] == "full") {
+        const double area = t["area_mm2"].get<double>();
+        EXPECT_LE(g["area_95_mm2"][0].get<double>(), area);
+        EXPECT_GE(g["area_95_mm2"][1].get<double>(), area);
+        EXPECT_NEAR(g["midrib_length_mm"].get<double>(), t["length_mm"].get<double>(),
+                    0.01 * t["length_mm"].get<double>());
+      } else {
+        EXPECT_NEAR(g["chord_mm"].get<double>(), t["length_mm"].get<double>(), 6 * kNoise);
+        EXPECT_NEAR(g["width_mm"].get<double>(), t["width_mm"].get<double>(), 6 * kNoise);
+      }
+    }
+    std::cout << "seed " << seed << ": worst node " << worst << " mm\n";
+  }
+  // Without noise and in the plant's own frame, the measure gives the truth back.
+  const fs::path exact = dir_ / "exact.plant-markers.json";
+  const fs::path exactTruth = dir_ / "exact.truth.json";
+  ASSERT_EQ(leafdig("synth plant --noise 0 --pose plant --markers " + quote(exact) + " --truth " + quote(exactTruth))
+                .exitCode,
+            0);
+  const json got = json::parse(leafdig("plant measure " + quote(exact) + " --json").out);
+  const json truth = json::parse(slurp(exactTruth));
+  for (std::size_t k = 0; k < got["nodes"].size(); ++k)
+    for (std::size_t c = 0; c < 3; ++c)
+      EXPECT_NEAR(got["nodes"][k]["point_mm"][c].get<double>(), truth["nodes"][k]["point_mm"][c].get<double>(), 0.02);
+  for (std::size_t k = 0; k < got["leaves"].size(); ++k)
+    if (!truth["leaves"][k]["azimuth_deg"].is_null()) {
+      EXPECT_NEAR(got["leaves"][k]["azimuth_deg"].get<double>(), truth["leaves"][k]["azimuth_deg"].get<double>(), 0.01);
+    }
+  // Bad options exit 2 and write nothing.
+  const fs::path none = dir_ / "none.json";
+  for (const std::string bad : {"--nodes 1", "--full-every 0", "--noise -1", "--pose sideways", "--date 2026-02-30"}) {
+    const Result r = leafdig("synth plant " + bad + " --markers " + quote(none) + " --truth " + quote(none));
+    EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(none)) << bad;
+  }
+}

@@ -117,3 +117,20 @@ TEST(PlantMarkers, BadInputIsRefusedNamingTheNodeTheKeyAndWhatToDo) {
                                        "tip": [0, 0, 0], "rows": [{"points": [[1, 1, 1]]}]}})")),
                   "p.json: node 1 leaf markers: row 1: has 1 points; every row needs exactly 7 markers"));
 }
+
+TEST(PlantMarkers, ASurveysDateIsADayOfTheCalendarReadAndWrittenAsIso) {
+  EXPECT_EQ(parseSurveyDate("2026-11-26"), (SurveyDate{2026, 11, 26}));
+  EXPECT_EQ(parseSurveyDate("2024-02-29"), (SurveyDate{2024, 2, 29}));  // a leap year
+  EXPECT_EQ(parseSurveyDate("2000-02-29"), (SurveyDate{2000, 2, 29}));  // divisible by 400
+  for (const char* notADay : {"2026-02-29", "1900-02-29", "2026-04-31", "2026-00-10", "2026-13-01", "2026-1-01",
+                              "26/11/2026", "1899-12-31", "3000-01-01", "2026-11-26T10:00", "", "２026-11-26"})
+    EXPECT_FALSE(parseSurveyDate(notADay).has_value()) << notADay;
+  EXPECT_EQ(toIso({2026, 6, 2}), "2026-06-02");
+  // The plant-markers file carries it and writes it back.
+  PlantMarkers p = readPlantMarkersFile(sample());
+  ASSERT_TRUE(p.date.has_value());
+  EXPECT_EQ(*p.date, (SurveyDate{2026, 6, 12}));
+  EXPECT_EQ(parsePlantMarkersJson(plantMarkersToJson(p), "again").date, p.date);
+  p.date.reset();
+  EXPECT_EQ(plantMarkersToJson(p).find("\"date\""), std::string::npos);
+}

@@ -3,6 +3,7 @@
 // throw std::runtime_error naming the line and the rule broken.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -45,6 +46,20 @@ inline bool isInt(const std::string& s) {
 
 // Fixed notation only: digits, one optional point, an optional leading minus. No exponent,
 // no decimal comma.
+// DD/MM/YYYY (or DD/MM/YY): a day of the calendar.
+inline bool isMtgDate(const std::string& s, std::size_t yearDigits) {
+  if (s.size() != 6 + yearDigits || s[2] != '/' || s[5] != '/') return false;
+  for (std::size_t k : {0u, 1u, 3u, 4u})
+    if (s[k] < '0' || s[k] > '9') return false;
+  for (std::size_t k = 6; k < s.size(); ++k)
+    if (s[k] < '0' || s[k] > '9') return false;
+  const int day = std::stoi(s.substr(0, 2)), month = std::stoi(s.substr(3, 2)), year = std::stoi(s.substr(6));
+  static constexpr int kDays[] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  if (month < 1 || month > 12 || day < 1 || day > kDays[month - 1]) return false;
+  const bool leap = yearDigits == 2 || ((year % 4 == 0 && year % 100 != 0) || year % 400 == 0);
+  return month != 2 || day <= 28 || leap;
+}
+
 inline bool isFixed(const std::string& s) {
   std::size_t i = (!s.empty() && s[0] == '-') ? 1 : 0;
   bool digits = false;
@@ -135,6 +150,25 @@ inline MtgFile readMtgStrictly(const std::string& text) {
     if (!types.count(f[1])) fail(i, "unknown feature type " + f[1] + " (FLOAT is not one)");
     mtg.features.emplace_back(f[0], f[1]);
   }
+  // AMAP's reserved features come first, in this order, with their own types.
+  static const std::vector<std::pair<std::string, std::string>> reserved{
+      {"Alias", "ALPHA"},         {"Date", "DD/MM/YYYY"},  {"NbEl", "INT"},   {"Length", "REAL"},
+      {"BottomDiameter", "REAL"}, {"TopDiameter", "REAL"}, {"State", "ALPHA"}};
+  std::size_t nextReserved = 0;
+  bool other = false;
+  for (const auto& [name, type] : mtg.features) {
+    const auto r = std::find_if(reserved.begin(), reserved.end(), [&](const auto& e) { return e.first == name; });
+    if (r == reserved.end()) {
+      other = true;
+      continue;
+    }
+    if (other) fail(i, "reserved feature " + name + " must come before the others");
+    const auto at = static_cast<std::size_t>(r - reserved.begin());
+    if (at < nextReserved)
+      fail(i, "reserved features in AMAP's order: Alias, Date, NbEl, Length, BottomDiameter, TopDiameter, State");
+    if (name != "Date" && type != r->second) fail(i, "reserved feature " + name + " has type " + r->second);
+    nextReserved = at + 1;
+  }
   expect("MTG:");
   skipBlankAndComments();
   if (i >= lines.size()) fail(i, "no TOPO header");
@@ -202,7 +236,10 @@ inline MtgFile readMtgStrictly(const std::string& text) {
       const auto& [name, type] = mtg.features[k];
       if (type == "INT" && !isInt(v)) fail(i, name + " \"" + v + "\" is not an INT");
       if (type == "REAL" && !isFixed(v)) fail(i, name + " \"" + v + "\" is not a REAL in fixed notation");
-      if (v.find_first_of("+</[](),=") != std::string::npos) fail(i, name + " holds an MTG syntax character");
+      const bool date = type == "DD/MM/YYYY" || type == "DD/MM/YY";
+      if (date && !isMtgDate(v, type.size() == 10 ? 4 : 2)) fail(i, name + " \"" + v + "\" is not a " + type + " day");
+      if (v.find_first_of(date ? "+<[](),=" : "+</[](),=") != std::string::npos)
+        fail(i, name + " holds an MTG syntax character");
       e.features[name] = v;
     }
     mtg.entities.push_back(e);

@@ -1,5 +1,7 @@
 // `leafdig plant measure`: a plant digitized in place (leafdig.plant-markers/1) measured in its
-// own frame — nodes, internodes, stem diameters, each leaf's angles and size, divergences.
+// own frame — nodes, internodes, stem diameters, each leaf's angles and size, divergences —
+// and, with --mtg, written as an MTG in the AMAP conventions.
+#include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -8,6 +10,9 @@
 #include <string>
 
 #include "commands.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/io/survey_mtg.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
 #include "plant_cmd.hpp"
@@ -21,7 +26,22 @@ namespace {
 struct MeasureOptions {
   std::string input;
   bool json = false;
+  std::string mtg;   // where to write the MTG, if anywhere
+  std::string date;  // YYYY-MM-DD, over the file's
 };
+
+// The survey's day: --date, else the file's "date", else today (UTC).
+m::SurveyDate surveyDay(const MeasureOptions& o, const m::PlantSurvey& survey) {
+  if (!o.date.empty()) {
+    if (const auto d = m::parseSurveyDate(o.date)) return *d;
+    throw m::InputError("--date \"" + o.date +
+                        "\" is not a day: give the survey's day as YYYY-MM-DD, for example 2026-11-26");
+  }
+  if (survey.date) return *survey.date;
+  const std::chrono::year_month_day today{std::chrono::floor<std::chrono::days>(std::chrono::system_clock::now())};
+  return {static_cast<int>(today.year()), static_cast<int>(static_cast<unsigned>(today.month())),
+          static_cast<int>(static_cast<unsigned>(today.day()))};
+}
 
 std::string fixed(double v, int digits) {
   if (std::abs(v) < 0.5 * std::pow(10.0, -digits)) v = 0.0;  // no "-0.0"
@@ -60,11 +80,14 @@ void printSurvey(const m::PlantSurvey& s, const std::string& input) {
 
 int runMeasure(const MeasureOptions& o) {
   const m::PlantMarkers markers = m::readPlantMarkersFile(o.input);
-  const m::PlantSurvey survey = m::surveyPlant(markers);
+  m::PlantSurvey survey = m::surveyPlant(markers);
+  if (!o.mtg.empty() || !o.date.empty()) survey.date = surveyDay(o, survey);
+  if (!o.mtg.empty()) m::writeFileAtomically(o.mtg, m::encodeSurveyMtg(survey, *survey.date));
   if (o.json) {
     std::cout << m::plantSurveyToJson(survey) << "\n";
   } else {
     printSurvey(survey, o.input);
+    if (!o.mtg.empty()) std::cout << "wrote " << o.mtg << " (MTG, survey of " << m::toIso(*survey.date) << ")\n";
   }
   return 0;
 }
@@ -77,6 +100,10 @@ void addPlantMeasureCommand(CLI::App& plant, CommandTable& table) {
       plant.add_subcommand("measure", "Measure a plant digitized in place (leafdig.plant-markers/1) in its own frame");
   measure->add_option("input", o->input, "Plant markers file (leafdig.plant-markers/1 JSON)")->required();
   measure->add_flag("--json", o->json, "Print nodes, leaves, angles and divergences as one JSON object");
+  measure->add_option("--mtg", o->mtg,
+                      "Also write the plant as an MTG (AMAP names: XX YY ZZ TopDia, L with Length ...)");
+  measure->add_option("--date", o->date,
+                      "The survey's day, YYYY-MM-DD (default: the file's \"date\", else today); the MTG's Date");
   table.add(measure, [o] { return runMeasure(*o); });
 }
 

@@ -160,7 +160,7 @@ SynthChoice parseSynthSpec(const std::string& text) {
 namespace {
 
 void declareSynthCommands(CLI::App& app, SynthOptions& o) {
-  CLI::App* synth = app.add_subcommand("synth", "Synthetic ground-truth leaves (seed 002) for tests and studies");
+  CLI::App* synth = app.add_subcommand("synth", "Synthetic ground-truth leaves (seed 002) and plants for tests and studies");
   synth->require_subcommand(1);
   CLI::App* leaf = synth->add_subcommand(
       "leaf", "A 3-D leaf with a known area: markers by the protocol (with noise), the truth, the true surface");
@@ -398,6 +398,7 @@ void addSynthCommands(CLI::App& app, CommandTable& table) {
   table.add(synth->get_subcommand("scan"), [o] { return runScan(*o); });
   table.add(synth->get_subcommand("figure"), [o] { return runFigure(*o); });
   table.add(synth->get_subcommand("study"), [o] { return runStudy(*o); });
+  addSynthPlantCommand(*synth, table);
 }
 
 }  // namespace leafdig::cli

@@ -53,7 +53,9 @@ struct SynthOptions {
 };
 
 class CommandTable;
-// Registers `synth leaf`, `synth scan`, `synth figure` and `synth study`.
+// Registers `synth leaf`, `synth scan`, `synth figure`, `synth study` and `synth plant`.
 void addSynthCommands(CLI::App& app, CommandTable& table);
+// `synth plant` (synth_plant_cmd.cpp), under `synth`.
+void addSynthPlantCommand(CLI::App& synth, CommandTable& table);
 
 }  // namespace leafdig::cli

@@ -1,12 +1,12 @@
 #include "leafdig/model/io/plant_export.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "fixed_text.hpp"
+#include "io/mtg_text.hpp"
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -24,24 +24,10 @@ const Mesh* bladeOf(const LeafMesh& mesh, int rank) {
   return nullptr;
 }
 
-// Fixed notation with three decimals; never an exponent, never "-0.000".
+using detail::mtgAlpha;
+// Fixed notation with three decimals (the MTG's and the CSV's numbers).
 std::string fixed3(double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.3f", v);
-  std::string s(buffer);
-  if (s == "-0.000") s = "0.000";
-  return s;
-}
-
-// MTG values must not hold its syntax characters, tabs or spaces.
-std::string mtgAlpha(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    const bool bad = std::string_view("+</[](),=^").find(c) != std::string_view::npos ||
-                     std::isspace(static_cast<unsigned char>(c)) != 0;
-    out += bad ? '_' : c;
-  }
-  return out.empty() ? "unnamed" : out;
+  return detail::mtgReal(v);
 }
 
 std::string csvField(const std::string& s) {

@@ -1,6 +1,7 @@
 #include "leafdig/model/plant/plant_markers.hpp"
 
 #include <array>
+#include <cstdio>
 #include <utility>
 
 #include "json_reader.hpp"
@@ -46,6 +47,31 @@ LeafState leafStateFromString(const std::string& word) {
   return parseName(kStates, word, "leaf state");
 }
 
+std::optional<SurveyDate> parseSurveyDate(std::string_view iso) {
+  const auto digits = [&](std::size_t from, std::size_t count) -> std::optional<int> {
+    int v = 0;
+    for (std::size_t i = from; i < from + count; ++i) {
+      if (iso[i] < '0' || iso[i] > '9') return std::nullopt;
+      v = v * 10 + (iso[i] - '0');
+    }
+    return v;
+  };
+  if (iso.size() != 10 || iso[4] != '-' || iso[7] != '-') return std::nullopt;
+  const auto y = digits(0, 4), m = digits(5, 2), d = digits(8, 2);
+  if (!y || !m || !d || *y < 1900 || *y > 2999 || *m < 1 || *m > 12 || *d < 1) return std::nullopt;
+  const bool leap = (*y % 4 == 0 && *y % 100 != 0) || *y % 400 == 0;
+  constexpr std::array<int, 12> kDays{31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  const int days = kDays[static_cast<std::size_t>(*m - 1)] + (*m == 2 && leap ? 1 : 0);
+  if (*d > days) return std::nullopt;
+  return SurveyDate{*y, *m, *d};
+}
+
+std::string toIso(const SurveyDate& date) {
+  char b[16];
+  std::snprintf(b, sizeof b, "%04d-%02d-%02d", date.year, date.month, date.day);
+  return b;
+}
+
 PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& source) {
   const detail::JsonReader reader(source, kPlantMarkersFormat);
   if (textIn.find_first_not_of(" \t\r\n") == std::string_view::npos)
@@ -60,6 +86,11 @@ PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& s
 
   PlantMarkers p;
   p.plant = text(doc, "plant");
+  if (const auto d = doc.find("date"); d != doc.end() && !d->is_null()) {
+    if (!d->is_string() || !(p.date = parseSurveyDate(d->get<std::string>())))
+      reader.fail("date",
+                  "must be the survey's day as \"YYYY-MM-DD\" (for example \"2026-11-26\"), found " + d->dump());
+  }
   const json& landmarks = reader.require(doc, "landmarks", "top level");
   if (!landmarks.is_array() || landmarks.size() < 3)
     reader.fail("landmarks", "must list at least three points [x, y, z] on the pot rim (or a board)");
@@ -132,6 +163,7 @@ json point(const Eigen::Vector3d& p) {
 
 std::string plantMarkersToJson(const PlantMarkers& p) {
   json doc = {{"format", kPlantMarkersFormat}, {"units", "mm"}, {"plant", p.plant}};
+  if (p.date) doc["date"] = toIso(*p.date);
   json landmarks = json::array();
   for (const auto& l : p.landmarksMm) landmarks.push_back(point(l));
   doc["landmarks"] = landmarks;

@@ -33,6 +33,7 @@ std::string at(int node) {
 PlantSurvey surveyPlant(const PlantMarkers& p) {
   PlantSurvey s;
   s.plant = p.plant;
+  s.date = p.date;
   s.collarDiameterMm = p.collarDiameterMm;
   s.frame = plantFrameFromLandmarks(p.landmarksMm, p.collarMm, p.nodes.front().pointMm - p.collarMm);
   Eigen::Vector3d below = Eigen::Vector3d::Zero();  // the collar, in the plant frame
@@ -57,7 +58,8 @@ PlantSurvey surveyPlant(const PlantMarkers& p) {
         leaf.kind = "full";
         MarkerSet m = inFrame(*full, s.frame);
         const LeafModel model = buildLeafModel(m);
-        leaf.pose = leafPose(m.rows.back().pointsMm[kMidribColumn], m.tipMm);
+        leaf.baseMm = m.rows.back().pointsMm[kMidribColumn];
+        leaf.pose = leafPose(*leaf.baseMm, m.tipMm);
         leaf.pose->widthMm = bladeWidthMm(m);
         leaf.midribLengthMm = midribLengthMm(model);
         const LeafMetrics metrics = computeLeafMetrics(model, Eigen::Vector3d::UnitZ());
@@ -69,7 +71,8 @@ PlantSurvey surveyPlant(const PlantMarkers& p) {
         leaf.markers = std::move(m);
       } else if (const auto* quick = std::get_if<QuickLeaf>(&n.leaf)) {
         leaf.kind = "quick";
-        leaf.pose = leafPose(s.frame.point(quick->baseMm), s.frame.point(quick->tipMm), s.frame.point(quick->sideMm));
+        leaf.baseMm = s.frame.point(quick->baseMm);
+        leaf.pose = leafPose(*leaf.baseMm, s.frame.point(quick->tipMm), s.frame.point(quick->sideMm));
       } else if (n.state != LeafState::Alive) {
         leaf.kind = "none";
       } else {
@@ -130,12 +133,13 @@ std::string plantSurveyToJson(const PlantSurvey& s) {
     }
     leaves.push_back(j);
   }
-  const json doc = {{"plant", s.plant},
-                    {"frame", {{"flatness_mm", s.frame.flatnessMm}, {"from_digitizer", matrix}}},
-                    {"collar_diameter_mm", s.collarDiameterMm},
-                    {"nodes", nodes},
-                    {"leaves", leaves},
-                    {"divergence", {{"count", count}, {"mean_deg", count ? json(sum / count) : json()}}}};
+  json doc = {{"plant", s.plant},
+              {"frame", {{"flatness_mm", s.frame.flatnessMm}, {"from_digitizer", matrix}}},
+              {"collar_diameter_mm", s.collarDiameterMm},
+              {"nodes", nodes},
+              {"leaves", leaves},
+              {"divergence", {{"count", count}, {"mean_deg", count ? json(sum / count) : json()}}}};
+  if (s.date) doc["date"] = toIso(*s.date);
   return detail::dumpFinite(doc, 2);
 }
 

@@ -27,6 +27,15 @@ enum class LeafState { Alive, Dead, Broken, Yellow, Pruned };
 // Throws UnknownName listing the states.
 [[nodiscard]] LeafState leafStateFromString(const std::string& word);
 
+// The day of a survey (the MTG's `Date`): ISO 8601 "YYYY-MM-DD" in files and options.
+struct SurveyDate {
+  int year = 0, month = 0, day = 0;
+  friend bool operator==(const SurveyDate&, const SurveyDate&) = default;
+};
+// A day of the calendar from 1900 to 2999 written "YYYY-MM-DD", or nothing.
+[[nodiscard]] std::optional<SurveyDate> parseSurveyDate(std::string_view iso);
+[[nodiscard]] std::string toIso(const SurveyDate& date);  // "2026-11-26"
+
 struct QuickLeaf {
   Eigen::Vector3d baseMm = Eigen::Vector3d::Zero();  // where the blade joins the petiole
   Eigen::Vector3d tipMm = Eigen::Vector3d::Zero();
@@ -42,7 +51,8 @@ struct PlantNode {
 };
 
 struct PlantMarkers {
-  std::string plant;  // the plant's id
+  std::string plant;               // the plant's id
+  std::optional<SurveyDate> date;  // the day it was digitized, when the file says
   std::vector<Eigen::Vector3d> landmarksMm;
   Eigen::Vector3d collarMm = Eigen::Vector3d::Zero();
   double collarDiameterMm = 0.0;

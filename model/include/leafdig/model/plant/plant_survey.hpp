@@ -25,9 +25,10 @@ struct SurveyedLeaf {
   int node = 0;
   std::string kind;  // "full", "quick" or "none"
   LeafState state = LeafState::Alive;
-  std::optional<LeafPose> pose;          // full: the base (row N's midrib point) to the tip; quick: its 3 points
-  std::optional<double> midribLengthMm;  // full: along the midrib
-  std::optional<double> areaMm2;         // full: the blade's area
+  std::optional<LeafPose> pose;           // full: the base (row N's midrib point) to the tip; quick: its 3 points
+  std::optional<Eigen::Vector3d> baseMm;  // the pose's base, in the plant frame
+  std::optional<double> midribLengthMm;   // full: along the midrib
+  std::optional<double> areaMm2;          // full: the blade's area
   std::optional<double> areaLow95Mm2, areaHigh95Mm2;
   std::optional<double> divergenceDeg;  // from the previous leaf with a pose, counterclockwise
   std::optional<MarkerSet> markers;     // full: the markers in the plant frame
@@ -35,6 +36,7 @@ struct SurveyedLeaf {
 
 struct PlantSurvey {
   std::string plant;
+  std::optional<SurveyDate> date;  // the plant-markers file's
   PlantFrame frame;
   double collarDiameterMm = 0.0;
   std::vector<SurveyedNode> nodes;
@@ -47,7 +49,8 @@ struct PlantSurvey {
 [[nodiscard]] PlantSurvey surveyPlant(const PlantMarkers& plant);
 
 // The survey as JSON: {"plant", "frame": {"flatness_mm", "from_digitizer": 4×4 row-major},
-// "collar_diameter_mm", "nodes": [...], "leaves": [...], "divergence": {"count", "mean_deg"}}.
+// "collar_diameter_mm", "nodes": [...], "leaves": [...], "divergence": {"count", "mean_deg"}},
+// and "date" ("YYYY-MM-DD") when the survey has one.
 [[nodiscard]] std::string plantSurveyToJson(const PlantSurvey& survey);
 
 }  // namespace leafdig::model

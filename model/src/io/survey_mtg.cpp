@@ -1,0 +1,117 @@
+#include "leafdig/model/io/survey_mtg.hpp"
+
+#include <array>
+#include <cstdio>
+#include <sstream>
+#include <vector>
+
+#include "io/mtg_text.hpp"
+
+namespace leafdig::model {
+
+namespace {
+
+using detail::mtgAlpha;
+using detail::mtgReal;
+
+// AMAP's reserved features first, in their order (Date, Length, State), then the
+// coordinates and sizes PlantFrame reads, then ours.
+constexpr std::array<std::array<const char*, 2>, 12> kFeatures{{{"Date", "DD/MM/YYYY"},
+                                                                {"Length", "REAL"},
+                                                                {"State", "ALPHA"},
+                                                                {"XX", "REAL"},
+                                                                {"YY", "REAL"},
+                                                                {"ZZ", "REAL"},
+                                                                {"TopDia", "REAL"},
+                                                                {"Width", "REAL"},
+                                                                {"Area", "REAL"},
+                                                                {"Azimuth", "REAL"},
+                                                                {"Inclination", "REAL"},
+                                                                {"Kind", "ALPHA"}}};
+enum Column { kDate, kLength, kState, kXX, kYY, kZZ, kTopDia, kWidth, kArea, kAzimuth, kInclination, kKind };
+
+using Values = std::array<std::string, kFeatures.size()>;
+
+std::string ddmmyyyy(const SurveyDate& d) {
+  char b[16];
+  std::snprintf(b, sizeof b, "%02d/%02d/%04d", d.day, d.month, d.year);
+  return b;
+}
+
+std::string optionalReal(const std::optional<double>& v) {
+  return v ? mtgReal(*v) : std::string();
+}
+
+}  // namespace
+
+std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
+  std::ostringstream out;
+  out << "# leafdig plant survey " << mtgAlpha(survey.plant) << " of " << toIso(date) << "\n"
+      << "# units: XX YY ZZ Length TopDia Width in mm, Area in mm2, Azimuth Inclination in degrees\n"
+      << "# plant frame: origin at the collar, +Z the upward normal of the pot rim's landmarks, +X towards the "
+         "first landmark\n"
+      << "# I0 is the collar, I<k> the internode that ends at node k (XX YY ZZ the node, TopDia the stem there)\n"
+      << "# L<k> the leaf of node k: XX YY ZZ its base, Azimuth counterclockwise from +X seen from above in [0, 360), "
+         "Inclination of the base-to-tip chord from +Z\n"
+      << "# Length of a full leaf along its midrib, of a quick leaf base to tip; Area of full leaves only\n"
+      << "CODE:\tFORM-A\n\nCLASSES:\nSYMBOL\tSCALE\tDECOMPOSITION\tINDEXATION\tDEFINITION\n"
+      << "$\t0\tFREE\tFREE\tIMPLICIT\nP\t1\tCONNECTED\tFREE\tIMPLICIT\nI\t2\tNONE\tFREE\tEXPLICIT\n"
+      << "L\t2\tNONE\tFREE\tEXPLICIT\n\nDESCRIPTION:\nLEFT\tRIGHT\tRELTYPE\tMAX\nI\tI\t<\t1\nI\tL\t+\t?\n\n"
+      << "FEATURES:\nNAME\tTYPE\n";
+  for (const auto& f : kFeatures) out << f[0] << "\t" << f[1] << "\n";
+  out << "\nMTG:\nTOPO\t";
+  for (const auto& f : kFeatures) out << "\t" << f[0];
+  out << "\n";
+
+  // `depth` leading tabs, the entity, tabs up to the first feature column (2), the values;
+  // trailing empty values are left out, so no line ends in a tab.
+  const auto line = [&out](int depth, const std::string& entity, const Values& values) {
+    std::size_t count = values.size();
+    while (count > 0 && values[count - 1].empty()) --count;
+    out << std::string(static_cast<std::size_t>(depth), '\t') << entity;
+    if (count > 0) out << std::string(static_cast<std::size_t>(2 - depth), '\t');
+    for (std::size_t i = 0; i < count; ++i) out << (i ? "\t" : "") << values[i];
+    out << "\n";
+  };
+  const std::string day = ddmmyyyy(date);
+
+  Values collar;
+  collar[kDate] = day;
+  collar[kXX] = collar[kYY] = collar[kZZ] = mtgReal(0.0);
+  collar[kTopDia] = mtgReal(survey.collarDiameterMm);
+  line(0, "/P1/I0", collar);
+  for (const SurveyedNode& n : survey.nodes) {
+    Values v;
+    v[kDate] = day;
+    v[kLength] = mtgReal(n.internodeMm);
+    v[kXX] = mtgReal(n.pointMm.x());
+    v[kYY] = mtgReal(n.pointMm.y());
+    v[kZZ] = mtgReal(n.pointMm.z());
+    v[kTopDia] = mtgReal(n.diameterMm);
+    line(0, "^<I" + std::to_string(n.index), v);
+    for (const SurveyedLeaf& l : survey.leaves) {
+      if (l.node != n.index) continue;
+      Values f;
+      f[kDate] = day;
+      f[kState] = toString(l.state);
+      f[kKind] = l.kind;
+      if (l.baseMm) {
+        f[kXX] = mtgReal(l.baseMm->x());
+        f[kYY] = mtgReal(l.baseMm->y());
+        f[kZZ] = mtgReal(l.baseMm->z());
+      }
+      if (l.pose) {
+        f[kLength] = mtgReal(l.midribLengthMm.value_or(l.pose->lengthMm));
+        f[kWidth] = optionalReal(l.pose->widthMm);
+        f[kAzimuth] = mtgReal(l.pose->azimuthDeg);
+        if (f[kAzimuth] == "360.000") f[kAzimuth] = mtgReal(0.0);  // [0, 360) after rounding too
+        f[kInclination] = mtgReal(l.pose->inclinationDeg);
+      }
+      f[kArea] = optionalReal(l.areaMm2);
+      line(1, "+L" + std::to_string(n.index), f);
+    }
+  }
+  return out.str();
+}
+
+}  // namespace leafdig::model
