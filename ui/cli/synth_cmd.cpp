@@ -160,7 +160,8 @@ SynthChoice parseSynthSpec(const std::string& text) {
 namespace {
 
 void declareSynthCommands(CLI::App& app, SynthOptions& o) {
-  CLI::App* synth = app.add_subcommand("synth", "Synthetic ground-truth leaves (seed 002) and plants for tests and studies");
+  CLI::App* synth =
+      app.add_subcommand("synth", "Synthetic ground-truth leaves (seed 002) and plants for tests and studies");
   synth->require_subcommand(1);
   CLI::App* leaf = synth->add_subcommand(
       "leaf", "A 3-D leaf with a known area: markers by the protocol (with noise), the truth, the true surface");
