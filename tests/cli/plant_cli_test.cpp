@@ -582,3 +582,30 @@ TEST_F(PlantCli, ASyntheticPlantSeenThroughATransmitterAtARandomPoseIsMeasuredWi
     EXPECT_FALSE(fs::exists(none)) << bad;
   }
 }
+
+TEST_F(PlantCli, APlantProtocolIsCheckedAndItsStepsListedInTheOrderTheCaptureAsks) {
+  const Result builtIn = leafdig("plant protocol");
+  ASSERT_EQ(builtIn.exitCode, 0) << builtIn.err;
+  EXPECT_NE(builtIn.out.find("built-in protocol: tobacco, 2 entities"), std::string::npos) << builtIn.out;
+  EXPECT_NE(builtIn.out.find("  4. internode (I, one after another) · node · stylus\n"), std::string::npos)
+      << builtIn.out;
+  EXPECT_NE(builtIn.out.find("  5. internode (I, one after another) · diameter · caliper\n"), std::string::npos);
+  const std::string maize = std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/maize.plant-protocol.json";
+  const Result m = leafdig("plant protocol " + quote(maize) + " --json");
+  ASSERT_EQ(m.exitCode, 0) << m.err;
+  const json j = json::parse(m.out);
+  EXPECT_EQ(j["species"], "maize");
+  EXPECT_EQ(j["entities"][1]["leaf"]["quick_points"], json({"ligule", "tip", "widest"}));
+  EXPECT_EQ(j["landmarks"]["min"], 3);  // defaults filled in
+  // A protocol that names an entity twice: exit 2, the entity and what to do.
+  const fs::path twice = write("twice.json", R"({"format": "leafdig.plant-protocol/1", "species": "tobacco",
+    "entities": [{"name": "internode", "class": "I", "points": ["node"]},
+                 {"name": "internode", "class": "J", "parent": "internode", "points": ["node"]}]})");
+  const Result bad = leafdig("plant protocol " + quote(twice));
+  EXPECT_EQ(bad.exitCode, 2) << bad.err;
+  EXPECT_NE(bad.err.find("twice.json: entity 2 (internode): the name \"internode\" is already an entity's; give each "
+                         "entity its own name"),
+            std::string::npos)
+      << bad.err;
+  EXPECT_EQ(leafdig("plant protocol " + quote(dir_ / "missing.json")).exitCode, 2);
+}

@@ -1,8 +1,8 @@
 // libFuzzer targets for the files a user hands us (issue 26), one per kind, chosen at compile
-// time (LEAFDIG_FUZZ_FILE): markers, plant plans, plants digitized in place, outlines (JSON and CSV) and scans'
-// headers. Each input is read as that file: it is either refused with InputError or read into values within the bounds
-// of limits.hpp; anything else (a crash, another exception, a number out of bounds, a hang past libFuzzer's timeout) is
-// a finding.
+// time (LEAFDIG_FUZZ_FILE): markers, plant plans, plants digitized in place, plant protocols, outlines (JSON and CSV)
+// and scans' headers. Each input is read as that file: it is either refused with InputError or read into values within
+// the bounds of limits.hpp; anything else (a crash, another exception, a number out of bounds, a hang past libFuzzer's
+// timeout) is a finding.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -18,6 +18,7 @@
 #include "leafdig/model/limits.hpp"
 #include "leafdig/model/plant/plant.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
+#include "leafdig/model/plant/plant_protocol.hpp"
 
 namespace m = leafdig::model;
 
@@ -73,6 +74,21 @@ void plantMarkers(const std::string& text) {
   require(m::plantMarkersToJson(m::parsePlantMarkersJson(written, "written")) == written);
 }
 
+void plantProtocol(const std::string& text) {
+  const m::PlantProtocol p = m::parsePlantProtocolJson(text, "fuzz");
+  require(!p.entities.empty() && p.minLandmarks >= 3 && p.maxLandmarks >= p.minLandmarks);
+  for (std::size_t i = 0; i < p.entities.size(); ++i) {
+    const auto& e = p.entities[i];
+    require(e.mtgClass >= 'A' && e.mtgClass <= 'Z' && e.mtgClass != 'P');
+    require(i == 0 ? e.parent.empty() : p.find(e.parent) != nullptr);
+    require(!e.points.empty() || !e.readings.empty() || e.leaf.has_value());
+  }
+  require(!m::describeSteps(p).empty());
+  // What it writes reads back to the same text.
+  const std::string written = m::plantProtocolToJson(p);
+  require(m::plantProtocolToJson(m::parsePlantProtocolJson(written, "written")) == written);
+}
+
 void outline(const std::string& text, bool json) {
   const m::Outline2d o = json ? m::parseOutlineJson(text, "fuzz") : m::parseOutlineCsv(text, "fuzz");
   require(o.pointsMm.size() >= 8);
@@ -95,6 +111,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (kind == "markers") markers(text);
     if (kind == "plan") plan(text);
     if (kind == "plant_markers") plantMarkers(text);
+    if (kind == "plant_protocol") plantProtocol(text);
     if (kind == "outline_json") outline(text, true);
     if (kind == "outline_csv") outline(text, false);
     if (kind == "image_header") imageHeader(text);

@@ -255,6 +255,7 @@ void addPlantCommands(CLI::App& app, CommandTable& table) {
   table.add(build, [o] { return runPlant(*o, false); });
   table.add(grow, [o] { return runPlant(*o, true); });
   addPlantMeasureCommand(*app.get_subcommand("plant"), table);
+  addPlantProtocolCommand(*app.get_subcommand("plant"), table);
 }
 
 }  // namespace leafdig::cli

@@ -24,9 +24,11 @@ struct PlantOptions {
 };
 
 class CommandTable;
-// Registers `plant build`, `plant grow` and `plant measure`.
+// Registers `plant build`, `plant grow`, `plant measure` and `plant protocol`.
 void addPlantCommands(CLI::App& app, CommandTable& table);
 // `plant measure` under the `plant` command (plant_measure_cmd.cpp).
 void addPlantMeasureCommand(CLI::App& plant, CommandTable& table);
+// `plant protocol` (plant_protocol_cmd.cpp).
+void addPlantProtocolCommand(CLI::App& plant, CommandTable& table);
 
 }  // namespace leafdig::cli
