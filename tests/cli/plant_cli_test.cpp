@@ -464,6 +464,36 @@ TEST_F(PlantCli, APlantDigitizedInPlaceIsWrittenAsAnMtgInTheAmapConventions) {
       EXPECT_NEAR(number(e, "Area"), leaf["area_mm2"].get<double>(), 5e-4);
   }
 
+  // The same entities as a CSV, one row each in the MTG's order, every row the header's width.
+  const fs::path csv = dir_ / "p12.csv";
+  ASSERT_EQ(leafdig("plant measure " + quote(sample) + " --csv " + quote(csv.string())).exitCode, 0);
+  std::istringstream rows(slurp(csv));
+  std::string row;
+  std::vector<std::vector<std::string>> table;
+  while (std::getline(rows, row)) {
+    std::vector<std::string> fields;
+    std::stringstream cells(row);
+    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+    if (!row.empty() && row.back() == ',') fields.emplace_back();
+    table.push_back(fields);
+  }
+  ASSERT_EQ(table.size(), 1 + mtg.entities.size() - 1);  // the header; every entity but the plant P1
+  for (const auto& fields : table) EXPECT_EQ(fields.size(), table[0].size()) << fields[0];
+  EXPECT_EQ(table[0][0], "entity");
+  EXPECT_EQ(table[0].back(), "kind");
+  EXPECT_EQ(table[1][0], "I0");
+  for (std::size_t k = 1; k < table.size(); ++k) {
+    const auto& e = mtg.entities[k];  // entities[0] is P1
+    EXPECT_EQ(table[k][0], std::string(1, e.symbol) + std::to_string(e.index));
+    EXPECT_EQ(table[k][5], "2026-06-12");
+    if (e.features.count("XX")) {
+      EXPECT_EQ(table[k][6], e.features.at("XX"));
+    }
+    if (e.features.count("Azimuth")) {
+      EXPECT_EQ(table[k][15], e.features.at("Azimuth"));
+    }
+  }
+
   // --date is the survey's day over the file's; a day that is not one is refused, nothing written.
   const Result dated =
       leafdig("plant measure " + quote(sample) + " --mtg " + quote((dir_ / "d.mtg").string()) + " --date 2027-02-28");

@@ -12,7 +12,7 @@
 #include "commands.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
-#include "leafdig/model/io/survey_mtg.hpp"
+#include "leafdig/model/io/survey_export.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
 #include "plant_cmd.hpp"
@@ -27,6 +27,7 @@ struct MeasureOptions {
   std::string input;
   bool json = false;
   std::string mtg;   // where to write the MTG, if anywhere
+  std::string csv;   // and the CSV
   std::string date;  // YYYY-MM-DD, over the file's
 };
 
@@ -81,13 +82,15 @@ void printSurvey(const m::PlantSurvey& s, const std::string& input) {
 int runMeasure(const MeasureOptions& o) {
   const m::PlantMarkers markers = m::readPlantMarkersFile(o.input);
   m::PlantSurvey survey = m::surveyPlant(markers);
-  if (!o.mtg.empty() || !o.date.empty()) survey.date = surveyDay(o, survey);
+  if (!o.mtg.empty() || !o.csv.empty() || !o.date.empty()) survey.date = surveyDay(o, survey);
   if (!o.mtg.empty()) m::writeFileAtomically(o.mtg, m::encodeSurveyMtg(survey, *survey.date));
+  if (!o.csv.empty()) m::writeFileAtomically(o.csv, m::encodeSurveyCsv(survey, *survey.date));
   if (o.json) {
     std::cout << m::plantSurveyToJson(survey) << "\n";
   } else {
     printSurvey(survey, o.input);
     if (!o.mtg.empty()) std::cout << "wrote " << o.mtg << " (MTG, survey of " << m::toIso(*survey.date) << ")\n";
+    if (!o.csv.empty()) std::cout << "wrote " << o.csv << " (CSV, one row per entity)\n";
   }
   return 0;
 }
@@ -102,6 +105,7 @@ void addPlantMeasureCommand(CLI::App& plant, CommandTable& table) {
   measure->add_flag("--json", o->json, "Print nodes, leaves, angles and divergences as one JSON object");
   measure->add_option("--mtg", o->mtg,
                       "Also write the plant as an MTG (AMAP names: XX YY ZZ TopDia, L with Length ...)");
+  measure->add_option("--csv", o->csv, "Also write the MTG's entities as a CSV, one row each");
   measure->add_option("--date", o->date,
                       "The survey's day, YYYY-MM-DD (default: the file's \"date\", else today); the MTG's Date");
   table.add(measure, [o] { return runMeasure(*o); });

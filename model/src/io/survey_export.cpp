@@ -1,4 +1,4 @@
-#include "leafdig/model/io/survey_mtg.hpp"
+#include "leafdig/model/io/survey_export.hpp"
 
 #include <array>
 #include <cstdio>
@@ -109,6 +109,42 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       }
       f[kArea] = optionalReal(l.areaMm2);
       line(1, "+L" + std::to_string(n.index), f);
+    }
+  }
+  return out.str();
+}
+
+std::string encodeSurveyCsv(const PlantSurvey& survey, const SurveyDate& date) {
+  std::ostringstream out;
+  out << "entity,class,index,parent,relation,date,x_mm,y_mm,z_mm,top_diameter_mm,length_mm,width_mm,area_mm2,"
+         "area_low95_mm2,area_high95_mm2,azimuth_deg,inclination_deg,roll_deg,divergence_deg,state,kind\n";
+  const std::string day = toIso(date);
+  const auto xyz = [](const Eigen::Vector3d& p) {
+    return mtgReal(p.x()) + "," + mtgReal(p.y()) + "," + mtgReal(p.z());
+  };
+  out << "I0,I,0,,," << day << "," << xyz(Eigen::Vector3d::Zero()) << "," << mtgReal(survey.collarDiameterMm)
+      << ",,,,,,,,,,,\n";
+  std::string previous = "I0";
+  for (const SurveyedNode& n : survey.nodes) {
+    const std::string entity = "I" + std::to_string(n.index);
+    out << entity << ",I," << n.index << "," << previous << ",<," << day << "," << xyz(n.pointMm) << ","
+        << mtgReal(n.diameterMm) << "," << mtgReal(n.internodeMm) << ",,,,,,,,,,\n";
+    previous = entity;
+    for (const SurveyedLeaf& l : survey.leaves) {
+      if (l.node != n.index) continue;
+      out << "L" << n.index << ",L," << n.index << "," << entity << ",+," << day << ","
+          << (l.baseMm ? xyz(*l.baseMm) : std::string(",,")) << ",,";
+      if (l.pose) {
+        std::string azimuth = mtgReal(l.pose->azimuthDeg);
+        if (azimuth == "360.000") azimuth = mtgReal(0.0);
+        out << mtgReal(l.midribLengthMm.value_or(l.pose->lengthMm)) << "," << optionalReal(l.pose->widthMm) << ","
+            << optionalReal(l.areaMm2) << "," << optionalReal(l.areaLow95Mm2) << "," << optionalReal(l.areaHigh95Mm2)
+            << "," << azimuth << "," << mtgReal(l.pose->inclinationDeg) << "," << optionalReal(l.pose->rollDeg) << ","
+            << optionalReal(l.divergenceDeg);
+      } else {
+        out << ",,,,,,,,";
+      }
+      out << "," << toString(l.state) << "," << l.kind << "\n";
     }
   }
   return out.str();
