@@ -4,8 +4,11 @@
 // the plan's MTG and the survey's.
 #include <cctype>
 #include <cstdio>
+#include <ostream>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace leafdig::model::detail {
 
@@ -27,6 +30,30 @@ inline std::string mtgAlpha(const std::string& s) {
     out += bad ? '_' : c;
   }
   return out.empty() ? "unnamed" : out;
+}
+
+// From `CODE:` to the body's column titles, for a plant (`P`, scale 1) of internodes (`I`,
+// following one another) and leaves (`L`, branching from an internode), with these features
+// (name, type) in order. The caller writes its comment lines first.
+inline void writeMtgHeader(std::ostream& out, const std::vector<std::pair<const char*, const char*>>& features) {
+  out << "CODE:\tFORM-A\n\nCLASSES:\nSYMBOL\tSCALE\tDECOMPOSITION\tINDEXATION\tDEFINITION\n"
+      << "$\t0\tFREE\tFREE\tIMPLICIT\nP\t1\tCONNECTED\tFREE\tIMPLICIT\nI\t2\tNONE\tFREE\tEXPLICIT\n"
+      << "L\t2\tNONE\tFREE\tEXPLICIT\n\nDESCRIPTION:\nLEFT\tRIGHT\tRELTYPE\tMAX\nI\tI\t<\t1\nI\tL\t+\t?\n\n"
+      << "FEATURES:\nNAME\tTYPE\n";
+  for (const auto& [name, type] : features) out << name << "\t" << type << "\n";
+  out << "\nMTG:\nTOPO\t";
+  for (const auto& feature : features) out << "\t" << feature.first;
+  out << "\n";
+}
+
+// One line of the body: `depth` leading tabs, the entity, tabs up to the first feature column
+// (2), then the values; trailing empty values are left out, so no line ends in a tab.
+inline void writeMtgLine(std::ostream& out, int depth, const std::string& entity, std::vector<std::string> values) {
+  while (!values.empty() && values.back().empty()) values.pop_back();
+  out << std::string(static_cast<std::size_t>(depth), '\t') << entity;
+  if (!values.empty()) out << std::string(static_cast<std::size_t>(2 - depth), '\t');
+  for (std::size_t i = 0; i < values.size(); ++i) out << (i ? "\t" : "") << values[i];
+  out << "\n";
 }
 
 }  // namespace leafdig::model::detail

@@ -168,34 +168,20 @@ std::string encodeCaribuOpt() {
 
 std::string encodeMtg(const Plant& plant, const PlantMetrics& metrics) {
   if (!plant.stem && plant.leaves.size() > 1) throw InputError("an MTG of leaves without a stem holds one leaf");
-  static const char* kFeatures[][2] = {{"rank", "INT"},     {"leaf_id", "ALPHA"},    {"insertion_height", "REAL"},
-                                       {"azimuth", "REAL"}, {"inclination", "REAL"}, {"length", "REAL"},
-                                       {"width", "REAL"},   {"area", "REAL"},        {"silhouette", "REAL"},
-                                       {"base_x", "REAL"},  {"base_y", "REAL"},      {"base_z", "REAL"},
-                                       {"tip_x", "REAL"},   {"tip_y", "REAL"},       {"tip_z", "REAL"}};
-  constexpr std::size_t kCount = sizeof kFeatures / sizeof kFeatures[0];
+  static const std::vector<std::pair<const char*, const char*>> kFeatures{
+      {"rank", "INT"},     {"leaf_id", "ALPHA"},    {"insertion_height", "REAL"},
+      {"azimuth", "REAL"}, {"inclination", "REAL"}, {"length", "REAL"},
+      {"width", "REAL"},   {"area", "REAL"},        {"silhouette", "REAL"},
+      {"base_x", "REAL"},  {"base_y", "REAL"},      {"base_z", "REAL"},
+      {"tip_x", "REAL"},   {"tip_y", "REAL"},       {"tip_z", "REAL"}};
   std::ostringstream out;
   out << "# leafdig plant " << mtgAlpha(plant.id) << (plant.time ? " at time " + fixed3(*plant.time) : std::string())
       << "\n# lengths mm, angles degrees, areas mm2, plant frame: origin at the stem base, +Z up the stem\n"
       << "# internodes: width is the stem diameter at mid-internode; leaves: length along the midrib, width the "
-         "widest row\n"
-      << "CODE:\tFORM-A\n\nCLASSES:\nSYMBOL\tSCALE\tDECOMPOSITION\tINDEXATION\tDEFINITION\n"
-      << "$\t0\tFREE\tFREE\tIMPLICIT\nP\t1\tCONNECTED\tFREE\tIMPLICIT\nI\t2\tNONE\tFREE\tEXPLICIT\n"
-      << "L\t2\tNONE\tFREE\tEXPLICIT\n\nDESCRIPTION:\nLEFT\tRIGHT\tRELTYPE\tMAX\nI\tI\t<\t1\nI\tL\t+\t?\n\n"
-      << "FEATURES:\nNAME\tTYPE\n";
-  for (const auto& f : kFeatures) out << f[0] << "\t" << f[1] << "\n";
-  out << "\nMTG:\nTOPO\t";
-  for (std::size_t i = 0; i < kCount; ++i) out << "\t" << kFeatures[i][0];
-  out << "\n";
-
-  // A line: `depth` leading tabs, the entity, tabs up to the first feature column (2), then
-  // the values; trailing empty values are left out, so no line ends in a tab.
+         "widest row\n";
+  detail::writeMtgHeader(out, kFeatures);
   const auto line = [&out](int depth, const std::string& entity, std::vector<std::string> values) {
-    while (!values.empty() && values.back().empty()) values.pop_back();
-    out << std::string(static_cast<std::size_t>(depth), '\t') << entity;
-    if (!values.empty()) out << std::string(static_cast<std::size_t>(2 - depth), '\t');
-    for (std::size_t i = 0; i < values.size(); ++i) out << (i ? "\t" : "") << values[i];
-    out << "\n";
+    detail::writeMtgLine(out, depth, entity, std::move(values));
   };
   std::vector<const PlacedLeaf*> order;
   for (const PlacedLeaf& l : plant.leaves) order.push_back(&l);

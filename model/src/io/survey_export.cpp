@@ -16,21 +16,14 @@ using detail::mtgReal;
 
 // AMAP's reserved features first, in their order (Date, Length, State), then the
 // coordinates and sizes PlantFrame reads, then ours.
-constexpr std::array<std::array<const char*, 2>, 12> kFeatures{{{"Date", "DD/MM/YYYY"},
-                                                                {"Length", "REAL"},
-                                                                {"State", "ALPHA"},
-                                                                {"XX", "REAL"},
-                                                                {"YY", "REAL"},
-                                                                {"ZZ", "REAL"},
-                                                                {"TopDia", "REAL"},
-                                                                {"Width", "REAL"},
-                                                                {"Area", "REAL"},
-                                                                {"Azimuth", "REAL"},
-                                                                {"Inclination", "REAL"},
-                                                                {"Kind", "ALPHA"}}};
+const std::vector<std::pair<const char*, const char*>> kFeatures{
+    {"Date", "DD/MM/YYYY"}, {"Length", "REAL"},  {"State", "ALPHA"},      {"XX", "REAL"},
+    {"YY", "REAL"},         {"ZZ", "REAL"},      {"TopDia", "REAL"},      {"Width", "REAL"},
+    {"Area", "REAL"},       {"Azimuth", "REAL"}, {"Inclination", "REAL"}, {"Kind", "ALPHA"}};
 enum Column { kDate, kLength, kState, kXX, kYY, kZZ, kTopDia, kWidth, kArea, kAzimuth, kInclination, kKind };
 
-using Values = std::array<std::string, kFeatures.size()>;
+constexpr std::size_t kColumns = 12;  // kFeatures.size(), one per Column
+using Values = std::array<std::string, kColumns>;
 
 std::string ddmmyyyy(const SurveyDate& d) {
   char b[16];
@@ -53,25 +46,10 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       << "# I0 is the collar, I<k> the internode that ends at node k (XX YY ZZ the node, TopDia the stem there)\n"
       << "# L<k> the leaf of node k: XX YY ZZ its base, Azimuth counterclockwise from +X seen from above in [0, 360), "
          "Inclination of the base-to-tip chord from +Z\n"
-      << "# Length of a full leaf along its midrib, of a quick leaf base to tip; Area of full leaves only\n"
-      << "CODE:\tFORM-A\n\nCLASSES:\nSYMBOL\tSCALE\tDECOMPOSITION\tINDEXATION\tDEFINITION\n"
-      << "$\t0\tFREE\tFREE\tIMPLICIT\nP\t1\tCONNECTED\tFREE\tIMPLICIT\nI\t2\tNONE\tFREE\tEXPLICIT\n"
-      << "L\t2\tNONE\tFREE\tEXPLICIT\n\nDESCRIPTION:\nLEFT\tRIGHT\tRELTYPE\tMAX\nI\tI\t<\t1\nI\tL\t+\t?\n\n"
-      << "FEATURES:\nNAME\tTYPE\n";
-  for (const auto& f : kFeatures) out << f[0] << "\t" << f[1] << "\n";
-  out << "\nMTG:\nTOPO\t";
-  for (const auto& f : kFeatures) out << "\t" << f[0];
-  out << "\n";
-
-  // `depth` leading tabs, the entity, tabs up to the first feature column (2), the values;
-  // trailing empty values are left out, so no line ends in a tab.
+      << "# Length of a full leaf along its midrib, of a quick leaf base to tip; Area of full leaves only\n";
+  detail::writeMtgHeader(out, kFeatures);
   const auto line = [&out](int depth, const std::string& entity, const Values& values) {
-    std::size_t count = values.size();
-    while (count > 0 && values[count - 1].empty()) --count;
-    out << std::string(static_cast<std::size_t>(depth), '\t') << entity;
-    if (count > 0) out << std::string(static_cast<std::size_t>(2 - depth), '\t');
-    for (std::size_t i = 0; i < count; ++i) out << (i ? "\t" : "") << values[i];
-    out << "\n";
+    detail::writeMtgLine(out, depth, entity, std::vector<std::string>(values.begin(), values.end()));
   };
   const std::string day = ddmmyyyy(date);
 
