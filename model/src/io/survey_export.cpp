@@ -14,15 +14,9 @@ namespace {
 using detail::mtgAlpha;
 using detail::mtgReal;
 
-// AMAP's reserved features first, in their order (Date, Length, State), then the
-// coordinates and sizes PlantFrame reads, then ours.
-const std::vector<std::pair<const char*, const char*>> kFeatures{
-    {"Date", "DD/MM/YYYY"}, {"Length", "REAL"},  {"State", "ALPHA"},      {"XX", "REAL"},
-    {"YY", "REAL"},         {"ZZ", "REAL"},      {"TopDia", "REAL"},      {"Width", "REAL"},
-    {"Area", "REAL"},       {"Azimuth", "REAL"}, {"Inclination", "REAL"}, {"Kind", "ALPHA"}};
 enum Column { kDate, kLength, kState, kXX, kYY, kZZ, kTopDia, kWidth, kArea, kAzimuth, kInclination, kKind };
 
-constexpr std::size_t kColumns = 12;  // kFeatures.size(), one per Column
+constexpr std::size_t kColumns = 12;  // one per Column, the MTG's features in their order
 using Values = std::array<std::string, kColumns>;
 
 std::string ddmmyyyy(const SurveyDate& d) {
@@ -47,6 +41,12 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       << "# L<k> the leaf of node k: XX YY ZZ its base, Azimuth counterclockwise from +X seen from above in [0, 360), "
          "Inclination of the base-to-tip chord from +Z\n"
       << "# Length of a full leaf along its midrib, of a quick leaf base to tip; Area of full leaves only\n";
+  // AMAP's reserved features first, in their order (Date, Length, State), then the
+  // coordinates and sizes PlantFrame reads, then ours.
+  static const std::vector<std::pair<const char*, const char*>> kFeatures{
+      {"Date", "DD/MM/YYYY"}, {"Length", "REAL"},  {"State", "ALPHA"},      {"XX", "REAL"},
+      {"YY", "REAL"},         {"ZZ", "REAL"},      {"TopDia", "REAL"},      {"Width", "REAL"},
+      {"Area", "REAL"},       {"Azimuth", "REAL"}, {"Inclination", "REAL"}, {"Kind", "ALPHA"}};
   detail::writeMtgHeader(out, kFeatures);
   const auto line = [&out](int depth, const std::string& entity, const Values& values) {
     detail::writeMtgLine(out, depth, entity, std::vector<std::string>(values.begin(), values.end()));

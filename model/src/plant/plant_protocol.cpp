@@ -268,8 +268,14 @@ std::vector<std::string> describeSteps(const PlantProtocol& p) {
     if (e.order > 1) head += ", axis of order " + std::to_string(e.order);
     if (e.repeat) head += ", one after another";
     head += ")";
-    for (const std::string& point : e.points) out.push_back(head + " · " + point + " · stylus");
-    for (const std::string& reading : e.readings) out.push_back(head + " · " + reading + " · caliper");
+    const auto step = [&head](std::string_view what, std::string_view device) {
+      std::string s = head;
+      s.append(" · ").append(what);
+      if (!device.empty()) s.append(" · ").append(device);
+      return s;
+    };
+    for (const std::string& point : e.points) out.push_back(step(point, "stylus"));
+    for (const std::string& reading : e.readings) out.push_back(step(reading, "caliper"));
     if (e.leaf) {
       std::string kinds;
       for (const std::string& k : e.leaf->kinds) {
@@ -278,7 +284,7 @@ std::vector<std::string> describeSteps(const PlantProtocol& p) {
         if (k == "quick") {
           kinds += "quick:";
           for (std::size_t i = 0; i < e.leaf->quickPoints.size(); ++i)
-            kinds += (i ? ", " : " ") + e.leaf->quickPoints[i];
+            kinds.append(i ? ", " : " ").append(e.leaf->quickPoints[i]);
         }
         if (k == "none") kinds += "none: a state";
       }
@@ -286,7 +292,7 @@ std::vector<std::string> describeSteps(const PlantProtocol& p) {
       if (full)
         kinds += " (default: " + everyKth(e.leaf->fullEvery) + " in full" +
                  (e.leaf->largestFull && e.leaf->fullEvery > 1 ? ", and the largest" : "") + ")";
-      out.push_back(head + " · " + kinds);
+      out.push_back(step(kinds, ""));
     }
   }
   return out;
