@@ -345,7 +345,7 @@ void Engine::erase(std::size_t index) {
 }
 
 Decision Engine::endRows() {
-  const Decision d = decideEndRows();
+  Decision d = decideEndRows();
   apply(d);
   return d;
 }

@@ -59,7 +59,7 @@ const char* bitRemedy(char c) {
 class SerialDigitizer : public DeviceLink {
  public:
   explicit SerialDigitizer(DigitizerConfig c) : cfg_(std::move(c)), open_(detail::orDefault(cfg_.openPort)) {}
-  std::string where() const override { return cfg_.port; }
+  [[nodiscard]] std::string where() const override { return cfg_.port; }
   void close() noexcept override {
     if (port_) {
       try {
@@ -71,13 +71,13 @@ class SerialDigitizer : public DeviceLink {
   }
   // A bad status stays reported for a second after the last record that carried it, so the
   // operator sees a steady warning rather than a flicker.
-  std::string warning() const override {
+  [[nodiscard]] std::string warning() const override {
     if (!badStatus_.empty() && Clock::now() - badStatusAt_ < std::chrono::seconds(1))
       return name() + " status '" + badStatus_ +
              "': " + (badStatus_.size() == 1 ? bitMeaning(badStatus_[0]) : "device warning");
     return baudNote_;
   }
-  std::string warningRemedy() const override {
+  [[nodiscard]] std::string warningRemedy() const override {
     if (!badStatus_.empty() && Clock::now() - badStatusAt_ < std::chrono::seconds(1))
       return badStatus_.size() == 1 ? bitRemedy(badStatus_[0]) : bitRemedy('?');
     return baudNote_.empty() ? std::string() : "set the rate in the station's settings or with --baud";
@@ -150,7 +150,7 @@ class SerialDigitizer : public DeviceLink {
 class FastrakLink final : public SerialDigitizer {
  public:
   using SerialDigitizer::SerialDigitizer;
-  std::string name() const override { return "FASTRAK"; }
+  [[nodiscard]] std::string name() const override { return "FASTRAK"; }
   void open() override {
     badStatus_.clear();
     openProbing(defaultSettings(DigitizerKind::Fastrak), "FASTRAK",
@@ -193,12 +193,12 @@ class FastrakLink final : public SerialDigitizer {
     pumpStream(timeout, out,
                [&](std::span<const std::uint8_t> b, std::vector<StylusSample>& s) { fastrak::decode(dec_, b, s); });
   }
-  DecodeStats stats() const override { return dec_.stats; }
+  [[nodiscard]] DecodeStats stats() const override { return dec_.stats; }
 
  private:
   void sayGoodbye() override { send("c"); }
   static bool hasStatus(const std::string& b, fastrak::Status* st) {
-    for (std::size_t i = b.find("S"); i != std::string::npos; i = b.find('S', i + 1)) {
+    for (std::size_t i = b.find('S'); i != std::string::npos; i = b.find('S', i + 1)) {
       if (i < 2 || b[i - 2] != '2') continue;
       const std::size_t nl = b.find('\n', i);
       if (nl == std::string::npos) continue;
@@ -213,7 +213,7 @@ class FastrakLink final : public SerialDigitizer {
 class PolhemusLink final : public SerialDigitizer {
  public:
   PolhemusLink(DigitizerConfig c, polhemus::Model m) : SerialDigitizer(std::move(c)), model_(m) {}
-  std::string name() const override { return model_ == polhemus::Model::Patriot ? "Patriot" : "Liberty"; }
+  [[nodiscard]] std::string name() const override { return model_ == polhemus::Model::Patriot ? "Patriot" : "Liberty"; }
   void open() override {
     badStatus_.clear();
     const std::string me = name();
@@ -252,7 +252,7 @@ class PolhemusLink final : public SerialDigitizer {
     pumpStream(timeout, out,
                [&](std::span<const std::uint8_t> b, std::vector<StylusSample>& s) { polhemus::decode(dec_, b, s); });
   }
-  DecodeStats stats() const override { return dec_.stats; }
+  [[nodiscard]] DecodeStats stats() const override { return dec_.stats; }
 
  private:
   static bool contains(const std::string& hay, const std::string& needle) {
@@ -270,7 +270,7 @@ class PolhemusLink final : public SerialDigitizer {
 class MicroScribeLink final : public SerialDigitizer {
  public:
   using SerialDigitizer::SerialDigitizer;
-  std::string name() const override { return "MicroScribe"; }
+  [[nodiscard]] std::string name() const override { return "MicroScribe"; }
   void open() override {
     SerialSettings s = defaultSettings(DigitizerKind::MicroScribe);
     if (cfg_.baud > 0) s.baud = cfg_.baud;
@@ -314,7 +314,7 @@ class MicroScribeLink final : public SerialDigitizer {
                [&](std::span<const std::uint8_t> b, std::vector<StylusSample>& s) { microscribe::decode(dec_, b, s); });
     if (out.size() > before) outstanding_ = false;
   }
-  DecodeStats stats() const override { return dec_.stats; }
+  [[nodiscard]] DecodeStats stats() const override { return dec_.stats; }
 
  private:
   void sayGoodbye() override {
@@ -343,7 +343,7 @@ class MicroScribeLink final : public SerialDigitizer {
 class LineLink final : public SerialDigitizer {
  public:
   using SerialDigitizer::SerialDigitizer;
-  std::string name() const override { return "line digitizer"; }
+  [[nodiscard]] std::string name() const override { return "line digitizer"; }
   void open() override {
     SerialSettings s = defaultSettings(DigitizerKind::Line);
     s.baud = cfg_.baud > 0 ? cfg_.baud : cfg_.line.baud;
@@ -373,8 +373,8 @@ class LineLink final : public SerialDigitizer {
     pumpStream(std::min(timeout, std::chrono::milliseconds(20)), out,
                [&](std::span<const std::uint8_t> b, std::vector<StylusSample>& s) { line::decode(dec_, b, s); });
   }
-  DecodeStats stats() const override { return dec_.stats; }
-  std::chrono::milliseconds stallTimeout() const override { return std::chrono::milliseconds(2000); }
+  [[nodiscard]] DecodeStats stats() const override { return dec_.stats; }
+  [[nodiscard]] std::chrono::milliseconds stallTimeout() const override { return std::chrono::milliseconds(2000); }
 
  private:
   void sayGoodbye() override {
