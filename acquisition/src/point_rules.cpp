@@ -6,15 +6,13 @@
 #include <cstdio>
 #include <numbers>
 
+#include "words.hpp"
+
 namespace leafdig::acquisition::rules {
 
 namespace {
 
-std::string mm(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.1f mm", v);
-  return b;
-}
+using detail::mm;
 
 // The accepted stylus point (what, row, col), if there is one.
 std::optional<Point> at(const Candidate& c, What w, int row, int col) {

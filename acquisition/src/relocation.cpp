@@ -2,17 +2,14 @@
 
 #include <Eigen/SVD>
 #include <cmath>
-#include <cstdio>
+
+#include "words.hpp"
 
 namespace leafdig::acquisition {
 
 namespace {
 
-std::string mm(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.1f mm", v);
-  return b;
-}
+using detail::mm;
 
 Eigen::Vector3d centroid(const std::vector<Eigen::Vector3d>& points) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();

@@ -9,6 +9,11 @@
 
 namespace leafdig::model::detail {
 
+// `v` to the nearest multiple of `step`: a reading as a device prints it (0.01 mm).
+inline double roundTo(double v, double step) {
+  return std::round(v / step) * step;
+}
+
 class Draws {
  public:
   explicit Draws(std::uint64_t seed, std::uint64_t stream = 0)

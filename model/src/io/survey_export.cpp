@@ -29,6 +29,17 @@ std::string optionalReal(const std::optional<double>& v) {
   return v ? mtgReal(*v) : std::string();
 }
 
+// A posed leaf's length: along the midrib for a full leaf, base to tip for a quick one.
+std::string lengthText(const SurveyedLeaf& l) {
+  return mtgReal(l.midribLengthMm.value_or(l.pose->lengthMm));
+}
+
+// The azimuth in [0, 360) after rounding too.
+std::string azimuthText(const LeafPose& pose) {
+  const std::string a = mtgReal(pose.azimuthDeg);
+  return a == "360.000" ? mtgReal(0.0) : a;
+}
+
 }  // namespace
 
 std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
@@ -79,10 +90,9 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
         f[kZZ] = mtgReal(l.baseMm->z());
       }
       if (l.pose) {
-        f[kLength] = mtgReal(l.midribLengthMm.value_or(l.pose->lengthMm));
+        f[kLength] = lengthText(l);
         f[kWidth] = optionalReal(l.pose->widthMm);
-        f[kAzimuth] = mtgReal(l.pose->azimuthDeg);
-        if (f[kAzimuth] == "360.000") f[kAzimuth] = mtgReal(0.0);  // [0, 360) after rounding too
+        f[kAzimuth] = azimuthText(*l.pose);
         f[kInclination] = mtgReal(l.pose->inclinationDeg);
       }
       f[kArea] = optionalReal(l.areaMm2);
@@ -113,11 +123,9 @@ std::string encodeSurveyCsv(const PlantSurvey& survey, const SurveyDate& date) {
       out << "L" << n.index << ",L," << n.index << "," << entity << ",+," << day << ","
           << (l.baseMm ? xyz(*l.baseMm) : std::string(",,")) << ",,";
       if (l.pose) {
-        std::string azimuth = mtgReal(l.pose->azimuthDeg);
-        if (azimuth == "360.000") azimuth = mtgReal(0.0);
-        out << mtgReal(l.midribLengthMm.value_or(l.pose->lengthMm)) << "," << optionalReal(l.pose->widthMm) << ","
-            << optionalReal(l.areaMm2) << "," << optionalReal(l.areaLow95Mm2) << "," << optionalReal(l.areaHigh95Mm2)
-            << "," << azimuth << "," << mtgReal(l.pose->inclinationDeg) << "," << optionalReal(l.pose->rollDeg) << ","
+        out << lengthText(l) << "," << optionalReal(l.pose->widthMm) << "," << optionalReal(l.areaMm2) << ","
+            << optionalReal(l.areaLow95Mm2) << "," << optionalReal(l.areaHigh95Mm2) << "," << azimuthText(*l.pose)
+            << "," << mtgReal(l.pose->inclinationDeg) << "," << optionalReal(l.pose->rollDeg) << ","
             << optionalReal(l.divergenceDeg);
       } else {
         out << ",,,,,,,,";

@@ -19,9 +19,7 @@ constexpr double kRimRadiusMm = 110.0;
 constexpr double kRimHeightMm = 25.0;  // the soil lies this far below the pot rim
 constexpr double kPetioleMm = 15.0;    // from the stem's axis to a leaf's base, horizontally
 
-double roundTo(double v, double step) {
-  return std::round(v / step) * step;
-}
+using detail::roundTo;
 
 // The unit direction with this azimuth (counterclockwise from +X, seen from above) and this
 // inclination from +Z.

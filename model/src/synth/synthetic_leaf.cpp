@@ -21,9 +21,7 @@ double radians(double deg) {
   return deg * kPi / 180.0;
 }
 
-double roundTo(double v, double step) {
-  return std::round(v / step) * step;
-}
+using detail::roundTo;
 
 // Gauss–Legendre nodes and weights on [0, 1].
 template <int N>
