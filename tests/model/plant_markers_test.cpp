@@ -102,7 +102,7 @@ TEST(PlantMarkers, BadInputIsRefusedNamingTheNodeTheKeyAndWhatToDo) {
   EXPECT_TRUE(has(refusal(replaced(ok, "{\"point\": [0.2, 0, 22], ", "{")),
                   "node 3: required key \"point\" is missing; add it (see the leafdig.plant-markers/1 schema"));
   EXPECT_TRUE(has(refusal(replaced(ok, "\"kind\": \"quick\"", "\"kind\": \"sketch\"")),
-                  "node 2 leaf kind: unknown kind \"sketch\"; use \"full\", \"quick\" or \"none\""));
+                  "node 2 leaf kind: unknown leaf kind \"sketch\": use full, quick or none"));
   EXPECT_TRUE(has(refusal(replaced(ok, "\"state\": \"pruned\"", "\"state\": \"eaten\"")),
                   "node 1 leaf state: unknown leaf state \"eaten\": use alive, dead, broken, yellow or pruned"));
   EXPECT_TRUE(

@@ -58,7 +58,7 @@ TEST(PlantProtocol, TheBuiltInTobaccoProtocolIsTheShippedFileAndReadsItselfBack)
 TEST(PlantProtocol, OtherSpeciesAndBranchedPlantsAreProtocolsToo) {
   const PlantProtocol maize = readPlantProtocolFile(shipped("maize"));
   EXPECT_EQ(maize.entities[0].points, (std::vector<std::string>{"node", "ligule"}));
-  EXPECT_EQ(maize.entities[1].leaf->kinds, (std::vector<std::string>{"quick", "none"}));
+  EXPECT_EQ(maize.entities[1].leaf->kinds, (std::vector<LeafKind>{LeafKind::Quick, LeafKind::None}));
   EXPECT_EQ(maize.entities[1].leaf->quickPoints, (std::vector<std::string>{"ligule", "tip", "widest"}));
   const PlantProtocol branched = readPlantProtocolFile(shipped("branched"));
   const ProtocolEntity* branch = branched.find("branch");
@@ -114,7 +114,7 @@ TEST(PlantProtocol, ABadProtocolIsRefusedNamingTheEntityTheKeyAndWhatToDo) {
                   "a quick leaf takes exactly three points"));
   EXPECT_TRUE(has(refusal(withEntities(internode + R"(, {"name": "leaf", "class": "L", "parent": "internode",
                                                           "leaf": {"kinds": ["full", "sketch"]}})")),
-                  "unknown kind \"sketch\": use full, quick or none"));
+                  "unknown leaf kind \"sketch\": use full, quick or none"));
   EXPECT_TRUE(has(refusal(withEntities(internode + R"(, {"name": "leaf", "class": "L", "parent": "internode",
                                                           "leaf": {"full_every": 0}})")),
                   "full_every: must be a whole number from 1"));

@@ -60,7 +60,7 @@ void printSurvey(const m::PlantSurvey& s, const std::string& input) {
     std::cout << "  node " << n.index << ": height " << fixed(n.heightMm, 1) << " mm, internode "
               << fixed(n.internodeMm, 1) << " mm, stem " << fixed(n.diameterMm, 1) << " mm\n";
   for (const m::SurveyedLeaf& l : s.leaves) {
-    std::cout << "  leaf at node " << l.node << " (" << l.kind;
+    std::cout << "  leaf at node " << l.node << " (" << m::toString(l.kind);
     if (l.state != m::LeafState::Alive) std::cout << ", " << m::toString(l.state);
     std::cout << ")";
     if (l.pose) {

@@ -38,8 +38,8 @@ int runSynthPlant(const SynthPlantOptions& o) {
   m::writeFileAtomically(o.markers, m::plantMarkersToJson(plant.markers));
   int full = 0, quick = 0;
   for (const auto& l : plant.truth.leaves) {
-    if (l.kind == "full") ++full;
-    if (l.kind == "quick") ++quick;
+    if (l.kind == m::LeafKind::Full) ++full;
+    if (l.kind == m::LeafKind::Quick) ++quick;
   }
   if (o.json) {
     std::cout << nlohmann::json{{"plant", spec.id},     {"nodes", plant.truth.nodesMm.size()},

@@ -83,7 +83,7 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       Values f;
       f[kDate] = day;
       f[kState] = toString(l.state);
-      f[kKind] = l.kind;
+      f[kKind] = toString(l.kind);
       if (l.baseMm) {
         f[kXX] = mtgReal(l.baseMm->x());
         f[kYY] = mtgReal(l.baseMm->y());
@@ -130,7 +130,7 @@ std::string encodeSurveyCsv(const PlantSurvey& survey, const SurveyDate& date) {
       } else {
         out << ",,,,,,,,";
       }
-      out << "," << toString(l.state) << "," << l.kind << "\n";
+      out << "," << toString(l.state) << "," << toString(l.kind) << "\n";
     }
   }
   return out.str();

@@ -22,6 +22,8 @@ constexpr NameTable<LeafState, 5> kStates{{{LeafState::Alive, "alive"},
                                            {LeafState::Broken, "broken"},
                                            {LeafState::Yellow, "yellow"},
                                            {LeafState::Pruned, "pruned"}}};
+constexpr NameTable<LeafKind, 3> kKinds{
+    {{LeafKind::Full, "full"}, {LeafKind::Quick, "quick"}, {LeafKind::None, "none"}}};
 
 // A stem diameter by caliper: positive, at most what a stem can be.
 double stemDiameter(const detail::JsonReader& reader, const json& value, const std::string& where, double scale) {
@@ -45,6 +47,14 @@ const char* toString(LeafState state) {
 
 LeafState leafStateFromString(const std::string& word) {
   return parseName(kStates, word, "leaf state");
+}
+
+const char* toString(LeafKind kind) {
+  return nameIn(kKinds, kind);
+}
+
+LeafKind leafKindFromString(const std::string& word) {
+  return parseName(kKinds, word, "leaf kind");
 }
 
 std::optional<SurveyDate> parseSurveyDate(std::string_view iso) {
@@ -119,7 +129,14 @@ PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& s
       const json& leaf = *leafIt;
       const std::string lw = where + " leaf";
       if (!leaf.is_object()) reader.fail(lw, "must be null or an object with \"kind\": full, quick or none");
-      const json& kind = reader.require(leaf, "kind", lw);
+      const json& kindWord = reader.require(leaf, "kind", lw);
+      if (!kindWord.is_string()) reader.fail(lw + " kind", "must be full, quick or none");
+      LeafKind kind = LeafKind::None;
+      try {
+        kind = leafKindFromString(kindWord.get<std::string>());
+      } catch (const UnknownName& e) {
+        reader.fail(lw + " kind", e.what());
+      }
       if (const auto s = leaf.find("state"); s != leaf.end() && !s->is_null()) {
         if (!s->is_string()) reader.fail(lw + " state", "must be alive, dead, broken, yellow or pruned");
         try {
@@ -128,20 +145,18 @@ PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& s
           reader.fail(lw + " state", e.what());
         }
       }
-      if (kind == "full") {
+      if (kind == LeafKind::Full) {
         const json& markers = reader.require(leaf, "markers", lw);
         std::string markersSource = source;
         markersSource.append(": ").append(lw).append(" markers");
         node.leaf = parseMarkersJson(markers.dump(), markersSource);
-      } else if (kind == "quick") {
+      } else if (kind == LeafKind::Quick) {
         QuickLeaf q;
         q.baseMm = reader.point(reader.require(leaf, "base", lw), lw + " base", scale);
         q.tipMm = reader.point(reader.require(leaf, "tip", lw), lw + " tip", scale);
         q.sideMm = reader.point(reader.require(leaf, "side", lw), lw + " side", scale);
         q.type = text(leaf, "type");
         node.leaf = q;
-      } else if (kind != "none") {
-        reader.fail(lw + " kind", "unknown kind " + kind.dump() + "; use \"full\", \"quick\" or \"none\"");
       }
     }
     p.nodes.push_back(std::move(node));
@@ -173,15 +188,15 @@ std::string plantMarkersToJson(const PlantMarkers& p) {
     json node = {{"point", point(n.pointMm)}, {"diameter", n.diameterMm}};
     json leaf;
     if (const auto* full = std::get_if<MarkerSet>(&n.leaf)) {
-      leaf = {{"kind", "full"}, {"markers", json::parse(markersToJson(*full))}};
+      leaf = {{"kind", toString(LeafKind::Full)}, {"markers", json::parse(markersToJson(*full))}};
     } else if (const auto* quick = std::get_if<QuickLeaf>(&n.leaf)) {
-      leaf = {{"kind", "quick"},
+      leaf = {{"kind", toString(LeafKind::Quick)},
               {"base", point(quick->baseMm)},
               {"tip", point(quick->tipMm)},
               {"side", point(quick->sideMm)},
               {"type", quick->type}};
     } else if (n.state != LeafState::Alive) {
-      leaf = {{"kind", "none"}};
+      leaf = {{"kind", toString(LeafKind::None)}};
     }
     if (!leaf.is_null() && n.state != LeafState::Alive) leaf["state"] = toString(n.state);
     node["leaf"] = leaf;

@@ -6,6 +6,7 @@
 #include "json_reader.hpp"
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
@@ -54,19 +55,22 @@ ProtocolLeaf readLeaf(const detail::JsonReader& reader, const json& leaf, const 
     if (!k->is_array() || k->empty()) reader.fail(where + " kinds", "must list one or more of full, quick, none");
     out.kinds.clear();
     for (const json& v : *k) {
-      const std::string w = v.is_string() ? v.get<std::string>() : std::string();
-      if (w != "full" && w != "quick" && w != "none")
-        reader.fail(where + " kinds", "unknown kind " + v.dump().substr(0, 40) + ": use full, quick or none");
-      if (std::find(out.kinds.begin(), out.kinds.end(), w) != out.kinds.end())
-        reader.fail(where + " kinds", "\"" + w + "\" is listed twice");
-      out.kinds.push_back(w);
+      if (!v.is_string()) reader.fail(where + " kinds", "must list words: full, quick or none");
+      LeafKind kind = LeafKind::None;
+      try {
+        kind = leafKindFromString(v.get<std::string>());
+      } catch (const UnknownName& e) {
+        reader.fail(where + " kinds", e.what());
+      }
+      if (out.allows(kind)) reader.fail(where + " kinds", "\"" + std::string(toString(kind)) + "\" is listed twice");
+      out.kinds.push_back(kind);
     }
   }
   if (const auto q = leaf.find("quick_points"); q != leaf.end() && !q->is_null()) {
     std::set<std::string> taken;
     out.quickPoints = words(reader, leaf, "quick_points", where, taken);
   }
-  const bool quick = std::find(out.kinds.begin(), out.kinds.end(), "quick") != out.kinds.end();
+  const bool quick = out.allows(LeafKind::Quick);
   if (quick && out.quickPoints.size() != 3)
     reader.fail(where + " quick_points",
                 "a quick leaf takes exactly three points (its base, its tip and the widest point of one margin)");
@@ -114,6 +118,10 @@ PlantProtocol makeDefault() {
 }
 
 }  // namespace
+
+bool ProtocolLeaf::allows(LeafKind kind) const {
+  return std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
+}
 
 const ProtocolEntity* PlantProtocol::find(std::string_view name) const {
   for (const ProtocolEntity& e : entities)
@@ -241,11 +249,14 @@ std::string plantProtocolToJson(const PlantProtocol& p) {
     j["repeat"] = e.repeat;
     j["points"] = e.points;
     j["readings"] = e.readings;
-    if (e.leaf)
-      j["leaf"] = {{"kinds", e.leaf->kinds},
+    if (e.leaf) {
+      json kinds = json::array();
+      for (const LeafKind k : e.leaf->kinds) kinds.push_back(toString(k));
+      j["leaf"] = {{"kinds", kinds},
                    {"quick_points", e.leaf->quickPoints},
                    {"full_every", e.leaf->fullEvery},
                    {"largest_full", e.leaf->largestFull}};
+    }
     entities.push_back(j);
   }
   const json doc = {{"format", kPlantProtocolFormat},
@@ -278,17 +289,17 @@ std::vector<std::string> describeSteps(const PlantProtocol& p) {
     for (const std::string& reading : e.readings) out.push_back(step(reading, "caliper"));
     if (e.leaf) {
       std::string kinds;
-      for (const std::string& k : e.leaf->kinds) {
+      for (const LeafKind k : e.leaf->kinds) {
         if (!kinds.empty()) kinds += " | ";
-        if (k == "full") kinds += "full: the leaf protocol";
-        if (k == "quick") {
+        if (k == LeafKind::Full) kinds += "full: the leaf protocol";
+        if (k == LeafKind::Quick) {
           kinds += "quick:";
           for (std::size_t i = 0; i < e.leaf->quickPoints.size(); ++i)
             kinds.append(i ? ", " : " ").append(e.leaf->quickPoints[i]);
         }
-        if (k == "none") kinds += "none: a state";
+        if (k == LeafKind::None) kinds += "none: a state";
       }
-      const bool full = std::find(e.leaf->kinds.begin(), e.leaf->kinds.end(), "full") != e.leaf->kinds.end();
+      const bool full = e.leaf->allows(LeafKind::Full);
       if (full)
         kinds += " (default: " + everyKth(e.leaf->fullEvery) + " in full" +
                  (e.leaf->largestFull && e.leaf->fullEvery > 1 ? ", and the largest" : "") + ")";

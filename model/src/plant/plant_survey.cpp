@@ -55,7 +55,7 @@ PlantSurvey surveyPlant(const PlantMarkers& p) {
     leaf.state = n.state;
     try {
       if (const auto* full = std::get_if<MarkerSet>(&n.leaf)) {
-        leaf.kind = "full";
+        leaf.kind = LeafKind::Full;
         MarkerSet m = inFrame(*full, s.frame);
         const LeafModel model = buildLeafModel(m);
         leaf.baseMm = m.rows.back().pointsMm[kMidribColumn];
@@ -70,11 +70,11 @@ PlantSurvey surveyPlant(const PlantMarkers& p) {
         }
         leaf.markers = std::move(m);
       } else if (const auto* quick = std::get_if<QuickLeaf>(&n.leaf)) {
-        leaf.kind = "quick";
+        leaf.kind = LeafKind::Quick;
         leaf.baseMm = s.frame.point(quick->baseMm);
         leaf.pose = leafPose(*leaf.baseMm, s.frame.point(quick->tipMm), s.frame.point(quick->sideMm));
       } else if (n.state != LeafState::Alive) {
-        leaf.kind = "none";
+        leaf.kind = LeafKind::None;
       } else {
         continue;  // no leaf at this node
       }
@@ -117,7 +117,7 @@ std::string plantSurveyToJson(const PlantSurvey& s) {
   double sum = 0.0;
   int count = 0;
   for (const SurveyedLeaf& l : s.leaves) {
-    json j = {{"node", l.node}, {"kind", l.kind}, {"state", toString(l.state)}};
+    json j = {{"node", l.node}, {"kind", toString(l.kind)}, {"state", toString(l.state)}};
     j["azimuth_deg"] = l.pose ? json(l.pose->azimuthDeg) : json();
     j["inclination_deg"] = l.pose ? json(l.pose->inclinationDeg) : json();
     j["chord_mm"] = l.pose ? json(l.pose->lengthMm) : json();

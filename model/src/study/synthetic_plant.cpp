@@ -111,7 +111,7 @@ SyntheticPlant synthesizePlant(const SyntheticPlantSpec& spec) {
       continue;
     }
     if (k == 1) {  // the lowest leaf is senescent: flagged, not digitized
-      leaf.kind = "none";
+      leaf.kind = LeafKind::None;
       leaf.state = LeafState::Dead;
       pn.state = LeafState::Dead;
       truth.leaves.push_back(leaf);
@@ -139,7 +139,7 @@ SyntheticPlant synthesizePlant(const SyntheticPlantSpec& spec) {
       for (MarkerRow& row : exact.rows)
         for (Eigen::Vector3d& p : row.pointsMm) p = place(p);
       const LeafPose pose = leafPose(exact.rows.back().pointsMm[kMidribColumn], exact.tipMm);
-      leaf.kind = "full";
+      leaf.kind = LeafKind::Full;
       leaf.azimuthDeg = pose.azimuthDeg;
       leaf.inclinationDeg = pose.inclinationDeg;
       leaf.lengthMm = synthetic.midribLengthMm();
@@ -153,7 +153,7 @@ SyntheticPlant synthesizePlant(const SyntheticPlantSpec& spec) {
       const double width = 0.5 * length;
       const Eigen::Vector3d tip = base + length * along;
       const Eigen::Vector3d side = base + 0.45 * length * along + 0.5 * width * rotation.col(0);
-      leaf.kind = "quick";
+      leaf.kind = LeafKind::Quick;
       leaf.azimuthDeg = azimuth;
       leaf.inclinationDeg = inclination;
       leaf.lengthMm = length;
@@ -185,7 +185,7 @@ std::string syntheticPlantTruthToJson(const std::string& plant, const SyntheticP
   json leaves = json::array();
   for (const SyntheticPlantLeafTruth& l : t.leaves)
     leaves.push_back({{"node", l.node},
-                      {"kind", l.kind},
+                      {"kind", toString(l.kind)},
                       {"state", toString(l.state)},
                       {"azimuth_deg", optional(l.azimuthDeg)},
                       {"inclination_deg", optional(l.inclinationDeg)},

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "leafdig/model/leaf/markers.hpp"
+#include "leafdig/model/plant/leaf_kind.hpp"
 
 namespace leafdig::model {
 

@@ -14,15 +14,19 @@
 #include <string_view>
 #include <vector>
 
+#include "leafdig/model/plant/leaf_kind.hpp"
+
 namespace leafdig::model {
 
 inline constexpr const char* kPlantProtocolFormat = "leafdig.plant-protocol/1";
 
 struct ProtocolLeaf {
-  std::vector<std::string> kinds{"full", "quick", "none"};      // what the technician may choose
-  std::vector<std::string> quickPoints{"base", "tip", "side"};  // a quick leaf's three stylus points
+  std::vector<LeafKind> kinds{LeafKind::Full, LeafKind::Quick, LeafKind::None};  // what the technician may choose
+  std::vector<std::string> quickPoints{"base", "tip", "side"};                   // a quick leaf's three stylus points
   int fullEvery = 3;        // by default every k-th leaf of the axis is digitized in full…
   bool largestFull = true;  // …and the largest (the technician decides per node)
+
+  [[nodiscard]] bool allows(LeafKind kind) const;
 };
 
 struct ProtocolEntity {

@@ -23,7 +23,7 @@ struct SurveyedNode {
 
 struct SurveyedLeaf {
   int node = 0;
-  std::string kind;  // "full", "quick" or "none"
+  LeafKind kind = LeafKind::None;
   LeafState state = LeafState::Alive;
   std::optional<LeafPose> pose;           // full: the base (row N's midrib point) to the tip; quick: its 3 points
   std::optional<Eigen::Vector3d> baseMm;  // the pose's base, in the plant frame

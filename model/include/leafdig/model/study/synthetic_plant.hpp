@@ -30,7 +30,7 @@ struct SyntheticPlantSpec {
 
 struct SyntheticPlantLeafTruth {
   int node = 0;
-  std::string kind;  // "full", "quick" or "none"
+  LeafKind kind = LeafKind::None;
   LeafState state = LeafState::Alive;
   std::optional<double> azimuthDeg, inclinationDeg;  // of the base-to-tip chord, in the plant frame
   std::optional<double> lengthMm;                    // full: along the midrib; quick: base to tip
