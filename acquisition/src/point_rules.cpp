@@ -55,14 +55,20 @@ Press settle(const std::vector<const StylusInput*>& window, const Settings& sett
   return out;
 }
 
+Refusal doublePressNear(const Point& candidate, const std::optional<Point>& previous, std::int64_t pressedAtNs,
+                        std::int64_t lastAcceptedReleaseNs, const Settings& settings) {
+  if (!previous) return std::nullopt;
+  const double d = (*previous - candidate).norm();
+  if (d < settings.doubleTapMm && lastAcceptedReleaseNs >= 0 &&
+      pressedAtNs - lastAcceptedReleaseNs < settings.doubleTapNs)
+    return "this point is " + mm(d) + " from the previous one: a double press? Move to the next marker";
+  return std::nullopt;
+}
+
 Refusal doublePress(const Candidate& c, std::int64_t pressedAtNs, std::int64_t lastAcceptedReleaseNs) {
   const auto last = std::find_if(c.items.rbegin(), c.items.rend(), [](const Item& i) { return isStylusItem(i.what); });
   if (last == c.items.rend()) return std::nullopt;
-  const double d = (toPoint(last->positionMm) - c.point).norm();
-  if (d < c.settings.doubleTapMm && lastAcceptedReleaseNs >= 0 &&
-      pressedAtNs - lastAcceptedReleaseNs < c.settings.doubleTapNs)
-    return "this point is " + mm(d) + " from the previous one: a double press? Move to the next marker";
-  return std::nullopt;
+  return doublePressNear(c.point, toPoint(last->positionMm), pressedAtNs, lastAcceptedReleaseNs, c.settings);
 }
 
 Refusal boardAxes(const Candidate& c) {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "leafdig/acquisition/truth.hpp"
+
 namespace leafdig::acquisition {
 namespace {
 
@@ -85,35 +87,11 @@ VirtualOperator::Stats VirtualOperator::stats() const {
 }
 
 Vec3 VirtualOperator::truth(What w, int row, int col) const {
-  if (w == What::Board) {
-    const double x = col == 2 ? 150.0 : -150.0, y = col == 3 ? 150.0 : -150.0;
-    return {x, y, -5.0};
-  }
-  if (w == What::Tip || row < 1 || row > static_cast<int>(leaf_.rows.size()))
-    return {leaf_.tipMm.x(), leaf_.tipMm.y(), leaf_.tipMm.z()};
-  const auto& p = leaf_.rows[static_cast<std::size_t>(row - 1)].pointsMm[static_cast<std::size_t>(col - 1)];
-  return {p.x(), p.y(), p.z()};
+  return leafPointTruth(leaf_, w, row, col);
 }
 
 double VirtualOperator::truthThickness(What w, int row, int col) const {
-  const model::MarkerRow* r =
-      row >= 1 && row <= static_cast<int>(leaf_.rows.size()) ? &leaf_.rows[static_cast<std::size_t>(row - 1)] : nullptr;
-  switch (w) {
-    case What::MidribThickness: return r && r->midribThicknessMm ? *r->midribThicknessMm : 1.2;
-    case What::VeinOriginThickness: return r && r->veinOriginThicknessMm ? *r->veinOriginThicknessMm : 0.6;
-    case What::EdgeThickness:
-      return leaf_.edgeThicknessMm                                  ? *leaf_.edgeThicknessMm
-             : !leaf_.rows.empty() && leaf_.rows[0].edgeThicknessMm ? *leaf_.rows[0].edgeThicknessMm
-                                                                    : 0.25;
-    case What::PointThickness: {
-      if (r && r->measuredThicknessMm[static_cast<std::size_t>(col - 1)])
-        return *r->measuredThicknessMm[static_cast<std::size_t>(col - 1)];
-      const double d = truthThickness(What::EdgeThickness, 0, 0), o = truthThickness(What::VeinOriginThickness, row, 4);
-      const double f = std::abs(col - 4) / 3.0;
-      return f * d + (1 - f) * o;
-    }
-    default: return 1.0;
-  }
+  return leafReadingTruth(leaf_, w, row, col);
 }
 
 void VirtualOperator::press(const Vec3& at, double pressS, double settleS, double travelS) {

@@ -27,15 +27,13 @@ std::string nth(std::size_t i) {
 
 }  // namespace
 
-PlantFrame plantFrameFromLandmarks(const std::vector<Eigen::Vector3d>& landmarks, const Eigen::Vector3d& collar,
-                                   const Eigen::Vector3d& up) {
+LandmarkPlane landmarkPlane(const std::vector<Eigen::Vector3d>& landmarks) {
   const std::size_t n = landmarks.size();
   if (n < 3)
     throw InputError("a plant frame needs at least three landmarks on the pot rim (or a board), " + std::to_string(n) +
                      " given: digitize " + std::to_string(3 - n) + " more");
   for (const auto& p : landmarks)
     if (!p.allFinite()) throw InputError("a landmark is not a finite point: digitize it again");
-  if (!collar.allFinite()) throw InputError("the collar is not a finite point: digitize it again");
   double spread = 0.0;
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = i + 1; j < n; ++j) {
@@ -48,18 +46,19 @@ PlantFrame plantFrameFromLandmarks(const std::vector<Eigen::Vector3d>& landmarks
   if (spread < kLandmarkMinSpreadMm)
     throw InputError("the landmarks are at most " + mm(spread) + " apart: take them at least " +
                      mm(kLandmarkMinSpreadMm) + " apart around the pot rim");
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& p : landmarks) centroid += p / static_cast<double>(n);
+  LandmarkPlane plane;
+  for (const auto& p : landmarks) plane.centroid += p / static_cast<double>(n);
   Eigen::MatrixXd centred(static_cast<Eigen::Index>(n), 3);
-  for (std::size_t i = 0; i < n; ++i) centred.row(static_cast<Eigen::Index>(i)) = (landmarks[i] - centroid).transpose();
+  for (std::size_t i = 0; i < n; ++i)
+    centred.row(static_cast<Eigen::Index>(i)) = (landmarks[i] - plane.centroid).transpose();
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinV);
   const Eigen::Vector3d line = svd.matrixV().col(0);
-  Eigen::Vector3d normal = svd.matrixV().col(2);
+  plane.normal = svd.matrixV().col(2);
   // Nearly collinear: every landmark close to the line through their centroid.
   double offLine = 0.0;
   std::size_t farthest = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d d = landmarks[i] - centroid;
+    const Eigen::Vector3d d = landmarks[i] - plane.centroid;
     const double off = (d - d.dot(line) * line).norm();
     if (off > offLine) {
       offLine = off;
@@ -69,6 +68,17 @@ PlantFrame plantFrameFromLandmarks(const std::vector<Eigen::Vector3d>& landmarks
   if (offLine < kLandmarkMinOffLineMm)
     throw InputError("the landmarks lie nearly on one line (" + nth(farthest) + ", the farthest, is " + mm(offLine) +
                      " off it), so they do not fix a plane: take them around the pot rim, not along one edge");
+  double sum = 0.0;
+  for (const auto& p : landmarks) sum += std::pow((p - plane.centroid).dot(plane.normal), 2);
+  plane.flatnessMm = std::sqrt(sum / static_cast<double>(n));
+  return plane;
+}
+
+PlantFrame plantFrameFromLandmarks(const std::vector<Eigen::Vector3d>& landmarks, const Eigen::Vector3d& collar,
+                                   const Eigen::Vector3d& up) {
+  const LandmarkPlane plane = landmarkPlane(landmarks);
+  if (!collar.allFinite()) throw InputError("the collar is not a finite point: digitize it again");
+  Eigen::Vector3d normal = plane.normal;
   const double side = normal.dot(up);
   if (!up.allFinite() || std::abs(side) < 1e-9 * std::max(1.0, up.norm()))
     throw InputError(
@@ -87,9 +97,7 @@ PlantFrame plantFrameFromLandmarks(const std::vector<Eigen::Vector3d>& landmarks
   PlantFrame frame;
   frame.fromDigitizer.linear() = axes.transpose();
   frame.fromDigitizer.translation() = -(axes.transpose() * collar);
-  double sum = 0.0;
-  for (const auto& p : landmarks) sum += std::pow((p - centroid).dot(normal), 2);
-  frame.flatnessMm = std::sqrt(sum / static_cast<double>(n));
+  frame.flatnessMm = plane.flatnessMm;
   return frame;
 }
 

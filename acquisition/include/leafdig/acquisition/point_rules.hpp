@@ -40,6 +40,10 @@ struct Press {
 // A second press close to the previous accepted point and right after it (distance alone
 // would refuse the 2 mm rows near the tip of a small leaf).
 [[nodiscard]] Refusal doublePress(const Candidate& c, std::int64_t pressedAtNs, std::int64_t lastAcceptedReleaseNs);
+// The same rule for any capture: `previous` is the last accepted stylus point, if any.
+[[nodiscard]] Refusal doublePressNear(const Point& candidate, const std::optional<Point>& previous,
+                                      std::int64_t pressedAtNs, std::int64_t lastAcceptedReleaseNs,
+                                      const Settings& settings);
 // The board's +X point away from the origin, its +Y point away from the X axis.
 [[nodiscard]] Refusal boardAxes(const Candidate& c);
 // Going back along a row: the path turns by more than 150° (a row bends at most at the

@@ -28,6 +28,16 @@ struct PlantFrame {
   }
 };
 
+// The landmarks' best-fitting plane (its normal's sign is arbitrary) and their RMS distance from
+// it. Throws InputError naming the landmark and what to do: fewer than three, two the same
+// point, all within 20 mm, nearly on one line.
+struct LandmarkPlane {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double flatnessMm = 0.0;
+};
+[[nodiscard]] LandmarkPlane landmarkPlane(const std::vector<Eigen::Vector3d>& landmarks);
+
 // The frame of ≥ 3 landmarks and the collar, all in the digitizer's frame. `up` says which
 // side of the landmarks' plane the stem grows to (the first node minus the collar, or before
 // any node the digitizer's own +Z); only its side matters. Throws InputError naming the

@@ -1,0 +1,160 @@
+// The plant protocol's engine (docs/plants.md, "Capturing a plant"): a state machine that takes
+// a plant where it stands in the order a plant protocol file (model::PlantProtocol) gives —
+// landmarks on the pot rim, the collar and its diameter, then node by node the axis entity's
+// points and readings and each node's leaf: in full (the leaf protocol, one leaf Engine per
+// node), quick (three stylus points) or none (with a state). Like the leaf Engine it decides
+// (accept / reject with words) and applies decisions; replaying the applied decisions rebuilds
+// its state exactly. Every point stays in the digitizer's frame, as pressed; the plant frame is
+// made from them (capturedPlant → model::surveyPlant), so correcting a landmark moves every
+// point after it.
+//
+// The stylus works as on a leaf: a point is the mean of the still samples around the press, a
+// long press ends the landmarks (once there are enough) or the plant (at a node's first point),
+// a very long press undoes the last action. Inside a full leaf the leaf Engine has the stylus
+// (its long press ends the rows); a very long press there with nothing of the leaf to undo
+// undoes the plant's last action.
+//
+// Protocols: one repeating axis of order 1 with its leaves. Branches (entities of axis order 2)
+// are refused by the constructor in words (docs/plants.md says what comes next).
+//
+// Thread contract: one thread owns a PlantEngine; it never blocks.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "leafdig/acquisition/engine.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
+#include "leafdig/model/plant/plant_protocol.hpp"
+
+namespace leafdig::acquisition {
+
+// Landmark (index 1…), Collar, CollarDiameter, Point / Reading of the axis entity at node
+// `index` (part 1… of the entity's points / readings), QuickPoint (part 1…3 of node `index`'s
+// quick leaf), Leaf (node `index`'s full leaf: the leaf Engine's step), Done.
+enum class PlantWhat { Landmark, Collar, CollarDiameter, Point, Reading, QuickPoint, Leaf, Done };
+[[nodiscard]] const char* toString(PlantWhat w);  // "landmark", "collar", "collar_diameter", "point", …
+[[nodiscard]] PlantWhat plantWhatFromString(const std::string& s);  // throws UnknownName
+[[nodiscard]] bool isStylusItem(PlantWhat w);
+
+struct PlantStep {
+  PlantWhat what = PlantWhat::Landmark;
+  int index = 0;  // landmark number, or node number (1 at the base); 0 for the collar
+  int part = 0;   // which point / reading / quick point (1-based); 0 where it does not apply
+  Step leaf;      // Leaf: the leaf Engine's step
+  friend bool operator==(const PlantStep&, const PlantStep&) = default;
+};
+
+struct PlantItem {
+  PlantWhat what = PlantWhat::Landmark;
+  int index = 0, part = 0;
+  Vec3 positionMm{};   // stylus items, in the digitizer's frame
+  double valueMm = 0;  // caliper items (diameters)
+  std::string raw;
+  std::string flag;  // e.g. "repeated reading"
+};
+
+// What the technician chose for a node's leaf (a LeafChosen decision).
+struct LeafChoice {
+  model::LeafKind kind = model::LeafKind::None;
+  model::LeafState state = model::LeafState::Alive;
+  friend bool operator==(const LeafChoice&, const LeafChoice&) = default;
+};
+
+struct PlantDecision {
+  enum class Kind {
+    Ignored,
+    Accepted,
+    Rejected,
+    Undone,
+    LandmarksEnded,
+    LandmarksReopened,
+    PlantEnded,
+    PlantReopened,
+    LeafChosen,    // node's leaf kind / state set (choice); `previous` is what it was
+    ChoiceUndone,  // the last LeafChosen taken back: node's leaf is `previous` again
+    Leaf         // a decision of node's full leaf Engine (leaf)
+  };
+  Kind kind = Kind::Ignored;
+  PlantItem item;  // Accepted / Undone
+  int node = 0;    // LeafChosen, Leaf
+  LeafChoice choice, previous;
+  Decision leaf;
+  std::string reason;  // Rejected
+};
+
+class PlantEngine {
+ public:
+  // `leafSettings`: the stylus guards and the leaf protocol of full leaves (board frame off).
+  // Throws std::invalid_argument naming what the protocol asks that capture cannot do yet.
+  explicit PlantEngine(model::PlantProtocol protocol, Settings leafSettings = {});
+
+  PlantDecision onStylus(const StylusInput& s);
+  PlantDecision onCaliper(const CaliperInput& c);
+  PlantDecision undo();
+  // The key equivalent of the long press: ends the landmarks (at least the protocol's minimum)
+  // or, at a node's first point, the plant; inside a full leaf, its rows.
+  PlantDecision end();
+  // Sets node's leaf kind and state (the current node or one still to come; a leaf with points
+  // taken cannot change kind: undo them first).
+  PlantDecision chooseLeaf(int node, LeafChoice choice);
+
+  void apply(const PlantDecision& d);
+
+  [[nodiscard]] PlantStep step() const;
+  [[nodiscard]] std::string prompt() const;
+  [[nodiscard]] const std::vector<PlantItem>& items() const { return items_; }
+  // node's full leaf Engine, or null when node has none (yet).
+  [[nodiscard]] const Engine* leaf(int node) const;
+  // node's leaf choice: the technician's, or the protocol's default (every k-th node in full).
+  [[nodiscard]] LeafChoice choiceFor(int node) const;
+  [[nodiscard]] int nodes() const;  // nodes with their first point taken
+  [[nodiscard]] bool complete() const { return step().what == PlantWhat::Done; }
+  [[nodiscard]] const model::PlantProtocol& protocol() const { return protocol_; }
+  [[nodiscard]] const Settings& leafSettings() const { return settings_; }
+  // What was captured, in the digitizer's frame, as a plant-markers document holds it: every
+  // node with all its points and readings, each leaf as chosen (a full leaf once complete).
+  [[nodiscard]] model::PlantMarkers captured(const std::string& plant) const;
+
+ private:
+  struct Action {
+    enum class Kind { Item, LandmarksEnded, PlantEnded, Leaf, Choice } kind = Kind::Item;
+    int node = 0;  // Leaf, Choice
+    LeafChoice previous;
+    bool hadChoice = false;
+  };
+  [[nodiscard]] PlantDecision decidePoint(const StylusInput& release);
+  [[nodiscard]] PlantDecision decideEnd() const;
+  [[nodiscard]] PlantDecision reject(std::string reason) const;
+  [[nodiscard]] PlantDecision fromLeaf(int node, const Decision& d) const;
+  [[nodiscard]] const PlantItem* find(PlantWhat w, int index, int part) const;
+  [[nodiscard]] int landmarks() const;
+  [[nodiscard]] std::optional<PlantStep> nodeStep(int node) const;  // the first step node still needs
+  [[nodiscard]] int leafNode() const;  // the node whose full leaf has the stylus now, or 0
+  [[nodiscard]] std::string pointName(const PlantStep& s) const;
+  Engine& leafEngine(int node);
+  // Keeps the plant's action list in step with a decision node's leaf Engine applied.
+  void mirror(int node, const Decision& d);
+
+  model::PlantProtocol protocol_;
+  const model::ProtocolEntity* axis_ = nullptr;
+  const model::ProtocolEntity* leafEntity_ = nullptr;  // null: the protocol's nodes carry no leaf
+  Settings settings_;
+  std::vector<PlantItem> items_;
+  std::map<int, Engine> leaves_;
+  std::map<int, LeafChoice> choices_;
+  std::vector<Action> actions_;
+  bool landmarksEnded_ = false, plantEnded_ = false;
+  std::deque<StylusInput> recent_;
+  bool pressed_ = false;
+  std::int64_t pressedAt_ = 0;
+  std::int64_t lastAcceptedReleaseNs_ = -1;
+  std::int64_t lastReadingAt_ = -1;
+  double lastReading_ = -1;
+};
+
+}  // namespace leafdig::acquisition

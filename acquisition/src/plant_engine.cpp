@@ -1,0 +1,520 @@
+#include "leafdig/acquisition/plant_engine.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+
+#include "leafdig/acquisition/point_rules.hpp"
+#include "leafdig/acquisition/preview.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/limits.hpp"
+#include "leafdig/model/plant/plant_frame.hpp"
+#include "leafdig/names/name_table.hpp"
+
+namespace leafdig::acquisition {
+
+namespace {
+
+namespace m = leafdig::model;
+
+constexpr NameTable<PlantWhat, 8> kPlantWhatNames{{{PlantWhat::Landmark, "landmark"},
+                                                   {PlantWhat::Collar, "collar"},
+                                                   {PlantWhat::CollarDiameter, "collar_diameter"},
+                                                   {PlantWhat::Point, "point"},
+                                                   {PlantWhat::Reading, "reading"},
+                                                   {PlantWhat::QuickPoint, "quick_point"},
+                                                   {PlantWhat::Leaf, "leaf"},
+                                                   {PlantWhat::Done, "done"}}};
+
+std::string num(int v) {
+  return std::to_string(v);
+}
+
+rules::Point at(const PlantItem& i) {
+  return rules::toPoint(i.positionMm);
+}
+
+// What a quick leaf's point is, in the technician's words.
+std::string quickHint(const std::string& name, int part) {
+  if (part == 1) return name + " (where the blade joins the petiole)";
+  if (part == 2) return name + " (the leaf's tip)";
+  return name + " (the widest point of one margin)";
+}
+
+}  // namespace
+
+const char* toString(PlantWhat w) {
+  return nameIn(kPlantWhatNames, w);
+}
+
+PlantWhat plantWhatFromString(const std::string& s) {
+  return parseName(kPlantWhatNames, s, "plant item");
+}
+
+bool isStylusItem(PlantWhat w) {
+  return w == PlantWhat::Landmark || w == PlantWhat::Collar || w == PlantWhat::Point || w == PlantWhat::QuickPoint;
+}
+
+PlantEngine::PlantEngine(m::PlantProtocol protocol, Settings leafSettings)
+    : protocol_(std::move(protocol)), settings_(leafSettings) {
+  settings_.boardFrame = false;  // a full leaf is taken where it hangs, in the plant frame
+  for (const m::ProtocolEntity& e : protocol_.entities) {
+    if (e.order > 1)
+      throw std::invalid_argument("the protocol's \"" + e.name +
+                                  "\" is an axis of order 2 (a branch): plant capture takes the main stem and its "
+                                  "leaves for now; digitize branches as plants of their own");
+    if (e.leaf) {
+      if (leafEntity_)
+        throw std::invalid_argument("the protocol hangs two leaf entities (\"" + leafEntity_->name + "\" and \"" +
+                                    e.name + "\") on its nodes: plant capture takes one leaf per node");
+      leafEntity_ = &e;
+    } else if (!axis_) {
+      axis_ = &e;
+    } else {
+      throw std::invalid_argument("the protocol lists two stem entities (\"" + axis_->name + "\" and \"" + e.name +
+                                  "\"): plant capture takes one entity node by node");
+    }
+  }
+  if (!axis_ || !axis_->repeat || axis_->points.empty())
+    throw std::invalid_argument(
+        "the protocol has no stem entity taken node by node with a point (\"repeat\": true, \"points\": [\"node\"])");
+  if (leafEntity_ && leafEntity_->parent != axis_->name)
+    throw std::invalid_argument("the protocol's leaf \"" + leafEntity_->name + "\" does not hang on \"" + axis_->name +
+                                "\"");
+}
+
+const PlantItem* PlantEngine::find(PlantWhat w, int index, int part) const {
+  for (const PlantItem& i : items_)
+    if (i.what == w && i.index == index && i.part == part) return &i;
+  return nullptr;
+}
+
+int PlantEngine::landmarks() const {
+  int n = 0;
+  for (const PlantItem& i : items_) n += i.what == PlantWhat::Landmark;
+  return n;
+}
+
+int PlantEngine::nodes() const {
+  int n = 0;
+  while (find(PlantWhat::Point, n + 1, 1)) ++n;
+  return n;
+}
+
+const Engine* PlantEngine::leaf(int node) const {
+  const auto it = leaves_.find(node);
+  return it == leaves_.end() ? nullptr : &it->second;
+}
+
+Engine& PlantEngine::leafEngine(int node) {
+  return leaves_.try_emplace(node, settings_).first->second;
+}
+
+LeafChoice PlantEngine::choiceFor(int node) const {
+  if (const auto it = choices_.find(node); it != choices_.end()) return it->second;
+  if (!leafEntity_) return {};
+  const m::ProtocolLeaf& p = *leafEntity_->leaf;
+  const bool kth = p.fullEvery > 0 && node % p.fullEvery == 0;
+  if (kth && p.allows(m::LeafKind::Full)) return {m::LeafKind::Full, m::LeafState::Alive};
+  for (const m::LeafKind k : {m::LeafKind::Quick, m::LeafKind::Full})
+    if (p.allows(k)) return {k, m::LeafState::Alive};
+  return {};
+}
+
+std::optional<PlantStep> PlantEngine::nodeStep(int node) const {
+  for (int p = 1; p <= static_cast<int>(axis_->points.size()); ++p)
+    if (!find(PlantWhat::Point, node, p)) return PlantStep{PlantWhat::Point, node, p, {}};
+  for (int r = 1; r <= static_cast<int>(axis_->readings.size()); ++r)
+    if (!find(PlantWhat::Reading, node, r)) return PlantStep{PlantWhat::Reading, node, r, {}};
+  if (!leafEntity_) return std::nullopt;
+  switch (choiceFor(node).kind) {
+    case m::LeafKind::Full: {
+      const Engine* e = leaf(node);
+      if (!e) return PlantStep{PlantWhat::Leaf, node, 0, Step{What::Tip, 0, 0}};
+      if (!e->complete()) return PlantStep{PlantWhat::Leaf, node, 0, e->step()};
+      break;
+    }
+    case m::LeafKind::Quick:
+      for (int q = 1; q <= 3; ++q)
+        if (!find(PlantWhat::QuickPoint, node, q)) return PlantStep{PlantWhat::QuickPoint, node, q, {}};
+      break;
+    case m::LeafKind::None: break;
+  }
+  return std::nullopt;
+}
+
+PlantStep PlantEngine::step() const {
+  if (!landmarksEnded_ && landmarks() < protocol_.maxLandmarks) return {PlantWhat::Landmark, landmarks() + 1, 0, {}};
+  if (!find(PlantWhat::Collar, 0, 0)) return {PlantWhat::Collar, 0, 0, {}};
+  if (protocol_.collarDiameter && !find(PlantWhat::CollarDiameter, 0, 0)) return {PlantWhat::CollarDiameter, 0, 0, {}};
+  // A full leaf being retaken has the stylus wherever the capture is.
+  for (const auto& [node, e] : leaves_)
+    if (e.retaking()) return {PlantWhat::Leaf, node, 0, e.step()};
+  for (int node = 1;; ++node) {
+    if (!find(PlantWhat::Point, node, 1) && plantEnded_) return {PlantWhat::Done, 0, 0, {}};
+    if (auto s = nodeStep(node)) return *s;
+  }
+}
+
+int PlantEngine::leafNode() const {
+  const PlantStep s = step();
+  return s.what == PlantWhat::Leaf ? s.index : 0;
+}
+
+std::string PlantEngine::pointName(const PlantStep& s) const {
+  switch (s.what) {
+    case PlantWhat::Point: return axis_->points[static_cast<std::size_t>(s.part - 1)];
+    case PlantWhat::Reading: return axis_->readings[static_cast<std::size_t>(s.part - 1)];
+    case PlantWhat::QuickPoint: return leafEntity_->leaf->quickPoints[static_cast<std::size_t>(s.part - 1)];
+    default: return toString(s.what);
+  }
+}
+
+std::string PlantEngine::prompt() const {
+  const PlantStep s = step();
+  const std::string node = "Node " + num(s.index) + " · ";
+  switch (s.what) {
+    case PlantWhat::Landmark: {
+      std::string p = "Landmark " + num(s.index) + " · a mark on the pot rim (or the board)";
+      if (s.index > protocol_.minLandmarks) p += "  (or hold the button to end the landmarks)";
+      return p;
+    }
+    case PlantWhat::Collar: return "Collar · the stem at soil level";
+    case PlantWhat::CollarDiameter: return "Collar · stem diameter with the caliper";
+    case PlantWhat::Point: {
+      std::string p = node + pointName(s) + " on the stem";
+      if (s.part == 1 && s.index > 1) p += "  (or hold the button to end the plant)";
+      return p;
+    }
+    case PlantWhat::Reading: return node + "stem " + pointName(s) + " with the caliper";
+    case PlantWhat::QuickPoint: return node + "quick leaf · " + quickHint(pointName(s), s.part);
+    case PlantWhat::Leaf: {
+      const Engine* e = leaf(s.index);
+      return node + "leaf · " + (e ? e->prompt() : Engine(settings_).prompt());
+    }
+    case PlantWhat::Done: return "Plant complete";
+  }
+  return "";
+}
+
+PlantDecision PlantEngine::reject(std::string reason) const {
+  PlantDecision d;
+  d.kind = PlantDecision::Kind::Rejected;
+  d.reason = std::move(reason);
+  return d;
+}
+
+PlantDecision PlantEngine::fromLeaf(int node, const Decision& leafDecision) const {
+  PlantDecision d;
+  d.node = node;
+  d.leaf = leafDecision;
+  if (leafDecision.kind == Decision::Kind::Rejected) {
+    d.kind = PlantDecision::Kind::Rejected;
+    d.reason = "node " + num(node) + " leaf: " + leafDecision.reason;
+  } else if (leafDecision.kind != Decision::Kind::Ignored) {
+    d.kind = PlantDecision::Kind::Leaf;
+  }
+  return d;
+}
+
+PlantDecision PlantEngine::onStylus(const StylusInput& s) {
+  recent_.push_back(s);
+  while (!recent_.empty() && s.tNs - recent_.front().tNs > 3 * settings_.stillWindowNs + settings_.longPressNs)
+    recent_.pop_front();
+  // The press as the plant sees it (also inside a full leaf: a very long press there with
+  // nothing of the leaf to undo undoes the plant's last action).
+  std::optional<std::int64_t> held;
+  if (s.button && !pressed_) {
+    pressed_ = true;
+    pressedAt_ = s.tNs;
+  } else if (!s.button && pressed_) {
+    pressed_ = false;
+    held = s.tNs - pressedAt_;
+  }
+  if (const int node = leafNode()) {
+    Engine& e = leafEngine(node);
+    const bool hadActions = !e.items().empty() || e.rowsEnded();
+    const Decision ld = e.onStylus(s);  // decides and applies, as on a detached leaf
+    if (held && *held >= settings_.undoPressNs && !hadActions && ld.kind == Decision::Kind::Rejected) return undo();
+    PlantDecision d = fromLeaf(node, ld);
+    if (d.kind == PlantDecision::Kind::Leaf) mirror(node, ld);
+    if (ld.kind == Decision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
+    return d;
+  }
+  if (!held) return {};
+  if (*held >= settings_.undoPressNs) return undo();
+  PlantDecision d = *held >= settings_.longPressNs ? decideEnd() : decidePoint(s);
+  if (d.kind != PlantDecision::Kind::Rejected && d.kind != PlantDecision::Kind::Ignored) apply(d);
+  if (d.kind == PlantDecision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
+  return d;
+}
+
+PlantDecision PlantEngine::decidePoint(const StylusInput& release) {
+  const PlantStep st = step();
+  if (!isStylusItem(st.what)) {
+    if (st.what == PlantWhat::Done) return reject("the plant is complete: nothing more to point at");
+    return reject("now measure with the caliper: " + prompt());
+  }
+  std::vector<const StylusInput*> window;
+  for (const StylusInput& s : recent_)
+    if (s.tNs >= pressedAt_ - settings_.stillWindowNs && s.tNs <= release.tNs) window.push_back(&s);
+  const rules::Press press = rules::settle(window, settings_);
+  if (press.refusal) return reject(*press.refusal);
+  std::optional<rules::Point> previous;
+  for (auto it = items_.rbegin(); it != items_.rend() && !previous; ++it)
+    if (isStylusItem(it->what)) previous = at(*it);
+  if (auto r = rules::doublePressNear(press.mean, previous, pressedAt_, lastAcceptedReleaseNs_, settings_))
+    return reject(*r);
+  // The plant's own rules, in the words of the plant frame and the leaf's pose.
+  std::vector<Eigen::Vector3d> marks;
+  for (const PlantItem& i : items_)
+    if (i.what == PlantWhat::Landmark) marks.push_back(at(i));
+  try {
+    if (st.what == PlantWhat::Collar) {
+      (void)m::plantFrameFromLandmarks(marks, press.mean, m::landmarkPlane(marks).normal);
+    } else if (st.what == PlantWhat::Point && st.index == 1 && st.part == 1) {
+      const Eigen::Vector3d collar = at(*find(PlantWhat::Collar, 0, 0));
+      (void)m::plantFrameFromLandmarks(marks, collar, press.mean - collar);
+    } else if (st.what == PlantWhat::QuickPoint && st.part >= 2) {
+      const Eigen::Vector3d base = at(*find(PlantWhat::QuickPoint, st.index, 1));
+      if (st.part == 2)
+        (void)m::leafPose(base, press.mean);
+      else
+        (void)m::leafPose(base, at(*find(PlantWhat::QuickPoint, st.index, 2)), press.mean);
+    }
+  } catch (const m::InputError& e) {
+    std::string why = e.what();
+    if (st.what == PlantWhat::Collar || st.what == PlantWhat::Point) why += " (undo to take the landmarks again)";
+    return reject(why);
+  }
+  PlantDecision d;
+  d.kind = PlantDecision::Kind::Accepted;
+  d.item.what = st.what;
+  d.item.index = st.index;
+  d.item.part = st.part;
+  d.item.positionMm = {press.mean.x(), press.mean.y(), press.mean.z()};
+  d.item.raw = window.back()->raw;
+  return d;
+}
+
+PlantDecision PlantEngine::onCaliper(const CaliperInput& c) {
+  if (const int node = leafNode()) {
+    const Decision ld = leafEngine(node).onCaliper(c);
+    PlantDecision d = fromLeaf(node, ld);
+    if (d.kind == PlantDecision::Kind::Leaf) mirror(node, ld);
+    return d;
+  }
+  const PlantStep st = step();
+  if (isStylusItem(st.what)) return reject("a caliper reading now? " + prompt() + " first");
+  if (st.what == PlantWhat::Done) return reject("the plant is complete: the reading was not used");
+  if (!(c.valueMm >= settings_.minThicknessMm && c.valueMm <= m::kMaxThicknessMm)) {
+    char b[160];
+    std::snprintf(b, sizeof b,
+                  "a stem diameter of %.3f mm is outside %g–%g mm: check the unit and the jaws, measure again", c.valueMm,
+                  settings_.minThicknessMm, m::kMaxThicknessMm);
+    return reject(b);
+  }
+  PlantDecision d;
+  d.kind = PlantDecision::Kind::Accepted;
+  d.item.what = st.what;
+  d.item.index = st.index;
+  d.item.part = st.part;
+  d.item.valueMm = c.valueMm;
+  d.item.raw = c.raw;
+  if (lastReadingAt_ >= 0 && c.tNs - lastReadingAt_ <= settings_.repeatWindowNs && c.valueMm == lastReading_)
+    d.item.flag = "repeated reading";
+  lastReadingAt_ = c.tNs;
+  lastReading_ = c.valueMm;
+  apply(d);
+  return d;
+}
+
+PlantDecision PlantEngine::decideEnd() const {
+  const PlantStep st = step();
+  PlantDecision d;
+  if (st.what == PlantWhat::Landmark) {
+    if (landmarks() < protocol_.minLandmarks)
+      return reject("the plant frame needs at least " + num(protocol_.minLandmarks) + " landmarks (" +
+                    num(landmarks()) + " taken)");
+    std::vector<Eigen::Vector3d> marks;
+    for (const PlantItem& i : items_)
+      if (i.what == PlantWhat::Landmark) marks.push_back(at(i));
+    try {
+      (void)m::landmarkPlane(marks);
+    } catch (const m::InputError& e) {
+      return reject(std::string(e.what()) + " (undo to take a landmark again)");
+    }
+    d.kind = PlantDecision::Kind::LandmarksEnded;
+    return d;
+  }
+  if (st.what == PlantWhat::Point && st.part == 1) {
+    if (st.index == 1) return reject("a plant needs at least one node: take node 1 on the stem");
+    d.kind = PlantDecision::Kind::PlantEnded;
+    return d;
+  }
+  if (st.what == PlantWhat::Done) return reject("the plant is already complete");
+  return reject("nothing to end now: " + prompt());
+}
+
+PlantDecision PlantEngine::end() {
+  if (const int node = leafNode()) {
+    const Decision ld = leafEngine(node).endRows();
+    PlantDecision d = fromLeaf(node, ld);
+    if (d.kind == PlantDecision::Kind::Leaf) mirror(node, ld);
+    return d;
+  }
+  PlantDecision d = decideEnd();
+  apply(d);
+  return d;
+}
+
+PlantDecision PlantEngine::undo() {
+  if (actions_.empty()) return reject("nothing to undo");
+  const Action a = actions_.back();
+  PlantDecision d;
+  switch (a.kind) {
+    case Action::Kind::Item:
+      d.kind = PlantDecision::Kind::Undone;
+      d.item = items_.back();
+      break;
+    case Action::Kind::LandmarksEnded: d.kind = PlantDecision::Kind::LandmarksReopened; break;
+    case Action::Kind::PlantEnded: d.kind = PlantDecision::Kind::PlantReopened; break;
+    case Action::Kind::Choice:
+      d.kind = PlantDecision::Kind::ChoiceUndone;
+      d.node = a.node;
+      d.choice = choiceFor(a.node);
+      d.previous = a.previous;
+      break;
+    case Action::Kind::Leaf: {
+      const Decision ld = leafEngine(a.node).undo();
+      d = fromLeaf(a.node, ld);
+      if (d.kind == PlantDecision::Kind::Leaf) mirror(a.node, ld);
+      return d;
+    }
+  }
+  apply(d);
+  return d;
+}
+
+PlantDecision PlantEngine::chooseLeaf(int node, LeafChoice choice) {
+  if (!leafEntity_) return reject("this protocol's nodes carry no leaf");
+  if (!leafEntity_->leaf->allows(choice.kind))
+    return reject("the protocol does not take " + std::string(m::toString(choice.kind)) + " leaves");
+  if (plantEnded_) return reject("the plant is ended: undo the end first");
+  if (node < 1 || node > nodes() + 1)
+    return reject("node " + num(node) + " is not taken yet: choose for node " + num(nodes() + 1) + " or one before");
+  const LeafChoice now = choiceFor(node);
+  if (choice == now) return {};
+  const Engine* e = leaf(node);
+  const bool fullTaken = e && (!e->items().empty() || e->retaking());
+  const bool quickTaken = find(PlantWhat::QuickPoint, node, 1) != nullptr;
+  if (choice.kind != now.kind && (fullTaken || quickTaken))
+    return reject("node " + num(node) + "'s leaf has points taken as a " + m::toString(now.kind) +
+                  " leaf: undo them first");
+  PlantDecision d;
+  d.kind = PlantDecision::Kind::LeafChosen;
+  d.node = node;
+  d.choice = choice;
+  d.previous = now;
+  apply(d);
+  return d;
+}
+
+void PlantEngine::mirror(int node, const Decision& d) {
+  switch (d.kind) {
+    case Decision::Kind::Accepted:
+    case Decision::Kind::RowsEnded:
+    case Decision::Kind::RetakeCancelled: actions_.push_back({Action::Kind::Leaf, node, {}, false}); break;
+    case Decision::Kind::Undone:
+    case Decision::Kind::RowsReopened:
+    case Decision::Kind::RetakeStarted:
+      for (auto it = actions_.rbegin(); it != actions_.rend(); ++it)
+        if (it->kind == Action::Kind::Leaf && it->node == node) {
+          actions_.erase(std::next(it).base());
+          break;
+        }
+      break;
+    default: break;
+  }
+}
+
+void PlantEngine::apply(const PlantDecision& d) {
+  switch (d.kind) {
+    case PlantDecision::Kind::Accepted:
+      items_.push_back(d.item);
+      actions_.push_back({Action::Kind::Item, 0, {}, false});
+      break;
+    case PlantDecision::Kind::Undone:
+      if (!actions_.empty() && actions_.back().kind == Action::Kind::Item && !items_.empty()) {
+        items_.pop_back();
+        actions_.pop_back();
+      }
+      break;
+    case PlantDecision::Kind::LandmarksEnded:
+      landmarksEnded_ = true;
+      actions_.push_back({Action::Kind::LandmarksEnded, 0, {}, false});
+      break;
+    case PlantDecision::Kind::LandmarksReopened:
+      landmarksEnded_ = false;
+      if (!actions_.empty() && actions_.back().kind == Action::Kind::LandmarksEnded) actions_.pop_back();
+      break;
+    case PlantDecision::Kind::PlantEnded:
+      plantEnded_ = true;
+      actions_.push_back({Action::Kind::PlantEnded, 0, {}, false});
+      break;
+    case PlantDecision::Kind::PlantReopened:
+      plantEnded_ = false;
+      if (!actions_.empty() && actions_.back().kind == Action::Kind::PlantEnded) actions_.pop_back();
+      break;
+    case PlantDecision::Kind::LeafChosen: {
+      const bool had = choices_.count(d.node) > 0;
+      actions_.push_back({Action::Kind::Choice, d.node, had ? choices_[d.node] : LeafChoice{}, had});
+      choices_[d.node] = d.choice;
+      break;
+    }
+    case PlantDecision::Kind::ChoiceUndone:
+      if (!actions_.empty() && actions_.back().kind == Action::Kind::Choice) {
+        const Action a = actions_.back();
+        actions_.pop_back();
+        if (a.hadChoice)
+          choices_[a.node] = a.previous;
+        else
+          choices_.erase(a.node);
+      }
+      break;
+    case PlantDecision::Kind::Leaf:
+      leafEngine(d.node).apply(d.leaf);
+      mirror(d.node, d.leaf);
+      break;
+    default: break;
+  }
+}
+
+m::PlantMarkers PlantEngine::captured(const std::string& plant) const {
+  m::PlantMarkers out;
+  out.plant = plant;
+  for (const PlantItem& i : items_)
+    if (i.what == PlantWhat::Landmark) out.landmarksMm.push_back(at(i));
+  if (const PlantItem* c = find(PlantWhat::Collar, 0, 0)) out.collarMm = at(*c);
+  if (const PlantItem* c = find(PlantWhat::CollarDiameter, 0, 0)) out.collarDiameterMm = c->valueMm;
+  for (int node = 1; node <= nodes(); ++node) {
+    m::PlantNode n;
+    n.pointMm = at(*find(PlantWhat::Point, node, 1));
+    if (const PlantItem* r = find(PlantWhat::Reading, node, 1)) n.diameterMm = r->valueMm;
+    const LeafChoice choice = choiceFor(node);
+    n.state = choice.state;
+    if (leafEntity_ && choice.kind == m::LeafKind::Full) {
+      if (const Engine* e = leaf(node); e && e->complete()) n.leaf = toMarkerSet(e->items(), settings_);
+    } else if (leafEntity_ && choice.kind == m::LeafKind::Quick) {
+      const PlantItem* b = find(PlantWhat::QuickPoint, node, 1);
+      const PlantItem* t = find(PlantWhat::QuickPoint, node, 2);
+      const PlantItem* s = find(PlantWhat::QuickPoint, node, 3);
+      if (b && t && s) n.leaf = m::QuickLeaf{at(*b), at(*t), at(*s), {}};
+    }
+    out.nodes.push_back(std::move(n));
+  }
+  return out;
+}
+
+}  // namespace leafdig::acquisition

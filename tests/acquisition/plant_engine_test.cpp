@@ -1,0 +1,380 @@
+// The plant protocol's engine driven as a technician drives it: landmarks, collar, node by node
+// with the stem diameter and each node's leaf (full through the leaf protocol, quick, none),
+// the long presses that end the landmarks and the plant, undo across the plant and its leaves,
+// refusals in words; then replay of what was decided.
+#include "leafdig/acquisition/plant_engine.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <variant>
+
+#include "leafdig/acquisition/truth.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
+#include "leafdig/model/plant/plant_protocol.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
+#include "leafdig/model/study/synthetic_plant.hpp"
+
+namespace acq = leafdig::acquisition;
+namespace m = leafdig::model;
+using Kind = acq::PlantDecision::Kind;
+using acq::PlantWhat;
+
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+m::PlantMarkers samplePlant() {
+  return m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json");
+}
+
+struct Technician {
+  explicit Technician(acq::PlantEngine& e, double noiseMm = 0.0) : engine(e), noise(0.0, noiseMm) {}
+  acq::PlantEngine& engine;
+  std::int64_t t = 0;
+  std::mt19937 rng{11};
+  std::normal_distribution<double> noise;
+  std::vector<acq::PlantDecision> log;  // what a front end would store
+
+  void keep(const acq::PlantDecision& d) {
+    if (d.kind != Kind::Rejected && d.kind != Kind::Ignored) log.push_back(d);
+  }
+  acq::PlantDecision press(const acq::Vec3& p, std::int64_t pressMs = 200) {
+    acq::PlantDecision last;
+    const auto sample = [&](bool button) {
+      acq::StylusInput s;
+      s.tNs = (t += 8 * kMs);
+      const double e = noise.stddev() > 0 ? 1.0 : 0.0;
+      s.positionMm = {p[0] + e * noise(rng), p[1] + e * noise(rng), p[2] + e * noise(rng)};
+      s.button = button;
+      s.raw = "01 …";
+      const auto d = engine.onStylus(s);
+      if (d.kind != Kind::Ignored) last = d;
+    };
+    for (int i = 0; i < 60; ++i) sample(false);
+    for (std::int64_t i = 0; i < pressMs / 8; ++i) sample(true);
+    sample(false);
+    keep(last);
+    return last;
+  }
+  acq::PlantDecision read(double mm) {
+    const auto d = engine.onCaliper({t += 500 * kMs, mm, "+" + std::to_string(mm) + "\r"});
+    keep(d);
+    return d;
+  }
+  acq::PlantDecision end() {
+    const auto d = engine.end();
+    keep(d);
+    return d;
+  }
+  acq::PlantDecision undo() {
+    const auto d = engine.undo();
+    keep(d);
+    return d;
+  }
+  acq::PlantDecision choose(int node, acq::LeafChoice c) {
+    const auto d = engine.chooseLeaf(node, c);
+    keep(d);
+    return d;
+  }
+
+  // One step as the plant-markers document says; false when a press or reading was refused.
+  bool act(const m::PlantMarkers& plant, std::string* why = nullptr) {
+    const acq::PlantStep s = engine.step();
+    acq::PlantDecision d;
+    if (s.what == PlantWhat::Point && s.part == 1 && s.index <= static_cast<int>(plant.nodes.size())) {
+      const acq::LeafChoice wanted = acq::plantChoiceTruth(plant, s.index);
+      if (!(engine.choiceFor(s.index) == wanted)) {
+        d = choose(s.index, wanted);
+        if (d.kind == Kind::Rejected) return why && (*why = d.reason, false);
+      }
+    }
+    const bool reading = s.what == PlantWhat::CollarDiameter || s.what == PlantWhat::Reading ||
+                         (s.what == PlantWhat::Leaf && !acq::isStylusItem(s.leaf.what));
+    if (reading) {
+      d = read(acq::plantReadingTruth(plant, s));
+    } else if (s.what == PlantWhat::Leaf && s.leaf.what == acq::What::Marker && s.leaf.col == 1 &&
+               s.leaf.row > static_cast<int>(acq::plantLeafTruth(plant, s.index)->rows.size())) {
+      d = press({0, 0, 0}, 1500);  // the long press that ends the rows
+    } else if (const auto p = acq::plantPointTruth(plant, s)) {
+      d = press(*p);
+    } else {
+      d = press({0, 0, 0}, 1500);  // the long press that ends the landmarks or the plant
+    }
+    if (d.kind == Kind::Rejected && why) *why = d.reason;
+    return d.kind != Kind::Rejected;
+  }
+  void captureAll(const m::PlantMarkers& plant) {
+    for (int guard = 0; guard < 2000 && !engine.complete(); ++guard) {
+      std::string why;
+      ASSERT_TRUE(act(plant, &why)) << why << " at " << engine.prompt();
+    }
+    ASSERT_TRUE(engine.complete());
+  }
+};
+
+void expectSamePoints(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double tol, const std::string& what) {
+  EXPECT_LT((a - b).norm(), tol) << what;
+}
+
+}  // namespace
+
+TEST(PlantEngine, TakesASampledPlantNodeByNodeAndGivesBackWhatWasDigitized) {
+  const m::PlantMarkers truth = samplePlant();
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine};
+  EXPECT_EQ(engine.prompt(), "Landmark 1 · a mark on the pot rim (or the board)");
+  tech.captureAll(truth);
+  EXPECT_EQ(engine.prompt(), "Plant complete");
+  EXPECT_EQ(engine.nodes(), static_cast<int>(truth.nodes.size()));
+
+  const m::PlantMarkers got = engine.captured(truth.plant);
+  ASSERT_EQ(got.landmarksMm.size(), truth.landmarksMm.size());
+  for (std::size_t i = 0; i < got.landmarksMm.size(); ++i)
+    expectSamePoints(got.landmarksMm[i], truth.landmarksMm[i], 1e-9, "landmark " + std::to_string(i + 1));
+  expectSamePoints(got.collarMm, truth.collarMm, 1e-9, "collar");
+  EXPECT_DOUBLE_EQ(got.collarDiameterMm, truth.collarDiameterMm);
+  ASSERT_EQ(got.nodes.size(), truth.nodes.size());
+  for (std::size_t i = 0; i < got.nodes.size(); ++i) {
+    const std::string node = "node " + std::to_string(i + 1);
+    expectSamePoints(got.nodes[i].pointMm, truth.nodes[i].pointMm, 1e-9, node);
+    EXPECT_DOUBLE_EQ(got.nodes[i].diameterMm, truth.nodes[i].diameterMm) << node;
+    EXPECT_EQ(got.nodes[i].state, truth.nodes[i].state) << node;
+    EXPECT_EQ(got.nodes[i].leaf.index(), truth.nodes[i].leaf.index()) << node;
+  }
+  // The survey of what the engine took is the survey of the file: same frame, same angles.
+  const m::PlantSurvey a = m::surveyPlant(got), b = m::surveyPlant(truth);
+  ASSERT_EQ(a.leaves.size(), b.leaves.size());
+  for (std::size_t i = 0; i < a.leaves.size(); ++i) {
+    EXPECT_EQ(a.leaves[i].kind, b.leaves[i].kind);
+    ASSERT_EQ(a.leaves[i].pose.has_value(), b.leaves[i].pose.has_value());
+    if (a.leaves[i].pose) {
+      EXPECT_NEAR(a.leaves[i].pose->azimuthDeg, b.leaves[i].pose->azimuthDeg, 1e-6);
+      EXPECT_NEAR(a.leaves[i].pose->inclinationDeg, b.leaves[i].pose->inclinationDeg, 1e-6);
+    }
+    if (a.leaves[i].areaMm2) {
+      ASSERT_TRUE(b.leaves[i].areaMm2.has_value());
+      EXPECT_NEAR(*a.leaves[i].areaMm2, *b.leaves[i].areaMm2, 1e-6 * *b.leaves[i].areaMm2);
+    }
+  }
+
+  // Replay: the stored decisions rebuild the same plant.
+  acq::PlantEngine again(m::defaultPlantProtocol());
+  for (const auto& d : tech.log) again.apply(d);
+  EXPECT_TRUE(again.complete());
+  EXPECT_EQ(m::plantMarkersToJson(again.captured(truth.plant)), m::plantMarkersToJson(got));
+}
+
+TEST(PlantEngine, ASyntheticPlantAtARandomTransmitterPoseIsTakenWholeAndSurveysAsItsFileDoes) {
+  for (const std::uint64_t seed : {3U, 8U}) {
+    m::SyntheticPlantSpec spec;
+    spec.nodes = 12;
+    spec.seed = seed;
+    const m::SyntheticPlant plant = m::synthesizePlant(spec);
+    acq::PlantEngine engine(m::defaultPlantProtocol());
+    Technician tech{engine};
+    tech.captureAll(plant.markers);
+    const m::PlantSurvey a = m::surveyPlant(engine.captured(plant.markers.plant));
+    const m::PlantSurvey b = m::surveyPlant(plant.markers);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    for (std::size_t i = 0; i < a.nodes.size(); ++i)
+      expectSamePoints(a.nodes[i].pointMm, b.nodes[i].pointMm, 1e-6, "node " + std::to_string(i + 1));
+    ASSERT_EQ(a.leaves.size(), b.leaves.size());
+    int full = 0;
+    for (std::size_t i = 0; i < a.leaves.size(); ++i) {
+      EXPECT_EQ(a.leaves[i].kind, b.leaves[i].kind);
+      EXPECT_EQ(a.leaves[i].state, b.leaves[i].state);
+      if (a.leaves[i].areaMm2) {
+        ++full;
+        EXPECT_NEAR(*a.leaves[i].areaMm2, *b.leaves[i].areaMm2, 1e-6 * *b.leaves[i].areaMm2);
+      }
+    }
+    int inFile = 0;
+    for (const m::PlantNode& n : plant.markers.nodes) inFile += std::holds_alternative<m::MarkerSet>(n.leaf);
+    EXPECT_EQ(full, inFile) << "seed " << seed;
+    EXPECT_GE(full, 3) << "seed " << seed;
+  }
+}
+
+TEST(PlantEngine, ANoisyStylusStillGivesEveryPointWithinItsNoise) {
+  const m::PlantMarkers truth = samplePlant();
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine, 0.1};
+  tech.captureAll(truth);
+  const m::PlantMarkers got = engine.captured(truth.plant);
+  ASSERT_EQ(got.nodes.size(), truth.nodes.size());
+  // The mean of ~85 samples of σ 0.1 mm per axis: well within 0.1 mm.
+  for (std::size_t i = 0; i < got.nodes.size(); ++i)
+    expectSamePoints(got.nodes[i].pointMm, truth.nodes[i].pointMm, 0.1, "node " + std::to_string(i + 1));
+}
+
+TEST(PlantEngine, PromptsSayWhereOnThePlantAndWithWhichTool) {
+  const m::PlantMarkers truth = samplePlant();
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine};
+  std::vector<std::string> prompts;
+  for (int guard = 0; guard < 400 && !engine.complete(); ++guard) {
+    prompts.push_back(engine.prompt());
+    ASSERT_TRUE(tech.act(truth));
+  }
+  const auto seen = [&](const std::string& p) {
+    return std::find(prompts.begin(), prompts.end(), p) != prompts.end();
+  };
+  EXPECT_TRUE(seen("Collar · the stem at soil level"));
+  EXPECT_TRUE(seen("Collar · stem diameter with the caliper"));
+  EXPECT_TRUE(seen("Node 1 · node on the stem"));
+  EXPECT_TRUE(seen("Node 5 · stem diameter with the caliper"));
+  EXPECT_TRUE(seen("Node 3 · quick leaf · base (where the blade joins the petiole)"));
+  EXPECT_TRUE(seen("Node 3 · quick leaf · side (the widest point of one margin)"));
+  EXPECT_TRUE(seen("Node 2 · leaf · Tip: touch the leaf tip and press"));
+  EXPECT_TRUE(seen("Landmark 4 · a mark on the pot rim (or the board)  (or hold the button to end the landmarks)"));
+  EXPECT_TRUE(seen("Node 2 · node on the stem  (or hold the button to end the plant)"));
+}
+
+TEST(PlantEngine, RefusesWhatWouldSpoilThePlantFrameOrALeafsPoseInWords) {
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine};
+  // Three landmarks on one line: ending them is refused, naming the farthest.
+  EXPECT_EQ(tech.press({0, 0, 0}).kind, Kind::Accepted);
+  EXPECT_EQ(tech.press({50, 0, 0}).kind, Kind::Accepted);
+  EXPECT_EQ(tech.press({100, 1, 0}).kind, Kind::Accepted);
+  const auto line = tech.press({0, 0, 0}, 1500);
+  ASSERT_EQ(line.kind, Kind::Rejected);
+  EXPECT_NE(line.reason.find("nearly on one line"), std::string::npos) << line.reason;
+  EXPECT_NE(line.reason.find("undo to take a landmark again"), std::string::npos) << line.reason;
+  // Two landmarks: too few to end.
+  EXPECT_EQ(tech.undo().kind, Kind::Undone);
+  EXPECT_EQ(tech.undo().kind, Kind::Undone);
+  const auto few = tech.end();
+  EXPECT_EQ(few.kind, Kind::Rejected);
+  EXPECT_NE(few.reason.find("at least 3 landmarks (1 taken)"), std::string::npos) << few.reason;
+  EXPECT_EQ(tech.press({100, 0, 0}).kind, Kind::Accepted);
+  EXPECT_EQ(tech.press({0, 100, 0}).kind, Kind::Accepted);
+  EXPECT_EQ(tech.press({0, 0, 0}, 1500).kind, Kind::LandmarksEnded);
+  // A caliper reading when the stylus is asked for; the collar; a diameter of 0.
+  const auto early = tech.read(9.0);
+  EXPECT_EQ(early.kind, Kind::Rejected);
+  EXPECT_NE(early.reason.find("a caliper reading now? Collar · the stem at soil level first"), std::string::npos);
+  EXPECT_EQ(tech.press({30, 30, 0}).kind, Kind::Accepted);
+  const auto zero = tech.read(0.0);
+  EXPECT_EQ(zero.kind, Kind::Rejected);
+  EXPECT_NE(zero.reason.find("stem diameter of 0.000 mm is outside"), std::string::npos) << zero.reason;
+  EXPECT_EQ(tech.read(12.0).kind, Kind::Accepted);
+  // The plant cannot end before its first node; node 1 in the rim's plane is refused.
+  EXPECT_EQ(tech.end().kind, Kind::Rejected);
+  const auto flat = tech.press({40, 30, 0});
+  EXPECT_EQ(flat.kind, Kind::Rejected);
+  EXPECT_NE(flat.reason.find("lies in the landmarks' plane"), std::string::npos) << flat.reason;
+  EXPECT_EQ(tech.press({30, 30, 60}).kind, Kind::Accepted);
+  EXPECT_EQ(tech.read(10.0).kind, Kind::Accepted);
+  // Node 1's leaf is quick by default (full every 3rd): a tip on the base is refused.
+  ASSERT_EQ(engine.step().what, PlantWhat::QuickPoint);
+  EXPECT_EQ(tech.press({35, 30, 62}).kind, Kind::Accepted);
+  tech.t += 2000 * kMs;  // not a double press: a tip pressed on purpose next to the base
+  const auto onBase = tech.press({35.8, 30, 62});
+  ASSERT_EQ(onBase.kind, Kind::Rejected);
+  EXPECT_NE(onBase.reason.find("base and tip"), std::string::npos) << onBase.reason;
+  // A leaf with points taken keeps its kind until they are undone.
+  const auto change = tech.choose(1, {m::LeafKind::Full, m::LeafState::Alive});
+  EXPECT_EQ(change.kind, Kind::Rejected);
+  EXPECT_EQ(change.reason, "node 1's leaf has points taken as a quick leaf: undo them first");
+  const auto later = tech.choose(3, {m::LeafKind::None, m::LeafState::Alive});
+  EXPECT_EQ(later.kind, Kind::Rejected);
+  EXPECT_EQ(later.reason, "node 3 is not taken yet: choose for node 2 or one before");
+}
+
+TEST(PlantEngine, UndoGoesBackThroughTheLeafAndThePlantInTheOrderTheyWereTaken) {
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine};
+  for (const acq::Vec3& p : {acq::Vec3{100, 0, 0}, acq::Vec3{0, 100, 0}, acq::Vec3{-100, 0, 0}})
+    ASSERT_EQ(tech.press(p).kind, Kind::Accepted);
+  ASSERT_EQ(tech.end().kind, Kind::LandmarksEnded);
+  ASSERT_EQ(tech.press({0, 0, 0}).kind, Kind::Accepted);
+  ASSERT_EQ(tech.read(12).kind, Kind::Accepted);
+  ASSERT_EQ(tech.press({0, 0, 40}).kind, Kind::Accepted);
+  // Node 1 in full, chosen now; then its diameter; the leaf has the stylus.
+  const auto chosen = tech.choose(1, {m::LeafKind::Full, m::LeafState::Yellow});
+  ASSERT_EQ(chosen.kind, Kind::LeafChosen);
+  EXPECT_EQ(chosen.previous.kind, m::LeafKind::Quick);
+  ASSERT_EQ(tech.read(10).kind, Kind::Accepted);
+  ASSERT_EQ(engine.step().what, PlantWhat::Leaf);
+  EXPECT_EQ(engine.prompt(), "Node 1 · leaf · Tip: touch the leaf tip and press");
+  const auto tip = tech.press({150, 0, 50});
+  ASSERT_EQ(tip.kind, Kind::Leaf);
+  EXPECT_EQ(tip.node, 1);
+  EXPECT_EQ(tip.leaf.kind, acq::Decision::Kind::Accepted);
+  ASSERT_NE(engine.leaf(1), nullptr);
+  EXPECT_EQ(engine.leaf(1)->items().size(), 1U);
+  // A very long press undoes the leaf's tip (the leaf's own undo)…
+  const auto undoTip = tech.press({150, 0, 50}, 3500);
+  EXPECT_EQ(undoTip.kind, Kind::Leaf);
+  EXPECT_EQ(undoTip.leaf.kind, acq::Decision::Kind::Undone);
+  EXPECT_TRUE(engine.leaf(1)->items().empty());
+  // …and again, with nothing of the leaf left, the plant's last action: the diameter.
+  const auto undoDiameter = tech.press({150, 0, 50}, 3500);
+  EXPECT_EQ(undoDiameter.kind, Kind::Undone);
+  EXPECT_EQ(undoDiameter.item.what, PlantWhat::Reading);
+  EXPECT_EQ(engine.step().what, PlantWhat::Reading);
+  // Then the choice, then node 1's point.
+  const auto undoChoice = tech.undo();
+  EXPECT_EQ(undoChoice.kind, Kind::ChoiceUndone);
+  EXPECT_EQ(engine.choiceFor(1).kind, m::LeafKind::Quick);
+  const auto undoNode = tech.undo();
+  EXPECT_EQ(undoNode.item.what, PlantWhat::Point);
+  EXPECT_EQ(engine.nodes(), 0);
+
+  // Everything the technician did, replayed, is where the engine is now.
+  acq::PlantEngine replayed(m::defaultPlantProtocol());
+  for (const auto& d : tech.log) replayed.apply(d);
+  EXPECT_EQ(replayed.step(), engine.step());
+  EXPECT_EQ(replayed.items().size(), engine.items().size());
+}
+
+TEST(PlantEngine, EveryThirdLeafIsFullByDefaultAndTheTechnicianDecidesPerNode) {
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  EXPECT_EQ(engine.choiceFor(1).kind, m::LeafKind::Quick);
+  EXPECT_EQ(engine.choiceFor(3).kind, m::LeafKind::Full);
+  EXPECT_EQ(engine.choiceFor(6).kind, m::LeafKind::Full);
+  m::PlantProtocol maize = m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) +
+                                                    "/data/protocols/maize.plant-protocol.json");
+  acq::PlantEngine maizeEngine(maize);
+  EXPECT_EQ(maizeEngine.choiceFor(3).kind, m::LeafKind::Quick);  // maize takes no full leaves
+  const auto full = maizeEngine.chooseLeaf(1, {m::LeafKind::Full, m::LeafState::Alive});
+  EXPECT_EQ(full.kind, Kind::Rejected);
+  EXPECT_EQ(full.reason, "the protocol does not take full leaves");
+}
+
+TEST(PlantEngine, AMaizeProtocolAsksForTheLiguleAfterTheNodeAndKeepsTheNodeAsTheStemsPoint) {
+  const m::PlantProtocol maize =
+      m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/maize.plant-protocol.json");
+  acq::PlantEngine engine(maize);
+  Technician tech{engine};
+  for (const acq::Vec3& p : {acq::Vec3{100, 0, 0}, acq::Vec3{0, 100, 0}, acq::Vec3{-100, 0, 0}})
+    ASSERT_EQ(tech.press(p).kind, Kind::Accepted);
+  ASSERT_EQ(engine.end().kind, Kind::LandmarksEnded);
+  ASSERT_EQ(tech.press({0, 0, 0}).kind, Kind::Accepted);
+  ASSERT_EQ(tech.read(20).kind, Kind::Accepted);
+  ASSERT_EQ(tech.press({0, 0, 50}).kind, Kind::Accepted);
+  EXPECT_EQ(engine.prompt(), "Node 1 · ligule on the stem");
+  ASSERT_EQ(tech.press({2, 0, 120}).kind, Kind::Accepted);
+  EXPECT_EQ(engine.prompt(), "Node 1 · stem diameter with the caliper");
+  ASSERT_EQ(tech.read(18).kind, Kind::Accepted);
+  EXPECT_EQ(engine.prompt(), "Node 1 · quick leaf · ligule (where the blade joins the petiole)");
+  const m::PlantMarkers got = engine.captured("m1");
+  ASSERT_EQ(got.nodes.size(), 1U);
+  expectSamePoints(got.nodes[0].pointMm, {0, 0, 50}, 1e-9, "node 1");
+}
+
+TEST(PlantEngine, AProtocolWithBranchesOrTwoStemsIsRefusedInWords) {
+  const m::PlantProtocol branched =
+      m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json");
+  try {
+    acq::PlantEngine engine(branched);
+    FAIL() << "a branched protocol was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("\"branch\" is an axis of order 2"), std::string::npos) << e.what();
+  }
+}
