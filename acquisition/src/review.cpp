@@ -65,6 +65,10 @@ model::LeafInfo leafInfoOf(const db::SessionInfo& info) {
 
 ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std::int64_t upToSeq) {
   ReviewedSession r{infoOrThrow(store, id), {}, Engine{}, {}, 0, 0};
+  if (r.info.kind != "leaf")
+    throw SessionError("session " + std::to_string(id) +
+                       " captured a whole plant, not one leaf: `leafdig sessions export " + std::to_string(id) +
+                       " --format mtg,csv,markers,json` writes its files");
   r.settings = CaptureSession::settingsFromJson(r.info.settingsJson);
   std::vector<db::Event> events = store.events(id);
   r.totalEvents = static_cast<std::int64_t>(events.size());
@@ -283,7 +287,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
 OrganLibrary organLibrary(const db::EventStore& store) {
   OrganLibrary out;
   for (const db::SessionInfo& info : store.sessions()) {
-    if (info.status != "approved") continue;
+    if (info.kind != "leaf" || info.status != "approved") continue;
     try {
       const ReviewedSession r = openForReview(store, info.id);
       model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));

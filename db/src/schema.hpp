@@ -6,7 +6,7 @@
 
 namespace leafdig::db::detail {
 
-inline constexpr std::array<const char*, 1> kMigrations = {
+inline constexpr std::array<const char*, 2> kMigrations = {
     // ---- 1: the entities of docs/schema.md ----------------------------------------------------
     R"SQL(
 CREATE TABLE operators (
@@ -100,6 +100,39 @@ CREATE TABLE exports (
 );
 CREATE INDEX sessions_by_leaf ON sessions(leaf_id);
 CREATE INDEX leaves_by_plant ON leaves(plant_id);
+)SQL",
+    // ---- 2: plant sessions (docs/plants.md): a session captures one leaf or a whole plant -----
+    // The sessions table is made again (SQLite cannot drop a NOT NULL): `kind`, the plant of
+    // every session, and a leaf only for leaf sessions. Run with foreign keys off; the store
+    // checks them before it commits (the procedure of SQLite's "ALTER TABLE" page).
+    R"SQL(
+CREATE TABLE sessions_2 (
+  id            INTEGER PRIMARY KEY,
+  kind          TEXT NOT NULL DEFAULT 'leaf' CHECK (kind IN ('leaf', 'plant')),
+  plant_id      INTEGER NOT NULL REFERENCES plants(id),
+  leaf_id       INTEGER REFERENCES leaves(id),
+  operator_id   INTEGER NOT NULL REFERENCES operators(id),
+  station       TEXT NOT NULL,
+  status        TEXT NOT NULL DEFAULT 'open'
+                CHECK (status IN ('open', 'complete', 'approved', 'rejected', 'abandoned')),
+  mode          TEXT NOT NULL CHECK (mode IN ('standard', 'full', 'small')),
+  capture_order TEXT NOT NULL CHECK (capture_order IN ('sequential', 'interleaved')),
+  settings_json TEXT NOT NULL DEFAULT '{}',
+  created_utc   TEXT NOT NULL,
+  genesis_hash  TEXT NOT NULL,
+  head_seq      INTEGER NOT NULL DEFAULT 0,
+  head_hash     TEXT NOT NULL,
+  CHECK ((kind = 'leaf') = (leaf_id IS NOT NULL))
+);
+INSERT INTO sessions_2 (id, kind, plant_id, leaf_id, operator_id, station, status, mode, capture_order, settings_json,
+                        created_utc, genesis_hash, head_seq, head_hash)
+  SELECT s.id, 'leaf', l.plant_id, s.leaf_id, s.operator_id, s.station, s.status, s.mode, s.capture_order,
+         s.settings_json, s.created_utc, s.genesis_hash, s.head_seq, s.head_hash
+  FROM sessions s JOIN leaves l ON l.id = s.leaf_id;
+DROP TABLE sessions;
+ALTER TABLE sessions_2 RENAME TO sessions;
+CREATE INDEX sessions_by_leaf ON sessions(leaf_id);
+CREATE INDEX sessions_by_plant ON sessions(plant_id);
 )SQL",
 };
 

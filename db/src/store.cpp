@@ -93,6 +93,7 @@ class OperationClock {
 struct Store::Impl {
   std::unique_ptr<SQLite::Database> db;
   Budget budget;
+  int version = kSchemaVersion;  // a reader may hold an older file, read as it is
 };
 
 std::string Store::defaultPath() {
@@ -307,17 +308,26 @@ Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Im
       impl_->db->exec("PRAGMA journal_mode=WAL");
       impl_->db->exec("PRAGMA synchronous=FULL");
     }
-    impl_->db->exec("PRAGMA foreign_keys=ON");
-    if (!readOnly) {
-      int version = impl_->db->execAndGet("PRAGMA user_version").getInt();
-      for (; version < kSchemaVersion; ++version) {
+    impl_->version = impl_->db->execAndGet("PRAGMA user_version").getInt();
+    if (!readOnly && impl_->version < kSchemaVersion) {
+      // Migrations may make a table again (2: sessions): foreign keys are off while they run
+      // and checked whole before each commits.
+      impl_->db->exec("PRAGMA foreign_keys=OFF");
+      for (int& version = impl_->version; version < kSchemaVersion; ++version) {
         SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
         impl_->db->exec(detail::kMigrations[static_cast<std::size_t>(version)]);
+        if (SQLite::Statement fk(*impl_->db, "PRAGMA foreign_key_check"); fk.executeStep())
+          throw StoreError(StoreErrorKind::Corrupt,
+                           path + ": upgrading to schema " + std::to_string(version + 1) + " found a " +
+                               fk.getColumn(0).getString() + " row naming a missing " + fk.getColumn(2).getString() +
+                               " row",
+                           "the file was not modified; ask for the station's own copy");
         impl_->db->exec("PRAGMA user_version=" + std::to_string(version + 1));
         impl_->db->exec("PRAGMA application_id=" + std::to_string(kApplicationId));
         tx.commit();
       }
     }
+    impl_->db->exec("PRAGMA foreign_keys=ON");
   } catch (const SQLite::Exception& e) {
     rethrow(e, path, "cannot open");
   }
@@ -429,19 +439,41 @@ std::int64_t Store::ensureDevice(const std::string& kind, const std::string& por
 
 std::int64_t Store::createSession(std::int64_t leafId, std::int64_t operatorId, const std::string& station,
                                   const std::string& mode, const std::string& order, const std::string& settingsJson) {
+  return insertSession(leafId, 0, operatorId, station, mode, order, settingsJson);
+}
+
+std::int64_t Store::createPlantSession(std::int64_t plantId, std::int64_t operatorId, const std::string& station,
+                                       const std::string& mode, const std::string& order,
+                                       const std::string& settingsJson) {
+  return insertSession(0, plantId, operatorId, station, mode, order, settingsJson);
+}
+
+std::int64_t Store::insertSession(std::int64_t leafId, std::int64_t plantId, std::int64_t operatorId,
+                                  const std::string& station, const std::string& mode, const std::string& order,
+                                  const std::string& settingsJson) {
   try {
     SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
     const std::string created = utcNow();
+    // A leaf session's plant is its leaf's; a plant session has no leaf.
     SQLite::Statement ins(*impl_->db,
-                          "INSERT INTO sessions(leaf_id, operator_id, station, mode, capture_order, settings_json, "
-                          "created_utc, genesis_hash, head_hash) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, '', '')");
-    ins.bind(1, leafId);
+                          "INSERT INTO sessions(kind, plant_id, leaf_id, operator_id, station, mode, capture_order, "
+                          "settings_json, created_utc, genesis_hash, head_hash) VALUES (CASE WHEN ?1 IS NULL THEN "
+                          "'plant' ELSE 'leaf' END, coalesce((SELECT plant_id FROM leaves WHERE id = ?1), ?8), ?1, ?2, "
+                          "?3, ?4, ?5, ?6, ?7, '', '')");
+    if (leafId > 0)
+      ins.bind(1, leafId);
+    else
+      ins.bind(1);
     ins.bind(2, operatorId);
     ins.bind(3, station);
     ins.bind(4, mode);
     ins.bind(5, order);
     ins.bind(6, settingsJson);
     ins.bind(7, created);
+    if (plantId > 0)
+      ins.bind(8, plantId);
+    else
+      ins.bind(8);
     ins.exec();
     const std::int64_t id = impl_->db->getLastInsertRowid();
     const std::string genesis = genesisHash(id, created, settingsJson);
@@ -662,10 +694,18 @@ std::vector<ThicknessRow> Store::thickness(std::int64_t session) const {
 }
 
 namespace {
+// Plant sessions (schema 2) have no leaf: position 0, no type or area.
 constexpr const char* kSessionSelect =
+    "SELECT s.id, coalesce(s.leaf_id, 0), pr.name, pl.name, coalesce(l.position, 0), o.name, s.station, s.status, "
+    "s.mode, s.capture_order, s.settings_json, s.created_utc, s.head_seq, s.head_hash, coalesce(l.type, ''), "
+    "l.measured_area_mm2, s.kind FROM sessions s LEFT JOIN leaves l ON l.id = s.leaf_id "
+    "JOIN plants pl ON pl.id = s.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = "
+    "s.operator_id ";
+// A file of schema 1 read as it is (a reader does not upgrade): every session is a leaf's.
+constexpr const char* kSessionSelect1 =
     "SELECT s.id, s.leaf_id, pr.name, pl.name, l.position, o.name, s.station, s.status, s.mode, s.capture_order, "
-    "s.settings_json, s.created_utc, s.head_seq, s.head_hash, l.type, l.measured_area_mm2 FROM sessions s JOIN leaves "
-    "l ON l.id = s.leaf_id "
+    "s.settings_json, s.created_utc, s.head_seq, s.head_hash, l.type, l.measured_area_mm2, 'leaf' FROM sessions s "
+    "JOIN leaves l ON l.id = s.leaf_id "
     "JOIN plants pl ON pl.id = l.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = "
     "s.operator_id ";
 SessionInfo readSession(SQLite::Statement& q) {
@@ -687,6 +727,7 @@ SessionInfo readSession(SQLite::Statement& q) {
   s.headHash = q.getColumn(13).getString();
   s.leafType = q.getColumn(14).getString();
   if (!q.getColumn(15).isNull()) s.measuredAreaMm2 = q.getColumn(15).getDouble();
+  s.kind = q.getColumn(16).getString();
   return s;
 }
 }  // namespace
@@ -694,7 +735,8 @@ SessionInfo readSession(SQLite::Statement& q) {
 std::optional<SessionInfo> Store::session(std::int64_t id) const {
   OperationClock clock(impl_->budget);
   try {
-    SQLite::Statement q(*impl_->db, std::string(kSessionSelect) + "WHERE s.id=?1");
+    SQLite::Statement q(*impl_->db,
+                        std::string(impl_->version >= 2 ? kSessionSelect : kSessionSelect1) + "WHERE s.id=?1");
     q.bind(1, id);
     if (q.executeStep()) return readSession(q);
   } catch (const SQLite::Exception& e) {
@@ -707,7 +749,8 @@ std::vector<SessionInfo> Store::sessions() const {
   OperationClock clock(impl_->budget);
   std::vector<SessionInfo> out;
   try {
-    SQLite::Statement q(*impl_->db, std::string(kSessionSelect) + "ORDER BY s.id");
+    SQLite::Statement q(*impl_->db,
+                        std::string(impl_->version >= 2 ? kSessionSelect : kSessionSelect1) + "ORDER BY s.id");
     while (q.executeStep()) out.push_back(readSession(q));
   } catch (const SQLite::Exception& e) {
     rethrow(e, path_, "cannot read sessions from");

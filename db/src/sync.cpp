@@ -106,6 +106,11 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
       problem(s, e.what(), e.remedy());
       continue;
     }
+    if (s.kind != "leaf") {
+      problem(s, "is a plant session: the lab server does not take plant sessions yet; it stays on this station, whole",
+              "keep the station's file (and its backups) until the server takes plant sessions");
+      continue;
+    }
     auto stationHeads = heads.find(s.station);
     if (stationHeads == heads.end()) stationHeads = heads.emplace(s.station, serverHeads(c, s.station)).first;
     for (int attempt = 0;; ++attempt) {
@@ -200,6 +205,7 @@ PullReport pull(Store& local, const std::string& url, const SyncOptions& options
   std::map<std::string, std::map<std::int64_t, ServerHead>> heads;
   for (const SessionInfo& s : sessions) {
     if (options.station && s.station != *options.station) continue;
+    if (s.kind != "leaf") continue;  // never pushed (push says why)
     ++report.sessionsSeen;
     try {
       checkStationId(s.station);

@@ -225,6 +225,23 @@ TEST_F(Lab, APushSendsEveryEventExactlyAndASecondPushSendsNothing) {
   EXPECT_EQ(serverEvents(), fileEvents(station));
 }
 
+TEST_F(Lab, APlantSessionStaysOnTheStationNamedAndTheLeafSessionsStillGo) {
+  db::Store station(file("a.sqlite"));
+  (void)captureSession(station, "bench-a", 1, 3);
+  const auto plant =
+      station.createPlantSession(station.ensurePlant(station.ensureProject("tobacco-2026"), "P-07"),
+                                 station.ensureOperator("ana"), "bench-a", "standard", "sequential", "{}");
+  (void)captureSession(station, "bench-a", 2, 3);
+  const auto pushed = db::push(station, login(db::LabRole::Technician, "bench-a"));
+  EXPECT_EQ(pushed.sessionsNew, 2);
+  ASSERT_EQ(pushed.problems.size(), 1U);
+  EXPECT_EQ(pushed.problems[0].stationSessionId, plant);
+  EXPECT_NE(pushed.problems[0].problem.find("is a plant session"), std::string::npos) << pushed.problems[0].problem;
+  EXPECT_NE(pushed.problems[0].problem.find("stays on this station"), std::string::npos);
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.sessions"), "2");
+  EXPECT_EQ(station.session(plant)->kind, "plant");  // untouched
+}
+
 TEST_F(Lab, TheServerRechecksEveryChainAndNamesTheSessionAndEventItRefuses) {
   db::Store station(file("a.sqlite"));
   const auto id = captureSession(station, "bench-a", 1, 3, "tobacco-2026", "P-07", "ana", /*complete=*/false);

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "../../db/src/schema.hpp"  // white box: a file of schema 1, as the last release wrote it
 #include "../support/small_file_system.hpp"
 
 namespace fs = std::filesystem;
@@ -105,7 +106,68 @@ TEST_F(StoreTest, CreatesAVersionedWalDatabase) {
   sqlite3_finalize(st);
   sqlite3_close(db);
   Store again(path_);  // reopening migrates nothing and works
-  EXPECT_EQ(again.schemaVersion(), 1);
+  EXPECT_EQ(again.schemaVersion(), leafdig::db::kSchemaVersion);
+}
+
+TEST_F(StoreTest, AFileOfSchemaOneIsReadAsItIsAndUpgradedWhenWrittenKeepingEverySessionAndItsChain) {
+  // A station file as the last release wrote it: schema 1, one leaf session with its genesis.
+  const std::string created = "2026-06-01T09:00:00.000Z", settings = R"({"still_mm":0.5})";
+  const std::string genesis = leafdig::db::genesisHash(1, created, settings);
+  sql(path_, std::string(leafdig::db::detail::kMigrations[0]) +
+                 "PRAGMA user_version=1; PRAGMA application_id=" + std::to_string(leafdig::db::kApplicationId) + ";" +
+                 "INSERT INTO operators VALUES (1, 'ana', 'technician'); INSERT INTO projects VALUES (1, 'tobacco');"
+                 "INSERT INTO plants VALUES (1, 1, 'P07'); INSERT INTO leaves VALUES (1, 1, 5, 'middle', NULL);"
+                 "INSERT INTO sessions(id, leaf_id, operator_id, station, mode, capture_order, settings_json, "
+                 "created_utc, genesis_hash, head_hash) VALUES (1, 1, 1, 'bench-1', 'standard', 'sequential', '" +
+                 settings + "', '" + created + "', '" + genesis + "', '" + genesis + "');");
+  const std::string before = bytes(path_);
+  {
+    const Store reader(path_, true);  // a reader does not upgrade: the file stays as it was
+    EXPECT_EQ(reader.schemaVersion(), 1);
+    ASSERT_EQ(reader.sessions().size(), 1U);
+    EXPECT_EQ(reader.sessions()[0].kind, "leaf");
+    EXPECT_EQ(reader.sessions()[0].leafPosition, 5);
+  }
+  EXPECT_EQ(leafdig::db::sha256Hex(bytes(path_)), leafdig::db::sha256Hex(before));
+  {
+    Store s(path_);
+    EXPECT_EQ(s.schemaVersion(), 2);
+    const auto info = s.session(1);
+    ASSERT_TRUE(info);
+    EXPECT_EQ(info->kind, "leaf");
+    EXPECT_EQ(info->plant, "P07");
+    EXPECT_EQ(info->leafPosition, 5);
+    EXPECT_EQ(info->leafType, "middle");
+    EXPECT_EQ(info->headHash, genesis);
+    EXPECT_TRUE(s.verify(1).ok) << s.verify(1).problem;
+    EXPECT_EQ(s.append(1, marker(1, 1, 10.0)), 1);
+    EXPECT_TRUE(s.verify(1).ok);
+  }
+  // The upgraded file is exactly what this leafdig writes: opened again without a word.
+  const Store again(path_);
+  EXPECT_EQ(again.sessions().size(), 1U);
+}
+
+TEST_F(StoreTest, APlantSessionHasAPlantAndNoLeafAndItsOwnChain) {
+  Store s(path_);
+  const auto leafSession = newSession(s);
+  const auto plant = s.ensurePlant(s.ensureProject("tobacco-2026"), "P07");
+  const auto id = s.createPlantSession(plant, s.ensureOperator("ana"), "bench-1", "standard", "sequential", "{}");
+  const auto info = s.session(id);
+  ASSERT_TRUE(info);
+  EXPECT_EQ(info->kind, "plant");
+  EXPECT_EQ(info->plant, "P07");
+  EXPECT_EQ(info->project, "tobacco-2026");
+  EXPECT_EQ(info->leafPosition, 0);
+  EXPECT_EQ(info->leafId, 0);
+  EXPECT_EQ(s.session(leafSession)->kind, "leaf");
+  EXPECT_EQ(s.sessions().size(), 2U);
+  EXPECT_EQ(s.append(id, marker(1, 1, 4.0)), 1);
+  EXPECT_TRUE(s.verify(id).ok);
+  // Plain SQL cannot make a leaf session without a leaf, nor a plant session with one.
+  sql(path_, "UPDATE sessions SET leaf_id = NULL WHERE id = " + std::to_string(leafSession), false);
+  sql(path_, "UPDATE sessions SET kind = 'leaf' WHERE id = " + std::to_string(id), false);
+  sql(path_, "UPDATE sessions SET kind = 'bush' WHERE id = " + std::to_string(id), false);
 }
 
 TEST_F(StoreTest, AppendsEventsWithProjectionsAndUndo) {

@@ -17,6 +17,7 @@
 #include <QSplitter>
 #include <QVBoxLayout>
 #include <QValueAxis>
+#include <algorithm>
 #include <set>
 
 #include "export_dialog.hpp"
@@ -216,6 +217,9 @@ void ReviewView::refreshSessions() {
   try {
     if (!store_ && !dbPath_.empty()) store_ = db::openEventStore(dbPath_, false);
     if (store_) all_ = store_->sessions();
+    // Plant sessions are reviewed as plants (docs/plants.md); this view reviews leaves.
+    all_.erase(std::remove_if(all_.begin(), all_.end(), [](const db::SessionInfo& s) { return s.kind != "leaf"; }),
+               all_.end());
   } catch (const std::exception& e) {
     banner_->setText(tr("REVIEW · cannot open %1: %2")
                          .arg(QString::fromStdString(db::redactUrl(dbPath_)), QString::fromStdString(e.what())));

@@ -414,7 +414,7 @@ std::vector<db::SessionInfo> StationWindow::interruptedSessions() const {
     db::Store store(dbPath(), true);
     const std::string station = options_.setup.station.empty() ? acq::thisStation() : options_.setup.station;
     for (const auto& s : store.sessions())
-      if (s.status == "open" && (station.empty() || s.station == station)) out.push_back(s);
+      if (s.kind == "leaf" && s.status == "open" && (station.empty() || s.station == station)) out.push_back(s);
   } catch (const std::exception&) {
     // An unreadable store is reported by start().
   }

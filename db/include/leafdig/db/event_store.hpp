@@ -83,6 +83,7 @@ struct SessionInfo {
   std::int64_t headSeq = 0;
   std::string headHash;
   std::string leafType;                   // "" when not given
+  std::string kind = "leaf";              // "leaf", or "plant": a whole plant (no leaf; position 0)
   std::optional<double> measuredAreaMm2;  // leaf area meter or image, when entered
 };
 

@@ -17,7 +17,7 @@
 
 namespace leafdig::db {
 
-inline constexpr int kSchemaVersion = 1;
+inline constexpr int kSchemaVersion = 2;                    // 2: plant sessions
 inline constexpr std::int32_t kApplicationId = 0x4C454146;  // "LEAF"
 
 class Store final : public EventStore {
@@ -50,6 +50,10 @@ class Store final : public EventStore {
   std::int64_t ensureDevice(const std::string& kind, const std::string& port, const std::string& description = {});
   std::int64_t createSession(std::int64_t leafId, std::int64_t operatorId, const std::string& station,
                              const std::string& mode, const std::string& order, const std::string& settingsJson);
+  // A session that captures a whole plant where it stands (docs/plants.md): no leaf; `mode` and
+  // `order` are its full leaves' leaf protocol.
+  std::int64_t createPlantSession(std::int64_t plantId, std::int64_t operatorId, const std::string& station,
+                                  const std::string& mode, const std::string& order, const std::string& settingsJson);
 
   // Appends one event (and its projection change) in one transaction; returns its seq once
   // it is durable. Throws StoreError (DiskFull, Busy, Io): nothing was written then.
@@ -83,6 +87,10 @@ class Store final : public EventStore {
   [[nodiscard]] std::int64_t pageCount() const;
 
  private:
+  std::int64_t insertSession(std::int64_t leafId, std::int64_t plantId, std::int64_t operatorId,
+                             const std::string& station, const std::string& mode, const std::string& order,
+                             const std::string& settingsJson);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::string path_;
