@@ -4,7 +4,8 @@
 # `leafdig demo`: a simulated
 # FASTRAK and Sylvac caliper on pseudo-terminals, a virtual technician capturing the three
 # sample leaves and two synthetic leaves of known area into out/demo/demo.sqlite, each leaf
-# exported to out/demo/, a summary with each leaf's area against the known one.
+# exported to out/demo/, a summary with each leaf's area against the known one; then the sample
+# plant digitized where it stands, node by node, exported as an MTG, a CSV and its survey.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup.sh" release

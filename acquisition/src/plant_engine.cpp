@@ -59,29 +59,38 @@ bool isStylusItem(PlantWhat w) {
 PlantEngine::PlantEngine(m::PlantProtocol protocol, Settings leafSettings)
     : protocol_(std::move(protocol)), settings_(leafSettings) {
   settings_.boardFrame = false;  // a full leaf is taken where it hangs, in the plant frame
-  for (const m::ProtocolEntity& e : protocol_.entities) {
+  for (std::size_t k = 0; k < protocol_.entities.size(); ++k) {
+    const m::ProtocolEntity& e = protocol_.entities[k];
     if (e.order > 1)
       throw std::invalid_argument("the protocol's \"" + e.name +
                                   "\" is an axis of order 2 (a branch): plant capture takes the main stem and its "
                                   "leaves for now; digitize branches as plants of their own");
     if (e.leaf) {
-      if (leafEntity_)
-        throw std::invalid_argument("the protocol hangs two leaf entities (\"" + leafEntity_->name + "\" and \"" +
+      if (leafIndex_ >= 0)
+        throw std::invalid_argument("the protocol hangs two leaf entities (\"" + leafEntity()->name + "\" and \"" +
                                     e.name + "\") on its nodes: plant capture takes one leaf per node");
-      leafEntity_ = &e;
-    } else if (!axis_) {
-      axis_ = &e;
+      leafIndex_ = static_cast<int>(k);
+    } else if (axisIndex_ < 0) {
+      axisIndex_ = static_cast<int>(k);
     } else {
-      throw std::invalid_argument("the protocol lists two stem entities (\"" + axis_->name + "\" and \"" + e.name +
+      throw std::invalid_argument("the protocol lists two stem entities (\"" + axis().name + "\" and \"" + e.name +
                                   "\"): plant capture takes one entity node by node");
     }
   }
-  if (!axis_ || !axis_->repeat || axis_->points.empty())
+  if (axisIndex_ < 0 || !axis().repeat || axis().points.empty())
     throw std::invalid_argument(
         "the protocol has no stem entity taken node by node with a point (\"repeat\": true, \"points\": [\"node\"])");
-  if (leafEntity_ && leafEntity_->parent != axis_->name)
-    throw std::invalid_argument("the protocol's leaf \"" + leafEntity_->name + "\" does not hang on \"" + axis_->name +
+  if (leafEntity() && leafEntity()->parent != axis().name)
+    throw std::invalid_argument("the protocol's leaf \"" + leafEntity()->name + "\" does not hang on \"" + axis().name +
                                 "\"");
+}
+
+const m::ProtocolEntity& PlantEngine::axis() const {
+  return protocol_.entities[static_cast<std::size_t>(axisIndex_)];
+}
+
+const m::ProtocolEntity* PlantEngine::leafEntity() const {
+  return leafIndex_ < 0 ? nullptr : &protocol_.entities[static_cast<std::size_t>(leafIndex_)];
 }
 
 const PlantItem* PlantEngine::find(PlantWhat w, int index, int part) const {
@@ -113,8 +122,8 @@ Engine& PlantEngine::leafEngine(int node) {
 
 LeafChoice PlantEngine::choiceFor(int node) const {
   if (const auto it = choices_.find(node); it != choices_.end()) return it->second;
-  if (!leafEntity_) return {};
-  const m::ProtocolLeaf& p = *leafEntity_->leaf;
+  if (!leafEntity()) return {};
+  const m::ProtocolLeaf& p = *leafEntity()->leaf;
   const bool kth = p.fullEvery > 0 && node % p.fullEvery == 0;
   if (kth && p.allows(m::LeafKind::Full)) return {m::LeafKind::Full, m::LeafState::Alive};
   for (const m::LeafKind k : {m::LeafKind::Quick, m::LeafKind::Full})
@@ -123,11 +132,11 @@ LeafChoice PlantEngine::choiceFor(int node) const {
 }
 
 std::optional<PlantStep> PlantEngine::nodeStep(int node) const {
-  for (int p = 1; p <= static_cast<int>(axis_->points.size()); ++p)
+  for (int p = 1; p <= static_cast<int>(axis().points.size()); ++p)
     if (!find(PlantWhat::Point, node, p)) return PlantStep{PlantWhat::Point, node, p, {}};
-  for (int r = 1; r <= static_cast<int>(axis_->readings.size()); ++r)
+  for (int r = 1; r <= static_cast<int>(axis().readings.size()); ++r)
     if (!find(PlantWhat::Reading, node, r)) return PlantStep{PlantWhat::Reading, node, r, {}};
-  if (!leafEntity_) return std::nullopt;
+  if (!leafEntity()) return std::nullopt;
   switch (choiceFor(node).kind) {
     case m::LeafKind::Full: {
       const Engine* e = leaf(node);
@@ -164,9 +173,9 @@ int PlantEngine::leafNode() const {
 
 std::string PlantEngine::pointName(const PlantStep& s) const {
   switch (s.what) {
-    case PlantWhat::Point: return axis_->points[static_cast<std::size_t>(s.part - 1)];
-    case PlantWhat::Reading: return axis_->readings[static_cast<std::size_t>(s.part - 1)];
-    case PlantWhat::QuickPoint: return leafEntity_->leaf->quickPoints[static_cast<std::size_t>(s.part - 1)];
+    case PlantWhat::Point: return axis().points[static_cast<std::size_t>(s.part - 1)];
+    case PlantWhat::Reading: return axis().readings[static_cast<std::size_t>(s.part - 1)];
+    case PlantWhat::QuickPoint: return leafEntity()->leaf->quickPoints[static_cast<std::size_t>(s.part - 1)];
     default: return toString(s.what);
   }
 }
@@ -311,8 +320,8 @@ PlantDecision PlantEngine::onCaliper(const CaliperInput& c) {
   if (!(c.valueMm >= settings_.minThicknessMm && c.valueMm <= m::kMaxThicknessMm)) {
     char b[160];
     std::snprintf(b, sizeof b,
-                  "a stem diameter of %.3f mm is outside %g–%g mm: check the unit and the jaws, measure again", c.valueMm,
-                  settings_.minThicknessMm, m::kMaxThicknessMm);
+                  "a stem diameter of %.3f mm is outside %g–%g mm: check the unit and the jaws, measure again",
+                  c.valueMm, settings_.minThicknessMm, m::kMaxThicknessMm);
     return reject(b);
   }
   PlantDecision d;
@@ -398,8 +407,8 @@ PlantDecision PlantEngine::undo() {
 }
 
 PlantDecision PlantEngine::chooseLeaf(int node, LeafChoice choice) {
-  if (!leafEntity_) return reject("this protocol's nodes carry no leaf");
-  if (!leafEntity_->leaf->allows(choice.kind))
+  if (!leafEntity()) return reject("this protocol's nodes carry no leaf");
+  if (!leafEntity()->leaf->allows(choice.kind))
     return reject("the protocol does not take " + std::string(m::toString(choice.kind)) + " leaves");
   if (plantEnded_) return reject("the plant is ended: undo the end first");
   if (node < 1 || node > nodes() + 1)
@@ -504,9 +513,9 @@ m::PlantMarkers PlantEngine::captured(const std::string& plant) const {
     if (const PlantItem* r = find(PlantWhat::Reading, node, 1)) n.diameterMm = r->valueMm;
     const LeafChoice choice = choiceFor(node);
     n.state = choice.state;
-    if (leafEntity_ && choice.kind == m::LeafKind::Full) {
+    if (leafEntity() && choice.kind == m::LeafKind::Full) {
       if (const Engine* e = leaf(node); e && e->complete()) n.leaf = toMarkerSet(e->items(), settings_);
-    } else if (leafEntity_ && choice.kind == m::LeafKind::Quick) {
+    } else if (leafEntity() && choice.kind == m::LeafKind::Quick) {
       const PlantItem* b = find(PlantWhat::QuickPoint, node, 1);
       const PlantItem* t = find(PlantWhat::QuickPoint, node, 2);
       const PlantItem* s = find(PlantWhat::QuickPoint, node, 3);

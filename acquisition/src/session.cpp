@@ -254,6 +254,10 @@ CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store
   if (!info)
     throw SessionError("there is no session " + std::to_string(id) + " in " + store_.path() +
                        ": 'leafdig sessions list' shows them");
+  if (info->kind != "leaf")
+    throw SessionError("session " + std::to_string(id) +
+                       " captures a whole plant, not one leaf: `leafdig plant capture --resume " + std::to_string(id) +
+                       "` goes on with it");
   if (info->status != "open")
     throw SessionError("session " + std::to_string(id) + " is " + info->status +
                        ": only open sessions can be captured into (a curator reviews the others)");

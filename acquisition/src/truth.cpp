@@ -13,7 +13,7 @@ Vec3 vec(const Eigen::Vector3d& p) {
 
 const model::PlantNode* nodeOf(const model::PlantMarkers& plant, int node) {
   return node >= 1 && node <= static_cast<int>(plant.nodes.size()) ? &plant.nodes[static_cast<std::size_t>(node - 1)]
-                                                                     : nullptr;
+                                                                   : nullptr;
 }
 
 }  // namespace

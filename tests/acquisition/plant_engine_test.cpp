@@ -220,9 +220,7 @@ TEST(PlantEngine, PromptsSayWhereOnThePlantAndWithWhichTool) {
     prompts.push_back(engine.prompt());
     ASSERT_TRUE(tech.act(truth));
   }
-  const auto seen = [&](const std::string& p) {
-    return std::find(prompts.begin(), prompts.end(), p) != prompts.end();
-  };
+  const auto seen = [&](const std::string& p) { return std::find(prompts.begin(), prompts.end(), p) != prompts.end(); };
   EXPECT_TRUE(seen("Collar · the stem at soil level"));
   EXPECT_TRUE(seen("Collar · stem diameter with the caliper"));
   EXPECT_TRUE(seen("Node 1 · node on the stem"));
@@ -338,8 +336,8 @@ TEST(PlantEngine, EveryThirdLeafIsFullByDefaultAndTheTechnicianDecidesPerNode) {
   EXPECT_EQ(engine.choiceFor(1).kind, m::LeafKind::Quick);
   EXPECT_EQ(engine.choiceFor(3).kind, m::LeafKind::Full);
   EXPECT_EQ(engine.choiceFor(6).kind, m::LeafKind::Full);
-  m::PlantProtocol maize = m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) +
-                                                    "/data/protocols/maize.plant-protocol.json");
+  m::PlantProtocol maize =
+      m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/maize.plant-protocol.json");
   acq::PlantEngine maizeEngine(maize);
   EXPECT_EQ(maizeEngine.choiceFor(3).kind, m::LeafKind::Quick);  // maize takes no full leaves
   const auto full = maizeEngine.chooseLeaf(1, {m::LeafKind::Full, m::LeafState::Alive});

@@ -15,24 +15,10 @@
 #include <set>
 #include <thread>
 
+#include "../support/strict_formats.hpp"
 #include "cli_support.hpp"
 
 namespace {
-
-std::vector<json> jsonLines(const std::string& text) {
-  std::vector<json> out;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    try {
-      out.push_back(json::parse(line));
-    } catch (const json::parse_error&) {
-      // A line cut by kill -9 is not an acknowledgement.
-    }
-  }
-  return out;
-}
 
 // The items a script may rely on: accepted and not undone (by seq).
 std::map<std::int64_t, json> acknowledged(const std::vector<json>& lines) {
@@ -422,13 +408,20 @@ TEST_F(CaptureCli, TheDemoCapturesTheSampleAndSyntheticLeavesAndExportsThem) {
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("hash chain: OK"), std::string::npos);
   const json list = json::parse(leafdig("sessions list --json --db " + quote(dir_ / "demo" / "demo.sqlite")).out);
-  ASSERT_EQ(list.size(), 5u);  // the three samples, then two synthetic leaves
+  ASSERT_EQ(list.size(), 6u);  // the three samples, two synthetic leaves, then the sample plant in place
   for (const auto& s : list) {
     EXPECT_EQ(s.at("status"), "complete");
     const std::string base = "session-" + std::to_string(s.at("id").get<int>());
-    for (const char* ext : {".glb", ".obj", ".ply", ".stl", ".model.json", ".markers.json", ".markers.csv"})
+    const bool plant = s.at("kind") == "plant";
+    for (const char* ext : plant ? std::vector<const char*>{".mtg", ".plant.csv", ".plant-markers.json", ".survey.json"}
+                                 : std::vector<const char*>{".glb", ".obj", ".ply", ".stl", ".model.json",
+                                                            ".markers.json", ".markers.csv"})
       EXPECT_TRUE(fs::exists(dir_ / "demo" / (base + ext))) << base + ext;
   }
+  EXPECT_EQ(list.back().at("kind"), "plant");
+  EXPECT_NE(r.out.find("the sample plant where it stands (5 nodes) ... complete"), std::string::npos) << r.out;
+  (void)leafdig::test::readMtgStrictly(
+      slurp(dir_ / "demo" / ("session-" + std::to_string(list.back().at("id").get<int>()) + ".mtg")));
   // Each synthetic leaf's area against its exact area: printed, and close.
   int synthetic = 0;
   for (std::size_t at = r.out.find("against the exact "); at != std::string::npos;

@@ -42,6 +42,21 @@ std::string quote(const std::string& s) {
   return q + "'";
 }
 
+// The JSON lines a command printed; a line cut by kill -9 is not an acknowledgement.
+inline std::vector<json> jsonLines(const std::string& text) {
+  std::vector<json> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    try {
+      out.push_back(json::parse(line));
+    } catch (const json::parse_error&) {
+    }
+  }
+  return out;
+}
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -1,6 +1,10 @@
 // `leafdig plant build|grow` driven as a modeller would: a plan file, every export format,
 // each opened by an independent reader (Khronos glTF validator, assimp, the strict MTG and
 // CARIBU readers of docs/plants.md "Formats"), reproducibility, bad plans, growth series, the organ library.
+#include <csignal>
+#include <random>
+#include <thread>
+
 #include "../support/strict_formats.hpp"
 #include "cli_support.hpp"
 
@@ -19,6 +23,15 @@ class PlantCli : public Cli {
     const fs::path p = dir_ / name;
     std::ofstream(p) << text;
     return p;
+  }
+  // A synthetic plant of known truth as a plant-markers file in the test's folder.
+  fs::path synthPlant(int seed, int nodes) {
+    const fs::path markers = dir_ / ("plant-" + std::to_string(seed) + ".plant-markers.json");
+    const fs::path truth = dir_ / ("plant-" + std::to_string(seed) + ".truth.json");
+    const Result r = leafdig("synth plant --markers " + quote(markers) + " --truth " + quote(truth) + " --nodes " +
+                             std::to_string(nodes) + " --seed " + std::to_string(seed) + " --date 2026-06-12");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return markers;
   }
 };
 
@@ -638,4 +651,150 @@ TEST_F(PlantCli, APlantProtocolIsCheckedAndItsStepsListedInTheOrderTheCaptureAsk
             std::string::npos)
       << bad.err;
   EXPECT_EQ(leafdig("plant protocol " + quote(dir_ / "missing.json")).exitCode, 2);
+}
+
+TEST_F(PlantCli, APlantDigitizedThroughTheSimulatedDevicesIsStoredVerifiedAndExportedAsItsFileMeasures) {
+  const fs::path markers = synthPlant(5, 8);
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("plant capture --simulate --plant-markers " + quote(markers) + " --db " + quote(db) +
+                           " --speed 20 --seed 5 --stylus-noise 0.3 --json --project survey-2026");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::vector<json> lines = jsonLines(r.out);
+  ASSERT_GE(lines.size(), 3U);
+  EXPECT_EQ(lines.front().at("event"), "session");
+  const std::int64_t id = lines.front().at("session");
+  EXPECT_EQ(lines.back().at("event"), "complete");
+  EXPECT_EQ(lines.back().at("session"), id);
+  EXPECT_EQ(lines.back().at("nodes"), 8);
+  // Every line is a committed event, in order.
+  std::int64_t last = 0;
+  for (std::size_t k = 1; k + 1 < lines.size(); ++k) {
+    EXPECT_GT(lines[k].at("seq").get<std::int64_t>(), last) << lines[k];
+    last = lines[k].at("seq");
+  }
+  // Listed as a plant; its chain verifies; a leaf's commands say what it is.
+  const json list = json::parse(leafdig("sessions list --json --db " + quote(db)).out);
+  ASSERT_EQ(list.size(), 1U);
+  EXPECT_EQ(list[0].at("kind"), "plant");
+  EXPECT_EQ(list[0].at("status"), "complete");
+  EXPECT_EQ(list[0].at("project"), "survey-2026");
+  EXPECT_EQ(leafdig("sessions verify --db " + quote(db)).exitCode, 0);
+  const Result show = leafdig("sessions show " + std::to_string(id) + " --db " + quote(db));
+  EXPECT_EQ(show.exitCode, 2);
+  EXPECT_NE(show.err.find("captured a whole plant, not one leaf"), std::string::npos) << show.err;
+  // Its exports: the MTG through the strict reader; the survey equals `plant measure` of the
+  // file within the stylus's noise (every press is the mean of the samples around it).
+  const fs::path out = dir_ / "out";
+  const Result exported = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " +
+                                  quote(out) + " --format mtg,csv,markers,json --json");
+  ASSERT_EQ(exported.exitCode, 0) << exported.err;
+  EXPECT_EQ(json::parse(exported.out).at("outputs").size(), 4U);
+  const std::string base = (out / ("session-" + std::to_string(id))).string();
+  const auto mtg = leafdig::test::readMtgStrictly(slurp(base + ".mtg"));
+  int stem = 0;
+  for (const auto& e : mtg.entities) {
+    stem += e.symbol == 'I';
+    if (e.symbol == 'I' || e.symbol == 'L') {
+      EXPECT_EQ(e.features.count("Date") ? e.features.at("Date") : "", "12/06/2026") << e.symbol << e.index;
+    }
+  }
+  EXPECT_EQ(stem, 9);  // the collar and 8 nodes
+  const json got = json::parse(slurp(base + ".survey.json"));
+  const Result measured = leafdig("plant measure " + quote(markers) + " --json");
+  ASSERT_EQ(measured.exitCode, 0) << measured.err;
+  const json want = json::parse(measured.out);
+  ASSERT_EQ(got.at("nodes").size(), want.at("nodes").size());
+  for (std::size_t k = 0; k < got.at("nodes").size(); ++k)
+    for (std::size_t c = 0; c < 3; ++c)
+      EXPECT_NEAR(got["nodes"][k]["point_mm"][c].get<double>(), want["nodes"][k]["point_mm"][c].get<double>(), 1.0)
+          << "node " << k + 1;
+  ASSERT_EQ(got.at("leaves").size(), want.at("leaves").size());
+  for (std::size_t k = 0; k < got.at("leaves").size(); ++k) {
+    const json &g = got["leaves"][k], &w = want["leaves"][k];
+    EXPECT_EQ(g.at("kind"), w.at("kind"));
+    EXPECT_EQ(g.at("state"), w.at("state"));
+    if (w.contains("azimuth_deg") && !w["azimuth_deg"].is_null()) {
+      double d = std::fmod(std::abs(g["azimuth_deg"].get<double>() - w["azimuth_deg"].get<double>()), 360.0);
+      EXPECT_LT(std::min(d, 360.0 - d), 1.0) << "leaf " << k;
+      EXPECT_NEAR(g["inclination_deg"].get<double>(), w["inclination_deg"].get<double>(), 1.0) << "leaf " << k;
+    }
+    if (w.contains("area_mm2") && !w["area_mm2"].is_null()) {
+      EXPECT_NEAR(g["area_mm2"].get<double>(), w["area_mm2"].get<double>(), 0.01 * w["area_mm2"].get<double>());
+    }
+  }
+}
+
+TEST_F(PlantCli, APlantCaptureKilledMidwayLosesNothingAcknowledgedAndResumesToTheSamePlant) {
+  const fs::path markers = synthPlant(7, 6);
+  const fs::path db = dir_ / "station.sqlite", out = dir_ / "out.jsonl", err = dir_ / "err.txt";
+  std::int64_t id = 0;
+  std::mt19937 rng(7);
+  for (int run = 0; run < 4; ++run) {
+    // Killed after its k-th acknowledged event: mid-capture by construction, not by a timer.
+    const std::size_t k = std::uniform_int_distribution<std::size_t>(5, 40)(rng);
+    std::vector<std::string> args{
+        "plant", "capture", "--db", db.string(), "--speed", "20", "--json", "--seed", std::to_string(run + 1)};
+    if (id == 0) {
+      args.insert(args.end(), {"--simulate", "--plant-markers", markers.string()});
+    } else {
+      args.insert(args.end(), {"--resume", std::to_string(id)});
+    }
+    const pid_t pid = spawn(args, out, err);
+    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    std::vector<json> lines;
+    while ((lines = jsonLines(slurp(out))).size() < k + 1 && std::chrono::steady_clock::now() < giveUp)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ::kill(pid, SIGKILL);
+    reap(pid);
+    lines = jsonLines(slurp(out));
+    ASSERT_FALSE(lines.empty()) << slurp(err);
+    id = lines.front().at("session");
+    // Every acknowledged event is in the file, and the chain verifies.
+    std::int64_t acknowledged = 0;
+    for (const json& j : lines)
+      if (j.contains("seq")) acknowledged = std::max(acknowledged, j.at("seq").get<std::int64_t>());
+    const json list = json::parse(leafdig("sessions list --json --db " + quote(db)).out);
+    ASSERT_EQ(list.size(), 1U);
+    EXPECT_GE(list[0].at("events").get<std::int64_t>(), acknowledged) << "run " << run;
+    EXPECT_EQ(leafdig("sessions verify --db " + quote(db)).exitCode, 0) << "run " << run;
+    if (list[0].at("status") == "complete") break;
+  }
+  // Resumed to the end, the plant is the file's plant.
+  const Result done =
+      leafdig("plant capture --resume " + std::to_string(id) + " --db " + quote(db) + " --speed 20 --json </dev/null");
+  ASSERT_EQ(done.exitCode, 0) << done.err;
+  const json list = json::parse(leafdig("sessions list --json --db " + quote(db)).out);
+  EXPECT_EQ(list[0].at("status"), "complete");
+  const Result exported = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " +
+                                  quote(dir_ / "x") + " --format json");
+  ASSERT_EQ(exported.exitCode, 0) << exported.err;
+  const json got = json::parse(slurp(dir_ / "x" / ("session-" + std::to_string(id) + ".survey.json")));
+  const json want = json::parse(leafdig("plant measure " + quote(markers) + " --json").out);
+  ASSERT_EQ(got.at("nodes").size(), want.at("nodes").size());
+  ASSERT_EQ(got.at("leaves").size(), want.at("leaves").size());
+  for (std::size_t k = 0; k < got.at("leaves").size(); ++k)
+    EXPECT_EQ(got["leaves"][k]["kind"], want["leaves"][k]["kind"]);
+}
+
+TEST_F(PlantCli, PlantCaptureRefusesWhatItCannotDoInWordsBeforeTheStoreIsTouched) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result real = leafdig("plant capture --db " + quote(db));
+  EXPECT_EQ(real.exitCode, 2);
+  EXPECT_NE(real.err.find("runs on the simulated devices for now"), std::string::npos) << real.err;
+  const Result branched =
+      leafdig("plant capture --simulate --db " + quote(db) + " --protocol " +
+              quote(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json"));
+  EXPECT_NE(branched.exitCode, 0);
+  EXPECT_NE(branched.err.find("axis of order 2"), std::string::npos) << branched.err;
+  const Result date = leafdig("plant capture --simulate --db " + quote(db) + " --date 2026-02-30");
+  EXPECT_EQ(date.exitCode, 2);
+  EXPECT_NE(date.err.find("YYYY-MM-DD"), std::string::npos) << date.err;
+  const Result missing =
+      leafdig("plant capture --simulate --db " + quote(db) + " --plant-markers " + quote(dir_ / "nowhere.json"));
+  EXPECT_EQ(missing.exitCode, 2);
+  // Nothing of these was stored (the refused protocol wrote no session either).
+  const Result list = leafdig("sessions list --json --db " + quote(db));
+  if (list.exitCode == 0) {
+    EXPECT_EQ(json::parse(list.out).size(), 0U);
+  }
 }

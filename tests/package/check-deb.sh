@@ -24,6 +24,8 @@ for f in ./usr/bin/leafdig ./usr/bin/leafdig-station ./usr/lib/udev/rules.d/70-l
          ./usr/share/applications/leafdig-station.desktop ./usr/share/icons/hicolor/scalable/apps/leafdig.svg \
          ./usr/share/leafdig/samples/lower-leaf-n10.markers.json \
          ./usr/share/leafdig/schema/leafdig.markers-1.schema.json ./usr/share/doc/leafdig/README.md \
+         ./usr/share/leafdig/protocols/tobacco.plant-protocol.json ./usr/share/leafdig/protocols/maize.plant-protocol.json \
+         ./usr/share/leafdig/plants/sample.plant-markers.json ./usr/share/doc/leafdig/plants.md \
          ./usr/share/doc/leafdig/schema.md; do
   grep -qx "$f" "$work/contents.txt" || fail "the package lacks $f"
 done
@@ -40,5 +42,12 @@ file "$work/root/usr/bin/leafdig" 2>/dev/null | grep -q "not stripped" && fail "
 "$work/root/usr/bin/leafdig" model build "$work/root/usr/share/leafdig/samples/lower-leaf-n10.markers.json" \
   -o "$work/leaf.glb" >/dev/null || fail "the installed leafdig cannot build the installed sample"
 [ -s "$work/leaf.glb" ] || fail "no GLB written"
+# The installed plant protocols read, and the installed sample plant measures.
+for p in "$work"/root/usr/share/leafdig/protocols/*.plant-protocol.json; do
+  "$work/root/usr/bin/leafdig" plant protocol "$p" >/dev/null || fail "the installed leafdig refuses $(basename "$p")"
+done
+"$work/root/usr/bin/leafdig" plant measure "$work/root/usr/share/leafdig/plants/sample.plant-markers.json" \
+  --mtg "$work/plant.mtg" >/dev/null || fail "the installed leafdig cannot measure the installed sample plant"
+[ -s "$work/plant.mtg" ] || fail "no MTG written"
 QT_QPA_PLATFORM=offscreen "$work/root/usr/bin/leafdig-station" --version >/dev/null 2>&1 || fail "leafdig-station --version"
 echo "check-deb: $(basename "$deb") ($(du -k "$deb" | cut -f1) KiB): control, files, desktop entry and programs OK"

@@ -17,6 +17,7 @@
 
 #include "commands.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
+#include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/db/lab.hpp"
@@ -30,6 +31,7 @@
 #include "leafdig/model/metrics/metrics.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
+#include "plant_capture_cmd.hpp"
 #include "signals.hpp"
 #include "synth_cmd.hpp"
 #include "terminal_text.hpp"
@@ -323,6 +325,7 @@ int runList(const db::EventStore& store, const CaptureOptions& o) {
                    {"station_session_id", s.stationSessionId},
                    {"project", s.project},
                    {"plant", s.plant},
+                   {"kind", s.kind},
                    {"leaf_position", s.leafPosition},
                    {"leaf_type", s.leafType},
                    {"status", s.status},
@@ -342,8 +345,10 @@ int runList(const db::EventStore& store, const CaptureOptions& o) {
     std::cout << std::setw(6) << s.id;
     if (server) std::cout << std::setw(22) << terminalText(s.station + ":" + std::to_string(s.stationSessionId));
     std::cout << std::setw(10) << terminalText(s.status) << std::setw(28)
-              << terminalText(s.project + "/" + s.plant + "/" + std::to_string(s.leafPosition)) << std::setw(14)
-              << terminalText(s.operatorName) << std::setw(8) << s.headSeq << terminalText(s.createdUtc) << "\n";
+              << terminalText(s.project + "/" + s.plant + "/" +
+                              (s.kind == "leaf" ? std::to_string(s.leafPosition) : std::string("(plant)")))
+              << std::setw(14) << terminalText(s.operatorName) << std::setw(8) << s.headSeq
+              << terminalText(s.createdUtc) << "\n";
   }
   if (sessions.empty()) std::cout << "(no sessions in " << store.describe() << ")\n";
   return 0;
@@ -481,6 +486,17 @@ int runCorrect(db::EventStore& store, const CaptureOptions& o) {
 }
 
 int runExport(db::EventStore& store, const CaptureOptions& o) {
+  if (const auto info = store.session(o.id); info && info->kind == "plant") {
+    const acq::PlantExport p = acq::exportPlantSession(store, o.id, o.formats, o.out);
+    if (o.json) {
+      std::cout << json{{"session", o.id}, {"kind", "plant"}, {"outputs", p.written}}.dump() << "\n";
+    } else {
+      std::cout << "plant session " << o.id << ": " << p.survey.nodes.size() << " nodes, " << p.survey.leaves.size()
+                << " leaves\n";
+      for (const auto& f : p.written) std::cout << "  wrote " << f << "\n";
+    }
+    return 0;
+  }
   acq::ExportRequest request;
   request.formats = o.formats;
   request.frame = o.frame;
@@ -508,6 +524,49 @@ const char* const kDemoSynthLeaves[] = {
     "shape=oblong,rows=9,length=450",
     "shape=tobacco,rows=14,length=560",
 };
+
+// After the leaves, the demo's technician digitizes the sample plant where it stands, node by
+// node (docs/plants.md), and exports its MTG, CSV, markers and survey.
+int demoPlant(const CaptureOptions& c, const std::string& samples, const std::string& out, std::uint64_t seed) {
+  const std::filesystem::path file = std::filesystem::path(samples).parent_path() / "plants/sample.plant-markers.json";
+  if (!std::filesystem::exists(file)) {
+    std::cout << "\n  (no sample plant beside " << samples << ": the plant is left out)\n";
+    return 0;
+  }
+  acq::PlantSessionSetup setup;
+  setup.simulatedPlant = m::readPlantMarkersFile(file);
+  setup.project = c.project;
+  setup.plant = setup.simulatedPlant->plant;
+  setup.date = setup.simulatedPlant->date;
+  setup.station = c.station;
+  setup.simulated = true;
+  setup.digitizer = "fastrak:simulated";
+  setup.caliper = "sylvac:simulated";
+  db::Store store(c.db);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup);
+  std::cout << "\n  session " << id << ": the sample plant where it stands (" << setup.simulatedPlant->nodes.size()
+            << " nodes) ... " << std::flush;
+  acq::SimulationOptions sim;
+  sim.speed = c.speed.value_or(8.0);
+  sim.seed = seed + 100;
+  sim.stylusNoiseMm = c.stylusNoiseMm.value_or(0.3);
+  sim.mistakes = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  const acq::PlantRunStats stats = simulatePlant(store, id, sim, {});
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (store.session(id)->status != "complete") {
+    std::cout << "not complete\n";
+    return interrupted() ? 130 : 1;
+  }
+  const acq::PlantExport p = acq::exportPlantSession(store, id, {}, out);
+  std::cout << "complete in " << std::fixed << std::setprecision(1) << secs << " s; " << stats.accepted
+            << " events accepted, " << stats.rejected << " inputs rejected\n    survey: " << p.survey.nodes.size()
+            << " nodes, " << p.survey.leaves.size() << " leaves; wrote";
+  for (const auto& f : p.written) std::cout << " " << std::filesystem::path(f).filename().string();
+  const db::ChainReport chain = store.verify(id);
+  std::cout << "\n    hash chain: " << (chain.ok ? "OK" : "BROKEN") << " (" << chain.events << " events)\n";
+  return chain.ok ? 0 : 1;
+}
 
 int runDemo(const CaptureOptions& o) {
   const std::string dir = samplesDir(o.samples);
@@ -594,6 +653,7 @@ int runDemo(const CaptureOptions& o) {
     const db::ChainReport chain = store.verify(id);
     std::cout << "    hash chain: " << (chain.ok ? "OK" : "BROKEN") << " (" << chain.events << " events)\n";
   }
+  if (const int rc = demoPlant(c, dir, out, o.seed); rc != 0) return rc;
   std::cout << "\nDone. Inspect with: leafdig sessions list --db " << c.db << "\n";
   return 0;
 }
@@ -677,7 +737,9 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
     c->add_option("--why", o.why, "Reason (required to reject)");
   }
   exp->add_option("--out", o.out, "Directory to write into")->required();
-  exp->add_option("--format", o.formats, "glb, obj, ply, stl, model, markers, csv (default: all)")->delimiter(',');
+  exp->add_option("--format", o.formats,
+                  "glb, obj, ply, stl, model, markers, csv (default: all); a plant session: mtg, csv, markers, json")
+      ->delimiter(',');
   exp->add_option("--frame", o.frame, "leaf (default) or digitizer")->check(CLI::IsMember({"leaf", "digitizer"}));
   exp->add_option("--blade", o.blade, "interp (default), approx, bezier, nurbs")
       ->check(CLI::IsMember({"interp", "approx", "bezier", "nurbs"}));

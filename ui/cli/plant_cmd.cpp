@@ -256,6 +256,7 @@ void addPlantCommands(CLI::App& app, CommandTable& table) {
   table.add(grow, [o] { return runPlant(*o, true); });
   addPlantMeasureCommand(*app.get_subcommand("plant"), table);
   addPlantProtocolCommand(*app.get_subcommand("plant"), table);
+  addPlantCaptureCommand(*app.get_subcommand("plant"), table);
 }
 
 }  // namespace leafdig::cli

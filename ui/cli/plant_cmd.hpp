@@ -24,10 +24,12 @@ struct PlantOptions {
 };
 
 class CommandTable;
-// Registers `plant build`, `plant grow`, `plant measure` and `plant protocol`.
+// Registers `plant build`, `plant grow`, `plant measure`, `plant protocol` and `plant capture`.
 void addPlantCommands(CLI::App& app, CommandTable& table);
 // `plant measure` under the `plant` command (plant_measure_cmd.cpp).
 void addPlantMeasureCommand(CLI::App& plant, CommandTable& table);
+// `plant capture` (plant_capture_cmd.cpp).
+void addPlantCaptureCommand(CLI::App& plant, CommandTable& table);
 // `plant protocol` (plant_protocol_cmd.cpp).
 void addPlantProtocolCommand(CLI::App& plant, CommandTable& table);
 

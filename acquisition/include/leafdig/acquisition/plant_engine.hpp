@@ -77,7 +77,7 @@ struct PlantDecision {
     PlantReopened,
     LeafChosen,    // node's leaf kind / state set (choice); `previous` is what it was
     ChoiceUndone,  // the last LeafChosen taken back: node's leaf is `previous` again
-    Leaf         // a decision of node's full leaf Engine (leaf)
+    Leaf           // a decision of node's full leaf Engine (leaf)
   };
   Kind kind = Kind::Ignored;
   PlantItem item;  // Accepted / Undone
@@ -134,15 +134,19 @@ class PlantEngine {
   [[nodiscard]] const PlantItem* find(PlantWhat w, int index, int part) const;
   [[nodiscard]] int landmarks() const;
   [[nodiscard]] std::optional<PlantStep> nodeStep(int node) const;  // the first step node still needs
-  [[nodiscard]] int leafNode() const;  // the node whose full leaf has the stylus now, or 0
+  [[nodiscard]] int leafNode() const;                               // the node whose full leaf has the stylus now, or 0
   [[nodiscard]] std::string pointName(const PlantStep& s) const;
   Engine& leafEngine(int node);
   // Keeps the plant's action list in step with a decision node's leaf Engine applied.
   void mirror(int node, const Decision& d);
 
+  // The stem entity taken node by node, and the leaf entity (null: the nodes carry no leaf):
+  // indices into protocol_.entities, so that an engine copies and moves whole.
+  [[nodiscard]] const model::ProtocolEntity& axis() const;
+  [[nodiscard]] const model::ProtocolEntity* leafEntity() const;
+
   model::PlantProtocol protocol_;
-  const model::ProtocolEntity* axis_ = nullptr;
-  const model::ProtocolEntity* leafEntity_ = nullptr;  // null: the protocol's nodes carry no leaf
+  int axisIndex_ = -1, leafIndex_ = -1;
   Settings settings_;
   std::vector<PlantItem> items_;
   std::map<int, Engine> leaves_;

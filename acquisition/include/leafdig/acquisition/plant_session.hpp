@@ -1,0 +1,112 @@
+// A plant capture session: the PlantEngine's decisions made durable (docs/plants.md, "Plant
+// sessions"). Every decision is appended to the store's hash-chained log before it is
+// reported, so a front end announces only what is on disk; opening a session replays its events
+// through the engine (crash recovery and `plant capture` resuming share that path). A store
+// that refuses a write leaves the engine as the store has it (rebuilt from the events) and the
+// session reports the refusal; nothing acknowledged is lost.
+//
+// Events (docs/schema.md, "Plant sessions"): `accepted` / `undone` with the plant's items
+// ("landmark", "collar", "collar_diameter", "point", "reading", "quick_point"; row = landmark or
+// node number, col = which point) or a full leaf's ("node3.marker", row and col the leaf's),
+// `rows_ended` / `rows_reopened` {"node"}, `landmarks_ended`, `landmarks_reopened`,
+// `plant_ended`, `plant_reopened`, `leaf_chosen` / `choice_undone` {"node", "kind", "state"},
+// `rejected`, `status`.
+//
+// Thread contract: one thread owns a PlantCaptureSession (and its Store).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "leafdig/acquisition/plant_engine.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
+#include "leafdig/model/plant/plant_protocol.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
+
+namespace leafdig::acquisition {
+
+struct PlantSessionSetup {
+  std::string project, plant;
+  std::string operatorName = "technician";
+  std::string station;  // empty: this machine's (thisStation())
+  model::PlantProtocol protocol = model::defaultPlantProtocol();
+  Settings settings;  // the stylus guards and the full leaves' leaf protocol
+  std::optional<model::SurveyDate> date;
+  std::string digitizer, caliper;
+  bool simulated = false;
+  // Simulated sessions: the plant the virtual technician digitizes, kept with the session.
+  std::optional<model::PlantMarkers> simulatedPlant;
+};
+
+// What a front end announces, after it was committed (seq: the event's number; 0 for a
+// rejection the store refused to record and for an ignored input).
+struct PlantFeedback {
+  PlantDecision decision;
+  std::int64_t seq = 0;
+  std::optional<std::int64_t> completeSeq;  // the `complete` status, when this decision finished the plant
+  std::optional<std::string> storeRefused;  // the store's words when the write failed (nothing changed)
+};
+
+class PlantCaptureSession {
+ public:
+  // Creates the project, plant and operator as needed and a new open plant session.
+  static std::int64_t create(db::Store& store, const PlantSessionSetup& setup);
+
+  // Opens a stored plant session and replays it. Throws SessionError when it is not a plant
+  // session, not open, or its events do not replay.
+  PlantCaptureSession(db::Store& store, std::int64_t id);
+
+  PlantFeedback onStylus(const StylusInput& s);
+  PlantFeedback onCaliper(const CaliperInput& c);
+  PlantFeedback undo(std::int64_t monoNs = 0);
+  PlantFeedback end(std::int64_t monoNs = 0);
+  PlantFeedback chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs = 0);
+  // Ends the session unfinished (status `abandoned`, with why).
+  PlantFeedback abandon(const std::string& why, std::int64_t monoNs = 0);
+
+  [[nodiscard]] std::int64_t id() const { return id_; }
+  [[nodiscard]] const PlantEngine& engine() const { return engine_; }
+  [[nodiscard]] const PlantSessionSetup& setup() const { return setup_; }
+  [[nodiscard]] bool ended() const { return ended_; }
+  [[nodiscard]] const std::string& status() const { return status_; }
+
+  // The settings a plant session keeps (its protocol, leaf settings, date, devices and the
+  // simulated plant) and back; SessionError for what does not read.
+  [[nodiscard]] static std::string setupToJson(const PlantSessionSetup& setup);
+  [[nodiscard]] static PlantSessionSetup setupFromJson(const std::string& json);
+  // Rebuilds an engine from stored events (no store access; review and exports use it).
+  // Throws SessionError naming the event that does not fit.
+  [[nodiscard]] static PlantEngine replay(const PlantSessionSetup& setup, const std::vector<db::Event>& events);
+
+ private:
+  PlantFeedback commit(const PlantDecision& d, std::int64_t monoNs, const std::string& raw);
+  void rebuild();
+
+  db::Store& store_;
+  std::int64_t id_ = 0;
+  PlantSessionSetup setup_;
+  PlantEngine engine_;
+  std::map<std::string, std::int64_t> seqs_;  // the event that accepted each current item
+  bool ended_ = false;
+  std::string status_ = "open";
+};
+
+// A plant session's files (docs/plants.md, "Exports"): `mtg` (the survey's MTG in the AMAP
+// conventions), `csv` (its entities one row each), `markers` (what was digitized, as a
+// leafdig.plant-markers/1 document in the digitizer's frame), `json` (the survey: frame, nodes,
+// leaves, angles). The session must verify and hold a whole plant frame; the survey's day is
+// the session's date, else the day it was created. Each file is written atomically and
+// recorded in `exports`.
+struct PlantExport {
+  std::vector<std::string> written;
+  model::PlantSurvey survey;
+};
+[[nodiscard]] const std::vector<std::string>& plantExportFormats();  // mtg, csv, markers, json
+PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
+                               const std::string& outDir);
+
+}  // namespace leafdig::acquisition

@@ -1,0 +1,213 @@
+// Plant capture sessions on a real station file: every decision committed before it is
+// reported, the chain verifies, a session reopened at any event goes on at the exact step,
+// a full store loses nothing, and plant and leaf sessions are not taken for one another.
+#include "leafdig/acquisition/plant_session.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/truth.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
+
+namespace acq = leafdig::acquisition;
+namespace db = leafdig::db;
+namespace fs = std::filesystem;
+namespace m = leafdig::model;
+using Kind = acq::PlantDecision::Kind;
+using acq::PlantWhat;
+
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+class PlantSession : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("leafdig-plant-session-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    path_ = (dir_ / "station.sqlite").string();
+    plant_ = m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json");
+    setup_.project = "tobacco-2026";
+    setup_.plant = plant_.plant;
+    setup_.operatorName = "ana";
+    setup_.station = "bench-1";
+    setup_.date = m::SurveyDate{2026, 6, 12};
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // One step of the technician, as the sample plant says, through the session.
+  acq::PlantFeedback act(acq::PlantCaptureSession& s) {
+    const acq::PlantEngine& e = s.engine();
+    const acq::PlantStep st = e.step();
+    if (st.what == PlantWhat::Point && st.part == 1 && st.index <= static_cast<int>(plant_.nodes.size())) {
+      const acq::LeafChoice want = acq::plantChoiceTruth(plant_, st.index);
+      if (!(e.choiceFor(st.index) == want)) return s.chooseLeaf(st.index, want, t_);
+    }
+    const bool reading = st.what == PlantWhat::CollarDiameter || st.what == PlantWhat::Reading ||
+                         (st.what == PlantWhat::Leaf && !acq::isStylusItem(st.leaf.what));
+    if (reading) return s.onCaliper({t_ += 500 * kMs, acq::plantReadingTruth(plant_, st), "+1.0\r"});
+    std::optional<acq::Vec3> p = acq::plantPointTruth(plant_, st);
+    std::int64_t pressMs = 200;
+    if (st.what == PlantWhat::Leaf && st.leaf.what == acq::What::Marker && st.leaf.col == 1 &&
+        st.leaf.row > static_cast<int>(acq::plantLeafTruth(plant_, st.index)->rows.size()))
+      p.reset();
+    if (!p) {
+      p = acq::Vec3{0, 0, 0};
+      pressMs = 1500;  // the long press that ends the landmarks, the rows or the plant
+    }
+    acq::PlantFeedback last;
+    const auto sample = [&](bool button) {
+      const auto f = s.onStylus({t_ += 8 * kMs, *p, button, "ok", "01 …"});
+      if (f.decision.kind != Kind::Ignored) last = f;
+    };
+    for (int i = 0; i < 40; ++i) sample(false);
+    for (std::int64_t i = 0; i < pressMs / 8; ++i) sample(true);
+    sample(false);
+    return last;
+  }
+
+  fs::path dir_;
+  std::string path_;
+  m::PlantMarkers plant_;
+  acq::PlantSessionSetup setup_;
+  std::int64_t t_ = 0;
+};
+
+}  // namespace
+
+TEST_F(PlantSession, APlantIsCommittedEventByEventAndItsChainAndProjectionsVerify) {
+  db::Store store(path_);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
+  acq::PlantCaptureSession session(store, id);
+  std::int64_t lastSeq = 0;
+  for (int guard = 0; guard < 400 && !session.ended(); ++guard) {
+    const acq::PlantFeedback f = act(session);
+    ASSERT_NE(f.decision.kind, Kind::Rejected) << f.decision.reason << " at " << session.engine().prompt();
+    ASSERT_FALSE(f.storeRefused);
+    ASSERT_GT(f.seq, lastSeq);  // committed before it is reported
+    lastSeq = f.completeSeq ? *f.completeSeq : f.seq;
+  }
+  ASSERT_TRUE(session.ended());
+  EXPECT_EQ(session.status(), "complete");
+  const auto info = store.session(id);
+  ASSERT_TRUE(info);
+  EXPECT_EQ(info->kind, "plant");
+  EXPECT_EQ(info->status, "complete");
+  EXPECT_EQ(info->headSeq, lastSeq);
+  const db::ChainReport chain = store.verify(id);
+  EXPECT_TRUE(chain.ok) << chain.problem;
+  // The projections name the plant's items and the full leaf's with its node.
+  int landmarks = 0, leafMarkers = 0;
+  for (const db::MarkerRow& r : store.markers(id)) {
+    landmarks += r.what == "landmark";
+    leafMarkers += r.what == "node2.marker";
+  }
+  EXPECT_EQ(landmarks, static_cast<int>(plant_.landmarksMm.size()));
+  EXPECT_EQ(leafMarkers, 7 * static_cast<int>(std::get<m::MarkerSet>(plant_.nodes[1].leaf).rows.size()));
+  // What the store holds is the plant: replayed, it surveys as the file does.
+  const acq::PlantSessionSetup kept = acq::PlantCaptureSession::setupFromJson(info->settingsJson);
+  EXPECT_EQ(kept.date, setup_.date);
+  const acq::PlantEngine replayed = acq::PlantCaptureSession::replay(kept, store.events(id));
+  EXPECT_TRUE(replayed.complete());
+  const m::PlantSurvey a = m::surveyPlant(replayed.captured(plant_.plant)), b = m::surveyPlant(plant_);
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  for (std::size_t i = 0; i < a.nodes.size(); ++i) EXPECT_LT((a.nodes[i].pointMm - b.nodes[i].pointMm).norm(), 1e-9);
+  // A complete plant session is not captured into again.
+  EXPECT_THROW(acq::PlantCaptureSession(store, id), acq::SessionError);
+}
+
+TEST_F(PlantSession, ReopenedAfterAnyEventItGoesOnAtTheExactStep) {
+  // The session is closed (as by kill -9) after every few decisions and opened again.
+  std::int64_t id = 0;
+  {
+    db::Store store(path_);
+    id = acq::PlantCaptureSession::create(store, setup_);
+  }
+  int reopenings = 0;
+  for (int guard = 0; guard < 200; ++guard) {
+    db::Store store(path_);
+    acq::PlantCaptureSession session(store, id);
+    ++reopenings;
+    for (int k = 0; k < 3 && !session.ended(); ++k) ASSERT_NE(act(session).decision.kind, Kind::Rejected);
+    if (session.ended()) break;
+  }
+  EXPECT_GT(reopenings, 20);
+  db::Store store(path_);
+  EXPECT_EQ(store.session(id)->status, "complete");
+  EXPECT_TRUE(store.verify(id).ok);
+}
+
+TEST_F(PlantSession, AReopenedSessionAsksForWhatTheClosedOneAskedFor) {
+  std::int64_t id = 0;
+  std::vector<std::string> prompts;
+  {
+    db::Store store(path_);
+    id = acq::PlantCaptureSession::create(store, setup_);
+    acq::PlantCaptureSession session(store, id);
+    for (int k = 0; k < 40; ++k) (void)act(session);
+    prompts.push_back(session.engine().prompt());
+    prompts.push_back(std::to_string(session.engine().items().size()));
+  }
+  db::Store store(path_);
+  acq::PlantCaptureSession again(store, id);
+  EXPECT_EQ(again.engine().prompt(), prompts[0]);
+  EXPECT_EQ(std::to_string(again.engine().items().size()), prompts[1]);
+  EXPECT_EQ(again.engine().step().what, PlantWhat::Leaf);  // inside node 2's full leaf, 40 actions in
+}
+
+TEST_F(PlantSession, AFullStoreRefusesTheWriteAndTheEngineStaysWhereTheStoreIs) {
+  db::Store store(path_);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
+  acq::PlantCaptureSession session(store, id);
+  for (int k = 0; k < 6; ++k) ASSERT_NE(act(session).decision.kind, Kind::Rejected);
+  const std::size_t items = session.engine().items().size();
+  store.setMaxPages(store.pageCount());  // no page more: as a full disk
+  acq::PlantFeedback refused;
+  for (int k = 0; k < 50 && !refused.storeRefused; ++k) refused = act(session);
+  ASSERT_TRUE(refused.storeRefused) << "the quota never bit";
+  EXPECT_EQ(refused.seq, 0);
+  const std::size_t held = session.engine().items().size();
+  store.setMaxPages(0);
+  // Everything the engine holds is what the store holds.
+  acq::PlantCaptureSession reopened(store, id);
+  EXPECT_EQ(reopened.engine().items().size(), held);
+  EXPECT_GE(held, items);
+  EXPECT_TRUE(store.verify(id).ok);
+}
+
+TEST_F(PlantSession, PlantAndLeafSessionsAreNotTakenForOneAnother) {
+  db::Store store(path_);
+  const std::int64_t plantId = acq::PlantCaptureSession::create(store, setup_);
+  acq::SessionSetup leaf;
+  leaf.project = "tobacco-2026";
+  leaf.plant = plant_.plant;
+  leaf.leafPosition = 3;
+  leaf.station = "bench-1";
+  const std::int64_t leafId = acq::CaptureSession::create(store, leaf);
+  try {
+    acq::CaptureSession s(store, plantId);
+    FAIL() << "a plant session opened as a leaf's";
+  } catch (const acq::SessionError& e) {
+    EXPECT_NE(std::string(e.what()).find("captures a whole plant, not one leaf"), std::string::npos) << e.what();
+  }
+  try {
+    acq::PlantCaptureSession s(store, leafId);
+    FAIL() << "a leaf session opened as a plant's";
+  } catch (const acq::SessionError& e) {
+    EXPECT_NE(std::string(e.what()).find("captures one leaf, not a plant"), std::string::npos) << e.what();
+  }
+  // A protocol the engine cannot follow is refused before anything is written.
+  setup_.protocol =
+      m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json");
+  const std::size_t before = store.sessions().size();
+  EXPECT_THROW((void)acq::PlantCaptureSession::create(store, setup_), acq::SessionError);
+  EXPECT_EQ(store.sessions().size(), before);
+}

@@ -1,0 +1,229 @@
+// `leafdig plant capture --simulate`: a plant digitized where it stands by the virtual
+// technician through the simulated FASTRAK and caliper (docs/plants.md, "Simulated plant
+// capture"), every decision committed to a plant session before it is printed; `--resume ID`
+// goes on with an interrupted one. `--json` prints one object per committed change, the
+// session first and `complete` last, as `capture --json` does.
+#include "plant_capture_cmd.hpp"
+
+#include <atomic>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "commands.hpp"
+#include "leafdig/acquisition/plant_simulation.hpp"
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
+#include "leafdig/model/plant/plant_protocol.hpp"
+#include "leafdig/version.hpp"
+#include "plant_cmd.hpp"
+#include "signals.hpp"
+#include "terminal_text.hpp"
+
+namespace leafdig::cli {
+
+namespace acq = leafdig::acquisition;
+namespace db = leafdig::db;
+namespace m = leafdig::model;
+using nlohmann::json;
+
+namespace {
+
+struct PlantCaptureOptions {
+  bool simulate = false;
+  std::string plantMarkers, protocol, db, project = "plants", operatorName = "technician", station, date;
+  double stylusNoiseMm = 0.3, speed = 1.0;
+  std::uint64_t seed = 1;
+  std::int64_t resume = 0;
+  bool json = false;
+};
+
+json nullable(int v) {
+  return v > 0 ? json(v) : json(nullptr);
+}
+
+json feedbackJson(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
+  using K = acq::PlantDecision::Kind;
+  const acq::PlantDecision& d = f.decision;
+  json j;
+  if (f.storeRefused) return json{{"event", "store_refused"}, {"message", *f.storeRefused}};
+  switch (d.kind) {
+    case K::Accepted:
+    case K::Undone:
+      j = {{"event", d.kind == K::Accepted ? "accepted" : "undone"},
+           {"what", acq::toString(d.item.what)},
+           {"index", nullable(d.item.index)},
+           {"part", nullable(d.item.part)}};
+      if (acq::isStylusItem(d.item.what))
+        j["value"] = {d.item.positionMm[0], d.item.positionMm[1], d.item.positionMm[2]};
+      else
+        j["value"] = d.item.valueMm;
+      break;
+    case K::Leaf:
+      j = {{"event", d.leaf.kind == acq::Decision::Kind::Accepted    ? "accepted"
+                     : d.leaf.kind == acq::Decision::Kind::Undone    ? "undone"
+                     : d.leaf.kind == acq::Decision::Kind::RowsEnded ? "rows_ended"
+                                                                     : "rows_reopened"},
+           {"node", d.node}};
+      if (d.leaf.kind == acq::Decision::Kind::Accepted || d.leaf.kind == acq::Decision::Kind::Undone) {
+        j["what"] = acq::toString(d.leaf.item.what);
+        j["row"] = nullable(d.leaf.item.row);
+        j["col"] = nullable(d.leaf.item.col);
+      }
+      break;
+    case K::Rejected: j = {{"event", "rejected"}, {"reason", d.reason}}; break;
+    case K::LeafChosen:
+    case K::ChoiceUndone:
+      j = {{"event", d.kind == K::LeafChosen ? "leaf_chosen" : "choice_undone"},
+           {"node", d.node},
+           {"kind", m::toString(d.kind == K::LeafChosen ? d.choice.kind : d.previous.kind)},
+           {"state", m::toString(d.kind == K::LeafChosen ? d.choice.state : d.previous.state)}};
+      break;
+    case K::LandmarksEnded: j = {{"event", "landmarks_ended"}}; break;
+    case K::LandmarksReopened: j = {{"event", "landmarks_reopened"}}; break;
+    case K::PlantEnded: j = {{"event", "plant_ended"}}; break;
+    case K::PlantReopened: j = {{"event", "plant_reopened"}}; break;
+    case K::Ignored: break;
+  }
+  j["seq"] = f.seq;
+  j["prompt"] = s.engine().prompt();
+  return j;
+}
+
+int runPlantCapture(const PlantCaptureOptions& o) {
+  if (!o.simulate && o.resume == 0)
+    throw std::invalid_argument(
+        "plant capture runs on the simulated devices for now (--simulate --plant-markers FILE); with real devices, "
+        "digitize plants from the station (docs/plants.md)");
+  if (!(o.speed > 0 && o.speed <= 50)) throw std::invalid_argument("the simulation speed must be in (0, 50]");
+  if (!(o.stylusNoiseMm >= 0.0 && o.stylusNoiseMm <= 20.0))
+    throw std::invalid_argument("the stylus noise must be between 0 and 20 mm");
+  std::int64_t id = o.resume;
+  std::unique_ptr<db::Store> store;
+  if (id == 0) {
+    // Everything the operator typed is read before the store is touched.
+    acq::PlantSessionSetup setup;
+    // The sample plant beside the sample leaves (the source tree, or where the package put them).
+    const std::string samples = leafdig::samplesDir();
+    const std::string data =
+        samples.empty() ? leafdig::sourceDataDir() : std::filesystem::path(samples).parent_path().string();
+    const std::string file = o.plantMarkers.empty() ? data + "/plants/sample.plant-markers.json" : o.plantMarkers;
+    setup.simulatedPlant = m::readPlantMarkersFile(file);
+    setup.project = o.project;
+    setup.plant = setup.simulatedPlant->plant.empty() ? "plant" : setup.simulatedPlant->plant;
+    setup.operatorName = o.operatorName;
+    setup.station = o.station;
+    if (!o.protocol.empty()) setup.protocol = m::readPlantProtocolFile(o.protocol);
+    if (!o.date.empty()) {
+      setup.date = m::parseSurveyDate(o.date);
+      if (!setup.date) throw std::invalid_argument("--date " + o.date + ": give the survey's day as YYYY-MM-DD");
+    } else {
+      setup.date = setup.simulatedPlant->date;
+    }
+    setup.simulated = true;
+    setup.digitizer = "fastrak:simulated";
+    setup.caliper = "sylvac:simulated";
+    store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
+    id = acq::PlantCaptureSession::create(*store, setup);
+  } else {
+    store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
+  }
+  if (o.json)
+    std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
+  else
+    std::cout << "leafdig plant capture · plant session " << id << " · simulated FASTRAK and caliper\n";
+  acq::SimulationOptions sim;
+  sim.speed = o.speed;
+  sim.seed = o.seed;
+  sim.stylusNoiseMm = o.stylusNoiseMm;
+  sim.mistakes = false;
+  const acq::PlantRunStats stats =
+      simulatePlant(*store, id, sim, [&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
+        if (o.json) {
+          std::cout << feedbackJson(f, s).dump() << "\n";
+          if (f.completeSeq)
+            std::cout << json{{"event", "complete"},
+                              {"session", id},
+                              {"seq", *f.completeSeq},
+                              {"nodes", s.engine().nodes()}}
+                             .dump()
+                      << "\n";
+          std::cout << std::flush;
+        } else {
+          const json j = feedbackJson(f, s);
+          std::cout << "  " << (f.decision.kind == acq::PlantDecision::Kind::Rejected ? "✗ " : "✓ ")
+                    << terminalText(j.value("event", std::string())) << " · now: " << terminalText(s.engine().prompt())
+                    << (f.decision.kind == acq::PlantDecision::Kind::Rejected
+                            ? " (" + terminalText(f.decision.reason) + ")"
+                            : std::string())
+                    << "\n";
+        }
+      });
+  const auto info = store->session(id);
+  const bool complete = info && info->status == "complete";
+  if (!o.json)
+    std::cout << "  plant session " << id << (complete ? " complete" : " kept open") << ": " << stats.accepted
+              << " accepted, " << stats.rejected << " rejected, " << stats.gestures << " presses, " << stats.readings
+              << " caliper readings"
+              << (complete ? std::string()
+                           : "\n  continue with: leafdig plant capture --resume " + std::to_string(id) + " --db " +
+                                 store->path())
+              << "\n";
+  return interrupted() ? 130 : 0;
+}
+
+}  // namespace
+
+acq::PlantRunStats simulatePlant(
+    db::Store& store, std::int64_t id, const acq::SimulationOptions& options,
+    const std::function<void(const acq::PlantFeedback&, const acq::PlantCaptureSession&)>& onFeedback) {
+  installSignalHandlers();
+  // Ctrl-C or SIGTERM stops the capture between two events; the session stays open.
+  std::atomic<bool> stop{false}, running{true};
+  std::thread watcher([&] {
+    while (running) {
+      if (interrupted()) stop = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+  try {
+    const acq::PlantRunStats stats = acq::runSimulatedPlant(store, id, options, onFeedback, stop);
+    running = false;
+    watcher.join();
+    return stats;
+  } catch (...) {
+    running = false;
+    watcher.join();
+    throw;
+  }
+}
+
+void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
+  auto o = std::make_shared<PlantCaptureOptions>();
+  CLI::App* capture = plant.add_subcommand(
+      "capture", "Digitize a plant where it stands, node by node, into a plant session (--simulate for now)");
+  capture->add_flag("--simulate", o->simulate,
+                    "The virtual technician digitizes --plant-markers through the simulated FASTRAK and caliper");
+  capture->add_option(
+      "--plant-markers", o->plantMarkers,
+      "The plant the virtual technician digitizes (leafdig.plant-markers/1; default: the sample plant)");
+  capture->add_option("--protocol", o->protocol, "Plant protocol file (default: the built-in tobacco protocol)");
+  capture->add_option("--db", o->db, "Station database (default: ~/.local/share/leafdig/station.sqlite)");
+  capture->add_option("--project", o->project, "Project the plant belongs to")->capture_default_str();
+  capture->add_option("--operator", o->operatorName, "Who digitizes")->capture_default_str();
+  capture->add_option("--station", o->station, "This station's id (default: the settings file's, else the host name)");
+  capture->add_option("--date", o->date, "The survey's day, YYYY-MM-DD (default: the plant-markers file's)");
+  capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")
+      ->capture_default_str();
+  capture->add_option("--seed", o->seed, "Simulation seed")->capture_default_str();
+  capture->add_option("--speed", o->speed, "Simulation speed (1 = real time, up to 50)")->capture_default_str();
+  capture->add_option("--resume", o->resume, "Go on with an interrupted plant session");
+  capture->add_flag("--json", o->json, "One JSON object per committed change (session first, complete last)");
+  table.add(capture, [o] { return runPlantCapture(*o); });
+}
+
+}  // namespace leafdig::cli

@@ -1,0 +1,17 @@
+#pragma once
+// The simulated plant capture shared by `plant capture --simulate` and `demo`
+// (plant_capture_cmd.cpp).
+#include <cstdint>
+#include <functional>
+
+#include "leafdig/acquisition/plant_simulation.hpp"
+
+namespace leafdig::cli {
+
+// Captures plant session `id` with the virtual technician until it is complete or Ctrl-C /
+// SIGTERM (the session stays open then, to resume); onFeedback after every committed change.
+acquisition::PlantRunStats simulatePlant(
+    db::Store& store, std::int64_t id, const acquisition::SimulationOptions& options,
+    const std::function<void(const acquisition::PlantFeedback&, const acquisition::PlantCaptureSession&)>& onFeedback);
+
+}  // namespace leafdig::cli
