@@ -223,17 +223,31 @@ Decision Engine::reject(std::string reason) const {
   return d;
 }
 
-Decision Engine::onStylus(const StylusInput& s) {
+std::optional<std::int64_t> StylusPress::take(const StylusInput& s, const Settings& settings) {
   recent_.push_back(s);
-  while (!recent_.empty() && s.tNs - recent_.front().tNs > 3 * settings_.stillWindowNs + settings_.longPressNs)
+  while (!recent_.empty() && s.tNs - recent_.front().tNs > 3 * settings.stillWindowNs + settings.longPressNs)
     recent_.pop_front();
-  Decision d;
   if (s.button && !pressed_) {
     pressed_ = true;
     pressedAt_ = s.tNs;
   } else if (!s.button && pressed_) {
     pressed_ = false;
-    const std::int64_t held = s.tNs - pressedAt_;
+    return s.tNs - pressedAt_;
+  }
+  return std::nullopt;
+}
+
+std::vector<const StylusInput*> StylusPress::window(std::int64_t releaseNs, const Settings& settings) const {
+  std::vector<const StylusInput*> out;
+  for (const StylusInput& s : recent_)
+    if (s.tNs >= pressedAt_ - settings.stillWindowNs && s.tNs <= releaseNs) out.push_back(&s);
+  return out;
+}
+
+Decision Engine::onStylus(const StylusInput& s) {
+  Decision d;
+  if (const auto heldFor = press_.take(s, settings_)) {
+    const std::int64_t held = *heldFor;
     if (held >= settings_.undoPressNs) return undo();
     if (held >= settings_.longPressNs)
       d = decideEndRows();
@@ -252,14 +266,12 @@ Decision Engine::decidePoint(const StylusInput& release) {
     return reject("now measure with the caliper: " + prompt());
   }
   // The still samples just before the press (and while it was held).
-  std::vector<const StylusInput*> window;
-  for (const StylusInput& s : recent_)
-    if (s.tNs >= pressedAt_ - settings_.stillWindowNs && s.tNs <= release.tNs) window.push_back(&s);
+  const std::vector<const StylusInput*> window = press_.window(release.tNs, settings_);
   const rules::Press press = rules::settle(window, settings_);
   if (press.refusal) return reject(*press.refusal);
   const rules::Candidate candidate{st, press.mean, items_, settings_};
   // In this order: the first rule that refuses names the problem; the later ones are not run.
-  if (auto refusal = rules::doublePress(candidate, pressedAt_, lastAcceptedReleaseNs_)) return reject(*refusal);
+  if (auto refusal = rules::doublePress(candidate, press_.pressedAt(), lastAcceptedReleaseNs_)) return reject(*refusal);
   using Rule = rules::Refusal (*)(const rules::Candidate&);
   for (const Rule rule :
        {&rules::boardAxes, &rules::rowDirection, &rules::rowStart, &rules::evenSpacing, &rules::onMidrib})

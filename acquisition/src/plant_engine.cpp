@@ -228,19 +228,9 @@ PlantDecision PlantEngine::fromLeaf(int node, const Decision& leafDecision) cons
 }
 
 PlantDecision PlantEngine::onStylus(const StylusInput& s) {
-  recent_.push_back(s);
-  while (!recent_.empty() && s.tNs - recent_.front().tNs > 3 * settings_.stillWindowNs + settings_.longPressNs)
-    recent_.pop_front();
   // The press as the plant sees it (also inside a full leaf: a very long press there with
   // nothing of the leaf to undo undoes the plant's last action).
-  std::optional<std::int64_t> held;
-  if (s.button && !pressed_) {
-    pressed_ = true;
-    pressedAt_ = s.tNs;
-  } else if (!s.button && pressed_) {
-    pressed_ = false;
-    held = s.tNs - pressedAt_;
-  }
+  const std::optional<std::int64_t> held = press_.take(s, settings_);
   if (const int node = leafNode()) {
     Engine& e = leafEngine(node);
     const bool hadActions = !e.items().empty() || e.rowsEnded();
@@ -265,15 +255,13 @@ PlantDecision PlantEngine::decidePoint(const StylusInput& release) {
     if (st.what == PlantWhat::Done) return reject("the plant is complete: nothing more to point at");
     return reject("now measure with the caliper: " + prompt());
   }
-  std::vector<const StylusInput*> window;
-  for (const StylusInput& s : recent_)
-    if (s.tNs >= pressedAt_ - settings_.stillWindowNs && s.tNs <= release.tNs) window.push_back(&s);
+  const std::vector<const StylusInput*> window = press_.window(release.tNs, settings_);
   const rules::Press press = rules::settle(window, settings_);
   if (press.refusal) return reject(*press.refusal);
   std::optional<rules::Point> previous;
   for (auto it = items_.rbegin(); it != items_.rend() && !previous; ++it)
     if (isStylusItem(it->what)) previous = at(*it);
-  if (auto r = rules::doublePressNear(press.mean, previous, pressedAt_, lastAcceptedReleaseNs_, settings_))
+  if (auto r = rules::doublePressNear(press.mean, previous, press_.pressedAt(), lastAcceptedReleaseNs_, settings_))
     return reject(*r);
   // The plant's own rules, in the words of the plant frame and the leaf's pose.
   std::vector<Eigen::Vector3d> marks;

@@ -39,19 +39,15 @@ struct Desk {
   bool stop = false;
 };
 
-// The virtual technician: waits for the station's answer to each action (or, when none comes,
-// for as long as a person would before trying again), then does what the plant says.
+// The virtual technician: waits for the station's answer to each action (AnswerWait), then does
+// what the plant says.
 class PlantTechnician {
  public:
   PlantTechnician(SimulatedRig& rig, Desk& desk, const model::PlantMarkers& plant, double speed)
       : rig_(rig), desk_(desk), plant_(plant), speed_(speed) {}
 
   void run(PlantRunStats& stats) {
-    const auto basePatience = std::chrono::duration<double>(2.5 / speed_ + 0.4);
-    std::chrono::duration<double> slowestAnswer{0};
-    std::uint64_t versionAtAction = ~0ULL;
-    bool awaiting = false, idle = false;
-    Clock::time_point idleSince{};
+    AnswerWait wait(speed_);
     while (true) {
       PlantStep step;
       LeafChoice choice;
@@ -64,26 +60,7 @@ class PlantTechnician {
         choice = desk_.choice;
         version = desk_.version;
       }
-      if (!rig_.hand().idle()) {
-        idle = false;
-        continue;
-      }
-      const auto now = Clock::now();
-      if (!idle) {
-        idle = true;
-        idleSince = now;
-      }
-      if (now - idleSince < std::chrono::milliseconds(10)) continue;
-      const bool answered = version != versionAtAction;
-      if (answered && awaiting) {
-        awaiting = false;
-        slowestAnswer = std::max(slowestAnswer, std::chrono::duration<double>(now - idleSince));
-      }
-      if (!answered && now - idleSince < std::max(basePatience, 4 * slowestAnswer)) continue;
-      versionAtAction = version;
-      awaiting = true;
-      act(step, choice, stats);
-      idle = false;
+      if (wait.due(version, rig_.hand().idle())) act(step, choice, stats);
     }
   }
 

@@ -54,7 +54,7 @@ std::string SimulatedRig::caliperSpec() const {
 }
 
 // ---- virtual operator -----------------------------------------------------------------------
-VirtualOperator::VirtualOperator(SimulatedRig& rig, model::MarkerSet leaf, SimulationOptions o)
+VirtualOperator::VirtualOperator(SimulatedRig& rig, model::MarkerSet leaf, const SimulationOptions& o)
     : rig_(rig), leaf_(std::move(leaf)), options_(o), rng_(o.seed * 7919 + 3) {}
 
 VirtualOperator::~VirtualOperator() {
@@ -171,19 +171,32 @@ void VirtualOperator::act(const Snapshot& s) {
   measure(truthThickness(st.what, st.row, st.col));
 }
 
+bool AnswerWait::due(std::uint64_t version, bool handIdle) {
+  if (!handIdle) {
+    idle_ = false;
+    return false;
+  }
+  const auto now = Clock::now();
+  if (!idle_) {
+    idle_ = true;
+    idleSince_ = now;  // the gesture has ended (a caliper reading is sent at once)
+  }
+  // Give the release time to reach the station, then act on what it says.
+  if (now - idleSince_ < std::chrono::milliseconds(10)) return false;
+  const bool answered = version != versionAtAction_;
+  if (answered && awaiting_) {
+    awaiting_ = false;
+    slowestAnswer_ = std::max(slowestAnswer_, std::chrono::duration<double>(now - idleSince_));
+  }
+  if (!answered && now - idleSince_ < std::max(base_, 4 * slowestAnswer_)) return false;
+  versionAtAction_ = version;
+  awaiting_ = true;
+  idle_ = false;
+  return true;
+}
+
 void VirtualOperator::run() {
-  using Clock = std::chrono::steady_clock;
-  // A technician waits for the station's answer before acting again, and acts again only when
-  // none comes (a press the digitizer lost). How long is "none" depends on the station: at
-  // least 2.5 s of the simulation's time, and four times the slowest answer seen so far, so a
-  // slow station (a loaded PC, a sanitizer) is waited for instead of answered twice — a second
-  // caliper reading would land on the next step, be undone, and so on.
-  const auto basePatience = std::chrono::duration<double>(2.5 / options_.speed + 0.4);
-  std::chrono::duration<double> slowestAnswer{0};
-  std::uint64_t versionAtAction = ~0ull;
-  bool awaiting = false;
-  Clock::time_point idleSince{};
-  bool idle = false;
+  AnswerWait wait(options_.speed);
   while (!stop_) {
     std::optional<Snapshot> snap;
     {
@@ -194,28 +207,7 @@ void VirtualOperator::run() {
     if (stop_) break;
     if (!snap) continue;
     if (snap->complete || snap->status != "open") break;
-    if (!rig_.hand().idle()) {
-      idle = false;
-      continue;
-    }
-    const auto now = Clock::now();
-    if (!idle) {
-      idle = true;
-      idleSince = now;  // the gesture has ended (a caliper reading is sent at once)
-    }
-    // Give the release time to reach the station, then act on what it says.
-    if (now - idleSince < std::chrono::milliseconds(10)) continue;
-    const bool answered = snap->version != versionAtAction;
-    if (answered && awaiting) {
-      awaiting = false;
-      slowestAnswer = std::max(slowestAnswer, std::chrono::duration<double>(now - idleSince));
-    }
-    const auto patience = std::max(basePatience, 4 * slowestAnswer);
-    if (!answered && now - idleSince < patience) continue;
-    versionAtAction = snap->version;
-    awaiting = true;
-    act(*snap);
-    idle = false;
+    if (wait.due(snap->version, rig_.hand().idle())) act(*snap);
   }
 }
 

@@ -101,6 +101,23 @@ struct CaliperInput {
   std::string raw;
 };
 
+// The stylus between samples as an engine follows it (the leaf's and the plant's): the recent
+// samples and the button.
+class StylusPress {
+ public:
+  // Takes a sample; when it releases the button, how long the button was held.
+  std::optional<std::int64_t> take(const StylusInput& s, const Settings& settings);
+  // The samples a press ending at releaseNs settles from: from stillWindow before the press
+  // to the release.
+  [[nodiscard]] std::vector<const StylusInput*> window(std::int64_t releaseNs, const Settings& settings) const;
+  [[nodiscard]] std::int64_t pressedAt() const { return pressedAt_; }
+
+ private:
+  std::deque<StylusInput> recent_;
+  bool pressed_ = false;
+  std::int64_t pressedAt_ = 0;
+};
+
 class Engine {
  public:
   explicit Engine(Settings settings = {});
@@ -151,9 +168,7 @@ class Engine {
   Item retakeOld_;
   std::vector<int> actions_;  // applied actions in order: index into items_, or -1 = rows ended
   bool rowsEnded_ = false;
-  std::deque<StylusInput> recent_;
-  bool pressed_ = false;
-  std::int64_t pressedAt_ = 0;
+  StylusPress press_;
   std::int64_t lastAcceptedReleaseNs_ = -1;
   std::int64_t lastReadingAt_ = -1;
   double lastReading_ = -1;

@@ -21,7 +21,6 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <optional>
 #include <string>
@@ -153,9 +152,7 @@ class PlantEngine {
   std::map<int, LeafChoice> choices_;
   std::vector<Action> actions_;
   bool landmarksEnded_ = false, plantEnded_ = false;
-  std::deque<StylusInput> recent_;
-  bool pressed_ = false;
-  std::int64_t pressedAt_ = 0;
+  StylusPress press_;
   std::int64_t lastAcceptedReleaseNs_ = -1;
   std::int64_t lastReadingAt_ = -1;
   double lastReading_ = -1;

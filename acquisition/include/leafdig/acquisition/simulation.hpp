@@ -7,6 +7,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -51,12 +52,32 @@ class SimulatedRig {
   double digitizerRateHz_ = 120.0;
 };
 
+// How a virtual technician waits for the station's answer before acting again: until the hand
+// is still, its release has had 10 ms to reach the station and the station's state has moved
+// on — or, when no answer comes (a press the digitizer lost), for as long as a person would: at
+// least 2.5 s of the simulation's time and four times the slowest answer seen so far, so a slow
+// station (a loaded PC, a sanitizer) is waited for instead of answered twice — a second
+// caliper reading would land on the next step, be undone, and so on.
+class AnswerWait {
+ public:
+  using Clock = std::chrono::steady_clock;
+  explicit AnswerWait(double speed) : base_(2.5 / speed + 0.4) {}
+  // True when it is time to act; `version` is the station's state now. The caller acts then.
+  [[nodiscard]] bool due(std::uint64_t version, bool handIdle);
+
+ private:
+  std::chrono::duration<double> base_, slowestAnswer_{0};
+  std::uint64_t versionAtAction_ = ~0ULL;
+  bool awaiting_ = false, idle_ = false;
+  Clock::time_point idleSince_{};
+};
+
 class VirtualOperator {
  public:
   struct Stats {
     int gestures = 0, doubleTaps = 0, outOfOrder = 0, wrongPointsUndone = 0, bounces = 0, endRows = 0;
   };
-  VirtualOperator(SimulatedRig& rig, model::MarkerSet leaf, SimulationOptions options);
+  VirtualOperator(SimulatedRig& rig, model::MarkerSet leaf, const SimulationOptions& options);
   ~VirtualOperator();
   void observe(const Snapshot& s);  // the station's latest state (any thread)
   void start();
