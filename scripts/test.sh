@@ -94,7 +94,7 @@ bench_smoke() {
 bench_smoke build/ci/tests/leafdig_bench --benchmark_filter='Rebuild(Preview|Paper)/1|SyntheticLeafAndTruth/0|AreaInterval/1'
 bench_smoke build/ci/tests/leafdig_codec_bench
 bench_smoke build/ci/tests/leafdig_leaf2d_bench
-bench_smoke build/ci/tests/leafdig_plant_bench --benchmark_filter='PlantAssemble|PlantSilhouette/0|PlantEncode/(5|6)'
+bench_smoke build/ci/tests/leafdig_plant_bench --benchmark_filter='PlantAssemble|PlantSilhouette/0|PlantEncode/(5|6)|SurveyedPlantExport/0'
 bench_smoke build/ci/tests/leafdig_mesh_bench --benchmark_filter='AdaptiveLeaf/30|SeedLeaf|SeedAxisOrgan/170'
 bench_smoke env LEAFDIG_BENCH_LEAVES=200 build/ci/tests/leafdig_capture_bench
 # The lab server's push, incremental push and listing, on a PostgreSQL cluster of its own.

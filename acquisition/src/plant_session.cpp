@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
+#include "chain_check.hpp"
 #include "item_json.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/errors.hpp"
@@ -64,18 +65,13 @@ PlantItem plantItemFrom(const json& j, const std::string& raw) {
   return i;
 }
 
-db::Projection projectionOf(const json& item, bool stylus, const std::string& raw) {
-  db::Projection p;
-  p.kind = stylus ? db::Projection::Kind::Marker : db::Projection::Kind::Thickness;
-  p.what = item.at("what").get<std::string>();
-  if (!item.at("row").is_null()) p.row = item.at("row").get<int>();
-  if (!item.at("col").is_null()) p.col = item.at("col").get<int>();
-  if (stylus)
-    for (std::size_t k = 0; k < 3; ++k) p.positionMm[k] = item.at("position_mm").at(k).get<double>();
-  else
-    p.valueMm = item.at("value_mm").get<double>();
-  p.raw = raw;
-  return p;
+// What an `accepted` event puts in the projection: the store's own reading of its payload.
+std::optional<db::Projection> projectionOf(const std::string& payloadJson, const std::string& raw) {
+  db::Event e;
+  e.kind = "accepted";
+  e.payloadJson = payloadJson;
+  e.raw = raw;
+  return db::changeOf(e).projection;
 }
 
 // The key of an item currently held: which event accepted it is kept under this.
@@ -84,6 +80,10 @@ std::string keyOf(const PlantItem& i) {
 }
 std::string keyOf(int node, const Item& i) {
   return leafWhat(node, i) + ":" + std::to_string(i.row) + ":" + std::to_string(i.col);
+}
+// An accepted decision's key: the plant's item, or a full leaf's with its node.
+std::string keyOf(const PlantDecision& d) {
+  return d.kind == PlantDecision::Kind::Leaf ? keyOf(d.node, d.leaf.item) : keyOf(d.item);
 }
 
 json choiceJson(int node, const LeafChoice& c) {
@@ -157,8 +157,10 @@ std::int64_t PlantCaptureSession::create(db::Store& store, const PlantSessionSet
                                   setupToJson(setup));
 }
 
-PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const std::vector<db::Event>& events) {
+PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const std::vector<db::Event>& events,
+                                        std::map<std::string, std::int64_t>* seqs) {
   PlantEngine engine(setup.protocol, setup.settings);
+  std::map<std::string, std::int64_t> held;        // the event that accepted each current item
   std::map<std::int64_t, PlantDecision> accepted;  // by seq: what an `undone` names
   for (const db::Event& e : events) {
     const auto fail = [&](const std::string& why) {
@@ -181,11 +183,13 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
           d.item = plantItemFrom(p, e.raw);
         }
         accepted[e.seq] = d;
+        held[keyOf(d)] = e.seq;
       } else if (e.kind == "undone") {
         const auto it = accepted.find(p.at("seq").get<std::int64_t>());
         if (it == accepted.end())
           fail("it undoes event " + std::to_string(p.at("seq").get<std::int64_t>()) + ", which accepted nothing");
         d = it->second;
+        held.erase(keyOf(d));
         if (d.kind == PlantDecision::Kind::Leaf)
           d.leaf.kind = Decision::Kind::Undone;
         else
@@ -211,48 +215,40 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
       fail(x.what());
     }
   }
+  if (seqs) *seqs = std::move(held);
   return engine;
 }
 
-PlantCaptureSession::PlantCaptureSession(db::Store& store, std::int64_t id)
-    : store_(store), id_(id), engine_(m::defaultPlantProtocol()) {
-  const auto info = store_.session(id);
-  if (!info) throw SessionError("no session " + std::to_string(id) + " in " + store_.path());
+namespace {
+
+// The setup of a stored plant session that may go on: SessionError when it is not one.
+PlantSessionSetup openableSetup(db::Store& store, std::int64_t id) {
+  const auto info = store.session(id);
+  if (!info) throw SessionError("no session " + std::to_string(id) + " in " + store.path());
   if (info->kind != "plant")
     throw SessionError("session " + std::to_string(id) + " captures one leaf, not a plant: `leafdig sessions resume " +
                        std::to_string(id) + "` goes on with it");
   if (info->status != "open")
     throw SessionError("plant session " + std::to_string(id) + " is " + info->status + ": only open sessions go on");
-  setup_ = setupFromJson(info->settingsJson);
-  setup_.project = info->project;
-  setup_.plant = info->plant;
-  setup_.operatorName = info->operatorName;
-  setup_.station = info->station;
-  const db::ChainReport chain = store_.verify(id);
-  if (!chain.ok) throw SessionError("plant session " + std::to_string(id) + " does not verify: " + chain.problem);
+  PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
+  setup.project = info->project;
+  setup.plant = info->plant;
+  setup.operatorName = info->operatorName;
+  setup.station = info->station;
+  return setup;
+}
+
+}  // namespace
+
+PlantCaptureSession::PlantCaptureSession(db::Store& store, std::int64_t id)
+    : store_(store), id_(id), setup_(openableSetup(store, id)), engine_(setup_.protocol, setup_.settings) {
+  detail::requireChain(store_, id, detail::kCapturedInto);
   rebuild();
 }
 
 void PlantCaptureSession::rebuild() {
-  const std::vector<db::Event> events = store_.events(id_);
-  engine_ = replay(setup_, events);
-  seqs_.clear();
-  std::map<std::int64_t, std::string> keys;
-  for (const db::Event& e : events) {
-    const json p = json::parse(e.payloadJson);
-    if (e.kind == "accepted") {
-      const std::string what = p.at("what").get<std::string>();
-      std::string key = what + ":" + std::to_string(p.value("row", json(nullptr)).is_null() ? 0 : p["row"].get<int>()) +
-                        ":" + std::to_string(p.value("col", json(nullptr)).is_null() ? 0 : p["col"].get<int>());
-      keys[e.seq] = key;
-      seqs_[key] = e.seq;
-    } else if (e.kind == "undone") {
-      seqs_.erase(keys[p.at("seq").get<std::int64_t>()]);
-    } else if (e.kind == "status") {
-      status_ = p.at("status").get<std::string>();
-    }
-  }
-  ended_ = status_ != "open";
+  engine_ = replay(setup_, store_.events(id_), &seqs_);
+  status_ = store_.session(id_)->status;
 }
 
 PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t monoNs, const std::string& raw) {
@@ -278,7 +274,7 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
       ev.kind = "accepted";
       ev.payloadJson = item.dump();
       ev.raw = d.item.raw;
-      ev.projection = projectionOf(item, isStylusItem(d.item.what), d.item.raw);
+      ev.projection = projectionOf(ev.payloadJson, ev.raw);
       key = keyOf(d.item);
       break;
     }
@@ -300,7 +296,7 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
           ev.kind = "accepted";
           ev.payloadJson = item.dump();
           ev.raw = l.item.raw;
-          ev.projection = projectionOf(item, isStylusItem(l.item.what), l.item.raw);
+          ev.projection = projectionOf(ev.payloadJson, ev.raw);
           key = keyOf(d.node, l.item);
           break;
         case Decision::Kind::Undone:
@@ -341,7 +337,7 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
   }
   if (ev.kind == "accepted") seqs_[key] = f.seq;
   if (ev.kind == "undone") seqs_.erase(key);
-  if (engine_.complete() && !ended_) {
+  if (engine_.complete() && !ended()) {
     db::EventInput done;
     done.kind = "status";
     done.monoNs = monoNs;
@@ -349,7 +345,6 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
     done.setsStatus = "complete";
     try {
       f.completeSeq = store_.append(id_, done);
-      ended_ = true;
       status_ = "complete";
     } catch (const db::StoreError& e) {
       f.storeRefused = std::string(e.what()) + ": " + e.remedy();  // written on the next open
@@ -359,35 +354,35 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
 }
 
 PlantFeedback PlantCaptureSession::onStylus(const StylusInput& s) {
-  if (ended_) return {};
+  if (ended()) return {};
   const PlantDecision d = engine_.onStylus(s);
   return commit(d, s.tNs, s.raw);
 }
 
 PlantFeedback PlantCaptureSession::onCaliper(const CaliperInput& c) {
-  if (ended_) return {};
+  if (ended()) return {};
   const PlantDecision d = engine_.onCaliper(c);
   return commit(d, c.tNs, c.raw);
 }
 
 PlantFeedback PlantCaptureSession::undo(std::int64_t monoNs) {
-  if (ended_) return {};
+  if (ended()) return {};
   return commit(engine_.undo(), monoNs, {});
 }
 
 PlantFeedback PlantCaptureSession::end(std::int64_t monoNs) {
-  if (ended_) return {};
+  if (ended()) return {};
   return commit(engine_.end(), monoNs, {});
 }
 
 PlantFeedback PlantCaptureSession::chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs) {
-  if (ended_) return {};
+  if (ended()) return {};
   return commit(engine_.chooseLeaf(node, choice), monoNs, {});
 }
 
 PlantFeedback PlantCaptureSession::abandon(const std::string& why, std::int64_t monoNs) {
   PlantFeedback f;
-  if (ended_) return f;
+  if (ended()) return f;
   db::EventInput ev;
   ev.kind = "status";
   ev.monoNs = monoNs;
@@ -395,67 +390,11 @@ PlantFeedback PlantCaptureSession::abandon(const std::string& why, std::int64_t 
   ev.setsStatus = "abandoned";
   try {
     f.seq = store_.append(id_, ev);
-    ended_ = true;
     status_ = "abandoned";
   } catch (const db::StoreError& e) {
     f.storeRefused = std::string(e.what()) + ": " + e.remedy();
   }
   return f;
-}
-
-const std::vector<std::string>& plantExportFormats() {
-  static const std::vector<std::string> formats{"mtg", "csv", "markers", "json"};
-  return formats;
-}
-
-PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
-                               const std::string& outDir) {
-  if (outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
-  const std::vector<std::string>& all = plantExportFormats();
-  const std::vector<std::string> chosen = formats.empty() ? all : formats;
-  for (const std::string& f : chosen)
-    if (std::find(all.begin(), all.end(), f) == all.end())
-      throw std::invalid_argument("unknown export format '" + f + "' for a plant session: use mtg, csv, markers, json");
-  const auto info = store.session(id);
-  if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());
-  if (info->kind != "plant")
-    throw SessionError("session " + std::to_string(id) +
-                       " captured one leaf: `leafdig sessions export` without a "
-                       "plant's formats writes it");
-  const db::ChainReport chain = store.verify(id);
-  if (!chain.ok)
-    throw SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
-                       std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem +
-                       "): it cannot be exported");
-  const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
-  const PlantEngine engine = PlantCaptureSession::replay(setup, store.events(id));
-  m::PlantMarkers plant = engine.captured(info->plant);
-  plant.date = setup.date;
-  if (!plant.date) plant.date = m::parseSurveyDate(info->createdUtc.substr(0, 10));
-  PlantExport out;
-  try {
-    out.survey = m::surveyPlant(plant);
-  } catch (const m::InputError& e) {
-    throw m::InputError("plant session " + std::to_string(id) + " holds no whole plant yet (" + e.what() +
-                        "): go on with `leafdig plant capture --resume " + std::to_string(id) + "`");
-  }
-  const m::SurveyDate day = plant.date.value_or(m::SurveyDate{2000, 1, 1});
-  const std::string base = outDir + "/session-" + std::to_string(id);
-  std::vector<std::pair<std::string, std::string>> files;
-  for (const std::string& f : chosen) {
-    if (f == "mtg") files.emplace_back(base + ".mtg", m::encodeSurveyMtg(out.survey, day));
-    if (f == "csv") files.emplace_back(base + ".plant.csv", m::encodeSurveyCsv(out.survey, day));
-    if (f == "markers") files.emplace_back(base + ".plant-markers.json", m::plantMarkersToJson(plant));
-    if (f == "json") files.emplace_back(base + ".survey.json", m::plantSurveyToJson(out.survey) + "\n");
-  }
-  std::filesystem::create_directories(outDir);
-  for (const auto& [path, bytes] : files) {
-    m::writeFileAtomically(path, bytes);
-    const auto dot = path.find('.', path.rfind('/') + 1);
-    (void)store.recordExport(id, path, path.substr(dot + 1));
-    out.written.push_back(path);
-  }
-  return out;
 }
 
 }  // namespace leafdig::acquisition

@@ -5,6 +5,7 @@
 #include <deque>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <variant>
 
 #include "leafdig/acquisition/device_set.hpp"
@@ -193,6 +194,17 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
   stats.readings = technicianStats.readings;
   stats.choices = technicianStats.choices;
   return stats;
+}
+
+PlantSessionSetup simulatedPlantSetup(model::PlantMarkers plant) {
+  PlantSessionSetup setup;
+  setup.plant = plant.plant.empty() ? "plant" : plant.plant;
+  setup.date = plant.date;
+  setup.simulatedPlant = std::move(plant);
+  setup.simulated = true;
+  setup.digitizer = "fastrak:simulated";
+  setup.caliper = "sylvac:simulated";
+  return setup;
 }
 
 }  // namespace leafdig::acquisition

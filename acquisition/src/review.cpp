@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "chain_check.hpp"
 #include "item_json.hpp"
 #include "leafdig/acquisition/preview.hpp"
 #include "leafdig/model/files.hpp"
@@ -18,6 +19,7 @@
 namespace leafdig::acquisition {
 namespace {
 
+using detail::requireChain;
 using nlohmann::json;
 
 db::SessionInfo infoOrThrow(const db::EventStore& store, std::int64_t id) {
@@ -26,14 +28,6 @@ db::SessionInfo infoOrThrow(const db::EventStore& store, std::int64_t id) {
     throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe() +
                        ": 'leafdig sessions list' shows them");
   return *info;
-}
-
-void requireChain(const db::EventStore& store, std::int64_t id, const std::string& doing) {
-  const db::ChainReport chain = store.verify(id);
-  if (!chain.ok)
-    throw SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
-                       std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + "): it cannot be " +
-                       doing);
 }
 
 std::string csvText(const std::string& s) {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "chain_check.hpp"
 #include "item_json.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/names/name_table.hpp"
@@ -281,10 +282,7 @@ CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store
     throw SessionError("session " + std::to_string(id) + " has unreadable settings: " + e.what());
   }
   // The log captured into must be intact: its pages are read and its chain recomputed.
-  if (const db::ChainReport chain = store_.verify(id_); !chain.ok)
-    throw SessionError("session " + std::to_string(id) + "'s log does not verify at event " +
-                       std::to_string(chain.firstBadSeq.value_or(0)) + " (" + chain.problem +
-                       "): nothing is added to it; 'leafdig sessions verify' shows it to a curator");
+  detail::requireChain(store_, id_, detail::kCapturedInto);
   const std::vector<db::Event> events = store_.events(id_);
   engine_ = replay(setup_.settings, events, &seqs_);
   // An operator pause survives a restart: the session opens paused until resume().

@@ -3,9 +3,16 @@
 // command: docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
+
 #include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/io/survey_export.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
 #include "leafdig/model/plant/plant.hpp"
+#include "leafdig/model/plant/surveyed_plant.hpp"
+#include "leafdig/model/study/synthetic_plant.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
 
 namespace {
 
@@ -158,6 +165,67 @@ void BM_GrowthSeries60(benchmark::State& state) {
   state.counters["MB"] = static_cast<double>(bytes) / 1e6;
 }
 BENCHMARK(BM_GrowthSeries60)->Unit(benchmark::kMillisecond);
+
+// A plant digitized in place (issue 28's target: a 20-node plant with 7 full leaves exported in
+// ≤ 200 ms): a synthetic plant of 20 nodes (every third leaf in full, and the largest: 7 full,
+// 12 quick from the built-in shape), surveyed and its MTG and CSV encoded (arg 0: `sessions
+// export --format mtg,csv,json` after the replay, not included); arg 1, 2:
+// also made a model, meshed at the preview (1) or export (2, `sessions export`'s) preset and
+// its GLB and CARIBU files encoded. Writing is left out.
+void BM_SurveyedPlantExport(benchmark::State& state) {
+  m::SyntheticPlantSpec spec;
+  spec.nodes = 20;
+  spec.seed = 3;
+  spec.date = m::SurveyDate{2026, 6, 12};
+  const m::PlantMarkers markers = m::synthesizePlant(spec).markers;
+  const std::vector<std::filesystem::path> paths{"p.glb", "p.can"};
+  const m::PlantExportOptions options{m::CanUnit::Metre, "bench"};
+  const m::LibraryLeaf sample{m::kSampleShapeSource, m::sampleLeafShape()};  // built once, as in the CLI
+  int full = 0;
+  // Where the time goes, per stage (ms per iteration), beside the total.
+  double surveyMs = 0, modelMs = 0, meshMs = 0, metricsMs = 0, encodeMs = 0;
+  using Clock = std::chrono::steady_clock;
+  const auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  };
+  const bool model = state.range(0) > 0;
+  m::MeshOptions meshOptions;
+  meshOptions.resolution = m::MeshResolution::preset(state.range(0) == 1 ? "preview" : "export");
+  for (auto _ : state) {
+    auto t = Clock::now();
+    const m::PlantSurvey survey = m::surveyPlant(markers);
+    surveyMs += since(t);
+    t = Clock::now();
+    benchmark::DoNotOptimize(m::encodeSurveyMtg(survey, *spec.date));
+    benchmark::DoNotOptimize(m::encodeSurveyCsv(survey, *spec.date));
+    benchmark::DoNotOptimize(m::plantSurveyToJson(survey));
+    encodeMs += since(t);
+    full = static_cast<int>(std::count_if(survey.leaves.begin(), survey.leaves.end(),
+                                          [](const m::SurveyedLeaf& l) { return l.kind == m::LeafKind::Full; }));
+    if (!model) continue;
+    t = Clock::now();
+    const m::Plant plant = m::surveyedPlant(survey, {}, sample);
+    modelMs += since(t);
+    t = Clock::now();
+    const m::LeafMesh mesh = m::meshPlant(plant, meshOptions);
+    meshMs += since(t);
+    t = Clock::now();
+    const m::PlantMetrics metrics = m::computePlantMetrics(plant, mesh, Eigen::Vector3d::UnitZ());
+    metricsMs += since(t);
+    t = Clock::now();
+    benchmark::DoNotOptimize(m::encodePlantFiles(paths, plant, mesh, metrics, options));
+    encodeMs += since(t);
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["survey_ms"] = surveyMs / n;
+  state.counters["model_ms"] = modelMs / n;
+  state.counters["mesh_ms"] = meshMs / n;
+  state.counters["metrics_ms"] = metricsMs / n;
+  state.counters["encode_ms"] = encodeMs / n;
+  state.counters["full_leaves"] = full;
+  state.counters["nodes"] = spec.nodes;
+}
+BENCHMARK(BM_SurveyedPlantExport)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

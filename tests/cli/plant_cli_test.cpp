@@ -3,6 +3,7 @@
 // CARIBU readers of docs/plants.md "Formats"), reproducibility, bad plans, growth series, the organ library.
 #include <csignal>
 #include <random>
+#include <set>
 #include <thread>
 
 #include "../support/strict_formats.hpp"
@@ -774,6 +775,142 @@ TEST_F(PlantCli, APlantCaptureKilledMidwayLosesNothingAcknowledgedAndResumesToTh
   ASSERT_EQ(got.at("leaves").size(), want.at("leaves").size());
   for (std::size_t k = 0; k < got.at("leaves").size(); ++k)
     EXPECT_EQ(got["leaves"][k]["kind"], want["leaves"][k]["kind"]);
+}
+
+TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlantBuildTakes) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --seed 3 --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::int64_t id = jsonLines(r.out).front().at("session");
+  const fs::path out = dir_ / "out";
+  const Result exported = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " +
+                                  quote(out) + " --format json,glb,obj,can,model,plan --json");
+  ASSERT_EQ(exported.exitCode, 0) << exported.err;
+  const json report = json::parse(exported.out);
+  const std::string base = (out / ("session-" + std::to_string(id))).string();
+  std::set<std::string> written;
+  for (const json& f : report.at("outputs")) written.insert(f.get<std::string>());
+  for (const std::string ext : {".survey.json", ".glb", ".obj", ".can", ".opt", ".plant-model.json", ".plant.json"})
+    EXPECT_EQ(written.count(base + ext), 1U) << ext;
+  EXPECT_EQ(written.count(base + ".leaves/leaf-2.markers.json"), 1U);
+  // The sample's two quick leaves ask for "lower" leaves; this station approved none.
+  ASSERT_EQ(report.at("notes").size(), 2U) << report;
+  for (const json& n : report.at("notes")) {
+    EXPECT_NE(n.get<std::string>().find("built-in sample shape"), std::string::npos) << n;
+  }
+
+  // glTF: the Khronos validator; the stem and the three leaves with points (nodes 2, 3, 4).
+  const Result check = run("node " + quote(std::string(LEAFDIG_SOURCE_DIR) + "/tests/tools/validate-gltf.mjs") + " " +
+                           quote(base + ".glb"));
+  ASSERT_EQ(check.exitCode, 0) << check.out << check.err;
+  EXPECT_EQ(json::parse(check.out)["numErrors"], 0) << check.out;
+  const std::string glb = slurp(base + ".glb");
+  for (const char* node :
+       {"\"plant/stem\"", "\"plant/leaf-2/blade\"", "\"plant/leaf-3/blade\"", "\"plant/leaf-4/blade\""})
+    EXPECT_NE(glb.find(node), std::string::npos) << node;
+  EXPECT_EQ(glb.find("\"plant/leaf-1/"), std::string::npos);  // node 1 has no leaf
+  ASSERT_EQ(run("command -v assimp").exitCode, 0) << "assimp is not installed: run scripts/setup.sh";
+  EXPECT_EQ(run("assimp info " + quote(base + ".obj")).exitCode, 0);
+  // CARIBU: the strict reader; the stem (leaf field 0) and leaves 2, 3 and 4.
+  const auto can =
+      leafdig::test::readCanStrictly(slurp(base + ".can"), leafdig::test::readOptStrictly(slurp(base + ".opt")));
+  std::set<int> leaves;
+  for (const auto& t : can) leaves.insert(t.leaf);
+  EXPECT_EQ(leaves, (std::set<int>{0, 2, 3, 4}));
+
+  // The full leaf's area in the model is the survey's (the same markers, meshed).
+  const json survey = json::parse(slurp(base + ".survey.json"));
+  const json model = json::parse(slurp(base + ".plant-model.json"));
+  double fullArea = 0.0;
+  for (const json& l : survey.at("leaves"))
+    if (l.at("node") == 2) fullArea = l.at("area_mm2").get<double>();
+  ASSERT_GT(fullArea, 0.0);
+  for (const json& l : model.at("leaves")) {
+    if (l.at("rank") == 2) {
+      EXPECT_NEAR(l.at("area_mm2").get<double>(), fullArea, 0.01 * fullArea);
+      EXPECT_EQ(l.at("source"), "digitized");
+    }
+  }
+
+  // The plan and its leaves' files: valid against the shipped schemas (Ajv).
+  const std::string schemas = std::string(LEAFDIG_SOURCE_DIR) + "/data/schema/";
+  const std::string ajv = "node " + quote(std::string(LEAFDIG_SOURCE_DIR) + "/tests/tools/validate-schema.mjs") + " ";
+  const Result planValid =
+      run(ajv + quote(schemas + "leafdig.plant-1.schema.json") + " " + quote(base + ".plant.json"));
+  EXPECT_EQ(planValid.exitCode, 0) << planValid.out << planValid.err;
+  const Result leafValid =
+      run(ajv + quote(schemas + "leafdig.markers-1.schema.json") + " " + quote(base + ".leaves/leaf-3.markers.json"));
+  EXPECT_EQ(leafValid.exitCode, 0) << leafValid.out << leafValid.err;
+  // The plan: plant build takes it as it is (from another folder), with every leaf, and the
+  // full leaf keeps its area; its stem is as tall as the one digitized.
+  const Result built = leafdig("plant build " + quote(base + ".plant.json") + " -o " + quote(dir_ / "again.glb") +
+                               " --resolution preview --json");
+  ASSERT_EQ(built.exitCode, 0) << built.err;
+  const json state = json::parse(built.out).at("states").at(0);
+  ASSERT_EQ(state.at("leaves").size(), 3U);
+  for (const json& l : state.at("leaves")) {
+    if (l.at("rank") == 2) {
+      EXPECT_NEAR(l.at("area_mm2").get<double>(), fullArea, 0.02 * fullArea);
+    }
+  }
+  double along = 0.0;  // the polyline through collar and nodes, as the plan measures it
+  std::array<double, 3> below{0, 0, 0};
+  for (const json& n : survey.at("nodes")) {
+    double d2 = 0;
+    for (std::size_t c = 0; c < 3; ++c) d2 += std::pow(n.at("point_mm")[c].get<double>() - below[c], 2);
+    along += std::sqrt(d2);
+    for (std::size_t c = 0; c < 3; ++c) below[c] = n.at("point_mm")[c].get<double>();
+  }
+  EXPECT_NEAR(state.at("stem_height_mm").get<double>(), along, 1e-6);
+  // A format the plant does not have is named, with the ones it has.
+  const Result bad = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " +
+                             quote(dir_ / "bad") + " --format gltf");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("glb, obj, ply, stl, can, model or plan"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
+TEST_F(PlantCli, RepeatSurveysOfOnePlantAreListedByTheirDay) {
+  const fs::path db = dir_ / "station.sqlite";
+  // The sample plant surveyed in July, then again dated by its file (12 June); another plant.
+  ASSERT_EQ(leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --date 2026-07-01").exitCode, 0);
+  ASSERT_EQ(leafdig("plant capture --simulate --db " + quote(db) + " --speed 20").exitCode, 0);
+  ASSERT_EQ(
+      leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --plant-markers " + quote(synthPlant(4, 3)))
+          .exitCode,
+      0);
+  const Result r = leafdig("plant surveys tobacco-p12 --db " + quote(db) + " --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j.at("plant"), "tobacco-p12");
+  const json& surveys = j.at("surveys");
+  ASSERT_EQ(surveys.size(), 2U) << j;
+  EXPECT_EQ(surveys[0].at("date"), "2026-06-12");
+  EXPECT_EQ(surveys[0].at("session"), 2);
+  EXPECT_EQ(surveys[1].at("date"), "2026-07-01");
+  EXPECT_EQ(surveys[1].at("session"), 1);
+  for (const json& s : surveys) {
+    EXPECT_EQ(s.at("status"), "complete");
+    EXPECT_TRUE(s.at("verified").get<bool>());
+    EXPECT_EQ(s.at("nodes"), 5);
+    EXPECT_EQ(s.at("leaves"), (json{{"full", 1}, {"quick", 2}, {"none", 2}}));
+  }
+  // Each survey's MTG carries its own day.
+  const Result exported =
+      leafdig("sessions export 1 --db " + quote(db) + " --out " + quote(dir_ / "x") + " --format mtg");
+  ASSERT_EQ(exported.exitCode, 0) << exported.err;
+  EXPECT_NE(slurp(dir_ / "x" / "session-1.mtg").find("01/07/2026"), std::string::npos);
+  // In words; a plant never surveyed has none; no file, no listing.
+  const Result text = leafdig("plant surveys tobacco-p12 --db " + quote(db));
+  EXPECT_NE(text.out.find("2 survey(s)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("2026-06-12  session 2  complete  5 nodes (1 full, 2 quick, 2 without a leaf)"),
+            std::string::npos)
+      << text.out;
+  EXPECT_EQ(json::parse(leafdig("plant surveys nobody --db " + quote(db) + " --json").out).at("surveys").size(), 0U);
+  const Result missing = leafdig("plant surveys tobacco-p12 --db " + quote(dir_ / "none.sqlite"));
+  EXPECT_EQ(missing.exitCode, 2);
+  EXPECT_NE(missing.err.find("no station database"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(dir_ / "none.sqlite"));
 }
 
 TEST_F(PlantCli, PlantCaptureRefusesWhatItCannotDoInWordsBeforeTheStoreIsTouched) {

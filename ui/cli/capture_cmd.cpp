@@ -17,6 +17,7 @@
 
 #include "commands.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
+#include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
@@ -489,11 +490,13 @@ int runExport(db::EventStore& store, const CaptureOptions& o) {
   if (const auto info = store.session(o.id); info && info->kind == "plant") {
     const acq::PlantExport p = acq::exportPlantSession(store, o.id, o.formats, o.out);
     if (o.json) {
-      std::cout << json{{"session", o.id}, {"kind", "plant"}, {"outputs", p.written}}.dump() << "\n";
+      std::cout << json{{"session", o.id}, {"kind", "plant"}, {"outputs", p.written}, {"notes", p.notes}}.dump()
+                << "\n";
     } else {
       std::cout << "plant session " << o.id << ": " << p.survey.nodes.size() << " nodes, " << p.survey.leaves.size()
                 << " leaves\n";
       for (const auto& f : p.written) std::cout << "  wrote " << f << "\n";
+      for (const auto& n : p.notes) std::cout << "  note: " << n << "\n";
     }
     return 0;
   }
@@ -533,15 +536,9 @@ int demoPlant(const CaptureOptions& c, const std::string& samples, const std::st
     std::cout << "\n  (no sample plant beside " << samples << ": the plant is left out)\n";
     return 0;
   }
-  acq::PlantSessionSetup setup;
-  setup.simulatedPlant = m::readPlantMarkersFile(file);
+  acq::PlantSessionSetup setup = acq::simulatedPlantSetup(m::readPlantMarkersFile(file));
   setup.project = c.project;
-  setup.plant = setup.simulatedPlant->plant;
-  setup.date = setup.simulatedPlant->date;
   setup.station = c.station;
-  setup.simulated = true;
-  setup.digitizer = "fastrak:simulated";
-  setup.caliper = "sylvac:simulated";
   db::Store store(c.db);
   const std::int64_t id = acq::PlantCaptureSession::create(store, setup);
   std::cout << "\n  session " << id << ": the sample plant where it stands (" << setup.simulatedPlant->nodes.size()
@@ -558,11 +555,12 @@ int demoPlant(const CaptureOptions& c, const std::string& samples, const std::st
     std::cout << "not complete\n";
     return interrupted() ? 130 : 1;
   }
-  const acq::PlantExport p = acq::exportPlantSession(store, id, {}, out);
+  const acq::PlantExport p = acq::exportPlantSession(store, id, {"mtg", "csv", "markers", "json", "glb", "can"}, out);
   std::cout << "complete in " << std::fixed << std::setprecision(1) << secs << " s; " << stats.accepted
             << " events accepted, " << stats.rejected << " inputs rejected\n    survey: " << p.survey.nodes.size()
             << " nodes, " << p.survey.leaves.size() << " leaves; wrote";
   for (const auto& f : p.written) std::cout << " " << std::filesystem::path(f).filename().string();
+  for (const auto& n : p.notes) std::cout << "\n    " << n;
   const db::ChainReport chain = store.verify(id);
   std::cout << "\n    hash chain: " << (chain.ok ? "OK" : "BROKEN") << " (" << chain.events << " events)\n";
   return chain.ok ? 0 : 1;
@@ -738,7 +736,8 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   }
   exp->add_option("--out", o.out, "Directory to write into")->required();
   exp->add_option("--format", o.formats,
-                  "glb, obj, ply, stl, model, markers, csv (default: all); a plant session: mtg, csv, markers, json")
+                  "glb, obj, ply, stl, model, markers, csv (default: all); a plant session: mtg, csv, markers, json, "
+                  "glb, obj, ply, stl, can, model, plan")
       ->delimiter(',');
   exp->add_option("--frame", o.frame, "leaf (default) or digitizer")->check(CLI::IsMember({"leaf", "digitizer"}));
   exp->add_option("--blade", o.blade, "interp (default), approx, bezier, nurbs")

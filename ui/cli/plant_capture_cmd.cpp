@@ -14,8 +14,10 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/plant_simulation.hpp"
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/db/lab.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
@@ -106,27 +108,20 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   std::unique_ptr<db::Store> store;
   if (id == 0) {
     // Everything the operator typed is read before the store is touched.
-    acq::PlantSessionSetup setup;
     // The sample plant beside the sample leaves (the source tree, or where the package put them).
     const std::string samples = leafdig::samplesDir();
     const std::string data =
         samples.empty() ? leafdig::sourceDataDir() : std::filesystem::path(samples).parent_path().string();
     const std::string file = o.plantMarkers.empty() ? data + "/plants/sample.plant-markers.json" : o.plantMarkers;
-    setup.simulatedPlant = m::readPlantMarkersFile(file);
+    acq::PlantSessionSetup setup = acq::simulatedPlantSetup(m::readPlantMarkersFile(file));
     setup.project = o.project;
-    setup.plant = setup.simulatedPlant->plant.empty() ? "plant" : setup.simulatedPlant->plant;
     setup.operatorName = o.operatorName;
     setup.station = o.station;
     if (!o.protocol.empty()) setup.protocol = m::readPlantProtocolFile(o.protocol);
     if (!o.date.empty()) {
       setup.date = m::parseSurveyDate(o.date);
       if (!setup.date) throw std::invalid_argument("--date " + o.date + ": give the survey's day as YYYY-MM-DD");
-    } else {
-      setup.date = setup.simulatedPlant->date;
     }
-    setup.simulated = true;
-    setup.digitizer = "fastrak:simulated";
-    setup.caliper = "sylvac:simulated";
     store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
     id = acq::PlantCaptureSession::create(*store, setup);
   } else {
@@ -176,7 +171,60 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   return interrupted() ? 130 : 0;
 }
 
+struct SurveysOptions {
+  std::string plant;
+  std::string db;
+  bool json = false;
+};
+
+int runSurveys(const SurveysOptions& o) {
+  const std::string path = o.db.empty() ? db::Store::defaultPath() : o.db;
+  if (path.rfind("postgresql://", 0) != 0 && !std::filesystem::exists(path))
+    throw std::invalid_argument("no station database at " + path + ": name it with --db (leafdig capture writes it)");
+  const std::unique_ptr<db::EventStore> store = db::openEventStore(path, true);
+  const std::vector<acq::PlantSurveyEntry> surveys = acq::plantSurveys(*store, o.plant);
+  if (o.json) {
+    json list = json::array();
+    for (const acq::PlantSurveyEntry& e : surveys)
+      list.push_back({{"session", e.session},
+                      {"date", e.date},
+                      {"status", e.status},
+                      {"project", e.project},
+                      {"operator", e.operatorName},
+                      {"station", e.station},
+                      {"created", e.createdUtc},
+                      {"events", e.events},
+                      {"verified", e.verified},
+                      {"nodes", e.nodes},
+                      {"leaves", {{"full", e.full}, {"quick", e.quick}, {"none", e.noLeaf}}}});
+    std::cout << json{{"plant", o.plant}, {"surveys", list}}.dump() << "\n";
+    return 0;
+  }
+  std::cout << "plant " << terminalText(o.plant) << ": " << surveys.size() << " survey(s) in " << path << "\n";
+  for (const acq::PlantSurveyEntry& e : surveys) {
+    std::cout << "  " << e.date << "  session " << e.session << "  " << e.status;
+    if (e.verified)
+      std::cout << "  " << e.nodes << " nodes (" << e.full << " full, " << e.quick << " quick, " << e.noLeaf
+                << " without a leaf)";
+    else
+      std::cout << "  FAILS 'sessions verify': not read";
+    std::cout << "  by " << terminalText(e.operatorName) << " at " << terminalText(e.station) << "\n";
+  }
+  if (surveys.empty()) std::cout << "  (none: `leafdig sessions list --db " << path << "` shows what the file holds)\n";
+  return 0;
+}
+
 }  // namespace
+
+void addPlantSurveysCommand(CLI::App& plant, CommandTable& table) {
+  auto o = std::make_shared<SurveysOptions>();
+  CLI::App* surveys =
+      plant.add_subcommand("surveys", "List every dated survey (plant session) of one plant, oldest first");
+  surveys->add_option("plant", o->plant, "The plant's id, as digitized (e.g. tobacco-p12)")->required();
+  surveys->add_option("--db", o->db, "Station database (default: ~/.local/share/leafdig/station.sqlite)");
+  surveys->add_flag("--json", o->json, "One JSON object: the plant and its surveys");
+  table.add(surveys, [o] { return runSurveys(*o); });
+}
 
 acq::PlantRunStats simulatePlant(
     db::Store& store, std::int64_t id, const acq::SimulationOptions& options,

@@ -257,6 +257,7 @@ void addPlantCommands(CLI::App& app, CommandTable& table) {
   addPlantMeasureCommand(*app.get_subcommand("plant"), table);
   addPlantProtocolCommand(*app.get_subcommand("plant"), table);
   addPlantCaptureCommand(*app.get_subcommand("plant"), table);
+  addPlantSurveysCommand(*app.get_subcommand("plant"), table);
 }
 
 }  // namespace leafdig::cli

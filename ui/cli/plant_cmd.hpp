@@ -30,6 +30,8 @@ void addPlantCommands(CLI::App& app, CommandTable& table);
 void addPlantMeasureCommand(CLI::App& plant, CommandTable& table);
 // `plant capture` (plant_capture_cmd.cpp).
 void addPlantCaptureCommand(CLI::App& plant, CommandTable& table);
+// `leafdig plant surveys ID --db DB`: every dated survey of one plant (plant_capture_cmd.cpp).
+void addPlantSurveysCommand(CLI::App& plant, CommandTable& table);
 // `plant protocol` (plant_protocol_cmd.cpp).
 void addPlantProtocolCommand(CLI::App& plant, CommandTable& table);
 

@@ -1,5 +1,6 @@
 #include "plant_view.hpp"
 
+#include <QComboBox>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QFormLayout>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/db/store.hpp"
@@ -49,6 +51,9 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   fromStore->setToolTip(tr("A plant of the ticked approved leaves, each at its leaf position"));
   libraryList_ = new QListWidget;
   libraryList_->setMaximumHeight(140);
+  captured_ = new QComboBox;
+  captured_->setToolTip(tr("Plants digitized where they stand (plant sessions of this station)"));
+  auto* openCaptured = new QPushButton(tr("Open captured plant"));
   export_ = new QPushButton(tr("Export…"));
   export_->setEnabled(false);
   divergence_ = slider(900, 1800);  // tenths of a degree
@@ -81,6 +86,10 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   buttons->addWidget(fromStore);
   form->addRow(buttons);
   form->addRow(libraryList_);
+  auto* capturedRow = new QHBoxLayout;
+  capturedRow->addWidget(captured_, 1);
+  capturedRow->addWidget(openCaptured);
+  form->addRow(capturedRow);
   row(tr("Divergence"), divergence_, divergenceLabel_);
   row(tr("Jitter"), jitter_, jitterLabel_);
   row(tr("Inclination"), inclination_, inclinationLabel_);
@@ -103,6 +112,10 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
     if (!path.isEmpty()) status_->setText(openPlan(path));
   });
   connect(fromStore, &QPushButton::clicked, this, [this] { status_->setText(planFromApprovedLeaves()); });
+  connect(openCaptured, &QPushButton::clicked, this, [this] {
+    const QVariant id = captured_->currentData();
+    status_->setText(id.isValid() ? openCapturedPlant(id.toLongLong()) : tr("No plant captured in this database yet."));
+  });
   connect(export_, &QPushButton::clicked, this, [this] {
     const QString path = QFileDialog::getSaveFileName(
         this, tr("Export the plant"), {}, tr("Any plant format (*.glb *.obj *.ply *.stl *.can *.mtg *.csv *.json)"));
@@ -152,9 +165,19 @@ void PlantView::setDatabase(const std::string& path) {
 void PlantView::refreshLibrary() {
   libraryList_->clear();
   approved_.clear();
+  captured_->clear();
   if (db_.empty() || (!db::isServerUrl(db_) && !std::filesystem::exists(db_))) return;
   try {
-    approved_ = acquisition::organLibrary(*db::openEventStore(db_, true)).leaves;
+    const auto store = db::openEventStore(db_, true);
+    approved_ = acquisition::organLibrary(*store).leaves;
+    for (const db::SessionInfo& s : store->sessions())
+      if (s.kind == "plant")
+        captured_->addItem(tr("%1 · session %2 · %3 · %4")
+                               .arg(QString::fromStdString(s.plant))
+                               .arg(s.id)
+                               .arg(QString::fromStdString(s.createdUtc.substr(0, 10)))
+                               .arg(QString::fromStdString(s.status)),
+                           QVariant::fromValue<qlonglong>(s.id));
   } catch (const std::exception& e) {
     status_->setText(QString::fromStdString(e.what()));
     return;
@@ -211,7 +234,35 @@ QString PlantView::planFromApprovedLeaves() {
   return usePlan(std::move(plan), std::move(library));
 }
 
+QString PlantView::openCapturedPlant(std::int64_t session) {
+  if (db_.empty()) return tr("This station has no database yet.");
+  try {
+    const auto store = db::openEventStore(db_, true);
+    const acquisition::CapturedSurvey captured = acquisition::capturedSurvey(*store, session);
+    acquisition::CapturedModel made = acquisition::capturedModel(*store, captured.survey);
+    plan_.reset();
+    library_.clear();
+    plant_ = std::move(made.plant);
+    enableSliders(false);
+    QString what = tr("captured %1 (session %2)")
+                       .arg(QString::fromStdString(captured.markers.date ? m::toIso(*captured.markers.date) : ""))
+                       .arg(session);
+    for (const std::string& note : made.notes) what += "\n" + QString::fromStdString(note);
+    showPlant(what);
+    export_->setEnabled(true);
+    return {};
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+}
+
+void PlantView::enableSliders(bool on) {
+  for (QWidget* w : std::initializer_list<QWidget*>{divergence_, jitter_, inclination_, seed_}) w->setEnabled(on);
+  if (!on) time_->setEnabled(false);
+}
+
 QString PlantView::usePlan(m::PlantPlan plan, std::vector<m::LibraryLeaf> library) {
+  enableSliders(true);
   plan_ = std::move(plan);
   library_ = std::move(library);
   slidersFromPlan();
@@ -271,24 +322,29 @@ QString PlantView::rebuild() {
   try {
     const m::PlantBuilder builder(plan, library_);
     plant_ = builder.build(t);
-    mesh_ = m::meshPlant(*plant_, m::MeshResolution::preset("preview"));
-    metrics_ = m::computePlantMetrics(*plant_, *mesh_, Eigen::Vector3d::UnitZ());
+    showPlant(tr("planned"));
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
   }
+  return {};
+}
+
+void PlantView::showPlant(const QString& what) {
+  mesh_ = m::meshPlant(*plant_, m::MeshResolution::preset("preview"));
+  metrics_ = m::computePlantMetrics(*plant_, *mesh_, Eigen::Vector3d::UnitZ());
   auto preview = std::make_shared<acquisition::Preview>();
   preview->mesh = *mesh_;
   acquisition::Snapshot snapshot;
   snapshot.preview = preview;
   preview_->show(snapshot);
-  summary_->setText(tr("%1: %2 leaves, stem %3 mm · leaf area %4 cm² · silhouette from above %5 cm² · STAR %6")
+  summary_->setText(tr("%1, %7: %2 leaves, stem %3 mm · leaf area %4 cm² · silhouette from above %5 cm² · STAR %6")
                         .arg(QString::fromStdString(plant_->id))
                         .arg(plant_->leaves.size())
                         .arg(plant_->stemHeightMm, 0, 'f', 0)
                         .arg(metrics_->areaMm2 / 100, 0, 'f', 0)
                         .arg(metrics_->silhouetteMm2 / 100, 0, 'f', 0)
-                        .arg(metrics_->star, 0, 'f', 2));
-  return {};
+                        .arg(metrics_->star, 0, 'f', 2)
+                        .arg(what));
 }
 
 QString PlantView::exportTo(const QString& path) {

@@ -3,6 +3,9 @@
 // drawn from the organ library); sliders for the plan's divergence, jitter, inclination and
 // seed; a growth-time scrubber when the plan has growth; the plant in 3D, updated as they
 // move; area, silhouette and STAR from above; export by file extension (docs/plants.md).
+// A plant captured in place (a plant session of the station's file) opens as measured: its
+// stem, full leaves as digitized and quick leaves shaped from the library; the plan's sliders
+// do not apply to it.
 #pragma once
 
 #include <QWidget>
@@ -12,6 +15,7 @@
 #include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/plant/plant.hpp"
 
+class QComboBox;
 class QLabel;
 class QListWidget;
 class QPushButton;
@@ -37,6 +41,9 @@ class PlantView : public QWidget {
   // Each returns an error text to show (empty when the plant was built).
   QString openPlan(const QString& path);
   QString planFromApprovedLeaves();
+  // The plant sessions of the database (listed in capturedList(), with their data the session id).
+  [[nodiscard]] QComboBox* capturedList() const { return captured_; }
+  QString openCapturedPlant(std::int64_t session);
   QString exportTo(const QString& path);
 
   [[nodiscard]] const model::Plant* plant() const { return plant_ ? &*plant_ : nullptr; }
@@ -54,7 +61,9 @@ class PlantView : public QWidget {
  private:
   QString usePlan(model::PlantPlan plan, std::vector<model::LibraryLeaf> library);
   void slidersFromPlan();
-  QString rebuild();  // plan + sliders -> plant -> preview and summary
+  QString rebuild();                    // plan + sliders -> plant -> preview and summary
+  void showPlant(const QString& what);  // plant_ -> mesh, metrics, preview and summary
+  void enableSliders(bool on);
   void scheduleRebuild();
   [[nodiscard]] std::optional<double> time() const;
 
@@ -71,6 +80,7 @@ class PlantView : public QWidget {
   QPushButton* export_;
   MeshChoice* exportMesh_;
   QListWidget* libraryList_;
+  QComboBox* captured_;
   std::vector<model::LibraryLeaf> approved_;  // as listed
   bool rebuildPending_ = false;
 };

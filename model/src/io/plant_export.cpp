@@ -223,7 +223,7 @@ std::string encodeMtg(const Plant& plant, const PlantMetrics& metrics) {
 void addAreaIntervals(const Plant& plant, PlantMetrics& metrics) {
   for (LeafLight& light : metrics.leaves) {
     for (const PlacedLeaf& l : plant.leaves) {
-      if (l.rank != light.rank) continue;
+      if (l.rank != light.rank || !l.shapeDigitized) continue;
       AreaUncertaintyOptions options;
       options.blade = l.model.blade.kind;
       const AreaUncertainty u = areaUncertainty(l.model.markers, options);

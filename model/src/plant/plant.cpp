@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "draws.hpp"
+#include "leaf_shaping.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/limits.hpp"
@@ -48,36 +49,6 @@ void scaleThickness(MarkerSet& m, double factor) {
     scale(row.edgeThicknessMm);
     for (auto& t : row.measuredThicknessMm) scale(t);
   }
-}
-
-// The leaf in its own frame (docs/method.md §5), from markers in any frame.
-MarkerSet toLeafFrame(const MarkerSet& markers) {
-  const LeafModel model = buildLeafModel(markers);
-  const Eigen::Isometry3d toLeaf = leafFrameFromDigitizer(model);
-  MarkerSet out = markers;
-  forEachPoint(out, [&](Eigen::Vector3d& p) { p = toLeaf * p; });
-  return out;
-}
-
-// Scale (uniform × growth factors), then the extra midrib bend: a point at distance y
-// along the leaf's +Y turns about the leaf's X axis by bend × (y / y_tip)², tip downwards
-// (towards the abaxial side). Vein thickness scales with the length factor.
-MarkerSet shapeLeaf(const MarkerSet& leafFrame, double scale, double lengthFactor, double widthFactor, double bendDeg) {
-  MarkerSet m = leafFrame;
-  const double sy = scale * lengthFactor;
-  const double sx = scale * widthFactor;
-  forEachPoint(m, [&](Eigen::Vector3d& p) { p = Eigen::Vector3d(p.x() * sx, p.y() * sy, p.z() * sy); });
-  scaleThickness(m, sy);
-  const double yTip = m.tipMm.y();
-  if (bendDeg != 0.0 && yTip > 0.0) {
-    forEachPoint(m, [&](Eigen::Vector3d& p) {
-      if (p.y() <= 0.0) return;
-      const double s = p.y() / yTip;
-      const double a = -radians(bendDeg) * s * s;
-      p = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()) * p;
-    });
-  }
-  return m;
 }
 
 StemPoint stemAt(const Vein& stem, double fraction) {
@@ -155,6 +126,36 @@ bool matches(const LibraryLeaf& leaf, const LibraryRequest& request) {
 
 }  // namespace
 
+namespace detail {
+
+MarkerSet toLeafFrame(const MarkerSet& markers) {
+  const LeafModel model = buildLeafModel(markers);
+  const Eigen::Isometry3d toLeaf = leafFrameFromDigitizer(model);
+  MarkerSet out = markers;
+  forEachPoint(out, [&](Eigen::Vector3d& p) { p = toLeaf * p; });
+  return out;
+}
+
+MarkerSet shapeLeaf(const MarkerSet& leafFrame, double scale, double lengthFactor, double widthFactor, double bendDeg) {
+  MarkerSet m = leafFrame;
+  const double sy = scale * lengthFactor;
+  const double sx = scale * widthFactor;
+  forEachPoint(m, [&](Eigen::Vector3d& p) { p = Eigen::Vector3d(p.x() * sx, p.y() * sy, p.z() * sy); });
+  scaleThickness(m, sy);
+  const double yTip = m.tipMm.y();
+  if (bendDeg != 0.0 && yTip > 0.0) {
+    forEachPoint(m, [&](Eigen::Vector3d& p) {
+      if (p.y() <= 0.0) return;
+      const double s = p.y() / yTip;
+      const double a = -radians(bendDeg) * s * s;
+      p = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()) * p;
+    });
+  }
+  return m;
+}
+
+}  // namespace detail
+
 StemPoint stemPointAt(const Plant& plant, double fraction) {
   if (!plant.stem) return {Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.0};
   return stemAt(*plant.stem, fraction);
@@ -220,7 +221,7 @@ PlantBuilder::PlantBuilder(PlantPlan plan, std::vector<LibraryLeaf> library) : p
       markers = readMarkersFile(*lp.markers);
       r.source = lp.markers->filename().string();
     }
-    r.leafFrameMarkers = toLeafFrame(markers);
+    r.leafFrameMarkers = detail::toLeafFrame(markers);
     const double phyllotaxis = std::fmod(lp.rank * plan_.divergenceDeg + jitter, 360.0);
     r.azimuthDeg = lp.azimuthDeg ? *lp.azimuthDeg : phyllotaxis + (fromLibrary ? azimuthJitter : 0.0);
     r.azimuthDeg = std::fmod(r.azimuthDeg + 360.0, 360.0);
@@ -283,7 +284,7 @@ Plant PlantBuilder::build(std::optional<double> time) const {
     leaf.bendDeg = r.bendDeg;
     leaf.lengthFactor = lengthFactor;
     leaf.widthFactor = widthFactor;
-    const MarkerSet shaped = shapeLeaf(r.leafFrameMarkers, r.scale, lengthFactor, widthFactor, r.bendDeg);
+    const MarkerSet shaped = detail::shapeLeaf(r.leafFrameMarkers, r.scale, lengthFactor, widthFactor, r.bendDeg);
     const double fraction = plan_.stem.heightMm > 0 ? r.plan.insertionHeightMm / plan_.stem.heightMm : 0.0;
     Eigen::Vector3d base;
     leaf.placement =

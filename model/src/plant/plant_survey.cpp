@@ -59,6 +59,7 @@ PlantSurvey surveyPlant(const PlantMarkers& p) {
         MarkerSet m = inFrame(*full, s.frame);
         const LeafModel model = buildLeafModel(m);
         leaf.baseMm = m.rows.back().pointsMm[kMidribColumn];
+        leaf.tipMm = m.tipMm;
         leaf.pose = leafPose(*leaf.baseMm, m.tipMm);
         leaf.pose->widthMm = bladeWidthMm(m);
         leaf.midribLengthMm = midribLengthMm(model);
@@ -72,7 +73,10 @@ PlantSurvey surveyPlant(const PlantMarkers& p) {
       } else if (const auto* quick = std::get_if<QuickLeaf>(&n.leaf)) {
         leaf.kind = LeafKind::Quick;
         leaf.baseMm = s.frame.point(quick->baseMm);
-        leaf.pose = leafPose(*leaf.baseMm, s.frame.point(quick->tipMm), s.frame.point(quick->sideMm));
+        leaf.tipMm = s.frame.point(quick->tipMm);
+        leaf.sideMm = s.frame.point(quick->sideMm);
+        leaf.type = quick->type;
+        leaf.pose = leafPose(*leaf.baseMm, *leaf.tipMm, *leaf.sideMm);
       } else if (n.state != LeafState::Alive) {
         leaf.kind = LeafKind::None;
       } else {

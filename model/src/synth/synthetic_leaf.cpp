@@ -543,4 +543,14 @@ LeafMesh SyntheticLeaf::truthMesh(int alongPerSide, int across) const {
   return out;
 }
 
+const MarkerSet& sampleLeafShape() {
+  static const MarkerSet shape = [] {
+    SyntheticLeafSpec spec = defaultSyntheticSpec(LeafShape::Tobacco);
+    spec.id = "built-in";
+    spec.type = "sample";
+    return SyntheticLeaf(spec).markers(0.0);
+  }();
+  return shape;
+}
+
 }  // namespace leafdig::model

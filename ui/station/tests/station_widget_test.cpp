@@ -23,6 +23,7 @@
 #include <QTableWidget>
 #include <QTest>
 #include <QValueAxis>
+#include <atomic>
 #include <condition_variable>
 #include <cstdlib>
 #include <filesystem>
@@ -35,11 +36,13 @@
 #include "../../../tests/support/pg_cluster.hpp"
 #include "export_dialog.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
+#include "leafdig/acquisition/plant_simulation.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
 #include "mesh_choice.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"
@@ -1034,6 +1037,50 @@ TEST(PlantView, TheTickedApprovedLeavesOfTheStationMakeThePlant) {
   ASSERT_EQ(v.planFromApprovedLeaves(), QString());
   EXPECT_EQ(v.plant()->leaves.size(), 2u);
   EXPECT_EQ(v.plant()->leaves[1].source, "session 2");
+  std::filesystem::remove(db);
+}
+
+TEST(PlantView, APlantCapturedWhereItStandsOpensAsMeasured) {
+  namespace acq = leafdig::acquisition;
+  const std::string db =
+      (QDir::tempPath() + "/leafdig-plant-captured-" + QString::number(::getpid()) + ".sqlite").toStdString();
+  std::filesystem::remove(db);
+  std::int64_t id = 0;
+  {
+    // The sample plant digitized by the virtual technician through the simulated devices.
+    leafdig::db::Store store(db);
+    acq::PlantSessionSetup setup = acq::simulatedPlantSetup(leafdig::model::readPlantMarkersFile(
+        std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json"));
+    setup.project = "p";
+    id = acq::PlantCaptureSession::create(store, setup);
+    acq::SimulationOptions sim;
+    sim.speed = 40;
+    sim.mistakes = false;
+    const std::atomic<bool> stop{false};
+    (void)acq::runSimulatedPlant(store, id, sim, {}, stop);
+    ASSERT_EQ(store.session(id)->status, "complete");
+  }
+  leafdig::station::PlantView v;
+  v.setDatabase(db);
+  ASSERT_EQ(v.capturedList()->count(), 1);
+  EXPECT_TRUE(v.capturedList()->itemText(0).contains("tobacco-p12")) << v.capturedList()->itemText(0).toStdString();
+  EXPECT_EQ(v.capturedList()->itemData(0).toLongLong(), id);
+  ASSERT_EQ(v.openCapturedPlant(id), QString());
+  ASSERT_NE(v.plant(), nullptr);
+  // Nodes 2 (full), 3 and 4 (quick) have leaves; the stem is as tall as the top node.
+  ASSERT_EQ(v.plant()->leaves.size(), 3u);
+  EXPECT_EQ(v.plant()->leaves[0].source, "digitized");
+  EXPECT_FALSE(v.plant()->leaves[1].shapeDigitized);
+  EXPECT_NEAR(v.plant()->stemHeightMm, 400.0, 2.0);
+  EXPECT_TRUE(v.summaryText().contains("captured 2026-06-12")) << v.summaryText().toStdString();
+  EXPECT_TRUE(v.summaryText().contains("built-in sample shape")) << v.summaryText().toStdString();
+  EXPECT_FALSE(v.divergenceSlider()->isEnabled());  // measured, not planned
+  const QString out = QDir::tempPath() + "/leafdig-plant-captured-" + QString::number(::getpid()) + ".glb";
+  EXPECT_EQ(v.exportTo(out), QString());
+  EXPECT_GT(std::filesystem::file_size(out.toStdString()), 10000u);
+  std::filesystem::remove(out.toStdString());
+  // A session that is not a plant is refused in words.
+  EXPECT_TRUE(v.openCapturedPlant(id + 7).contains("no session")) << v.openCapturedPlant(id + 7).toStdString();
   std::filesystem::remove(db);
 }
 

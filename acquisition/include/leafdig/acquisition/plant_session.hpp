@@ -71,7 +71,7 @@ class PlantCaptureSession {
   [[nodiscard]] std::int64_t id() const { return id_; }
   [[nodiscard]] const PlantEngine& engine() const { return engine_; }
   [[nodiscard]] const PlantSessionSetup& setup() const { return setup_; }
-  [[nodiscard]] bool ended() const { return ended_; }
+  [[nodiscard]] bool ended() const { return status_ != "open"; }
   [[nodiscard]] const std::string& status() const { return status_; }
 
   // The settings a plant session keeps (its protocol, leaf settings, date, devices and the
@@ -80,7 +80,8 @@ class PlantCaptureSession {
   [[nodiscard]] static PlantSessionSetup setupFromJson(const std::string& json);
   // Rebuilds an engine from stored events (no store access; review and exports use it).
   // Throws SessionError naming the event that does not fit.
-  [[nodiscard]] static PlantEngine replay(const PlantSessionSetup& setup, const std::vector<db::Event>& events);
+  [[nodiscard]] static PlantEngine replay(const PlantSessionSetup& setup, const std::vector<db::Event>& events,
+                                          std::map<std::string, std::int64_t>* seqs = nullptr);
 
  private:
   PlantFeedback commit(const PlantDecision& d, std::int64_t monoNs, const std::string& raw);
@@ -91,22 +92,7 @@ class PlantCaptureSession {
   PlantSessionSetup setup_;
   PlantEngine engine_;
   std::map<std::string, std::int64_t> seqs_;  // the event that accepted each current item
-  bool ended_ = false;
   std::string status_ = "open";
 };
-
-// A plant session's files (docs/plants.md, "Exports"): `mtg` (the survey's MTG in the AMAP
-// conventions), `csv` (its entities one row each), `markers` (what was digitized, as a
-// leafdig.plant-markers/1 document in the digitizer's frame), `json` (the survey: frame, nodes,
-// leaves, angles). The session must verify and hold a whole plant frame; the survey's day is
-// the session's date, else the day it was created. Each file is written atomically and
-// recorded in `exports`.
-struct PlantExport {
-  std::vector<std::string> written;
-  model::PlantSurvey survey;
-};
-[[nodiscard]] const std::vector<std::string>& plantExportFormats();  // mtg, csv, markers, json
-PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
-                               const std::string& outDir);
 
 }  // namespace leafdig::acquisition

@@ -21,6 +21,11 @@ struct PlantRunStats {
   int accepted = 0, rejected = 0, gestures = 0, readings = 0, choices = 0;
 };
 
+// The setup of a plant digitized by the virtual technician: the plant (its id, its date), the
+// simulated FASTRAK and Sylvac, the default protocol and settings; the caller adds project,
+// operator, station and what the operator chose over them.
+[[nodiscard]] PlantSessionSetup simulatedPlantSetup(model::PlantMarkers plant);
+
 // Captures (or goes on with) plant session `id`, whose settings hold the simulated plant, until
 // it is complete or `stop` is set. Returns what happened; the session's status says whether the
 // plant was finished. Throws SessionError when the session holds no simulated plant.

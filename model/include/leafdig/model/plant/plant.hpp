@@ -131,6 +131,9 @@ struct PlacedLeaf {
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
   double lengthMm = 0.0;  // midrib length along the BBSC
   double widthMm = 0.0;   // widest row, across the markers
+  // False for a leaf whose shape was not digitized (a quick leaf: a library shape stretched to
+  // its length and width): the digitizer's area interval does not apply to it.
+  bool shapeDigitized = true;
 };
 
 struct Plant {

@@ -27,6 +27,9 @@ struct SurveyedLeaf {
   LeafState state = LeafState::Alive;
   std::optional<LeafPose> pose;           // full: the base (row N's midrib point) to the tip; quick: its 3 points
   std::optional<Eigen::Vector3d> baseMm;  // the pose's base, in the plant frame
+  std::optional<Eigen::Vector3d> tipMm;   // the pose's tip, in the plant frame
+  std::optional<Eigen::Vector3d> sideMm;  // quick: the widest point of one margin, in the plant frame
+  std::string type;                       // quick: the organ library's type it asks for ("" any)
   std::optional<double> midribLengthMm;   // full: along the midrib
   std::optional<double> areaMm2;          // full: the blade's area
   std::optional<double> areaLow95Mm2, areaHigh95Mm2;

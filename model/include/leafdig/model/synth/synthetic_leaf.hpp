@@ -151,6 +151,12 @@ class SyntheticLeaf {
   double areaError_ = 0.0;
 };
 
+// The shape a quick leaf of a plant takes when the organ library has none of its type
+// (model/plant/surveyed_plant.hpp): the tobacco shape's defaults, 12 rows, exact markers, built
+// once per process.
+[[nodiscard]] const MarkerSet& sampleLeafShape();
+inline constexpr const char* kSampleShapeSource = "built-in sample shape (synthetic tobacco leaf)";
+
 // leafdig.truth/1 JSON (docs/synthetic-leaves.md): spec, exact areas, midrib length, the
 // flat outline, the exact marker positions and the true veins.
 [[nodiscard]] std::string truthToJson(const SyntheticLeaf& leaf, double noiseMm, std::uint64_t seed);

@@ -1,0 +1,71 @@
+#pragma once
+// A plant session's files (docs/plants.md, "A plant session's files"). The survey's own:
+// `mtg` (the MTG in the AMAP conventions), `csv` (its entities one row each), `markers` (what
+// was digitized, a leafdig.plant-markers/1 document in the digitizer's frame), `json` (the
+// survey: frame, nodes, leaves, angles). The plant as a model (model/plant/surveyed_plant.hpp:
+// the stem through the nodes, full leaves as digitized, quick leaves shaped from the organ
+// library of this store or the built-in sample): `glb`, `obj`, `ply`, `stl` (meshes with plant
+// / leaf / organ names), `can` (CARIBU, in metres, with its `.opt`), `model` (the
+// leafdig.plant-model/1 JSON), and `plan` (a leafdig.plant/1 plan with the measured values
+// and each leaf's markers in a folder beside it, for `plant build` and the Plant view).
+//
+// The session must verify and hold a whole plant frame; the survey's day is the session's
+// date, else the day it was created. Everything is encoded before anything is written; each
+// file is written atomically and recorded in `exports`.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "leafdig/db/event_store.hpp"
+#include "leafdig/model/plant/plant.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
+
+namespace leafdig::acquisition {
+
+// A stored plant session read back: verified, replayed, surveyed (InputError when it holds no
+// whole plant frame yet, SessionError when it is not a plant session or does not verify).
+struct CapturedSurvey {
+  model::PlantMarkers markers;  // what was digitized, dated (the session's date, else its day)
+  model::PlantSurvey survey;
+};
+[[nodiscard]] CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id);
+
+// The surveyed plant as a model (model/plant/surveyed_plant.hpp), its quick leaves shaped from
+// the organ library of `store` (read only when the plant has a quick leaf).
+struct CapturedModel {
+  model::Plant plant;
+  std::vector<std::string> notes;  // where each quick leaf's shape came from
+};
+[[nodiscard]] CapturedModel capturedModel(const db::EventStore& store, const model::PlantSurvey& survey);
+
+struct PlantExport {
+  std::vector<std::string> written;
+  model::PlantSurvey survey;
+  std::vector<std::string> notes;  // what a reader should know (a quick leaf's borrowed shape)
+};
+// mtg, csv, markers, json, glb, obj, ply, stl, can, model, plan
+[[nodiscard]] const std::vector<std::string>& plantExportFormats();
+PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
+                               const std::string& outDir);
+
+// The captured plant as a leafdig.plant/1 plan (`leaf markers` name each leaf's file relative to
+// the plan, in the order of `plant.leaves`): the stem's points with their diameters, each leaf's
+// rank, insertion height along the stem, azimuth, inclination and roll as measured.
+[[nodiscard]] std::string plantPlanJson(const model::Plant& plant, const model::PlantSurvey& survey,
+                                        const std::vector<std::string>& leafMarkers);
+
+// One survey of a plant: a plant session of that plant id, dated (repeat surveys of the same
+// plant are new sessions, each with its day).
+struct PlantSurveyEntry {
+  std::int64_t session = 0;
+  std::string date;  // YYYY-MM-DD: the session's date, else the day it was created
+  std::string status, project, operatorName, station, createdUtc;
+  int nodes = 0;                        // nodes taken so far
+  int full = 0, quick = 0, noLeaf = 0;  // leaves by kind, as far as taken
+  std::int64_t events = 0;
+  bool verified = false;  // its chain recomputes; an unverified session's counts are left at 0
+};
+// Every survey of `plant` in the store, oldest day first (then by session).
+[[nodiscard]] std::vector<PlantSurveyEntry> plantSurveys(const db::EventStore& store, const std::string& plant);
+
+}  // namespace leafdig::acquisition

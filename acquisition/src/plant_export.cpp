@@ -1,0 +1,216 @@
+#include "leafdig/acquisition/plant_export.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <utility>
+#include <variant>
+
+#include "chain_check.hpp"
+#include "leafdig/acquisition/plant_session.hpp"
+#include "leafdig/acquisition/review.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/io/survey_export.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/plant/surveyed_plant.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
+#include "leafdig/version.hpp"
+
+namespace leafdig::acquisition {
+
+namespace {
+
+using nlohmann::json;
+namespace m = leafdig::model;
+
+// The plant as a model: mesh files by their extension (encodePlant's), the plant-model JSON.
+const std::vector<std::pair<std::string, std::string>>& modelFormats() {
+  static const std::vector<std::pair<std::string, std::string>> formats{
+      {"glb", ".glb"}, {"obj", ".obj"}, {"ply", ".ply"},
+      {"stl", ".stl"}, {"can", ".can"}, {"model", ".plant-model.json"}};
+  return formats;
+}
+
+bool wants(const std::vector<std::string>& chosen, const std::string& f) {
+  return std::find(chosen.begin(), chosen.end(), f) != chosen.end();
+}
+
+}  // namespace
+
+const std::vector<std::string>& plantExportFormats() {
+  static const std::vector<std::string> formats{"mtg", "csv", "markers", "json",  "glb", "obj",
+                                                "ply", "stl", "can",     "model", "plan"};
+  return formats;
+}
+
+std::string plantPlanJson(const m::Plant& plant, const m::PlantSurvey& survey,
+                          const std::vector<std::string>& leafMarkers) {
+  // The stem's points as the plan reads them (the collar first), and each node's height
+  // along them: the polyline's length to it, as the plan measures insertion heights.
+  json points = json::array({json::array({0.0, 0.0, 0.0, survey.collarDiameterMm})});
+  std::vector<double> along{0.0};
+  Eigen::Vector3d below = Eigen::Vector3d::Zero();
+  for (const m::SurveyedNode& n : survey.nodes) {
+    points.push_back({n.pointMm.x(), n.pointMm.y(), n.pointMm.z(), n.diameterMm});
+    along.push_back(along.back() + (n.pointMm - below).norm());
+    below = n.pointMm;
+  }
+  json leaves = json::array();
+  for (std::size_t i = 0; i < plant.leaves.size(); ++i) {
+    const m::PlacedLeaf& l = plant.leaves[i];
+    leaves.push_back({{"rank", l.rank},
+                      {"markers", leafMarkers.at(i)},
+                      {"insertion_height", along.at(static_cast<std::size_t>(l.rank))},
+                      {"azimuth_deg", l.azimuthDeg},
+                      {"inclination_deg", l.inclinationDeg},
+                      {"roll_deg", l.rollDeg}});
+  }
+  const json plan{{"format", m::kPlantPlanFormat}, {"units", "mm"},   {"id", plant.id}, {"seed", 0},
+                  {"stem", {{"points", points}}},  {"leaves", leaves}};
+  return plan.dump(2) + "\n";
+}
+
+CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
+  const auto info = store.session(id);
+  if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());
+  if (info->kind != "plant")
+    throw SessionError("session " + std::to_string(id) +
+                       " captured one leaf: `leafdig sessions export` without a "
+                       "plant's formats writes it");
+  detail::requireChain(store, id, "exported or shown");
+  const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
+  CapturedSurvey out;
+  out.markers = PlantCaptureSession::replay(setup, store.events(id)).captured(info->plant);
+  out.markers.date = setup.date;
+  if (!out.markers.date) out.markers.date = m::parseSurveyDate(info->createdUtc.substr(0, 10));
+  try {
+    out.survey = m::surveyPlant(out.markers);
+  } catch (const m::InputError& e) {
+    throw m::InputError("plant session " + std::to_string(id) + " holds no whole plant yet (" + e.what() +
+                        "): go on with `leafdig plant capture --resume " + std::to_string(id) + "`");
+  }
+  return out;
+}
+
+CapturedModel capturedModel(const db::EventStore& store, const m::PlantSurvey& survey) {
+  const bool quick = std::any_of(survey.leaves.begin(), survey.leaves.end(),
+                                 [](const m::SurveyedLeaf& l) { return l.kind == m::LeafKind::Quick; });
+  std::vector<m::LibraryLeaf> library;
+  if (quick) library = organLibrary(store).leaves;
+  CapturedModel out;
+  out.plant = m::surveyedPlant(survey, library, m::LibraryLeaf{m::kSampleShapeSource, m::sampleLeafShape()});
+  for (const m::PlacedLeaf& l : out.plant.leaves)
+    if (!l.shapeDigitized) out.notes.push_back("leaf " + std::to_string(l.rank) + " (quick): shape from " + l.source);
+  return out;
+}
+
+PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
+                               const std::string& outDir) {
+  if (outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
+  const std::vector<std::string>& all = plantExportFormats();
+  const std::vector<std::string> chosen = formats.empty() ? all : formats;
+  for (const std::string& f : chosen)
+    if (!wants(all, f))
+      throw std::invalid_argument("unknown export format '" + f +
+                                  "' for a plant session: use mtg, csv, markers, json, glb, obj, ply, stl, can, "
+                                  "model or plan");
+  const CapturedSurvey captured = capturedSurvey(store, id);
+  const m::PlantMarkers& plant = captured.markers;
+  PlantExport out;
+  out.survey = captured.survey;
+  const m::SurveyDate day = plant.date.value_or(m::SurveyDate{2000, 1, 1});
+  const std::string name = "session-" + std::to_string(id);
+  const std::string base = outDir + "/" + name;
+  std::vector<m::EncodedFile> files;
+  for (const std::string& f : chosen) {
+    if (f == "mtg") files.push_back({base + ".mtg", m::encodeSurveyMtg(out.survey, day)});
+    if (f == "csv") files.push_back({base + ".plant.csv", m::encodeSurveyCsv(out.survey, day)});
+    if (f == "markers") files.push_back({base + ".plant-markers.json", m::plantMarkersToJson(plant)});
+    if (f == "json") files.push_back({base + ".survey.json", m::plantSurveyToJson(out.survey) + "\n"});
+  }
+
+  // The plant as a model: only when a model's format is asked for (it meshes every leaf).
+  std::vector<std::filesystem::path> meshPaths;
+  for (const auto& [f, extension] : modelFormats())
+    if (wants(chosen, f)) meshPaths.emplace_back(base + extension);
+  if (!meshPaths.empty() || wants(chosen, "plan")) {
+    CapturedModel made = capturedModel(store, out.survey);
+    const m::Plant& model = made.plant;
+    out.notes = std::move(made.notes);
+    if (!meshPaths.empty()) {
+      const m::LeafMesh mesh = m::meshPlant(model, m::MeshOptions{});
+      const m::PlantMetrics metrics = m::computePlantMetrics(model, mesh, Eigen::Vector3d::UnitZ());
+      const m::PlantExportOptions options{m::CanUnit::Metre, std::string("leafdig ") + kVersion};
+      for (auto& f : m::encodePlantFiles(meshPaths, model, mesh, metrics, options)) files.push_back(std::move(f));
+    }
+    if (wants(chosen, "plan")) {
+      if (model.leaves.empty())
+        throw m::InputError("plant session " + std::to_string(id) +
+                            " has no leaf with points: a leafdig.plant/1 plan needs at least one leaf");
+      std::vector<std::string> leafFiles;
+      for (const m::PlacedLeaf& l : model.leaves) {
+        const std::string file = name + ".leaves/leaf-" + std::to_string(l.rank) + ".markers.json";
+        m::MarkerSet markers = l.model.markers;
+        markers.leaf.plant = model.id;
+        markers.leaf.id = model.id + " L" + std::to_string(l.rank);
+        markers.leaf.position = l.rank;
+        files.push_back({std::filesystem::path(outDir) / file, m::markersToJson(markers)});
+        leafFiles.push_back(file);
+      }
+      files.push_back({base + ".plant.json", plantPlanJson(model, out.survey, leafFiles)});
+    }
+  }
+
+  for (const m::EncodedFile& f : files) {
+    std::filesystem::create_directories(f.path.parent_path());
+    m::writeFileAtomically(f.path, f.bytes);
+    const std::string fileName = f.path.filename().string();
+    (void)store.recordExport(id, f.path.string(), fileName.substr(fileName.find('.') + 1));
+    out.written.push_back(f.path.string());
+  }
+  return out;
+}
+
+std::vector<PlantSurveyEntry> plantSurveys(const db::EventStore& store, const std::string& plant) {
+  std::vector<PlantSurveyEntry> out;
+  for (const db::SessionInfo& info : store.sessions()) {
+    if (info.kind != "plant" || info.plant != plant) continue;
+    PlantSurveyEntry e;
+    e.session = info.id;
+    e.status = info.status;
+    e.project = info.project;
+    e.operatorName = info.operatorName;
+    e.station = info.station;
+    e.createdUtc = info.createdUtc;
+    e.events = info.headSeq;
+    e.date = info.createdUtc.substr(0, 10);
+    try {
+      e.verified = store.verify(info.id).ok;
+    } catch (const db::StoreError&) {  // a damaged page under its events: not read
+      e.verified = false;
+    }
+    if (e.verified) {
+      const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info.settingsJson);
+      if (setup.date) e.date = m::toIso(*setup.date);
+      const m::PlantMarkers taken = PlantCaptureSession::replay(setup, store.events(info.id)).captured(info.plant);
+      e.nodes = static_cast<int>(taken.nodes.size());
+      for (const m::PlantNode& n : taken.nodes) {
+        if (std::holds_alternative<m::MarkerSet>(n.leaf))
+          ++e.full;
+        else if (std::holds_alternative<m::QuickLeaf>(n.leaf))
+          ++e.quick;
+        else
+          ++e.noLeaf;
+      }
+    }
+    out.push_back(std::move(e));
+  }
+  std::stable_sort(out.begin(), out.end(), [](const PlantSurveyEntry& a, const PlantSurveyEntry& b) {
+    return a.date != b.date ? a.date < b.date : a.session < b.session;
+  });
+  return out;
+}
+
+}  // namespace leafdig::acquisition
