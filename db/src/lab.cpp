@@ -232,9 +232,13 @@ AddedUser addUser(const std::string& url, const std::string& login, LabRole role
 
 namespace {
 
-constexpr const char* kSessionColumns =
-    "SELECT id, station_session_id, project, plant, leaf_position, operator, station, status, mode, capture_order, "
-    "settings_json, created_utc, head_seq, head_hash, leaf_type, measured_area_mm2 FROM leafdig.sessions ";
+// The session columns; a server of schema 2 (before plant sessions) holds leaf sessions only.
+std::string sessionColumns(int schemaVersion) {
+  return std::string(
+             "SELECT id, station_session_id, project, plant, leaf_position, operator, station, status, mode, "
+             "capture_order, settings_json, created_utc, head_seq, head_hash, leaf_type, measured_area_mm2, ") +
+         (schemaVersion >= 3 ? "kind" : "'leaf'") + " FROM leafdig.sessions ";
+}
 
 SessionInfo sessionAt(const pg::Result& r, int i) {
   SessionInfo s;
@@ -254,6 +258,7 @@ SessionInfo sessionAt(const pg::Result& r, int i) {
   s.headHash = r.text(i, 13);
   s.leafType = r.text(i, 14);
   if (!r.isNull(i, 15)) s.measuredAreaMm2 = r.number(i, 15);
+  s.kind = r.text(i, 16);
   return s;
 }
 
@@ -267,7 +272,8 @@ LabStore::LabStore(const std::string& url) : conn_(std::make_unique<pg::Connecti
   if (conn_->exec("SELECT 1 FROM pg_namespace WHERE nspname = 'leafdig'").rows() == 0) throw notLeafdig();
   const auto v = conn_->exec("SELECT value FROM leafdig.meta WHERE key = 'schema_version'");
   if (v.rows() == 0) throw notLeafdig();
-  if (std::stoi(v.text(0, 0)) > kLabSchemaVersion)
+  schemaVersion_ = std::stoi(v.text(0, 0));
+  if (schemaVersion_ > kLabSchemaVersion)
     throw StoreError(StoreErrorKind::TooNew,
                      "the lab server " + conn_->where() + " has schema version " + v.text(0, 0) +
                          "; this leafdig knows up to " + std::to_string(kLabSchemaVersion),
@@ -281,7 +287,7 @@ std::string LabStore::describe() const {
 }
 
 std::vector<SessionInfo> LabStore::sessions() const {
-  const auto r = conn_->exec(std::string(kSessionColumns) + "ORDER BY id");
+  const auto r = conn_->exec(sessionColumns(schemaVersion_) + "ORDER BY id");
   std::vector<SessionInfo> out;
   out.reserve(static_cast<std::size_t>(r.rows()));
   for (int i = 0; i < r.rows(); ++i) out.push_back(sessionAt(r, i));
@@ -289,7 +295,7 @@ std::vector<SessionInfo> LabStore::sessions() const {
 }
 
 std::optional<SessionInfo> LabStore::session(std::int64_t id) const {
-  const auto r = conn_->exec(std::string(kSessionColumns) + "WHERE id = $1", {std::to_string(id)});
+  const auto r = conn_->exec(sessionColumns(schemaVersion_) + "WHERE id = $1", {std::to_string(id)});
   if (r.rows() == 0) return std::nullopt;
   return sessionAt(r, 0);
 }

@@ -46,11 +46,20 @@ std::optional<std::string> untransportable(const SessionInfo& s, const std::vect
   return std::nullopt;
 }
 
+// The server's schema version (plant sessions from 3 on).
+int serverSchema(pg::Connection& c) {
+  const auto v = c.exec("SELECT value FROM leafdig.meta WHERE key = 'schema_version'");
+  return v.rows() ? std::stoi(v.text(0, 0)) : 0;
+}
+
 void insertSession(pg::Connection& c, const SessionInfo& s) {
+  // A server before plant sessions has no `kind` (and takes only leaf sessions: push checks).
+  const bool plant = s.kind == "plant";
   (void)c.exec(
-      "INSERT INTO leafdig.sessions(station, station_session_id, project, plant, leaf_position, leaf_type, "
-      "measured_area_mm2, operator, mode, capture_order, settings_json, created_utc, genesis_hash) "
-      "VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13)",
+      std::string("INSERT INTO leafdig.sessions(station, station_session_id, project, plant, leaf_position, leaf_type, "
+                  "measured_area_mm2, operator, mode, capture_order, settings_json, created_utc, genesis_hash") +
+          (plant ? ", kind) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, 'plant')"
+                 : ") VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13)"),
       {s.station, std::to_string(s.id), s.project, s.plant, std::to_string(s.leafPosition), s.leafType,
        s.measuredAreaMm2 ? std::optional<std::string>(std::to_string(*s.measuredAreaMm2)) : std::nullopt,
        s.operatorName, s.mode, s.order, s.settingsJson, s.createdUtc, genesisOf(s)});
@@ -91,6 +100,7 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
                    sessions.end());
   }
   pg::Connection c(url);
+  const int schema = serverSchema(c);
   std::map<std::string, std::map<std::int64_t, ServerHead>> heads;  // by station
   const auto problem = [&](const SessionInfo& s, const std::string& what, const std::string& remedy) {
     report.problems.push_back({s.station, s.id, what, remedy});
@@ -106,9 +116,12 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
       problem(s, e.what(), e.remedy());
       continue;
     }
-    if (s.kind != "leaf") {
-      problem(s, "is a plant session: the lab server does not take plant sessions yet; it stays on this station, whole",
-              "keep the station's file (and its backups) until the server takes plant sessions");
+    if (s.kind == "plant" && schema < 3) {
+      problem(s,
+              "is a plant session and the lab server (schema " + std::to_string(schema) +
+                  ") does not take plant sessions yet; it stays on this station, whole",
+              "the lab's administrator runs 'leafdig server init --url …' with this leafdig (it upgrades the server), "
+              "then push again");
       continue;
     }
     auto stationHeads = heads.find(s.station);
@@ -205,7 +218,6 @@ PullReport pull(Store& local, const std::string& url, const SyncOptions& options
   std::map<std::string, std::map<std::int64_t, ServerHead>> heads;
   for (const SessionInfo& s : sessions) {
     if (options.station && s.station != *options.station) continue;
-    if (s.kind != "leaf") continue;  // never pushed (push says why)
     ++report.sessionsSeen;
     try {
       checkStationId(s.station);

@@ -21,6 +21,7 @@
 
 namespace fs = std::filesystem;
 namespace db = leafdig::db;
+using leafdig::test::capturePlantSession;
 using leafdig::test::captureSession;
 using leafdig::test::PgCluster;
 using leafdig::test::Sql;
@@ -154,12 +155,12 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "2");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "3");
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 2);
-  EXPECT_EQ(again.toVersion, 2);
+  EXPECT_EQ(again.fromVersion, 3);
+  EXPECT_EQ(again.toVersion, 3);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -225,21 +226,140 @@ TEST_F(Lab, APushSendsEveryEventExactlyAndASecondPushSendsNothing) {
   EXPECT_EQ(serverEvents(), fileEvents(station));
 }
 
-TEST_F(Lab, APlantSessionStaysOnTheStationNamedAndTheLeafSessionsStillGo) {
+TEST_F(Lab, APlantSessionGoesToTheServerWholeAndACuratorsDecisionComesBack) {
   db::Store station(file("a.sqlite"));
   (void)captureSession(station, "bench-a", 1, 3);
-  const auto plant =
-      station.createPlantSession(station.ensurePlant(station.ensureProject("tobacco-2026"), "P-07"),
-                                 station.ensureOperator("ana"), "bench-a", "standard", "sequential", "{}");
+  const auto plant = capturePlantSession(station, "bench-a");
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const auto pushed = db::push(station, tech);
+  EXPECT_TRUE(pushed.problems.empty()) << pushed.problems[0].problem;
+  EXPECT_EQ(pushed.sessionsNew, 2);
+  EXPECT_EQ(serverEvents(), fileEvents(station));
+  Sql admin(admin_);
+  const auto row = admin.rows(
+      "SELECT id, kind, leaf_position, leaf_type, measured_area_mm2 IS NULL, status FROM leafdig.sessions WHERE "
+      "station = 'bench-a' AND station_session_id = $1",
+      {std::to_string(plant)});
+  ASSERT_EQ(row.size(), 1U);
+  EXPECT_EQ(row[0][1], "plant");
+  EXPECT_EQ(row[0][2], "0");
+  EXPECT_EQ(row[0][3], "");
+  EXPECT_EQ(row[0][4], "t");
+  EXPECT_EQ(row[0][5], "complete");
+  EXPECT_EQ(admin.value("SELECT kind FROM leafdig.sessions WHERE station_session_id = 1"), "leaf");
+  // The server reads it as a plant session, its chain whole.
+  db::LabStore reader(login(db::LabRole::Reader));
+  const std::int64_t serverId = std::stoll(row[0][0]);
+  EXPECT_EQ(reader.session(serverId)->kind, "plant");
+  EXPECT_TRUE(reader.verify(serverId).ok);
+  // A curator's approval by plain SQL comes back to the station.
+  const Pushed s{row[0][0], plant};
+  EXPECT_EQ(appendBySql(Sql(login(db::LabRole::Curator)), s, "bench-a", "status",
+                        R"({"status":"approved","who":"carla","why":"a whole plant"})"),
+            "");
+  const auto pulled = db::pull(station, tech);
+  EXPECT_TRUE(pulled.problems.empty());
+  EXPECT_EQ(pulled.eventsTaken, 1);
+  EXPECT_EQ(station.session(plant)->status, "approved");
+  EXPECT_TRUE(station.verify(plant).ok);
+  EXPECT_EQ(serverEvents(), fileEvents(station));
+}
+
+TEST_F(Lab, AServerBeforePlantSessionsLeavesThemOnTheStationNamedAndTheLeafSessionsStillGo) {
+  db::Store station(file("a.sqlite"));
+  (void)captureSession(station, "bench-a", 1, 3);
+  const auto plant = capturePlantSession(station, "bench-a");
   (void)captureSession(station, "bench-a", 2, 3);
+  (void)Sql(admin_).value("UPDATE leafdig.meta SET value = '2' WHERE key = 'schema_version' RETURNING value");
   const auto pushed = db::push(station, login(db::LabRole::Technician, "bench-a"));
   EXPECT_EQ(pushed.sessionsNew, 2);
   ASSERT_EQ(pushed.problems.size(), 1U);
   EXPECT_EQ(pushed.problems[0].stationSessionId, plant);
-  EXPECT_NE(pushed.problems[0].problem.find("is a plant session"), std::string::npos) << pushed.problems[0].problem;
-  EXPECT_NE(pushed.problems[0].problem.find("stays on this station"), std::string::npos);
+  EXPECT_NE(pushed.problems[0].problem.find("is a plant session and the lab server (schema 2)"), std::string::npos)
+      << pushed.problems[0].problem;
+  EXPECT_NE(pushed.problems[0].remedy.find("leafdig server init"), std::string::npos);
   EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.sessions"), "2");
   EXPECT_EQ(station.session(plant)->kind, "plant");  // untouched
+}
+
+TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed leaf = pushOne(station, "bench-a", tech, /*complete=*/false);
+  const auto plantId = capturePlantSession(station, "bench-a", "P-08", "tobacco-2026", "ana", /*complete=*/false);
+  ASSERT_TRUE(db::push(station, tech).problems.empty());
+  const Pushed plant{
+      Sql(admin_).value("SELECT id FROM leafdig.sessions WHERE station_session_id = $1", {std::to_string(plantId)}),
+      plantId};
+  Sql asTech(tech);
+  // What a plant session holds, taken; what it does not, refused by name.
+  const std::vector<std::pair<std::string, std::string>> good{
+      {"accepted", R"({"what":"point","row":4,"col":1,"position_mm":[2,0,300]})"},
+      {"accepted", R"({"what":"reading","row":4,"col":1,"value_mm":8.5})"},
+      {"leaf_chosen", R"({"node":4,"kind":"full","state":"alive"})"},
+      {"accepted", R"({"what":"node4.tip","row":null,"col":null,"position_mm":[200,0,400]})"},
+      {"accepted", R"({"what":"node4.marker","row":1,"col":1,"position_mm":[150,0,380]})"},
+      {"rows_reopened", R"({"node":4})"},
+      {"choice_undone", R"({"node":3,"kind":"quick","state":"broken"})"},
+  };
+  for (const auto& [kind, payload] : good)
+    EXPECT_EQ(appendBySql(asTech, plant, "bench-a", kind, payload), "") << kind << " " << payload;
+  const std::vector<std::pair<std::pair<std::string, std::string>, std::string>> bad{
+      {{"accepted", R"({"what":"marker","row":1,"col":1,"position_mm":[1,2,3]})"}, "not a plant's item"},
+      {{"accepted", R"({"what":"node4.board","row":null,"col":null,"position_mm":[1,2,3]})"}, "not a plant's item"},
+      {{"accepted", R"({"what":"node0.marker","row":1,"col":1,"position_mm":[1,2,3]})"}, "not a plant's item"},
+      {{"accepted", R"({"what":"landmark","row":1,"col":null,"position_mm":[1,2]})"}, "not a plant's item"},
+      {{"accepted", R"({"what":"collar_diameter","row":null,"col":null,"value_mm":-3})"}, "not a plant's item"},
+      {{"leaf_chosen", R"({"node":5,"kind":"sketch","state":"alive"})"}, "not a leaf's choice"},
+      {{"leaf_chosen", R"({"node":"5","kind":"full","state":"alive"})"}, "not a leaf's choice"},
+      {{"rows_ended", "{}"}, "does not name the node"},
+      {{"retake", R"({"what":"point","seq":2})"}, "not one leafdig writes for a plant session"},
+      {{"undone", R"({"what":"point","seq":99999})"}, "does not name an earlier event"},
+      {{"undone", R"({"what":"point","seq":4})"}, "which is not a captured item"},  // landmarks_ended
+  };
+  for (const auto& [event, words] : bad) {
+    const std::string refused = appendBySql(asTech, plant, "bench-a", event.first, event.second);
+    EXPECT_NE(refused.find(words), std::string::npos) << event.first << " " << event.second << ": " << refused;
+  }
+  // A leaf session takes none of the plant's words.
+  for (const auto& [kind, payload] : std::vector<std::pair<std::string, std::string>>{
+           {"landmarks_ended", "{}"},
+           {"leaf_chosen", R"({"node":1,"kind":"full","state":"alive"})"},
+           {"accepted", R"({"what":"landmark","row":1,"col":null,"position_mm":[1,2,3]})"}}) {
+    const std::string refused = appendBySql(asTech, leaf, "bench-a", kind, payload);
+    EXPECT_FALSE(refused.empty()) << kind;
+  }
+  EXPECT_NE(appendBySql(asTech, leaf, "bench-a", "plant_ended", "{}").find("a plant session's event"),
+            std::string::npos);
+  // Roles are unchanged: a curator adds no capture event, a technician decides nothing.
+  EXPECT_NE(appendBySql(Sql(login(db::LabRole::Curator)), plant, "bench-a", "accepted",
+                        R"({"what":"point","row":5,"col":1,"position_mm":[2,0,400]})")
+                .find("only the station's technician pushes them"),
+            std::string::npos);
+  EXPECT_NE(appendBySql(asTech, plant, "bench-a", "status", R"({"status":"approved","who":"ana","why":""})")
+                .find("only curators review"),
+            std::string::npos);
+  // A session's kind is what its settings say, and a plant has no leaf.
+  const auto insert = [&](std::int64_t id, const std::string& position, const std::string& settings,
+                          const std::string& kind) {
+    return asTech.error(
+        "INSERT INTO leafdig.sessions(station, station_session_id, project, plant, leaf_position, operator, mode, "
+        "capture_order, settings_json, created_utc, genesis_hash, kind) VALUES ('bench-a', $1, 'p', 'p', $2, 'x', "
+        "'standard', 'sequential', $3, 't', $4, $5)",
+        {std::to_string(id), position, settings, db::genesisHash(id, "t", settings), kind});
+  };
+  EXPECT_NE(insert(901, "3", R"({"kind":"plant"})", "plant").find("sessions_kind_known"), std::string::npos);
+  EXPECT_NE(insert(902, "0", "{}", "plant").find("pushed as a plant session but its settings are a leaf's"),
+            std::string::npos);
+  EXPECT_NE(
+      insert(903, "2", R"({"kind":"plant"})", "leaf").find("pushed as a leaf session but its settings are a plant's"),
+      std::string::npos);
+  EXPECT_NE(insert(904, "0", R"({"kind":"tree"})", "tree").find("sessions_kind_known"), std::string::npos);
+  EXPECT_EQ(insert(905, "0", R"({"kind":"plant"})", "plant"), "");
+  // Everything taken still reads and verifies on the server.
+  db::LabStore reader(login(db::LabRole::Reader));
+  EXPECT_TRUE(reader.verify(std::stoll(plant.serverId)).ok);
+  EXPECT_TRUE(reader.verify(std::stoll(leaf.serverId)).ok);
 }
 
 TEST_F(Lab, TheServerRechecksEveryChainAndNamesTheSessionAndEventItRefuses) {

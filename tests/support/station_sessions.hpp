@@ -71,4 +71,68 @@ inline std::int64_t captureSession(db::Store& s, const std::string& station, int
   return id;
 }
 
+// A plant session as a station writes it (the payloads of docs/schema.md, "Plant sessions"):
+// three landmarks and their end, the collar and its diameter, then per node its point, its
+// stem reading and its leaf — node 1 none, node 2 full (tip, two rows of 7, the rows' end and
+// two midrib readings), node 3 quick (three points, one undone and taken again) — then the
+// plant's end and `complete` (unless `complete` is false). Returns the session's id.
+inline std::int64_t capturePlantSession(db::Store& s, const std::string& station, const std::string& plant = "P-07",
+                                        const std::string& project = "tobacco-2026",
+                                        const std::string& operatorName = "ana", bool complete = true) {
+  const auto op = s.ensureOperator(operatorName);
+  const auto id = s.createPlantSession(s.ensurePlant(s.ensureProject(project), plant), op, station, "standard",
+                                       "sequential", R"({"kind":"plant","engine":{"still_mm":0.5}})");
+  std::int64_t mono = 1000;
+  const auto append = [&](const std::string& kind, const nlohmann::json& payload, const std::string& raw) {
+    db::EventInput e;
+    e.kind = kind;
+    e.payloadJson = payload.dump();
+    e.raw = raw;
+    e.monoNs = mono += 1000;
+    const db::EventInput change = db::changeOf(db::Event{0, 0, "", 0, e.kind, e.payloadJson, e.raw, "", ""});
+    e.projection = change.projection;
+    e.retracts = change.retracts;
+    return s.append(id, e);
+  };
+  const auto index = [](int i) { return i > 0 ? nlohmann::json(i) : nlohmann::json(nullptr); };
+  const auto point = [&](const std::string& what, int row, int col, double x, double z) {
+    return append("accepted",
+                  {{"what", what}, {"row", index(row)}, {"col", index(col)}, {"position_mm", {x, 0.5 * row, z}}},
+                  "01 " + std::to_string(x) + "\r\n");
+  };
+  const auto reading = [&](const std::string& what, int row, int col, double mm) {
+    return append("accepted", {{"what", what}, {"row", index(row)}, {"col", index(col)}, {"value_mm", mm}},
+                  "+" + std::to_string(mm) + "\r");
+  };
+  for (int k = 1; k <= 3; ++k) (void)point("landmark", k, 0, 100.0 * k, 20.0);
+  (void)append("landmarks_ended", nlohmann::json::object(), "");
+  (void)point("collar", 0, 0, 0.0, 0.0);
+  (void)reading("collar_diameter", 0, 0, 14.2);
+  const auto choose = [&](int node, const char* kind) {
+    (void)append("leaf_chosen", {{"node", node}, {"kind", kind}, {"state", "alive"}}, "");
+  };
+  (void)point("point", 1, 1, 1.0, 80.0);
+  (void)reading("reading", 1, 1, 12.5);
+  choose(1, "none");
+  (void)point("point", 2, 1, 1.5, 160.0);
+  (void)reading("reading", 2, 1, 11.0);
+  choose(2, "full");
+  (void)point("node2.tip", 0, 0, 300.0, 260.0);
+  for (int r = 1; r <= 2; ++r)
+    for (int c = 1; c <= 7; ++c) (void)point("node2.marker", r, c, 100.0 + 20.0 * c, 200.0 + 10.0 * r);
+  (void)append("rows_ended", {{"node", 2}}, "");
+  for (int r = 1; r <= 2; ++r) (void)reading("node2.midrib_thickness", r, 4, 1.8 - 0.1 * r);
+  (void)point("point", 3, 1, 2.0, 240.0);
+  (void)reading("reading", 3, 1, 9.5);
+  choose(3, "quick");
+  (void)point("quick_point", 3, 1, 20.0, 250.0);
+  const auto slip = point("quick_point", 3, 2, 999.0, 250.0);
+  (void)append("undone", {{"what", "quick_point"}, {"row", 3}, {"col", 2}, {"seq", slip}}, "");
+  (void)point("quick_point", 3, 2, 180.0, 330.0);
+  (void)point("quick_point", 3, 3, 110.0, 290.0);
+  (void)append("plant_ended", nlohmann::json::object(), "");
+  if (complete) (void)s.setStatus(id, "complete", operatorName, "all steps captured");
+  return id;
+}
+
 }  // namespace leafdig::test

@@ -39,7 +39,7 @@ struct ServerInit {
   std::vector<std::string> rolesCreated;
 };
 ServerInit initServer(const std::string& url, double lockWaitSeconds = 30);
-inline constexpr int kLabSchemaVersion = 2;
+inline constexpr int kLabSchemaVersion = 3;
 
 enum class LabRole { Technician, Curator, Reader };
 [[nodiscard]] const char* toString(LabRole role);
@@ -78,6 +78,7 @@ class LabStore final : public EventStore {
 
  private:
   std::unique_ptr<pg::Connection> conn_;
+  int schemaVersion_ = 0;
 };
 
 // Opens a station's SQLite file, or the lab server for a postgresql:// URL.
