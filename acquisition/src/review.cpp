@@ -6,9 +6,11 @@
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
+#include <variant>
 
 #include "chain_check.hpp"
 #include "item_json.hpp"
+#include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/preview.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/io/mesh_export.hpp"
@@ -28,6 +30,40 @@ db::SessionInfo infoOrThrow(const db::EventStore& store, std::int64_t id) {
     throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe() +
                        ": 'leafdig sessions list' shows them");
   return *info;
+}
+
+// A plant session's full leaf at `node`, as markers with its leaf's names (the plant, the node).
+model::MarkerSet plantLeafMarkers(const db::EventStore& store, std::int64_t id, int node) {
+  if (infoOrThrow(store, id).kind != "plant")
+    throw SessionError("session " + std::to_string(id) +
+                       " captured one leaf: --node names a full leaf of a plant session; leave it out");
+  const CapturedSurvey captured = capturedSurvey(store, id);
+  std::string full;  // the nodes that have one, for the message
+  for (std::size_t k = 0; k < captured.markers.nodes.size(); ++k)
+    if (std::holds_alternative<model::MarkerSet>(captured.markers.nodes[k].leaf))
+      full += (full.empty() ? "" : ", ") + std::to_string(k + 1);
+  const auto at = static_cast<std::size_t>(node) - 1;
+  if (node < 1 || at >= captured.markers.nodes.size() ||
+      !std::holds_alternative<model::MarkerSet>(captured.markers.nodes[at].leaf))
+    throw std::invalid_argument(
+        "plant session " + std::to_string(id) + " has no full leaf at node " + std::to_string(node) + ": " +
+        (full.empty() ? std::string("none of its leaves was taken in full") : "its full leaves are at node " + full));
+  model::MarkerSet set = std::get<model::MarkerSet>(captured.markers.nodes[at].leaf);
+  set.leaf.plant = captured.markers.plant;
+  set.leaf.id = captured.markers.plant + " node " + std::to_string(node);
+  set.leaf.position = node;
+  return set;
+}
+
+// Only the items of one leaf of a plant session, with their words as a leaf's ("node3.marker" → "marker").
+void keepLeafItems(db::Projected& items, const std::string& prefix) {
+  const auto strip = [&](auto& rows) {
+    rows.erase(std::remove_if(rows.begin(), rows.end(), [&](const auto& x) { return x.what.rfind(prefix, 0) != 0; }),
+               rows.end());
+    for (auto& x : rows) x.what = x.what.substr(prefix.size());
+  };
+  strip(items.markers);
+  strip(items.thickness);
 }
 
 std::string csvText(const std::string& s) {
@@ -62,7 +98,7 @@ ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std:
   if (r.info.kind != "leaf")
     throw SessionError("session " + std::to_string(id) +
                        " captured a whole plant, not one leaf: `leafdig sessions export " + std::to_string(id) +
-                       " --format mtg,csv,markers,json` writes its files");
+                       "` writes its files (`--node K` one full leaf's)");
   r.settings = CaptureSession::settingsFromJson(r.info.settingsJson);
   std::vector<db::Event> events = store.events(id);
   r.totalEvents = static_cast<std::int64_t>(events.size());
@@ -200,14 +236,23 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   if (request.outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
   if (request.frame != "leaf" && request.frame != "digitizer")
     throw std::invalid_argument("unknown frame '" + request.frame + "': use leaf or digitizer");
-  const ReviewedSession r = openForReview(store, id);
-  requireChain(store, id, "exported");
   std::vector<std::string> formats = request.formats.empty() ? exportFormats() : request.formats;
   for (const auto& f : formats)
     if (std::find(exportFormats().begin(), exportFormats().end(), f) == exportFormats().end())
       throw std::invalid_argument("unknown export format '" + f + "': use glb, obj, ply, stl, model, markers, csv");
-  const model::LeafInfo info = leafInfoOf(r.info);
-  const model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, info);
+  model::MarkerSet set;
+  std::string base = request.outDir + "/session-" + std::to_string(id);
+  std::string itemPrefix;  // a plant's leaf: its items' words begin "node<k>."
+  if (request.node) {
+    set = plantLeafMarkers(store, id, *request.node);
+    base += ".node-" + std::to_string(*request.node);
+    itemPrefix = "node" + std::to_string(*request.node) + ".";
+  } else {
+    const ReviewedSession r = openForReview(store, id);
+    requireChain(store, id, "exported");
+    set = toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
+  }
+  const model::LeafInfo& info = set.leaf;
   model::LeafModel leaf = model::buildLeafModel(set, {model::bladeKindFromString(request.blade), nullptr});
   if (request.frame == "leaf") leaf = model::transformed(leaf, model::leafFrameFromDigitizer(leaf));
   model::MeshOptions meshOptions;
@@ -221,7 +266,6 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   model::addSilhouette(result.metrics, mesh);
   result.rows = set.rows.size();
   const model::ExportHeader header{info.id, request.frame, std::string("leafdig ") + kVersion};
-  const std::string base = request.outDir + "/session-" + std::to_string(id);
   std::vector<std::pair<std::string, std::string>> files;  // path, bytes
   for (const std::string& f : formats) {
     if (f == "glb" || f == "obj" || f == "ply" || f == "stl") {
@@ -232,7 +276,8 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
       files.emplace_back(base + ".markers.json", model::markersToJson(set));
     } else if (f == "csv") {
       // From the verified events (the tables agree with them, or verify refused above).
-      const db::Projected items = db::project(store.events(id));
+      db::Projected items = db::project(store.events(id));
+      if (!itemPrefix.empty()) keepLeafItems(items, itemPrefix);
       std::ostringstream mk, th;
       mk << std::setprecision(17) << "session,seq,what,row,col,x_mm,y_mm,z_mm\n";
       for (const auto& x : items.markers)

@@ -169,6 +169,12 @@ TEST_F(CaptureCli, ASimulatedCaptureFollowsTheJsonLinesContractAndEveryLineIsInT
   const Result ex = leafdig("sessions export 1 --out " + quote(dir_ / "x") + " --db " + quote(db) + " --json");
   ASSERT_EQ(ex.exitCode, 0) << ex.err;
   EXPECT_EQ(json::parse(ex.out).at("outputs").size(), 9u);
+  // --node is for a plant session's leaves.
+  const Result node = leafdig("sessions export 1 --node 2 --out " + quote(dir_ / "n") + " --db " + quote(db));
+  EXPECT_EQ(node.exitCode, 2);
+  EXPECT_NE(node.err.find("captured one leaf: --node names a full leaf of a plant session"), std::string::npos)
+      << node.err;
+  EXPECT_FALSE(fs::exists(dir_ / "n"));
   // The leaf's numbers in one row: its area, interval, silhouette and STAR with the metrics.
   const json exported = json::parse(ex.out).at("metrics");
   const std::string me = slurp(dir_ / "x" / "session-1.metrics.csv");

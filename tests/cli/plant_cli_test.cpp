@@ -870,6 +870,55 @@ TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlant
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 
+TEST_F(PlantCli, APlantsFullLeafIsExportedAloneAsADetachedLeafIs) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --seed 4 --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string id = std::to_string(jsonLines(r.out).front().at("session").get<std::int64_t>());
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(
+      leafdig("sessions export " + id + " --db " + quote(db) + " --out " + quote(out) + " --format json").exitCode, 0);
+  const Result leaf =
+      leafdig("sessions export " + id + " --db " + quote(db) + " --out " + quote(out) + " --node 2 --json");
+  ASSERT_EQ(leaf.exitCode, 0) << leaf.err;
+  const json report = json::parse(leaf.out);
+  const std::string base = (out / ("session-" + id + ".node-2")).string();
+  std::set<std::string> written;
+  for (const json& f : report.at("outputs")) written.insert(f.get<std::string>());
+  for (const std::string ext : {".glb", ".obj", ".ply", ".stl", ".model.json", ".markers.json", ".markers.csv",
+                                ".thickness.csv", ".metrics.csv"})
+    EXPECT_EQ(written.count(base + ext), 1U) << ext;
+  // Its area is the survey's for that leaf: the same markers, the same model.
+  double surveyed = 0.0;
+  const json survey = json::parse(slurp(out / ("session-" + id + ".survey.json")));
+  for (const json& l : survey.at("leaves"))
+    if (l.at("node") == 2) surveyed = l.at("area_mm2").get<double>();
+  ASSERT_GT(surveyed, 0.0);
+  EXPECT_NEAR(report.at("metrics").at("blade_area_mm2").get<double>(), surveyed, 1e-3 * surveyed);
+  // The Khronos validator takes its GLB; its markers are a leaf's file `model build` reads.
+  const Result check = run("node " + quote(std::string(LEAFDIG_SOURCE_DIR) + "/tests/tools/validate-gltf.mjs") + " " +
+                           quote(base + ".glb"));
+  ASSERT_EQ(check.exitCode, 0) << check.out << check.err;
+  EXPECT_EQ(json::parse(check.out)["numErrors"], 0) << check.out;
+  const Result rebuilt = leafdig("model build " + quote(base + ".markers.json") + " --json");
+  ASSERT_EQ(rebuilt.exitCode, 0) << rebuilt.err;
+  const json again = json::parse(rebuilt.out);
+  EXPECT_EQ(again.at("leaf"), "tobacco-p12 node 2");
+  EXPECT_NEAR(again.at("metrics").at("blade_area_mm2").get<double>(), surveyed, 1e-3 * surveyed);
+  // The CSV holds that leaf's items alone, in a leaf's words.
+  const std::string csv = slurp(base + ".markers.csv");
+  EXPECT_EQ(csv.find("node"), std::string::npos);
+  EXPECT_EQ(csv.find("landmark"), std::string::npos);
+  EXPECT_NE(csv.find(",tip,"), std::string::npos) << csv.substr(0, 200);
+  // A node whose leaf was not taken in full, and a leaf session, are refused in words.
+  const Result quick =
+      leafdig("sessions export " + id + " --db " + quote(db) + " --out " + quote(dir_ / "q") + " --node 3");
+  EXPECT_EQ(quick.exitCode, 2);
+  EXPECT_NE(quick.err.find("has no full leaf at node 3: its full leaves are at node 2"), std::string::npos)
+      << quick.err;
+  EXPECT_FALSE(fs::exists(dir_ / "q"));
+}
+
 TEST_F(PlantCli, RepeatSurveysOfOnePlantAreListedByTheirDay) {
   const fs::path db = dir_ / "station.sqlite";
   // The sample plant surveyed in July, then again dated by its file (12 June); another plant.

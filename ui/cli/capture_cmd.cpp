@@ -487,7 +487,7 @@ int runCorrect(db::EventStore& store, const CaptureOptions& o) {
 }
 
 int runExport(db::EventStore& store, const CaptureOptions& o) {
-  if (const auto info = store.session(o.id); info && info->kind == "plant") {
+  if (const auto info = store.session(o.id); info && info->kind == "plant" && o.node == 0) {
     const acq::PlantExport p = acq::exportPlantSession(store, o.id, o.formats, o.out);
     if (o.json) {
       std::cout << json{{"session", o.id}, {"kind", "plant"}, {"outputs", p.written}, {"notes", p.notes}}.dump()
@@ -505,6 +505,7 @@ int runExport(db::EventStore& store, const CaptureOptions& o) {
   request.frame = o.frame;
   request.blade = o.blade;
   request.outDir = o.out;
+  if (o.node != 0) request.node = o.node;
   const acq::ExportResult r = acq::exportSession(store, o.id, request);
   if (o.json) {
     std::cout
@@ -739,6 +740,10 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
                   "glb, obj, ply, stl, model, markers, csv (default: all); a plant session: mtg, csv, markers, json, "
                   "glb, obj, ply, stl, can, model, plan")
       ->delimiter(',');
+  exp->add_option("--node", o.node,
+                  "A plant session's full leaf alone, the one at this node (the leaf's formats: glb, obj, ply, stl, "
+                  "model, markers, csv)")
+      ->check(CLI::Range(1, 9999));
   exp->add_option("--frame", o.frame, "leaf (default) or digitizer")->check(CLI::IsMember({"leaf", "digitizer"}));
   exp->add_option("--blade", o.blade, "interp (default), approx, bezier, nurbs")
       ->check(CLI::IsMember({"interp", "approx", "bezier", "nurbs"}));

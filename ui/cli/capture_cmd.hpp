@@ -33,6 +33,7 @@ struct CaptureOptions {
   bool all = false;
   std::string who, why, out;
   std::vector<std::string> formats;
+  int node = 0;  // sessions export --node: a plant session's full leaf alone
   std::string frame = "leaf", blade = "interp";
   // sessions correct
   std::string what;

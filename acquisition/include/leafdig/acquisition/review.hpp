@@ -72,6 +72,9 @@ struct ExportRequest {
   model::SeedMeshParameters seed;
   std::string blade = "interp";  // approx, bezier, nurbs
   std::string outDir;
+  // A plant session's full leaf, alone: the leaf digitized at this node (files
+  // session-N.node-K.*, in the digitizer's or the leaf's frame, the CSV of that leaf's items).
+  std::optional<int> node;
 };
 struct ExportResult {
   std::vector<std::string> written;  // files, in the order written
