@@ -2,7 +2,8 @@
 # Regenerates the README's screenshots (docs/station-capture.png, docs/station-review.png,
 # docs/station-plant.png) with the station itself under Xvfb at 1366 × 768, the smallest
 # screen the station is laid out for: the end-to-end test's simulated capture and review,
-# then the Plant view on the sample plan with that capture approved in its library. Needs
+# then the Plant view on the sample plan with that capture approved in its library, and on
+# the sample plant captured where it stands (docs/station-plant-captured.png). Needs
 # the `ci` build (./scripts/setup.sh ci).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,4 +20,14 @@ cp "$out/review.png" "$root/docs/station-review.png"
   --plant-screenshot "$out/plant.png")
 [ -s "$out/plant.png" ] || { echo "update-screenshots: no Plant view screenshot"; exit 1; }
 cp "$out/plant.png" "$root/docs/station-plant.png"
-echo "update-screenshots: docs/station-capture.png, docs/station-review.png and docs/station-plant.png regenerated"
+# A plant captured where it stands (the sample plant by the virtual technician), its quick
+# leaves shaped from the approved capture, opened in the Plant view with its divergences.
+"$leafdig" plant capture --simulate --db "$out/station.sqlite" --speed 40 --json >"$out/plant-capture.jsonl"
+session=$(head -1 "$out/plant-capture.jsonl" | python3 -c 'import json, sys; print(json.load(sys.stdin)["session"])')
+(cd "$root" && timeout 120 xvfb-run -a -s "-screen 0 1366x768x24" "$station" --no-audio \
+  --db "$out/station.sqlite" --settings "$out/station.ini" --plant-session "$session" \
+  --plant-screenshot "$out/plant-captured.png")
+[ -s "$out/plant-captured.png" ] || { echo "update-screenshots: no captured plant screenshot"; exit 1; }
+cp "$out/plant-captured.png" "$root/docs/station-plant-captured.png"
+echo "update-screenshots: docs/station-capture.png, docs/station-review.png, docs/station-plant.png and" \
+  "docs/station-plant-captured.png regenerated"

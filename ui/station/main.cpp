@@ -38,8 +38,10 @@ int main(int argc, char** argv) {
       "quit-after-first-frame",
       "Print when the first frame of the preview is on screen, then exit (start-up benchmark)");
   const QCommandLineOption plantPlan("plant", "Open this plant plan (leafdig.plant/1) in the Plant view", "PLAN");
-  const QCommandLineOption plantShot("plant-screenshot",
-                                     "With --plant: save the window once the plant is shown, then exit", "PNG");
+  const QCommandLineOption plantSession(
+      "plant-session", "Open this plant session of --db (a plant captured where it stands) in the Plant view", "ID");
+  const QCommandLineOption plantShot(
+      "plant-screenshot", "With --plant or --plant-session: save the window once the plant is shown, then exit", "PNG");
   const QCommandLineOption noAudio("no-audio",
                                    "No sound cues (nothing loaded through Qt Multimedia); the system beep still marks "
                                    "a rejection and a device error");
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
       "station",
       "This station's id, stored with every session (default: [station] id= in the settings, or the host name)", "ID");
   p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, reviewShot, quit,
-                setupDialog, settingsFile, firstFrame, plantPlan, plantShot, noAudio, station});
+                setupDialog, settingsFile, firstFrame, plantPlan, plantSession, plantShot, noAudio, station});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -114,9 +116,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "leafdig-station: %s\n", w.bannerText().toStdString().c_str());
     if (!interactive) return 1;
   }
-  if (p.isSet(plantPlan)) {
+  if (p.isSet(plantPlan) || p.isSet(plantSession)) {
     w.tabs()->setCurrentWidget(w.plantView());
-    const QString error = w.plantView()->openPlan(p.value(plantPlan));
+    const QString error = p.isSet(plantSession) ? w.plantView()->openCapturedPlant(p.value(plantSession).toLongLong())
+                                                : w.plantView()->openPlan(p.value(plantPlan));
     if (!error.isEmpty()) {
       std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(error));
       if (p.isSet(plantShot)) return 2;

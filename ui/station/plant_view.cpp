@@ -1,17 +1,21 @@
 #include "plant_view.hpp"
 
+#include <QChart>
+#include <QChartView>
 #include <QComboBox>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLineSeries>
 #include <QListWidget>
 #include <QPushButton>
 #include <QSlider>
 #include <QSpinBox>
 #include <QTimer>
 #include <QVBoxLayout>
+#include <QValueAxis>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -97,6 +101,11 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   row(tr("Growth time"), time_, timeLabel_);
   form->addRow(summary_);
   form->addRow(status_);
+  divergenceChart_ = new QChartView;
+  divergenceChart_->setMinimumHeight(170);
+  divergenceChart_->setRenderHint(QPainter::Antialiasing);
+  divergenceChart_->hide();
+  form->addRow(divergenceChart_);
   exportMesh_ = new MeshChoice;
   form->addRow(tr("Export mesh"), exportMesh_);
   form->addRow(export_);
@@ -244,11 +253,23 @@ QString PlantView::openCapturedPlant(std::int64_t session) {
     library_.clear();
     plant_ = std::move(made.plant);
     enableSliders(false);
-    QString what = tr("captured %1 (session %2)")
-                       .arg(QString::fromStdString(captured.markers.date ? m::toIso(*captured.markers.date) : ""))
-                       .arg(session);
-    for (const std::string& note : made.notes) what += "\n" + QString::fromStdString(note);
-    showPlant(what);
+    const QString what = tr("captured %1 (session %2)")
+                             .arg(QString::fromStdString(captured.markers.date ? m::toIso(*captured.markers.date) : ""))
+                             .arg(session);
+    QString more;
+    for (const std::string& note : made.notes) more += "\n" + QString::fromStdString(note);
+    std::vector<double> divergences;
+    for (const m::SurveyedLeaf& l : captured.survey.leaves)
+      if (l.divergenceDeg) divergences.push_back(*l.divergenceDeg);
+    if (!divergences.empty()) {
+      double sum = 0.0;
+      for (double d : divergences) sum += d;
+      more += "\n" + tr("divergence: mean %1° over %2 pair(s) of successive leaves (golden angle 137.5°)")
+                         .arg(sum / static_cast<double>(divergences.size()), 0, 'f', 1)
+                         .arg(divergences.size());
+    }
+    showPlant(what, more);
+    showDivergences(divergences);
     export_->setEnabled(true);
     return {};
   } catch (const std::exception& e) {
@@ -261,8 +282,64 @@ void PlantView::enableSliders(bool on) {
   if (!on) time_->setEnabled(false);
 }
 
+void PlantView::showDivergences(const std::vector<double>& degrees) {
+  divergenceBins_.assign(36, 0);
+  for (double d : degrees) ++divergenceBins_[static_cast<std::size_t>(std::clamp(static_cast<int>(d / 10.0), 0, 35))];
+  auto* chart = new QChart;
+  chart->setTitle(tr("Divergence, ° (green line: 137.5°)"));
+  QFont small = chart->titleFont();
+  small.setPointSizeF(small.pointSizeF() * 0.9);
+  chart->setTitleFont(small);
+  chart->setMargins(QMargins(2, 2, 2, 2));
+  chart->setBackgroundRoundness(0);
+  chart->legend()->hide();  // the title says what the line is: room for the labels at 1366 × 768
+  auto* bars = new QLineSeries;  // the histogram's outline, bin by bin
+  bars->setName(tr("leaves"));
+  int most = 1;
+  bars->append(0, 0);
+  for (std::size_t b = 0; b < divergenceBins_.size(); ++b) {
+    const double x0 = 10.0 * static_cast<double>(b);
+    bars->append(x0, divergenceBins_[b]);
+    bars->append(x0 + 10.0, divergenceBins_[b]);
+    most = std::max(most, divergenceBins_[b]);
+  }
+  bars->append(360, 0);
+  auto* golden = new QLineSeries;
+  golden->setName(tr("137.5°"));
+  golden->append(m::kGoldenAngleDeg, 0);
+  golden->append(m::kGoldenAngleDeg, most + 0.5);
+  chart->addSeries(bars);
+  chart->addSeries(golden);
+  auto* x = new QValueAxis;
+  x->setRange(0, 360);
+  x->setTickType(QValueAxis::TicksDynamic);
+  x->setTickAnchor(0);
+  x->setTickInterval(90);
+  x->setLabelFormat("%d");  // degrees (a ° in the format is not taken as UTF-8 by Qt Charts)
+  x->setLabelsFont(small);
+  auto* y = new QValueAxis;
+  y->setRange(0, most + 0.5);
+  y->setLabelFormat("%d");
+  y->setLabelsFont(small);
+  y->setTickType(QValueAxis::TicksDynamic);
+  y->setTickAnchor(0);
+  y->setTickInterval(most > 6 ? 2 : 1);
+  chart->addAxis(x, Qt::AlignBottom);
+  chart->addAxis(y, Qt::AlignLeft);
+  for (auto* series : chart->series()) {
+    series->attachAxis(x);
+    series->attachAxis(y);
+  }
+  QChart* old = divergenceChart_->chart();
+  divergenceChart_->setChart(chart);
+  delete old;
+  divergenceChart_->setVisible(!degrees.empty());
+}
+
 QString PlantView::usePlan(m::PlantPlan plan, std::vector<m::LibraryLeaf> library) {
   enableSliders(true);
+  divergenceBins_.clear();
+  divergenceChart_->hide();
   plan_ = std::move(plan);
   library_ = std::move(library);
   slidersFromPlan();
@@ -322,14 +399,14 @@ QString PlantView::rebuild() {
   try {
     const m::PlantBuilder builder(plan, library_);
     plant_ = builder.build(t);
-    showPlant(tr("planned"));
+    showPlant(tr("planned"), {});
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
   }
   return {};
 }
 
-void PlantView::showPlant(const QString& what) {
+void PlantView::showPlant(const QString& what, const QString& more) {
   mesh_ = m::meshPlant(*plant_, m::MeshResolution::preset("preview"));
   metrics_ = m::computePlantMetrics(*plant_, *mesh_, Eigen::Vector3d::UnitZ());
   auto preview = std::make_shared<acquisition::Preview>();
@@ -344,7 +421,8 @@ void PlantView::showPlant(const QString& what) {
                         .arg(metrics_->areaMm2 / 100, 0, 'f', 0)
                         .arg(metrics_->silhouetteMm2 / 100, 0, 'f', 0)
                         .arg(metrics_->star, 0, 'f', 2)
-                        .arg(what));
+                        .arg(what) +
+                    more);
 }
 
 QString PlantView::exportTo(const QString& path) {

@@ -15,6 +15,7 @@
 #include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/plant/plant.hpp"
 
+class QChartView;
 class QComboBox;
 class QLabel;
 class QListWidget;
@@ -44,6 +45,11 @@ class PlantView : public QWidget {
   // The plant sessions of the database (listed in capturedList(), with their data the session id).
   [[nodiscard]] QComboBox* capturedList() const { return captured_; }
   QString openCapturedPlant(std::int64_t session);
+  // A captured plant's divergences between successive leaves (counterclockwise, seen from
+  // above), counted in 10° bins from 0° to 360°, drawn against the golden angle (137.5°);
+  // empty and hidden for a planned plant.
+  [[nodiscard]] const std::vector<int>& divergenceBins() const { return divergenceBins_; }
+  [[nodiscard]] QChartView* divergenceChart() const { return divergenceChart_; }
   QString exportTo(const QString& path);
 
   [[nodiscard]] const model::Plant* plant() const { return plant_ ? &*plant_ : nullptr; }
@@ -61,8 +67,9 @@ class PlantView : public QWidget {
  private:
   QString usePlan(model::PlantPlan plan, std::vector<model::LibraryLeaf> library);
   void slidersFromPlan();
-  QString rebuild();                    // plan + sliders -> plant -> preview and summary
-  void showPlant(const QString& what);  // plant_ -> mesh, metrics, preview and summary
+  QString rebuild();  // plan + sliders -> plant -> preview and summary
+  // plant_ -> mesh, metrics, preview and summary ("<id>, <what>: …", then the lines of `more`)
+  void showPlant(const QString& what, const QString& more);
   void enableSliders(bool on);
   void scheduleRebuild();
   [[nodiscard]] std::optional<double> time() const;
@@ -81,6 +88,9 @@ class PlantView : public QWidget {
   MeshChoice* exportMesh_;
   QListWidget* libraryList_;
   QComboBox* captured_;
+  QChartView* divergenceChart_;
+  std::vector<int> divergenceBins_;
+  void showDivergences(const std::vector<double>& degrees);
   std::vector<model::LibraryLeaf> approved_;  // as listed
   bool rebuildPending_ = false;
 };

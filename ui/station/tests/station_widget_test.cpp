@@ -30,12 +30,14 @@
 #include <fstream>
 #include <functional>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <thread>
 
 #include "../../../tests/support/pg_cluster.hpp"
 #include "export_dialog.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
+#include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/plant_simulation.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
@@ -1075,10 +1077,28 @@ TEST(PlantView, APlantCapturedWhereItStandsOpensAsMeasured) {
   EXPECT_TRUE(v.summaryText().contains("captured 2026-06-12")) << v.summaryText().toStdString();
   EXPECT_TRUE(v.summaryText().contains("built-in sample shape")) << v.summaryText().toStdString();
   EXPECT_FALSE(v.divergenceSlider()->isEnabled());  // measured, not planned
+  // The divergences between successive leaves with points (nodes 2→3, 3→4), binned by 10°.
+  {
+    const auto store = leafdig::db::openEventStore(db, true);
+    const acq::CapturedSurvey survey = acq::capturedSurvey(*store, id);
+    std::vector<int> want(36, 0);
+    for (const auto& l : survey.survey.leaves)
+      if (l.divergenceDeg) ++want[static_cast<std::size_t>(*l.divergenceDeg / 10.0)];
+    EXPECT_EQ(v.divergenceBins(), want);
+    EXPECT_EQ(std::accumulate(want.begin(), want.end(), 0), 2);
+  }
+  EXPECT_FALSE(v.divergenceChart()->isHidden());
+  EXPECT_TRUE(v.summaryText().contains("divergence: mean")) << v.summaryText().toStdString();
   const QString out = QDir::tempPath() + "/leafdig-plant-captured-" + QString::number(::getpid()) + ".glb";
   EXPECT_EQ(v.exportTo(out), QString());
   EXPECT_GT(std::filesystem::file_size(out.toStdString()), 10000u);
   std::filesystem::remove(out.toStdString());
+  // A plan again: the sliders come back, the histogram goes.
+  ASSERT_EQ(v.openPlan(QString::fromStdString(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/tobacco-p07.plant.json")),
+            QString());
+  EXPECT_TRUE(v.divergenceSlider()->isEnabled());
+  EXPECT_TRUE(v.divergenceChart()->isHidden());
+  EXPECT_TRUE(v.divergenceBins().empty());
   // A session that is not a plant is refused in words.
   EXPECT_TRUE(v.openCapturedPlant(id + 7).contains("no session")) << v.openCapturedPlant(id + 7).toStdString();
   std::filesystem::remove(db);
