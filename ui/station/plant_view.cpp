@@ -20,6 +20,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "compact_chart.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/db/lab.hpp"
@@ -285,14 +286,9 @@ void PlantView::enableSliders(bool on) {
 void PlantView::showDivergences(const std::vector<double>& degrees) {
   divergenceBins_.assign(36, 0);
   for (double d : degrees) ++divergenceBins_[static_cast<std::size_t>(std::clamp(static_cast<int>(d / 10.0), 0, 35))];
-  auto* chart = new QChart;
-  chart->setTitle(tr("Divergence, ° (green line: 137.5°)"));
-  QFont small = chart->titleFont();
-  small.setPointSizeF(small.pointSizeF() * 0.9);
-  chart->setTitleFont(small);
-  chart->setMargins(QMargins(2, 2, 2, 2));
-  chart->setBackgroundRoundness(0);
-  chart->legend()->hide();  // the title says what the line is: room for the labels at 1366 × 768
+  QFont small;
+  QChart* chart = compactChart(tr("Divergence, ° (green line: 137.5°)"), small);
+  chart->legend()->hide();       // the title says what the line is: room for the labels at 1366 × 768
   auto* bars = new QLineSeries;  // the histogram's outline, bin by bin
   bars->setName(tr("leaves"));
   int most = 1;
@@ -324,15 +320,7 @@ void PlantView::showDivergences(const std::vector<double>& degrees) {
   y->setTickType(QValueAxis::TicksDynamic);
   y->setTickAnchor(0);
   y->setTickInterval(most > 6 ? 2 : 1);
-  chart->addAxis(x, Qt::AlignBottom);
-  chart->addAxis(y, Qt::AlignLeft);
-  for (auto* series : chart->series()) {
-    series->attachAxis(x);
-    series->attachAxis(y);
-  }
-  QChart* old = divergenceChart_->chart();
-  divergenceChart_->setChart(chart);
-  delete old;
+  showChart(divergenceChart_, chart, x, y);
   divergenceChart_->setVisible(!degrees.empty());
 }
 

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <set>
 
+#include "compact_chart.hpp"
 #include "export_dialog.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/model/errors.hpp"
@@ -457,15 +458,10 @@ void ReviewView::fill() {
 }
 
 void ReviewView::fillChart(const std::vector<acq::ReviewFlag>& flags) {
-  auto* chart = new QChart;
   // Compact: at 1366 × 768 the chart has about 250 px, and Qt Charts elides labels that
   // do not fit (a test looks for "…" in every label).
-  chart->setTitle(tr("Thickness along the leaf (row 1 = tip)"));
-  QFont small = chart->titleFont();
-  small.setPointSizeF(small.pointSizeF() * 0.9);
-  chart->setTitleFont(small);
-  chart->setMargins(QMargins(2, 2, 2, 2));
-  chart->setBackgroundRoundness(0);
+  QFont small;
+  QChart* chart = compactChart(tr("Thickness along the leaf (row 1 = tip)"), small);
   chart->legend()->setFont(small);
   std::map<acq::What, QLineSeries*> series;
   const std::pair<acq::What, QString> kinds[] = {{acq::What::MidribThickness, tr("midrib")},
@@ -510,15 +506,7 @@ void ReviewView::fillChart(const std::vector<acq::ReviewFlag>& flags) {
   auto* y = new QValueAxis;
   y->setTitleText(tr("mm"));  // short: a vertical title longer than the plot is cut
   y->setRange(0, maxV * 1.15);
-  chart->addAxis(x, Qt::AlignBottom);
-  chart->addAxis(y, Qt::AlignLeft);
-  for (auto* s : chart->series()) {
-    s->attachAxis(x);
-    s->attachAxis(y);
-  }
-  QChart* old = chart_->chart();
-  chart_->setChart(chart);
-  delete old;
+  showChart(chart_, chart, x, y);
 }
 
 void ReviewView::correctSelected() {
