@@ -27,6 +27,8 @@ constexpr NameTable<PlantWhat, 8> kPlantWhatNames{{{PlantWhat::Landmark, "landma
                                                    {PlantWhat::Leaf, "leaf"},
                                                    {PlantWhat::Done, "done"}}};
 
+constexpr std::size_t kMaxLeafTypeChars = 64;
+
 std::string num(int v) {
   return std::to_string(v);
 }
@@ -125,9 +127,9 @@ LeafChoice PlantEngine::choiceFor(int node) const {
   if (!leafEntity()) return {};
   const m::ProtocolLeaf& p = *leafEntity()->leaf;
   const bool kth = p.fullEvery > 0 && node % p.fullEvery == 0;
-  if (kth && p.allows(m::LeafKind::Full)) return {m::LeafKind::Full, m::LeafState::Alive};
+  if (kth && p.allows(m::LeafKind::Full)) return {m::LeafKind::Full, m::LeafState::Alive, {}};
   for (const m::LeafKind k : {m::LeafKind::Quick, m::LeafKind::Full})
-    if (p.allows(k)) return {k, m::LeafState::Alive};
+    if (p.allows(k)) return {k, m::LeafState::Alive, {}};
   return {};
 }
 
@@ -399,6 +401,9 @@ PlantDecision PlantEngine::chooseLeaf(int node, LeafChoice choice) {
   if (!leafEntity()->leaf->allows(choice.kind))
     return reject("the protocol does not take " + std::string(m::toString(choice.kind)) + " leaves");
   if (plantEnded_) return reject("the plant is ended: undo the end first");
+  if (choice.type.size() > kMaxLeafTypeChars)
+    return reject("a leaf type is a short word (at most " + num(static_cast<int>(kMaxLeafTypeChars)) +
+                  " characters), such as lower or upper");
   if (node < 1 || node > nodes() + 1)
     return reject("node " + num(node) + " is not taken yet: choose for node " + num(nodes() + 1) + " or one before");
   const LeafChoice now = choiceFor(node);
@@ -502,12 +507,16 @@ m::PlantMarkers PlantEngine::captured(const std::string& plant) const {
     const LeafChoice choice = choiceFor(node);
     n.state = choice.state;
     if (leafEntity() && choice.kind == m::LeafKind::Full) {
-      if (const Engine* e = leaf(node); e && e->complete()) n.leaf = toMarkerSet(e->items(), settings_);
+      if (const Engine* e = leaf(node); e && e->complete()) {
+        m::MarkerSet set = toMarkerSet(e->items(), settings_);
+        set.leaf.type = choice.type;
+        n.leaf = std::move(set);
+      }
     } else if (leafEntity() && choice.kind == m::LeafKind::Quick) {
       const PlantItem* b = find(PlantWhat::QuickPoint, node, 1);
       const PlantItem* t = find(PlantWhat::QuickPoint, node, 2);
       const PlantItem* s = find(PlantWhat::QuickPoint, node, 3);
-      if (b && t && s) n.leaf = m::QuickLeaf{at(*b), at(*t), at(*s), {}};
+      if (b && t && s) n.leaf = m::QuickLeaf{at(*b), at(*t), at(*s), choice.type};
     }
     out.nodes.push_back(std::move(n));
   }

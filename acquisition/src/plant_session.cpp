@@ -87,7 +87,9 @@ std::string keyOf(const PlantDecision& d) {
 }
 
 json choiceJson(int node, const LeafChoice& c) {
-  return {{"node", node}, {"kind", m::toString(c.kind)}, {"state", m::toString(c.state)}};
+  json j{{"node", node}, {"kind", m::toString(c.kind)}, {"state", m::toString(c.state)}};
+  if (!c.type.empty()) j["type"] = c.type;  // absent when not said (sessions before it read the same)
+  return j;
 }
 
 constexpr NameTable<PlantDecision::Kind, 9> kEvents{{{PlantDecision::Kind::Accepted, "accepted"},
@@ -202,7 +204,7 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
         d.kind = e.kind == "leaf_chosen" ? PlantDecision::Kind::LeafChosen : PlantDecision::Kind::ChoiceUndone;
         d.node = p.at("node").get<int>();
         d.choice = {m::leafKindFromString(p.at("kind").get<std::string>()),
-                    m::leafStateFromString(p.at("state").get<std::string>())};
+                    m::leafStateFromString(p.at("state").get<std::string>()), p.value("type", std::string())};
       } else if (const auto k = valueIn(kEvents, e.kind); k && e.kind != "rejected") {
         d.kind = *k;  // the ends and their reopenings
       } else {

@@ -90,7 +90,11 @@ LeafChoice plantChoiceTruth(const model::PlantMarkers& plant, int node) {
   LeafChoice c;
   c.state = n->state;
   if (std::holds_alternative<model::MarkerSet>(n->leaf)) c.kind = model::LeafKind::Full;
-  if (std::holds_alternative<model::QuickLeaf>(n->leaf)) c.kind = model::LeafKind::Quick;
+  if (const auto* quick = std::get_if<model::QuickLeaf>(&n->leaf)) {
+    c.kind = model::LeafKind::Quick;
+    c.type = quick->type;
+  }
+  if (const auto* full = std::get_if<model::MarkerSet>(&n->leaf)) c.type = full->leaf.type;
   return c;
 }
 

@@ -597,8 +597,10 @@ BEGIN
     IF NOT leafdig.names_node(p) THEN RETURN 'its payload does not name the node whose leaf it is (node)'; END IF;
   ELSIF kind IN ('leaf_chosen', 'choice_undone') THEN
     IF NOT (leafdig.names_node(p) AND coalesce(p ->> 'kind', '') IN ('full', 'quick', 'none')
-            AND coalesce(p ->> 'state', '') IN ('alive', 'dead', 'broken', 'yellow', 'pruned')) THEN
-      RETURN 'its payload is not a leaf''s choice (node; kind full, quick or none; state alive, dead, broken, yellow or pruned)';
+            AND coalesce(p ->> 'state', '') IN ('alive', 'dead', 'broken', 'yellow', 'pruned')
+            AND (NOT p ? 'type' OR (pg_catalog.jsonb_typeof(p -> 'type') = 'string'
+                                    AND pg_catalog.char_length(p ->> 'type') <= 64))) THEN
+      RETURN 'its payload is not a leaf''s choice (node; kind full, quick or none; state alive, dead, broken, yellow or pruned; a type of at most 64 characters)';
     END IF;
   END IF;
   RETURN NULL;

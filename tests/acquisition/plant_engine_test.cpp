@@ -144,6 +144,12 @@ TEST(PlantEngine, TakesASampledPlantNodeByNodeAndGivesBackWhatWasDigitized) {
     EXPECT_DOUBLE_EQ(got.nodes[i].diameterMm, truth.nodes[i].diameterMm) << node;
     EXPECT_EQ(got.nodes[i].state, truth.nodes[i].state) << node;
     EXPECT_EQ(got.nodes[i].leaf.index(), truth.nodes[i].leaf.index()) << node;
+    // The leaf's type, as the technician chose it (the sample's quick leaves are "lower").
+    if (const auto* quick = std::get_if<m::QuickLeaf>(&truth.nodes[i].leaf)) {
+      ASSERT_TRUE(std::holds_alternative<m::QuickLeaf>(got.nodes[i].leaf)) << node;
+      EXPECT_EQ(std::get<m::QuickLeaf>(got.nodes[i].leaf).type, quick->type) << node;
+      EXPECT_FALSE(quick->type.empty()) << node;
+    }
   }
   // The survey of what the engine took is the survey of the file: same frame, same angles.
   const m::PlantSurvey a = m::surveyPlant(got), b = m::surveyPlant(truth);
@@ -276,10 +282,10 @@ TEST(PlantEngine, RefusesWhatWouldSpoilThePlantFrameOrALeafsPoseInWords) {
   ASSERT_EQ(onBase.kind, Kind::Rejected);
   EXPECT_NE(onBase.reason.find("base and tip"), std::string::npos) << onBase.reason;
   // A leaf with points taken keeps its kind until they are undone.
-  const auto change = tech.choose(1, {m::LeafKind::Full, m::LeafState::Alive});
+  const auto change = tech.choose(1, {m::LeafKind::Full, m::LeafState::Alive, {}});
   EXPECT_EQ(change.kind, Kind::Rejected);
   EXPECT_EQ(change.reason, "node 1's leaf has points taken as a quick leaf: undo them first");
-  const auto later = tech.choose(3, {m::LeafKind::None, m::LeafState::Alive});
+  const auto later = tech.choose(3, {m::LeafKind::None, m::LeafState::Alive, {}});
   EXPECT_EQ(later.kind, Kind::Rejected);
   EXPECT_EQ(later.reason, "node 3 is not taken yet: choose for node 2 or one before");
 }
@@ -294,7 +300,7 @@ TEST(PlantEngine, UndoGoesBackThroughTheLeafAndThePlantInTheOrderTheyWereTaken) 
   ASSERT_EQ(tech.read(12).kind, Kind::Accepted);
   ASSERT_EQ(tech.press({0, 0, 40}).kind, Kind::Accepted);
   // Node 1 in full, chosen now; then its diameter; the leaf has the stylus.
-  const auto chosen = tech.choose(1, {m::LeafKind::Full, m::LeafState::Yellow});
+  const auto chosen = tech.choose(1, {m::LeafKind::Full, m::LeafState::Yellow, {}});
   ASSERT_EQ(chosen.kind, Kind::LeafChosen);
   EXPECT_EQ(chosen.previous.kind, m::LeafKind::Quick);
   ASSERT_EQ(tech.read(10).kind, Kind::Accepted);
@@ -340,9 +346,17 @@ TEST(PlantEngine, EveryThirdLeafIsFullByDefaultAndTheTechnicianDecidesPerNode) {
       m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/maize.plant-protocol.json");
   acq::PlantEngine maizeEngine(maize);
   EXPECT_EQ(maizeEngine.choiceFor(3).kind, m::LeafKind::Quick);  // maize takes no full leaves
-  const auto full = maizeEngine.chooseLeaf(1, {m::LeafKind::Full, m::LeafState::Alive});
+  const auto full = maizeEngine.chooseLeaf(1, {m::LeafKind::Full, m::LeafState::Alive, {}});
   EXPECT_EQ(full.kind, Kind::Rejected);
   EXPECT_EQ(full.reason, "the protocol does not take full leaves");
+  // A leaf's type (for its shape from the organ library) is part of the choice, a short word.
+  const auto typed = engine.chooseLeaf(1, {m::LeafKind::Quick, m::LeafState::Alive, "upper"});
+  EXPECT_EQ(typed.kind, Kind::LeafChosen);
+  EXPECT_EQ(engine.choiceFor(1).type, "upper");
+  const auto tooLong = engine.chooseLeaf(1, {m::LeafKind::Quick, m::LeafState::Alive, std::string(65, 'x')});
+  EXPECT_EQ(tooLong.kind, Kind::Rejected);
+  EXPECT_NE(tooLong.reason.find("a leaf type is a short word"), std::string::npos) << tooLong.reason;
+  EXPECT_EQ(engine.choiceFor(1).type, "upper");
 }
 
 TEST(PlantEngine, AMaizeProtocolAsksForTheLiguleAfterTheNodeAndKeepsTheNodeAsTheStemsPoint) {

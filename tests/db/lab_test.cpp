@@ -301,6 +301,7 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
       {"accepted", R"({"what":"node4.marker","row":1,"col":1,"position_mm":[150,0,380]})"},
       {"rows_reopened", R"({"node":4})"},
       {"choice_undone", R"({"node":3,"kind":"quick","state":"broken"})"},
+      {"leaf_chosen", R"({"node":5,"kind":"quick","state":"alive","type":"lower"})"},
   };
   for (const auto& [kind, payload] : good)
     EXPECT_EQ(appendBySql(asTech, plant, "bench-a", kind, payload), "") << kind << " " << payload;
@@ -312,6 +313,9 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
       {{"accepted", R"({"what":"collar_diameter","row":null,"col":null,"value_mm":-3})"}, "not a plant's item"},
       {{"leaf_chosen", R"({"node":5,"kind":"sketch","state":"alive"})"}, "not a leaf's choice"},
       {{"leaf_chosen", R"({"node":"5","kind":"full","state":"alive"})"}, "not a leaf's choice"},
+      {{"leaf_chosen", R"({"node":6,"kind":"quick","state":"alive","type":5})"}, "not a leaf's choice"},
+      {{"leaf_chosen", R"({"node":6,"kind":"quick","state":"alive","type":")" + std::string(65, 'x') + "\"}"},
+       "not a leaf's choice"},
       {{"rows_ended", "{}"}, "does not name the node"},
       {{"retake", R"({"what":"point","seq":2})"}, "not one leafdig writes for a plant session"},
       {{"undone", R"({"what":"point","seq":99999})"}, "does not name an earlier event"},

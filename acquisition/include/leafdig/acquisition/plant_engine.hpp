@@ -61,6 +61,9 @@ struct PlantItem {
 struct LeafChoice {
   model::LeafKind kind = model::LeafKind::None;
   model::LeafState state = model::LeafState::Alive;
+  // The organ library's type of the leaf ("lower", "upper", …; empty: not said): a quick leaf
+  // takes its shape from an approved leaf of this type, a full leaf carries it as its own.
+  std::string type;
   friend bool operator==(const LeafChoice&, const LeafChoice&) = default;
 };
 
