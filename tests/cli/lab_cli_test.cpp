@@ -13,6 +13,7 @@
 
 #include "../support/pg_cluster_environment.hpp"
 #include "../support/station_sessions.hpp"
+#include "../support/strict_formats.hpp"
 #include "cli_support.hpp"
 #include "leafdig/db/lab.hpp"
 
@@ -219,6 +220,46 @@ TEST_F(LabCli, ACapturedLeafIsShownCorrectedAndExportedFromTheServerAsFromItsFil
   fromServer = json::parse(leafdig("sessions show " + id + " --json --db " + quote(curator)).out);
   EXPECT_EQ(fromServer.at("thickness"), fromFile.at("thickness"));
   EXPECT_EQ(fromServer.at("events"), fromFile.at("events"));
+}
+
+TEST_F(LabCli, APlantCapturedAtTheStationIsPushedSurveyedExportedAndApprovedOnTheServer) {
+  ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
+  const std::string tech = addUser("tech_bench_p_" + database_, "technician", "bench-p");
+  const std::string curator = addUser("carla_p_" + database_, "curator");
+  const std::string reader = addUser("rita_p_" + database_, "reader");
+  const fs::path file = dir_ / "station.sqlite";
+  // The sample plant digitized where it stands through the simulated devices, then pushed.
+  const Result captured =
+      leafdig("plant capture --simulate --speed 20 --station bench-p --db " + quote(file) + " </dev/null");
+  ASSERT_EQ(captured.exitCode, 0) << captured.err;
+  const Result pushed = leafdig("sync push --db " + quote(file) + " --to " + quote(tech));
+  ASSERT_EQ(pushed.exitCode, 0) << pushed.out << pushed.err;
+  const json list = json::parse(leafdig("sessions list --json --db " + quote(curator)).out);
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_EQ(list[0].at("kind"), "plant");
+  const std::string id = std::to_string(list[0].at("id").get<int>());
+  // Its surveys, read from the server by a reader.
+  const Result surveys = leafdig("plant surveys tobacco-p12 --json --db " + quote(reader));
+  ASSERT_EQ(surveys.exitCode, 0) << surveys.err;
+  const json s = json::parse(surveys.out).at("surveys");
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_TRUE(s[0].at("verified").get<bool>());
+  EXPECT_EQ(s[0].at("nodes"), 5);
+  EXPECT_EQ(s[0].at("date"), "2026-06-12");
+  // Exported from the server: the MTG through the strict reader, the GLB beside it.
+  const Result exported =
+      leafdig("sessions export " + id + " --format mtg,glb --out " + quote(dir_ / "out") + " --db " + quote(curator));
+  ASSERT_EQ(exported.exitCode, 0) << exported.err;
+  const auto mtg = leafdig::test::readMtgStrictly(slurp(dir_ / "out" / ("session-" + id + ".mtg")));
+  EXPECT_FALSE(mtg.entities.empty());
+  EXPECT_TRUE(fs::exists(dir_ / "out" / ("session-" + id + ".glb")));
+  // A reader decides nothing; a curator approves; the station takes the decision in.
+  EXPECT_NE(leafdig("sessions approve " + id + " --who rita --db " + quote(reader)).exitCode, 0);
+  const Result approved =
+      leafdig("sessions approve " + id + " --who carla --why 'a whole plant' --db " + quote(curator));
+  ASSERT_EQ(approved.exitCode, 0) << approved.err;
+  ASSERT_EQ(leafdig("sync pull --db " + quote(file) + " --from " + quote(tech)).exitCode, 0);
+  EXPECT_EQ(json::parse(leafdig("sessions list --json --db " + quote(file)).out)[0].at("status"), "approved");
 }
 
 TEST_F(LabCli, SyncPushKilledAtRandomInstantsLosesAndDuplicatesNothingAndTheNextRunContinues) {
