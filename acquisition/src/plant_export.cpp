@@ -51,11 +51,9 @@ std::string plantPlanJson(const m::Plant& plant, const m::PlantSurvey& survey,
   // along them: the polyline's length to it, as the plan measures insertion heights.
   json points = json::array({json::array({0.0, 0.0, 0.0, survey.collarDiameterMm})});
   std::vector<double> along{0.0};
-  Eigen::Vector3d below = Eigen::Vector3d::Zero();
   for (const m::SurveyedNode& n : survey.nodes) {
     points.push_back({n.pointMm.x(), n.pointMm.y(), n.pointMm.z(), n.diameterMm});
-    along.push_back(along.back() + (n.pointMm - below).norm());
-    below = n.pointMm;
+    along.push_back(along.back() + n.internodeMm);  // the straight length from the node below
   }
   json leaves = json::array();
   for (std::size_t i = 0; i < plant.leaves.size(); ++i) {
