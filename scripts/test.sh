@@ -96,7 +96,7 @@ bench_smoke build/ci/tests/leafdig_codec_bench
 bench_smoke build/ci/tests/leafdig_leaf2d_bench
 bench_smoke build/ci/tests/leafdig_plant_bench --benchmark_filter='PlantAssemble|PlantSilhouette/0|PlantEncode/(5|6)|SurveyedPlantExport/0'
 bench_smoke build/ci/tests/leafdig_mesh_bench --benchmark_filter='AdaptiveLeaf/30|SeedLeaf|SeedAxisOrgan/170'
-bench_smoke env LEAFDIG_BENCH_LEAVES=200 build/ci/tests/leafdig_capture_bench
+bench_smoke env LEAFDIG_BENCH_LEAVES=200 LEAFDIG_BENCH_PLANT_NODES=4 build/ci/tests/leafdig_capture_bench
 # The lab server's push, incremental push and listing, on a PostgreSQL cluster of its own.
 bench_smoke env LEAFDIG_BENCH_LEAVES=20 build/ci/tests/leafdig_lab_bench
 # The station's preview frame, snapshot → screen and start-up, on a real window under Xvfb

@@ -7,16 +7,21 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <functional>
 #include <random>
 #include <stdexcept>
 #include <string>
 #include <variant>
 
+#include "leafdig/acquisition/plant_preview.hpp"
 #include "leafdig/acquisition/truth.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
+#include "leafdig/model/plant/surveyed_plant.hpp"
 #include "leafdig/model/study/synthetic_plant.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
 
 namespace acq = leafdig::acquisition;
 namespace m = leafdig::model;
@@ -389,4 +394,104 @@ TEST(PlantEngine, AProtocolWithBranchesOrTwoStemsIsRefusedInWords) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("\"branch\" is an axis of order 2"), std::string::npos) << e.what();
   }
+}
+
+// The station's live plant preview at the moments a technician sees it change: the points alone
+// before the plant frame, the stem from the first node (its diameter not read yet said so), the
+// full leaf under capture drawn in the plant from its own live preview, and at the end exactly
+// the captured plant's model at the preview's resolution.
+TEST(PlantPreview, GrowsWithThePlantFromItsPointsToTheCapturedModel) {
+  const m::PlantMarkers truth = samplePlant();
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine};
+  const auto until = [&](const std::function<bool()>& done) {
+    for (int guard = 0; guard < 2000 && !done() && !engine.complete(); ++guard) {
+      std::string why;
+      ASSERT_TRUE(tech.act(truth, &why)) << why << " at " << engine.prompt();
+    }
+  };
+  const std::vector<m::LibraryLeaf> noLibrary;
+
+  until([&] { return engine.items().size() == 2; });
+  acq::PlantPreview p = acq::buildPlantPreview(engine, noLibrary);
+  EXPECT_FALSE(p.inPlantFrame);
+  EXPECT_TRUE(p.mesh.organs.empty());
+  ASSERT_EQ(p.points.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(p.points[i].positionMm, engine.items()[i].positionMm);
+
+  // Node 1's point taken, its diameter not yet: the stem is drawn, in the plant frame.
+  until([&] { return engine.step().what == PlantWhat::Reading && engine.step().index == 1; });
+  p = acq::buildPlantPreview(engine, noLibrary);
+  ASSERT_TRUE(p.inPlantFrame) << (p.notes.empty() ? "" : p.notes.front());
+  ASSERT_FALSE(p.mesh.organs.empty());
+  EXPECT_EQ(p.mesh.organs.front().name, "plant/stem");
+  const auto note = std::find_if(p.notes.begin(), p.notes.end(),
+                                 [](const std::string& n) { return n.find("not read yet") != std::string::npos; });
+  EXPECT_NE(note, p.notes.end());
+  const auto collar = std::find_if(p.points.begin(), p.points.end(), [](const acq::Item& i) {
+    return i.row == 0 && i.col == 0 && std::abs(i.positionMm[2]) < 1e-6 && std::abs(i.positionMm[0]) < 1e-6;
+  });
+  EXPECT_NE(collar, p.points.end()) << "the collar is the plant frame's origin";
+
+  // Two rows into node 2's full leaf: the leaf view has it, and the plant draws it in place.
+  until([&] {
+    const acq::PlantStep s = engine.step();
+    return s.what == PlantWhat::Leaf && s.index == 2 && engine.leaf(2) &&
+           acq::completeRows(engine.leaf(2)->items()) >= 2;
+  });
+  p = acq::buildPlantPreview(engine, noLibrary);
+  EXPECT_EQ(p.leafNode, 2);
+  ASSERT_TRUE(p.leaf);
+  ASSERT_FALSE(p.leaf->mesh.organs.empty());
+  EXPECT_EQ(p.leafItems.size(), engine.leaf(2)->items().size());
+  const m::PlantSurvey frame = m::surveyPlant([&] {
+    m::PlantMarkers c = engine.captured("plant");
+    for (auto& n : c.nodes) n.leaf = std::monostate{};
+    return c;
+  }());
+  const m::Organ& blade = p.leaf->mesh.organs.back();
+  const auto placed = std::find_if(p.mesh.organs.begin(), p.mesh.organs.end(),
+                                   [&](const m::Organ& o) { return o.name == "plant/leaf-2/" + blade.name; });
+  ASSERT_NE(placed, p.mesh.organs.end());
+  EXPECT_EQ(placed->leafRank, 2);
+  ASSERT_EQ(placed->mesh.positions.size(), blade.mesh.positions.size());
+  EXPECT_LT((placed->mesh.positions.front() - frame.frame.point(blade.mesh.positions.front())).norm(), 1e-9);
+
+  // The whole plant, built as the station builds it (one previewer along the capture, reusing
+  // the leaves that did not change): the captured model itself, at the preview's resolution.
+  acq::PlantPreviewer previewer;
+  while (!engine.complete()) {
+    until([&, n = engine.items().size()] { return engine.items().size() > n + 20; });
+    (void)previewer.build(engine);
+  }
+  ASSERT_TRUE(engine.complete());
+  p = previewer.build(engine);
+  EXPECT_GT(previewer.reused(), 0) << "a finished leaf is not meshed again";
+  const acq::PlantPreview once = acq::buildPlantPreview(engine, noLibrary);
+  ASSERT_EQ(once.mesh.organs.size(), p.mesh.organs.size());
+  for (std::size_t i = 0; i < once.mesh.organs.size(); ++i)
+    EXPECT_EQ(once.mesh.organs[i].mesh.positions, p.mesh.organs[i].mesh.positions);
+  EXPECT_EQ(p.leafNode, 0);
+  EXPECT_FALSE(p.leaf);
+  const m::Plant model = m::surveyedPlant(m::surveyPlant(engine.captured("plant")), noLibrary,
+                                          m::LibraryLeaf{m::kSampleShapeSource, m::sampleLeafShape()});
+  const m::LeafMesh expected = m::meshPlant(model, m::MeshResolution::preset("preview"));
+  EXPECT_EQ(p.leaves, static_cast<int>(model.leaves.size()));
+  EXPECT_EQ(p.leaves, 3);  // the sample: one full leaf, two quick ones
+  ASSERT_EQ(p.mesh.organs.size(), expected.organs.size());
+  for (std::size_t i = 0; i < expected.organs.size(); ++i) {
+    EXPECT_EQ(p.mesh.organs[i].name, expected.organs[i].name);
+    EXPECT_EQ(p.mesh.organs[i].mesh.positions, expected.organs[i].mesh.positions) << expected.organs[i].name;
+  }
+  // Every stylus point of the plant, then the full leaf's tip and markers (the view frames on them).
+  const auto plantPoints = static_cast<std::size_t>(std::count_if(
+      engine.items().begin(), engine.items().end(), [](const acq::PlantItem& i) { return acq::isStylusItem(i.what); }));
+  const auto& leafItems = engine.leaf(2)->items();
+  const auto leafPoints =
+      static_cast<std::size_t>(std::count_if(leafItems.begin(), leafItems.end(), [](const acq::Item& i) {
+        return i.what == acq::What::Tip || i.what == acq::What::Marker;
+      }));
+  ASSERT_EQ(p.points.size(), plantPoints + leafPoints);
+  EXPECT_EQ(p.points.back().row, 2);
+  EXPECT_GE(p.points.back().col, 100);
 }

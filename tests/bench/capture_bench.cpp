@@ -15,9 +15,13 @@
 #include <random>
 
 #include "latency_counters.hpp"
+#include "leafdig/acquisition/plant_preview.hpp"
+#include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/truth.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/study/synthetic_plant.hpp"
 
 namespace {
 
@@ -130,6 +134,88 @@ void BM_PressToSnapshot(benchmark::State& state) {
   state.counters["points_in_last_snapshot"] = static_cast<double>(points);
 }
 BENCHMARK(BM_PressToSnapshot)->Iterations(240)->Unit(benchmark::kMillisecond);
+
+// A plant digitized where it stands (issue 28's target: a 20-node plant, press → committed →
+// plant preview updated, p99 within one frame of 16.7 ms): a synthetic plant of
+// LEAFDIG_BENCH_PLANT_NODES nodes (default 20; every third leaf and the largest in full, 10 rows
+// each, the others quick) taken through a PlantCaptureSession on a real SQLite file, every
+// stylus press and caliper reading timed from its last sample to the decision committed
+// (fsync) and the plant's preview rebuilt from the engine (acquisition/plant_preview.hpp's
+// PlantPreviewer, as the station's preview thread keeps one). `preview_` counters: the rebuild alone.
+void BM_PlantPressToPreview(benchmark::State& state) {
+  namespace m = leafdig::model;
+  m::SyntheticPlantSpec spec;
+  spec.nodes = 20;
+  if (const char* e = std::getenv("LEAFDIG_BENCH_PLANT_NODES")) spec.nodes = std::clamp(std::atoi(e), 2, 60);
+  spec.seed = 3;
+  const m::PlantMarkers plant = m::synthesizePlant(spec).markers;
+  std::vector<double> total, preview;
+  int full = 0, presses = 0;
+  for (auto _ : state) {
+    const fs::path path = scratch("plant.sqlite");
+    fs::remove(path);
+    leafdig::db::Store store(path.string());
+    acq::PlantSessionSetup setup;
+    setup.project = "bench";
+    setup.plant = plant.plant;
+    acq::PlantCaptureSession s(store, acq::PlantCaptureSession::create(store, setup));
+    acq::PlantPreviewer previewer;  // as the station's preview thread keeps it
+    std::int64_t t = 0;
+    std::mt19937 rng(7);
+    std::normal_distribution<double> n(0.0, 0.1);
+    // Every sample of a press but the release fed; the release is what is timed.
+    const auto pressOn = [&](const acq::Vec3& p, int heldSamples) {
+      for (int i = 0; i < 70; ++i)
+        (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, false, "ok", "01"});
+      for (int i = 0; i < heldSamples; ++i)
+        (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, true, "ok", "01"});
+      return acq::StylusInput{t += 8 * kMs, p, false, "ok", "01"};
+    };
+    for (int guard = 0; guard < 20000 && !s.engine().complete(); ++guard) {
+      const acq::PlantStep step = s.engine().step();
+      if (step.what == acq::PlantWhat::Point && step.part == 1 && step.index <= static_cast<int>(plant.nodes.size())) {
+        const acq::LeafChoice wanted = acq::plantChoiceTruth(plant, step.index);
+        if (!(s.engine().choiceFor(step.index) == wanted)) (void)s.chooseLeaf(step.index, wanted, t);
+      }
+      const bool reading = step.what == acq::PlantWhat::CollarDiameter || step.what == acq::PlantWhat::Reading ||
+                           (step.what == acq::PlantWhat::Leaf && !acq::isStylusItem(step.leaf.what));
+      const std::optional<acq::Vec3> point = reading ? std::nullopt : acq::plantPointTruth(plant, step);
+      const bool endRows = step.what == acq::PlantWhat::Leaf && step.leaf.what == acq::What::Marker &&
+                           step.leaf.col == 1 &&
+                           step.leaf.row > static_cast<int>(acq::plantLeafTruth(plant, step.index)->rows.size());
+      acq::StylusInput release{};
+      if (!reading) release = pressOn(point && !endRows ? *point : acq::Vec3{0, 0, 0}, point && !endRows ? 25 : 190);
+      const auto t0 = Clock::now();
+      const acq::PlantFeedback f =
+          reading ? s.onCaliper({t += 500 * kMs, acq::plantReadingTruth(plant, step), "+1.0\r"}) : s.onStylus(release);
+      const auto t1 = Clock::now();
+      const acq::PlantPreview p = previewer.build(s.engine());
+      const auto t2 = Clock::now();
+      if (f.decision.kind == acq::PlantDecision::Kind::Rejected ||
+          f.decision.kind == acq::PlantDecision::Kind::Ignored) {
+        state.SkipWithError(
+            ("the plant's technician was refused at " + s.engine().prompt() + ": " + f.decision.reason).c_str());
+        return;
+      }
+      benchmark::DoNotOptimize(p.mesh.organs.size());
+      total.push_back(std::chrono::duration<double, std::milli>(t2 - t0).count());
+      preview.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+      ++presses;
+      full = p.leaves;
+    }
+    if (!s.engine().complete()) {
+      state.SkipWithError("the plant was not completed");
+      return;
+    }
+  }
+  const auto p = leafdig::bench::reportLatency(state, total);
+  (void)leafdig::bench::reportLatency(state, preview, "preview_");
+  state.counters["frames_p99"] = p.p99 / (1000.0 / 60.0);
+  state.counters["inputs"] = presses / static_cast<double>(state.iterations());
+  state.counters["leaves_at_end"] = full;
+  state.counters["nodes"] = spec.nodes;
+}
+BENCHMARK(BM_PlantPressToPreview)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 // A complete 17-row session's events read back and replayed through the engine.
 void BM_Replay(benchmark::State& state) {
