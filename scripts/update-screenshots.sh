@@ -3,7 +3,8 @@
 # docs/station-plant.png) with the station itself under Xvfb at 1366 × 768, the smallest
 # screen the station is laid out for: the end-to-end test's simulated capture and review,
 # then the Plant view on the sample plan with that capture approved in its library, and on
-# the sample plant captured where it stands (docs/station-plant-captured.png). Needs
+# the sample plant captured where it stands (docs/station-plant-captured.png); a plant digitized
+# in the station's plant capture view (docs/station-plant-capture.png). Needs
 # the `ci` build (./scripts/setup.sh ci).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -29,5 +30,13 @@ session=$(head -1 "$out/plant-capture.jsonl" | python3 -c 'import json, sys; pri
   --plant-screenshot "$out/plant-captured.png")
 [ -s "$out/plant-captured.png" ] || { echo "update-screenshots: no captured plant screenshot"; exit 1; }
 cp "$out/plant-captured.png" "$root/docs/station-plant-captured.png"
-echo "update-screenshots: docs/station-capture.png, docs/station-review.png, docs/station-plant.png and" \
-  "docs/station-plant-captured.png regenerated"
+# The plant capture view: a synthetic plant of 8 nodes digitized by the virtual technician in
+# the station, saved while node 6's full leaf is taken.
+"$leafdig" synth plant --markers "$out/p8.plant-markers.json" --truth "$out/p8.truth.json" --nodes 8 --seed 4 >/dev/null
+(cd "$root" && timeout 300 xvfb-run -a -s "-screen 0 1366x768x24" "$station" --simulate --speed 40 --no-audio \
+  --db "$out/plant-capture.sqlite" --settings "$out/station.ini" --plant-markers "$out/p8.plant-markers.json" \
+  --screenshot "$out/plant-capture.png" --screenshot-when "Node 6 · leaf · Row 7" --quit-when-complete)
+[ -s "$out/plant-capture.png" ] || { echo "update-screenshots: no plant capture screenshot"; exit 1; }
+cp "$out/plant-capture.png" "$root/docs/station-plant-capture.png"
+echo "update-screenshots: docs/station-capture.png, docs/station-review.png, docs/station-plant.png," \
+  "docs/station-plant-captured.png and docs/station-plant-capture.png regenerated"

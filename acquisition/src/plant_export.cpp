@@ -80,6 +80,7 @@ CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
   detail::requireChain(store, id, "exported or shown");
   const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
   CapturedSurvey out;
+  out.status = info->status;
   out.markers = PlantCaptureSession::replay(setup, store.events(id)).captured(info->plant);
   out.markers.date = setup.date;
   if (!out.markers.date) out.markers.date = m::parseSurveyDate(info->createdUtc.substr(0, 10));

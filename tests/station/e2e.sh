@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # End to end under Xvfb (Mesa llvmpipe): the station with simulated devices captures a whole
 # leaf; the session must be complete in the database, the preview must have drawn geometry
-# (triangles and non-background pixels), and screenshots are kept for people to look at.
+# (triangles and non-background pixels), and screenshots are kept for people to look at. Then
+# the station digitizes the sample plant where it stands (the plant capture view).
 # Usage: e2e.sh STATION_BINARY OUTPUT_DIR
 set -euo pipefail
 station=$1
@@ -37,4 +38,27 @@ assert status == "complete", status
 assert markers == 71, markers
 assert readings == 21, readings
 print("station e2e: session complete,", markers, "markers,", readings, "readings")
+PY
+# A plant digitized where it stands, in the station (the plant capture view): the sample plant
+# by the virtual technician, the window saved while node 2's full leaf is taken.
+src=$(cd "$(dirname "$0")/../.." && pwd)
+report=$(timeout 300 xvfb-run -a -s "-screen 0 ${LEAFDIG_E2E_SCREEN:-1366x768}x24" "$station" --simulate --speed 40 \
+  --no-audio --db "$out/plant.sqlite" --settings "$out/station.ini" \
+  --plant-markers "$src/data/plants/sample.plant-markers.json" --screenshot "$out/plant-capture.png" \
+  --screenshot-when "Node 2 · leaf · Row 9" --quit-when-complete 2>"$out/plant-stderr.txt")
+echo "$report"
+echo "$report" | grep -q '^plant screenshot at "Node 2 · leaf · Row 9" saved' ||
+  { echo "no plant capture screenshot"; cat "$out/plant-stderr.txt"; exit 1; }
+line=$(echo "$report" | grep '^plant complete session ') || { echo "no plant completion line"; exit 1; }
+set -- $line
+# plant complete session ID nodes N leaves L preview_triangles T
+[ "$6" = 5 ] && [ "$8" = 3 ] || { echo "the plant is not the sample's 5 nodes and 3 leaves: $line"; exit 1; }
+[ "${10}" -gt 1000 ] || { echo "the plant preview drew only ${10} triangles"; exit 1; }
+[ -s "$out/plant-capture.png" ] || { echo "no plant capture screenshot file"; exit 1; }
+python3 - "$out/plant.sqlite" <<'PY'
+import sqlite3, sys
+db = sqlite3.connect(f"file:{sys.argv[1]}?mode=ro", uri=True)
+kind, status = db.execute("SELECT kind, status FROM sessions WHERE id=1").fetchone()
+assert (kind, status) == ("plant", "complete"), (kind, status)
+print("station e2e: plant session complete")
 PY

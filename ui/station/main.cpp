@@ -42,14 +42,25 @@ int main(int argc, char** argv) {
       "plant-session", "Open this plant session of --db (a plant captured where it stands) in the Plant view", "ID");
   const QCommandLineOption plantShot(
       "plant-screenshot", "With --plant or --plant-session: save the window once the plant is shown, then exit", "PNG");
+  const QCommandLineOption plantMarkers(
+      "plant-markers",
+      "With --simulate: a plant capture instead of a leaf; the virtual technician digitizes this plant "
+      "(leafdig.plant-markers/1) where it stands",
+      "FILE");
+  const QCommandLineOption screenshotWhen(
+      "screenshot-when",
+      "With --plant-markers and --screenshot: save the window the first time the prompt starts with this text "
+      "(e.g. \"Node 2 · leaf\"), not at the end",
+      "PROMPT");
   const QCommandLineOption noAudio("no-audio",
                                    "No sound cues (nothing loaded through Qt Multimedia); the system beep still marks "
                                    "a rejection and a device error");
   const QCommandLineOption station(
       "station",
       "This station's id, stored with every session (default: [station] id= in the settings, or the host name)", "ID");
-  p.addOptions({simulate, db, speed, seed, markers, digitizer, caliper, resume, screenshot, reviewShot, quit,
-                setupDialog, settingsFile, firstFrame, plantPlan, plantSession, plantShot, noAudio, station});
+  p.addOptions({simulate,  db,           speed,      seed,         markers,        digitizer,    caliper,
+                resume,    screenshot,   reviewShot, quit,         setupDialog,    settingsFile, firstFrame,
+                plantPlan, plantSession, plantShot,  plantMarkers, screenshotWhen, noAudio,      station});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -96,6 +107,20 @@ int main(int argc, char** argv) {
     w.reviewLabServer();
     if (p.isSet(reviewShot)) leafdig::station::saveLabReviewScreenshot(app, w, p.value(reviewShot));
     return app.exec();
+  }
+  if (p.isSet(plantMarkers)) {
+    // A plant digitized where it stands (simulated devices only, as `leafdig plant capture`).
+    if (!o.simulate) {
+      std::fprintf(stderr,
+                   "leafdig-station: --plant-markers needs --simulate (plants take real devices in a later release)\n");
+      return 2;
+    }
+    if (!w.startPlantCapture(p.value(plantMarkers).toStdString())) {
+      std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
+      return 2;
+    }
+    leafdig::station::reportWhenPlantComplete(app, w, {p.value(screenshot), p.value(screenshotWhen), p.isSet(quit)});
+    return QApplication::exec();
   }
   if (interactive && o.resume == 0 && !p.isSet(plantShot)) w.offerResume();
   // Without devices given (and nothing to resume), the set-up dialog asks for them.

@@ -7,7 +7,9 @@
 #include <QFileInfo>
 #include <QFormLayout>
 #include <QHBoxLayout>
+#include <QInputDialog>
 #include <QLabel>
+#include <QLineEdit>
 #include <QLineSeries>
 #include <QListWidget>
 #include <QPushButton>
@@ -107,6 +109,19 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   divergenceChart_->setRenderHint(QPainter::Antialiasing);
   divergenceChart_->hide();
   form->addRow(divergenceChart_);
+  // A captured plant's review: the curator approves it or rejects it with what is wrong.
+  reviewRow_ = new QWidget;
+  auto* reviewLayout = new QHBoxLayout(reviewRow_);
+  reviewLayout->setContentsMargins(0, 0, 0, 0);
+  curator_ = new QLineEdit(QString::fromLocal8Bit(qgetenv("USER")));
+  curator_->setPlaceholderText(tr("curator's name"));
+  approve_ = new QPushButton(tr("Approve"));
+  reject_ = new QPushButton(tr("Reject…"));
+  reviewLayout->addWidget(curator_, 1);
+  reviewLayout->addWidget(approve_);
+  reviewLayout->addWidget(reject_);
+  reviewRow_->hide();
+  form->addRow(reviewRow_);
   exportMesh_ = new MeshChoice;
   form->addRow(tr("Export mesh"), exportMesh_);
   form->addRow(export_);
@@ -133,6 +148,13 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
     const QString error = exportTo(path);
     status_->setText(error);
     if (error.isEmpty()) summary_->setText(summary_->text() + "\n" + tr("Wrote %1").arg(path));
+  });
+  connect(approve_, &QPushButton::clicked, this, [this] { status_->setText(approveCaptured(curator_->text())); });
+  connect(reject_, &QPushButton::clicked, this, [this] {
+    bool ok = false;
+    const QString why =
+        QInputDialog::getText(this, tr("Reject"), tr("What is wrong with this plant?"), QLineEdit::Normal, {}, &ok);
+    if (ok) status_->setText(rejectCaptured(curator_->text(), why));
   });
   for (QSlider* s : {divergence_, jitter_, time_})
     connect(s, &QSlider::valueChanged, this, [this] { scheduleRebuild(); });
@@ -272,6 +294,9 @@ QString PlantView::openCapturedPlant(std::int64_t session) {
     showPlant(what, more);
     showDivergences(divergences);
     export_->setEnabled(true);
+    capturedSession_ = session;
+    capturedStatus_ = QString::fromStdString(captured.status);
+    showReviewState();
     return {};
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
@@ -326,6 +351,9 @@ void PlantView::showDivergences(const std::vector<double>& degrees) {
 
 QString PlantView::usePlan(m::PlantPlan plan, std::vector<m::LibraryLeaf> library) {
   enableSliders(true);
+  capturedSession_ = 0;
+  capturedStatus_.clear();
+  showReviewState();
   divergenceBins_.clear();
   divergenceChart_->hide();
   plan_ = std::move(plan);
@@ -426,6 +454,38 @@ QString PlantView::exportTo(const QString& path) {
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
   }
+}
+
+void PlantView::showReviewState() {
+  reviewRow_->setVisible(capturedSession_ != 0);
+  const bool open = capturedStatus_ == "complete";
+  approve_->setEnabled(open);
+  reject_->setEnabled(open);
+  approve_->setToolTip(
+      open ? tr("Approve plant session %1").arg(capturedSession_)
+           : tr("This plant session is %1: only a complete one is approved or rejected").arg(capturedStatus_));
+}
+
+QString PlantView::approveCaptured(const QString& who) {
+  return decide("approved", who, {});
+}
+
+QString PlantView::rejectCaptured(const QString& who, const QString& why) {
+  return decide("rejected", who, why);
+}
+
+QString PlantView::decide(const char* status, const QString& who, const QString& why) {
+  if (capturedSession_ == 0) return tr("Open a captured plant first: a plan is not reviewed.");
+  try {
+    const auto store = db::openEventStore(db_, false);
+    (void)acquisition::review(*store, capturedSession_, status, who.toStdString(), why.toStdString());
+    capturedStatus_ = QString::fromStdString(store->session(capturedSession_)->status);
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+  showReviewState();
+  summary_->setText(summary_->text() + "\n" + tr("Session %1 %2 by %3").arg(capturedSession_).arg(status, who));
+  return {};
 }
 
 }  // namespace leafdig::station

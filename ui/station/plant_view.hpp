@@ -18,6 +18,7 @@
 class QChartView;
 class QComboBox;
 class QLabel;
+class QLineEdit;
 class QListWidget;
 class QPushButton;
 class QSlider;
@@ -45,6 +46,14 @@ class PlantView : public QWidget {
   // The plant sessions of the database (listed in capturedList(), with their data the session id).
   [[nodiscard]] QComboBox* capturedList() const { return captured_; }
   QString openCapturedPlant(std::int64_t session);
+  // A curator's decision on the captured plant shown (a complete plant session): approved, or
+  // rejected with what is wrong. Returns an error text (empty when recorded); the store's words
+  // when it refuses (an open session, one already decided, a lab server role that may not).
+  QString approveCaptured(const QString& who);
+  QString rejectCaptured(const QString& who, const QString& why);
+  // The shown captured plant's session status ("complete", "approved", …; empty for a plan).
+  [[nodiscard]] QString capturedStatus() const { return capturedStatus_; }
+  [[nodiscard]] QPushButton* approveButton() const { return approve_; }
   // A captured plant's divergences between successive leaves (counterclockwise, seen from
   // above), counted in 10° bins from 0° to 360°, drawn against the golden angle (137.5°);
   // empty and hidden for a planned plant.
@@ -91,6 +100,13 @@ class PlantView : public QWidget {
   QChartView* divergenceChart_;
   std::vector<int> divergenceBins_;
   void showDivergences(const std::vector<double>& degrees);
+  QString decide(const char* status, const QString& who, const QString& why);
+  void showReviewState();
+  std::int64_t capturedSession_ = 0;  // the captured plant shown, 0 for a plan
+  QString capturedStatus_;
+  QWidget* reviewRow_;
+  QLineEdit* curator_;
+  QPushButton *approve_, *reject_;
   std::vector<model::LibraryLeaf> approved_;  // as listed
   bool rebuildPending_ = false;
 };

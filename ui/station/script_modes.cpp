@@ -3,7 +3,9 @@
 #include <QImage>
 #include <QTimer>
 #include <cstdio>
+#include <memory>
 
+#include "plant_capture_view.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"
 
@@ -82,6 +84,40 @@ void reportWhenComplete(QApplication& app, StationWindow& w, const CompletionRep
       std::printf("complete session %lld preview_triangles %zu preview_pixels %d frame_ms %.2f\n",
                   static_cast<long long>(w.sessionId()), w.preview()->trianglesDrawn(), pixels,
                   w.preview()->lastFrameMs());
+      std::fflush(stdout);
+      if (report.quit) {
+        w.stopCapture();
+        app.quit();
+      }
+    });
+  });
+}
+
+void reportWhenPlantComplete(QApplication& app, StationWindow& w, const PlantCompletionReport& report) {
+  PlantCaptureView* view = w.plantCapture();
+  if (!report.screenshot.isEmpty() && !report.when.isEmpty()) {
+    // The first time the prompt gets there: let the preview catch up, then save.
+    auto saved = std::make_shared<bool>(false);
+    QObject::connect(view, &PlantCaptureView::stepChanged, &app, [&w, report, saved](const QString& prompt, bool) {
+      if (*saved || !prompt.startsWith(report.when)) return;
+      *saved = true;
+      QTimer::singleShot(600, &w, [&w, report] {
+        w.plantCapture()->plantPreview()->redraw();
+        const bool ok = PreviewWidget::grabWindow(&w).save(report.screenshot);
+        std::printf("plant screenshot at \"%s\" %s\n", qPrintable(report.when), ok ? "saved" : "NOT saved");
+        std::fflush(stdout);
+      });
+    });
+  }
+  QObject::connect(view, &PlantCaptureView::plantComplete, &app, [&app, &w, report] {
+    QTimer::singleShot(600, &app, [&app, &w, report] {
+      PlantCaptureView* v = w.plantCapture();
+      v->plantPreview()->redraw();
+      if (!report.screenshot.isEmpty() && report.when.isEmpty()) PreviewWidget::grabWindow(&w).save(report.screenshot);
+      const auto& p = v->preview();
+      std::printf("plant complete session %lld nodes %d leaves %d preview_triangles %zu\n",
+                  static_cast<long long>(v->sessionId()), v->engine() ? v->engine()->nodes() : 0, p ? p->leaves : 0,
+                  v->plantPreview()->trianglesDrawn());
       std::fflush(stdout);
       if (report.quit) {
         w.stopCapture();

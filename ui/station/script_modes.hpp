@@ -30,4 +30,14 @@ struct CompletionReport {
 };
 void reportWhenComplete(QApplication& app, StationWindow& w, const CompletionReport& report);
 
+// A plant capture (--plant-markers): the window to `screenshot` when the prompt first starts
+// with `when` (empty: when the plant is complete), a line "plant complete session … nodes …
+// leaves … preview_triangles …" at the end; then quit if asked.
+struct PlantCompletionReport {
+  QString screenshot;
+  QString when;
+  bool quit = false;
+};
+void reportWhenPlantComplete(QApplication& app, StationWindow& w, const PlantCompletionReport& report);
+
 }  // namespace leafdig::station

@@ -21,6 +21,7 @@
 #include "leafdig/devices/transports/registry.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/version.hpp"
+#include "plant_capture_view.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"
 #include "settings_dialog.hpp"
@@ -533,6 +534,38 @@ bool StationWindow::start() {
 
 void StationWindow::stopCapture() {
   if (run_) (void)run_->shutdown("capture stopped at the station");
+  if (plantCapture_) plantCapture_->stop();
+}
+
+bool StationWindow::startPlantCapture(const std::string& plantMarkers) {
+  if (db::isServerUrl(dbPath())) {
+    banner_->setText(tr("Cannot capture into the lab server: capture writes this station's own file."));
+    return false;
+  }
+  if (!plantCapture_) {
+    plantCapture_ = new PlantCaptureView(tabs_);
+    tabs_->insertTab(1, plantCapture_, tr("Plant capture"));
+    connect(plantCapture_, &PlantCaptureView::stepChanged, this,
+            [this](const QString&, bool rejected) { sounds_->play(rejected ? Cue::Reject : Cue::Accept); });
+    connect(plantCapture_, &PlantCaptureView::reviewRequested, this, [this](std::int64_t id) {
+      tabs_->setCurrentWidget(plant_);  // lists the plant sessions again
+      const QString error = plant_->openCapturedPlant(id);
+      if (!error.isEmpty()) statusBar()->showMessage(error);
+    });
+  }
+  tabs_->setCurrentWidget(plantCapture_);
+  acq::SimulationOptions sim;
+  sim.speed = options_.speed;
+  sim.seed = options_.seed;
+  sim.mistakes = false;
+  const QString error =
+      plantCapture_->startSimulated(dbPath(), plantMarkers, sim, options_.setup.operatorName, options_.setup.station);
+  if (!error.isEmpty()) {
+    banner_->setText(tr("Cannot start the plant capture: %1").arg(error));
+    return false;
+  }
+  sessionId_ = plantCapture_->sessionId();
+  return true;
 }
 
 void StationWindow::applyFeedback(const acq::Feedback& f) {

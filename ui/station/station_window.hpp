@@ -29,6 +29,7 @@ namespace leafdig::station {
 
 class ReviewView;
 class PlantView;
+class PlantCaptureView;
 
 struct StationOptions {
   std::string db;
@@ -51,6 +52,12 @@ class StationWindow : public QMainWindow {
   // Opens the store and the session, starts the devices and the capture thread. Returns
   // false (and shows why in the banner) when the store or the devices cannot be opened.
   bool start();
+  // A plant digitized where it stands, in a "Plant capture" tab made current: the plant of
+  // `plantMarkers` (a leafdig.plant-markers/1 file) taken by the virtual technician through the
+  // simulated devices (real devices: `leafdig plant capture` does not take them yet). False,
+  // with the reason in that tab's feedback line, when it cannot start.
+  bool startPlantCapture(const std::string& plantMarkers);
+  [[nodiscard]] PlantCaptureView* plantCapture() const { return plantCapture_; }
   // With --db postgresql://…: the lab server, for review only (capture always writes the
   // station's own file). Opens the Review tab on the server's sessions.
   void reviewLabServer();
@@ -135,6 +142,7 @@ class StationWindow : public QMainWindow {
   PreviewWidget* preview_ = nullptr;
   ReviewView* review_ = nullptr;
   PlantView* plant_ = nullptr;
+  PlantCaptureView* plantCapture_ = nullptr;
   Sounds* sounds_ = nullptr;
   QTimer deviceTimer_, cursorTimer_, syncTimer_;
   QAction* syncAction_ = nullptr;

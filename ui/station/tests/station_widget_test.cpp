@@ -18,10 +18,12 @@
 #include <QHeaderView>
 #include <QLabel>
 #include <QListWidget>
+#include <QPushButton>
 #include <QScrollBar>
 #include <QSettings>
 #include <QTableWidget>
 #include <QTest>
+#include <QTreeWidget>
 #include <QValueAxis>
 #include <atomic>
 #include <condition_variable>
@@ -32,6 +34,7 @@
 #include <mutex>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <thread>
 
 #include "../../../tests/support/pg_cluster.hpp"
@@ -46,6 +49,7 @@
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "mesh_choice.hpp"
+#include "plant_capture_view.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"
 #include "settings_dialog.hpp"
@@ -1110,4 +1114,113 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
+}
+
+// The sample plant digitized in the station by the virtual technician through the simulated
+// FASTRAK and caliper: the prompt and the tree follow the plant node by node, the leaf view
+// opens while node 2's full leaf is taken, the 3-D plant ends as the captured plant's model;
+// then "Review this plant" opens it in the Plant view, where a curator approves it.
+TEST(PlantCaptureView, APlantIsDigitizedInTheStationAndReviewedThere) {
+  const fs::path dir = freshDir("plant-capture");
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.simulate = true;
+  o.speed = 50;
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(o);
+  const std::string sample = std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json";
+  ASSERT_TRUE(w.startPlantCapture(sample)) << w.bannerText().toStdString();
+  leafdig::station::PlantCaptureView* v = w.plantCapture();
+  ASSERT_NE(v, nullptr);
+  EXPECT_EQ(w.tabs()->currentWidget(), v);
+  // What the technician saw on the way: every prompt, the current entity of the tree at each.
+  QStringList prompts, current;
+  bool leafViewOpen = false;
+  QObject::connect(v, &leafdig::station::PlantCaptureView::stepChanged, v, [&](const QString& prompt, bool) {
+    prompts << prompt;
+    const QTreeWidgetItem* c = v->tree()->currentItem();
+    const QTreeWidgetItem* parent = c ? c->parent() : nullptr;
+    current << (c ? (parent ? parent->text(0) + "/" : QString()) + c->text(0) : QString());
+    leafViewOpen = leafViewOpen || v->leafPreview()->isVisibleTo(v);
+  });
+  for (int i = 0; i < 6000 && !v->complete(); ++i) QTest::qWait(20);
+  ASSERT_TRUE(v->complete()) << v->bannerText().toStdString() << " / " << v->feedbackText().toStdString();
+  EXPECT_EQ(v->bannerText(), "Plant complete");
+  ASSERT_TRUE(prompts.contains("Node 3 · stem diameter with the caliper"));
+  EXPECT_EQ(current.at(prompts.indexOf("Node 3 · stem diameter with the caliper")), "Node 3");
+  const auto firstLeafPrompt = std::find_if(prompts.begin(), prompts.end(),
+                                            [](const QString& p) { return p.startsWith("Node 2 · leaf · Row 3"); });
+  ASSERT_NE(firstLeafPrompt, prompts.end());
+  EXPECT_EQ(current.at(static_cast<int>(firstLeafPrompt - prompts.begin())), "Node 2/Leaf");
+  EXPECT_TRUE(leafViewOpen) << "the leaf view opens while a full leaf is taken";
+  EXPECT_GT(v->leafPreviewsShown(), 0);
+
+  // The tree: landmarks, collar, five nodes with their diameters and leaves.
+  ASSERT_EQ(v->tree()->topLevelItemCount(), 7);
+  EXPECT_EQ(v->tree()->topLevelItem(1)->text(1), "Ø 21.5 mm");
+  const QStringList leaves{"no leaf · dead", "full leaf, 10 rows · lower", "quick leaf, 3 of 3 points · lower",
+                           "quick leaf, 3 of 3 points · lower", "no leaf"};
+  for (int node = 1; node <= 5; ++node) {
+    const QTreeWidgetItem* n = v->tree()->topLevelItem(node + 1);
+    EXPECT_EQ(n->text(0), QString("Node %1").arg(node));
+    EXPECT_TRUE(n->text(1).startsWith("Ø ")) << n->text(1).toStdString();
+    ASSERT_EQ(n->childCount(), 1);
+    EXPECT_EQ(n->child(0)->text(1), leaves[node - 1]) << "node " << node;
+  }
+  // The last preview reaches the view after the last decision: wait for it, then it is the
+  // captured plant's model (stem, leaves 2, 3 and 4) in the plant frame.
+  for (int i = 0; i < 500 && (!v->preview() || v->preview()->leaves < 3 || v->preview()->leafNode != 0); ++i)
+    QTest::qWait(20);
+  ASSERT_TRUE(v->preview());
+  EXPECT_FALSE(v->leafPreview()->isVisibleTo(v)) << "the leaf view closes after the leaf";
+  EXPECT_TRUE(v->preview()->inPlantFrame);
+  EXPECT_EQ(v->preview()->leaves, 3);
+  std::set<int> ranks;
+  for (const auto& organ : v->preview()->mesh.organs) ranks.insert(organ.leafRank);
+  EXPECT_EQ(ranks, (std::set<int>{0, 2, 3, 4}));
+  EXPECT_TRUE(v->summaryText().contains("5 node(s)")) << v->summaryText().toStdString();
+  {
+    leafdig::db::Store store(o.db);
+    EXPECT_EQ(store.session(v->sessionId())->status, "complete");
+    EXPECT_EQ(store.session(v->sessionId())->kind, "plant");
+  }
+
+  // Review: the Plant view opens it as measured; a rejection needs words; approval is final.
+  ASSERT_TRUE(v->reviewButton()->isEnabled());
+  QTest::mouseClick(v->reviewButton(), Qt::LeftButton);
+  ASSERT_EQ(w.tabs()->currentWidget(), w.plantView());
+  ASSERT_NE(w.plantView()->plant(), nullptr);
+  EXPECT_EQ(w.plantView()->plant()->leaves.size(), 3u);
+  EXPECT_EQ(w.plantView()->capturedStatus(), "complete");
+  EXPECT_TRUE(w.plantView()->approveButton()->isEnabled());
+  EXPECT_TRUE(w.plantView()->rejectCaptured("cur", "").contains("say what is wrong"));
+  EXPECT_EQ(w.plantView()->approveCaptured("cur"), QString());
+  EXPECT_EQ(w.plantView()->capturedStatus(), "approved");
+  EXPECT_FALSE(w.plantView()->approveButton()->isEnabled());
+  EXPECT_TRUE(w.plantView()->approveCaptured("cur").contains("already approved"));
+  leafdig::db::Store store(o.db);
+  EXPECT_EQ(store.session(v->sessionId())->status, "approved");
+  const auto events = store.events(v->sessionId());
+  EXPECT_EQ(events.back().kind, "status");
+  EXPECT_NE(events.back().payloadJson.find("\"cur\""), std::string::npos) << events.back().payloadJson;
+}
+
+TEST(PlantCaptureView, APlantFileThatDoesNotReadStartsNothingAndSaysWhy) {
+  const fs::path dir = freshDir("plant-capture-bad");
+  const fs::path bad = dir / "bad.plant-markers.json";
+  std::ofstream(bad) << R"({"format": "leafdig.plant-markers/1", "units": "furlongs"})";
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.simulate = true;
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(o);
+  EXPECT_FALSE(w.startPlantCapture(bad.string()));
+  EXPECT_TRUE(w.bannerText().contains("Cannot start the plant capture")) << w.bannerText().toStdString();
+  EXPECT_TRUE(w.bannerText().contains("units")) << w.bannerText().toStdString();
+  EXPECT_EQ(w.plantCapture()->sessionId(), 0);
+  EXPECT_FALSE(w.plantCapture()->complete());
+  leafdig::db::Store store(o.db);
+  EXPECT_TRUE(store.sessions().empty());
 }

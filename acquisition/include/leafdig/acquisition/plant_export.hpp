@@ -27,6 +27,7 @@ namespace leafdig::acquisition {
 struct CapturedSurvey {
   model::PlantMarkers markers;  // what was digitized, dated (the session's date, else its day)
   model::PlantSurvey survey;
+  std::string status;  // the session's ("complete", "approved", …)
 };
 [[nodiscard]] CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id);
 

@@ -1,0 +1,377 @@
+#include "plant_capture_view.hpp"
+
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QSplitter>
+#include <QTreeWidget>
+#include <QVBoxLayout>
+#include <exception>
+
+#include "leafdig/acquisition/plant_simulation.hpp"
+#include "leafdig/acquisition/review.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
+#include "preview_widget.hpp"
+
+namespace leafdig::station {
+
+namespace acq = leafdig::acquisition;
+namespace m = leafdig::model;
+using Kind = acq::PlantDecision::Kind;
+
+namespace {
+
+QString mm(double v) {
+  return QString::number(v, 'f', 1) + " mm";
+}
+
+// What a committed decision did, in the words of the plant (the prompt says what comes next).
+QString said(const acq::PlantDecision& d) {
+  const auto item = [](const acq::PlantItem& i) -> QString {
+    switch (i.what) {
+      case acq::PlantWhat::Landmark: return QObject::tr("landmark %1").arg(i.index);
+      case acq::PlantWhat::Collar: return QObject::tr("the collar");
+      case acq::PlantWhat::CollarDiameter: return QObject::tr("the collar's diameter %1").arg(mm(i.valueMm));
+      case acq::PlantWhat::Point: return QObject::tr("node %1, point %2").arg(i.index).arg(i.part);
+      case acq::PlantWhat::Reading: return QObject::tr("node %1, stem diameter %2").arg(i.index).arg(mm(i.valueMm));
+      case acq::PlantWhat::QuickPoint: return QObject::tr("node %1's leaf, point %2 of 3").arg(i.index).arg(i.part);
+      case acq::PlantWhat::Leaf:
+      case acq::PlantWhat::Done: break;
+    }
+    return {};
+  };
+  switch (d.kind) {
+    case Kind::Accepted: return QObject::tr("✓ %1").arg(item(d.item));
+    case Kind::Undone: return QObject::tr("↶ undone: %1").arg(item(d.item));
+    case Kind::Rejected: return QObject::tr("✗ %1").arg(QString::fromStdString(d.reason));
+    case Kind::LandmarksEnded: return QObject::tr("✓ landmarks ended");
+    case Kind::LandmarksReopened: return QObject::tr("↶ landmarks reopened");
+    case Kind::PlantEnded: return QObject::tr("✓ plant ended");
+    case Kind::PlantReopened: return QObject::tr("↶ plant reopened");
+    case Kind::LeafChosen:
+      return QObject::tr("node %1's leaf: %2").arg(d.node).arg(QString::fromStdString(m::toString(d.choice.kind)));
+    case Kind::ChoiceUndone: return QObject::tr("↶ node %1's leaf choice undone").arg(d.node);
+    case Kind::Leaf:
+      switch (d.leaf.kind) {
+        case acq::Decision::Kind::Accepted:
+          return QObject::tr("✓ node %1's leaf: %2 %3 %4")
+              .arg(d.node)
+              .arg(QString::fromLatin1(acq::toString(d.leaf.item.what)))
+              .arg(d.leaf.item.row)
+              .arg(d.leaf.item.col);
+        case acq::Decision::Kind::Undone: return QObject::tr("↶ node %1's leaf: undone").arg(d.node);
+        case acq::Decision::Kind::RowsEnded: return QObject::tr("✓ node %1's leaf: rows ended").arg(d.node);
+        default: return QObject::tr("node %1's leaf").arg(d.node);
+      }
+    case Kind::Ignored: break;
+  }
+  return {};
+}
+
+// A node's leaf as the tree shows it: its kind, how far it is, its state.
+QString leafText(const acq::PlantEngine& e, int node) {
+  const acq::LeafChoice c = e.choiceFor(node);
+  QString text;
+  switch (c.kind) {
+    case m::LeafKind::Full: {
+      const acq::Engine* leaf = e.leaf(node);
+      const int rows = leaf ? acq::completeRows(leaf->items()) : 0;
+      text = leaf && leaf->complete() ? QObject::tr("full leaf, %1 rows").arg(rows)
+                                      : QObject::tr("full leaf, %1 row(s) so far").arg(rows);
+      break;
+    }
+    case m::LeafKind::Quick: {
+      int points = 0;
+      for (const acq::PlantItem& i : e.items())
+        points += i.what == acq::PlantWhat::QuickPoint && i.index == node ? 1 : 0;
+      text = QObject::tr("quick leaf, %1 of 3 points").arg(points);
+      break;
+    }
+    case m::LeafKind::None: text = QObject::tr("no leaf"); break;
+  }
+  if (c.state != m::LeafState::Alive) text += " · " + QString::fromStdString(m::toString(c.state));
+  if (!c.type.empty()) text += " · " + QString::fromStdString(c.type);
+  return text;
+}
+
+}  // namespace
+
+PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
+  banner_ = new QLabel(tr("No plant is being captured."), this);
+  QFont big = banner_->font();
+  big.setPointSizeF(big.pointSizeF() * 2.2);
+  big.setBold(true);
+  banner_->setFont(big);
+  banner_->setWordWrap(true);
+  banner_->setObjectName("plantBanner");
+  banner_->setStyleSheet(
+      "QLabel#plantBanner { background: #24502f; color: white; padding: 12px; border-radius: 6px; }");
+  feedback_ = new QLabel(this);
+  QFont mid = feedback_->font();
+  mid.setPointSizeF(mid.pointSizeF() * 1.3);
+  feedback_->setFont(mid);
+  feedback_->setWordWrap(true);
+  tree_ = new QTreeWidget;
+  tree_->setHeaderLabels({tr("Plant"), tr("Measured")});
+  tree_->setFocusPolicy(Qt::NoFocus);  // keys go to the window, never trapped here
+  tree_->setColumnWidth(0, 110);
+  summary_ = new QLabel;
+  summary_->setWordWrap(true);
+  auto* left = new QWidget;
+  auto* leftLayout = new QVBoxLayout(left);
+  leftLayout->setContentsMargins(0, 0, 0, 0);
+  leftLayout->addWidget(tree_, 1);
+  leftLayout->addWidget(summary_);
+  review_ = new QPushButton(tr("Review this plant"));
+  review_->setToolTip(tr("Open the plant in the Plant view: as measured, its divergences, approve or reject"));
+  review_->setEnabled(false);
+  review_->setFocusPolicy(Qt::NoFocus);
+  leftLayout->addWidget(review_);
+  connect(review_, &QPushButton::clicked, this, [this] { emit reviewRequested(session_); });
+  left->setMinimumWidth(340);
+  left->setMaximumWidth(420);
+  plantPreview_ = new PreviewWidget;
+  leafPane_ = new QWidget;
+  auto* leafLayout = new QVBoxLayout(leafPane_);
+  leafLayout->setContentsMargins(0, 0, 0, 0);
+  auto* leafTitle = new QLabel(tr("The full leaf being taken"));
+  leafTitle->setObjectName("leafTitle");
+  leafLayout->addWidget(leafTitle);
+  leafPreview_ = new PreviewWidget;
+  leafLayout->addWidget(leafPreview_, 1);
+  leafPane_->setMaximumWidth(480);
+  leafPane_->hide();
+  auto* split = new QSplitter;
+  split->addWidget(left);
+  split->addWidget(plantPreview_);
+  split->addWidget(leafPane_);
+  split->setStretchFactor(1, 3);
+  split->setStretchFactor(2, 2);
+  auto* layout = new QVBoxLayout(this);
+  layout->addWidget(banner_);
+  layout->addWidget(feedback_);
+  layout->addWidget(split, 1);
+}
+
+PlantCaptureView::~PlantCaptureView() {
+  stop();
+}
+
+QString PlantCaptureView::bannerText() const {
+  return banner_->text();
+}
+QString PlantCaptureView::feedbackText() const {
+  return feedback_->text();
+}
+QString PlantCaptureView::summaryText() const {
+  return summary_->text();
+}
+
+QString PlantCaptureView::startSimulated(const std::string& db, const std::string& plantMarkersFile,
+                                         const acq::SimulationOptions& simulation, const std::string& operatorName,
+                                         const std::string& station, std::int64_t resume) {
+  if (capture_.joinable()) return tr("A plant is being captured already.");
+  try {
+    db::Store store(db);
+    if (resume == 0) {
+      acq::PlantSessionSetup setup = acq::simulatedPlantSetup(m::readPlantMarkersFile(plantMarkersFile));
+      setup.project = "default";
+      setup.operatorName = operatorName;
+      setup.station = station;
+      session_ = acq::PlantCaptureSession::create(store, setup);
+    } else {
+      session_ = resume;
+    }
+    // The organ library (approved leaves) shapes the quick leaves; read once, here.
+    library_ = acq::organLibrary(store).leaves;
+    acq::PlantCaptureSession opened(store, session_);  // refuses what is not an open plant session
+    engine_ = opened.engine();
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+  banner_->setText(QString::fromStdString(engine_->prompt()));
+  fillTree(*engine_);
+  stop_ = false;
+  quitPreview_ = false;
+  previewer_ = std::thread([this] { previewLoop(); });
+  {
+    std::lock_guard lock(mutex_);
+    previewWanted_ = *engine_;
+  }
+  wake_.notify_all();
+  capture_ = std::thread([this, db, simulation] {
+    try {
+      db::Store store(db);
+      acq::runSimulatedPlant(
+          store, session_, simulation,
+          [this](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
+            State state{s.engine(), said(f.decision), f.decision.kind == Kind::Rejected,
+                        f.completeSeq.has_value() || s.status() == "complete"};
+            if (f.storeRefused) state.feedback = tr("✗ not saved: %1").arg(QString::fromStdString(*f.storeRefused));
+            {
+              std::lock_guard lock(mutex_);
+              previewWanted_ = state.engine;
+              stateMailbox_ = std::move(state);
+            }
+            wake_.notify_all();
+            QMetaObject::invokeMethod(
+                this, [this] { applyState(); }, Qt::QueuedConnection);
+          },
+          stop_);
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      failure_ = QString::fromStdString(e.what());
+    }
+    QMetaObject::invokeMethod(
+        this, [this] { applyState(); }, Qt::QueuedConnection);
+  });
+  return {};
+}
+
+void PlantCaptureView::stop() {
+  stop_ = true;
+  if (capture_.joinable()) capture_.join();
+  {
+    std::lock_guard lock(mutex_);
+    quitPreview_ = true;
+  }
+  wake_.notify_all();
+  if (previewer_.joinable()) previewer_.join();
+}
+
+void PlantCaptureView::previewLoop() {
+  acq::PlantPreviewer previewer(library_);  // a finished leaf is meshed once
+  for (;;) {
+    std::optional<acq::PlantEngine> engine;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [this] { return quitPreview_ || previewWanted_.has_value(); });
+      if (quitPreview_) return;
+      engine.swap(previewWanted_);
+    }
+    acq::PlantPreview built = previewer.build(*engine);
+    {
+      std::lock_guard lock(mutex_);
+      previewMailbox_ = std::move(built);
+    }
+    QMetaObject::invokeMethod(
+        this, [this] { applyPreview(); }, Qt::QueuedConnection);
+  }
+}
+
+void PlantCaptureView::applyState() {
+  std::optional<State> state;
+  QString failure;
+  {
+    std::lock_guard lock(mutex_);
+    state.swap(stateMailbox_);
+    failure = failure_;
+  }
+  if (!failure.isEmpty()) feedback_->setText(tr("The capture stopped: %1").arg(failure));
+  if (!state) return;
+  engine_ = std::move(state->engine);
+  banner_->setText(QString::fromStdString(engine_->prompt()));
+  if (!state->feedback.isEmpty()) {
+    feedback_->setText(state->feedback);
+    feedback_->setStyleSheet(state->rejected ? "color: #b00020" : "color: #1b5e20");
+  }
+  fillTree(*engine_);
+  emit stepChanged(banner_->text(), state->rejected);
+  if (state->complete && !complete_) {
+    complete_ = true;
+    review_->setEnabled(true);
+    emit plantComplete();
+  }
+}
+
+void PlantCaptureView::applyPreview() {
+  std::optional<acq::PlantPreview> p;
+  {
+    std::lock_guard lock(mutex_);
+    p.swap(previewMailbox_);
+  }
+  if (!p) return;
+  acq::Snapshot plant;
+  plant.session = session_;
+  plant.items = p->points;
+  auto mesh = std::make_shared<acq::Preview>();
+  mesh->mesh = p->mesh;
+  plant.preview = std::move(mesh);
+  plantPreview_->show(plant);
+  if (p->leaf) {
+    acq::Snapshot leaf;
+    leaf.session = session_;
+    leaf.items = p->leafItems;
+    leaf.preview = p->leaf;
+    leafPreview_->show(leaf);
+    leafPane_->findChild<QLabel*>("leafTitle")->setText(tr("Node %1 · the full leaf being taken").arg(p->leafNode));
+    leafPane_->show();
+    ++leafPreviewsShown_;
+  } else {
+    leafPane_->setMaximumWidth(480);
+    leafPane_->hide();
+  }
+  ++previewsShown_;
+  QString text = tr("Plant session %1 · %2 node(s) · %3 leaf/leaves drawn%4")
+                     .arg(session_)
+                     .arg(engine_ ? engine_->nodes() : 0)
+                     .arg(p->leaves)
+                     .arg(p->inPlantFrame ? tr(" · in the plant frame (collar at the origin, +Z up)")
+                                          : tr(" · in the digitizer's frame"));
+  for (const std::string& note : p->notes) text += "\n" + QString::fromStdString(note);
+  summary_->setText(text);
+  shown_ = std::move(p);
+}
+
+void PlantCaptureView::fillTree(const acq::PlantEngine& e) {
+  tree_->clear();
+  const acq::PlantStep step = e.step();
+  QTreeWidgetItem* current = nullptr;
+  auto* landmarks = new QTreeWidgetItem(tree_, {tr("Landmarks")});
+  int taken = 0;
+  for (const acq::PlantItem& i : e.items())
+    if (i.what == acq::PlantWhat::Landmark) {
+      auto* l = new QTreeWidgetItem(landmarks, {tr("Landmark %1").arg(i.index), tr("taken")});
+      ++taken;
+      if (step.what == acq::PlantWhat::Landmark && step.index == i.index) current = l;
+    }
+  landmarks->setText(1, tr("%1 taken").arg(taken));
+  if (step.what == acq::PlantWhat::Landmark && !current) current = landmarks;
+  auto* collar = new QTreeWidgetItem(tree_, {tr("Collar")});
+  for (const acq::PlantItem& i : e.items()) {
+    if (i.what == acq::PlantWhat::Collar && collar->text(1).isEmpty()) collar->setText(1, tr("taken"));
+    if (i.what == acq::PlantWhat::CollarDiameter) collar->setText(1, "Ø " + mm(i.valueMm));
+  }
+  if (step.what == acq::PlantWhat::Collar || step.what == acq::PlantWhat::CollarDiameter) current = collar;
+  const int next = step.what == acq::PlantWhat::Point && step.part == 1 ? step.index : 0;
+  const int nodes = std::max(e.nodes(), next);
+  for (int node = 1; node <= nodes; ++node) {
+    auto* n = new QTreeWidgetItem(tree_, {tr("Node %1").arg(node)});
+    QString measured = node > e.nodes() ? tr("next") : tr("point taken");
+    for (const acq::PlantItem& i : e.items())
+      if (i.what == acq::PlantWhat::Reading && i.index == node) measured = "Ø " + mm(i.valueMm);
+    n->setText(1, measured);
+    auto* leaf = new QTreeWidgetItem(n, {tr("Leaf"), leafText(e, node)});
+    const bool here = step.what != acq::PlantWhat::Done && step.what != acq::PlantWhat::Landmark &&
+                      step.what != acq::PlantWhat::Collar && step.what != acq::PlantWhat::CollarDiameter &&
+                      step.index == node;
+    if (here) {
+      const bool onLeaf = step.what == acq::PlantWhat::Leaf || step.what == acq::PlantWhat::QuickPoint;
+      current = onLeaf ? leaf : n;
+      n->setExpanded(true);
+    }
+  }
+  if (current) {
+    QFont bold = current->font(0);
+    bold.setBold(true);
+    current->setFont(0, bold);
+    current->setFont(1, bold);
+    current->setSelected(true);
+    tree_->setCurrentItem(current);
+    tree_->scrollToItem(current);
+  }
+  if (step.what == acq::PlantWhat::Done) tree_->expandAll();
+}
+
+}  // namespace leafdig::station

@@ -1,0 +1,113 @@
+// The plant capture view (docs/plants.md, "The station's plant capture view"): a plant digitized
+// where it stands, as the technician follows it — the prompt in large words, the plant's
+// topology as a tree (landmarks, collar, node by node with its stem diameter and its leaf) with
+// the current entity selected, the 3-D plant growing in the plant frame as points are
+// committed, and beside it the leaf view while a full leaf is being taken.
+//
+// Threads: the capture (the session and its store, the simulated devices and the virtual
+// technician) runs on a thread of its own; every committed decision hands a copy of the plant's
+// engine to the GUI thread (the tree and the prompt, at once) and to a preview thread, which
+// builds the plant's preview (acquisition/plant_preview.hpp) from the newest state only and
+// hands it to the GUI thread. Each hand-over is a one-slot mailbox under a std::mutex: a burst
+// of decisions is shown once, and nothing waits for the drawing.
+#pragma once
+
+#include <QWidget>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "leafdig/acquisition/plant_preview.hpp"
+#include "leafdig/acquisition/plant_session.hpp"
+#include "leafdig/acquisition/simulation.hpp"
+
+class QLabel;
+class QPushButton;
+class QTreeWidget;
+class QTreeWidgetItem;
+
+namespace leafdig::station {
+
+class PreviewWidget;
+
+class PlantCaptureView : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit PlantCaptureView(QWidget* parent = nullptr);
+  ~PlantCaptureView() override;  // stop()
+
+  // A new plant session in `db` (created as needed) that the virtual technician digitizes
+  // through the simulated FASTRAK and caliper: the plant of `plantMarkersFile` (a
+  // leafdig.plant-markers/1 file), or, with `resume`, the plant session of that id going on
+  // where it stopped. Returns what went wrong in words (empty: started).
+  QString startSimulated(const std::string& db, const std::string& plantMarkersFile,
+                         const acquisition::SimulationOptions& simulation, const std::string& operatorName,
+                         const std::string& station, std::int64_t resume = 0);
+  // Stops the capture (an unfinished session stays open: `leafdig plant capture --resume`
+  // or the station goes on with it). Idempotent.
+  void stop();
+
+  [[nodiscard]] std::int64_t sessionId() const { return session_; }
+  [[nodiscard]] bool complete() const { return complete_; }
+  [[nodiscard]] QString bannerText() const;
+  [[nodiscard]] QString feedbackText() const;
+  [[nodiscard]] QString summaryText() const;
+  [[nodiscard]] QTreeWidget* tree() const { return tree_; }
+  [[nodiscard]] QPushButton* reviewButton() const { return review_; }
+  [[nodiscard]] PreviewWidget* plantPreview() const { return plantPreview_; }
+  [[nodiscard]] PreviewWidget* leafPreview() const { return leafPreview_; }
+  // The plant as last shown (its engine state and its preview; empty before the first).
+  [[nodiscard]] const std::optional<acquisition::PlantEngine>& engine() const { return engine_; }
+  [[nodiscard]] const std::optional<acquisition::PlantPreview>& preview() const { return shown_; }
+  // How many previews reached the view, and how many of them had the leaf view open.
+  [[nodiscard]] int previewsShown() const { return previewsShown_; }
+  [[nodiscard]] int leafPreviewsShown() const { return leafPreviewsShown_; }
+
+ signals:
+  void plantComplete();
+  // After each committed decision (or a refusal): the prompt now, and whether it was refused.
+  void stepChanged(const QString& prompt, bool rejected);
+  // "Review this plant" was pressed (enabled once the plant is complete).
+  void reviewRequested(std::int64_t session);
+
+ private:
+  struct State {
+    acquisition::PlantEngine engine;
+    QString feedback;
+    bool rejected = false, complete = false;
+  };
+  void applyState();    // GUI thread: the newest state to the tree and the banner
+  void applyPreview();  // GUI thread: the newest preview to the views
+  void fillTree(const acquisition::PlantEngine& engine);
+  void previewLoop();
+
+  QLabel *banner_, *feedback_, *summary_;
+  QTreeWidget* tree_;
+  QPushButton* review_;
+  PreviewWidget *plantPreview_, *leafPreview_;
+  QWidget* leafPane_;
+
+  std::int64_t session_ = 0;
+  bool complete_ = false;
+  std::optional<acquisition::PlantEngine> engine_;
+  std::optional<acquisition::PlantPreview> shown_;
+  int previewsShown_ = 0, leafPreviewsShown_ = 0;
+  std::vector<model::LibraryLeaf> library_;  // read once at the start (the preview thread's)
+
+  std::thread capture_, previewer_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;  // guards everything below
+  std::condition_variable wake_;
+  std::optional<State> stateMailbox_;
+  std::optional<acquisition::PlantEngine> previewWanted_;
+  std::optional<acquisition::PlantPreview> previewMailbox_;
+  bool quitPreview_ = false;
+  QString failure_;  // the capture thread's error, if it stopped on one
+};
+
+}  // namespace leafdig::station
