@@ -2,17 +2,12 @@
 
 #include <chrono>
 #include <condition_variable>
-#include <deque>
 #include <mutex>
 #include <thread>
 #include <utility>
-#include <variant>
 
-#include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/acquisition/truth.hpp"
-#include "leafdig/devices/links/driver.hpp"
-#include "leafdig/devices/links/links.hpp"
 
 namespace leafdig::acquisition {
 
@@ -21,17 +16,11 @@ namespace {
 namespace dev = leafdig::devices;
 using Clock = std::chrono::steady_clock;
 
-struct Choice {
-  int node = 0;
-  LeafChoice choice;
-};
-using Input = std::variant<dev::DeviceEvent, Choice>;
-
-// What the capture thread and the technician share: inputs one way, the step the other.
+// What the capture thread and the technician share: the step, after every committed change
+// (the technician's choices go to the loop as commands).
 struct Desk {
   std::mutex mutex;
   std::condition_variable cv;
-  std::deque<Input> inputs;
   // The session as the technician sees it, after every committed change.
   PlantStep step;
   LeafChoice choice;  // the step's node's leaf, as the session has it
@@ -44,8 +33,8 @@ struct Desk {
 // what the plant says.
 class PlantTechnician {
  public:
-  PlantTechnician(SimulatedRig& rig, Desk& desk, const model::PlantMarkers& plant, double speed)
-      : rig_(rig), desk_(desk), plant_(plant), speed_(speed) {}
+  PlantTechnician(SimulatedRig& rig, Desk& desk, PlantCaptureLoop& loop, const model::PlantMarkers& plant, double speed)
+      : rig_(rig), desk_(desk), loop_(loop), plant_(plant), speed_(speed) {}
 
   void run(PlantRunStats& stats) {
     AnswerWait wait(speed_);
@@ -71,9 +60,7 @@ class PlantTechnician {
     if (s.what == PlantWhat::Point && s.part == 1 && s.index <= static_cast<int>(plant_.nodes.size())) {
       const LeafChoice want = plantChoiceTruth(plant_, s.index);
       if (!(current == want)) {
-        std::lock_guard lock(desk_.mutex);
-        desk_.inputs.emplace_back(Choice{s.index, want});
-        desk_.cv.notify_all();
+        loop_.command({PlantCommand::Kind::Choose, s.index, want});
         ++stats.choices;
         return;
       }
@@ -103,6 +90,7 @@ class PlantTechnician {
 
   SimulatedRig& rig_;
   Desk& desk_;
+  PlantCaptureLoop& loop_;
   const model::PlantMarkers& plant_;
   double speed_;
   Vec3 last_{};
@@ -113,83 +101,65 @@ class PlantTechnician {
 PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const SimulationOptions& options,
                                 const std::function<void(const PlantFeedback&, const PlantCaptureSession&)>& onFeedback,
                                 const std::atomic<bool>& stop) {
-  PlantCaptureSession session(store, id);
+  // The engine sees device time scaled by the simulation's speed, as the leaf capture does.
+  PlantCaptureLoop loop(store, id, options.speed);
+  const PlantCaptureSession& session = loop.session();
   if (!session.setup().simulatedPlant)
     throw SessionError("plant session " + std::to_string(id) +
                        " was not started as a simulation: it has no plant for the virtual technician");
   const model::PlantMarkers plant = *session.setup().simulatedPlant;
-  PlantRunStats stats;
   Desk desk;
-  const auto publish = [&] {
+  const auto publish = [&desk](const PlantCaptureSession& s) {
     std::lock_guard lock(desk.mutex);
-    desk.step = session.engine().step();
-    desk.choice = session.engine().choiceFor(desk.step.index);
-    desk.ended = session.ended();
+    desk.step = s.engine().step();
+    desk.choice = s.engine().choiceFor(desk.step.index);
+    desk.ended = s.ended();
     ++desk.version;
     desk.cv.notify_all();
   };
-  publish();
-  if (session.ended()) return stats;
+  if (session.ended()) {
+    publish(session);
+    return {};
+  }
 
   SimulatedRig rig(options);
-  const dev::Driver::Callbacks callbacks{[&desk](const dev::DeviceEvent& e) {
-                                           std::lock_guard lock(desk.mutex);
-                                           desk.inputs.emplace_back(e);
-                                           desk.cv.notify_all();
-                                         },
-                                         [](const dev::DeviceStatus&) {}};
-  dev::DigitizerConfig digitizer = parseDigitizerSpec(rig.digitizerSpec());
-  digitizer.recordRateHz = rig.digitizerRateHz();
-  dev::Driver stylus(dev::makeDigitizerLink(std::move(digitizer)), callbacks);
-  dev::Driver caliper(dev::makeCaliperLink(parseCaliperSpec(rig.caliperSpec())), callbacks);
-  stylus.start();
-  caliper.start();
-
-  PlantTechnician technician(rig, desk, plant, options.speed);
+  // The real drivers on the rig's pseudo-terminals: the simulated capture is the real one.
+  PlantDevices devices(rig.digitizerSpec(), rig.caliperSpec(), loop, {}, rig.digitizerRateHz());
+  devices.start();
+  PlantTechnician technician(rig, desk, loop, plant, options.speed);
   PlantRunStats technicianStats;
   std::thread hands([&] { technician.run(technicianStats); });
-
-  // The engine sees device time scaled by the simulation's speed, as the leaf capture does.
-  const Clock::time_point t0 = Clock::now();
-  const auto monoNs = [&](Clock::time_point t) {
-    return static_cast<std::int64_t>(
-        static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t - t0).count()) * options.speed);
-  };
-  while (!session.ended() && !stop) {
-    std::deque<Input> batch;
+  std::atomic<bool> running{true};
+  // The caller's stop flag, watched for the loop.
+  std::thread watcher([&] {
+    while (running) {
+      if (stop) loop.stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  });
+  PlantRunStats stats;
+  try {
+    stats = loop.run(onFeedback, publish);
+  } catch (...) {
+    running = false;
+    watcher.join();
     {
-      std::unique_lock lock(desk.mutex);
-      desk.cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return !desk.inputs.empty(); });
-      batch.swap(desk.inputs);
+      std::lock_guard lock(desk.mutex);
+      desk.stop = true;
+      desk.cv.notify_all();
     }
-    for (const Input& in : batch) {
-      PlantFeedback f;
-      if (const auto* c = std::get_if<Choice>(&in)) {
-        f = session.chooseLeaf(c->node, c->choice, monoNs(Clock::now()));
-      } else if (const auto* s = std::get_if<dev::StylusSample>(&std::get<dev::DeviceEvent>(in))) {
-        f = session.onStylus({monoNs(s->deviceTime.value_or(s->t)), s->positionMm, s->button, s->status,
-                              dev::printableRaw(s->raw, true)});
-      } else if (const auto* r = std::get_if<dev::CaliperReading>(&std::get<dev::DeviceEvent>(in))) {
-        f = session.onCaliper({monoNs(r->t), r->valueMm, dev::printableRaw(r->raw, true)});
-      }
-      if (f.decision.kind == PlantDecision::Kind::Ignored && !f.storeRefused) continue;
-      if (f.decision.kind == PlantDecision::Kind::Rejected)
-        ++stats.rejected;
-      else if (f.seq > 0)
-        ++stats.accepted;
-      if (onFeedback) onFeedback(f, session);
-      publish();
-      if (session.ended()) break;
-    }
+    hands.join();
+    throw;
   }
+  running = false;
+  watcher.join();
   {
     std::lock_guard lock(desk.mutex);
     desk.stop = true;
     desk.cv.notify_all();
   }
   hands.join();
-  stylus.stop();
-  caliper.stop();
+  devices.stop();
   stats.gestures = technicianStats.gestures;
   stats.readings = technicianStats.readings;
   stats.choices = technicianStats.choices;

@@ -9,7 +9,10 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <thread>
+#include <vector>
 
+#include "leafdig/acquisition/plant_run.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/acquisition/truth.hpp"
 #include "leafdig/db/store.hpp"
@@ -210,4 +213,87 @@ TEST_F(PlantSession, PlantAndLeafSessionsAreNotTakenForOneAnother) {
   const std::size_t before = store.sessions().size();
   EXPECT_THROW((void)acq::PlantCaptureSession::create(store, setup_), acq::SessionError);
   EXPECT_EQ(store.sessions().size(), before);
+}
+
+// The loop real devices feed: records and commands from other threads, in the order they
+// arrived, each decision committed before it is handed on; Quit ends the run with the session
+// open.
+TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThreads) {
+  db::Store store(path_);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
+  acq::PlantCaptureLoop loop(store, id);
+  std::vector<std::string> said;
+  std::thread devices([&] {
+    namespace dev = leafdig::devices;
+    const auto t0 = dev::Clock::now();
+    int k = 0;
+    const auto record = [&](const acq::Vec3& p, bool button) {
+      dev::StylusSample s;
+      s.t = t0 + std::chrono::milliseconds(8 * ++k);
+      s.positionMm = p;
+      s.button = button;
+      s.raw = "01 x";
+      loop.post(s);
+    };
+    const acq::Vec3 landmark{plant_.landmarksMm[0].x(), plant_.landmarksMm[0].y(), plant_.landmarksMm[0].z()};
+    for (int i = 0; i < 40; ++i) record(landmark, false);
+    for (int i = 0; i < 25; ++i) record(landmark, true);
+    record(landmark, false);
+    loop.command(acq::parsePlantCommand("leaf 1 quick lower"));
+    loop.command(acq::parsePlantCommand("end"));   // one landmark: too few to end them
+    loop.command(acq::parsePlantCommand("undo"));  // takes back the choice, the last action
+    loop.command(acq::parsePlantCommand("undo"));  // then the landmark
+    loop.command(acq::parsePlantCommand("quit"));
+  });
+  const acq::PlantRunStats stats = loop.run([&](const acq::PlantFeedback& f, const acq::PlantCaptureSession&) {
+    said.push_back(f.decision.kind == Kind::Accepted       ? "accepted"
+                   : f.decision.kind == Kind::LeafChosen   ? "chosen"
+                   : f.decision.kind == Kind::Rejected     ? "rejected: " + f.decision.reason
+                   : f.decision.kind == Kind::ChoiceUndone ? "choice undone"
+                   : f.decision.kind == Kind::Undone       ? "undone"
+                                                           : "other");
+  });
+  devices.join();
+  ASSERT_EQ(said.size(), 5u) << ::testing::PrintToString(said);
+  EXPECT_EQ(said[0], "accepted");
+  EXPECT_EQ(said[1], "chosen");
+  EXPECT_NE(said[2].find("rejected: "), std::string::npos);
+  EXPECT_EQ(said[3], "choice undone");
+  EXPECT_EQ(said[4], "undone");
+  EXPECT_EQ(stats.accepted, 4);
+  EXPECT_EQ(stats.rejected, 1);
+  EXPECT_FALSE(loop.session().ended());
+  EXPECT_EQ(store.session(id)->status, "open");
+  EXPECT_EQ(loop.session().engine().items().size(), 0u);
+}
+
+TEST(PlantCommand, TheWordsATechnicianTypesAreReadOrRefusedByName) {
+  using C = acq::PlantCommand::Kind;
+  EXPECT_EQ(acq::parsePlantCommand("undo").kind, C::Undo);
+  EXPECT_EQ(acq::parsePlantCommand("e").kind, C::End);
+  EXPECT_EQ(acq::parsePlantCommand("quit").kind, C::Quit);
+  acq::PlantCommand c = acq::parsePlantCommand("leaf 3 quick lower");
+  EXPECT_EQ(c.kind, C::Choose);
+  EXPECT_EQ(c.node, 3);
+  EXPECT_EQ(c.choice, (acq::LeafChoice{m::LeafKind::Quick, m::LeafState::Alive, "lower"}));
+  c = acq::parsePlantCommand("leaf 5 none dead");
+  EXPECT_EQ(c.choice, (acq::LeafChoice{m::LeafKind::None, m::LeafState::Dead, ""}));
+  c = acq::parsePlantCommand("leaf 4 full yellow upper");
+  EXPECT_EQ(c.choice, (acq::LeafChoice{m::LeafKind::Full, m::LeafState::Yellow, "upper"}));
+  const auto refused = [](const std::string& line, const std::string& says) {
+    try {
+      (void)acq::parsePlantCommand(line);
+      ADD_FAILURE() << line << " was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << line << ": " << e.what();
+    }
+  };
+  refused("jump", "unknown command 'jump'");
+  refused("leaf", "node's number");
+  refused("leaf 0 full", "node's number");
+  refused("leaf 2", "full, quick or none");
+  refused("leaf 2 sideways", "sideways");
+  refused("leaf 2 quick dead lower extra", "one word too many");
+  refused("undo now", "takes no words");
+  refused("leaf 2 quick " + std::string(65, 't'), "at most 64");
 }

@@ -1,6 +1,7 @@
 // A plant digitized by the virtual technician through the simulated FASTRAK and Sylvac on
 // pseudo-terminals (docs/plants.md, "Simulated plant capture"): the real drivers read the
-// ptys, every record goes to a PlantCaptureSession in order on the calling thread, and the
+// ptys (PlantDevices), every record goes to the PlantCaptureLoop of plant_run.hpp on the
+// calling thread — the loop real devices use — and the
 // technician (a thread of its own) reads what the session asks for and moves the hand or
 // closes the caliper's jaws, as `leafdig capture --simulate` does for a leaf. Shipped, not
 // test-only: `leafdig plant capture --simulate` runs on it.
@@ -12,14 +13,11 @@
 #include <cstdint>
 #include <functional>
 
+#include "leafdig/acquisition/plant_run.hpp"
 #include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/simulation.hpp"
 
 namespace leafdig::acquisition {
-
-struct PlantRunStats {
-  int accepted = 0, rejected = 0, gestures = 0, readings = 0, choices = 0;
-};
 
 // The setup of a plant digitized by the virtual technician: the plant (its id, its date), the
 // simulated FASTRAK and Sylvac, the default protocol and settings; the caller adds project,

@@ -1,0 +1,93 @@
+// A plant capture from devices (docs/plants.md, "Real devices"): the digitizer's and the
+// caliper's events and the operator's commands arrive on one queue from any thread; one thread
+// (the caller of run()) feeds them to a PlantCaptureSession in the order they arrived, and hands
+// every committed decision to the front end. The same loop takes real devices (PlantDevices on
+// the operator's ports) and the simulated rig with its virtual technician
+// (plant_simulation.hpp), so the simulated plant capture is the real one on pseudo-terminals.
+//
+// Thread contract: post(), command() and stop() from any thread; run() and session() on the
+// thread that owns the session (and its store). The listeners run on that thread.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <variant>
+
+#include "leafdig/acquisition/plant_session.hpp"
+#include "leafdig/devices/links/driver.hpp"
+
+namespace leafdig::acquisition {
+
+struct PlantCommand {
+  enum class Kind { Undo, End, Choose, Quit };
+  Kind kind = Kind::Undo;
+  int node = 0;       // Choose
+  LeafChoice choice;  // Choose
+};
+// "undo", "end" (ends the landmarks, a full leaf's rows or the plant, as the long press),
+// "leaf N full|quick|none [alive|dead|broken|yellow|pruned] [TYPE]" (node N's leaf), "quit".
+// Throws std::invalid_argument naming the accepted words.
+[[nodiscard]] PlantCommand parsePlantCommand(const std::string& line);
+
+struct PlantRunStats {
+  int accepted = 0, rejected = 0, gestures = 0, readings = 0, choices = 0;
+};
+
+class PlantCaptureLoop {
+ public:
+  using Clock = std::chrono::steady_clock;
+  using Listener = std::function<void(const PlantFeedback&, const PlantCaptureSession&)>;
+  // Opens plant session `id` (SessionError when it is not an open plant session). timeScale > 1
+  // runs a simulated capture faster: the engine sees device time × timeScale.
+  PlantCaptureLoop(db::Store& store, std::int64_t id, double timeScale = 1.0);
+  PlantCaptureLoop(const PlantCaptureLoop&) = delete;
+  PlantCaptureLoop& operator=(const PlantCaptureLoop&) = delete;
+
+  void post(const devices::DeviceEvent& e);
+  void command(const PlantCommand& c);
+  void stop();
+
+  // Runs until the session ends (complete or abandoned), a Quit command, or stop(). After every
+  // committed decision (or refusal): onFeedback, then onChange (what a technician reads next).
+  PlantRunStats run(const Listener& onFeedback, const std::function<void(const PlantCaptureSession&)>& onChange = {});
+  [[nodiscard]] PlantCaptureSession& session() { return session_; }
+
+ private:
+  using Input = std::variant<devices::DeviceEvent, PlantCommand>;
+  [[nodiscard]] std::int64_t monoNs(Clock::time_point t) const;
+
+  PlantCaptureSession session_;
+  double timeScale_;
+  Clock::time_point t0_ = Clock::now();
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<Input> inputs_;
+  std::atomic<bool> stop_{false};
+};
+
+// The two drivers of a plant capture on the operator's ports (parseDigitizerSpec /
+// parseCaliperSpec: std::invalid_argument for a spec that does not parse, nothing opened),
+// delivering into a loop; each driver's status changes go to onStatus (on the driver's thread).
+// Thread contract: construct, start and stop from one owner thread.
+class PlantDevices {
+ public:
+  PlantDevices(const std::string& digitizerSpec, const std::string& caliperSpec, PlantCaptureLoop& loop,
+               std::function<void(const devices::DeviceStatus&)> onStatus = {}, double digitizerRateHz = 0);
+  PlantDevices(const PlantDevices&) = delete;
+  PlantDevices& operator=(const PlantDevices&) = delete;
+  ~PlantDevices();  // stop()
+  void start();
+  void stop();
+
+ private:
+  std::unique_ptr<devices::Driver> digitizer_, caliper_;
+};
+
+}  // namespace leafdig::acquisition

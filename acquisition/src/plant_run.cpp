@@ -1,0 +1,157 @@
+#include "leafdig/acquisition/plant_run.hpp"
+
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include "leafdig/acquisition/device_set.hpp"
+#include "leafdig/devices/links/links.hpp"
+
+namespace leafdig::acquisition {
+
+namespace dev = leafdig::devices;
+
+PlantCommand parsePlantCommand(const std::string& line) {
+  std::istringstream in(line);
+  std::string word;
+  in >> word;
+  PlantCommand c;
+  if (word == "undo" || word == "u") {
+    c.kind = PlantCommand::Kind::Undo;
+  } else if (word == "end" || word == "e") {
+    c.kind = PlantCommand::Kind::End;
+  } else if (word == "quit" || word == "q") {
+    c.kind = PlantCommand::Kind::Quit;
+  } else if (word == "leaf") {
+    c.kind = PlantCommand::Kind::Choose;
+    std::string kind, state, type, extra;
+    if (!(in >> c.node) || c.node < 1)
+      throw std::invalid_argument("'leaf' needs the node's number (1 at the base): leaf 3 quick lower");
+    if (!(in >> kind)) throw std::invalid_argument("'leaf " + std::to_string(c.node) + "' needs full, quick or none");
+    try {
+      c.choice.kind = model::leafKindFromString(kind);
+      // A state is optional; a word that is not one is the leaf's type.
+      if (in >> state) {
+        try {
+          c.choice.state = model::leafStateFromString(state);
+          in >> type;
+        } catch (const std::exception&) {
+          type = state;
+        }
+      }
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(std::string(e.what()) + " (leaf N full|quick|none [state] [type])");
+    }
+    if (in >> extra) throw std::invalid_argument("'" + extra + "' is one word too many: leaf N KIND [STATE] [TYPE]");
+    if (type.size() > 64) throw std::invalid_argument("a leaf's type is at most 64 characters");
+    c.choice.type = type;
+  } else {
+    throw std::invalid_argument("unknown command '" + line +
+                                "': use undo, end, leaf N full|quick|none [state] [type], or quit");
+  }
+  if (c.kind != PlantCommand::Kind::Choose) {
+    std::string extra;
+    if (in >> extra) throw std::invalid_argument("'" + word + "' takes no words after it (got '" + extra + "')");
+  }
+  return c;
+}
+
+PlantCaptureLoop::PlantCaptureLoop(db::Store& store, std::int64_t id, double timeScale)
+    : session_(store, id), timeScale_(timeScale) {}
+
+void PlantCaptureLoop::post(const dev::DeviceEvent& e) {
+  {
+    std::lock_guard lock(mutex_);
+    inputs_.emplace_back(e);
+  }
+  cv_.notify_all();
+}
+
+void PlantCaptureLoop::command(const PlantCommand& c) {
+  {
+    std::lock_guard lock(mutex_);
+    inputs_.emplace_back(c);
+  }
+  cv_.notify_all();
+}
+
+void PlantCaptureLoop::stop() {
+  stop_ = true;
+  cv_.notify_all();
+}
+
+std::int64_t PlantCaptureLoop::monoNs(Clock::time_point t) const {
+  return static_cast<std::int64_t>(
+      static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t - t0_).count()) * timeScale_);
+}
+
+PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
+                                    const std::function<void(const PlantCaptureSession&)>& onChange) {
+  PlantRunStats stats;
+  if (onChange) onChange(session_);
+  bool quit = false;
+  while (!session_.ended() && !stop_ && !quit) {
+    std::deque<Input> batch;
+    {
+      std::unique_lock lock(mutex_);
+      cv_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !inputs_.empty() || stop_.load(); });
+      batch.swap(inputs_);
+    }
+    for (const Input& in : batch) {
+      PlantFeedback f;
+      if (const auto* c = std::get_if<PlantCommand>(&in)) {
+        const std::int64_t now = monoNs(Clock::now());
+        switch (c->kind) {
+          case PlantCommand::Kind::Undo: f = session_.undo(now); break;
+          case PlantCommand::Kind::End: f = session_.end(now); break;
+          case PlantCommand::Kind::Choose: f = session_.chooseLeaf(c->node, c->choice, now); break;
+          case PlantCommand::Kind::Quit: quit = true; break;
+        }
+        if (quit) break;
+      } else if (const auto* s = std::get_if<dev::StylusSample>(&std::get<dev::DeviceEvent>(in))) {
+        f = session_.onStylus({monoNs(s->deviceTime.value_or(s->t)), s->positionMm, s->button, s->status,
+                               dev::printableRaw(s->raw, true)});
+      } else if (const auto* r = std::get_if<dev::CaliperReading>(&std::get<dev::DeviceEvent>(in))) {
+        f = session_.onCaliper({monoNs(r->t), r->valueMm, dev::printableRaw(r->raw, true)});
+      }
+      if (f.decision.kind == PlantDecision::Kind::Ignored && !f.storeRefused) continue;
+      if (f.decision.kind == PlantDecision::Kind::Rejected)
+        ++stats.rejected;
+      else if (f.seq > 0)
+        ++stats.accepted;
+      if (onFeedback) onFeedback(f, session_);
+      if (onChange) onChange(session_);
+      if (session_.ended()) break;
+    }
+  }
+  return stats;
+}
+
+PlantDevices::PlantDevices(const std::string& digitizerSpec, const std::string& caliperSpec, PlantCaptureLoop& loop,
+                           std::function<void(const dev::DeviceStatus&)> onStatus, double digitizerRateHz) {
+  dev::DigitizerConfig digitizer = parseDigitizerSpec(digitizerSpec);
+  if (digitizerRateHz > 0) digitizer.recordRateHz = digitizerRateHz;
+  const dev::CaliperConfig caliper = parseCaliperSpec(caliperSpec);
+  const dev::Driver::Callbacks callbacks{[&loop](const dev::DeviceEvent& e) { loop.post(e); },
+                                         [status = std::move(onStatus)](const dev::DeviceStatus& s) {
+                                           if (status) status(s);
+                                         }};
+  digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(digitizer)), callbacks);
+  caliper_ = std::make_unique<dev::Driver>(dev::makeCaliperLink(caliper), callbacks);
+}
+
+PlantDevices::~PlantDevices() {
+  stop();
+}
+
+void PlantDevices::start() {
+  digitizer_->start();
+  caliper_->start();
+}
+
+void PlantDevices::stop() {
+  digitizer_->stop();
+  caliper_->stop();
+}
+
+}  // namespace leafdig::acquisition
