@@ -967,7 +967,7 @@ TEST_F(PlantCli, PlantCaptureRefusesWhatItCannotDoInWordsBeforeTheStoreIsTouched
   const fs::path db = dir_ / "station.sqlite";
   const Result real = leafdig("plant capture --db " + quote(db));
   EXPECT_EQ(real.exitCode, 2);
-  EXPECT_NE(real.err.find("runs on the simulated devices for now"), std::string::npos) << real.err;
+  EXPECT_NE(real.err.find("give the devices"), std::string::npos) << real.err;
   const Result branched =
       leafdig("plant capture --simulate --db " + quote(db) + " --protocol " +
               quote(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json"));
@@ -983,5 +983,78 @@ TEST_F(PlantCli, PlantCaptureRefusesWhatItCannotDoInWordsBeforeTheStoreIsTouched
   const Result list = leafdig("sessions list --json --db " + quote(db));
   if (list.exitCode == 0) {
     EXPECT_EQ(json::parse(list.out).size(), 0U);
+  }
+}
+
+// A plant digitized with devices on real ports: the digitizer and caliper of `leafdig sim` on
+// pseudo-terminals, named like any serial port. The loop takes their records (a landmark
+// accepted or a press refused in words), commands come on standard input, `quit` keeps the
+// session open with its ports recorded, and `--resume` goes on with them.
+TEST_F(PlantCli, APlantIsTakenWithDevicesOnTheOperatorsPortsAndCommandsOnStandardInput) {
+  const std::string db = (dir_ / "station.sqlite").string();
+  const fs::path fk = dir_ / "fastrak", sv = dir_ / "sylvac";
+  const std::string leaf = sample("upper-small-leaf-n17.markers.json");
+  const pid_t fastrak =
+      spawn({"sim", "fastrak", "--markers", leaf, "--link", fk.string(), "--seconds", "12", "--seed", "3"},
+            dir_ / "fk.out", dir_ / "fk.err");
+  const pid_t sylvac =
+      spawn({"sim", "sylvac", "--markers", leaf, "--link", sv.string(), "--press-every", "1", "--seconds", "12"},
+            dir_ / "sv.out", dir_ / "sv.err");
+  for (int i = 0; i < 100 && !(fs::exists(fk) && fs::exists(sv)); ++i) ::usleep(50'000);
+  ASSERT_TRUE(fs::exists(fk) && fs::exists(sv)) << slurp(dir_ / "fk.err") << slurp(dir_ / "sv.err");
+  // Node 1's leaf chosen by command, a word the loop does not know refused, then quit after 8 s.
+  const Result r = run("(echo 'leaf 1 quick lower'; echo 'leaf 1 sideways'; sleep 8; echo quit) | " +
+                       quote(LEAFDIG_CLI) + " plant capture --digitizer fastrak:" + quote(fk.string()) +
+                       " --caliper sylvac:" + quote(sv.string()) + " --plant P-ports --db " + quote(db) + " --json");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  const std::vector<json> lines = jsonLines(r.out);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines.front().value("event", ""), "session");
+  std::set<std::string> streaming, events;
+  for (const json& j : lines) {
+    events.insert(j.value("event", ""));
+    if (j.value("event", "") == "device" && j.value("state", "") == "streaming")
+      streaming.insert(j.value("device", ""));
+  }
+  EXPECT_EQ(streaming, (std::set<std::string>{"FASTRAK", "Sylvac"})) << r.out;
+  EXPECT_TRUE(events.count("leaf_chosen")) << r.out;
+  EXPECT_TRUE(events.count("accepted") || events.count("rejected")) << "the ports' records reach the plant: " << r.out;
+  EXPECT_NE(r.err.find("sideways"), std::string::npos) << r.err;
+  {
+    const Result list = leafdig("sessions list --db " + quote(db) + " --json");
+    ASSERT_EQ(list.exitCode, 0) << list.err;
+    const json sessions = json::parse(list.out);
+    ASSERT_EQ(sessions.size(), 1u);
+    EXPECT_EQ(sessions[0].value("kind", ""), "plant");
+    EXPECT_EQ(sessions[0].value("plant", ""), "P-ports");
+    EXPECT_EQ(sessions[0].value("status", ""), "open");
+  }
+  reap(fastrak);
+  reap(sylvac);
+  // Resumed on the recorded ports, now gone: the session goes on, the device says why in words.
+  const Result again =
+      run("(sleep 1; echo quit) | " + quote(LEAFDIG_CLI) + " plant capture --resume 1 --db " + quote(db));
+  EXPECT_EQ(again.exitCode, 0) << again.err;
+  EXPECT_NE(again.out.find("digitizer fastrak:" + fk.string()), std::string::npos) << again.out;
+  EXPECT_NE(again.err.find("cannot open " + fk.string()), std::string::npos) << again.err;
+  EXPECT_NE(again.out.find("kept open"), std::string::npos) << again.out;
+}
+
+TEST_F(PlantCli, APlantCaptureWithoutItsDevicesOrPlantIsRefusedBeforeAnythingIsWritten) {
+  const std::string db = (dir_ / "station.sqlite").string();
+  struct Case {
+    std::string args, says;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"plant capture --plant P --db " + quote(db), "--digitizer fastrak:/dev/ttyUSB0"},
+           {"plant capture --digitizer fastrak:/dev/ttyS0 --caliper sylvac:/dev/ttyS1 --db " + quote(db), "--plant ID"},
+           {"plant capture --digitizer wand:/dev/ttyS0 --caliper sylvac:/dev/ttyS1 --plant P --db " + quote(db),
+            "wand"},
+           {"plant capture --simulate --digitizer fastrak:/dev/ttyS0 --db " + quote(db), "leave out --digitizer"},
+       }) {
+    const Result r = leafdig(c.args);
+    EXPECT_EQ(r.exitCode, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(db)) << c.args;
   }
 }

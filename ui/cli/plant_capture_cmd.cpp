@@ -1,20 +1,29 @@
-// `leafdig plant capture --simulate`: a plant digitized where it stands by the virtual
-// technician through the simulated FASTRAK and caliper (docs/plants.md, "Simulated plant
-// capture"), every decision committed to a plant session before it is printed; `--resume ID`
-// goes on with an interrupted one. `--json` prints one object per committed change, the
-// session first and `complete` last, as `capture --json` does.
+// `leafdig plant capture`: a plant digitized where it stands — by a technician with the
+// digitizer and caliper on the ports given (`--digitizer`, `--caliper`, commands on standard
+// input) or by the virtual technician through the simulated FASTRAK and caliper (`--simulate`;
+// docs/plants.md, "Simulated plant capture" and "Real devices"), every decision committed to a
+// plant session before it is printed; `--resume ID` goes on with an interrupted one. `--json`
+// prints one object per committed change, the session first and `complete` last, as `capture
+// --json` does.
 #include "plant_capture_cmd.hpp"
 
+#include <poll.h>
+#include <unistd.h>
+
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 
 #include "commands.hpp"
+#include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
+#include "leafdig/acquisition/plant_run.hpp"
 #include "leafdig/acquisition/plant_simulation.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/db/lab.hpp"
@@ -38,6 +47,7 @@ namespace {
 struct PlantCaptureOptions {
   bool simulate = false;
   std::string plantMarkers, protocol, db, project = "plants", operatorName = "technician", station, date;
+  std::string digitizer, caliper, plant;  // real devices
   double stylusNoiseMm = 0.3, speed = 1.0;
   std::uint64_t seed = 1;
   std::int64_t resume = 0;
@@ -96,17 +106,140 @@ json feedbackJson(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s
   return j;
 }
 
+// What a committed decision prints: a JSON line, or a line of words.
+void printFeedback(const PlantCaptureOptions& o, std::int64_t id, const acq::PlantFeedback& f,
+                   const acq::PlantCaptureSession& s) {
+  if (o.json) {
+    std::cout << feedbackJson(f, s).dump() << "\n";
+    if (f.completeSeq)
+      std::cout
+          << json{{"event", "complete"}, {"session", id}, {"seq", *f.completeSeq}, {"nodes", s.engine().nodes()}}.dump()
+          << "\n";
+    std::cout << std::flush;
+    return;
+  }
+  const json j = feedbackJson(f, s);
+  std::cout << "  " << (f.decision.kind == acq::PlantDecision::Kind::Rejected ? "✗ " : "✓ ")
+            << terminalText(j.value("event", std::string())) << " · now: " << terminalText(s.engine().prompt())
+            << (f.decision.kind == acq::PlantDecision::Kind::Rejected ? " (" + terminalText(f.decision.reason) + ")"
+                                                                      : std::string())
+            << "\n"
+            << std::flush;
+}
+
+// A plant captured with the devices on the operator's ports: the loop on this thread, commands
+// from standard input, Ctrl-C stops between two events (the session stays open).
+acq::PlantRunStats captureWithDevices(const PlantCaptureOptions& o, db::Store& store, std::int64_t id,
+                                      const std::string& digitizer, const std::string& caliper) {
+  installSignalHandlers();
+  acq::PlantCaptureLoop loop(store, id);
+  std::mutex out;
+  acq::PlantDevices ports(digitizer, caliper, loop, [&](const devices::DeviceStatus& st) {
+    static thread_local std::string last;
+    const std::string said = std::string(devices::toString(st.state)) + st.message;
+    if (said == last) return;  // a rate change alone is not news
+    last = said;
+    const std::lock_guard lock(out);
+    if (o.json)
+      std::cout << json{{"event", "device"},     {"device", st.device},
+                        {"where", st.where},     {"state", devices::toString(st.state)},
+                        {"message", st.message}, {"remedy", st.remedy}}
+                       .dump()
+                << "\n"
+                << std::flush;
+    else
+      std::cerr << "  " << terminalText(st.device) << " (" << terminalText(st.where)
+                << "): " << devices::toString(st.state) << (st.message.empty() ? "" : " · " + terminalText(st.message))
+                << (st.remedy.empty() ? "" : " · " + terminalText(st.remedy)) << "\n";
+  });
+  if (!o.json)
+    std::cout << "  commands (then Enter): undo · end · leaf N full|quick|none [state] [type] · quit\n  now: "
+              << terminalText(loop.session().engine().prompt()) << "\n"
+              << std::flush;
+  ports.start();
+  std::atomic<bool> done{false};
+  std::thread input([&] {
+    std::string line;
+    while (!done) {
+      pollfd p{0, POLLIN, 0};
+      if (::poll(&p, 1, 100) <= 0) continue;
+      char buf[256];
+      const ssize_t n = ::read(0, buf, sizeof buf);
+      if (n <= 0) return;  // end of input: capture goes on with the stylus and caliper
+      line.append(buf, static_cast<std::size_t>(n));
+      for (auto nl = line.find('\n'); nl != std::string::npos; nl = line.find('\n')) {
+        const std::string cmd = line.substr(0, nl);
+        line.erase(0, nl + 1);
+        if (cmd.find_first_not_of(" \t\r") == std::string::npos) continue;
+        try {
+          loop.command(acq::parsePlantCommand(cmd));
+        } catch (const std::invalid_argument& e) {
+          const std::lock_guard lock(out);
+          std::cerr << "leafdig: " << e.what() << "\n";
+        }
+      }
+    }
+  });
+  std::thread watcher([&] {
+    while (!done) {
+      if (interrupted()) loop.stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+  acq::PlantRunStats stats;
+  try {
+    stats = loop.run([&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
+      const std::lock_guard lock(out);
+      printFeedback(o, id, f, s);
+    });
+  } catch (...) {
+    done = true;
+    input.join();
+    watcher.join();
+    throw;
+  }
+  done = true;
+  input.join();
+  watcher.join();
+  ports.stop();
+  return stats;
+}
+
 int runPlantCapture(const PlantCaptureOptions& o) {
-  if (!o.simulate && o.resume == 0)
+  const bool real = !o.simulate && o.resume == 0;
+  if (real && (o.digitizer.empty() || o.caliper.empty()))
     throw std::invalid_argument(
-        "plant capture runs on the simulated devices for now (--simulate --plant-markers FILE); with real devices, "
-        "digitize plants from the station (docs/plants.md)");
+        "give the devices, e.g. --digitizer fastrak:/dev/ttyUSB0 --caliper sylvac:/dev/ttyUSB1 (leafdig devices list "
+        "shows the ports), or --simulate to try it with the virtual technician");
+  if (o.simulate && (!o.digitizer.empty() || !o.caliper.empty()))
+    throw std::invalid_argument(
+        "--simulate uses the simulated FASTRAK and caliper: leave out --digitizer and --caliper");
+  if (!o.digitizer.empty()) (void)acq::parseDigitizerSpec(o.digitizer);  // refused before anything is written
+  if (!o.caliper.empty()) (void)acq::parseCaliperSpec(o.caliper);
+  if (real && o.plant.empty())
+    throw std::invalid_argument("name the plant you digitize: --plant ID (e.g. --plant tobacco-p12)");
   if (!(o.speed > 0 && o.speed <= 50)) throw std::invalid_argument("the simulation speed must be in (0, 50]");
   if (!(o.stylusNoiseMm >= 0.0 && o.stylusNoiseMm <= 20.0))
     throw std::invalid_argument("the stylus noise must be between 0 and 20 mm");
   std::int64_t id = o.resume;
   std::unique_ptr<db::Store> store;
-  if (id == 0) {
+  std::string digitizer = o.digitizer, caliper = o.caliper;
+  if (real) {
+    acq::PlantSessionSetup setup;
+    setup.project = o.project;
+    setup.plant = o.plant;
+    setup.operatorName = o.operatorName;
+    setup.station = o.station;
+    setup.digitizer = o.digitizer;
+    setup.caliper = o.caliper;
+    if (!o.protocol.empty()) setup.protocol = m::readPlantProtocolFile(o.protocol);
+    if (!o.date.empty()) {
+      setup.date = m::parseSurveyDate(o.date);
+      if (!setup.date) throw std::invalid_argument("--date " + o.date + ": give the survey's day as YYYY-MM-DD");
+    }
+    store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
+    id = acq::PlantCaptureSession::create(*store, setup);
+  } else if (id == 0) {
     // Everything the operator typed is read before the store is touched.
     // The sample plant beside the sample leaves (the source tree, or where the package put them).
     const std::string samples = leafdig::samplesDir();
@@ -126,38 +259,52 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     id = acq::PlantCaptureSession::create(*store, setup);
   } else {
     store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
+    // A session taken with devices goes on with them (the ports given now, else the recorded ones).
+    const auto info = store->session(id);
+    if (info && info->kind == "plant") {
+      const acq::PlantSessionSetup recorded = acq::PlantCaptureSession::setupFromJson(info->settingsJson);
+      if (!recorded.simulatedPlant) {
+        if (o.simulate)
+          throw std::invalid_argument("plant session " + std::to_string(id) +
+                                      " was taken with devices: resume it without --simulate");
+        if (digitizer.empty()) digitizer = recorded.digitizer;
+        if (caliper.empty()) caliper = recorded.caliper;
+        if (digitizer.empty() || caliper.empty())
+          throw std::invalid_argument("plant session " + std::to_string(id) +
+                                      " records no devices: give --digitizer and --caliper");
+      }
+    }
   }
+  const bool withDevices = !digitizer.empty();
   if (o.json)
     std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
   else
-    std::cout << "leafdig plant capture · plant session " << id << " · simulated FASTRAK and caliper\n";
+    std::cout << "leafdig plant capture · plant session " << id << " · "
+              << (withDevices ? "digitizer " + terminalText(digitizer) + " · caliper " + terminalText(caliper)
+                              : std::string("simulated FASTRAK and caliper"))
+              << "\n";
+  if (withDevices) {
+    const acq::PlantRunStats stats = captureWithDevices(o, *store, id, digitizer, caliper);
+    const auto info = store->session(id);
+    const bool complete = info && info->status == "complete";
+    if (!o.json)
+      std::cout << "  plant session " << id << (complete ? " complete" : " kept open") << ": " << stats.accepted
+                << " accepted, " << stats.rejected << " rejected"
+                << (complete ? std::string()
+                             : "\n  continue with: leafdig plant capture --resume " + std::to_string(id) + " --db " +
+                                   store->path())
+                << "\n";
+    return interrupted() ? 130 : 0;
+  }
+
   acq::SimulationOptions sim;
   sim.speed = o.speed;
   sim.seed = o.seed;
   sim.stylusNoiseMm = o.stylusNoiseMm;
   sim.mistakes = false;
-  const acq::PlantRunStats stats =
-      simulatePlant(*store, id, sim, [&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
-        if (o.json) {
-          std::cout << feedbackJson(f, s).dump() << "\n";
-          if (f.completeSeq)
-            std::cout << json{{"event", "complete"},
-                              {"session", id},
-                              {"seq", *f.completeSeq},
-                              {"nodes", s.engine().nodes()}}
-                             .dump()
-                      << "\n";
-          std::cout << std::flush;
-        } else {
-          const json j = feedbackJson(f, s);
-          std::cout << "  " << (f.decision.kind == acq::PlantDecision::Kind::Rejected ? "✗ " : "✓ ")
-                    << terminalText(j.value("event", std::string())) << " · now: " << terminalText(s.engine().prompt())
-                    << (f.decision.kind == acq::PlantDecision::Kind::Rejected
-                            ? " (" + terminalText(f.decision.reason) + ")"
-                            : std::string())
-                    << "\n";
-        }
-      });
+  const acq::PlantRunStats stats = simulatePlant(
+      *store, id, sim,
+      [&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) { printFeedback(o, id, f, s); });
   const auto info = store->session(id);
   const bool complete = info && info->status == "complete";
   if (!o.json)
@@ -253,7 +400,10 @@ acq::PlantRunStats simulatePlant(
 void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   auto o = std::make_shared<PlantCaptureOptions>();
   CLI::App* capture = plant.add_subcommand(
-      "capture", "Digitize a plant where it stands, node by node, into a plant session (--simulate for now)");
+      "capture", "Digitize a plant where it stands, node by node, into a plant session (devices, or --simulate)");
+  capture->add_option("--digitizer", o->digitizer, "KIND:PORT of the digitizer, e.g. fastrak:/dev/ttyUSB0");
+  capture->add_option("--caliper", o->caliper, "KIND:PORT or hid:VID:PID of the caliper, e.g. sylvac:/dev/ttyUSB1");
+  capture->add_option("--plant", o->plant, "The plant's id (with devices; a simulation takes the file's)");
   capture->add_flag("--simulate", o->simulate,
                     "The virtual technician digitizes --plant-markers through the simulated FASTRAK and caliper");
   capture->add_option(
