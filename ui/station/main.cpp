@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
       "With --simulate: a plant capture instead of a leaf; the virtual technician digitizes this plant "
       "(leafdig.plant-markers/1) where it stands",
       "FILE");
+  const QCommandLineOption capturePlant(
+      "capture-plant",
+      "Digitize this plant (its id) where it stands with --digitizer and --caliper, in the plant capture view", "ID");
   const QCommandLineOption screenshotWhen(
       "screenshot-when",
       "With --plant-markers and --screenshot: save the window the first time the prompt starts with this text "
@@ -58,9 +61,10 @@ int main(int argc, char** argv) {
   const QCommandLineOption station(
       "station",
       "This station's id, stored with every session (default: [station] id= in the settings, or the host name)", "ID");
-  p.addOptions({simulate,  db,           speed,      seed,         markers,        digitizer,    caliper,
-                resume,    screenshot,   reviewShot, quit,         setupDialog,    settingsFile, firstFrame,
-                plantPlan, plantSession, plantShot,  plantMarkers, screenshotWhen, noAudio,      station});
+  p.addOptions({simulate,  db,           speed,      seed,         markers,      digitizer,      caliper,
+                resume,    screenshot,   reviewShot, quit,         setupDialog,  settingsFile,   firstFrame,
+                plantPlan, plantSession, plantShot,  plantMarkers, capturePlant, screenshotWhen, noAudio,
+                station});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -107,6 +111,21 @@ int main(int argc, char** argv) {
     w.reviewLabServer();
     if (p.isSet(reviewShot)) leafdig::station::saveLabReviewScreenshot(app, w, p.value(reviewShot));
     return app.exec();
+  }
+  if (p.isSet(capturePlant)) {
+    // A person digitizes a plant with the devices given (the simulation takes --plant-markers).
+    if (o.simulate || o.setup.digitizer.empty() || o.setup.caliper.empty()) {
+      std::fprintf(stderr,
+                   "leafdig-station: --capture-plant ID needs --digitizer and --caliper (to try it: --simulate "
+                   "--plant-markers FILE)\n");
+      return 2;
+    }
+    if (!w.startPlantCaptureWithDevices(p.value(capturePlant).toStdString())) {
+      std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
+      return 2;
+    }
+    leafdig::station::reportWhenPlantComplete(app, w, {p.value(screenshot), p.value(screenshotWhen), p.isSet(quit)});
+    return QApplication::exec();
   }
   if (p.isSet(plantMarkers)) {
     // A plant digitized where it stands (simulated devices only, as `leafdig plant capture`).

@@ -1,13 +1,16 @@
 #include "plant_capture_view.hpp"
 
+#include <QComboBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QPushButton>
 #include <QSplitter>
 #include <QTreeWidget>
 #include <QVBoxLayout>
 #include <exception>
 
+#include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/plant_simulation.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/db/store.hpp"
@@ -148,10 +151,157 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   split->addWidget(leafPane_);
   split->setStretchFactor(1, 3);
   split->setStretchFactor(2, 2);
+  // What a press cannot say, for a person with the devices: undo, end, a node's leaf.
+  controls_ = new QWidget;
+  auto* row = new QHBoxLayout(controls_);
+  row->setContentsMargins(0, 0, 0, 0);
+  undo_ = new QPushButton(tr("Undo"));
+  end_ = new QPushButton(tr("End"));
+  end_->setToolTip(tr("Ends the landmarks, a full leaf's rows or the plant (as the long press)"));
+  leafKind_ = new QComboBox;
+  leafKind_->addItems({"full", "quick", "none"});
+  leafState_ = new QComboBox;
+  leafState_->addItems({"alive", "dead", "broken", "yellow", "pruned"});
+  leafType_ = new QLineEdit;
+  leafType_->setPlaceholderText(tr("type (lower, upper…)"));
+  leafType_->setMaxLength(64);
+  setLeaf_ = new QPushButton(tr("Set node 1's leaf"));
+  devices_ = new QLabel;
+  for (QWidget* w : std::initializer_list<QWidget*>{undo_, end_, leafKind_, leafState_, setLeaf_})
+    w->setFocusPolicy(Qt::NoFocus);
+  row->addWidget(undo_);
+  row->addWidget(end_);
+  row->addSpacing(16);
+  row->addWidget(leafKind_);
+  row->addWidget(leafState_);
+  row->addWidget(leafType_);
+  row->addWidget(setLeaf_);
+  row->addSpacing(16);
+  row->addWidget(devices_, 1);
+  controls_->hide();
+  connect(undo_, &QPushButton::clicked, this, [this] { (void)command({acq::PlantCommand::Kind::Undo, 0, {}}); });
+  connect(end_, &QPushButton::clicked, this, [this] { (void)command({acq::PlantCommand::Kind::End, 0, {}}); });
+  connect(setLeaf_, &QPushButton::clicked, this, [this] {
+    acq::LeafChoice c;
+    c.kind = m::leafKindFromString(leafKind_->currentText().toStdString());
+    c.state = m::leafStateFromString(leafState_->currentText().toStdString());
+    c.type = leafType_->text().trimmed().toStdString();
+    (void)command({acq::PlantCommand::Kind::Choose, choiceNode(), c});
+  });
   auto* layout = new QVBoxLayout(this);
   layout->addWidget(banner_);
   layout->addWidget(feedback_);
+  layout->addWidget(controls_);
   layout->addWidget(split, 1);
+}
+
+QString PlantCaptureView::devicesText() const {
+  return devices_->text();
+}
+
+int PlantCaptureView::choiceNode() const {
+  if (!engine_) return 1;
+  const acq::PlantStep step = engine_->step();
+  switch (step.what) {
+    case acq::PlantWhat::Point:
+    case acq::PlantWhat::Reading:
+    case acq::PlantWhat::QuickPoint:
+    case acq::PlantWhat::Leaf: return step.index;
+    case acq::PlantWhat::Done: return std::max(1, engine_->nodes());
+    default: return 1;
+  }
+}
+
+bool PlantCaptureView::command(const acq::PlantCommand& c) {
+  std::lock_guard lock(mutex_);
+  if (!loop_) return false;
+  loop_->command(c);
+  return true;
+}
+
+void PlantCaptureView::committed(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
+  State state{s.engine(), said(f.decision), f.decision.kind == Kind::Rejected,
+              f.completeSeq.has_value() || s.status() == "complete"};
+  if (f.storeRefused) state.feedback = tr("✗ not saved: %1").arg(QString::fromStdString(*f.storeRefused));
+  {
+    std::lock_guard lock(mutex_);
+    previewWanted_ = state.engine;
+    stateMailbox_ = std::move(state);
+  }
+  wake_.notify_all();
+  QMetaObject::invokeMethod(
+      this, [this] { applyState(); }, Qt::QueuedConnection);
+}
+
+void PlantCaptureView::startThreads(const std::function<void()>& capture) {
+  banner_->setText(QString::fromStdString(engine_->prompt()));
+  fillTree(*engine_);
+  stop_ = false;
+  quitPreview_ = false;
+  previewer_ = std::thread([this] { previewLoop(); });
+  {
+    std::lock_guard lock(mutex_);
+    previewWanted_ = *engine_;
+  }
+  wake_.notify_all();
+  capture_ = std::thread([this, capture] {
+    try {
+      capture();
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      failure_ = QString::fromStdString(e.what());
+    }
+    QMetaObject::invokeMethod(
+        this, [this] { applyState(); }, Qt::QueuedConnection);
+  });
+}
+
+QString PlantCaptureView::startWithDevices(const std::string& db, const acq::PlantSessionSetup& setup) {
+  if (capture_.joinable()) return tr("A plant is being captured already.");
+  try {
+    (void)acq::parseDigitizerSpec(setup.digitizer);  // nothing is written for a spec that does not parse
+    (void)acq::parseCaliperSpec(setup.caliper);
+    db::Store store(db);
+    session_ = acq::PlantCaptureSession::create(store, setup);
+    library_ = acq::organLibrary(store).leaves;
+    acq::PlantCaptureSession opened(store, session_);
+    engine_ = opened.engine();
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+  controls_->show();
+  const std::string digitizer = setup.digitizer, caliper = setup.caliper;
+  startThreads([this, db, digitizer, caliper] {
+    db::Store store(db);
+    acq::PlantCaptureLoop loop(store, session_);
+    {
+      std::lock_guard lock(mutex_);
+      loop_ = &loop;
+    }
+    if (stop_) loop.stop();
+    try {
+      acq::PlantDevices ports(digitizer, caliper, loop, [this](const devices::DeviceStatus& st) {
+        {
+          std::lock_guard lock(mutex_);
+          deviceStates_[st.device] = std::string(devices::toString(st.state)) +
+                                     (st.message.empty() ? "" : ": " + st.message) +
+                                     (st.remedy.empty() ? "" : " (" + st.remedy + ")");
+        }
+        QMetaObject::invokeMethod(
+            this, [this] { applyState(); }, Qt::QueuedConnection);
+      });
+      ports.start();
+      (void)loop.run([this](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) { committed(f, s); });
+      ports.stop();
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      loop_ = nullptr;
+      throw;
+    }
+    std::lock_guard lock(mutex_);
+    loop_ = nullptr;
+  });
+  return {};
 }
 
 PlantCaptureView::~PlantCaptureView() {
@@ -190,47 +340,22 @@ QString PlantCaptureView::startSimulated(const std::string& db, const std::strin
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
   }
-  banner_->setText(QString::fromStdString(engine_->prompt()));
-  fillTree(*engine_);
-  stop_ = false;
-  quitPreview_ = false;
-  previewer_ = std::thread([this] { previewLoop(); });
-  {
-    std::lock_guard lock(mutex_);
-    previewWanted_ = *engine_;
-  }
-  wake_.notify_all();
-  capture_ = std::thread([this, db, simulation] {
-    try {
-      db::Store store(db);
-      acq::runSimulatedPlant(
-          store, session_, simulation,
-          [this](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
-            State state{s.engine(), said(f.decision), f.decision.kind == Kind::Rejected,
-                        f.completeSeq.has_value() || s.status() == "complete"};
-            if (f.storeRefused) state.feedback = tr("✗ not saved: %1").arg(QString::fromStdString(*f.storeRefused));
-            {
-              std::lock_guard lock(mutex_);
-              previewWanted_ = state.engine;
-              stateMailbox_ = std::move(state);
-            }
-            wake_.notify_all();
-            QMetaObject::invokeMethod(
-                this, [this] { applyState(); }, Qt::QueuedConnection);
-          },
-          stop_);
-    } catch (const std::exception& e) {
-      std::lock_guard lock(mutex_);
-      failure_ = QString::fromStdString(e.what());
-    }
-    QMetaObject::invokeMethod(
-        this, [this] { applyState(); }, Qt::QueuedConnection);
+  controls_->hide();  // the virtual technician decides for itself
+  startThreads([this, db, simulation] {
+    db::Store store(db);
+    (void)acq::runSimulatedPlant(
+        store, session_, simulation,
+        [this](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) { committed(f, s); }, stop_);
   });
   return {};
 }
 
 void PlantCaptureView::stop() {
   stop_ = true;
+  {
+    std::lock_guard lock(mutex_);
+    if (loop_) loop_->stop();
+  }
   if (capture_.joinable()) capture_.join();
   {
     std::lock_guard lock(mutex_);
@@ -269,6 +394,13 @@ void PlantCaptureView::applyState() {
     failure = failure_;
   }
   if (!failure.isEmpty()) feedback_->setText(tr("The capture stopped: %1").arg(failure));
+  {
+    QStringList lines;
+    std::lock_guard lock(mutex_);
+    for (const auto& [device, words] : deviceStates_)
+      lines << QString::fromStdString(device) + ": " + QString::fromStdString(words);
+    devices_->setText(lines.join("\n"));
+  }
   if (!state) return;
   engine_ = std::move(state->engine);
   banner_->setText(QString::fromStdString(engine_->prompt()));
@@ -277,6 +409,7 @@ void PlantCaptureView::applyState() {
     feedback_->setStyleSheet(state->rejected ? "color: #b00020" : "color: #1b5e20");
   }
   fillTree(*engine_);
+  setLeaf_->setText(tr("Set node %1's leaf").arg(choiceNode()));
   emit stepChanged(banner_->text(), state->rejected);
   if (state->complete && !complete_) {
     complete_ = true;

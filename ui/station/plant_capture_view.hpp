@@ -16,16 +16,21 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 
 #include "leafdig/acquisition/plant_preview.hpp"
+#include "leafdig/acquisition/plant_run.hpp"
 #include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/simulation.hpp"
 
+class QComboBox;
 class QLabel;
+class QLineEdit;
 class QPushButton;
 class QTreeWidget;
 class QTreeWidgetItem;
@@ -48,9 +53,18 @@ class PlantCaptureView : public QWidget {
   QString startSimulated(const std::string& db, const std::string& plantMarkersFile,
                          const acquisition::SimulationOptions& simulation, const std::string& operatorName,
                          const std::string& station, std::int64_t resume = 0);
+  // A new plant session of `setup` (its plant, project, operator, station and the devices'
+  // specs) taken by a person with the digitizer and caliper on those ports: the stylus and the
+  // caliper as in the leaf capture, and the buttons for what a press cannot say (undo, end,
+  // a node's leaf). Returns what went wrong in words (empty: started; nothing written when a
+  // spec does not parse).
+  QString startWithDevices(const std::string& db, const acquisition::PlantSessionSetup& setup);
   // Stops the capture (an unfinished session stays open: `leafdig plant capture --resume`
   // or the station goes on with it). Idempotent.
   void stop();
+  // The operator's commands (devices only; the virtual technician decides its own): false when
+  // no capture with devices is running.
+  bool command(const acquisition::PlantCommand& c);
 
   [[nodiscard]] std::int64_t sessionId() const { return session_; }
   [[nodiscard]] bool complete() const { return complete_; }
@@ -59,6 +73,14 @@ class PlantCaptureView : public QWidget {
   [[nodiscard]] QString summaryText() const;
   [[nodiscard]] QTreeWidget* tree() const { return tree_; }
   [[nodiscard]] QPushButton* reviewButton() const { return review_; }
+  [[nodiscard]] QPushButton* undoButton() const { return undo_; }
+  [[nodiscard]] QPushButton* endButton() const { return end_; }
+  // The leaf of the node the prompt is at (or the next one): kind, state and type, and Set.
+  [[nodiscard]] QComboBox* leafKind() const { return leafKind_; }
+  [[nodiscard]] QComboBox* leafState() const { return leafState_; }
+  [[nodiscard]] QLineEdit* leafType() const { return leafType_; }
+  [[nodiscard]] QPushButton* setLeafButton() const { return setLeaf_; }
+  [[nodiscard]] QString devicesText() const;
   [[nodiscard]] PreviewWidget* plantPreview() const { return plantPreview_; }
   [[nodiscard]] PreviewWidget* leafPreview() const { return leafPreview_; }
   // The plant as last shown (its engine state and its preview; empty before the first).
@@ -85,10 +107,18 @@ class PlantCaptureView : public QWidget {
   void applyPreview();  // GUI thread: the newest preview to the views
   void fillTree(const acquisition::PlantEngine& engine);
   void previewLoop();
+  void startThreads(const std::function<void()>& capture);
+  // The capture thread's listener: the engine to the GUI thread and the preview thread.
+  void committed(const acquisition::PlantFeedback& f, const acquisition::PlantCaptureSession& s);
+  [[nodiscard]] int choiceNode() const;  // the node the leaf controls set
 
   QLabel *banner_, *feedback_, *summary_;
   QTreeWidget* tree_;
-  QPushButton* review_;
+  QPushButton *review_, *undo_, *end_, *setLeaf_;
+  QComboBox *leafKind_, *leafState_;
+  QLineEdit* leafType_;
+  QLabel* devices_;
+  QWidget* controls_;
   PreviewWidget *plantPreview_, *leafPreview_;
   QWidget* leafPane_;
 
@@ -107,7 +137,9 @@ class PlantCaptureView : public QWidget {
   std::optional<acquisition::PlantEngine> previewWanted_;
   std::optional<acquisition::PlantPreview> previewMailbox_;
   bool quitPreview_ = false;
-  QString failure_;  // the capture thread's error, if it stopped on one
+  QString failure_;                                  // the capture thread's error, if it stopped on one
+  acquisition::PlantCaptureLoop* loop_ = nullptr;    // the devices' loop while it runs
+  std::map<std::string, std::string> deviceStates_;  // device name -> its state in words
 };
 
 }  // namespace leafdig::station

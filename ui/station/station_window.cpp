@@ -537,11 +537,7 @@ void StationWindow::stopCapture() {
   if (plantCapture_) plantCapture_->stop();
 }
 
-bool StationWindow::startPlantCapture(const std::string& plantMarkers) {
-  if (db::isServerUrl(dbPath())) {
-    banner_->setText(tr("Cannot capture into the lab server: capture writes this station's own file."));
-    return false;
-  }
+PlantCaptureView* StationWindow::plantCaptureTab() {
   if (!plantCapture_) {
     plantCapture_ = new PlantCaptureView(tabs_);
     tabs_->insertTab(1, plantCapture_, tr("Plant capture"));
@@ -554,12 +550,42 @@ bool StationWindow::startPlantCapture(const std::string& plantMarkers) {
     });
   }
   tabs_->setCurrentWidget(plantCapture_);
+  return plantCapture_;
+}
+
+bool StationWindow::startPlantCapture(const std::string& plantMarkers) {
+  if (db::isServerUrl(dbPath())) {
+    banner_->setText(tr("Cannot capture into the lab server: capture writes this station's own file."));
+    return false;
+  }
+  (void)plantCaptureTab();
   acq::SimulationOptions sim;
   sim.speed = options_.speed;
   sim.seed = options_.seed;
   sim.mistakes = false;
   const QString error =
       plantCapture_->startSimulated(dbPath(), plantMarkers, sim, options_.setup.operatorName, options_.setup.station);
+  if (!error.isEmpty()) {
+    banner_->setText(tr("Cannot start the plant capture: %1").arg(error));
+    return false;
+  }
+  sessionId_ = plantCapture_->sessionId();
+  return true;
+}
+
+bool StationWindow::startPlantCaptureWithDevices(const std::string& plant) {
+  if (db::isServerUrl(dbPath())) {
+    banner_->setText(tr("Cannot capture into the lab server: capture writes this station's own file."));
+    return false;
+  }
+  acq::PlantSessionSetup setup;
+  setup.project = options_.setup.project;
+  setup.plant = plant;
+  setup.operatorName = options_.setup.operatorName;
+  setup.station = options_.setup.station;
+  setup.digitizer = options_.setup.digitizer;
+  setup.caliper = options_.setup.caliper;
+  const QString error = plantCaptureTab()->startWithDevices(dbPath(), setup);
   if (!error.isEmpty()) {
     banner_->setText(tr("Cannot start the plant capture: %1").arg(error));
     return false;

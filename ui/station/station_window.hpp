@@ -54,9 +54,11 @@ class StationWindow : public QMainWindow {
   bool start();
   // A plant digitized where it stands, in a "Plant capture" tab made current: the plant of
   // `plantMarkers` (a leafdig.plant-markers/1 file) taken by the virtual technician through the
-  // simulated devices (real devices: `leafdig plant capture` does not take them yet). False,
-  // with the reason in that tab's feedback line, when it cannot start.
+  // simulated devices. False, with the reason in the banner, when it cannot start.
   bool startPlantCapture(const std::string& plantMarkers);
+  // The same tab for a person with the devices of options().setup (digitizer, caliper, project,
+  // operator, station) digitizing plant `plant`.
+  bool startPlantCaptureWithDevices(const std::string& plant);
   [[nodiscard]] PlantCaptureView* plantCapture() const { return plantCapture_; }
   // With --db postgresql://…: the lab server, for review only (capture always writes the
   // station's own file). Opens the Review tab on the server's sessions.
@@ -121,6 +123,7 @@ class StationWindow : public QMainWindow {
  private:
   [[nodiscard]] std::string dbPath() const;  // --db, or the station's default file
   [[nodiscard]] QWidget* buildCaptureTab();
+  PlantCaptureView* plantCaptureTab();  // made on first use, made current
   void buildToolBar();
   void connectPreviewAndTimers();
   void command(acquisition::Command c);

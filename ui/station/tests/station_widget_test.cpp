@@ -44,6 +44,7 @@
 #include "leafdig/acquisition/plant_simulation.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/simulation.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
@@ -58,6 +59,7 @@
 
 namespace acq = leafdig::acquisition;
 namespace fs = std::filesystem;
+namespace m = leafdig::model;
 
 namespace {
 
@@ -1223,4 +1225,90 @@ TEST(PlantCaptureView, APlantFileThatDoesNotReadStartsNothingAndSaysWhy) {
   EXPECT_FALSE(w.plantCapture()->complete());
   leafdig::db::Store store(o.db);
   EXPECT_TRUE(store.sessions().empty());
+}
+
+// A person with the devices: a FASTRAK and a Sylvac on pseudo-terminals (the simulated rig, its
+// ports named like any serial port), moved by the test's own hand. The stylus takes the
+// landmarks, the Undo and End buttons do what a press cannot, the caliper reads the collar, the
+// leaf controls set node 1's leaf; stopping keeps the session open.
+TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
+  const fs::path dir = freshDir("plant-capture-devices");
+  acq::SimulationOptions sim;
+  sim.seed = 5;
+  sim.mistakes = false;
+  sim.stylusNoiseMm = 0.05;
+  sim.linkDir = dir.string();
+  acq::SimulatedRig rig(sim);
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.setup.project = "p";
+  o.setup.operatorName = "ana";
+  o.setup.digitizer = rig.digitizerSpec();
+  o.setup.caliper = rig.caliperSpec();
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(o);
+  ASSERT_TRUE(w.startPlantCaptureWithDevices("P-hands")) << w.bannerText().toStdString();
+  leafdig::station::PlantCaptureView* v = w.plantCapture();
+  const auto waitFor = [](const std::function<bool()>& ok) {
+    for (int i = 0; i < 1000 && !ok(); ++i) QTest::qWait(20);
+    return ok();
+  };
+  EXPECT_TRUE(v->undoButton()->isVisibleTo(v));
+  EXPECT_TRUE(waitFor([&] {
+    return v->devicesText().contains("FASTRAK: streaming") && v->devicesText().contains("Sylvac: streaming");
+  })) << v->devicesText().toStdString();
+  const auto items = [&] { return v->engine() ? v->engine()->items().size() : 0u; };
+  const m::PlantMarkers plant =
+      m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json");
+  const auto press = [&](const Eigen::Vector3d& p) {
+    const std::size_t before = items();
+    rig.hand().perform({{p.x(), p.y(), p.z()}, 0.35, 0.45, 0.6});
+    return waitFor([&] { return items() > before; });
+  };
+  ASSERT_TRUE(press(plant.landmarksMm[0])) << v->feedbackText().toStdString();
+  EXPECT_EQ(v->tree()->topLevelItem(0)->text(1), "1 taken");
+  QTest::mouseClick(v->undoButton(), Qt::LeftButton);
+  ASSERT_TRUE(waitFor([&] { return items() == 0; })) << v->feedbackText().toStdString();
+  for (std::size_t i = 0; i < 3; ++i) ASSERT_TRUE(press(plant.landmarksMm[i])) << "landmark " << i + 1;
+  QTest::mouseClick(v->endButton(), Qt::LeftButton);
+  ASSERT_TRUE(waitFor([&] { return v->bannerText().startsWith("Collar"); })) << v->bannerText().toStdString();
+  ASSERT_TRUE(press(plant.collarMm));
+  rig.caliper().hold(21.5);
+  rig.caliperEmulator().pressData();
+  ASSERT_TRUE(waitFor([&] { return v->tree()->topLevelItem(1)->text(1) == "Ø 21.5 mm"; }))
+      << v->tree()->topLevelItem(1)->text(1).toStdString() << " / " << v->feedbackText().toStdString();
+  // Node 1's leaf, before its first point: none, dead.
+  EXPECT_EQ(v->setLeafButton()->text(), "Set node 1's leaf");
+  v->leafKind()->setCurrentText("none");
+  v->leafState()->setCurrentText("dead");
+  QTest::mouseClick(v->setLeafButton(), Qt::LeftButton);
+  ASSERT_TRUE(waitFor([&] { return v->engine() && v->engine()->choiceFor(1).state == m::LeafState::Dead; }))
+      << v->feedbackText().toStdString();
+  EXPECT_EQ(v->engine()->choiceFor(1).kind, m::LeafKind::None);
+  w.stopCapture();
+  leafdig::db::Store store(o.db);
+  const auto info = store.session(v->sessionId());
+  ASSERT_TRUE(info);
+  EXPECT_EQ(info->status, "open");
+  EXPECT_EQ(info->plant, "P-hands");
+  EXPECT_EQ(info->kind, "plant");
+  std::vector<std::string> kinds;
+  for (const auto& e : store.events(v->sessionId())) kinds.push_back(e.kind);
+  EXPECT_EQ(kinds, (std::vector<std::string>{"accepted", "undone", "accepted", "accepted", "accepted",
+                                             "landmarks_ended", "accepted", "accepted", "leaf_chosen"}));
+}
+
+TEST(PlantCaptureView, ADevicesSpecThatDoesNotReadWritesNothing) {
+  const fs::path dir = freshDir("plant-capture-bad-spec");
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.setup.digitizer = "wand:/dev/ttyS0";
+  o.setup.caliper = "sylvac:/dev/ttyS1";
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(o);
+  EXPECT_FALSE(w.startPlantCaptureWithDevices("P"));
+  EXPECT_TRUE(w.bannerText().contains("wand")) << w.bannerText().toStdString();
+  EXPECT_FALSE(fs::exists(o.db) && !leafdig::db::Store(o.db).sessions().empty());
 }
