@@ -137,10 +137,8 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   });
-  PlantRunStats stats;
-  try {
-    stats = loop.run(onFeedback, publish);
-  } catch (...) {
+  // Whatever the loop does, the watcher and the technician's hands end before the rig goes.
+  const auto finish = [&] {
     running = false;
     watcher.join();
     {
@@ -149,16 +147,15 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
       desk.cv.notify_all();
     }
     hands.join();
+  };
+  PlantRunStats stats;
+  try {
+    stats = loop.run(onFeedback, publish);
+  } catch (...) {
+    finish();
     throw;
   }
-  running = false;
-  watcher.join();
-  {
-    std::lock_guard lock(desk.mutex);
-    desk.stop = true;
-    desk.cv.notify_all();
-  }
-  hands.join();
+  finish();
   devices.stop();
   stats.gestures = technicianStats.gestures;
   stats.readings = technicianStats.readings;

@@ -1,6 +1,5 @@
 #include "capture_cmd.hpp"
 
-#include <poll.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -34,6 +33,7 @@
 #include "leafdig/version.hpp"
 #include "plant_capture_cmd.hpp"
 #include "signals.hpp"
+#include "stdin_commands.hpp"
 #include "synth_cmd.hpp"
 #include "terminal_text.hpp"
 
@@ -264,25 +264,11 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   run.start();
   // Commands on standard input (keys in a terminal, lines from a script).
   std::atomic<bool> done{false};
-  std::thread input([&] {
-    std::string line;
-    while (!done) {
-      pollfd p{0, POLLIN, 0};
-      if (::poll(&p, 1, 100) <= 0) continue;
-      char buf[256];
-      const ssize_t n = ::read(0, buf, sizeof buf);
-      if (n <= 0) return;  // end of input: capture goes on with the stylus and caliper
-      line.append(buf, static_cast<std::size_t>(n));
-      for (auto nl = line.find('\n'); nl != std::string::npos; nl = line.find('\n')) {
-        const std::string cmd = line.substr(0, nl);
-        line.erase(0, nl + 1);
-        if (cmd.find_first_not_of(" \t\r") == std::string::npos) continue;
-        try {
-          run.command(acq::parseCommand(cmd));
-        } catch (const std::invalid_argument& e) {
-          std::cerr << "leafdig: " << e.what() << "\n";
-        }
-      }
+  StdinCommands input([&](const std::string& cmd) {
+    try {
+      run.command(acq::parseCommand(cmd));
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "leafdig: " << e.what() << "\n";
     }
   });
   std::thread watcher([&] {
@@ -293,7 +279,7 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   });
   run.wait();
   done = true;
-  input.join();
+  input.stop();
   watcher.join();
   result.last = run.shutdown(interrupted() ? "capture interrupted" : "capture stopped by the operator");
   result.stats = run.operatorStats();

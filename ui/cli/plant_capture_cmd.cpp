@@ -7,9 +7,6 @@
 // --json` does.
 #include "plant_capture_cmd.hpp"
 
-#include <poll.h>
-#include <unistd.h>
-
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -33,6 +30,7 @@
 #include "leafdig/version.hpp"
 #include "plant_cmd.hpp"
 #include "signals.hpp"
+#include "stdin_commands.hpp"
 #include "terminal_text.hpp"
 
 namespace leafdig::cli {
@@ -158,26 +156,12 @@ acq::PlantRunStats captureWithDevices(const PlantCaptureOptions& o, db::Store& s
               << std::flush;
   ports.start();
   std::atomic<bool> done{false};
-  std::thread input([&] {
-    std::string line;
-    while (!done) {
-      pollfd p{0, POLLIN, 0};
-      if (::poll(&p, 1, 100) <= 0) continue;
-      char buf[256];
-      const ssize_t n = ::read(0, buf, sizeof buf);
-      if (n <= 0) return;  // end of input: capture goes on with the stylus and caliper
-      line.append(buf, static_cast<std::size_t>(n));
-      for (auto nl = line.find('\n'); nl != std::string::npos; nl = line.find('\n')) {
-        const std::string cmd = line.substr(0, nl);
-        line.erase(0, nl + 1);
-        if (cmd.find_first_not_of(" \t\r") == std::string::npos) continue;
-        try {
-          loop.command(acq::parsePlantCommand(cmd));
-        } catch (const std::invalid_argument& e) {
-          const std::lock_guard lock(out);
-          std::cerr << "leafdig: " << e.what() << "\n";
-        }
-      }
+  StdinCommands input([&](const std::string& cmd) {
+    try {
+      loop.command(acq::parsePlantCommand(cmd));
+    } catch (const std::invalid_argument& e) {
+      const std::lock_guard lock(out);
+      std::cerr << "leafdig: " << e.what() << "\n";
     }
   });
   std::thread watcher([&] {
@@ -194,12 +178,12 @@ acq::PlantRunStats captureWithDevices(const PlantCaptureOptions& o, db::Store& s
     });
   } catch (...) {
     done = true;
-    input.join();
+    input.stop();
     watcher.join();
     throw;
   }
   done = true;
-  input.join();
+  input.stop();
   watcher.join();
   ports.stop();
   return stats;
@@ -224,14 +208,11 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   std::int64_t id = o.resume;
   std::unique_ptr<db::Store> store;
   std::string digitizer = o.digitizer, caliper = o.caliper;
-  if (real) {
-    acq::PlantSessionSetup setup;
+  // A new session: what the operator typed, read before the store is touched.
+  const auto createSession = [&](acq::PlantSessionSetup setup) {
     setup.project = o.project;
-    setup.plant = o.plant;
     setup.operatorName = o.operatorName;
     setup.station = o.station;
-    setup.digitizer = o.digitizer;
-    setup.caliper = o.caliper;
     if (!o.protocol.empty()) setup.protocol = m::readPlantProtocolFile(o.protocol);
     if (!o.date.empty()) {
       setup.date = m::parseSurveyDate(o.date);
@@ -239,24 +220,20 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     }
     store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
     id = acq::PlantCaptureSession::create(*store, setup);
+  };
+  if (real) {
+    acq::PlantSessionSetup setup;
+    setup.plant = o.plant;
+    setup.digitizer = o.digitizer;
+    setup.caliper = o.caliper;
+    createSession(std::move(setup));
   } else if (id == 0) {
-    // Everything the operator typed is read before the store is touched.
     // The sample plant beside the sample leaves (the source tree, or where the package put them).
     const std::string samples = leafdig::samplesDir();
     const std::string data =
         samples.empty() ? leafdig::sourceDataDir() : std::filesystem::path(samples).parent_path().string();
     const std::string file = o.plantMarkers.empty() ? data + "/plants/sample.plant-markers.json" : o.plantMarkers;
-    acq::PlantSessionSetup setup = acq::simulatedPlantSetup(m::readPlantMarkersFile(file));
-    setup.project = o.project;
-    setup.operatorName = o.operatorName;
-    setup.station = o.station;
-    if (!o.protocol.empty()) setup.protocol = m::readPlantProtocolFile(o.protocol);
-    if (!o.date.empty()) {
-      setup.date = m::parseSurveyDate(o.date);
-      if (!setup.date) throw std::invalid_argument("--date " + o.date + ": give the survey's day as YYYY-MM-DD");
-    }
-    store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
-    id = acq::PlantCaptureSession::create(*store, setup);
+    createSession(acq::simulatedPlantSetup(m::readPlantMarkersFile(file)));
   } else {
     store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
     // A session taken with devices goes on with them (the ports given now, else the recorded ones).

@@ -112,29 +112,25 @@ int main(int argc, char** argv) {
     if (p.isSet(reviewShot)) leafdig::station::saveLabReviewScreenshot(app, w, p.value(reviewShot));
     return app.exec();
   }
-  if (p.isSet(capturePlant)) {
-    // A person digitizes a plant with the devices given (the simulation takes --plant-markers).
-    if (o.simulate || o.setup.digitizer.empty() || o.setup.caliper.empty()) {
+  if (p.isSet(capturePlant) || p.isSet(plantMarkers)) {
+    // A plant digitized where it stands: by a person with the devices given (--capture-plant),
+    // or by the virtual technician through the simulated ones (--simulate --plant-markers).
+    const bool devices = p.isSet(capturePlant);
+    if (devices && (o.simulate || o.setup.digitizer.empty() || o.setup.caliper.empty())) {
       std::fprintf(stderr,
                    "leafdig-station: --capture-plant ID needs --digitizer and --caliper (to try it: --simulate "
                    "--plant-markers FILE)\n");
       return 2;
     }
-    if (!w.startPlantCaptureWithDevices(p.value(capturePlant).toStdString())) {
-      std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
-      return 2;
-    }
-    leafdig::station::reportWhenPlantComplete(app, w, {p.value(screenshot), p.value(screenshotWhen), p.isSet(quit)});
-    return QApplication::exec();
-  }
-  if (p.isSet(plantMarkers)) {
-    // A plant digitized where it stands (simulated devices only, as `leafdig plant capture`).
-    if (!o.simulate) {
+    if (!devices && !o.simulate) {
       std::fprintf(stderr,
-                   "leafdig-station: --plant-markers needs --simulate (plants take real devices in a later release)\n");
+                   "leafdig-station: --plant-markers needs --simulate (with devices: --capture-plant ID "
+                   "--digitizer … --caliper …)\n");
       return 2;
     }
-    if (!w.startPlantCapture(p.value(plantMarkers).toStdString())) {
+    const bool started = devices ? w.startPlantCaptureWithDevices(p.value(capturePlant).toStdString())
+                                 : w.startPlantCapture(p.value(plantMarkers).toStdString());
+    if (!started) {
       std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
       return 2;
     }
