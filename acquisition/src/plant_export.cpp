@@ -142,7 +142,16 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
       const m::LeafMesh mesh = m::meshPlant(model, m::MeshOptions{});
       const m::PlantMetrics metrics = m::computePlantMetrics(model, mesh, Eigen::Vector3d::UnitZ());
       const m::PlantExportOptions options{m::CanUnit::Metre, std::string("leafdig ") + kVersion};
-      for (auto& f : m::encodePlantFiles(meshPaths, model, mesh, metrics, options)) files.push_back(std::move(f));
+      // The GLB's nodes are the MTG's entities (the survey's); the other formats are the model's.
+      std::vector<std::filesystem::path> others;
+      for (const auto& path : meshPaths) {
+        if (path.extension() == ".glb")
+          files.push_back({path, m::encodeSurveyGlb(out.survey, day, mesh, options.generator)});
+        else
+          others.push_back(path);
+      }
+      if (!others.empty())
+        for (auto& f : m::encodePlantFiles(others, model, mesh, metrics, options)) files.push_back(std::move(f));
     }
     if (wants(chosen, "plan")) {
       if (model.leaves.empty())

@@ -2,6 +2,8 @@
 // each opened by an independent reader (Khronos glTF validator, assimp, the strict MTG and
 // CARIBU readers of docs/plants.md "Formats"), reproducibility, bad plans, growth series, the organ library.
 #include <csignal>
+#include <cstring>
+#include <map>
 #include <random>
 #include <set>
 #include <thread>
@@ -810,8 +812,50 @@ TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlant
        {"\"plant/stem\"", "\"plant/leaf-2/blade\"", "\"plant/leaf-3/blade\"", "\"plant/leaf-4/blade\""})
     EXPECT_NE(glb.find(node), std::string::npos) << node;
   EXPECT_EQ(glb.find("\"plant/leaf-1/"), std::string::npos);  // node 1 has no leaf
+  // One glTF node per MTG entity: I0 then each I<k> a child of the internode it follows, each
+  // L<k> a child of I<k> holding its organs, the stem's mesh under I0; each entity's MTG
+  // features in its extras, equal to the survey's. Read from the GLB's JSON chunk.
+  {
+    ASSERT_GT(glb.size(), 20U);
+    std::uint32_t length = 0;
+    std::memcpy(&length, glb.data() + 12, 4);
+    const json gltf = json::parse(glb.substr(20, length));
+    const json& nodes = gltf.at("nodes");
+    std::map<std::string, std::size_t> at;
+    for (std::size_t i = 0; i < nodes.size(); ++i) at[nodes[i].at("name").get<std::string>()] = i;
+    const auto children = [&](const std::string& name) {
+      std::set<std::string> out;
+      for (const json& c : nodes[at.at(name)].value("children", json::array()))
+        out.insert(nodes[c.get<std::size_t>()].at("name").get<std::string>());
+      return out;
+    };
+    const json& root = nodes[gltf.at("scenes")[0].at("nodes")[0].get<std::size_t>()];
+    EXPECT_EQ(root.at("name"), "tobacco-p12");
+    EXPECT_EQ(root.at("extras").at("date"), "2026-06-12");
+    EXPECT_EQ(children("I0"), (std::set<std::string>{"I1", "plant/stem"}));
+    EXPECT_EQ(children("I1"), (std::set<std::string>{"I2", "L1"}));
+    EXPECT_EQ(children("I4"), (std::set<std::string>{"I5", "L4"}));
+    EXPECT_TRUE(children("I5").empty());
+    EXPECT_TRUE(children("L1").empty()) << "node 1's leaf is dead, not drawn";
+    EXPECT_EQ(nodes[at.at("L1")].at("extras").at("State"), "dead");
+    const std::set<std::string> leaf2 = children("L2");
+    EXPECT_EQ(leaf2.count("plant/leaf-2/blade"), 1U);
+    EXPECT_EQ(leaf2.count("plant/leaf-2/midrib"), 1U);
+    const json survey = json::parse(slurp(base + ".survey.json"));
+    for (const json& l : survey.at("leaves")) {
+      if (l.at("kind") == "none") continue;
+      const json& extras = nodes[at.at("L" + std::to_string(l.at("node").get<int>()))].at("extras");
+      EXPECT_NEAR(extras.at("Azimuth").get<double>(), l.at("azimuth_deg").get<double>(), 1e-9) << l;
+      EXPECT_NEAR(extras.at("Inclination").get<double>(), l.at("inclination_deg").get<double>(), 1e-9) << l;
+      EXPECT_EQ(extras.at("Kind"), l.at("kind")) << l;
+    }
+    for (const json& n : survey.at("nodes"))
+      EXPECT_NEAR(nodes[at.at("I" + std::to_string(n.at("node").get<int>()))].at("extras").at("TopDia").get<double>(),
+                  n.at("diameter_mm").get<double>(), 1e-9);
+  }
   ASSERT_EQ(run("command -v assimp").exitCode, 0) << "assimp is not installed: run scripts/setup.sh";
   EXPECT_EQ(run("assimp info " + quote(base + ".obj")).exitCode, 0);
+  EXPECT_EQ(run("assimp info " + quote(base + ".glb")).exitCode, 0);
   // CARIBU: the strict reader; the stem (leaf field 0) and leaves 2, 3 and 4.
   const auto can =
       leafdig::test::readCanStrictly(slurp(base + ".can"), leafdig::test::readOptStrictly(slurp(base + ".opt")));

@@ -8,11 +8,13 @@
 
 #include <cstring>
 #include <functional>
+#include <map>
 #include <sstream>
 
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/io/mesh_export.hpp"
 #include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/io/survey_export.hpp"
 
 namespace leafdig::model {
 
@@ -146,6 +148,70 @@ std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
     model.nodes.push_back(node);
     root.children.push_back(static_cast<int>(model.nodes.size() - 1));
   }
+  return finishGlb(model, std::move(root), "leafdig");
+}
+
+std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, const LeafMesh& mesh,
+                            const std::string& generator) {
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = generator;
+  model.buffers.emplace_back();
+  const int veinMaterial = addMaterial(model, "vein", {0.78, 0.82, 0.55, 1.0}, false);
+  const int bladeMaterial = addMaterial(model, "blade", {0.36, 0.58, 0.24, 1.0}, true);
+  const int stemMaterial = addMaterial(model, "stem", {0.86, 0.80, 0.55, 1.0}, false);
+
+  // The entities first (their indices are the MTG's order), then the meshes hung on them.
+  const std::vector<SurveyEntity> entities = surveyEntities(survey);
+  std::map<std::string, int> index;
+  for (const SurveyEntity& e : entities) {
+    tinygltf::Node node;
+    node.name = e.name;
+    tinygltf::Value::Object extras;
+    extras["mtg_class"] = tinygltf::Value(e.name.substr(0, 1));
+    if (e.relation != 0) {
+      extras["mtg_parent"] = tinygltf::Value(e.parent);
+      extras["mtg_relation"] = tinygltf::Value(std::string(1, e.relation));
+    }
+    for (const auto& [feature, value] : e.features) {
+      if (const auto* number = std::get_if<double>(&value))
+        extras[feature] = tinygltf::Value(*number);
+      else
+        extras[feature] = tinygltf::Value(std::get<std::string>(value));
+    }
+    node.extras = tinygltf::Value(extras);
+    model.nodes.push_back(std::move(node));
+    index[e.name] = static_cast<int>(model.nodes.size() - 1);
+  }
+  for (const SurveyEntity& e : entities)
+    if (e.relation != 0) model.nodes[static_cast<std::size_t>(index.at(e.parent))].children.push_back(index.at(e.name));
+  for (const Organ& organ : mesh.organs) {
+    const std::string owner = organ.leafRank == 0 ? "I0" : "L" + std::to_string(organ.leafRank);
+    const auto found = index.find(owner);
+    if (found == index.end())
+      throw InputError("the plant's mesh has organ " + organ.name + " but the survey has no " + owner);
+    const int material = organ.leafRank == 0              ? stemMaterial
+                         : organ.kind == OrganKind::Blade ? bladeMaterial
+                                                          : veinMaterial;
+    tinygltf::Node node;
+    node.name = organ.name;
+    node.mesh = addOrganMesh(model, organ, material, [](const Eigen::Vector3d& v) { return toGltfAxes(v); });
+    model.nodes.push_back(std::move(node));
+    model.nodes[static_cast<std::size_t>(found->second)].children.push_back(static_cast<int>(model.nodes.size() - 1));
+  }
+  tinygltf::Node root;
+  root.name = survey.plant.empty() ? "plant" : survey.plant;
+  tinygltf::Value::Object extras;
+  extras["source_units"] = tinygltf::Value(std::string("mm (features); positions in metres"));
+  extras["frame"] = tinygltf::Value(std::string(
+      "plant: origin at the collar, +Z the upward normal of the pot rim's landmarks, +X towards the first landmark"));
+  extras["up"] = tinygltf::Value(std::string("glTF +Y is the frame's +Z"));
+  extras["date"] = tinygltf::Value(toIso(date));
+  extras["mtg"] = tinygltf::Value(std::string(
+      "one node per MTG entity: I0 the collar, I<k> the internode ending at node k (child of the one it follows), "
+      "L<k> node k's leaf (child of I<k>); features in each node's extras, in mm, mm2 and degrees"));
+  root.extras = tinygltf::Value(extras);
+  root.children.push_back(index.at("I0"));
   return finishGlb(model, std::move(root), "leafdig");
 }
 

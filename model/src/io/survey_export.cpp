@@ -14,7 +14,7 @@ namespace {
 using detail::mtgAlpha;
 using detail::mtgReal;
 
-enum Column { kDate, kLength, kState, kXX, kYY, kZZ, kTopDia, kWidth, kArea, kAzimuth, kInclination, kKind };
+enum Column { kDate };
 
 constexpr std::size_t kColumns = 12;  // one per Column, the MTG's features in their order
 using Values = std::array<std::string, kColumns>;
@@ -29,7 +29,7 @@ std::string optionalReal(const std::optional<double>& v) {
   return v ? mtgReal(*v) : std::string();
 }
 
-// A posed leaf's length: along the midrib for a full leaf, base to tip for a quick one.
+// A posed leaf's length, as surveyEntities() gives it.
 std::string lengthText(const SurveyedLeaf& l) {
   return mtgReal(l.midribLengthMm.value_or(l.pose->lengthMm));
 }
@@ -41,6 +41,49 @@ std::string azimuthText(const LeafPose& pose) {
 }
 
 }  // namespace
+
+std::vector<SurveyEntity> surveyEntities(const PlantSurvey& survey) {
+  std::vector<SurveyEntity> out;
+  SurveyEntity collar{"I0", "", 0, {}};
+  collar.features = {{"XX", 0.0}, {"YY", 0.0}, {"ZZ", 0.0}, {"TopDia", survey.collarDiameterMm}};
+  out.push_back(std::move(collar));
+  std::string previous = "I0";
+  for (const SurveyedNode& n : survey.nodes) {
+    const std::string internode = "I" + std::to_string(n.index);
+    SurveyEntity i{internode, previous, '<', {}};
+    i.features = {{"Length", n.internodeMm},
+                  {"XX", n.pointMm.x()},
+                  {"YY", n.pointMm.y()},
+                  {"ZZ", n.pointMm.z()},
+                  {"TopDia", n.diameterMm}};
+    out.push_back(std::move(i));
+    previous = internode;
+    for (const SurveyedLeaf& l : survey.leaves) {
+      if (l.node != n.index) continue;
+      SurveyEntity leaf{"L" + std::to_string(n.index), internode, '+', {}};
+      auto& f = leaf.features;
+      // A posed leaf's length: along the midrib for a full leaf, base to tip for a quick one.
+      if (l.pose) f.emplace_back("Length", l.midribLengthMm.value_or(l.pose->lengthMm));
+      f.emplace_back("State", std::string(toString(l.state)));
+      if (l.baseMm) {
+        f.emplace_back("XX", l.baseMm->x());
+        f.emplace_back("YY", l.baseMm->y());
+        f.emplace_back("ZZ", l.baseMm->z());
+      }
+      if (l.pose && l.pose->widthMm) f.emplace_back("Width", *l.pose->widthMm);
+      if (l.areaMm2) f.emplace_back("Area", *l.areaMm2);
+      if (l.pose) {
+        // The azimuth in [0, 360) after rounding too.
+        const double azimuth = mtgReal(l.pose->azimuthDeg) == "360.000" ? 0.0 : l.pose->azimuthDeg;
+        f.emplace_back("Azimuth", azimuth);
+        f.emplace_back("Inclination", l.pose->inclinationDeg);
+      }
+      f.emplace_back("Kind", std::string(toString(l.kind)));
+      out.push_back(std::move(leaf));
+    }
+  }
+  return out;
+}
 
 std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
   std::ostringstream out;
@@ -59,45 +102,18 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       {"YY", "REAL"},         {"ZZ", "REAL"},      {"TopDia", "REAL"},      {"Width", "REAL"},
       {"Area", "REAL"},       {"Azimuth", "REAL"}, {"Inclination", "REAL"}, {"Kind", "ALPHA"}};
   detail::writeMtgHeader(out, kFeatures);
-  const auto line = [&out](int depth, const std::string& entity, const Values& values) {
-    detail::writeMtgLine(out, depth, entity, std::vector<std::string>(values.begin(), values.end()));
-  };
   const std::string day = ddmmyyyy(date);
-
-  Values collar;
-  collar[kDate] = day;
-  collar[kXX] = collar[kYY] = collar[kZZ] = mtgReal(0.0);
-  collar[kTopDia] = mtgReal(survey.collarDiameterMm);
-  line(0, "/P1/I0", collar);
-  for (const SurveyedNode& n : survey.nodes) {
+  for (const SurveyEntity& e : surveyEntities(survey)) {
     Values v;
     v[kDate] = day;
-    v[kLength] = mtgReal(n.internodeMm);
-    v[kXX] = mtgReal(n.pointMm.x());
-    v[kYY] = mtgReal(n.pointMm.y());
-    v[kZZ] = mtgReal(n.pointMm.z());
-    v[kTopDia] = mtgReal(n.diameterMm);
-    line(0, "^<I" + std::to_string(n.index), v);
-    for (const SurveyedLeaf& l : survey.leaves) {
-      if (l.node != n.index) continue;
-      Values f;
-      f[kDate] = day;
-      f[kState] = toString(l.state);
-      f[kKind] = toString(l.kind);
-      if (l.baseMm) {
-        f[kXX] = mtgReal(l.baseMm->x());
-        f[kYY] = mtgReal(l.baseMm->y());
-        f[kZZ] = mtgReal(l.baseMm->z());
-      }
-      if (l.pose) {
-        f[kLength] = lengthText(l);
-        f[kWidth] = optionalReal(l.pose->widthMm);
-        f[kAzimuth] = azimuthText(*l.pose);
-        f[kInclination] = mtgReal(l.pose->inclinationDeg);
-      }
-      f[kArea] = optionalReal(l.areaMm2);
-      line(1, "+L" + std::to_string(n.index), f);
+    for (const auto& [name, value] : e.features) {
+      std::size_t column = 0;
+      while (column < kColumns && name != kFeatures[column].first) ++column;
+      const auto* number = std::get_if<double>(&value);
+      v[column] = number ? mtgReal(*number) : std::get<std::string>(value);
     }
+    const std::string code = e.relation == 0 ? "/P1/" + e.name : std::string(e.relation == '<' ? "^<" : "+") + e.name;
+    detail::writeMtgLine(out, e.relation == '+' ? 1 : 0, code, std::vector<std::string>(v.begin(), v.end()));
   }
   return out.str();
 }
