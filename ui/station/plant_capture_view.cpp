@@ -9,6 +9,7 @@
 #include <QTreeWidget>
 #include <QVBoxLayout>
 #include <exception>
+#include <set>
 
 #include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/plant_simulation.hpp"
@@ -162,9 +163,11 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   leafKind_->addItems({"full", "quick", "none"});
   leafState_ = new QComboBox;
   leafState_->addItems({"alive", "dead", "broken", "yellow", "pruned"});
-  leafType_ = new QLineEdit;
-  leafType_->setPlaceholderText(tr("type (lower, upper…)"));
-  leafType_->setMaxLength(64);
+  leafType_ = new QComboBox;
+  leafType_->setEditable(true);
+  leafType_->lineEdit()->setPlaceholderText(tr("type (lower, upper…)"));
+  leafType_->lineEdit()->setMaxLength(64);
+  leafType_->setMinimumWidth(140);
   setLeaf_ = new QPushButton(tr("Set node 1's leaf"));
   devices_ = new QLabel;
   for (QWidget* w : std::initializer_list<QWidget*>{undo_, end_, leafKind_, leafState_, setLeaf_})
@@ -185,7 +188,7 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
     acq::LeafChoice c;
     c.kind = m::leafKindFromString(leafKind_->currentText().toStdString());
     c.state = m::leafStateFromString(leafState_->currentText().toStdString());
-    c.type = leafType_->text().trimmed().toStdString();
+    c.type = leafType_->currentText().trimmed().toStdString();
     (void)command({acq::PlantCommand::Kind::Choose, choiceNode(), c});
   });
   auto* layout = new QVBoxLayout(this);
@@ -269,6 +272,13 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
   }
+  // The approved leaves' types, for a quick leaf to take its shape from one of them.
+  std::set<QString> types;
+  for (const m::LibraryLeaf& l : library_)
+    if (!l.markers.leaf.type.empty()) types.insert(QString::fromStdString(l.markers.leaf.type));
+  leafType_->clear();
+  leafType_->addItem(QString());
+  for (const QString& t : types) leafType_->addItem(t);
   controls_->show();
   const std::string digitizer = setup.digitizer, caliper = setup.caliper;
   startThreads([this, db, digitizer, caliper] {

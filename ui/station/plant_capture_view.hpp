@@ -30,7 +30,6 @@
 
 class QComboBox;
 class QLabel;
-class QLineEdit;
 class QPushButton;
 class QTreeWidget;
 class QTreeWidgetItem;
@@ -75,10 +74,11 @@ class PlantCaptureView : public QWidget {
   [[nodiscard]] QPushButton* reviewButton() const { return review_; }
   [[nodiscard]] QPushButton* undoButton() const { return undo_; }
   [[nodiscard]] QPushButton* endButton() const { return end_; }
-  // The leaf of the node the prompt is at (or the next one): kind, state and type, and Set.
+  // The leaf of the node the prompt is at (or the next one): kind, state and type (the approved
+  // leaves' types offered, any other typed), and Set.
   [[nodiscard]] QComboBox* leafKind() const { return leafKind_; }
   [[nodiscard]] QComboBox* leafState() const { return leafState_; }
-  [[nodiscard]] QLineEdit* leafType() const { return leafType_; }
+  [[nodiscard]] QComboBox* leafType() const { return leafType_; }
   [[nodiscard]] QPushButton* setLeafButton() const { return setLeaf_; }
   [[nodiscard]] QString devicesText() const;
   [[nodiscard]] PreviewWidget* plantPreview() const { return plantPreview_; }
@@ -115,8 +115,7 @@ class PlantCaptureView : public QWidget {
   QLabel *banner_, *feedback_, *summary_;
   QTreeWidget* tree_;
   QPushButton *review_, *undo_, *end_, *setLeaf_;
-  QComboBox *leafKind_, *leafState_;
-  QLineEdit* leafType_;
+  QComboBox *leafKind_, *leafState_, *leafType_;
   QLabel* devices_;
   QWidget* controls_;
   PreviewWidget *plantPreview_, *leafPreview_;

@@ -1247,6 +1247,29 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
   o.setup.digitizer = rig.digitizerSpec();
   o.setup.caliper = rig.caliperSpec();
   o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  {
+    // An approved leaf of type "middle" (a simulated capture): the leaf controls offer its type.
+    acq::RunRequest r;
+    r.db = o.db;
+    r.setup.project = "p";
+    r.setup.plant = "P7";
+    r.setup.leafPosition = 4;
+    r.setup.leafType = "middle";
+    r.setup.simulated = true;
+    r.simulation.speed = 40;
+    r.simulation.mistakes = false;
+    r.preview = acq::PreviewDetail::None;
+    std::int64_t approved = 0;
+    {
+      acq::CaptureRun run(r, {});
+      run.start();
+      run.wait();
+      ASSERT_TRUE(run.shutdown("done").complete);
+      approved = run.sessionId();
+    }
+    leafdig::db::Store store(o.db);
+    (void)acq::review(store, approved, "approved", "cur", "");
+  }
   leafdig::station::StationWindow w(o);
   ASSERT_TRUE(w.startPlantCaptureWithDevices("P-hands")) << w.bannerText().toStdString();
   leafdig::station::PlantCaptureView* v = w.plantCapture();
@@ -1280,6 +1303,7 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
       << v->tree()->topLevelItem(1)->text(1).toStdString() << " / " << v->feedbackText().toStdString();
   // Node 1's leaf, before its first point: none, dead.
   EXPECT_EQ(v->setLeafButton()->text(), "Set node 1's leaf");
+  EXPECT_NE(v->leafType()->findText("middle"), -1) << "the approved leaf's type is offered";
   v->leafKind()->setCurrentText("none");
   v->leafState()->setCurrentText("dead");
   QTest::mouseClick(v->setLeafButton(), Qt::LeftButton);
