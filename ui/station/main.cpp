@@ -128,8 +128,14 @@ int main(int argc, char** argv) {
                    "--digitizer … --caliper …)\n");
       return 2;
     }
-    const bool started = devices ? w.startPlantCaptureWithDevices(p.value(capturePlant).toStdString())
-                                 : w.startPlantCapture(p.value(plantMarkers).toStdString());
+    leafdig::acquisition::PlantSessionSetup setup;
+    setup.plant = p.value(capturePlant).toStdString();
+    setup.project = o.setup.project;
+    setup.operatorName = o.setup.operatorName;
+    setup.digitizer = o.setup.digitizer;
+    setup.caliper = o.setup.caliper;
+    const bool started =
+        devices ? w.startPlantCaptureWithDevices(setup) : w.startPlantCapture(p.value(plantMarkers).toStdString());
     if (!started) {
       std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
       return 2;

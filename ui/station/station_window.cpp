@@ -14,6 +14,7 @@
 #include <QTime>
 #include <QToolBar>
 #include <QVBoxLayout>
+#include <filesystem>
 #include <fstream>
 
 #include "export_dialog.hpp"
@@ -22,6 +23,7 @@
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/version.hpp"
 #include "plant_capture_view.hpp"
+#include "plant_setup_dialog.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"
 #include "settings_dialog.hpp"
@@ -132,6 +134,7 @@ void StationWindow::buildToolBar() {
   bar->setMovable(false);
   bar->setFocusPolicy(Qt::NoFocus);
   bar->addAction(tr("New session…"), this, [this] { (void)newSessionDialog(); });
+  bar->addAction(tr("New plant…"), this, [this] { (void)newPlantDialog(); });
   bar->addAction(tr("Export…"), this, [this] {
     ExportDialog d(settings_, this);
     if (sessionId_ > 0) d.setSessions({sessionId_});
@@ -443,6 +446,31 @@ void StationWindow::offerResume() {
   if (box.clickedButton() == resume) options_.resume = s.id;
 }
 
+bool StationWindow::newPlantDialog() {
+  std::vector<db::SessionInfo> known;
+  try {
+    if (std::ifstream(dbPath()).good()) known = db::Store(dbPath(), true).sessions();
+  } catch (const std::exception&) {
+  }
+  acq::PlantSessionSetup defaults;
+  defaults.project = options_.setup.project;
+  defaults.operatorName = options_.setup.operatorName;
+  defaults.plant = options_.setup.plant;
+  // The sample plant beside the sample leaves (the source tree, or where the package put them).
+  const std::string samples = leafdig::samplesDir();
+  const std::string data =
+      samples.empty() ? leafdig::sourceDataDir() : std::filesystem::path(samples).parent_path().string();
+  const QString sample = QString::fromStdString(data + "/plants/sample.plant-markers.json");
+  PlantSetupDialog d(defaults, known, devices::takeInventory(), sample, this);
+  if (d.exec() != QDialog::Accepted) return false;
+  const auto c = d.choice();
+  if (!c) return false;
+  stopCapture();
+  options_.setup.project = c->setup.project;
+  options_.setup.operatorName = c->setup.operatorName;
+  return c->simulated ? startPlantCapture(c->plantMarkers) : startPlantCaptureWithDevices(c->setup);
+}
+
 bool StationWindow::newSessionDialog() {
   std::vector<db::SessionInfo> known;
   try {
@@ -573,18 +601,12 @@ bool StationWindow::startPlantCapture(const std::string& plantMarkers) {
   return true;
 }
 
-bool StationWindow::startPlantCaptureWithDevices(const std::string& plant) {
+bool StationWindow::startPlantCaptureWithDevices(acq::PlantSessionSetup setup) {
   if (db::isServerUrl(dbPath())) {
     banner_->setText(tr("Cannot capture into the lab server: capture writes this station's own file."));
     return false;
   }
-  acq::PlantSessionSetup setup;
-  setup.project = options_.setup.project;
-  setup.plant = plant;
-  setup.operatorName = options_.setup.operatorName;
-  setup.station = options_.setup.station;
-  setup.digitizer = options_.setup.digitizer;
-  setup.caliper = options_.setup.caliper;
+  if (setup.station.empty()) setup.station = options_.setup.station;
   const QString error = plantCaptureTab()->startWithDevices(dbPath(), setup);
   if (!error.isEmpty()) {
     banner_->setText(tr("Cannot start the plant capture: %1").arg(error));

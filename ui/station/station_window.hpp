@@ -21,6 +21,7 @@
 
 #include "leaf_schematic.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
+#include "leafdig/acquisition/plant_session.hpp"
 #include "preview_widget.hpp"
 #include "settings.hpp"
 #include "sounds.hpp"
@@ -56,9 +57,11 @@ class StationWindow : public QMainWindow {
   // `plantMarkers` (a leafdig.plant-markers/1 file) taken by the virtual technician through the
   // simulated devices. False, with the reason in the banner, when it cannot start.
   bool startPlantCapture(const std::string& plantMarkers);
-  // The same tab for a person with the devices of options().setup (digitizer, caliper, project,
-  // operator, station) digitizing plant `plant`.
-  bool startPlantCaptureWithDevices(const std::string& plant);
+  // The same tab for a person with the devices of `setup` (its digitizer and caliper specs)
+  // digitizing its plant; this station's id when the setup names none.
+  bool startPlantCaptureWithDevices(acquisition::PlantSessionSetup setup);
+  // Shows the plant set-up dialog and starts what was chosen. False: cancelled or refused.
+  bool newPlantDialog();
   [[nodiscard]] PlantCaptureView* plantCapture() const { return plantCapture_; }
   // With --db postgresql://…: the lab server, for review only (capture always writes the
   // station's own file). Opens the Review tab on the server's sessions.

@@ -51,6 +51,7 @@
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "mesh_choice.hpp"
 #include "plant_capture_view.hpp"
+#include "plant_setup_dialog.hpp"
 #include "plant_view.hpp"
 #include "review_view.hpp"
 #include "settings_dialog.hpp"
@@ -1271,7 +1272,13 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
     (void)acq::review(store, approved, "approved", "cur", "");
   }
   leafdig::station::StationWindow w(o);
-  ASSERT_TRUE(w.startPlantCaptureWithDevices("P-hands")) << w.bannerText().toStdString();
+  acq::PlantSessionSetup setup;
+  setup.plant = "P-hands";
+  setup.project = "p";
+  setup.operatorName = "ana";
+  setup.digitizer = rig.digitizerSpec();
+  setup.caliper = rig.caliperSpec();
+  ASSERT_TRUE(w.startPlantCaptureWithDevices(setup)) << w.bannerText().toStdString();
   leafdig::station::PlantCaptureView* v = w.plantCapture();
   const auto waitFor = [](const std::function<bool()>& ok) {
     for (int i = 0; i < 1000 && !ok(); ++i) QTest::qWait(20);
@@ -1332,7 +1339,61 @@ TEST(PlantCaptureView, ADevicesSpecThatDoesNotReadWritesNothing) {
   o.setup.caliper = "sylvac:/dev/ttyS1";
   o.settingsFile = QString::fromStdString((dir / "station.ini").string());
   leafdig::station::StationWindow w(o);
-  EXPECT_FALSE(w.startPlantCaptureWithDevices("P"));
+  acq::PlantSessionSetup setup;
+  setup.plant = "P";
+  setup.digitizer = o.setup.digitizer;
+  setup.caliper = o.setup.caliper;
+  EXPECT_FALSE(w.startPlantCaptureWithDevices(setup));
   EXPECT_TRUE(w.bannerText().contains("wand")) << w.bannerText().toStdString();
   EXPECT_FALSE(fs::exists(o.db) && !leafdig::db::Store(o.db).sessions().empty());
+}
+
+// The plant set-up dialog: the plant and its devices chosen, or the problem in words before
+// anything starts; the simulated pair digitizes a plant-markers file.
+TEST(PlantSetupDialog, AChoiceIsValidatedAndNamesWhatIsMissing) {
+  acq::PlantSessionSetup defaults;
+  defaults.project = "tobacco-2026";
+  defaults.operatorName = "ana";
+  leafdig::db::SessionInfo earlier;
+  earlier.kind = "plant";
+  earlier.plant = "tobacco-p12";
+  earlier.project = "tobacco-2026";
+  const QString sample =
+      QString::fromStdString(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json");
+  leafdig::station::PlantSetupDialog d(defaults, {earlier}, leafdig::devices::Inventory{}, sample);
+  EXPECT_NE(d.plant()->findText("tobacco-p12"), -1) << "a plant surveyed before is offered again";
+  QString problem;
+  d.plant()->setCurrentText("");
+  EXPECT_FALSE(d.choice(&problem));
+  EXPECT_TRUE(problem.contains("Name the plant")) << problem.toStdString();
+  d.plant()->setCurrentText("tobacco-p12");
+  // The simulated pair is listed first: a simulation of the sample plant.
+  auto c = d.choice(&problem);
+  ASSERT_TRUE(c) << problem.toStdString();
+  EXPECT_TRUE(c->simulated);
+  EXPECT_EQ(c->plantMarkers, sample.toStdString());
+  EXPECT_EQ(c->setup.plant, "tobacco-p12");
+  d.date()->setText("2026-02-30");
+  EXPECT_FALSE(d.choice(&problem));
+  EXPECT_TRUE(problem.contains("YYYY-MM-DD")) << problem.toStdString();
+  d.date()->setText("2026-07-01");
+  // One real device and one simulated: refused; two real ones typed: their specs.
+  d.digitizer()->setCurrentText("fastrak:/dev/ttyUSB0");
+  EXPECT_FALSE(d.choice(&problem));
+  EXPECT_TRUE(problem.contains("simulated whole")) << problem.toStdString();
+  d.caliper()->setCurrentText("sylvac:/dev/ttyUSB1");
+  c = d.choice(&problem);
+  ASSERT_TRUE(c) << problem.toStdString();
+  EXPECT_FALSE(c->simulated);
+  EXPECT_EQ(c->setup.digitizer, "fastrak:/dev/ttyUSB0");
+  EXPECT_EQ(c->setup.caliper, "sylvac:/dev/ttyUSB1");
+  ASSERT_TRUE(c->setup.date);
+  EXPECT_EQ(leafdig::model::toIso(*c->setup.date), "2026-07-01");
+  d.digitizer()->setCurrentText("wand:/dev/ttyUSB0");
+  EXPECT_FALSE(d.choice(&problem));
+  EXPECT_TRUE(problem.contains("wand")) << problem.toStdString();
+  d.protocol()->setText("/nonexistent.plant-protocol.json");
+  d.digitizer()->setCurrentText("fastrak:/dev/ttyUSB0");
+  EXPECT_FALSE(d.choice(&problem));
+  EXPECT_TRUE(problem.contains("nonexistent")) << problem.toStdString();
 }
