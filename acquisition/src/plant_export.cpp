@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <future>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <utility>
 #include <variant>
 
@@ -142,16 +144,24 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
       const m::LeafMesh mesh = m::meshPlant(model, m::MeshOptions{});
       const m::PlantMetrics metrics = m::computePlantMetrics(model, mesh, Eigen::Vector3d::UnitZ());
       const m::PlantExportOptions options{m::CanUnit::Metre, std::string("leafdig ") + kVersion};
-      // The GLB's nodes are the MTG's entities (the survey's); the other formats are the model's.
+      // The GLB's nodes are the MTG's entities (the survey's), encoded beside the model's other
+      // formats (on their own threads); the GLB comes first, as modelFormats() lists it.
       std::vector<std::filesystem::path> others;
+      std::optional<std::filesystem::path> glb;
       for (const auto& path : meshPaths) {
         if (path.extension() == ".glb")
-          files.push_back({path, m::encodeSurveyGlb(out.survey, day, mesh, options.generator)});
+          glb = path;
         else
           others.push_back(path);
       }
-      if (!others.empty())
-        for (auto& f : m::encodePlantFiles(others, model, mesh, metrics, options)) files.push_back(std::move(f));
+      std::future<std::string> glbBytes;
+      if (glb)
+        glbBytes = std::async(std::launch::async,
+                              [&] { return m::encodeSurveyGlb(out.survey, day, mesh, options.generator); });
+      std::vector<m::EncodedFile> encoded;
+      if (!others.empty()) encoded = m::encodePlantFiles(others, model, mesh, metrics, options);
+      if (glb) files.push_back({*glb, glbBytes.get()});
+      for (auto& f : encoded) files.push_back(std::move(f));
     }
     if (wants(chosen, "plan")) {
       if (model.leaves.empty())
