@@ -496,6 +496,7 @@ void PlantCaptureView::fillTree(const acq::PlantEngine& e) {
       if (i.what == acq::PlantWhat::Reading && i.index == node) measured = "Ø " + mm(i.valueMm);
     n->setText(1, measured);
     auto* leaf = new QTreeWidgetItem(n, {tr("Leaf"), leafText(e, node)});
+    leaf->setToolTip(1, leaf->text(1));  // whole, where the column cuts it
     const bool here = step.what != acq::PlantWhat::Done && step.what != acq::PlantWhat::Landmark &&
                       step.what != acq::PlantWhat::Collar && step.what != acq::PlantWhat::CollarDiameter &&
                       step.index == node;
@@ -515,6 +516,7 @@ void PlantCaptureView::fillTree(const acq::PlantEngine& e) {
     tree_->scrollToItem(current);
   }
   if (step.what == acq::PlantWhat::Done) tree_->expandAll();
+  tree_->resizeColumnToContents(0);  // "Landmarks", bold when current, is never cut
 }
 
 }  // namespace leafdig::station
