@@ -58,6 +58,22 @@ int addMaterial(tinygltf::Model& model, const char* name, std::vector<double> rg
   return static_cast<int>(model.materials.size() - 1);
 }
 
+// A glTF model with its buffer and the leaf's two materials (veins; the blade, seen from both
+// sides): what every leafdig GLB starts from.
+struct Start {
+  tinygltf::Model model;
+  int vein = -1, blade = -1;
+};
+Start startModel(const std::string& generator) {
+  Start s;
+  s.model.asset.version = "2.0";
+  s.model.asset.generator = generator;
+  s.model.buffers.emplace_back();
+  s.vein = addMaterial(s.model, "vein", {0.78, 0.82, 0.55, 1.0}, false);
+  s.blade = addMaterial(s.model, "blade", {0.36, 0.58, 0.24, 1.0}, true);
+  return s;
+}
+
 // One glTF mesh for an organ: positions (mm -> m) and normals through `axes`, 32-bit indices.
 // Returns the mesh's index.
 int addOrganMesh(tinygltf::Model& model, const Organ& organ, int material,
@@ -122,13 +138,9 @@ std::string finishGlb(tinygltf::Model& model, tinygltf::Node root, const char* s
 }  // namespace
 
 std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = header.generator;
-  model.buffers.emplace_back();
-  const int veinMaterial = addMaterial(model, "vein", {0.78, 0.82, 0.55, 1.0}, false);
-  // The blade is a surface seen from both sides.
-  const int bladeMaterial = addMaterial(model, "blade", {0.36, 0.58, 0.24, 1.0}, true);
+  Start start = startModel(header.generator);
+  tinygltf::Model& model = start.model;
+  const int veinMaterial = start.vein, bladeMaterial = start.blade;
 
   tinygltf::Node root;
   root.name = header.leafId.empty() ? "leaf" : header.leafId;
@@ -153,12 +165,9 @@ std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
 
 std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, const LeafMesh& mesh,
                             const std::string& generator) {
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = generator;
-  model.buffers.emplace_back();
-  const int veinMaterial = addMaterial(model, "vein", {0.78, 0.82, 0.55, 1.0}, false);
-  const int bladeMaterial = addMaterial(model, "blade", {0.36, 0.58, 0.24, 1.0}, true);
+  Start start = startModel(generator);
+  tinygltf::Model& model = start.model;
+  const int veinMaterial = start.vein, bladeMaterial = start.blade;
   const int stemMaterial = addMaterial(model, "stem", {0.86, 0.80, 0.55, 1.0}, false);
 
   // The entities first (their indices are the MTG's order), then the meshes hung on them.
@@ -251,12 +260,9 @@ void animate(tinygltf::Model& model, tinygltf::Animation& animation, int input, 
 std::string encodeGrowthGlb(const Plant& final, const std::vector<Plant>& states, const MeshOptions& resolution,
                             const std::string& generator) {
   if (states.empty() || !final.stem) throw InputError("a growth animation needs a plant with a stem and some states");
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = generator;
-  model.buffers.emplace_back();
-  const int veinMaterial = addMaterial(model, "vein", {0.78, 0.82, 0.55, 1.0}, false);
-  const int bladeMaterial = addMaterial(model, "blade", {0.36, 0.58, 0.24, 1.0}, true);
+  Start start = startModel(generator);
+  tinygltf::Model& model = start.model;
+  const int veinMaterial = start.vein, bladeMaterial = start.blade;
 
   // Time: the whole series plays in 10 seconds.
   const double t0 = *states.front().time;
