@@ -8,10 +8,12 @@
 // technician) runs on a thread of its own; every committed decision hands a copy of the plant's
 // engine to the GUI thread (the tree and the prompt, at once) and to a preview thread, which
 // builds the plant's preview (acquisition/plant_preview.hpp) from the newest state only and
-// hands it to the GUI thread. Each hand-over is a one-slot mailbox under a std::mutex: a burst
-// of decisions is shown once, and nothing waits for the drawing.
+// hands it to the GUI thread. Each hand-over is a one-slot mailbox under a std::mutex, which the
+// GUI thread looks into at 60 Hz (a timer, not a cross-thread Qt call): a burst of decisions is
+// shown once, and nothing waits for the drawing.
 #pragma once
 
+#include <QTimer>
 #include <QWidget>
 #include <atomic>
 #include <condition_variable>
@@ -139,6 +141,8 @@ class PlantCaptureView : public QWidget {
   QString failure_;                                  // the capture thread's error, if it stopped on one
   acquisition::PlantCaptureLoop* loop_ = nullptr;    // the devices' loop while it runs
   std::map<std::string, std::string> deviceStates_;  // device name -> its state in words
+  bool devicesChanged_ = false;
+  QTimer poll_;  // the GUI thread's look into the mailboxes while a capture runs
 };
 
 }  // namespace leafdig::station
