@@ -53,13 +53,18 @@ dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
 
 DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop,
                      double digitizerRateHz)
-    : loop_(loop), digitizerSpec_(digitizerSpec), caliperSpec_(caliperSpec) {
-  dev::Driver::Callbacks cb{[&loop](const dev::DeviceEvent& e) { loop.post(e); },
-                            [&loop](const dev::DeviceStatus& s) { loop.postStatus(s); }};
+    : DeviceSet(digitizerSpec, caliperSpec,
+                dev::Driver::Callbacks{[&loop](const dev::DeviceEvent& e) { loop.post(e); },
+                                       [&loop](const dev::DeviceStatus& s) { loop.postStatus(s); }},
+                digitizerRateHz) {}
+
+DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, dev::Driver::Callbacks sinks,
+                     double digitizerRateHz)
+    : onStatus_(sinks.onStatus), digitizerSpec_(digitizerSpec), caliperSpec_(caliperSpec) {
   dev::DigitizerConfig digitizer = parseDigitizerSpec(digitizerSpec);
   digitizer.recordRateHz = digitizerRateHz;
-  digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(digitizer)), cb);
-  caliper_ = std::make_unique<dev::Driver>(dev::makeCaliperLink(parseCaliperSpec(caliperSpec)), cb);
+  digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(digitizer)), sinks);
+  caliper_ = std::make_unique<dev::Driver>(dev::makeCaliperLink(parseCaliperSpec(caliperSpec)), sinks);
 }
 DeviceSet::~DeviceSet() {
   stop();
@@ -95,7 +100,7 @@ void DeviceSet::disconnect(Role role) {
   s.message = "disconnected at the station";
   s.remedy = "connect it again to go on";
   s.rateHz = 0;
-  loop_.postStatus(s);
+  if (onStatus_) onStatus_(s);
 }
 dev::DeviceStatus DeviceSet::status(Role role) const {
   dev::DeviceStatus s = driver(role).status();

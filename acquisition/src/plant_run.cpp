@@ -4,7 +4,6 @@
 #include <stdexcept>
 #include <utility>
 
-#include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/devices/links/links.hpp"
 
 namespace leafdig::acquisition {
@@ -127,31 +126,11 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
   return stats;
 }
 
-PlantDevices::PlantDevices(const std::string& digitizerSpec, const std::string& caliperSpec, PlantCaptureLoop& loop,
-                           std::function<void(const dev::DeviceStatus&)> onStatus, double digitizerRateHz) {
-  dev::DigitizerConfig digitizer = parseDigitizerSpec(digitizerSpec);
-  if (digitizerRateHz > 0) digitizer.recordRateHz = digitizerRateHz;
-  const dev::CaliperConfig caliper = parseCaliperSpec(caliperSpec);
-  const dev::Driver::Callbacks callbacks{[&loop](const dev::DeviceEvent& e) { loop.post(e); },
-                                         [status = std::move(onStatus)](const dev::DeviceStatus& s) {
-                                           if (status) status(s);
-                                         }};
-  digitizer_ = std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(digitizer)), callbacks);
-  caliper_ = std::make_unique<dev::Driver>(dev::makeCaliperLink(caliper), callbacks);
-}
-
-PlantDevices::~PlantDevices() {
-  stop();
-}
-
-void PlantDevices::start() {
-  digitizer_->start();
-  caliper_->start();
-}
-
-void PlantDevices::stop() {
-  digitizer_->stop();
-  caliper_->stop();
+dev::Driver::Callbacks PlantCaptureLoop::sinks(std::function<void(const dev::DeviceStatus&)> onStatus) {
+  return {[this](const dev::DeviceEvent& e) { post(e); },
+          [status = std::move(onStatus)](const dev::DeviceStatus& s) {
+            if (status) status(s);
+          }};
 }
 
 }  // namespace leafdig::acquisition

@@ -6,6 +6,7 @@
 #include <thread>
 #include <utility>
 
+#include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/acquisition/truth.hpp"
 
@@ -124,7 +125,7 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
 
   SimulatedRig rig(options);
   // The real drivers on the rig's pseudo-terminals: the simulated capture is the real one.
-  PlantDevices devices(rig.digitizerSpec(), rig.caliperSpec(), loop, {}, rig.digitizerRateHz());
+  DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop.sinks(), rig.digitizerRateHz());
   devices.start();
   PlantTechnician technician(rig, desk, loop, plant, options.speed);
   PlantRunStats technicianStats;

@@ -132,7 +132,7 @@ acq::PlantRunStats captureWithDevices(const PlantCaptureOptions& o, db::Store& s
   installSignalHandlers();
   acq::PlantCaptureLoop loop(store, id);
   std::mutex out;
-  acq::PlantDevices ports(digitizer, caliper, loop, [&](const devices::DeviceStatus& st) {
+  acq::DeviceSet ports(digitizer, caliper, loop.sinks([&](const devices::DeviceStatus& st) {
     static thread_local std::string last;
     const std::string said = std::string(devices::toString(st.state)) + st.message;
     if (said == last) return;  // a rate change alone is not news
@@ -149,7 +149,7 @@ acq::PlantRunStats captureWithDevices(const PlantCaptureOptions& o, db::Store& s
       std::cerr << "  " << terminalText(st.device) << " (" << terminalText(st.where)
                 << "): " << devices::toString(st.state) << (st.message.empty() ? "" : " · " + terminalText(st.message))
                 << (st.remedy.empty() ? "" : " · " + terminalText(st.remedy)) << "\n";
-  });
+  }));
   if (!o.json)
     std::cout << "  commands (then Enter): undo · end · leaf N full|quick|none [state] [type] · quit\n  now: "
               << terminalText(loop.session().engine().prompt()) << "\n"

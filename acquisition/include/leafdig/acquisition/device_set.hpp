@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -18,7 +19,7 @@ namespace leafdig::acquisition {
 // "usbitn" or "usbitn:VID:PID".
 [[nodiscard]] devices::CaliperConfig parseCaliperSpec(const std::string& spec);
 
-// The two drivers of a capture, delivering into a loop.
+// The two drivers of a capture, delivering into a loop (a leaf's CaptureLoop, or any sinks).
 // Thread contract: construct, start, stop, connect and disconnect from one owner thread;
 // connected(), status() and spec() from any thread.
 class DeviceSet {
@@ -27,6 +28,10 @@ class DeviceSet {
   // Throws std::invalid_argument for a spec that does not parse (nothing is opened then).
   // digitizerRateHz: the digitizer's record rate when it is not the device's own (a simulator).
   DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop,
+            double digitizerRateHz = 0);
+  // The same drivers delivering into `sinks` (their events and status changes, on the drivers'
+  // threads): a plant capture's loop (plant_run.hpp's PlantCaptureLoop::sinks).
+  DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, devices::Driver::Callbacks sinks,
             double digitizerRateHz = 0);
   DeviceSet(const DeviceSet&) = delete;
   DeviceSet& operator=(const DeviceSet&) = delete;
@@ -44,7 +49,7 @@ class DeviceSet {
 
  private:
   [[nodiscard]] devices::Driver& driver(Role role) const;
-  CaptureLoop& loop_;
+  std::function<void(const devices::DeviceStatus&)> onStatus_;  // also told of disconnect()
   std::string digitizerSpec_, caliperSpec_;
   std::unique_ptr<devices::Driver> digitizer_, caliper_;
   std::atomic<bool> digitizerOn_{false}, caliperOn_{false};

@@ -1,7 +1,7 @@
 // A plant capture from devices (docs/plants.md, "Real devices"): the digitizer's and the
 // caliper's events and the operator's commands arrive on one queue from any thread; one thread
 // (the caller of run()) feeds them to a PlantCaptureSession in the order they arrived, and hands
-// every committed decision to the front end. The same loop takes real devices (PlantDevices on
+// every committed decision to the front end. The same loop takes real devices (a DeviceSet on
 // the operator's ports) and the simulated rig with its virtual technician
 // (plant_simulation.hpp), so the simulated plant capture is the real one on pseudo-terminals.
 //
@@ -15,7 +15,6 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <memory>
 #include <mutex>
 #include <string>
 #include <variant>
@@ -58,6 +57,9 @@ class PlantCaptureLoop {
   // committed decision (or refusal): onFeedback, then onChange (what a technician reads next).
   PlantRunStats run(const Listener& onFeedback, const std::function<void(const PlantCaptureSession&)>& onChange = {});
   [[nodiscard]] PlantCaptureSession& session() { return session_; }
+  // What the devices deliver into (device_set.hpp's DeviceSet on the operator's ports): their
+  // records posted here, their status changes to `onStatus` (on the drivers' threads).
+  [[nodiscard]] devices::Driver::Callbacks sinks(std::function<void(const devices::DeviceStatus&)> onStatus = {});
 
  private:
   using Input = std::variant<devices::DeviceEvent, PlantCommand>;
@@ -70,24 +72,6 @@ class PlantCaptureLoop {
   std::condition_variable cv_;
   std::deque<Input> inputs_;
   std::atomic<bool> stop_{false};
-};
-
-// The two drivers of a plant capture on the operator's ports (parseDigitizerSpec /
-// parseCaliperSpec: std::invalid_argument for a spec that does not parse, nothing opened),
-// delivering into a loop; each driver's status changes go to onStatus (on the driver's thread).
-// Thread contract: construct, start and stop from one owner thread.
-class PlantDevices {
- public:
-  PlantDevices(const std::string& digitizerSpec, const std::string& caliperSpec, PlantCaptureLoop& loop,
-               std::function<void(const devices::DeviceStatus&)> onStatus = {}, double digitizerRateHz = 0);
-  PlantDevices(const PlantDevices&) = delete;
-  PlantDevices& operator=(const PlantDevices&) = delete;
-  ~PlantDevices();  // stop()
-  void start();
-  void stop();
-
- private:
-  std::unique_ptr<devices::Driver> digitizer_, caliper_;
 };
 
 }  // namespace leafdig::acquisition

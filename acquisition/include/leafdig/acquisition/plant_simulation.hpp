@@ -1,6 +1,6 @@
 // A plant digitized by the virtual technician through the simulated FASTRAK and Sylvac on
 // pseudo-terminals (docs/plants.md, "Simulated plant capture"): the real drivers read the
-// ptys (PlantDevices), every record goes to the PlantCaptureLoop of plant_run.hpp on the
+// ptys (a DeviceSet), every record goes to the PlantCaptureLoop of plant_run.hpp on the
 // calling thread — the loop real devices use — and the
 // technician (a thread of its own) reads what the session asks for and moves the hand or
 // closes the caliper's jaws, as `leafdig capture --simulate` does for a leaf. Shipped, not
