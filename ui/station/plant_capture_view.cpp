@@ -264,6 +264,13 @@ void PlantCaptureView::startThreads(const std::function<void()>& capture) {
   poll_.start();
 }
 
+void PlantCaptureView::readSession(db::Store& store) {
+  // The organ library (approved leaves) shapes the quick leaves; read once, here.
+  library_ = acq::organLibrary(store).leaves;
+  acq::PlantCaptureSession opened(store, session_);  // refuses what is not an open plant session
+  engine_ = opened.engine();
+}
+
 QString PlantCaptureView::startWithDevices(const std::string& db, const acq::PlantSessionSetup& setup) {
   if (capture_.joinable()) return tr("A plant is being captured already.");
   try {
@@ -271,9 +278,7 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
     (void)acq::parseCaliperSpec(setup.caliper);
     db::Store store(db);
     session_ = acq::PlantCaptureSession::create(store, setup);
-    library_ = acq::organLibrary(store).leaves;
-    acq::PlantCaptureSession opened(store, session_);
-    engine_ = opened.engine();
+    readSession(store);
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
   }
@@ -295,15 +300,13 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
     }
     if (stop_) loop.stop();
     try {
-      acq::PlantDevices ports(digitizer, caliper, loop, [this](const devices::DeviceStatus& st) {
-        {
-          std::lock_guard lock(mutex_);
-          deviceStates_[st.device] = std::string(devices::toString(st.state)) +
-                                     (st.message.empty() ? "" : ": " + st.message) +
-                                     (st.remedy.empty() ? "" : " (" + st.remedy + ")");
-          devicesChanged_ = true;
-        }
-      });
+      acq::DeviceSet ports(digitizer, caliper, loop.sinks([this](const devices::DeviceStatus& st) {
+        std::lock_guard lock(mutex_);
+        deviceStates_[st.device] = std::string(devices::toString(st.state)) +
+                                   (st.message.empty() ? "" : ": " + st.message) +
+                                   (st.remedy.empty() ? "" : " (" + st.remedy + ")");
+        devicesChanged_ = true;
+      }));
       ports.start();
       (void)loop.run([this](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) { committed(f, s); });
       ports.stop();
@@ -347,10 +350,7 @@ QString PlantCaptureView::startSimulated(const std::string& db, const std::strin
     } else {
       session_ = resume;
     }
-    // The organ library (approved leaves) shapes the quick leaves; read once, here.
-    library_ = acq::organLibrary(store).leaves;
-    acq::PlantCaptureSession opened(store, session_);  // refuses what is not an open plant session
-    engine_ = opened.engine();
+    readSession(store);
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
   }

@@ -110,6 +110,7 @@ class PlantCaptureView : public QWidget {
   void fillTree(const acquisition::PlantEngine& engine);
   void previewLoop();
   void startThreads(const std::function<void()>& capture);
+  void readSession(db::Store& store);  // session_'s library and engine, before the threads start
   // The capture thread's listener: the engine to the GUI thread and the preview thread.
   void committed(const acquisition::PlantFeedback& f, const acquisition::PlantCaptureSession& s);
   [[nodiscard]] int choiceNode() const;  // the node the leaf controls set

@@ -91,13 +91,8 @@ std::optional<PlantSetupChoice> PlantSetupDialog::choice(QString* problem) const
       return fail(QString::fromStdString(e.what()));
     }
   }
-  // A listed device's spec is its item's data; a typed one is the text itself.
-  const auto spec = [](const QComboBox* box) {
-    const int i = box->findText(box->currentText());
-    return (i >= 0 ? box->itemData(i).toString() : box->currentText()).trimmed().toStdString();
-  };
-  const bool simDigitizer = spec(digitizer_) == kSimulatedDigitizer;
-  const bool simCaliper = spec(caliper_) == kSimulatedCaliper;
+  const bool simDigitizer = specOf(digitizer_) == kSimulatedDigitizer;
+  const bool simCaliper = specOf(caliper_) == kSimulatedCaliper;
   if (simDigitizer != simCaliper)
     return fail(tr("A plant is simulated whole: choose both simulated devices, or two real ones."));
   c.simulated = simDigitizer;
@@ -108,8 +103,8 @@ std::optional<PlantSetupChoice> PlantSetupDialog::choice(QString* problem) const
                       .arg(QString::fromStdString(c.plantMarkers)));
     return c;
   }
-  c.setup.digitizer = spec(digitizer_);
-  c.setup.caliper = spec(caliper_);
+  c.setup.digitizer = specOf(digitizer_).toStdString();
+  c.setup.caliper = specOf(caliper_).toStdString();
   try {
     (void)acq::parseDigitizerSpec(c.setup.digitizer);
     (void)acq::parseCaliperSpec(c.setup.caliper);

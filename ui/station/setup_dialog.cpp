@@ -32,12 +32,12 @@ void fill(QComboBox* box, const std::vector<std::pair<QString, QString>>& choice
     box->setEditText(keep);
 }
 
+}  // namespace
+
 QString specOf(const QComboBox* box) {
   const int at = box->findText(box->currentText());
   return at >= 0 ? box->itemData(at).toString() : box->currentText().trimmed();
 }
-
-}  // namespace
 
 std::vector<std::pair<QString, QString>> digitizerChoices(const devices::Inventory& inv) {
   std::vector<std::pair<QString, QString>> out{

@@ -26,6 +26,8 @@ struct SetupChoice {
   bool simulatedDigitizer = false, simulatedCaliper = false;
 };
 
+// A device list's spec: a listed device's item data, or the text typed.
+[[nodiscard]] QString specOf(const QComboBox* box);
 // The device choices the registry offers: (label shown, spec). Simulated ones first.
 [[nodiscard]] std::vector<std::pair<QString, QString>> digitizerChoices(const devices::Inventory& inv);
 [[nodiscard]] std::vector<std::pair<QString, QString>> caliperChoices(const devices::Inventory& inv);

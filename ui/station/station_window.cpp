@@ -504,13 +504,16 @@ void StationWindow::reviewLabServer() {
   statusBar()->showMessage(tr("lab server %1").arg(where));
 }
 
+bool StationWindow::capturesIntoStationFile() {
+  if (!db::isServerUrl(dbPath())) return true;
+  banner_->setText(
+      tr("Cannot capture into the lab server: capture writes this station's own file, and "
+         "'leafdig sync push' sends it. Leave out --db postgresql://… to capture."));
+  return false;
+}
+
 bool StationWindow::start() {
-  if (db::isServerUrl(dbPath())) {
-    banner_->setText(
-        tr("Cannot capture into the lab server: capture writes this station's own file, and "
-           "'leafdig sync push' sends it. Leave out --db postgresql://… to capture."));
-    return false;
-  }
+  if (!capturesIntoStationFile()) return false;
   stopCapture();
   run_.reset();
   {
@@ -582,10 +585,7 @@ PlantCaptureView* StationWindow::plantCaptureTab() {
 }
 
 bool StationWindow::startPlantCapture(const std::string& plantMarkers) {
-  if (db::isServerUrl(dbPath())) {
-    banner_->setText(tr("Cannot capture into the lab server: capture writes this station's own file."));
-    return false;
-  }
+  if (!capturesIntoStationFile()) return false;
   (void)plantCaptureTab();
   acq::SimulationOptions sim;
   sim.speed = options_.speed;
@@ -602,10 +602,7 @@ bool StationWindow::startPlantCapture(const std::string& plantMarkers) {
 }
 
 bool StationWindow::startPlantCaptureWithDevices(acq::PlantSessionSetup setup) {
-  if (db::isServerUrl(dbPath())) {
-    banner_->setText(tr("Cannot capture into the lab server: capture writes this station's own file."));
-    return false;
-  }
+  if (!capturesIntoStationFile()) return false;
   if (setup.station.empty()) setup.station = options_.setup.station;
   const QString error = plantCaptureTab()->startWithDevices(dbPath(), setup);
   if (!error.isEmpty()) {

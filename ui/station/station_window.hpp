@@ -127,6 +127,9 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] std::string dbPath() const;  // --db, or the station's default file
   [[nodiscard]] QWidget* buildCaptureTab();
   PlantCaptureView* plantCaptureTab();  // made on first use, made current
+  // False, with the reason in the banner, when --db is the lab server (capture writes this
+  // station's own file).
+  bool capturesIntoStationFile();
   void buildToolBar();
   void connectPreviewAndTimers();
   void command(acquisition::Command c);
