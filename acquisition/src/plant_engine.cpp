@@ -493,6 +493,34 @@ void PlantEngine::apply(const PlantDecision& d) {
   }
 }
 
+bool PlantEngine::correct(const PlantItem& fixed) {
+  for (PlantItem& i : items_)
+    if (i.what == fixed.what && i.index == fixed.index && i.part == fixed.part) {
+      i = fixed;
+      return true;
+    }
+  return false;
+}
+
+bool PlantEngine::correctLeaf(int node, const Item& fixed) {
+  const auto it = leaves_.find(node);
+  if (it == leaves_.end()) return false;
+  Engine& e = it->second;
+  for (const Item& old : e.items())
+    if (old.what == fixed.what && old.row == fixed.row && old.col == fixed.col) {
+      Decision out;
+      out.kind = Decision::Kind::RetakeStarted;
+      out.item = old;
+      e.apply(out);  // `old` is gone from here on
+      Decision in;
+      in.kind = Decision::Kind::Accepted;
+      in.item = fixed;
+      e.apply(in);
+      return true;
+    }
+  return false;
+}
+
 m::PlantMarkers PlantEngine::captured(const std::string& plant) const {
   m::PlantMarkers out;
   out.plant = plant;

@@ -1,6 +1,8 @@
 #include "leafdig/acquisition/plant_session.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <utility>
@@ -11,6 +13,7 @@
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/io/survey_export.hpp"
+#include "leafdig/model/limits.hpp"
 #include "leafdig/names/name_table.hpp"
 
 namespace leafdig::acquisition {
@@ -84,6 +87,24 @@ std::string keyOf(int node, const Item& i) {
 // An accepted decision's key: the plant's item, or a full leaf's with its node.
 std::string keyOf(const PlantDecision& d) {
   return d.kind == PlantDecision::Kind::Leaf ? keyOf(d.node, d.leaf.item) : keyOf(d.item);
+}
+
+// An `accepted` payload (or a correction's item) as the decision that put it in: the plant's
+// own item, or a full leaf's with its node.
+PlantDecision acceptedItem(const json& p, const std::string& raw) {
+  PlantDecision d;
+  if (const auto leaf = splitLeafWhat(p.at("what").get<std::string>())) {
+    json item = p;
+    item["what"] = leaf->second;
+    d.kind = PlantDecision::Kind::Leaf;
+    d.node = leaf->first;
+    d.leaf.kind = Decision::Kind::Accepted;
+    d.leaf.item = itemFrom(item, raw);
+  } else {
+    d.kind = PlantDecision::Kind::Accepted;
+    d.item = plantItemFrom(p, raw);
+  }
+  return d;
 }
 
 json choiceJson(int node, const LeafChoice& c) {
@@ -172,20 +193,32 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
       const json p = json::parse(e.payloadJson);
       PlantDecision d;
       if (e.kind == "accepted") {
-        const std::string what = p.at("what").get<std::string>();
-        if (const auto leaf = splitLeafWhat(what)) {
-          json item = p;
-          item["what"] = leaf->second;
-          d.kind = PlantDecision::Kind::Leaf;
-          d.node = leaf->first;
-          d.leaf.kind = Decision::Kind::Accepted;
-          d.leaf.item = itemFrom(item, e.raw);
-        } else {
-          d.kind = PlantDecision::Kind::Accepted;
-          d.item = plantItemFrom(p, e.raw);
-        }
+        d = acceptedItem(p, e.raw);
         accepted[e.seq] = d;
         held[keyOf(d)] = e.seq;
+      } else if (e.kind == "corrected") {
+        // A curator's correction (review): the item named is replaced where it stands.
+        const std::int64_t named = p.at("seq").get<std::int64_t>();
+        const auto it = accepted.find(named);
+        if (it == accepted.end()) fail("it corrects event " + std::to_string(named) + ", which put no item in");
+        const auto at = held.find(keyOf(it->second));
+        if (at == held.end() || at->second != named) fail("it corrects an item that is no longer there");
+        PlantDecision fixed = acceptedItem(p.at("corrected"), e.raw);
+        if (keyOf(fixed) != keyOf(it->second)) fail("the corrected item is not the one it names");
+        const std::string flag = "corrected: " + p.at("reason").get<std::string>();
+        bool done = false;
+        if (fixed.kind == PlantDecision::Kind::Leaf) {
+          fixed.leaf.item.flag = flag;
+          done = engine.correctLeaf(fixed.node, fixed.leaf.item);
+        } else {
+          fixed.item.flag = flag;
+          done = engine.correct(fixed.item);
+        }
+        if (!done) fail("it corrects an item that is not there");
+        held.erase(at);
+        held[keyOf(fixed)] = e.seq;
+        accepted[e.seq] = fixed;
+        continue;
       } else if (e.kind == "undone") {
         const auto it = accepted.find(p.at("seq").get<std::int64_t>());
         if (it == accepted.end())
@@ -397,6 +430,110 @@ PlantFeedback PlantCaptureSession::abandon(const std::string& why, std::int64_t 
     f.storeRefused = std::string(e.what()) + ": " + e.remedy();
   }
   return f;
+}
+
+std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& c) {
+  const auto info = store.session(id);
+  if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());
+  if (info->kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");
+  if (info->status != "complete")
+    throw std::invalid_argument("session " + std::to_string(id) + " is " + info->status +
+                                ": only a complete session (awaiting review) can be corrected");
+  if (c.reason.empty()) throw std::invalid_argument("a correction needs a reason: say what was wrong");
+  if (c.who.empty()) throw std::invalid_argument("a correction needs the curator's name");
+  detail::requireChain(store, id, "corrected");
+  const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
+  std::map<std::string, std::int64_t> held;
+  PlantEngine engine = PlantCaptureSession::replay(setup, store.events(id), &held);
+
+  const bool stylus = c.node > 0 ? acquisition::isStylusItem(c.leafWhat) : isStylusItem(c.what);
+  if (stylus) {
+    if (!c.positionMm || c.valueMm) throw std::invalid_argument("a point is corrected with a position (x, y, z in mm)");
+    for (double v : *c.positionMm)
+      if (!std::isfinite(v) || std::abs(v) > m::kMaxCoordinateMm)
+        throw std::invalid_argument("the corrected position must be finite numbers in mm within ±" +
+                                    std::to_string(static_cast<int>(m::kMaxCoordinateMm)) + " mm of the transmitter");
+  } else if (!c.valueMm || c.positionMm) {
+    throw std::invalid_argument(std::string("a ") + (c.node > 0 ? "thickness" : "diameter") +
+                                " is corrected with a value in mm");
+  }
+  const double minMm = setup.settings.minThicknessMm;
+  const double maxMm = c.node > 0 ? setup.settings.maxThicknessMm : m::kMaxThicknessMm;
+  if (c.valueMm && !(*c.valueMm >= minMm && *c.valueMm <= maxMm)) {
+    char b[200];
+    std::snprintf(b, sizeof b, "a %s of %g mm is outside this session's range %g–%g mm: give the value in millimetres",
+                  c.node > 0 ? "thickness" : "diameter", *c.valueMm, minMm, maxMm);
+    throw std::invalid_argument(b);
+  }
+
+  json old, fixedJson;
+  std::string key;
+  if (c.node > 0) {
+    const Engine* leaf = engine.leaf(c.node);
+    const Item* found = nullptr;
+    if (leaf)
+      for (const Item& i : leaf->items())
+        if (i.what == c.leafWhat && i.row == c.row && i.col == c.col) found = &i;
+    if (!found)
+      throw std::invalid_argument("plant session " + std::to_string(id) + " has no " + toString(c.leafWhat) +
+                                  (c.row ? " at row " + std::to_string(c.row) : "") +
+                                  (c.col ? " col " + std::to_string(c.col) : "") + " in node " +
+                                  std::to_string(c.node) + "'s leaf" + (leaf ? "" : " (that node has no full leaf)") +
+                                  " to correct");
+    Item fixed = *found;
+    fixed.flag.clear();
+    if (c.positionMm) fixed.positionMm = *c.positionMm;
+    if (c.valueMm) fixed.valueMm = *c.valueMm;
+    fixed.raw = "corrected by " + c.who;
+    old = itemJson(*found);
+    old["what"] = leafWhat(c.node, *found);
+    fixedJson = itemJson(fixed);
+    fixedJson["what"] = leafWhat(c.node, fixed);
+    key = keyOf(c.node, *found);
+    fixed.flag = "corrected: " + c.reason;
+    (void)engine.correctLeaf(c.node, fixed);
+  } else {
+    // A part left out (0) names the first where the item has parts (a node's point, reading).
+    const PlantItem* found = nullptr;
+    for (const PlantItem& i : engine.items())
+      if (i.what == c.what && i.index == c.row && (i.part == c.col || (c.col == 0 && i.part == 1))) found = &i;
+    if (!found)
+      throw std::invalid_argument("plant session " + std::to_string(id) + " has no " + toString(c.what) +
+                                  (c.row ? " " + std::to_string(c.row) : "") +
+                                  (c.col ? " part " + std::to_string(c.col) : "") +
+                                  " to correct (landmarks by number, a node's point and reading by node)");
+    PlantItem fixed = *found;
+    fixed.flag.clear();
+    if (c.positionMm) fixed.positionMm = *c.positionMm;
+    if (c.valueMm) fixed.valueMm = *c.valueMm;
+    fixed.raw = "corrected by " + c.who;
+    old = plantItemJson(*found);
+    fixedJson = plantItemJson(fixed);
+    key = keyOf(*found);
+    fixed.flag = "corrected: " + c.reason;
+    (void)engine.correct(fixed);
+  }
+  // The corrected plant must still stand: a landmark moved onto the others' line leaves no frame.
+  try {
+    (void)m::surveyPlant(engine.captured(info->plant));
+  } catch (const m::InputError& e) {
+    throw std::invalid_argument(std::string("the corrected plant would not hold together (") + e.what() +
+                                "): check the position, nothing was written");
+  }
+  const std::int64_t seq = held.at(key);
+  json payload = old;
+  payload["seq"] = seq;
+  payload["corrected"] = fixedJson;
+  payload["reason"] = c.reason;
+  payload["who"] = c.who;
+  db::EventInput ev;
+  ev.kind = "corrected";
+  ev.payloadJson = payload.dump();
+  ev.raw = "corrected by " + c.who;
+  ev.projection = projectionOf(fixedJson.dump(), ev.raw);
+  ev.retracts = seq;
+  (void)store.ensureOperator(c.who, "curator");
+  return store.append(id, ev);
 }
 
 }  // namespace leafdig::acquisition

@@ -11,6 +11,7 @@
 #include "chain_check.hpp"
 #include "item_json.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
+#include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/preview.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/io/mesh_export.hpp"
@@ -154,6 +155,27 @@ std::vector<ReviewFlag> reviewFlags(const std::vector<Item>& items, double madLi
 
 std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c) {
   const db::SessionInfo info = infoOrThrow(store, id);
+  if (info.kind == "plant") {
+    if (!c.plantWhat && c.node <= 0)
+      throw std::invalid_argument("session " + std::to_string(id) +
+                                  " is a plant: name the plant's item (landmark, collar, collar_diameter, point, "
+                                  "reading, quick_point) or a full leaf's item with its node");
+    PlantCorrection p;
+    p.node = c.node;
+    p.leafWhat = c.what;
+    if (c.plantWhat) p.what = *c.plantWhat;
+    p.row = c.row;
+    p.col = c.col;
+    p.positionMm = c.positionMm;
+    p.valueMm = c.valueMm;
+    p.reason = c.reason;
+    p.who = c.who;
+    return correctPlantSession(store, id, p);
+  }
+  if (c.plantWhat || c.node > 0)
+    throw std::invalid_argument("session " + std::to_string(id) +
+                                " captured one leaf: a plant's item or a node does not apply (--what tip, marker, "
+                                "or a thickness, with --row and --col)");
   if (info.status != "complete")
     throw std::invalid_argument("session " + std::to_string(id) + " is " + info.status +
                                 ": only a complete session (awaiting review) can be corrected");

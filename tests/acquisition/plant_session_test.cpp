@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/plant_run.hpp"
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/acquisition/truth.hpp"
 #include "leafdig/db/store.hpp"
@@ -213,6 +215,130 @@ TEST_F(PlantSession, PlantAndLeafSessionsAreNotTakenForOneAnother) {
   const std::size_t before = store.sessions().size();
   EXPECT_THROW((void)acq::PlantCaptureSession::create(store, setup_), acq::SessionError);
   EXPECT_EQ(store.sessions().size(), before);
+}
+
+// A curator corrects a complete plant in review: a node's point, a stem diameter, a landmark
+// (every point in the plant frame follows it), a full leaf's marker, a correction of a
+// correction; replay and the projections agree; what would spoil the plant is refused, nothing
+// written; an approved plant is final.
+TEST_F(PlantSession, ACuratorCorrectsAPlantsPointsReadingsAndLeafAndReplayFollows) {
+  db::Store store(path_);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
+  {
+    acq::PlantCaptureSession session(store, id);
+    for (int guard = 0; guard < 400 && !session.ended(); ++guard) ASSERT_NE(act(session).decision.kind, Kind::Rejected);
+  }
+  ASSERT_EQ(store.session(id)->status, "complete");
+  const auto replayed = [&] {
+    const acq::PlantSessionSetup kept = acq::PlantCaptureSession::setupFromJson(store.session(id)->settingsJson);
+    return acq::PlantCaptureSession::replay(kept, store.events(id)).captured(plant_.plant);
+  };
+  const m::PlantMarkers before = replayed();
+  const m::PlantSurvey surveyBefore = m::surveyPlant(before);
+
+  acq::Correction c;
+  c.who = "curator-kim";
+  c.reason = "stylus slipped off the node";
+  c.plantWhat = PlantWhat::Point;
+  c.row = 3;
+  const acq::Vec3 moved{before.nodes[2].pointMm.x() + 2.0, before.nodes[2].pointMm.y(), before.nodes[2].pointMm.z()};
+  c.positionMm = moved;
+  const std::int64_t first = acq::correct(store, id, c);
+  EXPECT_EQ(store.session(id)->headSeq, first);
+  EXPECT_TRUE(store.verify(id).ok) << store.verify(id).problem;
+  m::PlantMarkers after = replayed();
+  EXPECT_DOUBLE_EQ(after.nodes[2].pointMm.x(), moved[0]);
+  EXPECT_DOUBLE_EQ(after.nodes[1].pointMm.x(), before.nodes[1].pointMm.x());  // nothing else moved
+  bool projected = false;
+  for (const db::MarkerRow& r : store.markers(id))
+    if (r.what == "point" && r.row == 3) projected = r.positionMm[0] == moved[0];
+  EXPECT_TRUE(projected) << "the projection holds the corrected point";
+
+  // A correction of the correction; a stem diameter; a full leaf's marker.
+  c.positionMm = acq::Vec3{moved[0] - 1.0, moved[1], moved[2]};
+  c.reason = "half of that";
+  (void)acq::correct(store, id, c);
+  acq::Correction d;
+  d.who = "curator-kim";
+  d.reason = "read in inches";
+  d.plantWhat = PlantWhat::Reading;
+  d.row = 2;
+  d.valueMm = 9.5;
+  (void)acq::correct(store, id, d);
+  const auto& leafBefore = std::get<m::MarkerSet>(before.nodes[1].leaf);
+  acq::Correction l;
+  l.who = "curator-kim";
+  l.reason = "margin point on the wrong side";
+  l.node = 2;
+  l.what = acq::What::Marker;
+  l.row = 2;
+  l.col = 3;
+  const Eigen::Vector3d old = leafBefore.rows[1].pointsMm[2];
+  l.positionMm = acq::Vec3{old.x(), old.y() + 1.5, old.z()};
+  (void)acq::correct(store, id, l);
+  after = replayed();
+  EXPECT_DOUBLE_EQ(after.nodes[2].pointMm.x(), moved[0] - 1.0);
+  EXPECT_DOUBLE_EQ(after.nodes[1].diameterMm, 9.5);
+  const auto& leafAfter = std::get<m::MarkerSet>(after.nodes[1].leaf);
+  EXPECT_DOUBLE_EQ(leafAfter.rows[1].pointsMm[2].y(), old.y() + 1.5);
+  EXPECT_DOUBLE_EQ(leafAfter.rows[1].pointsMm[3].y(), leafBefore.rows[1].pointsMm[3].y());
+
+  // Landmark 1 fixes the plant frame's +X: corrected, every node turns with it (as measured).
+  acq::Correction k;
+  k.who = "curator-kim";
+  k.reason = "landmark 1 taken off the rim";
+  k.plantWhat = PlantWhat::Landmark;
+  k.row = 1;
+  const Eigen::Vector3d l1 = before.landmarksMm[0];
+  k.positionMm = acq::Vec3{l1.x(), l1.y() + 40.0, l1.z()};
+  (void)acq::correct(store, id, k);
+  const m::PlantSurvey surveyAfter = m::surveyPlant(replayed());
+  ASSERT_TRUE(surveyBefore.leaves[1].tipMm && surveyAfter.leaves[1].tipMm);
+  EXPECT_GT((*surveyAfter.leaves[1].tipMm - *surveyBefore.leaves[1].tipMm).norm(), 10.0);  // the tip turned with +X
+  EXPECT_NEAR(surveyAfter.leaves[1].tipMm->norm(), surveyBefore.leaves[1].tipMm->norm(), 0.5);  // about the collar
+  EXPECT_TRUE(store.verify(id).ok) << store.verify(id).problem;
+
+  // Refused, named, nothing written.
+  const std::int64_t head = store.session(id)->headSeq;
+  const auto refused = [&](acq::Correction bad, const std::string& words) {
+    try {
+      (void)acq::correct(store, id, bad);
+      ADD_FAILURE() << "accepted: " << words;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(store.session(id)->headSeq, head);
+  };
+  acq::Correction bad = k;
+  bad.row = 2;
+  bad.positionMm = acq::Vec3{l1.x(), l1.y() + 40.0, l1.z()};  // onto landmark 1 as corrected
+  refused(bad, "would not hold together");
+  bad = k;
+  bad.reason.clear();
+  refused(bad, "needs a reason");
+  bad = d;
+  bad.valueMm = 1e6;
+  refused(bad, "outside this session's range");
+  bad = d;
+  bad.valueMm.reset();
+  bad.positionMm = acq::Vec3{1, 2, 3};
+  refused(bad, "with a value in mm");
+  bad = k;
+  bad.positionMm = acq::Vec3{std::nan(""), 0, 0};
+  refused(bad, "finite numbers");
+  bad = k;
+  bad.row = 9;
+  refused(bad, "has no landmark 9");
+  bad = l;
+  bad.node = 3;  // a quick leaf
+  refused(bad, "that node has no full leaf");
+  bad = k;
+  bad.plantWhat.reset();
+  bad.node = 0;
+  refused(bad, "is a plant");
+
+  (void)acq::review(store, id, "approved", "curator-kim", "");
+  EXPECT_THROW((void)acq::correct(store, id, k), std::invalid_argument);
 }
 
 // The loop real devices feed: records and commands from other threads, in the order they

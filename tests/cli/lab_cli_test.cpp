@@ -253,6 +253,19 @@ TEST_F(LabCli, APlantCapturedAtTheStationIsPushedSurveyedExportedAndApprovedOnTh
   const auto mtg = leafdig::test::readMtgStrictly(slurp(dir_ / "out" / ("session-" + id + ".mtg")));
   EXPECT_FALSE(mtg.entities.empty());
   EXPECT_TRUE(fs::exists(dir_ / "out" / ("session-" + id + ".glb")));
+  // A curator corrects node 2's stem diameter on the server; the technician may not; the
+  // survey exported from the server carries it.
+  const std::string fix = " --what reading --row 2 --value 9.5 --why 'read in inches' --db ";
+  EXPECT_NE(leafdig("sessions correct " + id + fix + quote(tech) + " --who tom").exitCode, 0);
+  const Result fixed = leafdig("sessions correct " + id + fix + quote(curator) + " --who carla --json");
+  ASSERT_EQ(fixed.exitCode, 0) << fixed.err;
+  EXPECT_EQ(json::parse(fixed.out).at("corrected"), "reading");
+  ASSERT_EQ(
+      leafdig("sessions export " + id + " --format json --out " + quote(dir_ / "fixed") + " --db " + quote(curator))
+          .exitCode,
+      0);
+  const json survey = json::parse(slurp(dir_ / "fixed" / ("session-" + id + ".survey.json")));
+  EXPECT_DOUBLE_EQ(survey.at("nodes").at(1).at("diameter_mm").get<double>(), 9.5);
   // A reader decides nothing; a curator approves; the station takes the decision in.
   EXPECT_NE(leafdig("sessions approve " + id + " --who rita --db " + quote(reader)).exitCode, 0);
   const Result approved =

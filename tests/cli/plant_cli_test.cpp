@@ -675,7 +675,7 @@ TEST_F(PlantCli, APlantDigitizedThroughTheSimulatedDevicesIsStoredVerifiedAndExp
     EXPECT_GT(lines[k].at("seq").get<std::int64_t>(), last) << lines[k];
     last = lines[k].at("seq");
   }
-  // Listed as a plant; its chain verifies; a leaf's commands say what it is.
+  // Listed as a plant; its chain verifies; shown as a plant.
   const json list = json::parse(leafdig("sessions list --json --db " + quote(db)).out);
   ASSERT_EQ(list.size(), 1U);
   EXPECT_EQ(list[0].at("kind"), "plant");
@@ -683,8 +683,9 @@ TEST_F(PlantCli, APlantDigitizedThroughTheSimulatedDevicesIsStoredVerifiedAndExp
   EXPECT_EQ(list[0].at("project"), "survey-2026");
   EXPECT_EQ(leafdig("sessions verify --db " + quote(db)).exitCode, 0);
   const Result show = leafdig("sessions show " + std::to_string(id) + " --db " + quote(db));
-  EXPECT_EQ(show.exitCode, 2);
-  EXPECT_NE(show.err.find("captured a whole plant, not one leaf"), std::string::npos) << show.err;
+  EXPECT_EQ(show.exitCode, 0) << show.err;
+  EXPECT_NE(show.out.find("plant survey-2026/"), std::string::npos) << show.out;
+  EXPECT_NE(show.out.find("step: Plant complete"), std::string::npos) << show.out;
   // Its exports: the MTG through the strict reader; the survey equals `plant measure` of the
   // file within the stylus's noise (every press is the mean of the samples around it).
   const fs::path out = dir_ / "out";
@@ -962,6 +963,78 @@ TEST_F(PlantCli, APlantsFullLeafIsExportedAloneAsADetachedLeafIs) {
   EXPECT_NE(quick.err.find("has no full leaf at node 3: its full leaves are at node 2"), std::string::npos)
       << quick.err;
   EXPECT_FALSE(fs::exists(dir_ / "q"));
+}
+
+// A curator corrects a captured plant through `sessions correct`: a node's point moves the
+// exported node, a full leaf's marker its leaf; what does not fit is refused with exit 2 and
+// nothing written; the corrected plant approves as any other.
+TEST_F(PlantCli, ACuratorCorrectsAPlantsPointAndAFullLeafsMarkerThroughSessionsCorrect) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --seed 4 --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string id = std::to_string(jsonLines(r.out).front().at("session").get<std::int64_t>());
+  const auto survey = [&](const std::string& dir) {
+    EXPECT_EQ(leafdig("sessions export " + id + " --db " + quote(db) + " --out " + quote(dir_ / dir) +
+                      " --format json,markers")
+                  .exitCode,
+              0);
+    return std::make_pair(json::parse(slurp(dir_ / dir / ("session-" + id + ".survey.json"))),
+                          json::parse(slurp(dir_ / dir / ("session-" + id + ".plant-markers.json"))));
+  };
+  const auto [before, markersBefore] = survey("before");
+  const json p4 = markersBefore.at("nodes").at(3).at("point");
+  const std::string moved = std::to_string(p4[0].get<double>() + 3.0) + "," + std::to_string(p4[1].get<double>()) +
+                            "," + std::to_string(p4[2].get<double>());
+  const Result fixed = leafdig("sessions correct " + id + " --db " + quote(db) + " --what point --row 4 --position " +
+                               moved + " --who kim --why 'stylus off the node'");
+  ASSERT_EQ(fixed.exitCode, 0) << fixed.err;
+  EXPECT_NE(fixed.out.find("point corrected by kim"), std::string::npos) << fixed.out;
+  const Result leaf =
+      leafdig("sessions correct " + id + " --db " + quote(db) +
+              " --node 2 --what midrib_thickness --row 3 --col 4 --value 0.9 --who kim --why 'on the vein'");
+  ASSERT_EQ(leaf.exitCode, 0) << leaf.err;
+  const auto [after, markersAfter] = survey("after");
+  EXPECT_NEAR(markersAfter.at("nodes").at(3).at("point")[0].get<double>(), p4[0].get<double>() + 3.0, 1e-5);
+  EXPECT_EQ(markersAfter.at("nodes").at(2), markersBefore.at("nodes").at(2));  // nothing else moved
+  const json n4a = after.at("nodes").at(3).at("point_mm"), n4b = before.at("nodes").at(3).at("point_mm");
+  EXPECT_NEAR(std::hypot(n4a[0].get<double>() - n4b[0].get<double>(), n4a[1].get<double>() - n4b[1].get<double>()), 3.0,
+              0.05);  // the node moved 3 mm across, in the plant frame too
+  EXPECT_EQ(leafdig("sessions verify " + id + " --db " + quote(db)).exitCode, 0);
+  // `sessions show` names both corrections, with who and why, and the corrected point.
+  const json shown = json::parse(leafdig("sessions show " + id + " --json --db " + quote(db)).out);
+  EXPECT_EQ(shown.at("kind"), "plant");
+  EXPECT_EQ(shown.at("status"), "complete");
+  EXPECT_EQ(shown.at("nodes"), 5);
+  ASSERT_EQ(shown.at("corrections").size(), 2U);
+  EXPECT_EQ(shown.at("corrections")[0].at("what"), "point");
+  EXPECT_EQ(shown.at("corrections")[0].at("reason"), "stylus off the node");
+  EXPECT_EQ(shown.at("corrections")[1].at("what"), "node2.midrib_thickness");
+  for (const json& p : shown.at("points"))
+    if (p.at("what") == "point" && p.at("row") == 4) {
+      EXPECT_NEAR(p.at("position_mm")[0].get<double>(), p4[0].get<double>() + 3.0, 1e-5);
+    }
+  EXPECT_EQ(shown.at("leaves")[1].at("kind"), "full");
+  // Refused, exit 2, named, nothing written.
+  const std::int64_t events =
+      json::parse(leafdig("sessions show " + id + " --json --db " + quote(db)).out).at("events");
+  for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+           {"--what stem --row 1 --value 3", "is not an item"},
+           {"--what reading --row 9 --value 3", "has no reading 9"},
+           {"--what reading --row 2 --position 1,2,3", "with a value in mm"},
+           {"--node 3 --what marker --row 1 --col 1 --position 1,2,3", "that node has no full leaf"},
+           {"--node 2 --what landmark --row 1 --position 1,2,3", "--node names a full leaf"},
+           {"--what collar_diameter --value 1e9", "outside this session's range"}}) {
+    const Result bad = leafdig("sessions correct " + id + " --db " + quote(db) + " " + args + " --who kim --why x");
+    EXPECT_EQ(bad.exitCode, 2) << args << ": " << bad.err;
+    EXPECT_NE(bad.err.find(words), std::string::npos) << args << ": " << bad.err;
+  }
+  EXPECT_EQ(json::parse(leafdig("sessions show " + id + " --json --db " + quote(db)).out).at("events"), events);
+  ASSERT_EQ(leafdig("sessions approve " + id + " --db " + quote(db) + " --who kim").exitCode, 0);
+  EXPECT_EQ(leafdig("sessions correct " + id + " --db " + quote(db) +
+                    " --what reading --row 2 --value 9 --who kim "
+                    "--why late")
+                .exitCode,
+            2);
 }
 
 TEST_F(PlantCli, RepeatSurveysOfOnePlantAreListedByTheirDay) {

@@ -252,15 +252,49 @@ TEST_F(Lab, APlantSessionGoesToTheServerWholeAndACuratorsDecisionComesBack) {
   const std::int64_t serverId = std::stoll(row[0][0]);
   EXPECT_EQ(reader.session(serverId)->kind, "plant");
   EXPECT_TRUE(reader.verify(serverId).ok);
-  // A curator's approval by plain SQL comes back to the station.
   const Pushed s{row[0][0], plant};
+  // A correction of the plant's landmark 1: a technician's by plain SQL is refused, a curator's
+  // taken (the projection holds it), and it comes back to the station with the approval.
+  db::MarkerRow landmark;
+  for (const db::MarkerRow& m : reader.markers(serverId))
+    if (m.what == "landmark" && m.row == 1) landmark = m;
+  ASSERT_GT(landmark.seq, 0);
+  nlohmann::json fix{{"what", "landmark"},
+                     {"row", 1},
+                     {"col", nullptr},
+                     {"seq", landmark.seq},
+                     {"position_mm", {landmark.positionMm[0], landmark.positionMm[1], landmark.positionMm[2]}},
+                     {"reason", "taken off the rim"},
+                     {"who", "carla"}};
+  fix["corrected"] = {{"what", "landmark"}, {"row", 1}, {"col", nullptr}, {"position_mm", {411.5, 201.5, -375.0}}};
+  const std::string byTech = appendBySql(Sql(tech), s, "bench-a", "corrected", fix.dump());
+  EXPECT_NE(byTech.find("only curators review"), std::string::npos) << byTech;
+  nlohmann::json notAnItem = fix;
+  notAnItem["corrected"]["what"] = "stem";
+  EXPECT_NE(appendBySql(Sql(login(db::LabRole::Curator)), s, "bench-a", "corrected", notAnItem.dump())
+                .find("lacks the corrected item"),
+            std::string::npos);
+  EXPECT_EQ(appendBySql(Sql(login(db::LabRole::Curator)), s, "bench-a", "corrected", fix.dump()), "");
+  int landmarks1 = 0;
+  for (const db::MarkerRow& m : reader.markers(serverId))
+    if (m.what == "landmark" && m.row == 1) {
+      ++landmarks1;
+      EXPECT_EQ(m.positionMm, (std::array<double, 3>{411.5, 201.5, -375.0}));
+    }
+  EXPECT_EQ(landmarks1, 1);
+  // A curator's approval by plain SQL comes back to the station.
   EXPECT_EQ(appendBySql(Sql(login(db::LabRole::Curator)), s, "bench-a", "status",
                         R"({"status":"approved","who":"carla","why":"a whole plant"})"),
             "");
   const auto pulled = db::pull(station, tech);
   EXPECT_TRUE(pulled.problems.empty());
-  EXPECT_EQ(pulled.eventsTaken, 1);
+  EXPECT_EQ(pulled.eventsTaken, 2);
   EXPECT_EQ(station.session(plant)->status, "approved");
+  for (const db::MarkerRow& m : station.markers(plant)) {
+    if (m.what == "landmark" && m.row == 1) {
+      EXPECT_EQ(m.positionMm, (std::array<double, 3>{411.5, 201.5, -375.0}));
+    }
+  }
   EXPECT_TRUE(station.verify(plant).ok);
   EXPECT_EQ(serverEvents(), fileEvents(station));
 }

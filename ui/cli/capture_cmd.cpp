@@ -341,7 +341,87 @@ int runList(const db::EventStore& store, const CaptureOptions& o) {
   return 0;
 }
 
+// A plant session shown: its step, every point and reading as the events say (in the
+// digitizer's frame), each node's leaf as chosen, and the curators' corrections.
+int runShowPlant(const db::EventStore& store, const CaptureOptions& o, const db::SessionInfo& info) {
+  const db::ChainReport chain = store.verify(o.id);
+  const std::vector<db::Event> events = store.events(o.id);
+  const acq::PlantSessionSetup setup = acq::PlantCaptureSession::setupFromJson(info.settingsJson);
+  const acq::PlantEngine engine = acq::PlantCaptureSession::replay(setup, events);
+  const db::Projected projected = db::project(events);
+  const auto maybe = [](const std::optional<int>& v) { return v ? json(*v) : json(nullptr); };
+  json points = json::array(), readings = json::array(), leaves = json::array(), corrections = json::array();
+  for (const auto& mk : projected.markers)
+    points.push_back({{"what", mk.what},
+                      {"row", maybe(mk.row)},
+                      {"col", maybe(mk.col)},
+                      {"position_mm", {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]}}});
+  for (const auto& t : projected.thickness)
+    readings.push_back({{"what", t.what}, {"row", maybe(t.row)}, {"col", maybe(t.col)}, {"value_mm", t.valueMm}});
+  for (int node = 1; node <= engine.nodes(); ++node) {
+    const acq::LeafChoice c = engine.choiceFor(node);
+    json l{{"node", node}, {"kind", model::toString(c.kind)}, {"state", model::toString(c.state)}};
+    if (!c.type.empty()) l["type"] = c.type;
+    if (const acq::Engine* e = engine.leaf(node)) l["complete"] = e->complete();
+    leaves.push_back(l);
+  }
+  for (const db::Event& e : events)
+    if (e.kind == "corrected") {
+      const json p = json::parse(e.payloadJson, nullptr, false);
+      if (p.is_discarded()) continue;
+      const auto text = [&p](const char* key) {
+        return p.contains(key) && p.at(key).is_string() ? p.at(key).get<std::string>() : std::string();
+      };
+      corrections.push_back({{"seq", e.seq},
+                             {"corrects", p.value("seq", json(nullptr))},
+                             {"what", text("what")},
+                             {"row", p.value("row", json(nullptr))},
+                             {"col", p.value("col", json(nullptr))},
+                             {"who", text("who")},
+                             {"reason", text("reason")}});
+    }
+  const acq::PlantStep st = engine.step();
+  if (o.json) {
+    std::cout << json{{"id", o.id},
+                      {"kind", "plant"},
+                      {"station", info.station},
+                      {"station_session_id", info.stationSessionId},
+                      {"status", info.status},
+                      {"step",
+                       {{"what", acq::toString(st.what)},
+                        {"index", st.index},
+                        {"part", st.part},
+                        {"prompt", engine.prompt()}}},
+                      {"nodes", engine.nodes()},
+                      {"points", points},
+                      {"readings", readings},
+                      {"leaves", leaves},
+                      {"corrections", corrections},
+                      {"events", chain.events},
+                      {"chain_ok", chain.ok},
+                      {"problem", chain.problem},
+                      {"project", info.project},
+                      {"plant", info.plant},
+                      {"operator", info.operatorName},
+                      {"date", setup.date ? json(model::toIso(*setup.date)) : json(nullptr)}}
+                     .dump()
+              << "\n";
+    return 0;
+  }
+  std::cout << "session " << o.id << " · plant " << terminalText(info.project + "/" + info.plant) << " · "
+            << terminalText(info.status) << " · operator " << terminalText(info.operatorName) << "\n"
+            << "  step: " << engine.prompt() << "\n  " << engine.nodes() << " nodes, " << points.size() << " points, "
+            << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
+            << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
+  for (const json& c : corrections)
+    std::cout << "  corrected (event " << c.at("seq").dump() << "): " << terminalText(c.at("what").get<std::string>())
+              << " row " << c.at("row").dump() << " by " << terminalText(c.at("who").get<std::string>()) << ": "
+              << terminalText(c.at("reason").get<std::string>()) << "\n";
+  return 0;
+}
+
 int runShow(const db::EventStore& store, const CaptureOptions& o) {
+  if (const auto info = store.session(o.id); info && info->kind == "plant") return runShowPlant(store, o, *info);
   const acq::ReviewedSession r = acq::openForReview(store, o.id);
   const db::ChainReport chain = store.verify(o.id);
   // What the events say (a table edited behind them shows as chain_ok false, with the problem).
@@ -454,7 +534,22 @@ int runReview(db::EventStore& store, const CaptureOptions& o, const std::string&
 
 int runCorrect(db::EventStore& store, const CaptureOptions& o) {
   acq::Correction c;
-  c.what = acq::whatFromString(o.what);
+  // A leaf's word (tip, marker, a thickness) or a plant's (landmark, point, reading, …).
+  try {
+    c.what = acq::whatFromString(o.what);
+  } catch (const std::invalid_argument&) {
+    try {
+      c.plantWhat = acq::plantWhatFromString(o.what);
+    } catch (const std::invalid_argument&) {
+      throw std::invalid_argument("--what " + o.what +
+                                  " is not an item: a leaf's tip, marker, midrib_thickness, vein_origin_thickness, "
+                                  "point_thickness or edge_thickness; a plant's landmark, collar, collar_diameter, "
+                                  "point, reading or quick_point");
+    }
+  }
+  if (c.plantWhat && o.node > 0)
+    throw std::invalid_argument("--node names a full leaf: its items are tip, marker and thicknesses, not " + o.what);
+  c.node = o.node;
   c.row = o.row;
   c.col = o.col;
   c.reason = o.why;
@@ -707,12 +802,14 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   addCaptureOptions(resume);
   for (CLI::App* c : {show, resume, approve, reject, corr, exp}) c->add_option("id", o.id, "Session id")->required();
   corr->add_option("--what", o.what,
-                   "tip, marker, midrib_thickness, vein_origin_thickness, point_thickness, edge_thickness")
+                   "A leaf's tip, marker, midrib_thickness, vein_origin_thickness, point_thickness, "
+                   "edge_thickness; a plant's landmark, collar, collar_diameter, point, reading, quick_point")
       ->required();
-  corr->add_option("--row", o.row, "Row (1-based; where it applies)");
-  corr->add_option("--col", o.col, "Column (1-based; where it applies)");
+  corr->add_option("--row", o.row, "Row (1-based; where it applies); a plant's landmark or node number");
+  corr->add_option("--col", o.col, "Column (1-based; where it applies); a plant item's part");
+  corr->add_option("--node", o.node, "A plant session: the node whose full leaf holds the item");
   corr->add_option("--position", o.position, "Corrected marker position x,y,z in mm")->delimiter(',')->expected(3);
-  corr->add_option("--value", o.value, "Corrected thickness in mm");
+  corr->add_option("--value", o.value, "Corrected thickness (a plant: stem diameter) in mm");
   corr->add_option("--who", o.who, "Curator's name")->required();
   corr->add_option("--why", o.why, "Reason")->required();
   verify->add_option("id", o.id, "Session id (default: all)");

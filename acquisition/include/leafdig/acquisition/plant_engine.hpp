@@ -106,6 +106,12 @@ class PlantEngine {
   PlantDecision chooseLeaf(int node, LeafChoice choice);
 
   void apply(const PlantDecision& d);
+  // A curator's correction in review (review.hpp's correct() on a plant session, and its
+  // replay): the held item at fixed's place (what, index, part) is replaced where it stands, so
+  // the landmarks keep their order; node's full leaf's item (fixed's what, row, col) through its
+  // leaf Engine, as a leaf session's correction is replayed. False when no such item is held.
+  bool correct(const PlantItem& fixed);
+  bool correctLeaf(int node, const Item& fixed);
 
   [[nodiscard]] PlantStep step() const;
   [[nodiscard]] std::string prompt() const;

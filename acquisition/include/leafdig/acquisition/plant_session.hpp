@@ -10,7 +10,7 @@
 // node number, col = which point) or a full leaf's ("node3.marker", row and col the leaf's),
 // `rows_ended` / `rows_reopened` {"node"}, `landmarks_ended`, `landmarks_reopened`,
 // `plant_ended`, `plant_reopened`, `leaf_chosen` / `choice_undone` {"node", "kind", "state"},
-// `rejected`, `status`.
+// `rejected`, `status`, and a curator's `corrected` (correctPlantSession, below).
 //
 // Thread contract: one thread owns a PlantCaptureSession (and its Store).
 #pragma once
@@ -94,5 +94,25 @@ class PlantCaptureSession {
   std::map<std::string, std::int64_t> seqs_;  // the event that accepted each current item
   std::string status_ = "open";
 };
+
+// A curator's correction of one item of a complete plant session, saying why (review.hpp's
+// correct() on a plant session): the plant's own item (`what`; row: the landmark's or node's
+// number; col: which part, 0 for the first) or, with `node`, node's full leaf's item (`leafWhat`,
+// row and col as a leaf's). Appends a `corrected` event naming the event that put the item in;
+// replay puts the corrected item where the old one stood, so every point measured in the plant
+// frame follows a corrected landmark. Throws std::invalid_argument naming what is wrong (no
+// reason, no such item, a value of the wrong kind or out of range, a correction that leaves no
+// plant frame: nothing written) and SessionError when the session is not a plant's or does not
+// verify.
+struct PlantCorrection {
+  int node = 0;
+  What leafWhat = What::Marker;
+  PlantWhat what = PlantWhat::Landmark;
+  int row = 0, col = 0;
+  std::optional<Vec3> positionMm;  // stylus items
+  std::optional<double> valueMm;   // caliper items
+  std::string reason, who;
+};
+std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& c);
 
 }  // namespace leafdig::acquisition

@@ -13,6 +13,7 @@
 #include <tuple>
 #include <vector>
 
+#include "leafdig/acquisition/plant_engine.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/model/mesh/mesh_method.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
@@ -50,12 +51,17 @@ struct Correction {
   std::optional<Vec3> positionMm;  // stylus items
   std::optional<double> valueMm;   // thickness items
   std::string reason, who;
+  // A plant session's item (plant_session.hpp's PlantCorrection): the plant's own (`plantWhat`,
+  // row = landmark or node number, col = part) or, with `node`, that node's full leaf's (`what`).
+  std::optional<PlantWhat> plantWhat;
+  int node = 0;
 };
 // Appends a `corrected` event (the projection row of the item is replaced in the same
 // transaction). Only a complete session is corrected (approved and rejected ones are
 // final; open ones are still being captured). Throws std::invalid_argument naming what is
 // wrong (no reason, unknown item, value of the wrong kind or outside the settings' range)
-// and SessionError when the session's chain is broken.
+// and SessionError when the session's chain is broken. A plant session's item goes to
+// correctPlantSession (plant_session.hpp).
 std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c);
 
 // approve: only complete sessions; reject: complete ones, with a reason. Checks the chain
