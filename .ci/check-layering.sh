@@ -29,6 +29,12 @@ if [ -n "$pq" ]; then
   echo "libpq header outside db/src/pg.hpp:"; echo "$pq"; fail=1
 fi
 
+# 5. pybind11 only in python/leafdig_module.cpp (the one translation unit of the Python module).
+py=$(sources model devices db acquisition ui tests python | grep -v '^python/leafdig_module.cpp$' | xargs -r grep -lE '#\s*include\s*[<"]pybind11/' || true)
+if [ -n "$py" ]; then
+  echo "pybind11 outside python/leafdig_module.cpp:"; echo "$py"; fail=1
+fi
+
 check() {  # module, forbidden modules...
   local module=$1; shift
   for other in "$@"; do
@@ -89,5 +95,5 @@ roomCheck model plant synth leaf2d io study
 roomCheck model io study
 roomCheck model study io
 rootCheck model "errors, limits, files, image headers, JSON text" spline leaf mesh metrics synth leaf2d plant io study
-[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, dependencies point one way, devices/ and model/ rooms in their directions"
+[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, pybind11 only in python/leafdig_module.cpp, dependencies point one way, devices/ and model/ rooms in their directions"
 exit $fail

@@ -16,7 +16,8 @@
 # libqt6opengl6-dev, libgl-dev) with Mesa's software OpenGL and Xvfb for its tests
 # (libgl1-mesa-dri, xvfb, xauth, fonts-dejavu-core), checkers used by the tests (assimp-utils,
 # nodejs, npm, python3 with its sqlite3 module: reads the station's database as another tool would),
-# and for the Debian package: dpkg-dev (cpack's dpkg-shlibdeps), desktop-file-utils, file. npm: the Khronos glTF validator and Ajv (JSON Schema), pinned by tests/tools/package-lock.json.
+# `import leafdig` (python/, docs/python.md): pybind11-dev, python3-dev, python3-numpy and
+# python3-pytest and python3-matplotlib (docs/python.md's figure) for its tests; and for the Debian package: dpkg-dev (cpack's dpkg-shlibdeps), desktop-file-utils, file. npm: the Khronos glTF validator and Ajv (JSON Schema), pinned by tests/tools/package-lock.json.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 preset=${1:-release}
@@ -27,7 +28,8 @@ packages=(cmake ninja-build g++ ccache pkg-config libeigen3-dev nlohmann-json3-d
           libsqlitecpp-dev libssl-dev clang-format-14 libcgal-dev libmeshoptimizer-dev libassimp-dev libopencv-dev
           libpq-dev postgresql openssl
           qt6-base-dev libqt6opengl6-dev qt6-multimedia-dev qt6-charts-dev libgl-dev libgl1-mesa-dri xvfb xauth
-          fonts-dejavu-core python3 dpkg-dev desktop-file-utils file)
+          fonts-dejavu-core python3 dpkg-dev desktop-file-utils file
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

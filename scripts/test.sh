@@ -48,6 +48,9 @@ if [ "${LEAFDIG_SKIP_ASAN:-0}" != "1" ]; then
   seedCosts ci
   ctest --preset ci -j"$(nproc)" -R "$durability"
   passDone "the kill -9 tests at full count (plain build)"
+  # `import leafdig` is built without the sanitizers (Python does not load their runtime).
+  ctest --preset ci -R '^Python\.'
+  passDone "the Python module's tests (pytest, plain build)"
 else
   seedCosts ci
   ctest --preset ci -j"$(nproc)"

@@ -16,6 +16,7 @@ deb=$(ls "$work"/leafdig_*_amd64.deb 2>/dev/null | head -1)
 [ "$(dpkg-deb -f "$deb" Package)" = leafdig ] || fail "package name"
 [ "$(dpkg-deb -f "$deb" Architecture)" = amd64 ] || fail "architecture"
 depends=$(dpkg-deb -f "$deb" Depends)
+echo "$depends" | grep -q "python3-numpy" || fail "Depends lacks python3-numpy (import leafdig): $depends"
 for lib in libqt6widgets6 libqt6opengl6 libqt6charts6 libqt6multimedia6 libserialport0 libhidapi libusb-1.0-0 libsqlite3-0 libssl3; do
   echo "$depends" | grep -q "$lib" || fail "Depends lacks $lib: $depends"
 done
@@ -26,7 +27,8 @@ for f in ./usr/bin/leafdig ./usr/bin/leafdig-station ./usr/lib/udev/rules.d/70-l
          ./usr/share/leafdig/schema/leafdig.markers-1.schema.json ./usr/share/doc/leafdig/README.md \
          ./usr/share/leafdig/protocols/tobacco.plant-protocol.json ./usr/share/leafdig/protocols/maize.plant-protocol.json \
          ./usr/share/leafdig/plants/sample.plant-markers.json ./usr/share/doc/leafdig/plants.md \
-         ./usr/share/doc/leafdig/schema.md; do
+         ./usr/share/doc/leafdig/schema.md ./usr/lib/python3/dist-packages/leafdig/__init__.py \
+         ./usr/lib/python3/dist-packages/leafdig/_leafdig.cpython-311-x86_64-linux-gnu.so; do
   grep -qx "$f" "$work/contents.txt" || fail "the package lacks $f"
 done
 dpkg-deb -e "$deb" "$work/control"
@@ -50,4 +52,12 @@ done
   --mtg "$work/plant.mtg" >/dev/null || fail "the installed leafdig cannot measure the installed sample plant"
 [ -s "$work/plant.mtg" ] || fail "no MTG written"
 QT_QPA_PLATFORM=offscreen "$work/root/usr/bin/leafdig-station" --version >/dev/null 2>&1 || fail "leafdig-station --version"
-echo "check-deb: $(basename "$deb") ($(du -k "$deb" | cut -f1) KiB): control, files, desktop entry and programs OK"
+# The installed Python module imports with the system Python and builds the installed sample.
+PYTHONPATH="$work/root/usr/lib/python3/dist-packages" /usr/bin/python3 -c "
+import leafdig, sys
+assert leafdig.__version__ == sys.argv[1], leafdig.__version__
+leaf = leafdig.build_leaf(sys.argv[2])
+assert leaf.metrics['blade_area_mm2'] > 0
+" "$(dpkg-deb -f "$deb" Version)" "$work/root/usr/share/leafdig/samples/lower-leaf-n10.markers.json" ||
+  fail "the installed Python module does not import or build the installed sample"
+echo "check-deb: $(basename "$deb") ($(du -k "$deb" | cut -f1) KiB): control, files, desktop entry programs and the Python module OK"

@@ -1,0 +1,279 @@
+"""leafdig for modellers: the station's leaves and plants as numpy arrays and the numbers
+the station shows (docs/python.md).
+
+    import leafdig
+    leaf = leafdig.build_leaf("data/samples/lower-leaf-n10.markers.json")
+    leaf.metrics["blade_area_mm2"]          # equal to `leafdig model build --json`'s
+    mesh = leaf.mesh()                      # vertices N×3, faces M×3, organs M, organ_names
+    store = leafdig.open("station.sqlite")  # or postgresql://… (the server's roles apply)
+    [s["id"] for s in store.sessions(status="approved")]
+
+Errors carry the command line's words: ``InputError`` (a ``ValueError``) for bad input,
+naming the file, row and point; ``StoreError`` for a store that refuses or does not verify;
+``OSError`` for files that cannot be read or written.
+
+Threads: the heavy calls (reading, building, meshing, metrics, exports, opening a store) run
+without the GIL, so threads building different leaves run at once. A ``Leaf``, ``Plant`` or
+``Markers`` may be read from several threads; a ``Store`` is used by one thread at a time.
+"""
+
+import builtins as _builtins
+import errno as _errno
+import json as _json
+import os as _os
+
+from . import _leafdig as _core
+from ._leafdig import InputError, StoreError, Markers  # noqa: F401  (re-exported)
+
+__version__ = _core.__version__
+__all__ = ["__version__", "InputError", "StoreError", "Markers", "Leaf", "Plant", "Store", "Mesh",
+           "read_markers", "build_leaf", "open", "build_plant", "grow", "synth_leaf"]
+
+
+class Mesh:
+    """A triangle mesh: ``vertices`` (N×3 float64, mm), ``normals`` (N×3, unit), ``faces``
+    (M×3 integer indices into vertices, counter-clockwise seen from outside / the adaxial
+    side), ``organs`` (M organ indices, one per face), ``organ_names`` (the organ of each
+    index: "midrib", "lateral-1-right", …, "contour", "blade"; on a plant "stem" and each
+    leaf's organs) and ``organ_ranks`` (the leaf rank of each organ; 0 the stem or a lone leaf).
+    The arrays are copies made once from the C++ mesh, which keeps its organs apart."""
+
+    def __init__(self, arrays):
+        self.vertices = arrays["vertices"]
+        self.normals = arrays["normals"]
+        self.faces = arrays["faces"]
+        self.organs = arrays["organs"]
+        self.organ_names = list(arrays["organ_names"])
+        self.organ_ranks = arrays["organ_ranks"]
+
+    def __repr__(self):
+        return "<leafdig.Mesh %d vertices, %d triangles, %d organs>" % (
+            len(self.vertices), len(self.faces), len(self.organ_names))
+
+
+class Leaf:
+    """A leaf built by the method of seed 000 (ball B-spline veins, a B-spline blade).
+
+    ``metrics``: a dict equal to the ``metrics`` of ``leafdig model build --json`` for the same
+    markers and options (area, its 95 % interval, projected and silhouette area, STAR, …).
+    ``mesh()``: a ``Mesh``. ``markers``: the ``Markers`` in the model's frame. ``model``: the
+    leafdig.model/1 document (veins as 4-D B-splines, the blade surface) as a dict;
+    ``vein(i, t)`` evaluates vein i (``vein_names``) at parameters t in [0, 1] as an array of
+    (x, y, z, radius); ``blade(u, v)`` the blade surface. ``export(path)`` writes the file its
+    extension names (.glb .obj .ply .stl, .can .mtg .csv, .json the model document) and
+    returns the paths written."""
+
+    def __init__(self, core):
+        self._core = core
+        self._metrics = None
+        self._mesh = None
+
+    @property
+    def metrics(self):
+        if self._metrics is None:
+            self._metrics = _json.loads(self._core.metrics_json())
+        return self._metrics
+
+    @property
+    def model(self):
+        return _json.loads(self._core.model_json())
+
+    @property
+    def markers(self):
+        return self._core.markers
+
+    @property
+    def frame(self):
+        return self._core.frame
+
+    @property
+    def vein_names(self):
+        return self._core.vein_names()
+
+    def vein(self, index, t):
+        """Vein ``index`` (a number, or its name) at parameters ``t``: an array (len(t), 4)."""
+        if isinstance(index, str):
+            index = self.vein_names.index(index)
+        return self._core.vein(index, [float(x) for x in _iter(t)])
+
+    def blade(self, u, v):
+        """The blade surface at parameter pairs (u[k], v[k]) in [0, 1]: an array (len(u), 3)."""
+        return self._core.blade([float(x) for x in _iter(u)], [float(x) for x in _iter(v)])
+
+    def mesh(self):
+        if self._mesh is None:
+            self._mesh = Mesh(self._core.mesh())
+        return self._mesh
+
+    def export(self, path, light=(0.0, 0.0, 1.0)):
+        return self._core.export(_os.fspath(path), tuple(float(x) for x in light))
+
+    def __repr__(self):
+        return "<leafdig.Leaf %s, blade %.1f mm²>" % (self.markers.id, self.metrics["blade_area_mm2"])
+
+
+class Plant:
+    """A plant built from a leafdig.plant/1 plan (``build_plant``): ``metrics`` (``area_mm2``,
+    ``silhouette_mm2``, ``star``, as ``leafdig plant build --json``), ``leaves`` (one dict per
+    leaf, as that JSON's), ``mesh()``, ``mtg()`` (the MTG text), ``caribu_scene()``
+    (CARIBU's ``{label: [((x,y,z),(x,y,z),(x,y,z)), …]}`` in metres, labels as in our .can
+    file: optical species, plant, leaf rank, organ), ``export(path)``."""
+
+    def __init__(self, core):
+        self._core = core
+        self._mesh = None
+
+    @property
+    def metrics(self):
+        return self._core.metrics()
+
+    @property
+    def leaves(self):
+        return self._core.leaves()
+
+    @property
+    def id(self):
+        return self._core.id
+
+    @property
+    def time(self):
+        return self._core.time
+
+    def mesh(self):
+        if self._mesh is None:
+            self._mesh = Mesh(self._core.mesh())
+        return self._mesh
+
+    def mtg(self):
+        return self._core.encode(".mtg")
+
+    def csv(self):
+        return self._core.encode(".csv")
+
+    def caribu_scene(self):
+        return self._core.caribu_scene()
+
+    def export(self, path):
+        return self._core.export(_os.fspath(path))
+
+    def __repr__(self):
+        return "<leafdig.Plant %s, %d leaves>" % (self.id, len(self.leaves))
+
+
+class Store:
+    """A station's file or the lab server, read only unless opened with ``writable=True``
+    (on the server, the login's role decides what it may do)."""
+
+    def __init__(self, core):
+        self._core = core
+
+    def sessions(self, **filters):
+        """Every session as a dict (id, kind, project, plant, leaf, type, status, operator,
+        station, created, events, …); keyword filters keep those equal, e.g.
+        ``sessions(status="approved", kind="leaf")``."""
+        unknown = [k for k in filters if k not in _SESSION_KEYS]
+        if unknown:
+            raise InputError("sessions() has no filter %r: filter by %s" % (unknown[0], ", ".join(sorted(_SESSION_KEYS))))
+        return [s for s in self._core.sessions() if all(s.get(k) == v for k, v in filters.items())]
+
+    def markers(self, id):
+        """A leaf session's markers (its chain verified first)."""
+        return self._core.markers(int(id))
+
+    def leaf(self, id, **options):
+        """A leaf session built as ``build_leaf`` builds markers (the same options)."""
+        return build_leaf(self.markers(id), **options)
+
+    def events(self, id):
+        """The session's log, verified: dicts with seq, utc, mono_ns, kind, payload (a dict), raw, hash."""
+        out = self._core.events(int(id))
+        for e in out:
+            e["payload"] = _json.loads(e["payload"])
+        return out
+
+    def plant_survey(self, id):
+        """A plant session's survey (its frame, nodes and leaves with the measured angles) as a dict."""
+        return _json.loads(self._core.plant_survey_json(int(id)))
+
+    def approve(self, id, who):
+        return self._core.review(int(id), "approved", who, "")
+
+    def reject(self, id, who, why):
+        return self._core.review(int(id), "rejected", who, why)
+
+    def __repr__(self):
+        return "<leafdig.Store %s>" % self._core.where
+
+
+_SESSION_KEYS = {"id", "kind", "project", "plant", "leaf", "type", "status", "operator", "station",
+                 "station_session_id", "created", "events", "measured_area_mm2"}
+
+
+def _iter(x):
+    try:
+        return list(x)
+    except TypeError:
+        return [x]
+
+
+def read_markers(path):
+    """A leafdig.markers/1 file as ``Markers``: ``tip`` (3,), ``rows`` (N×7×3, tip row first),
+    ``midrib_thickness``, ``vein_origin_thickness`` (N, NaN where not measured),
+    ``point_thickness`` (N×7), ``edge_thickness``; ``rule_thickness()`` gives every marker's
+    diameter after the thickness rule. Units: mm."""
+    path = _os.fspath(path)
+    if not _os.path.exists(path):
+        raise FileNotFoundError(_errno.ENOENT, "no markers file here: check the path", path)
+    return _core.read_markers(path)
+
+
+def build_leaf(markers_or_path, blade="interp", resolution="export", mesh="uniform", max_error=None,
+               frame="digitizer", light=(0.0, 0.0, 1.0)):
+    """Builds a leaf as ``leafdig model build`` does with the same options: ``blade``
+    interp|approx|bezier|nurbs, ``resolution`` paper|preview|export|reference, ``mesh``
+    uniform|seed|adaptive (``max_error`` in mm for adaptive), ``frame`` digitizer|leaf."""
+    if isinstance(markers_or_path, Markers):
+        markers, source = markers_or_path, ""
+    else:
+        markers, source = read_markers(markers_or_path), _os.fspath(markers_or_path)
+    return Leaf(_core.build_leaf(markers, source=source, blade=blade, resolution=resolution, mesh=mesh, max_error=max_error,
+                                 frame=frame, light=tuple(float(x) for x in light)))
+
+
+def open(path_or_url, writable=False):  # noqa: A001  (the name modellers asked for)
+    """Opens a station's SQLite file or the lab server (``postgresql://…``)."""
+    return Store(_core.open_store(_os.fspath(path_or_url), writable))
+
+
+def _plan_text(plan):
+    if isinstance(plan, dict):
+        return _json.dumps(plan), "the plan given", _os.getcwd()
+    path = _os.fspath(plan)
+    try:
+        with _builtins.open(path, "rb") as f:
+            text = f.read().decode("utf-8")
+    except OSError as e:
+        raise OSError("cannot read the plan %s: %s" % (path, e.strerror)) from None
+    except UnicodeDecodeError:
+        raise InputError("the plan %s is not UTF-8 text: save it as UTF-8 JSON" % path) from None
+    return text, path, _os.path.dirname(_os.path.abspath(path))
+
+
+def build_plant(plan, time=None, resolution="export"):
+    """A plant from a leafdig.plant/1 plan (a path or a dict; relative paths in a dict are
+    taken from the working directory), at growth time ``time`` (days) when given."""
+    text, source, base = _plan_text(plan)
+    return Plant(_core.build_plants(text, source, base, [time], resolution=resolution)[0])
+
+
+def grow(plan, times, resolution="export"):
+    """The plant at each of ``times`` (the plan needs its "growth")."""
+    text, source, base = _plan_text(plan)
+    return [Plant(p) for p in _core.build_plants(text, source, base, [float(t) for t in times], resolution=resolution)]
+
+
+def synth_leaf(shape="tobacco", serration="none", rows=12, noise=0.0, seed=1, length=500.0):
+    """A synthetic leaf (docs/synthetic-leaves.md): its ``Markers`` (with Gaussian noise of
+    ``noise`` mm) and its truth (the leafdig.truth/1 document: exact area, …) as a dict."""
+    markers, truth = _core.synth_leaf(shape, serration, int(rows), float(noise), int(seed), float(length))
+    return markers, _json.loads(truth)

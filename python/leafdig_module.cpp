@@ -1,0 +1,614 @@
+// `_leafdig`: the C++ core for Python (docs/python.md). The one translation unit that sees
+// pybind11; the package `leafdig` (python/leafdig/__init__.py) wraps it in the names modellers
+// use. Every heavy call (reading, building, meshing, metrics, export, opening a store) runs with
+// the GIL released on objects no other Python thread can reach, so two threads build two leaves
+// at once. Arrays are made once per call from the C++ meshes (organs are stored per organ in
+// C++; the flat N×3 / M×3 arrays a modeller wants are a concatenation, so they are copies,
+// made once and cached by the Python object).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "leafdig/acquisition/plant_export.hpp"
+#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/db/lab.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/io/mesh_export.hpp"
+#include "leafdig/model/io/model_json.hpp"
+#include "leafdig/model/io/plant_export.hpp"
+#include "leafdig/model/leaf/leaf_model.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/mesh/mesh.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/plant/plant.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
+#include "leafdig/version.hpp"
+
+namespace py = pybind11;
+namespace m = leafdig::model;
+namespace acq = leafdig::acquisition;
+namespace db = leafdig::db;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+const std::string kGenerator = std::string("leafdig ") + leafdig::kVersion;
+
+py::array_t<double> vec3(const Eigen::Vector3d& v) {
+  py::array_t<double> a(3);
+  auto r = a.mutable_unchecked<1>();
+  for (py::ssize_t k = 0; k < 3; ++k) r(k) = v[k];
+  return a;
+}
+
+// ---- markers ----------------------------------------------------------------------------
+
+struct Markers {
+  m::MarkerSet set;
+};
+
+py::array_t<double> rowsArray(const m::MarkerSet& s) {
+  py::array_t<double> a({static_cast<py::ssize_t>(s.rows.size()), py::ssize_t{7}, py::ssize_t{3}});
+  auto r = a.mutable_unchecked<3>();
+  for (std::size_t i = 0; i < s.rows.size(); ++i)
+    for (std::size_t j = 0; j < 7; ++j)
+      for (std::size_t k = 0; k < 3; ++k)
+        r(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j), static_cast<py::ssize_t>(k)) =
+            s.rows[i].pointsMm[j][static_cast<Eigen::Index>(k)];
+  return a;
+}
+
+py::array_t<double> perRow(const m::MarkerSet& s, std::optional<double> m::MarkerRow::*field) {
+  py::array_t<double> a(static_cast<py::ssize_t>(s.rows.size()));
+  auto r = a.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < s.rows.size(); ++i) r(static_cast<py::ssize_t>(i)) = (s.rows[i].*field).value_or(kNaN);
+  return a;
+}
+
+py::array_t<double> measuredPoints(const m::MarkerSet& s) {
+  py::array_t<double> a({static_cast<py::ssize_t>(s.rows.size()), py::ssize_t{7}});
+  auto r = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < s.rows.size(); ++i)
+    for (std::size_t j = 0; j < 7; ++j)
+      r(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) = s.rows[i].measuredThicknessMm[j].value_or(kNaN);
+  return a;
+}
+
+// The thickness rule's result: every marker's diameter (N×7) and the midrib's (N).
+py::tuple ruleThickness(const m::MarkerSet& s) {
+  const m::LeafThickness t = m::applyThicknessRule(s);
+  py::array_t<double> lateral({static_cast<py::ssize_t>(t.rows.size()), py::ssize_t{7}});
+  py::array_t<double> midrib(static_cast<py::ssize_t>(t.rows.size()));
+  auto l = lateral.mutable_unchecked<2>();
+  auto md = midrib.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    for (std::size_t j = 0; j < 7; ++j)
+      l(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) = t.rows[i].lateralMm[j];
+    md(static_cast<py::ssize_t>(i)) = t.rows[i].midribMm;
+  }
+  return py::make_tuple(lateral, midrib, t.tipMm, std::string(m::toString(t.mode)));
+}
+
+Markers readMarkers(const std::string& path) {
+  py::gil_scoped_release free;
+  return {m::readMarkersFile(path)};
+}
+
+Markers parseMarkers(const std::string& text, const std::string& source) {
+  py::gil_scoped_release free;
+  return {m::parseMarkersJson(text, source)};
+}
+
+// ---- leaves -----------------------------------------------------------------------------
+
+struct Mesh {
+  m::LeafMesh mesh;
+};
+
+struct Leaf {
+  std::string source;  // the markers file as given (the simulation formats name it), else the leaf's id
+  m::LeafModel model;
+  m::LeafMesh mesh;
+  m::LeafMetrics metrics;
+  std::string frame;
+};
+
+m::MeshOptions meshOptions(const std::string& resolution, const std::string& method, std::optional<double> maxError) {
+  m::MeshOptions o;
+  o.method = m::meshMethodFromString(method);
+  o.resolution = m::MeshResolution::preset(resolution);
+  if (maxError) {
+    if (o.method != m::MeshMethod::Adaptive)
+      throw m::InputError("max_error is the adaptive mesh's parameter: add mesh=\"adaptive\"");
+    if (!(*maxError >= 0.005 && *maxError <= 50.0))
+      throw m::InputError("max_error must be between 0.005 and 50 mm, e.g. 0.1");
+    o.maxErrorMm = *maxError;
+  }
+  return o;
+}
+
+// `model build`'s path (ui/cli/model_build.cpp), step for step: the same model, mesh and metrics.
+Leaf buildLeaf(const m::MarkerSet& markers, const std::string& source, const std::string& blade,
+               const std::string& resolution, const std::string& method, std::optional<double> maxError,
+               const std::string& frame, const Eigen::Vector3d& light) {
+  if (frame != "digitizer" && frame != "leaf")
+    throw m::InputError("frame \"" + frame + "\" is not one: \"digitizer\" (as digitized) or \"leaf\"");
+  const m::MeshOptions options = meshOptions(resolution, method, maxError);
+  py::gil_scoped_release free;
+  Leaf out;
+  out.source = source.empty() ? markers.leaf.id : source;
+  out.model = m::buildLeafModel(markers, {m::bladeKindFromString(blade), nullptr});
+  if (frame == "leaf") out.model = m::transformed(out.model, m::leafFrameFromDigitizer(out.model));
+  out.frame = frame;
+  out.mesh = m::meshLeaf(out.model, options);
+  out.metrics = m::computeLeafMetrics(out.model, light, 5.0);
+  m::addSilhouette(out.metrics, out.mesh);
+  return out;
+}
+
+py::dict meshArrays(const m::LeafMesh& mesh) {
+  std::size_t nv = 0, nt = 0;
+  for (const m::Organ& o : mesh.organs) {
+    nv += o.mesh.positions.size();
+    nt += o.mesh.triangles.size();
+  }
+  py::array_t<double> vertices({static_cast<py::ssize_t>(nv), py::ssize_t{3}});
+  py::array_t<double> normals({static_cast<py::ssize_t>(nv), py::ssize_t{3}});
+  py::array_t<std::uint32_t> faces({static_cast<py::ssize_t>(nt), py::ssize_t{3}});
+  py::array_t<std::int32_t> organs(static_cast<py::ssize_t>(nt));
+  py::array_t<std::int32_t> ranks(static_cast<py::ssize_t>(mesh.organs.size()));
+  py::list names;
+  auto v = vertices.mutable_unchecked<2>();
+  auto n = normals.mutable_unchecked<2>();
+  auto f = faces.mutable_unchecked<2>();
+  auto g = organs.mutable_unchecked<1>();
+  auto rk = ranks.mutable_unchecked<1>();
+  py::ssize_t vi = 0, ti = 0;
+  for (std::size_t k = 0; k < mesh.organs.size(); ++k) {
+    const m::Organ& o = mesh.organs[k];
+    names.append(o.name);
+    rk(static_cast<py::ssize_t>(k)) = o.leafRank;
+    const auto base = static_cast<std::uint32_t>(vi);
+    for (std::size_t i = 0; i < o.mesh.positions.size(); ++i, ++vi)
+      for (py::ssize_t c = 0; c < 3; ++c) {
+        v(vi, c) = o.mesh.positions[i][c];
+        n(vi, c) = i < o.mesh.normals.size() ? o.mesh.normals[i][c] : kNaN;
+      }
+    for (const auto& t : o.mesh.triangles) {
+      for (py::ssize_t c = 0; c < 3; ++c) f(ti, c) = base + t[static_cast<std::size_t>(c)];
+      g(ti) = static_cast<std::int32_t>(k);
+      ++ti;
+    }
+  }
+  py::dict d;
+  d["vertices"] = vertices;
+  d["normals"] = normals;
+  d["faces"] = faces;
+  d["organs"] = organs;
+  d["organ_names"] = names;
+  d["organ_ranks"] = ranks;
+  return d;
+}
+
+void writeFiles(const std::vector<m::EncodedFile>& files) {
+  for (const auto& f : files) m::writeFileAtomically(f.path, f.bytes);
+}
+
+// A leaf's files by extension, as `model build -o` writes them (the simulation formats through
+// the leaf as a plant of one leaf; the model document for .json).
+std::vector<std::string> exportLeaf(const Leaf& leaf, const std::string& path, const Eigen::Vector3d& light) {
+  py::gil_scoped_release free;
+  const std::filesystem::path p(path);
+  std::vector<m::EncodedFile> files;
+  const m::ExportHeader header{leaf.model.markers.leaf.id, leaf.frame, kGenerator};
+  if (p.extension() == ".json") {
+    files.push_back({p, m::modelToJson(leaf.model, leaf.frame, leaf.metrics)});
+  } else {
+    const m::PlantFormat f = m::plantFormatForPath(p);
+    if (f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv) {
+      const int rank = std::clamp(leaf.model.markers.leaf.position.value_or(1), 1, 999);
+      const m::Plant alone = m::singleLeafPlant(leaf.model, rank, leaf.source);
+      const m::LeafMesh mesh = m::meshPlant(alone, m::MeshResolution::preset("export"));
+      m::PlantMetrics metrics = m::computePlantMetrics(alone, mesh, light);
+      if (leaf.metrics.areaInterval && !metrics.leaves.empty()) {
+        metrics.leaves.front().bladeAreaLow95Mm2 = leaf.metrics.areaInterval->low95Mm2;
+        metrics.leaves.front().bladeAreaHigh95Mm2 = leaf.metrics.areaInterval->high95Mm2;
+      }
+      files = m::encodePlant(p, alone, mesh, metrics, {m::CanUnit::Metre, kGenerator});
+    } else {
+      files.push_back({p, m::encodeMesh(leaf.mesh, m::meshFormatForPath(p), header)});
+    }
+  }
+  writeFiles(files);
+  std::vector<std::string> written;
+  for (const auto& f : files) written.push_back(f.path.string());
+  return written;
+}
+
+// ---- plants -----------------------------------------------------------------------------
+
+struct Plant {
+  m::Plant plant;
+  m::LeafMesh mesh;
+  m::PlantMetrics metrics;
+};
+
+std::vector<m::LibraryLeaf> libraryOf(const m::PlantPlan& plan) {
+  if (!plan.libraryDb) return {};
+  if (!std::filesystem::exists(*plan.libraryDb))
+    throw m::InputError("library.db " + *plan.libraryDb + " does not exist: name the station's database");
+  db::Store store(*plan.libraryDb, true);
+  return acq::organLibrary(store).leaves;
+}
+
+std::vector<Plant> buildPlants(const std::string& planText, const std::string& source, const std::string& baseDir,
+                               const std::vector<std::optional<double>>& times, const std::string& resolution,
+                               const Eigen::Vector3d& light) {
+  py::gil_scoped_release free;
+  const m::PlantPlan plan = m::parsePlantPlan(planText, source, baseDir);
+  for (const auto& t : times)
+    if (t && !plan.growth) throw m::InputError(source + ": the plan has no \"growth\"; add one to build growth states");
+  const m::PlantBuilder builder(plan, libraryOf(plan));
+  const m::MeshOptions options = meshOptions(resolution, "uniform", std::nullopt);
+  std::vector<Plant> out;
+  for (const auto& t : times) {
+    Plant p;
+    p.plant = builder.build(t);
+    p.mesh = m::meshPlant(p.plant, options);
+    p.metrics = m::computePlantMetrics(p.plant, p.mesh, light);
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+py::list plantLeaves(const Plant& p) {
+  py::list leaves;
+  for (std::size_t i = 0; i < p.plant.leaves.size(); ++i) {
+    const m::PlacedLeaf& l = p.plant.leaves[i];
+    py::dict d;
+    d["rank"] = l.rank;
+    d["source"] = l.source;
+    d["insertion_height_mm"] = l.insertionHeightMm;
+    d["azimuth_deg"] = l.azimuthDeg;
+    d["inclination_deg"] = l.inclinationDeg;
+    d["scale"] = l.scale;
+    d["bend_deg"] = l.bendDeg;
+    d["length_mm"] = l.lengthMm;
+    d["width_mm"] = l.widthMm;
+    d["area_mm2"] = p.metrics.leaves[i].areaMm2;
+    d["silhouette_mm2"] = p.metrics.leaves[i].silhouetteMm2;
+    d["star"] = p.metrics.leaves[i].star;
+    leaves.append(d);
+  }
+  return leaves;
+}
+
+std::string encodeOne(const Plant& p, const std::string& extension) {
+  py::gil_scoped_release free;
+  const auto files = m::encodePlant("plant" + extension, p.plant, p.mesh, p.metrics, {m::CanUnit::Metre, kGenerator});
+  return files.front().bytes;
+}
+
+// CARIBU's scene as CaribuScene takes it: {label: [((x,y,z),(x,y,z),(x,y,z)), …]} with the
+// labels of our `.can` file (optical species 1, plant 1, leaf rank, organ index), in metres.
+py::dict caribuScene(const Plant& p) {
+  std::string text;
+  {
+    py::gil_scoped_release free;
+    text = m::encodeCan(p.mesh, m::CanUnit::Metre).text;
+  }
+  py::dict scene;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t end = text.find('\n', at);
+    const std::string line = text.substr(at, end == std::string::npos ? std::string::npos : end - at);
+    at = end == std::string::npos ? text.size() : end + 1;
+    if (line.rfind("p ", 0) != 0) continue;
+    std::istringstream in(line);
+    std::string p1, label;
+    int one = 0, three = 0;
+    in >> p1 >> one >> label >> three;
+    double c[9];
+    for (double& x : c) in >> x;
+    const py::int_ key(std::stoll(label));
+    if (!scene.contains(key)) scene[key] = py::list();
+    py::list triangles = scene[key];
+    triangles.append(py::make_tuple(py::make_tuple(c[0], c[1], c[2]), py::make_tuple(c[3], c[4], c[5]),
+                                    py::make_tuple(c[6], c[7], c[8])));
+  }
+  return scene;
+}
+
+// ---- stores -----------------------------------------------------------------------------
+
+struct Store {
+  std::unique_ptr<db::EventStore> store;
+  std::string where;
+};
+
+Store openStore(const std::string& pathOrUrl, bool writable) {
+  if (!db::isServerUrl(pathOrUrl) && !std::filesystem::exists(pathOrUrl))
+    throw db::StoreError(db::StoreErrorKind::Input, "no station file at " + pathOrUrl,
+                         "give the path of a station's file (leafdig capture writes one) or postgresql://…");
+  py::gil_scoped_release free;
+  return {db::openEventStore(pathOrUrl, !writable), db::redactUrl(pathOrUrl)};
+}
+
+py::list sessions(const Store& s) {
+  std::vector<db::SessionInfo> all;
+  {
+    py::gil_scoped_release free;
+    all = s.store->sessions();
+  }
+  py::list out;
+  for (const db::SessionInfo& i : all) {
+    py::dict d;
+    d["id"] = i.id;
+    d["kind"] = i.kind;
+    d["project"] = i.project;
+    d["plant"] = i.plant;
+    d["leaf"] = i.leafPosition;
+    d["type"] = i.leafType;
+    d["status"] = i.status;
+    d["operator"] = i.operatorName;
+    d["station"] = i.station;
+    d["station_session_id"] = i.stationSessionId;
+    d["created"] = i.createdUtc;
+    d["events"] = i.headSeq;
+    d["measured_area_mm2"] = i.measuredAreaMm2 ? py::cast(*i.measuredAreaMm2) : py::none();
+    out.append(d);
+  }
+  return out;
+}
+
+// A leaf session's markers, as `sessions export --format markers` writes them (verified first).
+Markers sessionMarkers(const Store& s, std::int64_t id) {
+  py::gil_scoped_release free;
+  const db::ChainReport chain = s.store->verify(id);
+  if (!chain.ok)
+    throw acq::SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
+                            std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem +
+                            "): its markers are not given");
+  const acq::ReviewedSession r = acq::openForReview(*s.store, id);
+  m::MarkerSet set = acq::summarize(r).model.markers;
+  return {std::move(set)};
+}
+
+py::list sessionEvents(const Store& s, std::int64_t id) {
+  std::vector<db::Event> events;
+  {
+    py::gil_scoped_release free;
+    const db::ChainReport chain = s.store->verify(id);
+    if (!chain.ok)
+      throw acq::SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
+                              std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + ")");
+    events = s.store->events(id);
+  }
+  py::list out;
+  for (const db::Event& e : events) {
+    py::dict d;
+    d["seq"] = e.seq;
+    d["utc"] = e.utc;
+    d["mono_ns"] = e.monoNs;
+    d["kind"] = e.kind;
+    d["payload"] = e.payloadJson;
+    d["raw"] = e.raw;
+    d["hash"] = e.hash;
+    out.append(d);
+  }
+  return out;
+}
+
+std::string plantSurveyJson(const Store& s, std::int64_t id) {
+  py::gil_scoped_release free;
+  return m::plantSurveyToJson(acq::capturedSurvey(*s.store, id).survey);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_leafdig, mod) {
+  mod.doc() = "leafdig's C++ core (the package `leafdig` wraps it: docs/python.md)";
+  mod.attr("__version__") = leafdig::kVersion;
+
+  // Errors carry the CLI's words: bad input is a ValueError, a store's refusal its own.
+  static py::exception<m::InputError> inputError(mod, "InputError", PyExc_ValueError);
+  static py::exception<db::StoreError> storeError(mod, "StoreError", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const m::IoError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    } catch (const m::InputError& e) {
+      inputError(e.what());
+    } catch (const db::StoreError& e) {
+      storeError((std::string(e.what()) + (e.remedy().empty() ? "" : ": " + e.remedy())).c_str());
+    } catch (const acq::SessionError& e) {
+      storeError(e.what());
+    } catch (const std::invalid_argument& e) {  // an unknown word, a value out of range: bad input
+      inputError(e.what());
+    }
+  });
+
+  py::class_<Markers>(mod, "Markers", "A leaf's markers (leafdig.markers/1), in mm")
+      .def_property_readonly("tip", [](const Markers& s) { return vec3(s.set.tipMm); })
+      .def_property_readonly(
+          "rows", [](const Markers& s) { return rowsArray(s.set); }, "N×7×3, tip row first")
+      .def_property_readonly("midrib_thickness",
+                             [](const Markers& s) { return perRow(s.set, &m::MarkerRow::midribThicknessMm); })
+      .def_property_readonly("vein_origin_thickness",
+                             [](const Markers& s) { return perRow(s.set, &m::MarkerRow::veinOriginThicknessMm); })
+      .def_property_readonly("row_edge_thickness",
+                             [](const Markers& s) { return perRow(s.set, &m::MarkerRow::edgeThicknessMm); })
+      .def_property_readonly("point_thickness", [](const Markers& s) { return measuredPoints(s.set); })
+      .def_property_readonly(
+          "edge_thickness",
+          [](const Markers& s) { return s.set.edgeThicknessMm ? py::cast(*s.set.edgeThicknessMm) : py::none(); })
+      .def("rule_thickness", [](const Markers& s) { return ruleThickness(s.set); })
+      .def_property_readonly("id", [](const Markers& s) { return s.set.leaf.id; })
+      .def_property_readonly("plant", [](const Markers& s) { return s.set.leaf.plant; })
+      .def_property_readonly(
+          "position",
+          [](const Markers& s) { return s.set.leaf.position ? py::cast(*s.set.leaf.position) : py::none(); })
+      .def_property_readonly("type", [](const Markers& s) { return s.set.leaf.type; })
+      .def_property_readonly("measured_area_mm2",
+                             [](const Markers& s) {
+                               return s.set.leaf.measuredAreaMm2 ? py::cast(*s.set.leaf.measuredAreaMm2) : py::none();
+                             })
+      .def("to_json", [](const Markers& s) { return m::markersToJson(s.set); });
+  mod.def("read_markers", &readMarkers, py::arg("path"));
+  mod.def("parse_markers", &parseMarkers, py::arg("text"), py::arg("source") = "markers");
+
+  py::class_<Leaf>(mod, "Leaf")
+      .def("metrics_json", [](const Leaf& l) { return m::metricsToJson(l.metrics); })
+      .def("model_json", [](const Leaf& l) { return m::modelToJson(l.model, l.frame, l.metrics); })
+      .def("mesh", [](const Leaf& l) { return meshArrays(l.mesh); })
+      .def_property_readonly("frame", [](const Leaf& l) { return l.frame; })
+      .def_property_readonly("markers", [](const Leaf& l) { return Markers{l.model.markers}; })
+      .def("vein_names",
+           [](const Leaf& l) {
+             std::vector<std::string> n;
+             for (const auto& v : l.model.veins) n.push_back(v.name);
+             return n;
+           })
+      .def(
+          "vein",
+          [](const Leaf& l, std::size_t i, const std::vector<double>& ts) {
+            if (i >= l.model.veins.size()) throw py::index_error("no vein " + std::to_string(i));
+            py::array_t<double> a({static_cast<py::ssize_t>(ts.size()), py::ssize_t{4}});
+            auto r = a.mutable_unchecked<2>();
+            for (std::size_t k = 0; k < ts.size(); ++k) {
+              if (!(ts[k] >= 0.0 && ts[k] <= 1.0)) throw m::InputError("a vein's parameter lies in [0, 1]");
+              const Eigen::Vector3d c = l.model.veins[i].curve.center(ts[k]);
+              for (py::ssize_t j = 0; j < 3; ++j) r(static_cast<py::ssize_t>(k), j) = c[j];
+              r(static_cast<py::ssize_t>(k), 3) = l.model.veins[i].curve.radius(ts[k]);
+            }
+            return a;
+          },
+          py::arg("index"), py::arg("t"))
+      .def(
+          "blade",
+          [](const Leaf& l, const std::vector<double>& us, const std::vector<double>& vs) {
+            if (us.size() != vs.size()) throw m::InputError("u and v must have the same length");
+            py::array_t<double> a({static_cast<py::ssize_t>(us.size()), py::ssize_t{3}});
+            auto r = a.mutable_unchecked<2>();
+            for (std::size_t k = 0; k < us.size(); ++k) {
+              if (!(us[k] >= 0.0 && us[k] <= 1.0 && vs[k] >= 0.0 && vs[k] <= 1.0))
+                throw m::InputError("the blade's parameters lie in [0, 1]");
+              const Eigen::Vector3d p = l.model.blade.evaluate(us[k], vs[k]);
+              for (py::ssize_t j = 0; j < 3; ++j) r(static_cast<py::ssize_t>(k), j) = p[j];
+            }
+            return a;
+          },
+          py::arg("u"), py::arg("v"))
+      .def(
+          "export",
+          [](const Leaf& l, const std::string& path, const std::array<double, 3>& light) {
+            return exportLeaf(l, path, Eigen::Vector3d(light[0], light[1], light[2]));
+          },
+          py::arg("path"), py::arg("light") = std::array<double, 3>{0, 0, 1});
+  mod.def(
+      "build_leaf",
+      [](const Markers& markers, const std::string& source, const std::string& blade, const std::string& resolution,
+         const std::string& mesh, std::optional<double> maxError, const std::string& frame,
+         const std::array<double, 3>& light) {
+        return buildLeaf(markers.set, source, blade, resolution, mesh, maxError, frame,
+                         Eigen::Vector3d(light[0], light[1], light[2]));
+      },
+      py::arg("markers"), py::arg("source") = "", py::arg("blade") = "interp", py::arg("resolution") = "export",
+      py::arg("mesh") = "uniform", py::arg("max_error") = py::none(), py::arg("frame") = "digitizer",
+      py::arg("light") = std::array<double, 3>{0, 0, 1});
+
+  py::class_<Plant>(mod, "Plant")
+      .def("metrics",
+           [](const Plant& p) {
+             py::dict d;
+             d["area_mm2"] = p.metrics.areaMm2;
+             d["silhouette_mm2"] = p.metrics.silhouetteMm2;
+             d["star"] = p.metrics.star;
+             return d;
+           })
+      .def("leaves", &plantLeaves)
+      .def_property_readonly("id", [](const Plant& p) { return p.plant.id; })
+      .def_property_readonly("time", [](const Plant& p) { return p.plant.time ? py::cast(*p.plant.time) : py::none(); })
+      .def_property_readonly("stem_height_mm", [](const Plant& p) { return p.plant.stemHeightMm; })
+      .def("mesh", [](const Plant& p) { return meshArrays(p.mesh); })
+      .def("encode", &encodeOne, py::arg("extension"))
+      .def("caribu_scene", &caribuScene)
+      .def(
+          "export",
+          [](const Plant& p, const std::string& path) {
+            py::gil_scoped_release free;
+            const auto files = m::encodePlant(path, p.plant, p.mesh, p.metrics, {m::CanUnit::Metre, kGenerator});
+            writeFiles(files);
+            std::vector<std::string> written;
+            for (const auto& f : files) written.push_back(f.path.string());
+            return written;
+          },
+          py::arg("path"));
+  mod.def(
+      "build_plants",
+      [](const std::string& text, const std::string& source, const std::string& baseDir,
+         const std::vector<std::optional<double>>& times, const std::string& resolution,
+         const std::array<double, 3>& light) {
+        return buildPlants(text, source, baseDir, times, resolution, Eigen::Vector3d(light[0], light[1], light[2]));
+      },
+      py::arg("text"), py::arg("source"), py::arg("base_dir"), py::arg("times"), py::arg("resolution") = "export",
+      py::arg("light") = std::array<double, 3>{0, 0, 1});
+
+  py::class_<Store>(mod, "Store")
+      .def("sessions", &sessions)
+      .def("markers", &sessionMarkers, py::arg("id"))
+      .def("events", &sessionEvents, py::arg("id"))
+      .def("plant_survey_json", &plantSurveyJson, py::arg("id"))
+      .def_property_readonly("where", [](const Store& s) { return s.where; })
+      .def(
+          "review",
+          [](Store& s, std::int64_t id, const std::string& status, const std::string& who, const std::string& why) {
+            py::gil_scoped_release free;
+            try {
+              return acq::review(*s.store, id, status, who, why);
+            } catch (const std::invalid_argument& e) {
+              throw m::InputError(e.what());
+            }
+          },
+          py::arg("id"), py::arg("status"), py::arg("who"), py::arg("why") = "");
+  mod.def("open_store", &openStore, py::arg("path_or_url"), py::arg("writable") = false);
+
+  mod.def(
+      "synth_leaf",
+      [](const std::string& shape, const std::string& serration, int rows, double noise, std::uint64_t seed,
+         double length) {
+        if (!(noise >= 0.0 && noise <= 50.0)) throw m::InputError("noise is a stylus error in mm, between 0 and 50");
+        m::SyntheticLeafSpec s = m::defaultSyntheticSpec(m::leafShapeFromString(shape));
+        s.outline.lengthMm = length;
+        s.outline.serration = m::serrationFromString(serration);
+        if (s.outline.serration != m::Serration::None) {
+          const double width = s.outline.widthMm.value_or(s.outline.lengthMm / m::aspectRatio(s.outline.shape));
+          s.outline.toothDepthMm = 0.015 * width;
+          s.outline.teethPerSide = 20;
+        }
+        s.rows = rows;
+        s.id = "SYN-" + shape + "-" + std::to_string(seed);
+        py::gil_scoped_release free;
+        const m::SyntheticLeaf leaf(s);
+        return std::make_pair(Markers{leaf.markers(noise, seed)}, m::truthToJson(leaf, noise, seed));
+      },
+      py::arg("shape") = "tobacco", py::arg("serration") = "none", py::arg("rows") = 12, py::arg("noise") = 0.0,
+      py::arg("seed") = 1, py::arg("length") = 500.0);
+}

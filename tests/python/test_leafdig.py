@@ -1,0 +1,282 @@
+"""`import leafdig` through its real interface, against the CLI's own outputs (issue 30).
+
+Run by ctest (test `Python.pytest`) with PYTHONPATH at the build's python/ folder and
+LEAFDIG_CLI, LEAFDIG_SOURCE_DIR set; by hand:
+    PYTHONPATH=build/ci/python LEAFDIG_CLI=build/ci/ui/cli/leafdig /usr/bin/python3 -m pytest tests/python
+"""
+import json
+import os
+import sqlite3
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import leafdig
+
+SOURCE = Path(os.environ.get("LEAFDIG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+CLI = os.environ.get("LEAFDIG_CLI", str(SOURCE / "build/ci/ui/cli/leafdig"))
+SAMPLES = sorted((SOURCE / "data/samples").glob("*.markers.json"))
+PLAN = SOURCE / "data/plants/tobacco-p07.plant.json"
+
+
+def cli(*args, check=True):
+    r = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True)
+    if check and r.returncode != 0:
+        raise AssertionError("leafdig %s: exit %d: %s" % (" ".join(map(str, args)), r.returncode, r.stderr))
+    return r
+
+
+def cli_json(*args):
+    return json.loads(cli(*args, "--json").stdout)
+
+
+def test_the_version_is_the_commands():
+    assert cli("--version").stdout.strip().endswith(leafdig.__version__)
+
+
+@pytest.mark.parametrize("path", SAMPLES, ids=lambda p: p.name)
+def test_a_leaf_is_the_one_model_build_makes(path):
+    leaf = leafdig.build_leaf(path)
+    built = cli_json("model", "build", path)
+    assert leaf.metrics == built["metrics"]  # every number, exactly
+    mesh = leaf.mesh()
+    assert len(mesh.faces) == built["mesh"]["triangles"]
+    assert mesh.organ_names == [o["name"] for o in built["mesh"]["organs"]]
+    counts = np.bincount(mesh.organs, minlength=len(mesh.organ_names))
+    assert counts.tolist() == [o["triangles"] for o in built["mesh"]["organs"]]
+    assert mesh.vertices.shape == (len(mesh.normals), 3) and mesh.vertices.dtype == np.float64
+    assert mesh.faces.max() < len(mesh.vertices)
+    assert np.allclose(np.linalg.norm(mesh.normals, axis=1), 1.0)
+
+
+def test_build_options_are_model_builds():
+    path = SAMPLES[0]
+    leaf = leafdig.build_leaf(path, blade="approx", mesh="adaptive", max_error=0.2, frame="leaf")
+    built = cli_json("model", "build", path, "--blade", "approx", "--mesh", "adaptive", "--max-error", "0.2",
+                     "--frame", "leaf", "--no-measure")
+    assert leaf.metrics == built["metrics"]
+    assert len(leaf.mesh().faces) == built["mesh"]["triangles"]
+    with pytest.raises(leafdig.InputError, match="adaptive"):
+        leafdig.build_leaf(path, max_error=0.2)
+    with pytest.raises(leafdig.InputError, match="frame"):
+        leafdig.build_leaf(path, frame="world")
+
+
+def test_markers_are_arrays_in_mm(tmp_path):
+    path = SAMPLES[0]
+    doc = json.loads(path.read_text())
+    m = leafdig.read_markers(path)
+    assert m.rows.shape == (len(doc["rows"]), 7, 3)
+    assert np.allclose(m.tip, doc["tip"])
+    assert np.allclose(m.rows[0], doc["rows"][0]["points"])
+    assert m.midrib_thickness.shape == (len(doc["rows"]),)
+    lateral, midrib, tip, mode = m.rule_thickness()
+    assert lateral.shape == (len(doc["rows"]), 7) and np.all(lateral > 0) and np.all(midrib > 0)
+    assert json.loads(m.to_json())["rows"][0]["points"] == doc["rows"][0]["points"]
+
+
+def test_the_model_evaluates_its_veins_and_blade():
+    leaf = leafdig.build_leaf(SAMPLES[0])
+    model = leaf.model
+    assert [v["name"] for v in model["veins"]] == leaf.vein_names
+    midrib = leaf.vein("midrib", np.linspace(0, 1, 5))
+    assert midrib.shape == (5, 4) and np.all(midrib[:, 3] > 0)
+    # The midrib runs from the tip to the base marker.
+    assert np.linalg.norm(midrib[0, :3] - leaf.markers.tip) < 1e-6
+    assert np.linalg.norm(midrib[-1, :3] - leaf.markers.rows[-1, 3]) < 1e-6
+    corners = leaf.blade([0, 1], [0.5, 0.5])
+    assert corners.shape == (2, 3)
+    with pytest.raises(leafdig.InputError):
+        leaf.vein(0, [1.5])
+
+
+def test_exports_are_the_commands_files(tmp_path):
+    path = SAMPLES[1]
+    leaf = leafdig.build_leaf(path)
+    for ext in ("glb", "obj", "ply", "stl", "mtg", "csv"):
+        mine, theirs = tmp_path / ("py." + ext), tmp_path / ("cli." + ext)
+        assert str(mine) in leaf.export(mine)
+        cli("model", "build", path, "-o", theirs)
+        assert mine.read_bytes() == theirs.read_bytes(), ext
+    assert any(p.endswith(".opt") for p in leaf.export(tmp_path / "py.can"))
+    doc = json.loads(Path(leaf.export(tmp_path / "model.json")[0]).read_text())
+    assert doc["metrics"]["blade_area_mm2"] == pytest.approx(leaf.metrics["blade_area_mm2"], rel=1e-12)
+    with pytest.raises(OSError):
+        leaf.export(tmp_path / "no" / "such" / "dir" / "x.glb")
+
+
+def test_bad_input_raises_input_error_naming_the_row(tmp_path):
+    doc = json.loads(SAMPLES[0].read_text())
+    doc["rows"][2]["points"] = doc["rows"][2]["points"][:6]
+    bad = tmp_path / "bad.markers.json"
+    bad.write_text(json.dumps(doc))
+    with pytest.raises(leafdig.InputError, match="row 3") as e:
+        leafdig.read_markers(bad)
+    assert isinstance(e.value, ValueError)
+    assert cli("model", "build", bad, check=False).returncode == 2
+    with pytest.raises(OSError):
+        leafdig.read_markers(tmp_path / "missing.markers.json")
+
+
+def test_a_synthetic_leaf_comes_with_its_truth():
+    markers, truth = leafdig.synth_leaf(shape="obovate", rows=14, noise=0.1, seed=5)
+    assert markers.rows.shape == (14, 7, 3)
+    area = leafdig.build_leaf(markers).metrics["blade_area_mm2"]
+    assert area == pytest.approx(truth["area_mm2"], rel=0.03)
+    again, _ = leafdig.synth_leaf(shape="obovate", rows=14, noise=0.1, seed=5)
+    assert np.array_equal(again.rows, markers.rows)
+    with pytest.raises(leafdig.InputError):
+        leafdig.synth_leaf(shape="heart")
+
+
+@pytest.fixture(scope="module")
+def station(tmp_path_factory):
+    """A station file written by a simulated capture (the real drivers on pseudo-terminals)."""
+    db = tmp_path_factory.mktemp("station") / "station.sqlite"
+    cli("capture", "--simulate", "--speed", "20", "--no-mistakes", "--db", db, "--markers", SAMPLES[0])
+    cli("plant", "capture", "--simulate", "--speed", "20", "--db", db)
+    return db
+
+
+def test_a_station_files_sessions_are_listed_and_built_as_the_station_does(station, tmp_path):
+    store = leafdig.open(station)
+    sessions = store.sessions()
+    assert [s["kind"] for s in sessions] == ["leaf", "plant"]
+    assert store.sessions(kind="leaf", status="complete")[0]["id"] == 1
+    listed = cli_json("sessions", "list", "--db", station)
+    assert [s["id"] for s in sessions] == [s["id"] for s in listed]
+    # The markers and the model are the exported session's.
+    cli("sessions", "export", 1, "--db", station, "--out", tmp_path, "--format", "markers")
+    exported = leafdig.read_markers(tmp_path / "session-1.markers.json")
+    assert np.array_equal(store.markers(1).rows, exported.rows)
+    assert store.leaf(1).metrics == cli_json("model", "build", tmp_path / "session-1.markers.json")["metrics"]
+    events = store.events(1)
+    assert events[0]["seq"] == 1 and events[-1]["kind"] == "status"
+    assert isinstance(events[1]["payload"], dict)
+    survey = store.plant_survey(2)
+    assert len(survey["nodes"]) == 5
+    with pytest.raises(leafdig.InputError, match="filter"):
+        store.sessions(colour="green")
+
+
+def test_a_doctored_station_file_is_not_trusted(station, tmp_path):
+    doctored = tmp_path / "doctored.sqlite"
+    doctored.write_bytes(station.read_bytes())
+    with sqlite3.connect(doctored) as c:
+        # As an attacker with sqlite3 would: the append-only trigger dropped, a payload edited,
+        # the trigger put back as it was.
+        (trigger,) = c.execute("SELECT sql FROM sqlite_master WHERE name = 'events_no_update'").fetchone()
+        c.execute("DROP TRIGGER events_no_update")
+        c.execute("UPDATE events SET payload_json = replace(payload_json, '.', ',') WHERE session_id = 1 AND seq = 5")
+        c.execute(trigger)
+    dropped = tmp_path / "dropped.sqlite"
+    dropped.write_bytes(station.read_bytes())
+    with sqlite3.connect(dropped) as c:
+        c.execute("DROP TRIGGER events_no_update")
+    with pytest.raises(leafdig.StoreError, match="events_no_update"):
+        leafdig.open(dropped)
+    store = leafdig.open(doctored)
+    with pytest.raises(leafdig.StoreError, match="verify"):
+        store.events(1)
+    with pytest.raises(leafdig.StoreError, match="verify"):
+        store.markers(1)
+    with pytest.raises(leafdig.StoreError):
+        leafdig.open(tmp_path / "none.sqlite")
+
+
+def test_a_read_only_store_decides_nothing_and_a_writable_one_approves(station, tmp_path):
+    copy = tmp_path / "copy.sqlite"
+    copy.write_bytes(station.read_bytes())
+    with pytest.raises(leafdig.StoreError):
+        leafdig.open(copy).approve(1, who="kim")
+    writable = leafdig.open(copy, writable=True)
+    with pytest.raises(leafdig.InputError, match="why"):
+        writable.reject(1, who="kim", why="")
+    writable.approve(1, who="kim")
+    assert writable.sessions(id=1)[0]["status"] == "approved"
+    assert cli_json("sessions", "list", "--db", copy)[0]["status"] == "approved"
+
+
+def test_a_plant_is_the_one_plant_build_makes(tmp_path):
+    plant = leafdig.build_plant(PLAN)
+    built = cli_json("plant", "build", PLAN, "-o", tmp_path / "p.glb", "--no-measure")["states"][0]
+    assert plant.metrics == built["metrics"]
+    assert [l["area_mm2"] for l in plant.leaves] == [l["area_mm2"] for l in built["leaves"]]
+    assert len(plant.mesh().faces) == built["triangles"]
+    cli("plant", "build", PLAN, "-o", tmp_path / "p.mtg", "-o", tmp_path / "p.can")
+    assert plant.mtg() == (tmp_path / "p.mtg").read_text()
+    # CARIBU's scene: every triangle of the .can, under the .can's labels.
+    scene = plant.caribu_scene()
+    lines = [l.split() for l in (tmp_path / "p.can").read_text().splitlines() if l.startswith("p ")]
+    assert sum(len(t) for t in scene.values()) == len(lines)
+    assert set(scene) == {int(l[2]) for l in lines}
+    first = lines[0]
+    assert scene[int(first[2])][0] == tuple(tuple(float(x) for x in first[4 + 3 * k:7 + 3 * k]) for k in range(3))
+    written = plant.export(tmp_path / "q.glb")
+    assert Path(written[0]).stat().st_size > 1000
+    with open(PLAN) as f:
+        as_dict = json.load(f)
+    os.chdir(PLAN.parent)
+    assert leafdig.build_plant(as_dict).metrics == plant.metrics
+
+
+def test_a_plant_grows():
+    plants = leafdig.grow(PLAN, [10, 30, 60])
+    areas = [p.metrics["area_mm2"] for p in plants]
+    assert areas == sorted(areas) and areas[0] < areas[-1]
+    assert [p.time for p in plants] == [10, 30, 60]
+    with pytest.raises(leafdig.InputError):
+        leafdig.build_plant({"format": "leafdig.plant/1"})
+
+
+def test_heavy_calls_let_other_python_threads_run():
+    """While a thread is inside build_leaf, the main thread keeps running Python: the call
+    released the GIL. (No timing is asserted: only that some of the main thread's steps fall
+    strictly inside a call.)"""
+    calls, ticks, done = [], [], threading.Event()
+
+    def builder():
+        for _ in range(3):
+            start = time.perf_counter()
+            leafdig.build_leaf(SAMPLES[2], resolution="reference")
+            calls.append((start, time.perf_counter()))
+        done.set()
+
+    t = threading.Thread(target=builder)
+    t.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+    t.join()
+    # The middle half of each call: away from the moments the interpreter may switch threads
+    # around entering and leaving it.
+    inside = sum(1 for a, b in calls for x in ticks if a + (b - a) / 4 < x < b - (b - a) / 4)
+    assert inside > 0
+
+
+def test_the_python_walk_through_runs_as_written(tmp_path):
+    """docs/python.md's Python blocks, in order, in one namespace, against a fresh demo (its
+    shell line run as written). With LEAFDIG_UPDATE_DOCS=1 the figure is copied to docs/."""
+    doc = (SOURCE / "docs/python.md").read_text()
+    blocks = [b.split("```", 1)[0] for b in doc.split("```python\n")[1:]]
+    assert len(blocks) >= 4
+    assert "leafdig demo --out out/demo --speed 20 --synth-leaves 0" in doc
+    cli("demo", "--out", tmp_path / "out/demo", "--speed", "20", "--synth-leaves", "0",
+        "--samples", SOURCE / "data/samples")
+    here = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        namespace = {}
+        for block in blocks:
+            exec(compile(block, "docs/python.md", "exec"), namespace)
+    finally:
+        os.chdir(here)
+    assert (tmp_path / "thickness.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert namespace["plant"].metrics["area_mm2"] > 0
+    assert sum(len(t) for t in namespace["scene"].values()) == len(namespace["plant"].mesh().faces)
+    assert "\nCODE:" in namespace["mtg"]
+    if os.environ.get("LEAFDIG_UPDATE_DOCS") == "1":
+        (SOURCE / "docs/python-thickness.png").write_bytes((tmp_path / "thickness.png").read_bytes())
