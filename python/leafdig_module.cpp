@@ -415,6 +415,19 @@ py::list sessionEvents(const Store& s, std::int64_t id) {
   return out;
 }
 
+// A captured plant (a plant session) as a model: the survey's plant with its quick leaves shaped
+// from this store's organ library, meshed at the export resolution — the model `sessions export`
+// writes as GLB, CARIBU and plant-model JSON.
+Plant capturedPlant(const Store& s, std::int64_t id, const Eigen::Vector3d& light) {
+  py::gil_scoped_release free;
+  const acq::CapturedSurvey survey = acq::capturedSurvey(*s.store, id);
+  Plant p;
+  p.plant = acq::capturedModel(*s.store, survey.survey).plant;
+  p.mesh = m::meshPlant(p.plant, m::MeshResolution::preset("export"));
+  p.metrics = m::computePlantMetrics(p.plant, p.mesh, light);
+  return p;
+}
+
 std::string plantSurveyJson(const Store& s, std::int64_t id) {
   py::gil_scoped_release free;
   return m::plantSurveyToJson(acq::capturedSurvey(*s.store, id).survey);
@@ -576,6 +589,12 @@ PYBIND11_MODULE(_leafdig, mod) {
       .def("markers", &sessionMarkers, py::arg("id"))
       .def("events", &sessionEvents, py::arg("id"))
       .def("plant_survey_json", &plantSurveyJson, py::arg("id"))
+      .def(
+          "plant",
+          [](const Store& s, std::int64_t id, const std::array<double, 3>& light) {
+            return capturedPlant(s, id, Eigen::Vector3d(light[0], light[1], light[2]));
+          },
+          py::arg("id"), py::arg("light") = std::array<double, 3>{0, 0, 1})
       .def_property_readonly("where", [](const Store& s) { return s.where; })
       .def(
           "review",

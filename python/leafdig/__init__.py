@@ -195,6 +195,12 @@ class Store:
         """A plant session's survey (its frame, nodes and leaves with the measured angles) as a dict."""
         return _json.loads(self._core.plant_survey_json(int(id)))
 
+    def plant(self, id, light=(0.0, 0.0, 1.0)):
+        """A plant session's captured plant as a model (``Plant``): the stem through the
+        digitized nodes, full leaves as digitized, quick leaves shaped from this store's
+        approved leaves — the model ``sessions export`` writes (GLB, CARIBU, plant-model JSON)."""
+        return Plant(self._core.plant(int(id), tuple(float(x) for x in light)))
+
     def approve(self, id, who):
         return self._core.review(int(id), "approved", who, "")
 

@@ -137,8 +137,9 @@ def test_a_synthetic_leaf_comes_with_its_truth():
 def station(tmp_path_factory):
     """A station file written by a simulated capture (the real drivers on pseudo-terminals)."""
     db = tmp_path_factory.mktemp("station") / "station.sqlite"
-    cli("capture", "--simulate", "--speed", "20", "--no-mistakes", "--db", db, "--markers", SAMPLES[0])
-    cli("plant", "capture", "--simulate", "--speed", "20", "--db", db)
+    cli("capture", "--simulate", "--speed", "20", "--no-mistakes", "--db", db, "--markers", SAMPLES[0],
+        "--station", "bench-py")
+    cli("plant", "capture", "--simulate", "--speed", "20", "--db", db, "--station", "bench-py")
     return db
 
 
@@ -161,6 +162,17 @@ def test_a_station_files_sessions_are_listed_and_built_as_the_station_does(stati
     assert len(survey["nodes"]) == 5
     with pytest.raises(leafdig.InputError, match="filter"):
         store.sessions(colour="green")
+
+
+def test_a_captured_plant_is_the_model_its_session_export_writes(station, tmp_path):
+    plant = leafdig.open(station).plant(2)
+    cli("sessions", "export", 2, "--db", station, "--out", tmp_path, "--format", "model,can")
+    model = json.loads((tmp_path / "session-2.plant-model.json").read_text())
+    assert plant.metrics["area_mm2"] == pytest.approx(model["metrics"]["area_mm2"], rel=1e-12)
+    lines = [l for l in (tmp_path / "session-2.can").read_text().splitlines() if l.startswith("p ")]
+    assert sum(len(t) for t in plant.caribu_scene().values()) == len(lines)
+    with pytest.raises(leafdig.StoreError, match="one leaf"):
+        leafdig.open(station).plant(1)
 
 
 def test_a_doctored_station_file_is_not_trusted(station, tmp_path):
@@ -280,3 +292,77 @@ def test_the_python_walk_through_runs_as_written(tmp_path):
     assert "\nCODE:" in namespace["mtg"]
     if os.environ.get("LEAFDIG_UPDATE_DOCS") == "1":
         (SOURCE / "docs/python-thickness.png").write_bytes((tmp_path / "thickness.png").read_bytes())
+
+
+@pytest.fixture(scope="module")
+def lab(tmp_path_factory, station):
+    """A throw-away PostgreSQL server (Debian's binaries; as the postgres user when root, as
+    tests/support/pg_cluster.hpp does) with leafdig's schema, a technician of bench-py, a
+    curator and a reader; the station file pushed by its technician."""
+    import pwd
+    import shutil
+    import socket
+    import tempfile
+    bindir = subprocess.run(["pg_config", "--bindir"], capture_output=True, text=True).stdout.strip()
+    if not bindir or not Path(bindir, "initdb").exists():
+        bindir = "/usr/lib/postgresql/15/bin"
+    home = Path(tempfile.mkdtemp(prefix="leafdig-pg-py-"))
+    as_user = []
+    if os.geteuid() == 0:
+        pw = pwd.getpwnam("postgres")
+        os.chown(home, pw.pw_uid, pw.pw_gid)
+        as_user = ["runuser", "-u", "postgres", "--"]
+    password = "adm-pass-%d" % os.getpid()
+    (home / "pw").write_text(password + "\n")
+    if as_user:
+        os.chown(home / "pw", pw.pw_uid, pw.pw_gid)
+
+    def run(*argv):
+        r = subprocess.run(as_user + list(argv), capture_output=True, text=True)
+        assert r.returncode == 0, "%s: %s%s" % (argv[0], r.stdout, r.stderr)
+
+    run(bindir + "/initdb", "-D", str(home / "data"), "-U", "leafdig_admin", "--pwfile", str(home / "pw"),
+        "--auth-local=trust", "--auth-host=scram-sha-256", "-E", "UTF8", "--locale=C", "--no-sync")
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    run(bindir + "/pg_ctl", "-D", str(home / "data"), "-l", str(home / "log"), "-w", "-t", "60", "-o",
+        "-p %d -k %s -c listen_addresses=127.0.0.1 -c fsync=off" % (port, home), "start")
+    try:
+        run(bindir + "/psql", "-h", str(home), "-p", str(port), "-U", "leafdig_admin", "-d", "postgres", "-c",
+            "CREATE DATABASE lab ENCODING 'UTF8' TEMPLATE template0")
+        url = lambda login, pw: "postgresql://%s:%s@127.0.0.1:%d/lab" % (login, pw, port)  # noqa: E731
+        admin = url("leafdig_admin", password)
+        cli("server", "init", "--url", admin)
+        logins = {}
+        for login, role, extra in (("tech_py", "technician", ["--station", "bench-py"]), ("carla_py", "curator", []),
+                                   ("rita_py", "reader", [])):
+            pwfile = home / (login + ".pw")
+            pwfile.write_text("s3cret-" + login + "\n")
+            cli("server", "add-user", "--url", admin, "--login", login, "--role", role, "--password-file", pwfile, *extra)
+            logins[role] = url(login, "s3cret-" + login)
+        cli("sync", "push", "--db", station, "--to", logins["technician"])
+        yield logins
+    finally:
+        subprocess.run(as_user + [bindir + "/pg_ctl", "-D", str(home / "data"), "-m", "immediate", "-w", "stop"],
+                       capture_output=True)
+        shutil.rmtree(home, ignore_errors=True)
+
+
+def test_the_lab_servers_roles_hold_through_python(lab, station):
+    reader = leafdig.open(lab["reader"])
+    sessions = reader.sessions()
+    assert sorted(s["kind"] for s in sessions) == ["leaf", "plant"]
+    leaf_id = reader.sessions(kind="leaf")[0]["id"]
+    # The server's leaf is the station's leaf, number for number.
+    assert reader.leaf(leaf_id).metrics == leafdig.open(station).leaf(1).metrics
+    assert reader.events(leaf_id)[-1]["kind"] == "status"
+    # A reader and a technician decide nothing, even opened writable; a curator approves.
+    for role in ("reader", "technician"):
+        with pytest.raises(leafdig.StoreError):
+            leafdig.open(lab[role], writable=True).approve(leaf_id, who=role)
+    assert reader.sessions(id=leaf_id)[0]["status"] == "complete"
+    leafdig.open(lab["curator"], writable=True).approve(leaf_id, who="carla")
+    assert reader.sessions(id=leaf_id)[0]["status"] == "approved"
+    # The password never shows in what the store says of itself.
+    assert "s3cret" not in repr(reader)
