@@ -94,7 +94,9 @@ bench_smoke() {
   fi
   rm -f "$report"
 }
-bench_smoke build/ci/tests/leafdig_bench --benchmark_filter='Rebuild(Preview|Paper)/1|SyntheticLeafAndTruth/0|AreaInterval/1'
+bench_smoke build/ci/tests/leafdig_bench --benchmark_filter='Rebuild(Preview|Paper)/1|SyntheticLeafAndTruth/0|AreaInterval/1|BuildLeafAsModelBuild'
+# Python's build_leaf against the same in C++ (three leaves, one round: that it runs).
+LEAFDIG_BENCH_ROUNDS=1 PYTHONPATH=build/ci/python /usr/bin/python3 tests/bench/python_bench.py build/ci/tests/leafdig_bench 3 >/dev/null
 bench_smoke build/ci/tests/leafdig_codec_bench
 bench_smoke build/ci/tests/leafdig_leaf2d_bench
 bench_smoke build/ci/tests/leafdig_plant_bench --benchmark_filter='PlantAssemble|PlantSilhouette/0|PlantEncode/(5|6)|SurveyedPlantExport/0'

@@ -54,6 +54,25 @@ BENCHMARK(BM_RebuildPreview)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RebuildPaper)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RebuildExport)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
+// What `model build --json` and Python's leafdig.build_leaf do for one leaf: the model, the export
+// mesh, the metrics with the silhouette, the metrics document. The three samples in turn;
+// tests/bench/python_bench.py builds the same leaves from Python and reports the ratio.
+void BM_BuildLeafAsModelBuild(benchmark::State& state) {
+  const m::MarkerSet samples[] = {loadSample(0), loadSample(1), loadSample(2)};
+  const m::MeshResolution resolution = m::MeshResolution::preset("export");
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const m::MarkerSet& markers = samples[k++ % 3];
+    const m::LeafModel leaf = m::buildLeafModel(markers);
+    const m::LeafMesh mesh = m::meshLeaf(leaf, resolution);
+    m::LeafMetrics metrics = m::computeLeafMetrics(leaf, {0, 0, 1}, 5.0);
+    m::addSilhouette(metrics, mesh);
+    benchmark::DoNotOptimize(m::metricsToJson(metrics));
+  }
+  state.SetLabel("the three samples in turn, export mesh");
+}
+BENCHMARK(BM_BuildLeafAsModelBuild)->Unit(benchmark::kMillisecond);
+
 void BM_ConvergedMetrics(benchmark::State& state) {
   const m::LeafModel leaf = m::buildLeafModel(loadSample(static_cast<int>(state.range(0))));
   for (auto _ : state) {

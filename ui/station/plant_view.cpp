@@ -3,6 +3,9 @@
 #include <QChart>
 #include <QChartView>
 #include <QComboBox>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QFormLayout>
@@ -24,6 +27,7 @@
 
 #include "compact_chart.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
+#include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/db/store.hpp"
@@ -117,7 +121,9 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   curator_->setPlaceholderText(tr("curator's name"));
   approve_ = new QPushButton(tr("Approve"));
   reject_ = new QPushButton(tr("Reject…"));
+  correct_ = new QPushButton(tr("Correct…"));
   reviewLayout->addWidget(curator_, 1);
+  reviewLayout->addWidget(correct_);
   reviewLayout->addWidget(approve_);
   reviewLayout->addWidget(reject_);
   reviewRow_->hide();
@@ -150,6 +156,7 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
     if (error.isEmpty()) summary_->setText(summary_->text() + "\n" + tr("Wrote %1").arg(path));
   });
   connect(approve_, &QPushButton::clicked, this, [this] { status_->setText(approveCaptured(curator_->text())); });
+  connect(correct_, &QPushButton::clicked, this, [this] { correctDialog(); });
   connect(reject_, &QPushButton::clicked, this, [this] {
     bool ok = false;
     const QString why =
@@ -461,6 +468,7 @@ void PlantView::showReviewState() {
   const bool open = capturedStatus_ == "complete";
   approve_->setEnabled(open);
   reject_->setEnabled(open);
+  correct_->setEnabled(open);
   approve_->setToolTip(
       open ? tr("Approve plant session %1").arg(capturedSession_)
            : tr("This plant session is %1: only a complete one is approved or rejected").arg(capturedStatus_));
@@ -486,6 +494,123 @@ QString PlantView::decide(const char* status, const QString& who, const QString&
   showReviewState();
   summary_->setText(summary_->text() + "\n" + tr("Session %1 %2 by %3").arg(capturedSession_).arg(status, who));
   return {};
+}
+
+std::vector<PlantView::CorrectableItem> PlantView::correctableItems() const {
+  std::vector<CorrectableItem> out;
+  if (capturedSession_ == 0) return out;
+  try {
+    const auto store = db::openEventStore(db_, true);
+    const auto info = store->session(capturedSession_);
+    if (!info) return out;
+    const acquisition::PlantEngine engine = acquisition::PlantCaptureSession::replay(
+        acquisition::PlantCaptureSession::setupFromJson(info->settingsJson), store->events(capturedSession_));
+    for (const acquisition::PlantItem& i : engine.items()) {
+      CorrectableItem c;
+      c.item.plantWhat = i.what;
+      c.item.row = i.index;
+      c.item.col = i.part;
+      QString where;
+      switch (i.what) {
+        case acquisition::PlantWhat::Landmark: where = tr("Landmark %1").arg(i.index); break;
+        case acquisition::PlantWhat::Collar: where = tr("Collar"); break;
+        case acquisition::PlantWhat::CollarDiameter: where = tr("Collar · stem diameter"); break;
+        case acquisition::PlantWhat::Point: where = tr("Node %1 · point %2").arg(i.index).arg(i.part); break;
+        case acquisition::PlantWhat::Reading: where = tr("Node %1 · stem diameter %2").arg(i.index).arg(i.part); break;
+        case acquisition::PlantWhat::QuickPoint:
+          where = tr("Node %1 · quick leaf %2")
+                      .arg(i.index)
+                      .arg(i.part == 1   ? tr("base")
+                           : i.part == 2 ? tr("tip")
+                                         : tr("margin point"));
+          break;
+        default: continue;
+      }
+      if (acquisition::isStylusItem(i.what)) {
+        c.item.positionMm = i.positionMm;
+        c.label = tr("%1 (%2, %3, %4 mm)")
+                      .arg(where)
+                      .arg(i.positionMm[0], 0, 'f', 1)
+                      .arg(i.positionMm[1], 0, 'f', 1)
+                      .arg(i.positionMm[2], 0, 'f', 1);
+      } else {
+        c.item.valueMm = i.valueMm;
+        c.label = tr("%1 (%2 mm)").arg(where).arg(i.valueMm, 0, 'f', 2);
+      }
+      out.push_back(std::move(c));
+    }
+  } catch (const std::exception&) {
+    return {};  // openCapturedPlant said what is wrong with the session
+  }
+  return out;
+}
+
+QString PlantView::correctCaptured(const acquisition::Correction& c) {
+  if (capturedSession_ == 0) return tr("Open a captured plant first: a plan is not corrected.");
+  try {
+    const auto store = db::openEventStore(db_, false);
+    (void)acquisition::correct(*store, capturedSession_, c);
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
+  const std::int64_t session = capturedSession_;
+  const QString error = openCapturedPlant(session);
+  if (!error.isEmpty()) return error;
+  summary_->setText(summary_->text() + "\n" +
+                    tr("Corrected by %1: %2").arg(QString::fromStdString(c.who), QString::fromStdString(c.reason)));
+  return {};
+}
+
+void PlantView::correctDialog() {
+  const std::vector<CorrectableItem> items = correctableItems();
+  if (items.empty()) {
+    status_->setText(tr("This plant has no point or reading to correct."));
+    return;
+  }
+  QDialog d(this);
+  d.setWindowTitle(tr("Correct a point or reading of plant session %1").arg(capturedSession_));
+  auto* form = new QFormLayout(&d);
+  auto* which = new QComboBox;
+  for (const CorrectableItem& i : items) which->addItem(i.label);
+  form->addRow(tr("Item"), which);
+  std::vector<QDoubleSpinBox*> boxes;
+  const QStringList names{tr("x"), tr("y"), tr("z"), tr("diameter")};
+  for (int k = 0; k < 4; ++k) {
+    auto* b = new QDoubleSpinBox;
+    b->setRange(k < 3 ? -10000 : 0, 10000);
+    b->setDecimals(3);
+    b->setSuffix(" mm");
+    boxes.push_back(b);
+    form->addRow(names[k], b);
+  }
+  const auto fill = [&](int index) {
+    const acquisition::Correction& c = items[static_cast<std::size_t>(index)].item;
+    for (int k = 0; k < 3; ++k) {
+      boxes[static_cast<std::size_t>(k)]->setEnabled(c.positionMm.has_value());
+      boxes[static_cast<std::size_t>(k)]->setValue(c.positionMm ? (*c.positionMm)[static_cast<std::size_t>(k)] : 0.0);
+    }
+    boxes[3]->setEnabled(c.valueMm.has_value());
+    boxes[3]->setValue(c.valueMm.value_or(0.0));
+  };
+  fill(0);
+  connect(which, qOverload<int>(&QComboBox::currentIndexChanged), &d, fill);
+  auto* reason = new QLineEdit;
+  reason->setPlaceholderText(tr("why (required)"));
+  form->addRow(tr("Reason"), reason);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  connect(buttons, &QDialogButtonBox::accepted, &d, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &d, &QDialog::reject);
+  form->addRow(buttons);
+  if (d.exec() != QDialog::Accepted) return;
+  acquisition::Correction c = items[static_cast<std::size_t>(which->currentIndex())].item;
+  if (c.positionMm)
+    c.positionMm = acquisition::Vec3{boxes[0]->value(), boxes[1]->value(), boxes[2]->value()};
+  else
+    c.valueMm = boxes[3]->value();
+  c.reason = reason->text().toStdString();
+  c.who = curator_->text().toStdString();
+  const QString error = correctCaptured(c);
+  status_->setText(error.isEmpty() ? tr("Corrected; the plant is shown as corrected.") : error);
 }
 
 }  // namespace leafdig::station

@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/plant/plant.hpp"
 
@@ -50,6 +51,19 @@ class PlantView : public QWidget {
   // rejected with what is wrong. Returns an error text (empty when recorded); the store's words
   // when it refuses (an open session, one already decided, a lab server role that may not).
   QString approveCaptured(const QString& who);
+  // The captured plant's own points and readings a curator may correct (landmarks, the collar
+  // and its diameter, each node's points and stem diameters, quick leaves' points), as stored
+  // (the digitizer's frame); a full leaf's items are corrected with `leafdig sessions correct
+  // --node K`.
+  struct CorrectableItem {
+    QString label;                 // "Node 3 · stem diameter (17.10 mm)"
+    acquisition::Correction item;  // plantWhat, row, col, and the stored position or value
+  };
+  [[nodiscard]] std::vector<CorrectableItem> correctableItems() const;
+  // Records a curator's correction of the shown complete plant (acquisition::correct) and
+  // shows the plant again as corrected; the engine's words when it refuses (nothing written).
+  QString correctCaptured(const acquisition::Correction& c);
+  [[nodiscard]] QPushButton* correctButton() const { return correct_; }
   QString rejectCaptured(const QString& who, const QString& why);
   // The shown captured plant's session status ("complete", "approved", …; empty for a plan).
   [[nodiscard]] QString capturedStatus() const { return capturedStatus_; }
@@ -106,7 +120,8 @@ class PlantView : public QWidget {
   QString capturedStatus_;
   QWidget* reviewRow_;
   QLineEdit* curator_;
-  QPushButton *approve_, *reject_;
+  QPushButton *approve_, *reject_, *correct_;
+  void correctDialog();
   std::vector<model::LibraryLeaf> approved_;  // as listed
   bool rebuildPending_ = false;
 };

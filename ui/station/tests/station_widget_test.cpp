@@ -25,6 +25,7 @@
 #include <QTest>
 #include <QTreeWidget>
 #include <QValueAxis>
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstdlib>
@@ -1096,6 +1097,31 @@ TEST(PlantView, APlantCapturedWhereItStandsOpensAsMeasured) {
   }
   EXPECT_FALSE(v.divergenceChart()->isHidden());
   EXPECT_TRUE(v.summaryText().contains("divergence: mean")) << v.summaryText().toStdString();
+  // A curator corrects node 2's stem diameter; the plant is shown as corrected; a correction
+  // without a reason or of a value out of range is refused in the engine's words.
+  {
+    const auto items = v.correctableItems();
+    auto it = std::find_if(items.begin(), items.end(), [](const auto& i) {
+      return i.item.plantWhat == acq::PlantWhat::Reading && i.item.row == 2;
+    });
+    ASSERT_NE(it, items.end());
+    EXPECT_TRUE(it->label.startsWith("Node 2 · stem diameter")) << it->label.toStdString();
+    EXPECT_TRUE(v.correctButton()->isEnabled());
+    acq::Correction c = it->item;
+    c.valueMm = 9.5;
+    c.who = "cur";
+    EXPECT_TRUE(v.correctCaptured(c).contains("reason")) << v.correctCaptured(c).toStdString();
+    c.reason = "read in inches";
+    acq::Correction huge = c;
+    huge.valueMm = 1e6;
+    EXPECT_TRUE(v.correctCaptured(huge).contains("outside this session's range"));
+    ASSERT_EQ(v.correctCaptured(c), QString());
+    EXPECT_TRUE(v.summaryText().contains("Corrected by cur: read in inches")) << v.summaryText().toStdString();
+    const auto store = leafdig::db::openEventStore(db, true);
+    EXPECT_DOUBLE_EQ(acq::capturedSurvey(*store, id).survey.nodes[1].diameterMm, 9.5);
+    EXPECT_EQ(v.capturedStatus(), "complete");
+    EXPECT_EQ(v.correctableItems().size(), items.size());
+  }
   const QString out = QDir::tempPath() + "/leafdig-plant-captured-" + QString::number(::getpid()) + ".glb";
   EXPECT_EQ(v.exportTo(out), QString());
   EXPECT_GT(std::filesystem::file_size(out.toStdString()), 10000u);
