@@ -809,12 +809,13 @@ TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlant
   ASSERT_EQ(check.exitCode, 0) << check.out << check.err;
   EXPECT_EQ(json::parse(check.out)["numErrors"], 0) << check.out;
   const std::string glb = slurp(base + ".glb");
-  for (const char* node :
-       {"\"plant/stem\"", "\"plant/leaf-2/blade\"", "\"plant/leaf-3/blade\"", "\"plant/leaf-4/blade\""})
+  for (const char* node : {"\"plant/stem/I1\"", "\"plant/stem/I5\"", "\"plant/leaf-2/blade\"", "\"plant/leaf-3/blade\"",
+                           "\"plant/leaf-4/blade\""})
     EXPECT_NE(glb.find(node), std::string::npos) << node;
   EXPECT_EQ(glb.find("\"plant/leaf-1/"), std::string::npos);  // node 1 has no leaf
   // One glTF node per MTG entity: I0 then each I<k> a child of the internode it follows, each
-  // L<k> a child of I<k> holding its organs, the stem's mesh under I0; each entity's MTG
+  // L<k> a child of I<k> holding its organs, the stem's piece between node k-1 and node k
+  // under I<k> (the collar for k = 1), nothing left under I0; each entity's MTG
   // features in its extras, equal to the survey's. Read from the GLB's JSON chunk.
   {
     ASSERT_GT(glb.size(), 20U);
@@ -833,10 +834,28 @@ TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlant
     const json& root = nodes[gltf.at("scenes")[0].at("nodes")[0].get<std::size_t>()];
     EXPECT_EQ(root.at("name"), "tobacco-p12");
     EXPECT_EQ(root.at("extras").at("date"), "2026-06-12");
-    EXPECT_EQ(children("I0"), (std::set<std::string>{"I1", "plant/stem"}));
-    EXPECT_EQ(children("I1"), (std::set<std::string>{"I2", "L1"}));
-    EXPECT_EQ(children("I4"), (std::set<std::string>{"I5", "L4"}));
-    EXPECT_TRUE(children("I5").empty());
+    EXPECT_EQ(children("I0"), (std::set<std::string>{"I1"}));
+    EXPECT_EQ(children("I1"), (std::set<std::string>{"I2", "L1", "plant/stem/I1"}));
+    EXPECT_EQ(children("I4"), (std::set<std::string>{"I5", "L4", "plant/stem/I4"}));
+    EXPECT_EQ(children("I5"), (std::set<std::string>{"plant/stem/I5"}));
+    // Each internode's piece lies between its two nodes' heights (glTF +Y is the frame's +Z,
+    // in metres).
+    const json& accessors = gltf.at("accessors");
+    const json& meshes = gltf.at("meshes");
+    const json heights = json::parse(slurp(base + ".survey.json")).at("nodes");
+    for (int k = 1; k <= 5; ++k) {
+      const json& piece = nodes[at.at("plant/stem/I" + std::to_string(k))];
+      const json& position = accessors[meshes[piece.at("mesh").get<std::size_t>()]
+                                           .at("primitives")[0]
+                                           .at("attributes")
+                                           .at("POSITION")
+                                           .get<std::size_t>()];
+      const double below = k == 1 ? 0.0 : heights[k - 2].at("height_mm").get<double>() / 1000.0;
+      const double above = heights[k - 1].at("height_mm").get<double>() / 1000.0;
+      EXPECT_GE(position.at("min")[1].get<double>(), below - 0.02) << k;  // a ring's radius of slack
+      EXPECT_LE(position.at("max")[1].get<double>(), above + 0.02) << k;
+      EXPECT_GT(position.at("max")[1].get<double>(), below) << k;
+    }
     EXPECT_TRUE(children("L1").empty()) << "node 1's leaf is dead, not drawn";
     EXPECT_EQ(nodes[at.at("L1")].at("extras").at("State"), "dead");
     const std::set<std::string> leaf2 = children("L2");

@@ -33,6 +33,7 @@
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/io/survey_export.hpp"
 #include "leafdig/version.hpp"
 #include "mesh_choice.hpp"
 #include "preview_widget.hpp"
@@ -303,6 +304,8 @@ QString PlantView::openCapturedPlant(std::int64_t session) {
     export_->setEnabled(true);
     capturedSession_ = session;
     capturedStatus_ = QString::fromStdString(captured.status);
+    survey_ = captured.survey;
+    surveyDate_ = captured.markers.date.value_or(m::SurveyDate{2000, 1, 1});
     showReviewState();
     return {};
   } catch (const std::exception& e) {
@@ -360,6 +363,7 @@ QString PlantView::usePlan(m::PlantPlan plan, std::vector<m::LibraryLeaf> librar
   enableSliders(true);
   capturedSession_ = 0;
   capturedStatus_.clear();
+  survey_.reset();
   showReviewState();
   divergenceBins_.clear();
   divergenceChart_->hide();
@@ -454,8 +458,18 @@ QString PlantView::exportTo(const QString& path) {
     // Exports at the export resolution or as chosen (the view draws the preview's).
     const m::LeafMesh mesh = m::meshPlant(*plant_, exportMesh_->options("export"));
     const m::PlantMetrics metrics = m::computePlantMetrics(*plant_, mesh, Eigen::Vector3d::UnitZ());
-    for (const auto& f : m::encodePlant(path.toStdString(), *plant_, mesh, metrics,
-                                        {m::CanUnit::Metre, std::string("leafdig ") + kVersion}))
+    const std::string generator = std::string("leafdig ") + kVersion;
+    // A captured plant's MTG, CSV and GLB are its session's (`sessions export`): the survey's
+    // entities, its measured features, its day.
+    const std::string extension = std::filesystem::path(path.toStdString()).extension().string();
+    if (survey_ && (extension == ".glb" || extension == ".mtg" || extension == ".csv")) {
+      const std::string bytes = extension == ".glb"   ? m::encodeSurveyGlb(*survey_, surveyDate_, mesh, generator)
+                                : extension == ".mtg" ? m::encodeSurveyMtg(*survey_, surveyDate_)
+                                                      : m::encodeSurveyCsv(*survey_, surveyDate_);
+      m::writeFileAtomically(path.toStdString(), bytes);
+      return {};
+    }
+    for (const auto& f : m::encodePlant(path.toStdString(), *plant_, mesh, metrics, {m::CanUnit::Metre, generator}))
       m::writeFileAtomically(f.path, f.bytes);
     return {};
   } catch (const std::exception& e) {

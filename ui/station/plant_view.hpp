@@ -15,6 +15,7 @@
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/plant/plant.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
 
 class QChartView;
 class QComboBox;
@@ -116,7 +117,9 @@ class PlantView : public QWidget {
   void showDivergences(const std::vector<double>& degrees);
   QString decide(const char* status, const QString& who, const QString& why);
   void showReviewState();
-  std::int64_t capturedSession_ = 0;  // the captured plant shown, 0 for a plan
+  std::int64_t capturedSession_ = 0;          // the captured plant shown, 0 for a plan
+  std::optional<model::PlantSurvey> survey_;  // its survey (exports: the session's own MTG, CSV, GLB)
+  model::SurveyDate surveyDate_{};
   QString capturedStatus_;
   QWidget* reviewRow_;
   QLineEdit* curator_;

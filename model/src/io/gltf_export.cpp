@@ -6,6 +6,9 @@
 #define TINYGLTF_NO_EXTERNAL_IMAGE
 #include <tiny_gltf.h>
 
+#include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <map>
@@ -163,6 +166,59 @@ std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
   return finishGlb(model, std::move(root), "leafdig");
 }
 
+namespace {
+
+// The stem's mesh cut at the nodes: each triangle goes to the internode (the segment from node
+// k-1, the collar at the plant frame's origin for k = 1, to node k) nearest its centroid — the
+// mesh's rings fall on the nodes, so no triangle straddles two. Named "<stem>/I<k>".
+std::vector<Organ> stemPerInternode(const Organ& stem, const PlantSurvey& survey) {
+  std::vector<Eigen::Vector3d> ends{Eigen::Vector3d::Zero()};
+  for (const SurveyedNode& n : survey.nodes) ends.push_back(n.pointMm);
+  const auto distance = [](const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const Eigen::Vector3d ab = b - a;
+    const double t = ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (a + t * ab - p).norm();
+  };
+  std::vector<Organ> pieces(survey.nodes.size());
+  std::vector<std::vector<std::int64_t>> remap(pieces.size(),
+                                               std::vector<std::int64_t>(stem.mesh.positions.size(), -1));
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    pieces[k] = Organ{stem.name + "/I" + std::to_string(k + 1), stem.kind, {}, 0};
+  for (const auto& t : stem.mesh.triangles) {
+    const Eigen::Vector3d c = (stem.mesh.positions[t[0]] + stem.mesh.positions[t[1]] + stem.mesh.positions[t[2]]) / 3.0;
+    std::size_t best = 0;
+    double nearest = distance(c, ends[0], ends[1]);
+    for (std::size_t k = 1; k < pieces.size(); ++k)
+      if (const double d = distance(c, ends[k], ends[k + 1]); d < nearest) {
+        nearest = d;
+        best = k;
+      }
+    Mesh& m = pieces[best].mesh;
+    std::array<std::uint32_t, 3> local{};
+    for (std::size_t v = 0; v < 3; ++v) {
+      std::int64_t& at = remap[best][t[v]];
+      if (at < 0) {
+        at = static_cast<std::int64_t>(m.positions.size());
+        m.positions.push_back(stem.mesh.positions[t[v]]);
+        if (t[v] < stem.mesh.normals.size()) m.normals.push_back(stem.mesh.normals[t[v]]);
+      }
+      local[v] = static_cast<std::uint32_t>(at);
+    }
+    m.triangles.push_back(local);
+  }
+  pieces.erase(std::remove_if(pieces.begin(), pieces.end(), [](const Organ& o) { return o.mesh.triangles.empty(); }),
+               pieces.end());
+  return pieces;
+}
+
+// "plant/stem/I3" hangs on I3; the stem whole (no nodes) on I0.
+std::string stemOwner(const std::string& name) {
+  const auto slash = name.rfind("/I");
+  return slash == std::string::npos ? "I0" : name.substr(slash + 1);
+}
+
+}  // namespace
+
 std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, const LeafMesh& mesh,
                             const std::string& generator) {
   Start start = startModel(generator);
@@ -194,8 +250,17 @@ std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, c
   }
   for (const SurveyEntity& e : entities)
     if (e.relation != 0) model.nodes[static_cast<std::size_t>(index.at(e.parent))].children.push_back(index.at(e.name));
+  // The stem in pieces, one per internode, each under its I<k>.
+  std::vector<Organ> organs;
   for (const Organ& organ : mesh.organs) {
-    const std::string owner = organ.leafRank == 0 ? "I0" : "L" + std::to_string(organ.leafRank);
+    if (organ.leafRank != 0 || survey.nodes.empty()) {
+      organs.push_back(organ);
+      continue;
+    }
+    for (Organ& piece : stemPerInternode(organ, survey)) organs.push_back(std::move(piece));
+  }
+  for (const Organ& organ : organs) {
+    const std::string owner = organ.leafRank == 0 ? stemOwner(organ.name) : "L" + std::to_string(organ.leafRank);
     const auto found = index.find(owner);
     if (found == index.end())
       throw InputError("the plant's mesh has organ " + organ.name + " but the survey has no " + owner);
@@ -217,8 +282,9 @@ std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, c
   extras["up"] = tinygltf::Value(std::string("glTF +Y is the frame's +Z"));
   extras["date"] = tinygltf::Value(toIso(date));
   extras["mtg"] = tinygltf::Value(std::string(
-      "one node per MTG entity: I0 the collar, I<k> the internode ending at node k (child of the one it follows), "
-      "L<k> node k's leaf (child of I<k>); features in each node's extras, in mm, mm2 and degrees"));
+      "one node per MTG entity: I0 the collar, I<k> the internode ending at node k (child of the one it follows) "
+      "holding the stem's piece from node k-1 (the collar for k = 1) to node k, L<k> node k's leaf (child of I<k>); "
+      "features in each node's extras, in mm, mm2 and degrees"));
   root.extras = tinygltf::Value(extras);
   root.children.push_back(index.at("I0"));
   return finishGlb(model, std::move(root), "leafdig");

@@ -1125,6 +1125,22 @@ TEST(PlantView, APlantCapturedWhereItStandsOpensAsMeasured) {
   const QString out = QDir::tempPath() + "/leafdig-plant-captured-" + QString::number(::getpid()) + ".glb";
   EXPECT_EQ(v.exportTo(out), QString());
   EXPECT_GT(std::filesystem::file_size(out.toStdString()), 10000u);
+  {
+    // A captured plant's GLB is its session's: one node per MTG entity, the stem cut at the nodes.
+    std::ifstream in(out.toStdString(), std::ios::binary);
+    const std::string glb((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(glb.find("\"plant/stem/I3\""), std::string::npos);
+    EXPECT_NE(glb.find("\"mtg_class\""), std::string::npos);
+  }
+  const QString mtg = QDir::tempPath() + "/leafdig-plant-captured-" + QString::number(::getpid()) + ".mtg";
+  EXPECT_EQ(v.exportTo(mtg), QString());
+  {
+    std::ifstream in(mtg.toStdString());
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("TopDia"), std::string::npos);
+    EXPECT_NE(text.find("2026-06-12"), std::string::npos) << "the survey's day";
+  }
+  std::filesystem::remove(mtg.toStdString());
   std::filesystem::remove(out.toStdString());
   // A plan again: the sliders come back, the histogram goes.
   ASSERT_EQ(v.openPlan(QString::fromStdString(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/tobacco-p07.plant.json")),

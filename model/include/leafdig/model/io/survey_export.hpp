@@ -44,7 +44,8 @@ struct SurveyEntity {
 // files"): the plant's root (extras: units, frame, date), `I0` and each `I<k>` child of the one
 // it follows, each `L<k>` child of its internode, the features of surveyEntities() in each
 // node's extras; a leaf's organ meshes (`plant/leaf-<k>/…` of `mesh`) are children of its
-// `L<k>`, and the stem's mesh (`plant/stem`, one piece for all internodes) a child of `I0`.
+// `L<k>`, and the stem's mesh cut at the nodes: the piece from node k-1 (the collar for k = 1)
+// to node k (`plant/stem/I<k>`) a child of `I<k>`.
 // Every node's transform is the identity: the geometry is in the plant frame (glTF +Y up).
 // Implemented beside the other glTF writers (tinygltf stays in one translation unit).
 [[nodiscard]] std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, const LeafMesh& mesh,
