@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <tuple>
 
 #include "compact_chart.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
@@ -552,6 +553,39 @@ std::vector<PlantView::CorrectableItem> PlantView::correctableItems() const {
         c.label = tr("%1 (%2 mm)").arg(where).arg(i.valueMm, 0, 'f', 2);
       }
       out.push_back(std::move(c));
+    }
+    // Each full leaf's items, with their node (the leaf's own words, rows from the tip).
+    for (int node = 1; node <= engine.nodes(); ++node) {
+      const acquisition::Engine* leaf = engine.leaf(node);
+      if (!leaf) continue;
+      std::vector<acquisition::Item> items = leaf->items();
+      std::sort(items.begin(), items.end(), [](const acquisition::Item& a, const acquisition::Item& b) {
+        return std::tie(a.row, a.col, a.what) < std::tie(b.row, b.col, b.what);
+      });
+      for (const acquisition::Item& i : items) {
+        CorrectableItem c;
+        c.item.node = node;
+        c.item.what = i.what;
+        c.item.row = i.row;
+        c.item.col = i.col;
+        const QString where = tr("Node %1 · leaf %2%3%4")
+                                  .arg(node)
+                                  .arg(QString::fromLatin1(acquisition::toString(i.what)).replace('_', ' '))
+                                  .arg(i.row > 0 ? tr(" · row %1").arg(i.row) : QString())
+                                  .arg(i.col > 0 ? tr(" · point %1").arg(i.col) : QString());
+        if (acquisition::isStylusItem(i.what)) {
+          c.item.positionMm = i.positionMm;
+          c.label = tr("%1 (%2, %3, %4 mm)")
+                        .arg(where)
+                        .arg(i.positionMm[0], 0, 'f', 1)
+                        .arg(i.positionMm[1], 0, 'f', 1)
+                        .arg(i.positionMm[2], 0, 'f', 1);
+        } else {
+          c.item.valueMm = i.valueMm;
+          c.label = tr("%1 (%2 mm)").arg(where).arg(i.valueMm, 0, 'f', 2);
+        }
+        out.push_back(std::move(c));
+      }
     }
   } catch (const std::exception&) {
     return {};  // openCapturedPlant said what is wrong with the session

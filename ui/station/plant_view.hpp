@@ -52,10 +52,10 @@ class PlantView : public QWidget {
   // rejected with what is wrong. Returns an error text (empty when recorded); the store's words
   // when it refuses (an open session, one already decided, a lab server role that may not).
   QString approveCaptured(const QString& who);
-  // The captured plant's own points and readings a curator may correct (landmarks, the collar
-  // and its diameter, each node's points and stem diameters, quick leaves' points), as stored
-  // (the digitizer's frame); a full leaf's items are corrected with `leafdig sessions correct
-  // --node K`.
+  // The captured plant's points and readings a curator may correct, as stored (the
+  // digitizer's frame): the plant's own (landmarks, the collar and its diameter, each node's
+  // points and stem diameters, quick leaves' points), then each full leaf's items with their
+  // node.
   struct CorrectableItem {
     QString label;                 // "Node 3 · stem diameter (17.10 mm)"
     acquisition::Correction item;  // plantWhat, row, col, and the stored position or value

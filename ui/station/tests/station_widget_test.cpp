@@ -1121,6 +1121,20 @@ TEST(PlantView, APlantCapturedWhereItStandsOpensAsMeasured) {
     EXPECT_DOUBLE_EQ(acq::capturedSurvey(*store, id).survey.nodes[1].diameterMm, 9.5);
     EXPECT_EQ(v.capturedStatus(), "complete");
     EXPECT_EQ(v.correctableItems().size(), items.size());
+    // Node 2's full leaf: a marker corrected from the same list.
+    const auto marker = std::find_if(items.begin(), items.end(), [](const auto& i) {
+      return i.item.node == 2 && i.item.what == acq::What::Marker && i.item.row == 2 && i.item.col == 3;
+    });
+    ASSERT_NE(marker, items.end());
+    EXPECT_TRUE(marker->label.startsWith("Node 2 · leaf marker · row 2 · point 3")) << marker->label.toStdString();
+    acq::Correction m = marker->item;
+    (*m.positionMm)[1] += 2.0;
+    m.who = "cur";
+    m.reason = "margin point on the wrong side";
+    ASSERT_EQ(v.correctCaptured(m), QString());
+    const auto again = leafdig::db::openEventStore(db, true);
+    const auto leaf = std::get<leafdig::model::MarkerSet>(acq::capturedSurvey(*again, id).markers.nodes[1].leaf);
+    EXPECT_DOUBLE_EQ(leaf.rows[1].pointsMm[2].y(), (*m.positionMm)[1]);
   }
   const QString out = QDir::tempPath() + "/leafdig-plant-captured-" + QString::number(::getpid()) + ".glb";
   EXPECT_EQ(v.exportTo(out), QString());
