@@ -21,6 +21,12 @@ PlantCommand parsePlantCommand(const std::string& line) {
     c.kind = PlantCommand::Kind::End;
   } else if (word == "quit" || word == "q") {
     c.kind = PlantCommand::Kind::Quit;
+  } else if (word == "pause" || word == "p") {
+    c.kind = PlantCommand::Kind::Pause;
+    std::getline(in >> std::ws, c.text);
+    if (c.text.size() > 200) throw std::invalid_argument("a pause's reason is a few words (at most 200 characters)");
+  } else if (word == "resume" || word == "r") {
+    c.kind = PlantCommand::Kind::Resume;
   } else if (word == "leaf") {
     c.kind = PlantCommand::Kind::Choose;
     std::string kind, state, type, extra;
@@ -45,10 +51,11 @@ PlantCommand parsePlantCommand(const std::string& line) {
     if (type.size() > 64) throw std::invalid_argument("a leaf's type is at most 64 characters");
     c.choice.type = type;
   } else {
-    throw std::invalid_argument("unknown command '" + line +
-                                "': use undo, end, leaf N full|quick|none [state] [type], or quit");
+    throw std::invalid_argument(
+        "unknown command '" + line +
+        "': use undo, end, leaf N full|quick|none [state] [type], pause [reason], resume, or quit");
   }
-  if (c.kind != PlantCommand::Kind::Choose) {
+  if (c.kind != PlantCommand::Kind::Choose && c.kind != PlantCommand::Kind::Pause) {
     std::string extra;
     if (in >> extra) throw std::invalid_argument("'" + word + "' takes no words after it (got '" + extra + "')");
   }
@@ -104,6 +111,8 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
           case PlantCommand::Kind::Undo: f = session_.undo(now); break;
           case PlantCommand::Kind::End: f = session_.end(now); break;
           case PlantCommand::Kind::Choose: f = session_.chooseLeaf(c->node, c->choice, now); break;
+          case PlantCommand::Kind::Pause: f = session_.pause(c->text.empty() ? "operator pause" : c->text, now); break;
+          case PlantCommand::Kind::Resume: f = session_.resume(now); break;
           case PlantCommand::Kind::Quit: quit = true; break;
         }
         if (quit) break;
@@ -113,10 +122,12 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
       } else if (const auto* r = std::get_if<dev::CaliperReading>(&std::get<dev::DeviceEvent>(in))) {
         f = session_.onCaliper({monoNs(r->t), r->valueMm, dev::printableRaw(r->raw, true)});
       }
-      if (f.decision.kind == PlantDecision::Kind::Ignored && !f.storeRefused) continue;
+      if (f.decision.kind == PlantDecision::Kind::Ignored && !f.storeRefused &&
+          f.control == PlantFeedback::Control::None)
+        continue;
       if (f.decision.kind == PlantDecision::Kind::Rejected)
         ++stats.rejected;
-      else if (f.seq > 0)
+      else if (f.seq > 0 && f.control == PlantFeedback::Control::None)
         ++stats.accepted;
       if (onFeedback) onFeedback(f, session_);
       if (onChange) onChange(session_);

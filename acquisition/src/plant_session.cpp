@@ -282,8 +282,25 @@ PlantCaptureSession::PlantCaptureSession(db::Store& store, std::int64_t id)
 }
 
 void PlantCaptureSession::rebuild() {
-  engine_ = replay(setup_, store_.events(id_), &seqs_);
+  const std::vector<db::Event> events = store_.events(id_);
+  engine_ = replay(setup_, events, &seqs_);
   status_ = store_.session(id_)->status;
+  // An operator's pause survives a restart: the session opens paused until resume().
+  paused_ = false;
+  pauseReason_.clear();
+  for (const db::Event& e : events) {
+    if (e.kind == "paused") {
+      paused_ = true;
+      const json p = json::parse(e.payloadJson, nullptr, false);
+      pauseReason_ = p.is_object() && p.contains("reason") && p.at("reason").is_string()
+                         ? p.at("reason").get<std::string>()
+                         : std::string();
+    }
+    if (e.kind == "resumed") {
+      paused_ = false;
+      pauseReason_.clear();
+    }
+  }
 }
 
 PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t monoNs, const std::string& raw) {
@@ -389,29 +406,43 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
 }
 
 PlantFeedback PlantCaptureSession::onStylus(const StylusInput& s) {
-  if (ended()) return {};
+  if (ended() || paused_) return {};
   const PlantDecision d = engine_.onStylus(s);
   return commit(d, s.tNs, s.raw);
 }
 
 PlantFeedback PlantCaptureSession::onCaliper(const CaliperInput& c) {
   if (ended()) return {};
+  if (paused_) {
+    // The reading is kept in the log (the device's text), and changes nothing while paused.
+    db::EventInput ev;
+    ev.kind = "ignored_reading";
+    ev.monoNs = c.tNs;
+    ev.payloadJson = json{{"value_mm", c.valueMm}, {"why", "capture paused"}}.dump();
+    ev.raw = c.raw;
+    try {
+      (void)store_.append(id_, ev);
+    } catch (const db::StoreError&) {
+      // A reading that changes nothing is not worth a refusal: the capture is paused anyway.
+    }
+    return {};
+  }
   const PlantDecision d = engine_.onCaliper(c);
   return commit(d, c.tNs, c.raw);
 }
 
 PlantFeedback PlantCaptureSession::undo(std::int64_t monoNs) {
-  if (ended()) return {};
+  if (ended() || paused_) return {};
   return commit(engine_.undo(), monoNs, {});
 }
 
 PlantFeedback PlantCaptureSession::end(std::int64_t monoNs) {
-  if (ended()) return {};
+  if (ended() || paused_) return {};
   return commit(engine_.end(), monoNs, {});
 }
 
 PlantFeedback PlantCaptureSession::chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs) {
-  if (ended()) return {};
+  if (ended() || paused_) return {};
   return commit(engine_.chooseLeaf(node, choice), monoNs, {});
 }
 
@@ -429,6 +460,45 @@ PlantFeedback PlantCaptureSession::abandon(const std::string& why, std::int64_t 
   } catch (const db::StoreError& e) {
     f.storeRefused = std::string(e.what()) + ": " + e.remedy();
   }
+  return f;
+}
+
+PlantFeedback PlantCaptureSession::pause(const std::string& reason, std::int64_t monoNs) {
+  PlantFeedback f;
+  if (ended() || paused_) return f;
+  db::EventInput ev;
+  ev.kind = "paused";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"reason", reason}}.dump();
+  try {
+    f.seq = store_.append(id_, ev);
+  } catch (const db::StoreError& e) {
+    f.storeRefused = std::string(e.what()) + ": " + e.remedy();
+    return f;
+  }
+  paused_ = true;
+  pauseReason_ = reason;
+  f.control = PlantFeedback::Control::Paused;
+  f.paused = reason;
+  return f;
+}
+
+PlantFeedback PlantCaptureSession::resume(std::int64_t monoNs) {
+  PlantFeedback f;
+  if (ended() || !paused_) return f;
+  db::EventInput ev;
+  ev.kind = "resumed";
+  ev.monoNs = monoNs;
+  ev.payloadJson = "{}";
+  try {
+    f.seq = store_.append(id_, ev);
+  } catch (const db::StoreError& e) {
+    f.storeRefused = std::string(e.what()) + ": " + e.remedy();
+    return f;
+  }
+  paused_ = false;
+  pauseReason_.clear();
+  f.control = PlantFeedback::Control::Resumed;
   return f;
 }
 

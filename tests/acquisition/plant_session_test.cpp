@@ -341,6 +341,52 @@ TEST_F(PlantSession, ACuratorCorrectsAPlantsPointsReadingsAndLeafAndReplayFollow
   EXPECT_THROW((void)acq::correct(store, id, k), std::invalid_argument);
 }
 
+// An operator's pause: nothing the stylus or caliper does counts (a reading is logged as
+// ignored), undo and end wait; the pause survives a restart; resume goes on at the same step.
+TEST_F(PlantSession, APauseHoldsEverythingSurvivesARestartAndResumeGoesOnAtTheSameStep) {
+  db::Store store(path_);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
+  std::string prompt;
+  std::size_t items = 0;
+  {
+    acq::PlantCaptureSession s(store, id);
+    for (int k = 0; k < 12; ++k) ASSERT_NE(act(s).decision.kind, Kind::Rejected);
+    prompt = s.engine().prompt();
+    items = s.engine().items().size();
+    const acq::PlantFeedback p = s.pause("the pot is being watered", t_);
+    EXPECT_EQ(p.control, acq::PlantFeedback::Control::Paused);
+    EXPECT_GT(p.seq, 0);
+    EXPECT_TRUE(s.paused());
+    EXPECT_EQ(s.pause("again", t_).seq, 0);  // already paused: nothing written
+    const std::int64_t head = store.session(id)->headSeq;
+    for (int k = 0; k < 3; ++k) (void)act(s);  // presses and readings while paused
+    EXPECT_EQ(s.undo(t_).seq, 0);
+    EXPECT_EQ(s.end(t_).seq, 0);
+    EXPECT_EQ(s.engine().prompt(), prompt);
+    EXPECT_EQ(s.engine().items().size(), items);
+    // Only the readings reached the log, as ignored.
+    int ignored = 0;
+    for (const db::Event& e : store.events(id))
+      if (e.seq > head) {
+        EXPECT_EQ(e.kind, "ignored_reading");
+        ++ignored;
+      }
+    EXPECT_LE(ignored, 3);
+  }
+  // As after kill -9: the session opens paused, at the same step.
+  acq::PlantCaptureSession again(store, id);
+  EXPECT_TRUE(again.paused());
+  EXPECT_EQ(again.pauseReason(), "the pot is being watered");
+  EXPECT_EQ(again.engine().prompt(), prompt);
+  const acq::PlantFeedback r = again.resume(t_);
+  EXPECT_EQ(r.control, acq::PlantFeedback::Control::Resumed);
+  EXPECT_FALSE(again.paused());
+  for (int guard = 0; guard < 400 && !again.ended(); ++guard) ASSERT_NE(act(again).decision.kind, Kind::Rejected);
+  EXPECT_EQ(again.status(), "complete");
+  EXPECT_TRUE(store.verify(id).ok);
+  EXPECT_EQ(again.resume(t_).seq, 0);  // ended: nothing to resume
+}
+
 // The loop real devices feed: records and commands from other threads, in the order they
 // arrived, each decision committed before it is handed on; Quit ends the run with the session
 // open.
@@ -422,4 +468,11 @@ TEST(PlantCommand, TheWordsATechnicianTypesAreReadOrRefusedByName) {
   refused("leaf 2 quick dead lower extra", "one word too many");
   refused("undo now", "takes no words");
   refused("leaf 2 quick " + std::string(65, 't'), "at most 64");
+  c = acq::parsePlantCommand("pause  the pot is being watered");
+  EXPECT_EQ(c.kind, C::Pause);
+  EXPECT_EQ(c.text, "the pot is being watered");
+  EXPECT_EQ(acq::parsePlantCommand("pause").text, "");
+  EXPECT_EQ(acq::parsePlantCommand("resume").kind, C::Resume);
+  refused("resume now", "takes no words");
+  refused("pause " + std::string(201, 'w'), "at most 200");
 }

@@ -61,6 +61,10 @@ json feedbackJson(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s
   const acq::PlantDecision& d = f.decision;
   json j;
   if (f.storeRefused) return json{{"event", "store_refused"}, {"message", *f.storeRefused}};
+  if (f.control == acq::PlantFeedback::Control::Paused)
+    return json{{"event", "paused"}, {"reason", f.paused}, {"seq", f.seq}, {"prompt", s.engine().prompt()}};
+  if (f.control == acq::PlantFeedback::Control::Resumed)
+    return json{{"event", "resumed"}, {"seq", f.seq}, {"prompt", s.engine().prompt()}};
   switch (d.kind) {
     case K::Accepted:
     case K::Undone:
@@ -151,7 +155,8 @@ acq::PlantRunStats captureWithDevices(const PlantCaptureOptions& o, db::Store& s
                 << (st.remedy.empty() ? "" : " · " + terminalText(st.remedy)) << "\n";
   }));
   if (!o.json)
-    std::cout << "  commands (then Enter): undo · end · leaf N full|quick|none [state] [type] · quit\n  now: "
+    std::cout << "  commands (then Enter): undo · end · leaf N full|quick|none [state] [type] · pause [why] · resume · "
+                 "quit\n  now: "
               << terminalText(loop.session().engine().prompt()) << "\n"
               << std::flush;
   ports.start();

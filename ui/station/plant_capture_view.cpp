@@ -160,6 +160,8 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   undo_ = new QPushButton(tr("Undo"));
   end_ = new QPushButton(tr("End"));
   end_->setToolTip(tr("Ends the landmarks, a full leaf's rows or the plant (as the long press)"));
+  pause_ = new QPushButton(tr("Pause"));
+  pause_->setToolTip(tr("Presses and readings change nothing until Resume (the pause is kept in the log)"));
   leafKind_ = new QComboBox;
   leafKind_->addItems({"full", "quick", "none"});
   leafState_ = new QComboBox;
@@ -171,10 +173,11 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   leafType_->setMinimumWidth(140);
   setLeaf_ = new QPushButton(tr("Set node 1's leaf"));
   devices_ = new QLabel;
-  for (QWidget* w : std::initializer_list<QWidget*>{undo_, end_, leafKind_, leafState_, setLeaf_})
+  for (QWidget* w : std::initializer_list<QWidget*>{undo_, end_, pause_, leafKind_, leafState_, setLeaf_})
     w->setFocusPolicy(Qt::NoFocus);
   row->addWidget(undo_);
   row->addWidget(end_);
+  row->addWidget(pause_);
   row->addSpacing(16);
   row->addWidget(leafKind_);
   row->addWidget(leafState_);
@@ -183,14 +186,20 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   row->addSpacing(16);
   row->addWidget(devices_, 1);
   controls_->hide();
-  connect(undo_, &QPushButton::clicked, this, [this] { (void)command({acq::PlantCommand::Kind::Undo, 0, {}}); });
-  connect(end_, &QPushButton::clicked, this, [this] { (void)command({acq::PlantCommand::Kind::End, 0, {}}); });
+  connect(undo_, &QPushButton::clicked, this, [this] { (void)command({acq::PlantCommand::Kind::Undo, 0, {}, {}}); });
+  connect(end_, &QPushButton::clicked, this, [this] { (void)command({acq::PlantCommand::Kind::End, 0, {}, {}}); });
+  connect(pause_, &QPushButton::clicked, this, [this] {
+    (void)command({paused_ ? acq::PlantCommand::Kind::Resume : acq::PlantCommand::Kind::Pause,
+                   0,
+                   {},
+                   tr("paused at the station").toStdString()});
+  });
   connect(setLeaf_, &QPushButton::clicked, this, [this] {
     acq::LeafChoice c;
     c.kind = m::leafKindFromString(leafKind_->currentText().toStdString());
     c.state = m::leafStateFromString(leafState_->currentText().toStdString());
     c.type = leafType_->currentText().trimmed().toStdString();
-    (void)command({acq::PlantCommand::Kind::Choose, choiceNode(), c});
+    (void)command({acq::PlantCommand::Kind::Choose, choiceNode(), c, {}});
   });
   // The GUI thread takes what the capture and preview threads left in their mailboxes at 60 Hz:
   // nothing crosses threads through Qt's event queue (whose lock ThreadSanitizer cannot see).
@@ -231,9 +240,16 @@ bool PlantCaptureView::command(const acq::PlantCommand& c) {
 }
 
 void PlantCaptureView::committed(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
-  State state{s.engine(), said(f.decision), f.decision.kind == Kind::Rejected,
-              f.completeSeq.has_value() || s.status() == "complete"};
+  State state{s.engine(),
+              said(f.decision),
+              f.decision.kind == Kind::Rejected,
+              f.completeSeq.has_value() || s.status() == "complete",
+              s.paused(),
+              QString::fromStdString(s.pauseReason())};
   if (f.storeRefused) state.feedback = tr("✗ not saved: %1").arg(QString::fromStdString(*f.storeRefused));
+  if (f.control == acq::PlantFeedback::Control::Paused)
+    state.feedback = tr("⏸ paused: %1").arg(QString::fromStdString(f.paused));
+  if (f.control == acq::PlantFeedback::Control::Resumed) state.feedback = tr("▶ resumed");
   {
     std::lock_guard lock(mutex_);
     previewWanted_ = state.engine;
@@ -422,7 +438,11 @@ void PlantCaptureView::applyState() {
   }
   if (!state) return;
   engine_ = std::move(state->engine);
-  banner_->setText(QString::fromStdString(engine_->prompt()));
+  paused_ = state->paused;
+  pause_->setText(paused_ ? tr("Resume") : tr("Pause"));
+  banner_->setText(paused_ ? tr("PAUSED · %1 · Resume to go on at: %2")
+                                 .arg(state->pauseReason, QString::fromStdString(engine_->prompt()))
+                           : QString::fromStdString(engine_->prompt()));
   if (!state->feedback.isEmpty()) {
     feedback_->setText(state->feedback);
     feedback_->setStyleSheet(state->rejected ? "color: #b00020" : "color: #1b5e20");

@@ -76,6 +76,8 @@ class PlantCaptureView : public QWidget {
   [[nodiscard]] QPushButton* reviewButton() const { return review_; }
   [[nodiscard]] QPushButton* undoButton() const { return undo_; }
   [[nodiscard]] QPushButton* endButton() const { return end_; }
+  // Pause (the operator's: presses and readings change nothing until Resume) and back.
+  [[nodiscard]] QPushButton* pauseButton() const { return pause_; }
   // The leaf of the node the prompt is at (or the next one): kind, state and type (the approved
   // leaves' types offered, any other typed), and Set.
   [[nodiscard]] QComboBox* leafKind() const { return leafKind_; }
@@ -104,6 +106,8 @@ class PlantCaptureView : public QWidget {
     acquisition::PlantEngine engine;
     QString feedback;
     bool rejected = false, complete = false;
+    bool paused = false;
+    QString pauseReason;
   };
   void applyState();    // GUI thread: the newest state to the tree and the banner
   void applyPreview();  // GUI thread: the newest preview to the views
@@ -117,7 +121,8 @@ class PlantCaptureView : public QWidget {
 
   QLabel *banner_, *feedback_, *summary_;
   QTreeWidget* tree_;
-  QPushButton *review_, *undo_, *end_, *setLeaf_;
+  QPushButton *review_, *undo_, *end_, *setLeaf_, *pause_;
+  bool paused_ = false;  // as the last committed state said
   QComboBox *leafKind_, *leafState_, *leafType_;
   QLabel* devices_;
   QWidget* controls_;

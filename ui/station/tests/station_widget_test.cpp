@@ -1364,6 +1364,25 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
   rig.caliperEmulator().pressData();
   ASSERT_TRUE(waitFor([&] { return v->tree()->topLevelItem(1)->text(1) == "Ø 21.5 mm"; }))
       << v->tree()->topLevelItem(1)->text(1).toStdString() << " / " << v->feedbackText().toStdString();
+  // Pause: the banner says so, a reading is logged as ignored and changes nothing; Resume.
+  QTest::mouseClick(v->pauseButton(), Qt::LeftButton);
+  ASSERT_TRUE(waitFor([&] { return v->bannerText().startsWith("PAUSED"); })) << v->bannerText().toStdString();
+  EXPECT_EQ(v->pauseButton()->text(), "Resume");
+  const std::size_t held = items();
+  rig.caliper().hold(3.3);
+  rig.caliperEmulator().pressData();
+  const auto logged = [&](const std::string& kind) {
+    leafdig::db::Store reader(o.db, true);
+    for (const auto& e : reader.events(v->sessionId()))
+      if (e.kind == kind) return true;
+    return false;
+  };
+  ASSERT_TRUE(waitFor([&] { return logged("ignored_reading"); }));
+  EXPECT_EQ(items(), held);
+  QTest::mouseClick(v->pauseButton(), Qt::LeftButton);
+  ASSERT_TRUE(waitFor([&] { return !v->bannerText().startsWith("PAUSED"); })) << v->bannerText().toStdString();
+  EXPECT_EQ(v->pauseButton()->text(), "Pause");
+  EXPECT_TRUE(v->feedbackText().contains("resumed")) << v->feedbackText().toStdString();
   // Node 1's leaf, before its first point: none, dead.
   EXPECT_EQ(v->setLeafButton()->text(), "Set node 1's leaf");
   EXPECT_NE(v->leafType()->findText("middle"), -1) << "the approved leaf's type is offered";
@@ -1382,8 +1401,9 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
   EXPECT_EQ(info->kind, "plant");
   std::vector<std::string> kinds;
   for (const auto& e : store.events(v->sessionId())) kinds.push_back(e.kind);
-  EXPECT_EQ(kinds, (std::vector<std::string>{"accepted", "undone", "accepted", "accepted", "accepted",
-                                             "landmarks_ended", "accepted", "accepted", "leaf_chosen"}));
+  EXPECT_EQ(kinds,
+            (std::vector<std::string>{"accepted", "undone", "accepted", "accepted", "accepted", "landmarks_ended",
+                                      "accepted", "accepted", "paused", "ignored_reading", "resumed", "leaf_chosen"}));
 }
 
 TEST(PlantCaptureView, ADevicesSpecThatDoesNotReadWritesNothing) {

@@ -25,13 +25,15 @@
 namespace leafdig::acquisition {
 
 struct PlantCommand {
-  enum class Kind { Undo, End, Choose, Quit };
+  enum class Kind { Undo, End, Choose, Pause, Resume, Quit };
   Kind kind = Kind::Undo;
   int node = 0;       // Choose
   LeafChoice choice;  // Choose
+  std::string text;   // Pause: the reason
 };
 // "undo", "end" (ends the landmarks, a full leaf's rows or the plant, as the long press),
-// "leaf N full|quick|none [alive|dead|broken|yellow|pruned] [TYPE]" (node N's leaf), "quit".
+// "leaf N full|quick|none [alive|dead|broken|yellow|pruned] [TYPE]" (node N's leaf),
+// "pause [reason…]", "resume", "quit".
 // Throws std::invalid_argument naming the accepted words.
 [[nodiscard]] PlantCommand parsePlantCommand(const std::string& line);
 

@@ -10,7 +10,8 @@
 // node number, col = which point) or a full leaf's ("node3.marker", row and col the leaf's),
 // `rows_ended` / `rows_reopened` {"node"}, `landmarks_ended`, `landmarks_reopened`,
 // `plant_ended`, `plant_reopened`, `leaf_chosen` / `choice_undone` {"node", "kind", "state"},
-// `rejected`, `status`, and a curator's `corrected` (correctPlantSession, below).
+// `rejected`, `status`, `paused` {"reason"} / `resumed`, `ignored_reading` (a reading while
+// paused), and a curator's `corrected` (correctPlantSession, below).
 //
 // Thread contract: one thread owns a PlantCaptureSession (and its Store).
 #pragma once
@@ -49,6 +50,9 @@ struct PlantFeedback {
   std::int64_t seq = 0;
   std::optional<std::int64_t> completeSeq;  // the `complete` status, when this decision finished the plant
   std::optional<std::string> storeRefused;  // the store's words when the write failed (nothing changed)
+  // An operator's pause or resume (the decision is Ignored): `paused` holds the reason.
+  enum class Control { None, Paused, Resumed } control = Control::None;
+  std::string paused;
 };
 
 class PlantCaptureSession {
@@ -67,6 +71,14 @@ class PlantCaptureSession {
   PlantFeedback chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs = 0);
   // Ends the session unfinished (status `abandoned`, with why).
   PlantFeedback abandon(const std::string& why, std::int64_t monoNs = 0);
+  // An operator's pause (a `paused` event with the reason): until resume() the stylus and the
+  // caliper change nothing (a reading is logged as `ignored_reading`), and undo, end and leaf
+  // choices wait; a pause survives a restart (the session opens paused). Nothing when already
+  // paused or ended.
+  PlantFeedback pause(const std::string& reason, std::int64_t monoNs = 0);
+  PlantFeedback resume(std::int64_t monoNs = 0);
+  [[nodiscard]] bool paused() const { return paused_; }
+  [[nodiscard]] const std::string& pauseReason() const { return pauseReason_; }
 
   [[nodiscard]] std::int64_t id() const { return id_; }
   [[nodiscard]] const PlantEngine& engine() const { return engine_; }
@@ -93,6 +105,8 @@ class PlantCaptureSession {
   PlantEngine engine_;
   std::map<std::string, std::int64_t> seqs_;  // the event that accepted each current item
   std::string status_ = "open";
+  bool paused_ = false;
+  std::string pauseReason_;
 };
 
 // A curator's correction of one item of a complete plant session, saying why (review.hpp's
