@@ -116,6 +116,15 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
           case PlantCommand::Kind::Quit: quit = true; break;
         }
         if (quit) break;
+      } else if (const auto* st = std::get_if<dev::DeviceStatus>(&in)) {
+        // One event per state change (not per message or rate): enough to see an unplug and its end.
+        const std::string state = dev::toString(st->state);
+        std::string& last = deviceStates_[st->device];
+        if (last == state) continue;
+        last = state;
+        f = session_.deviceStatus(st->device, state, st->message + (st->remedy.empty() ? "" : " — " + st->remedy),
+                                  monoNs(Clock::now()));
+        if (!f.storeRefused) continue;  // said by the devices' own callback; nothing for the technician
       } else if (const auto* s = std::get_if<dev::StylusSample>(&std::get<dev::DeviceEvent>(in))) {
         f = session_.onStylus({monoNs(s->deviceTime.value_or(s->t)), s->positionMm, s->button, s->status,
                                dev::printableRaw(s->raw, true)});
@@ -139,7 +148,12 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
 
 dev::Driver::Callbacks PlantCaptureLoop::sinks(std::function<void(const dev::DeviceStatus&)> onStatus) {
   return {[this](const dev::DeviceEvent& e) { post(e); },
-          [status = std::move(onStatus)](const dev::DeviceStatus& s) {
+          [this, status = std::move(onStatus)](const dev::DeviceStatus& s) {
+            {
+              std::lock_guard lock(mutex_);
+              inputs_.emplace_back(s);
+            }
+            cv_.notify_all();
             if (status) status(s);
           }};
 }

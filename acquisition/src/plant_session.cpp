@@ -502,6 +502,22 @@ PlantFeedback PlantCaptureSession::resume(std::int64_t monoNs) {
   return f;
 }
 
+PlantFeedback PlantCaptureSession::deviceStatus(const std::string& device, const std::string& state,
+                                                const std::string& message, std::int64_t monoNs) {
+  PlantFeedback f;
+  if (ended()) return f;
+  db::EventInput ev;
+  ev.kind = "device";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"device", device}, {"state", state}, {"message", message}}.dump();
+  try {
+    f.seq = store_.append(id_, ev);
+  } catch (const db::StoreError& e) {
+    f.storeRefused = std::string(e.what()) + ": " + e.remedy();
+  }
+  return f;
+}
+
 std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& c) {
   const auto info = store.session(id);
   if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());

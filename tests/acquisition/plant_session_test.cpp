@@ -395,8 +395,17 @@ TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThread
   const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
   acq::PlantCaptureLoop loop(store, id);
   std::vector<std::string> said;
+  int statuses = 0;
+  const leafdig::devices::Driver::Callbacks sinks =
+      loop.sinks([&](const leafdig::devices::DeviceStatus&) { ++statuses; });
   std::thread devices([&] {
     namespace dev = leafdig::devices;
+    // The digitizer's state changes: streaming twice (once logged), then unplugged.
+    dev::DeviceStatus streaming;
+    streaming.device = "FASTRAK";
+    streaming.state = dev::LinkState::Streaming;
+    sinks.onStatus(streaming);
+    sinks.onStatus(streaming);
     const auto t0 = dev::Clock::now();
     int k = 0;
     const auto record = [&](const acq::Vec3& p, bool button) {
@@ -415,6 +424,10 @@ TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThread
     loop.command(acq::parsePlantCommand("end"));   // one landmark: too few to end them
     loop.command(acq::parsePlantCommand("undo"));  // takes back the choice, the last action
     loop.command(acq::parsePlantCommand("undo"));  // then the landmark
+    dev::DeviceStatus unplugged = streaming;
+    unplugged.state = dev::LinkState::Disconnected;
+    unplugged.message = "the cable was pulled";
+    sinks.onStatus(unplugged);
     loop.command(acq::parsePlantCommand("quit"));
   });
   const acq::PlantRunStats stats = loop.run([&](const acq::PlantFeedback& f, const acq::PlantCaptureSession&) {
@@ -437,6 +450,15 @@ TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThread
   EXPECT_FALSE(loop.session().ended());
   EXPECT_EQ(store.session(id)->status, "open");
   EXPECT_EQ(loop.session().engine().items().size(), 0u);
+  // Every status reached the caller; each change of state is in the log, in order.
+  EXPECT_EQ(statuses, 3);
+  std::vector<std::string> logged;
+  for (const db::Event& e : store.events(id))
+    if (e.kind == "device") logged.push_back(e.payloadJson);
+  ASSERT_EQ(logged.size(), 2u);
+  EXPECT_NE(logged[0].find("\"streaming\""), std::string::npos) << logged[0];
+  EXPECT_NE(logged[1].find("the cable was pulled"), std::string::npos) << logged[1];
+  EXPECT_TRUE(store.verify(id).ok);
 }
 
 TEST(PlantCommand, TheWordsATechnicianTypesAreReadOrRefusedByName) {

@@ -33,6 +33,7 @@
 #include <fstream>
 #include <functional>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -1400,7 +1401,15 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
   EXPECT_EQ(info->plant, "P-hands");
   EXPECT_EQ(info->kind, "plant");
   std::vector<std::string> kinds;
-  for (const auto& e : store.events(v->sessionId())) kinds.push_back(e.kind);
+  std::set<std::string> devicesLogged;
+  for (const auto& e : store.events(v->sessionId())) {
+    if (e.kind == "device") {  // each device's changes of state, as a leaf capture keeps them
+      devicesLogged.insert(nlohmann::json::parse(e.payloadJson).at("device").get<std::string>());
+      continue;
+    }
+    kinds.push_back(e.kind);
+  }
+  EXPECT_EQ(devicesLogged, (std::set<std::string>{"FASTRAK", "Sylvac"}));
   EXPECT_EQ(kinds,
             (std::vector<std::string>{"accepted", "undone", "accepted", "accepted", "accepted", "landmarks_ended",
                                       "accepted", "accepted", "paused", "ignored_reading", "resumed", "leaf_chosen"}));

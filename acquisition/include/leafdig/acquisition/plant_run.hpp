@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <string>
 #include <variant>
@@ -60,11 +61,12 @@ class PlantCaptureLoop {
   PlantRunStats run(const Listener& onFeedback, const std::function<void(const PlantCaptureSession&)>& onChange = {});
   [[nodiscard]] PlantCaptureSession& session() { return session_; }
   // What the devices deliver into (device_set.hpp's DeviceSet on the operator's ports): their
-  // records posted here, their status changes to `onStatus` (on the drivers' threads).
+  // records posted here, their status changes to `onStatus` (on the drivers' threads) and into
+  // the session's log (a `device` event per change of state, as a leaf capture keeps them).
   [[nodiscard]] devices::Driver::Callbacks sinks(std::function<void(const devices::DeviceStatus&)> onStatus = {});
 
  private:
-  using Input = std::variant<devices::DeviceEvent, PlantCommand>;
+  using Input = std::variant<devices::DeviceEvent, devices::DeviceStatus, PlantCommand>;
   [[nodiscard]] std::int64_t monoNs(Clock::time_point t) const;
 
   PlantCaptureSession session_;
@@ -74,6 +76,7 @@ class PlantCaptureLoop {
   std::condition_variable cv_;
   std::deque<Input> inputs_;
   std::atomic<bool> stop_{false};
+  std::map<std::string, std::string> deviceStates_;  // the last state logged per device (run's thread)
 };
 
 }  // namespace leafdig::acquisition

@@ -11,7 +11,8 @@
 // `rows_ended` / `rows_reopened` {"node"}, `landmarks_ended`, `landmarks_reopened`,
 // `plant_ended`, `plant_reopened`, `leaf_chosen` / `choice_undone` {"node", "kind", "state"},
 // `rejected`, `status`, `paused` {"reason"} / `resumed`, `ignored_reading` (a reading while
-// paused), and a curator's `corrected` (correctPlantSession, below).
+// paused), `device` {"device","state","message"}, and a curator's `corrected`
+// (correctPlantSession, below).
 //
 // Thread contract: one thread owns a PlantCaptureSession (and its Store).
 #pragma once
@@ -78,6 +79,10 @@ class PlantCaptureSession {
   PlantFeedback pause(const std::string& reason, std::int64_t monoNs = 0);
   PlantFeedback resume(std::int64_t monoNs = 0);
   [[nodiscard]] bool paused() const { return paused_; }
+  // A device's change of state, kept in the log (a `device` event {"device","state","message"}),
+  // as a leaf capture keeps it; a store that refuses it loses nothing acknowledged.
+  PlantFeedback deviceStatus(const std::string& device, const std::string& state, const std::string& message,
+                             std::int64_t monoNs = 0);
   [[nodiscard]] const std::string& pauseReason() const { return pauseReason_; }
 
   [[nodiscard]] std::int64_t id() const { return id_; }
