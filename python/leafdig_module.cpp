@@ -377,27 +377,26 @@ py::list sessions(const Store& s) {
   return out;
 }
 
-// A leaf session's markers, as `sessions export --format markers` writes them (verified first).
-Markers sessionMarkers(const Store& s, std::int64_t id) {
-  py::gil_scoped_release free;
+// Nothing of a session whose chain does not recompute is handed to Python: the CLI's words.
+void requireVerified(const Store& s, std::int64_t id, const std::string& refused) {
   const db::ChainReport chain = s.store->verify(id);
   if (!chain.ok)
     throw acq::SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
-                            std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem +
-                            "): its markers are not given");
-  const acq::ReviewedSession r = acq::openForReview(*s.store, id);
-  m::MarkerSet set = acq::summarize(r).model.markers;
-  return {std::move(set)};
+                            std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + ")" + refused);
+}
+
+// A leaf session's markers, as `sessions export --format markers` writes them (verified first).
+Markers sessionMarkers(const Store& s, std::int64_t id) {
+  py::gil_scoped_release free;
+  requireVerified(s, id, ": its markers are not given");
+  return {acq::sessionMarkers(acq::openForReview(*s.store, id))};
 }
 
 py::list sessionEvents(const Store& s, std::int64_t id) {
   std::vector<db::Event> events;
   {
     py::gil_scoped_release free;
-    const db::ChainReport chain = s.store->verify(id);
-    if (!chain.ok)
-      throw acq::SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
-                              std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + ")");
+    requireVerified(s, id, "");
     events = s.store->events(id);
   }
   py::list out;

@@ -65,20 +65,20 @@ PlantCommand parsePlantCommand(const std::string& line) {
 PlantCaptureLoop::PlantCaptureLoop(db::Store& store, std::int64_t id, double timeScale)
     : session_(store, id), timeScale_(timeScale) {}
 
-void PlantCaptureLoop::post(const dev::DeviceEvent& e) {
+void PlantCaptureLoop::push(Input in) {
   {
     std::lock_guard lock(mutex_);
-    inputs_.emplace_back(e);
+    inputs_.push_back(std::move(in));
   }
   cv_.notify_all();
 }
 
+void PlantCaptureLoop::post(const dev::DeviceEvent& e) {
+  push(e);
+}
+
 void PlantCaptureLoop::command(const PlantCommand& c) {
-  {
-    std::lock_guard lock(mutex_);
-    inputs_.emplace_back(c);
-  }
-  cv_.notify_all();
+  push(c);
 }
 
 void PlantCaptureLoop::stop() {
@@ -149,11 +149,7 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
 dev::Driver::Callbacks PlantCaptureLoop::sinks(std::function<void(const dev::DeviceStatus&)> onStatus) {
   return {[this](const dev::DeviceEvent& e) { post(e); },
           [this, status = std::move(onStatus)](const dev::DeviceStatus& s) {
-            {
-              std::lock_guard lock(mutex_);
-              inputs_.emplace_back(s);
-            }
-            cv_.notify_all();
+            push(s);
             if (status) status(s);
           }};
 }

@@ -454,13 +454,18 @@ PlantFeedback PlantCaptureSession::abandon(const std::string& why, std::int64_t 
   ev.monoNs = monoNs;
   ev.payloadJson = json{{"status", "abandoned"}, {"who", setup_.operatorName}, {"why", why}}.dump();
   ev.setsStatus = "abandoned";
+  if (appendInto(ev, f)) status_ = "abandoned";
+  return f;
+}
+
+bool PlantCaptureSession::appendInto(const db::EventInput& ev, PlantFeedback& f) {
   try {
     f.seq = store_.append(id_, ev);
-    status_ = "abandoned";
+    return true;
   } catch (const db::StoreError& e) {
     f.storeRefused = std::string(e.what()) + ": " + e.remedy();
+    return false;
   }
-  return f;
 }
 
 PlantFeedback PlantCaptureSession::pause(const std::string& reason, std::int64_t monoNs) {
@@ -470,12 +475,7 @@ PlantFeedback PlantCaptureSession::pause(const std::string& reason, std::int64_t
   ev.kind = "paused";
   ev.monoNs = monoNs;
   ev.payloadJson = json{{"reason", reason}}.dump();
-  try {
-    f.seq = store_.append(id_, ev);
-  } catch (const db::StoreError& e) {
-    f.storeRefused = std::string(e.what()) + ": " + e.remedy();
-    return f;
-  }
+  if (!appendInto(ev, f)) return f;
   paused_ = true;
   pauseReason_ = reason;
   f.control = PlantFeedback::Control::Paused;
@@ -490,12 +490,7 @@ PlantFeedback PlantCaptureSession::resume(std::int64_t monoNs) {
   ev.kind = "resumed";
   ev.monoNs = monoNs;
   ev.payloadJson = "{}";
-  try {
-    f.seq = store_.append(id_, ev);
-  } catch (const db::StoreError& e) {
-    f.storeRefused = std::string(e.what()) + ": " + e.remedy();
-    return f;
-  }
+  if (!appendInto(ev, f)) return f;
   paused_ = false;
   pauseReason_.clear();
   f.control = PlantFeedback::Control::Resumed;
@@ -510,11 +505,7 @@ PlantFeedback PlantCaptureSession::deviceStatus(const std::string& device, const
   ev.kind = "device";
   ev.monoNs = monoNs;
   ev.payloadJson = json{{"device", device}, {"state", state}, {"message", message}}.dump();
-  try {
-    f.seq = store_.append(id_, ev);
-  } catch (const db::StoreError& e) {
-    f.storeRefused = std::string(e.what()) + ": " + e.remedy();
-  }
+  (void)appendInto(ev, f);
   return f;
 }
 

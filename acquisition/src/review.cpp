@@ -245,8 +245,12 @@ const std::vector<std::string>& exportFormats() {
   return formats;
 }
 
+model::MarkerSet sessionMarkers(const ReviewedSession& r) {
+  return toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
+}
+
 LeafSummary summarize(const ReviewedSession& r) {
-  const model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
+  const model::MarkerSet set = sessionMarkers(r);
   LeafSummary s{model::buildLeafModel(set, {}), {}};
   s.metrics = model::computeLeafMetrics(s.model, Eigen::Vector3d(0, 0, 1), 5.0);
   // Silhouette and STAR of the mesh an export writes (model build's default resolution).
@@ -272,7 +276,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   } else {
     const ReviewedSession r = openForReview(store, id);
     requireChain(store, id, "exported");
-    set = toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
+    set = sessionMarkers(r);
   }
   const model::LeafInfo& info = set.leaf;
   model::LeafModel leaf = model::buildLeafModel(set, {model::bladeKindFromString(request.blade), nullptr});
@@ -351,7 +355,7 @@ OrganLibrary organLibrary(const db::EventStore& store) {
     if (info.kind != "leaf" || info.status != "approved") continue;
     try {
       const ReviewedSession r = openForReview(store, info.id);
-      model::MarkerSet set = toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
+      model::MarkerSet set = sessionMarkers(r);
       (void)model::buildLeafModel(set, {});  // a whole, valid leaf, or it is not offered
       out.leaves.push_back({"session " + std::to_string(info.id), std::move(set)});
     } catch (const std::exception& e) {

@@ -512,6 +512,17 @@ QString PlantView::decide(const char* status, const QString& who, const QString&
 }
 
 std::vector<PlantView::CorrectableItem> PlantView::correctableItems() const {
+  // The item's stored position or value, into the correction and its label after `where`.
+  const auto stored = [](CorrectableItem& c, const QString& where, bool stylus, const acquisition::Vec3& p,
+                         double value) {
+    if (stylus) {
+      c.item.positionMm = p;
+      c.label = tr("%1 (%2, %3, %4 mm)").arg(where).arg(p[0], 0, 'f', 1).arg(p[1], 0, 'f', 1).arg(p[2], 0, 'f', 1);
+    } else {
+      c.item.valueMm = value;
+      c.label = tr("%1 (%2 mm)").arg(where).arg(value, 0, 'f', 2);
+    }
+  };
   std::vector<CorrectableItem> out;
   if (capturedSession_ == 0) return out;
   try {
@@ -541,17 +552,7 @@ std::vector<PlantView::CorrectableItem> PlantView::correctableItems() const {
           break;
         default: continue;
       }
-      if (acquisition::isStylusItem(i.what)) {
-        c.item.positionMm = i.positionMm;
-        c.label = tr("%1 (%2, %3, %4 mm)")
-                      .arg(where)
-                      .arg(i.positionMm[0], 0, 'f', 1)
-                      .arg(i.positionMm[1], 0, 'f', 1)
-                      .arg(i.positionMm[2], 0, 'f', 1);
-      } else {
-        c.item.valueMm = i.valueMm;
-        c.label = tr("%1 (%2 mm)").arg(where).arg(i.valueMm, 0, 'f', 2);
-      }
+      stored(c, where, acquisition::isStylusItem(i.what), i.positionMm, i.valueMm);
       out.push_back(std::move(c));
     }
     // Each full leaf's items, with their node (the leaf's own words, rows from the tip).
@@ -573,17 +574,7 @@ std::vector<PlantView::CorrectableItem> PlantView::correctableItems() const {
                                   .arg(QString::fromLatin1(acquisition::toString(i.what)).replace('_', ' '))
                                   .arg(i.row > 0 ? tr(" · row %1").arg(i.row) : QString())
                                   .arg(i.col > 0 ? tr(" · point %1").arg(i.col) : QString());
-        if (acquisition::isStylusItem(i.what)) {
-          c.item.positionMm = i.positionMm;
-          c.label = tr("%1 (%2, %3, %4 mm)")
-                        .arg(where)
-                        .arg(i.positionMm[0], 0, 'f', 1)
-                        .arg(i.positionMm[1], 0, 'f', 1)
-                        .arg(i.positionMm[2], 0, 'f', 1);
-        } else {
-          c.item.valueMm = i.valueMm;
-          c.label = tr("%1 (%2 mm)").arg(where).arg(i.valueMm, 0, 'f', 2);
-        }
+        stored(c, where, acquisition::isStylusItem(i.what), i.positionMm, i.valueMm);
         out.push_back(std::move(c));
       }
     }

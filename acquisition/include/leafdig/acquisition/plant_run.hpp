@@ -68,6 +68,7 @@ class PlantCaptureLoop {
  private:
   using Input = std::variant<devices::DeviceEvent, devices::DeviceStatus, PlantCommand>;
   [[nodiscard]] std::int64_t monoNs(Clock::time_point t) const;
+  void push(Input in);  // onto the queue, from any thread
 
   PlantCaptureSession session_;
   double timeScale_;

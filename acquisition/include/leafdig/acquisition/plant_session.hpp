@@ -102,6 +102,9 @@ class PlantCaptureSession {
 
  private:
   PlantFeedback commit(const PlantDecision& d, std::int64_t monoNs, const std::string& raw);
+  // Appends an event that is no decision (a status, a pause, a device's state): its seq into f,
+  // or the store's words into f.storeRefused and false.
+  bool appendInto(const db::EventInput& ev, PlantFeedback& f);
   void rebuild();
 
   db::Store& store_;

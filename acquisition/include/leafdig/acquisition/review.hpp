@@ -94,6 +94,11 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
 // The format names exportSession knows, in order.
 [[nodiscard]] const std::vector<std::string>& exportFormats();
 
+// A reviewed leaf session's markers, with the session's leaf (plant, position, type, measured
+// area): what summarize() builds, `sessions export --format markers` writes and the organ
+// library takes.
+[[nodiscard]] model::MarkerSet sessionMarkers(const ReviewedSession& r);
+
 // The leaf's metrics and model (for review: area, the area constraint). Throws
 // model::InputError when the capture is not a whole leaf.
 struct LeafSummary {
