@@ -17,8 +17,8 @@ import pytest
 
 import leafdig
 
-SOURCE = Path(os.environ.get("LEAFDIG_SOURCE_DIR", Path(__file__).resolve().parents[2]))
-CLI = os.environ.get("LEAFDIG_CLI", str(SOURCE / "build/ci/ui/cli/leafdig"))
+SOURCE = Path(os.environ.get("LEAFDIG_SOURCE_DIR", Path(__file__).resolve().parents[2])).resolve()
+CLI = os.path.abspath(os.environ.get("LEAFDIG_CLI", str(SOURCE / "build/ci/ui/cli/leafdig")))
 SAMPLES = sorted((SOURCE / "data/samples").glob("*.markers.json"))
 PLAN = SOURCE / "data/plants/tobacco-p07.plant.json"
 
@@ -213,7 +213,7 @@ def test_a_read_only_store_decides_nothing_and_a_writable_one_approves(station, 
     assert cli_json("sessions", "list", "--db", copy)[0]["status"] == "approved"
 
 
-def test_a_plant_is_the_one_plant_build_makes(tmp_path):
+def test_a_plant_is_the_one_plant_build_makes(tmp_path, monkeypatch):
     plant = leafdig.build_plant(PLAN)
     built = cli_json("plant", "build", PLAN, "-o", tmp_path / "p.glb", "--no-measure")["states"][0]
     assert plant.metrics == built["metrics"]
@@ -232,7 +232,7 @@ def test_a_plant_is_the_one_plant_build_makes(tmp_path):
     assert Path(written[0]).stat().st_size > 1000
     with open(PLAN) as f:
         as_dict = json.load(f)
-    os.chdir(PLAN.parent)
+    monkeypatch.chdir(PLAN.parent)  # a dict's relative paths are the working directory's
     assert leafdig.build_plant(as_dict).metrics == plant.metrics
 
 
