@@ -605,7 +605,33 @@ PYBIND11_MODULE(_leafdig, mod) {
               throw m::InputError(e.what());
             }
           },
-          py::arg("id"), py::arg("status"), py::arg("who"), py::arg("why") = "");
+          py::arg("id"), py::arg("status"), py::arg("who"), py::arg("why") = "")
+      .def(
+          "correct",
+          [](Store& s, std::int64_t id, const std::string& what, int row, int col, int node,
+             const std::optional<std::array<double, 3>>& position, const std::optional<double>& value,
+             const std::string& who, const std::string& why) {
+            acq::Correction c;
+            try {
+              acq::setCorrectionItem(c, what, node);
+            } catch (const std::invalid_argument& e) {
+              throw m::InputError(e.what());
+            }
+            c.row = row;
+            c.col = col;
+            if (position) c.positionMm = acq::Vec3{(*position)[0], (*position)[1], (*position)[2]};
+            c.valueMm = value;
+            c.who = who;
+            c.reason = why;
+            py::gil_scoped_release free;
+            try {
+              return acq::correct(*s.store, id, c);
+            } catch (const std::invalid_argument& e) {
+              throw m::InputError(e.what());
+            }
+          },
+          py::arg("id"), py::arg("what"), py::arg("row"), py::arg("col"), py::arg("node"), py::arg("position"),
+          py::arg("value"), py::arg("who"), py::arg("why"));
   mod.def("open_store", &openStore, py::arg("path_or_url"), py::arg("writable") = false);
 
   mod.def(

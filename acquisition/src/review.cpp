@@ -153,6 +153,27 @@ std::vector<ReviewFlag> reviewFlags(const std::vector<Item>& items, double madLi
   return out;
 }
 
+void setCorrectionItem(Correction& c, const std::string& word, int node) {
+  c.node = node;
+  c.plantWhat.reset();
+  try {
+    c.what = whatFromString(word);
+    return;
+  } catch (const std::invalid_argument&) {
+  }
+  try {
+    c.plantWhat = plantWhatFromString(word);
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument(word +
+                                " is not an item: a leaf's tip, marker, midrib_thickness, vein_origin_thickness, "
+                                "point_thickness or edge_thickness; a plant's landmark, collar, collar_diameter, "
+                                "point, reading or quick_point");
+  }
+  if (node > 0)
+    throw std::invalid_argument("node " + std::to_string(node) +
+                                " is a full leaf: its items are tip, marker and the thicknesses, not " + word);
+}
+
 std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c) {
   const db::SessionInfo info = infoOrThrow(store, id);
   if (info.kind == "plant") {

@@ -1041,7 +1041,7 @@ TEST_F(PlantCli, ACuratorCorrectsAPlantsPointAndAFullLeafsMarkerThroughSessionsC
            {"--what reading --row 9 --value 3", "has no reading 9"},
            {"--what reading --row 2 --position 1,2,3", "with a value in mm"},
            {"--node 3 --what marker --row 1 --col 1 --position 1,2,3", "that node has no full leaf"},
-           {"--node 2 --what landmark --row 1 --position 1,2,3", "--node names a full leaf"},
+           {"--node 2 --what landmark --row 1 --position 1,2,3", "node 2 is a full leaf: its items are tip, marker"},
            {"--what collar_diameter --value 1e9", "outside this session's range"}}) {
     const Result bad = leafdig("sessions correct " + id + " --db " + quote(db) + " " + args + " --who kim --why x");
     EXPECT_EQ(bad.exitCode, 2) << args << ": " << bad.err;

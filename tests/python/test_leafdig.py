@@ -349,6 +349,47 @@ def lab(tmp_path_factory, station):
         shutil.rmtree(home, ignore_errors=True)
 
 
+def test_a_curator_corrects_a_leaf_and_a_plant_from_python(station, tmp_path):
+    copy = tmp_path / "copy.sqlite"
+    copy.write_bytes(station.read_bytes())
+    before = leafdig.open(copy).markers(1).rows
+    moved = before[1][2] + np.array([0.5, -0.25, 0.0])
+    with pytest.raises(leafdig.StoreError):  # read only unless asked
+        leafdig.open(copy).correct(1, "marker", row=2, col=3, position=moved, who="kim", why="slipped")
+    store = leafdig.open(copy, writable=True)
+    events = len(store.events(1))
+    for what, kwargs, words in (("lasers", {"value": 1.0}, "is not an item"),
+                                ("marker", {"row": 2, "col": 3, "position": moved, "why": ""}, "reason"),
+                                ("marker", {"row": 2, "col": 3, "position": (1.0, 2.0)}, "position"),
+                                ("midrib_thickness", {"row": 2, "col": 4, "value": 1e9}, "range")):
+        kwargs.setdefault("why", "slipped")
+        with pytest.raises(leafdig.InputError, match=words):
+            store.correct(1, what, who="kim", **kwargs)
+    assert len(store.events(1)) == events  # nothing written
+    seq = store.correct(1, "marker", row=2, col=3, position=moved, who="kim", why="the stylus slipped")
+    assert seq == events + 1 and store.events(1)[-1]["kind"] == "corrected"
+    after = store.markers(1).rows
+    changed = np.argwhere(np.any(after != before, axis=2))
+    assert changed.tolist() == [[1, 2]] and np.array_equal(after[1][2], moved)
+    assert store.events(1)[-1]["payload"]["who"] == "kim"
+    # The CLI exports the same corrected markers, and the corrected leaf builds to its numbers.
+    cli("sessions", "export", 1, "--db", copy, "--out", tmp_path, "--format", "markers")
+    assert np.array_equal(leafdig.read_markers(tmp_path / "session-1.markers.json").rows, after)
+    assert store.leaf(1).metrics == cli_json("model", "build", tmp_path / "session-1.markers.json")["metrics"]
+    # A plant's own item, and one of its full leaf's, by node.
+    plant = cli_json("sessions", "show", 2, "--db", copy)
+    full = next(l["node"] for l in plant["leaves"] if l["kind"] == "full")
+    store.correct(2, "collar_diameter", value=9.5, who="kim", why="re-measured")
+    store.correct(2, "marker", node=full, row=1, col=1, position=(1.0, 2.0, 3.0), who="kim", why="slipped")
+    with pytest.raises(leafdig.InputError, match="is a full leaf"):
+        store.correct(2, "landmark", node=full, row=1, position=(1.0, 2.0, 3.0), who="kim", why="x")
+    assert len(cli_json("sessions", "show", 2, "--db", copy)["corrections"]) == 2
+    # Approved is final: no correction after it.
+    store.approve(1, who="kim")
+    with pytest.raises(leafdig.InputError, match="approved"):
+        store.correct(1, "marker", row=2, col=3, position=before[1][2], who="kim", why="back")
+
+
 def test_the_lab_servers_roles_hold_through_python(lab, station):
     reader = leafdig.open(lab["reader"])
     sessions = reader.sessions()
@@ -362,6 +403,14 @@ def test_the_lab_servers_roles_hold_through_python(lab, station):
         with pytest.raises(leafdig.StoreError):
             leafdig.open(lab[role], writable=True).approve(leaf_id, who=role)
     assert reader.sessions(id=leaf_id)[0]["status"] == "complete"
+    # So with corrections: the technician's refused by the server, the curator's taken.
+    moved = reader.markers(leaf_id).rows[0][0] + np.array([0.1, 0.0, 0.0])
+    with pytest.raises(leafdig.StoreError):
+        leafdig.open(lab["technician"], writable=True).correct(leaf_id, "marker", row=1, col=1, position=moved,
+                                                               who="tech", why="mine")
+    leafdig.open(lab["curator"], writable=True).correct(leaf_id, "marker", row=1, col=1, position=moved,
+                                                        who="carla", why="slipped")
+    assert np.array_equal(reader.markers(leaf_id).rows[0][0], moved)
     leafdig.open(lab["curator"], writable=True).approve(leaf_id, who="carla")
     assert reader.sessions(id=leaf_id)[0]["status"] == "approved"
     # The password never shows in what the store says of itself.

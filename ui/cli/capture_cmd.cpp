@@ -534,22 +534,7 @@ int runReview(db::EventStore& store, const CaptureOptions& o, const std::string&
 
 int runCorrect(db::EventStore& store, const CaptureOptions& o) {
   acq::Correction c;
-  // A leaf's word (tip, marker, a thickness) or a plant's (landmark, point, reading, …).
-  try {
-    c.what = acq::whatFromString(o.what);
-  } catch (const std::invalid_argument&) {
-    try {
-      c.plantWhat = acq::plantWhatFromString(o.what);
-    } catch (const std::invalid_argument&) {
-      throw std::invalid_argument("--what " + o.what +
-                                  " is not an item: a leaf's tip, marker, midrib_thickness, vein_origin_thickness, "
-                                  "point_thickness or edge_thickness; a plant's landmark, collar, collar_diameter, "
-                                  "point, reading or quick_point");
-    }
-  }
-  if (c.plantWhat && o.node > 0)
-    throw std::invalid_argument("--node names a full leaf: its items are tip, marker and thicknesses, not " + o.what);
-  c.node = o.node;
+  acq::setCorrectionItem(c, o.what, o.node);  // --what and --node
   c.row = o.row;
   c.col = o.col;
   c.reason = o.why;

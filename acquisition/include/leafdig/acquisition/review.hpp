@@ -56,6 +56,11 @@ struct Correction {
   std::optional<PlantWhat> plantWhat;
   int node = 0;
 };
+// The item a curator names in words (the CLI's --what, Python's `what`): a leaf's (tip, marker,
+// midrib_thickness, …) or a plant's (landmark, collar, point, reading, …), set in `c`
+// (`what` or `plantWhat`). `node` > 0 names a plant's full leaf, whose items are a leaf's.
+// Throws std::invalid_argument listing the words there are.
+void setCorrectionItem(Correction& c, const std::string& word, int node = 0);
 // Appends a `corrected` event (the projection row of the item is replaced in the same
 // transaction). Only a complete session is corrected (approved and rejected ones are
 // final; open ones are still being captured). Throws std::invalid_argument naming what is
