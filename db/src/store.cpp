@@ -265,7 +265,11 @@ Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Im
     if (exists) {
       // Look before touching: a foreign, damaged, newer or doctored file is refused unmodified,
       // before any of its tables is read.
-      SQLite::Database probe(path, SQLite::OPEN_READONLY);
+      // It waits for a lock as the store itself does (5 s): another connection closing the
+      // file checkpoints it under a short exclusive lock, and a look that gave up at once
+      // would call the file locked (seen when a capture's thread ended as the station
+      // opened its file to show the result).
+      SQLite::Database probe(path, SQLite::OPEN_READONLY, 5000);
       harden(probe, &impl_->budget);
       const int appId = probe.execAndGet("PRAGMA application_id").getInt();
       const int version = probe.execAndGet("PRAGMA user_version").getInt();
