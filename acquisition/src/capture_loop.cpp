@@ -5,6 +5,28 @@
 
 namespace leafdig::acquisition {
 
+Step parseLeafItemWords(std::istream& in, const std::string& command) {
+  std::string what;
+  in >> what;
+  if (what.empty())
+    throw std::invalid_argument(command + " what? e.g. '" + command + " marker 3 5', '" + command + " tip', '" +
+                                command + " midrib_thickness 2'");
+  Step st;
+  st.what = whatFromString(what);
+  if (st.what == What::Marker || st.what == What::PointThickness) {
+    if (!(in >> st.row >> st.col))
+      throw std::invalid_argument(command + " " + what + " needs a row and a point: e.g. '" + command + " " + what +
+                                  " 3 5'");
+  } else if (st.what == What::MidribThickness || st.what == What::VeinOriginThickness) {
+    if (!(in >> st.row))
+      throw std::invalid_argument(command + " " + what + " needs a row: e.g. '" + command + " " + what + " 2'");
+    st.col = 4;
+  } else if (st.what == What::Board) {
+    if (!(in >> st.col)) throw std::invalid_argument(command + " board needs the point (1, 2 or 3)");
+  }
+  return st;
+}
+
 Command parseCommand(const std::string& line) {
   std::istringstream in(line);
   std::string word;
@@ -24,20 +46,10 @@ Command parseCommand(const std::string& line) {
     c.kind = Command::Kind::Abandon;
   else if (word == "retake" || word == "r") {
     c.kind = Command::Kind::Retake;
-    std::string what;
-    in >> what;
-    if (what.empty())
-      throw std::invalid_argument("retake what? e.g. 'retake marker 3 5', 'retake tip', 'retake midrib_thickness 2'");
-    c.what = whatFromString(what);
-    if (c.what == What::Marker || c.what == What::PointThickness) {
-      if (!(in >> c.row >> c.col))
-        throw std::invalid_argument("retake " + what + " needs a row and a point: e.g. 'retake " + what + " 3 5'");
-    } else if (c.what == What::MidribThickness || c.what == What::VeinOriginThickness) {
-      if (!(in >> c.row)) throw std::invalid_argument("retake " + what + " needs a row: e.g. 'retake " + what + " 2'");
-      c.col = 4;
-    } else if (c.what == What::Board) {
-      if (!(in >> c.col)) throw std::invalid_argument("retake board needs the point (1, 2 or 3)");
-    }
+    const Step st = parseLeafItemWords(in, "retake");
+    c.what = st.what;
+    c.row = st.row;
+    c.col = st.col;
   } else {
     throw std::invalid_argument("unknown command '" + word +
                                 "': use undo, end, retake WHAT [ROW [POINT]], pause, resume, abandon [why], quit");

@@ -107,6 +107,40 @@ int PlantEngine::landmarks() const {
   return n;
 }
 
+int PlantEngine::lastLandmark() const {
+  int n = 0;
+  for (const PlantItem& i : items_)
+    if (i.what == PlantWhat::Landmark) n = std::max(n, i.index);
+  return n;
+}
+
+int PlantEngine::lastNode() const {
+  int n = 0;
+  for (const PlantItem& i : items_)
+    if (i.what == PlantWhat::Point || i.what == PlantWhat::Reading || i.what == PlantWhat::QuickPoint)
+      n = std::max(n, i.index);
+  return n;
+}
+
+std::vector<Eigen::Vector3d> PlantEngine::landmarkPoints(const Eigen::Vector3d* extra, int extraIndex) const {
+  std::vector<Eigen::Vector3d> out;
+  const int last = std::max(lastLandmark(), extra ? extraIndex : 0);
+  for (int k = 1; k <= last; ++k) {
+    if (extra && k == extraIndex)
+      out.push_back(*extra);
+    else if (const PlantItem* i = find(PlantWhat::Landmark, k, 0))
+      out.push_back(at(*i));
+  }
+  return out;
+}
+
+bool PlantEngine::retaking() const {
+  if (retake_) return true;
+  for (const auto& [node, e] : leaves_)
+    if (e.retaking()) return true;
+  return false;
+}
+
 int PlantEngine::nodes() const {
   int n = 0;
   while (find(PlantWhat::Point, n + 1, 1)) ++n;
@@ -156,14 +190,19 @@ std::optional<PlantStep> PlantEngine::nodeStep(int node) const {
 }
 
 PlantStep PlantEngine::step() const {
+  if (retake_) return *retake_;
+  // A landmark taken out by a retake and then undone is asked for again at its number.
+  for (int k = 1; k < lastLandmark(); ++k)
+    if (!find(PlantWhat::Landmark, k, 0)) return {PlantWhat::Landmark, k, 0, {}};
   if (!landmarksEnded_ && landmarks() < protocol_.maxLandmarks) return {PlantWhat::Landmark, landmarks() + 1, 0, {}};
   if (!find(PlantWhat::Collar, 0, 0)) return {PlantWhat::Collar, 0, 0, {}};
   if (protocol_.collarDiameter && !find(PlantWhat::CollarDiameter, 0, 0)) return {PlantWhat::CollarDiameter, 0, 0, {}};
   // A full leaf being retaken has the stylus wherever the capture is.
   for (const auto& [node, e] : leaves_)
     if (e.retaking()) return {PlantWhat::Leaf, node, 0, e.step()};
+  const int last = lastNode();
   for (int node = 1;; ++node) {
-    if (!find(PlantWhat::Point, node, 1) && plantEnded_) return {PlantWhat::Done, 0, 0, {}};
+    if (!find(PlantWhat::Point, node, 1) && plantEnded_ && node > last) return {PlantWhat::Done, 0, 0, {}};
     if (auto s = nodeStep(node)) return *s;
   }
 }
@@ -184,18 +223,21 @@ std::string PlantEngine::pointName(const PlantStep& s) const {
 
 std::string PlantEngine::prompt() const {
   const PlantStep s = step();
-  const std::string node = "Node " + num(s.index) + " · ";
+  const std::string node = (retake_ ? "Retake · Node " : "Node ") + num(s.index) + " · ";
   switch (s.what) {
     case PlantWhat::Landmark: {
-      std::string p = "Landmark " + num(s.index) + " · a mark on the pot rim (or the board)";
-      if (s.index > protocol_.minLandmarks) p += "  (or hold the button to end the landmarks)";
+      std::string p =
+          (retake_ ? "Retake · Landmark " : "Landmark ") + num(s.index) + " · a mark on the pot rim (or the board)";
+      if (!retake_ && s.index > protocol_.minLandmarks) p += "  (or hold the button to end the landmarks)";
       return p;
     }
-    case PlantWhat::Collar: return "Collar · the stem at soil level";
-    case PlantWhat::CollarDiameter: return "Collar · stem diameter with the caliper";
+    case PlantWhat::Collar:
+      return retake_ ? "Retake · Collar · the stem at soil level" : "Collar · the stem at soil level";
+    case PlantWhat::CollarDiameter:
+      return retake_ ? "Retake · Collar · stem diameter with the caliper" : "Collar · stem diameter with the caliper";
     case PlantWhat::Point: {
       std::string p = node + pointName(s) + " on the stem";
-      if (s.part == 1 && s.index > 1) p += "  (or hold the button to end the plant)";
+      if (!retake_ && s.part == 1 && s.index > 1) p += "  (or hold the button to end the plant)";
       return p;
     }
     case PlantWhat::Reading: return node + "stem " + pointName(s) + " with the caliper";
@@ -266,26 +308,12 @@ PlantDecision PlantEngine::decidePoint(const StylusInput& release) {
   if (auto r = rules::doublePressNear(press.mean, previous, press_.pressedAt(), lastAcceptedReleaseNs_, settings_))
     return reject(*r);
   // The plant's own rules, in the words of the plant frame and the leaf's pose.
-  std::vector<Eigen::Vector3d> marks;
-  for (const PlantItem& i : items_)
-    if (i.what == PlantWhat::Landmark) marks.push_back(at(i));
-  try {
-    if (st.what == PlantWhat::Collar) {
-      (void)m::plantFrameFromLandmarks(marks, press.mean, m::landmarkPlane(marks).normal);
-    } else if (st.what == PlantWhat::Point && st.index == 1 && st.part == 1) {
-      const Eigen::Vector3d collar = at(*find(PlantWhat::Collar, 0, 0));
-      (void)m::plantFrameFromLandmarks(marks, collar, press.mean - collar);
-    } else if (st.what == PlantWhat::QuickPoint && st.part >= 2) {
-      const Eigen::Vector3d base = at(*find(PlantWhat::QuickPoint, st.index, 1));
-      if (st.part == 2)
-        (void)m::leafPose(base, press.mean);
-      else
-        (void)m::leafPose(base, at(*find(PlantWhat::QuickPoint, st.index, 2)), press.mean);
-    }
-  } catch (const m::InputError& e) {
-    std::string why = e.what();
-    if (st.what == PlantWhat::Collar || st.what == PlantWhat::Point) why += " (undo to take the landmarks again)";
-    return reject(why);
+  if (auto why = geometryRefusal(st, press.mean)) {
+    if (retake_)
+      *why += " (take it again, or undo to put the old one back)";
+    else if (st.what == PlantWhat::Collar || st.what == PlantWhat::Point)
+      *why += " (undo to take the landmarks again)";
+    return reject(*why);
   }
   PlantDecision d;
   d.kind = PlantDecision::Kind::Accepted;
@@ -295,6 +323,42 @@ PlantDecision PlantEngine::decidePoint(const StylusInput& release) {
   d.item.positionMm = {press.mean.x(), press.mean.y(), press.mean.z()};
   d.item.raw = window.back()->raw;
   return d;
+}
+
+std::optional<std::string> PlantEngine::geometryRefusal(const PlantStep& st, const Eigen::Vector3d& p) const {
+  const bool retakenLandmark = retake_ && st.what == PlantWhat::Landmark;
+  const std::vector<Eigen::Vector3d> marks = retakenLandmark ? landmarkPoints(&p, st.index) : landmarkPoints();
+  const PlantItem* collar = find(PlantWhat::Collar, 0, 0);
+  const PlantItem* first = find(PlantWhat::Point, 1, 1);
+  try {
+    if (retakenLandmark) {
+      // A new landmark is checked when the landmarks end; a retaken one against the plant now.
+      const Eigen::Vector3d normal = m::landmarkPlane(marks).normal;
+      if (collar) (void)m::plantFrameFromLandmarks(marks, at(*collar), first ? at(*first) - at(*collar) : normal);
+    } else if (st.what == PlantWhat::Collar) {
+      (void)m::plantFrameFromLandmarks(marks, p, m::landmarkPlane(marks).normal);
+      if (first) (void)m::plantFrameFromLandmarks(marks, p, at(*first) - p);
+    } else if (st.what == PlantWhat::Point && st.index == 1 && st.part == 1) {
+      const Eigen::Vector3d c = at(*collar);
+      (void)m::plantFrameFromLandmarks(marks, c, p - c);
+    } else if (st.what == PlantWhat::QuickPoint) {
+      // base, tip, side: the one at st.part is p.
+      std::optional<Eigen::Vector3d> q[3];
+      for (int k = 1; k <= 3; ++k) {
+        if (k == st.part)
+          q[k - 1] = p;
+        else if (const PlantItem* i = find(PlantWhat::QuickPoint, st.index, k))
+          q[k - 1] = at(*i);
+      }
+      if (q[0] && q[1] && q[2])
+        (void)m::leafPose(*q[0], *q[1], *q[2]);
+      else if (q[0] && q[1])
+        (void)m::leafPose(*q[0], *q[1]);
+    }
+  } catch (const m::InputError& e) {
+    return std::string(e.what());
+  }
+  return std::nullopt;
 }
 
 PlantDecision PlantEngine::onCaliper(const CaliperInput& c) {
@@ -330,15 +394,16 @@ PlantDecision PlantEngine::onCaliper(const CaliperInput& c) {
 }
 
 PlantDecision PlantEngine::decideEnd() const {
+  if (retake_) return reject("finish the retake first: " + prompt());
   const PlantStep st = step();
   PlantDecision d;
   if (st.what == PlantWhat::Landmark) {
     if (landmarks() < protocol_.minLandmarks)
       return reject("the plant frame needs at least " + num(protocol_.minLandmarks) + " landmarks (" +
                     num(landmarks()) + " taken)");
-    std::vector<Eigen::Vector3d> marks;
-    for (const PlantItem& i : items_)
-      if (i.what == PlantWhat::Landmark) marks.push_back(at(i));
+    if (st.index <= lastLandmark())
+      return reject("landmark " + num(st.index) + " was taken out: take it again before ending the landmarks");
+    const std::vector<Eigen::Vector3d> marks = landmarkPoints();
     try {
       (void)m::landmarkPlane(marks);
     } catch (const m::InputError& e) {
@@ -369,6 +434,21 @@ PlantDecision PlantEngine::end() {
 }
 
 PlantDecision PlantEngine::undo() {
+  // A retake in progress is taken back first: the old item returns.
+  if (retake_) {
+    PlantDecision d;
+    d.kind = PlantDecision::Kind::RetakeCancelled;
+    d.item = retakeOld_;
+    apply(d);
+    return d;
+  }
+  for (auto& [node, e] : leaves_)
+    if (e.retaking()) {
+      const Decision ld = e.undo();
+      PlantDecision d = fromLeaf(node, ld);
+      if (d.kind == PlantDecision::Kind::Leaf) mirror(node, ld);
+      return d;
+    }
   if (actions_.empty()) return reject("nothing to undo");
   const Action a = actions_.back();
   PlantDecision d;
@@ -423,6 +503,50 @@ PlantDecision PlantEngine::chooseLeaf(int node, LeafChoice choice) {
   return d;
 }
 
+PlantDecision PlantEngine::retake(PlantWhat what, int index, int part) {
+  if (what == PlantWhat::Leaf || what == PlantWhat::Done)
+    return reject(
+        "retake names an item: a landmark, the collar, collar_diameter, a node's point or reading, a "
+        "quick_point, or a full leaf's item with its node");
+  if (retaking()) return reject("finish the retake in progress first (or undo it)");
+  if (what == PlantWhat::Collar || what == PlantWhat::CollarDiameter) index = 0;
+  if (what == PlantWhat::Landmark || what == PlantWhat::Collar || what == PlantWhat::CollarDiameter) part = 0;
+  const PlantItem* old = find(what, index, part);
+  if (!old) {
+    std::string where = what == PlantWhat::Landmark ? "landmark " + num(index)
+                        : index > 0                 ? "node " + num(index) + " " + toString(what) + " " + num(part)
+                                                    : std::string(toString(what));
+    return reject("nothing was captured as " + where + " yet: there is nothing to retake");
+  }
+  PlantDecision d;
+  d.kind = PlantDecision::Kind::RetakeStarted;
+  d.item = *old;
+  apply(d);
+  return d;
+}
+
+PlantDecision PlantEngine::retakeLeaf(int node, What what, int row, int col) {
+  if (retaking()) return reject("finish the retake in progress first (or undo it)");
+  const auto it = leaves_.find(node);
+  if (it == leaves_.end() || it->second.items().empty())
+    return reject("node " + num(node) + " has no full leaf taken: there is nothing of it to retake");
+  const Decision ld = it->second.retake(what, row, col);
+  PlantDecision d = fromLeaf(node, ld);
+  if (d.kind == PlantDecision::Kind::Leaf) mirror(node, ld);
+  return d;
+}
+
+void PlantEngine::eraseItem(std::size_t index) {
+  items_.erase(items_.begin() + static_cast<std::ptrdiff_t>(index));
+  // The plant's item actions are in the order of items_: the index-th of them goes with it.
+  std::size_t k = 0;
+  for (auto it = actions_.begin(); it != actions_.end(); ++it)
+    if (it->kind == Action::Kind::Item && k++ == index) {
+      actions_.erase(it);
+      break;
+    }
+}
+
 void PlantEngine::mirror(int node, const Decision& d) {
   switch (d.kind) {
     case Decision::Kind::Accepted:
@@ -446,6 +570,24 @@ void PlantEngine::apply(const PlantDecision& d) {
     case PlantDecision::Kind::Accepted:
       items_.push_back(d.item);
       actions_.push_back({Action::Kind::Item, 0, {}, false});
+      if (retake_ && retake_->what == d.item.what && retake_->index == d.item.index && retake_->part == d.item.part)
+        retake_.reset();
+      break;
+    case PlantDecision::Kind::RetakeStarted:
+      for (std::size_t i = 0; i < items_.size(); ++i)
+        if (items_[i].what == d.item.what && items_[i].index == d.item.index && items_[i].part == d.item.part) {
+          eraseItem(i);
+          retake_ = PlantStep{d.item.what, d.item.index, d.item.part, {}};
+          retakeOld_ = d.item;
+          break;
+        }
+      break;
+    case PlantDecision::Kind::RetakeCancelled:
+      if (retake_) {
+        items_.push_back(d.item);
+        actions_.push_back({Action::Kind::Item, 0, {}, false});
+        retake_.reset();
+      }
       break;
     case PlantDecision::Kind::Undone:
       if (!actions_.empty() && actions_.back().kind == Action::Kind::Item && !items_.empty()) {
@@ -524,8 +666,7 @@ bool PlantEngine::correctLeaf(int node, const Item& fixed) {
 m::PlantMarkers PlantEngine::captured(const std::string& plant) const {
   m::PlantMarkers out;
   out.plant = plant;
-  for (const PlantItem& i : items_)
-    if (i.what == PlantWhat::Landmark) out.landmarksMm.push_back(at(i));
+  out.landmarksMm = landmarkPoints();  // by number: a retaken landmark keeps its place
   if (const PlantItem* c = find(PlantWhat::Collar, 0, 0)) out.collarMm = at(*c);
   if (const PlantItem* c = find(PlantWhat::CollarDiameter, 0, 0)) out.collarDiameterMm = c->valueMm;
   for (int node = 1; node <= nodes(); ++node) {

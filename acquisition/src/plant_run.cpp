@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "leafdig/acquisition/capture_loop.hpp"
 #include "leafdig/devices/links/links.hpp"
 
 namespace leafdig::acquisition {
@@ -27,6 +28,50 @@ PlantCommand parsePlantCommand(const std::string& line) {
     if (c.text.size() > 200) throw std::invalid_argument("a pause's reason is a few words (at most 200 characters)");
   } else if (word == "resume" || word == "r") {
     c.kind = PlantCommand::Kind::Resume;
+  } else if (word == "retake") {
+    c.kind = PlantCommand::Kind::Retake;
+    std::string what;
+    if (!(in >> what))
+      throw std::invalid_argument(
+          "retake what? e.g. 'retake landmark 2', 'retake collar', 'retake point 4', 'retake reading 4', "
+          "'retake quick_point 5 2', 'retake node 3 marker 2 5'");
+    if (what == "node") {
+      if (!(in >> c.node) || c.node < 1)
+        throw std::invalid_argument(
+            "'retake node' needs the node's number and the leaf's item: retake node 3 marker 2 5");
+      c.leaf = parseLeafItemWords(in, "retake node " + std::to_string(c.node));
+    } else {
+      try {
+        c.what = plantWhatFromString(what);
+      } catch (const std::invalid_argument&) {
+        throw std::invalid_argument("retake " + what +
+                                    "? a plant's item is landmark N, collar, collar_diameter, point N, reading N or "
+                                    "quick_point N PART; a full leaf's is 'node N' and the leaf's item");
+      }
+      const auto number = [&](const char* example) {
+        int v = 0;
+        if (!(in >> v) || v < 1) throw std::invalid_argument("'retake " + what + "' needs a number: " + example);
+        return v;
+      };
+      switch (c.what) {
+        case PlantWhat::Landmark: c.index = number("retake landmark 2"); break;
+        case PlantWhat::Point:
+        case PlantWhat::Reading:
+          c.index = number("retake point 4 (node 4's point; a second number for another of its points)");
+          c.part = 1;
+          if (in >> std::ws && !in.eof()) c.part = number("retake point 4 2");
+          break;
+        case PlantWhat::QuickPoint:
+          c.index = number("retake quick_point 5 2 (node 5's quick leaf, its point 2: the tip)");
+          c.part = number("retake quick_point 5 2 (the point: 1 base, 2 tip, 3 the widest of one margin)");
+          break;
+        case PlantWhat::Collar:
+        case PlantWhat::CollarDiameter: break;
+        case PlantWhat::Leaf:
+        case PlantWhat::Done:
+          throw std::invalid_argument("retake " + what + "? a full leaf's item is 'retake node N' and the item");
+      }
+    }
   } else if (word == "leaf") {
     c.kind = PlantCommand::Kind::Choose;
     std::string kind, state, type, extra;
@@ -53,7 +98,8 @@ PlantCommand parsePlantCommand(const std::string& line) {
   } else {
     throw std::invalid_argument(
         "unknown command '" + line +
-        "': use undo, end, leaf N full|quick|none [state] [type], pause [reason], resume, or quit");
+        "': use undo, end, leaf N full|quick|none [state] [type], retake WHAT [N [PART]], pause [reason], "
+        "resume, or quit");
   }
   if (c.kind != PlantCommand::Kind::Choose && c.kind != PlantCommand::Kind::Pause) {
     std::string extra;
@@ -111,6 +157,10 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
           case PlantCommand::Kind::Undo: f = session_.undo(now); break;
           case PlantCommand::Kind::End: f = session_.end(now); break;
           case PlantCommand::Kind::Choose: f = session_.chooseLeaf(c->node, c->choice, now); break;
+          case PlantCommand::Kind::Retake:
+            f = c->node > 0 ? session_.retakeLeaf(c->node, c->leaf.what, c->leaf.row, c->leaf.col, now)
+                            : session_.retake(c->what, c->index, c->part, now);
+            break;
           case PlantCommand::Kind::Pause: f = session_.pause(c->text.empty() ? "operator pause" : c->text, now); break;
           case PlantCommand::Kind::Resume: f = session_.resume(now); break;
           case PlantCommand::Kind::Quit: quit = true; break;

@@ -229,6 +229,28 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
           d.leaf.kind = Decision::Kind::Undone;
         else
           d.kind = PlantDecision::Kind::Undone;
+      } else if (e.kind == "retake") {
+        // The item an earlier event put in, taken out to be taken again.
+        const auto it = accepted.find(p.at("seq").get<std::int64_t>());
+        if (it == accepted.end())
+          fail("it retakes event " + std::to_string(p.at("seq").get<std::int64_t>()) + ", which put no item in");
+        const auto at = held.find(keyOf(it->second));
+        if (at == held.end() || at->second != it->first) fail("it retakes an item that is no longer there");
+        held.erase(at);
+        d = it->second;
+        if (d.kind == PlantDecision::Kind::Leaf)
+          d.leaf.kind = Decision::Kind::RetakeStarted;
+        else
+          d.kind = PlantDecision::Kind::RetakeStarted;
+      } else if (e.kind == "retake_cancelled") {
+        // The retaken item put back as it was: held again, under this event.
+        d = acceptedItem(p, e.raw);
+        accepted[e.seq] = d;
+        held[keyOf(d)] = e.seq;
+        if (d.kind == PlantDecision::Kind::Leaf)
+          d.leaf.kind = Decision::Kind::RetakeCancelled;
+        else
+          d.kind = PlantDecision::Kind::RetakeCancelled;
       } else if (e.kind == "rows_ended" || e.kind == "rows_reopened") {
         d.kind = PlantDecision::Kind::Leaf;
         d.node = p.at("node").get<int>();
@@ -330,15 +352,23 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
       key = keyOf(d.item);
       break;
     }
-    case PlantDecision::Kind::Undone: {
+    case PlantDecision::Kind::Undone:
+    case PlantDecision::Kind::RetakeStarted: {
       key = keyOf(d.item);
       json item = plantItemJson(d.item);
       item["seq"] = seqs_.at(key);
-      ev.kind = "undone";
+      ev.kind = d.kind == PlantDecision::Kind::Undone ? "undone" : "retake";
       ev.payloadJson = item.dump();
       ev.retracts = seqs_.at(key);
       break;
     }
+    case PlantDecision::Kind::RetakeCancelled:
+      ev.kind = "retake_cancelled";
+      ev.payloadJson = plantItemJson(d.item).dump();
+      ev.raw = d.item.raw;
+      ev.projection = projectionOf(ev.payloadJson, ev.raw);
+      key = keyOf(d.item);
+      break;
     case PlantDecision::Kind::Leaf: {
       const Decision& l = d.leaf;
       json item = itemJson(l.item);
@@ -352,18 +382,26 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
           key = keyOf(d.node, l.item);
           break;
         case Decision::Kind::Undone:
+        case Decision::Kind::RetakeStarted:
           key = keyOf(d.node, l.item);
           item["seq"] = seqs_.at(key);
-          ev.kind = "undone";
+          ev.kind = l.kind == Decision::Kind::Undone ? "undone" : "retake";
           ev.payloadJson = item.dump();
           ev.retracts = seqs_.at(key);
+          break;
+        case Decision::Kind::RetakeCancelled:
+          ev.kind = "retake_cancelled";
+          ev.payloadJson = item.dump();
+          ev.raw = l.item.raw;
+          ev.projection = projectionOf(ev.payloadJson, ev.raw);
+          key = keyOf(d.node, l.item);
           break;
         case Decision::Kind::RowsEnded:
         case Decision::Kind::RowsReopened:
           ev.kind = l.kind == Decision::Kind::RowsEnded ? "rows_ended" : "rows_reopened";
           ev.payloadJson = json{{"node", d.node}}.dump();
           break;
-        default: return f;  // retakes inside a plant's leaf are not offered
+        default: return f;
       }
       break;
     }
@@ -387,8 +425,8 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
     if (d.kind != PlantDecision::Kind::Rejected) rebuild();  // the engine as the store has it
     return f;
   }
-  if (ev.kind == "accepted") seqs_[key] = f.seq;
-  if (ev.kind == "undone") seqs_.erase(key);
+  if (ev.kind == "accepted" || ev.kind == "retake_cancelled") seqs_[key] = f.seq;
+  if (ev.kind == "undone" || ev.kind == "retake") seqs_.erase(key);
   if (engine_.complete() && !ended()) {
     db::EventInput done;
     done.kind = "status";
@@ -439,6 +477,16 @@ PlantFeedback PlantCaptureSession::undo(std::int64_t monoNs) {
 PlantFeedback PlantCaptureSession::end(std::int64_t monoNs) {
   if (ended() || paused_) return {};
   return commit(engine_.end(), monoNs, {});
+}
+
+PlantFeedback PlantCaptureSession::retake(PlantWhat what, int index, int part, std::int64_t monoNs) {
+  if (ended() || paused_) return {};
+  return commit(engine_.retake(what, index, part), monoNs, {});
+}
+
+PlantFeedback PlantCaptureSession::retakeLeaf(int node, What what, int row, int col, std::int64_t monoNs) {
+  if (ended() || paused_) return {};
+  return commit(engine_.retakeLeaf(node, what, row, col), monoNs, {});
 }
 
 PlantFeedback PlantCaptureSession::chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs) {

@@ -61,7 +61,7 @@ class PlantTechnician {
     if (s.what == PlantWhat::Point && s.part == 1 && s.index <= static_cast<int>(plant_.nodes.size())) {
       const LeafChoice want = plantChoiceTruth(plant_, s.index);
       if (!(current == want)) {
-        loop_.command({PlantCommand::Kind::Choose, s.index, want, {}});
+        loop_.command({.kind = PlantCommand::Kind::Choose, .node = s.index, .choice = want});
         ++stats.choices;
         return;
       }

@@ -342,6 +342,116 @@ TEST(PlantEngine, UndoGoesBackThroughTheLeafAndThePlantInTheOrderTheyWereTaken) 
   EXPECT_EQ(replayed.items().size(), engine.items().size());
 }
 
+TEST(PlantEngine, AnyPointOrReadingIsRetakenWhereItStandsAndReplaysToTheSamePlant) {
+  const m::PlantMarkers plant = samplePlant();
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine};
+  tech.captureAll(plant);
+  const m::PlantMarkers before = engine.captured(plant.plant);
+  const auto retake = [&](PlantWhat w, int index, int part) {
+    const auto d = engine.retake(w, index, part);
+    tech.keep(d);
+    return d;
+  };
+  const auto asAt = [](const Eigen::Vector3d& p) { return acq::Vec3{p.x(), p.y(), p.z()}; };
+
+  // Nothing there, or not an item: refused in words, nothing changes.
+  EXPECT_NE(retake(PlantWhat::Landmark, 9, 0).reason.find("nothing was captured as landmark 9"), std::string::npos);
+  EXPECT_NE(retake(PlantWhat::Reading, 7, 1).reason.find("nothing was captured as node 7 reading 1"),
+            std::string::npos);
+  EXPECT_EQ(retake(PlantWhat::Leaf, 2, 0).kind, Kind::Rejected);
+  EXPECT_TRUE(engine.complete());
+
+  // A landmark: out, asked for again in words, replaced at its number (landmark 1 stays first).
+  const auto out = retake(PlantWhat::Landmark, 2, 0);
+  ASSERT_EQ(out.kind, Kind::RetakeStarted);
+  EXPECT_EQ(out.item.index, 2);
+  EXPECT_FALSE(engine.complete());
+  EXPECT_EQ(engine.step(), (acq::PlantStep{PlantWhat::Landmark, 2, 0, {}}));
+  EXPECT_EQ(engine.prompt(), "Retake · Landmark 2 · a mark on the pot rim (or the board)");
+  EXPECT_EQ(retake(PlantWhat::Collar, 0, 0).reason, "finish the retake in progress first (or undo it)");
+  EXPECT_NE(tech.end().reason.find("finish the retake first"), std::string::npos);
+  const Eigen::Vector3d moved = plant.landmarksMm[1] + Eigen::Vector3d(1.5, -0.5, 0.0);
+  ASSERT_EQ(tech.press(asAt(moved)).kind, Kind::Accepted);
+  EXPECT_TRUE(engine.complete());
+  m::PlantMarkers now = engine.captured(plant.plant);
+  ASSERT_EQ(now.landmarksMm.size(), before.landmarksMm.size());
+  EXPECT_LT((now.landmarksMm[1] - moved).norm(), 1e-9);
+  EXPECT_EQ(now.landmarksMm[0], before.landmarksMm[0]);
+  EXPECT_EQ(now.landmarksMm[3], before.landmarksMm[3]);
+
+  // A landmark that would spoil the plant frame (on top of landmark 1) is refused in words;
+  // undo puts the old one back.
+  ASSERT_EQ(retake(PlantWhat::Landmark, 3, 0).kind, Kind::RetakeStarted);
+  const auto close = tech.press(asAt(now.landmarksMm[0] + Eigen::Vector3d(0.5, 0, 0)));
+  ASSERT_EQ(close.kind, Kind::Rejected);
+  EXPECT_NE(close.reason.find("landmark 1"), std::string::npos) << close.reason;
+  EXPECT_NE(close.reason.find("undo to put the old one back"), std::string::npos) << close.reason;
+  EXPECT_TRUE(engine.retaking());
+  EXPECT_EQ(tech.undo().kind, Kind::RetakeCancelled);
+  EXPECT_TRUE(engine.complete());
+
+  // A node's stem diameter, a node's point, a quick leaf's tip, a full leaf's marker.
+  ASSERT_EQ(retake(PlantWhat::Reading, 3, 1).kind, Kind::RetakeStarted);
+  EXPECT_EQ(engine.prompt().rfind("Retake · Node 3 · stem", 0), 0U) << engine.prompt();
+  EXPECT_EQ(tech.press(asAt(plant.nodes[2].pointMm)).kind, Kind::Rejected);  // a press is not a reading
+  ASSERT_EQ(tech.read(16.4).kind, Kind::Accepted);
+  ASSERT_EQ(retake(PlantWhat::Point, 4, 1).kind, Kind::RetakeStarted);
+  const Eigen::Vector3d node4 = plant.nodes[3].pointMm + Eigen::Vector3d(0, 0, 2);
+  ASSERT_EQ(tech.press(asAt(node4)).kind, Kind::Accepted);
+  ASSERT_EQ(retake(PlantWhat::QuickPoint, 3, 2).kind, Kind::RetakeStarted);
+  const auto& quick = std::get<m::QuickLeaf>(plant.nodes[2].leaf);
+  const Eigen::Vector3d tip3 = quick.tipMm + Eigen::Vector3d(3, 0, 0);
+  ASSERT_EQ(tech.press(asAt(tip3)).kind, Kind::Accepted);
+  const auto leafOut = engine.retakeLeaf(2, acq::What::Marker, 1, 3);
+  tech.keep(leafOut);
+  ASSERT_EQ(leafOut.kind, Kind::Leaf);
+  EXPECT_EQ(leafOut.leaf.kind, acq::Decision::Kind::RetakeStarted);
+  EXPECT_EQ(engine.step().what, PlantWhat::Leaf);
+  EXPECT_EQ(engine.step().leaf, (acq::Step{acq::What::Marker, 1, 3}));
+  EXPECT_EQ(engine.prompt().rfind("Node 2 · leaf · Retake · Row 1 · point 3", 0), 0U) << engine.prompt();
+  const Eigen::Vector3d marker =
+      std::get<m::MarkerSet>(plant.nodes[1].leaf).rows[0].pointsMm[2] + Eigen::Vector3d(0, 1, 0);
+  ASSERT_EQ(tech.press(asAt(marker)).kind, Kind::Leaf);
+  EXPECT_NE(engine.retakeLeaf(4, acq::What::Tip, 0, 0).reason.find("node 4 has no full leaf"), std::string::npos);
+  EXPECT_TRUE(engine.complete());
+
+  now = engine.captured(plant.plant);
+  EXPECT_DOUBLE_EQ(now.nodes[2].diameterMm, 16.4);
+  EXPECT_LT((now.nodes[3].pointMm - node4).norm(), 1e-9);
+  EXPECT_LT((std::get<m::QuickLeaf>(now.nodes[2].leaf).tipMm - tip3).norm(), 1e-9);
+  EXPECT_LT((std::get<m::MarkerSet>(now.nodes[1].leaf).rows[0].pointsMm[2] - marker).norm(), 1e-9);
+  EXPECT_EQ(now.landmarksMm[2], before.landmarksMm[2]);  // put back as it was
+
+  // Undo after a retake takes the new item out, and the step asks for it again at its number.
+  ASSERT_EQ(retake(PlantWhat::Landmark, 1, 0).kind, Kind::RetakeStarted);
+  ASSERT_EQ(tech.press(asAt(plant.landmarksMm[0])).kind, Kind::Accepted);
+  const auto undone = tech.undo();
+  ASSERT_EQ(undone.kind, Kind::Undone);
+  EXPECT_EQ(undone.item.index, 1);
+  EXPECT_EQ(engine.step(), (acq::PlantStep{PlantWhat::Landmark, 1, 0, {}}));
+  EXPECT_NE(tech.end().reason.find("landmark 1 was taken out"), std::string::npos);
+  ASSERT_EQ(tech.press(asAt(plant.landmarksMm[0])).kind, Kind::Accepted);
+  EXPECT_TRUE(engine.complete());
+  EXPECT_LT((engine.captured(plant.plant).landmarksMm[0] - plant.landmarksMm[0]).norm(), 1e-9);
+
+  // Replayed from what was decided, the engine is where this one is, item for item.
+  acq::PlantEngine replayed(m::defaultPlantProtocol());
+  for (const auto& d : tech.log) replayed.apply(d);
+  EXPECT_EQ(replayed.step(), engine.step());
+  ASSERT_EQ(replayed.items().size(), engine.items().size());
+  const m::PlantMarkers a = engine.captured(plant.plant), b = replayed.captured(plant.plant);
+  EXPECT_EQ(a.landmarksMm, b.landmarksMm);
+  for (std::size_t k = 0; k < a.nodes.size(); ++k) {
+    EXPECT_EQ(a.nodes[k].pointMm, b.nodes[k].pointMm) << k;
+    EXPECT_EQ(a.nodes[k].diameterMm, b.nodes[k].diameterMm) << k;
+  }
+  const auto& ra = std::get<m::MarkerSet>(a.nodes[1].leaf).rows;
+  const auto& rb = std::get<m::MarkerSet>(b.nodes[1].leaf).rows;
+  ASSERT_EQ(ra.size(), rb.size());
+  for (std::size_t k = 0; k < ra.size(); ++k) EXPECT_EQ(ra[k].pointsMm, rb[k].pointsMm) << k;
+}
+
 TEST(PlantEngine, EveryThirdLeafIsFullByDefaultAndTheTechnicianDecidesPerNode) {
   acq::PlantEngine engine(m::defaultPlantProtocol());
   EXPECT_EQ(engine.choiceFor(1).kind, m::LeafKind::Quick);

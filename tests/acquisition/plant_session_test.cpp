@@ -129,6 +129,72 @@ TEST_F(PlantSession, APlantIsCommittedEventByEventAndItsChainAndProjectionsVerif
   EXPECT_THROW(acq::PlantCaptureSession(store, id), acq::SessionError);
 }
 
+TEST_F(PlantSession, ARetakeIsCommittedAndAReopenedSessionIsStillRetakingAtTheSameStep) {
+  std::int64_t id = 0;
+  {
+    db::Store store(path_);
+    id = acq::PlantCaptureSession::create(store, setup_);
+    acq::PlantCaptureSession session(store, id);
+    // Up to node 3's quick leaf: the full leaf of node 2 is taken.
+    while (!(session.engine().step().what == PlantWhat::QuickPoint && session.engine().step().index == 3))
+      ASSERT_NE(act(session).decision.kind, Kind::Rejected) << session.engine().prompt();
+    const acq::PlantFeedback out = session.retake(PlantWhat::Landmark, 2, 0, t_);
+    ASSERT_EQ(out.decision.kind, Kind::RetakeStarted);
+    ASSERT_GT(out.seq, 0);
+    const acq::PlantFeedback leafOut = session.retakeLeaf(2, acq::What::Marker, 1, 1, t_);
+    EXPECT_EQ(leafOut.decision.kind, Kind::Rejected);  // one retake at a time
+    EXPECT_EQ(leafOut.seq, out.seq + 1);               // the refusal is logged too
+  }                                                    // closed here, as by kill -9: the retake is in the log
+  db::Store store(path_);
+  {
+    acq::PlantCaptureSession session(store, id);
+    EXPECT_EQ(session.engine().step(), (acq::PlantStep{PlantWhat::Landmark, 2, 0, {}}));
+    EXPECT_EQ(session.engine().prompt().rfind("Retake · Landmark 2", 0), 0U);
+    const acq::PlantFeedback again = act(session);  // the sample's landmark 2 again
+    ASSERT_EQ(again.decision.kind, Kind::Accepted);
+    // A full leaf's marker: retaken, then cancelled (the old one back), then retaken for good.
+    ASSERT_EQ(session.retakeLeaf(2, acq::What::Marker, 2, 4, t_).decision.kind, Kind::Leaf);
+    const acq::PlantFeedback back = session.undo(t_);
+    ASSERT_EQ(back.decision.kind, Kind::Leaf);
+    EXPECT_EQ(back.decision.leaf.kind, acq::Decision::Kind::RetakeCancelled);
+    ASSERT_EQ(session.retakeLeaf(2, acq::What::Marker, 2, 4, t_).decision.kind, Kind::Leaf);
+  }
+  {
+    acq::PlantCaptureSession session(store, id);  // reopened mid-retake of the leaf's marker
+    EXPECT_EQ(session.engine().step().what, PlantWhat::Leaf);
+    EXPECT_EQ(session.engine().step().leaf, (acq::Step{acq::What::Marker, 2, 4}));
+    ASSERT_EQ(act(session).decision.kind, Kind::Leaf);
+    for (int guard = 0; guard < 400 && !session.ended(); ++guard)
+      ASSERT_NE(act(session).decision.kind, Kind::Rejected) << session.engine().prompt();
+    EXPECT_EQ(session.status(), "complete");
+  }
+  EXPECT_TRUE(store.verify(id).ok);
+  // The log holds the retakes, each naming the event that put its item in; the projection
+  // holds each item once.
+  int retakes = 0, cancelled = 0;
+  for (const db::Event& e : store.events(id)) {
+    retakes += e.kind == "retake";
+    cancelled += e.kind == "retake_cancelled";
+  }
+  EXPECT_EQ(retakes, 3);
+  EXPECT_EQ(cancelled, 1);
+  int landmarks = 0, node2marker24 = 0;
+  for (const db::MarkerRow& r : store.markers(id)) {
+    landmarks += r.what == "landmark";
+    node2marker24 += r.what == "node2.marker" && r.row == 2 && r.col == 4;
+  }
+  EXPECT_EQ(landmarks, static_cast<int>(plant_.landmarksMm.size()));
+  EXPECT_EQ(node2marker24, 1);
+  // And replayed, the plant is the sample's.
+  const auto info = store.session(id);
+  const acq::PlantEngine replayed =
+      acq::PlantCaptureSession::replay(acq::PlantCaptureSession::setupFromJson(info->settingsJson), store.events(id));
+  EXPECT_TRUE(replayed.complete());
+  const m::PlantMarkers got = replayed.captured(plant_.plant);
+  for (std::size_t k = 0; k < plant_.landmarksMm.size(); ++k)
+    EXPECT_LT((got.landmarksMm[k] - plant_.landmarksMm[k]).norm(), 1e-9) << k;
+}
+
 TEST_F(PlantSession, ReopenedAfterAnyEventItGoesOnAtTheExactStep) {
   // The session is closed (as by kill -9) after every few decisions and opened again.
   std::int64_t id = 0;
@@ -472,6 +538,43 @@ TEST(PlantCommand, TheWordsATechnicianTypesAreReadOrRefusedByName) {
   EXPECT_EQ(c.choice, (acq::LeafChoice{m::LeafKind::Quick, m::LeafState::Alive, "lower"}));
   c = acq::parsePlantCommand("leaf 5 none dead");
   EXPECT_EQ(c.choice, (acq::LeafChoice{m::LeafKind::None, m::LeafState::Dead, ""}));
+  // Retakes: the plant's items by number, a full leaf's by its node and the leaf's words.
+  c = acq::parsePlantCommand("retake landmark 2");
+  EXPECT_EQ(c.kind, C::Retake);
+  EXPECT_EQ(c.what, PlantWhat::Landmark);
+  EXPECT_EQ(c.index, 2);
+  EXPECT_EQ(c.node, 0);
+  c = acq::parsePlantCommand("retake point 4");
+  EXPECT_EQ(c.what, PlantWhat::Point);
+  EXPECT_EQ(c.index, 4);
+  EXPECT_EQ(c.part, 1);
+  c = acq::parsePlantCommand("retake reading 4 2");
+  EXPECT_EQ(c.part, 2);
+  c = acq::parsePlantCommand("retake quick_point 5 3");
+  EXPECT_EQ(c.what, PlantWhat::QuickPoint);
+  EXPECT_EQ(c.index, 5);
+  EXPECT_EQ(c.part, 3);
+  EXPECT_EQ(acq::parsePlantCommand("retake collar").what, PlantWhat::Collar);
+  c = acq::parsePlantCommand("retake node 2 marker 1 3");
+  EXPECT_EQ(c.node, 2);
+  EXPECT_EQ(c.leaf, (acq::Step{acq::What::Marker, 1, 3}));
+  c = acq::parsePlantCommand("retake node 2 midrib_thickness 3");
+  EXPECT_EQ(c.leaf, (acq::Step{acq::What::MidribThickness, 3, 4}));
+  for (const auto& [line, words] :
+       std::vector<std::pair<std::string, std::string>>{{"retake", "retake what?"},
+                                                        {"retake stem 2", "a plant's item is landmark N"},
+                                                        {"retake landmark", "needs a number"},
+                                                        {"retake quick_point 5", "needs a number"},
+                                                        {"retake node x marker 1 1", "needs the node's number"},
+                                                        {"retake node 2 marker 1", "needs a row and a point"},
+                                                        {"retake landmark 2 3", "takes no words after it"}}) {
+    try {
+      (void)acq::parsePlantCommand(line);
+      ADD_FAILURE() << line << " was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << line << ": " << e.what();
+    }
+  }
   c = acq::parsePlantCommand("leaf 4 full yellow upper");
   EXPECT_EQ(c.choice, (acq::LeafChoice{m::LeafKind::Full, m::LeafState::Yellow, "upper"}));
   const auto refused = [](const std::string& line, const std::string& says) {

@@ -155,12 +155,12 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "3");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "4");
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 3);
-  EXPECT_EQ(again.toVersion, 3);
+  EXPECT_EQ(again.fromVersion, 4);
+  EXPECT_EQ(again.toVersion, 4);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -316,6 +316,52 @@ TEST_F(Lab, AServerBeforePlantSessionsLeavesThemOnTheStationNamedAndTheLeafSessi
   EXPECT_EQ(station.session(plant)->kind, "plant");  // untouched
 }
 
+TEST_F(Lab, APlantSessionsRetakesWaitForASchema4ServerAndThenGoWhole) {
+  db::Store station(file("a.sqlite"));
+  const auto plant = capturePlantSession(station, "bench-a", "P-09", "tobacco-2026", "ana", /*complete=*/false);
+  // Landmark 2 (event 2) retaken, put back, retaken and taken again, as the station writes them.
+  const auto append = [&](const std::string& kind, const std::string& payload) {
+    db::EventInput e;
+    e.kind = kind;
+    e.payloadJson = payload;
+    e.monoNs = 900000;
+    const db::EventInput change = db::changeOf(db::Event{0, 0, "", 0, e.kind, e.payloadJson, e.raw, "", ""});
+    e.projection = change.projection;
+    e.retracts = change.retracts;
+    return station.append(plant, e);
+  };
+  const std::string item = R"("what":"landmark","row":2,"col":null,"position_mm":)";
+  (void)append("retake", "{" + item + R"([200.0,1.0,20.0],"seq":2})");
+  const auto back = append("retake_cancelled", "{" + item + "[200.0,1.0,20.0]}");
+  (void)append("retake", "{" + item + R"([200.0,1.0,20.0],"seq":)" + std::to_string(back) + "}");
+  (void)append("accepted", "{" + item + "[201.5,1.0,20.0]}");
+  ASSERT_TRUE(station.verify(plant).ok);
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  // A schema 3 server would refuse the retakes half-way: the session stays here, whole, named.
+  (void)Sql(admin_).value("UPDATE leafdig.meta SET value = '3' WHERE key = 'schema_version' RETURNING value");
+  auto pushed = db::push(station, tech);
+  ASSERT_EQ(pushed.problems.size(), 1U);
+  EXPECT_NE(pushed.problems[0].problem.find("plant session with retakes and the lab server (schema 3)"),
+            std::string::npos)
+      << pushed.problems[0].problem;
+  EXPECT_NE(pushed.problems[0].remedy.find("leafdig server init"), std::string::npos);
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.sessions"), "0");
+  // Upgraded, it goes, and the server's projection holds landmark 2 once, the new one.
+  (void)Sql(admin_).value("UPDATE leafdig.meta SET value = '4' WHERE key = 'schema_version' RETURNING value");
+  pushed = db::push(station, tech);
+  EXPECT_TRUE(pushed.problems.empty()) << pushed.problems[0].problem;
+  db::LabStore reader(login(db::LabRole::Reader));
+  const std::int64_t serverId = reader.sessions().at(0).id;
+  EXPECT_TRUE(reader.verify(serverId).ok);
+  int landmark2 = 0;
+  for (const db::MarkerRow& m : reader.markers(serverId))
+    if (m.what == "landmark" && m.row == 2) {
+      ++landmark2;
+      EXPECT_EQ(m.positionMm[0], 201.5);
+    }
+  EXPECT_EQ(landmark2, 1);
+}
+
 TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
   db::Store station(file("a.sqlite"));
   const std::string tech = login(db::LabRole::Technician, "bench-a");
@@ -336,6 +382,9 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
       {"rows_reopened", R"({"node":4})"},
       {"choice_undone", R"({"node":3,"kind":"quick","state":"broken"})"},
       {"leaf_chosen", R"({"node":5,"kind":"quick","state":"alive","type":"lower"})"},
+      // A retake (schema 4) names the event that put the item in; the item put back holds it again.
+      {"retake", R"({"what":"landmark","row":2,"col":null,"position_mm":[200,1,20],"seq":2})"},
+      {"retake_cancelled", R"({"what":"landmark","row":2,"col":null,"position_mm":[200,1,20]})"},
   };
   for (const auto& [kind, payload] : good)
     EXPECT_EQ(appendBySql(asTech, plant, "bench-a", kind, payload), "") << kind << " " << payload;
@@ -351,7 +400,10 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
       {{"leaf_chosen", R"({"node":6,"kind":"quick","state":"alive","type":")" + std::string(65, 'x') + "\"}"},
        "not a leaf's choice"},
       {{"rows_ended", "{}"}, "does not name the node"},
-      {{"retake", R"({"what":"point","seq":2})"}, "not one leafdig writes for a plant session"},
+      {{"retake_started", R"({"what":"point","seq":2})"}, "not one leafdig writes for a plant session"},
+      {{"retake", R"({"what":"landmark","seq":4})"}, "which is not a captured item"},  // landmarks_ended
+      {{"retake", R"({"what":"landmark","seq":99999})"}, "does not name an earlier event"},
+      {{"retake_cancelled", R"({"what":"marker","row":1,"col":1,"position_mm":[1,2,3]})"}, "not a plant's item"},
       {{"undone", R"({"what":"point","seq":99999})"}, "does not name an earlier event"},
       {{"undone", R"({"what":"point","seq":4})"}, "which is not a captured item"},  // landmarks_ended
   };

@@ -68,7 +68,12 @@ json feedbackJson(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s
   switch (d.kind) {
     case K::Accepted:
     case K::Undone:
-      j = {{"event", d.kind == K::Accepted ? "accepted" : "undone"},
+    case K::RetakeStarted:
+    case K::RetakeCancelled:
+      j = {{"event", d.kind == K::Accepted        ? "accepted"
+                     : d.kind == K::Undone        ? "undone"
+                     : d.kind == K::RetakeStarted ? "retake"
+                                                  : "retake_cancelled"},
            {"what", acq::toString(d.item.what)},
            {"index", nullable(d.item.index)},
            {"part", nullable(d.item.part)}};
@@ -77,18 +82,22 @@ json feedbackJson(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s
       else
         j["value"] = d.item.valueMm;
       break;
-    case K::Leaf:
-      j = {{"event", d.leaf.kind == acq::Decision::Kind::Accepted    ? "accepted"
-                     : d.leaf.kind == acq::Decision::Kind::Undone    ? "undone"
-                     : d.leaf.kind == acq::Decision::Kind::RowsEnded ? "rows_ended"
-                                                                     : "rows_reopened"},
+    case K::Leaf: {
+      using L = acq::Decision::Kind;
+      j = {{"event", d.leaf.kind == L::Accepted          ? "accepted"
+                     : d.leaf.kind == L::Undone          ? "undone"
+                     : d.leaf.kind == L::RowsEnded       ? "rows_ended"
+                     : d.leaf.kind == L::RetakeStarted   ? "retake"
+                     : d.leaf.kind == L::RetakeCancelled ? "retake_cancelled"
+                                                         : "rows_reopened"},
            {"node", d.node}};
-      if (d.leaf.kind == acq::Decision::Kind::Accepted || d.leaf.kind == acq::Decision::Kind::Undone) {
+      if (d.leaf.kind != L::RowsEnded && d.leaf.kind != L::RowsReopened) {
         j["what"] = acq::toString(d.leaf.item.what);
         j["row"] = nullable(d.leaf.item.row);
         j["col"] = nullable(d.leaf.item.col);
       }
       break;
+    }
     case K::Rejected: j = {{"event", "rejected"}, {"reason", d.reason}}; break;
     case K::LeafChosen:
     case K::ChoiceUndone:
@@ -155,10 +164,12 @@ acq::PlantRunStats captureWithDevices(const PlantCaptureOptions& o, db::Store& s
                 << (st.remedy.empty() ? "" : " · " + terminalText(st.remedy)) << "\n";
   }));
   if (!o.json)
-    std::cout << "  commands (then Enter): undo · end · leaf N full|quick|none [state] [type] · pause [why] · resume · "
-                 "quit\n  now: "
-              << terminalText(loop.session().engine().prompt()) << "\n"
-              << std::flush;
+    std::cout
+        << "  commands (then Enter): undo · end · leaf N full|quick|none [state] [type] · retake WHAT [N [PART]] · "
+           "retake node N WHAT [ROW [POINT]] · pause [why] · resume · "
+           "quit\n  now: "
+        << terminalText(loop.session().engine().prompt()) << "\n"
+        << std::flush;
   ports.start();
   std::atomic<bool> done{false};
   StdinCommands input([&](const std::string& cmd) {

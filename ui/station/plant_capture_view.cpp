@@ -49,6 +49,8 @@ QString said(const acq::PlantDecision& d) {
   switch (d.kind) {
     case Kind::Accepted: return QObject::tr("✓ %1").arg(item(d.item));
     case Kind::Undone: return QObject::tr("↶ undone: %1").arg(item(d.item));
+    case Kind::RetakeStarted: return QObject::tr("↻ retake: %1 is taken out; take it again").arg(item(d.item));
+    case Kind::RetakeCancelled: return QObject::tr("↶ retake cancelled: %1 is back").arg(item(d.item));
     case Kind::Rejected: return QObject::tr("✗ %1").arg(QString::fromStdString(d.reason));
     case Kind::LandmarksEnded: return QObject::tr("✓ landmarks ended");
     case Kind::LandmarksReopened: return QObject::tr("↶ landmarks reopened");
@@ -67,6 +69,13 @@ QString said(const acq::PlantDecision& d) {
               .arg(d.leaf.item.col);
         case acq::Decision::Kind::Undone: return QObject::tr("↶ node %1's leaf: undone").arg(d.node);
         case acq::Decision::Kind::RowsEnded: return QObject::tr("✓ node %1's leaf: rows ended").arg(d.node);
+        case acq::Decision::Kind::RetakeStarted:
+          return QObject::tr("↻ node %1's leaf: %2 %3 %4 taken out; take it again")
+              .arg(d.node)
+              .arg(QString::fromLatin1(acq::toString(d.leaf.item.what)))
+              .arg(d.leaf.item.row)
+              .arg(d.leaf.item.col);
+        case acq::Decision::Kind::RetakeCancelled: return QObject::tr("↶ node %1's leaf: retake cancelled").arg(d.node);
         default: return QObject::tr("node %1's leaf").arg(d.node);
       }
     case Kind::Ignored: break;
@@ -186,8 +195,8 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   row->addSpacing(16);
   row->addWidget(devices_, 1);
   controls_->hide();
-  connect(undo_, &QPushButton::clicked, this, [this] { (void)command({acq::PlantCommand::Kind::Undo, 0, {}, {}}); });
-  connect(end_, &QPushButton::clicked, this, [this] { (void)command({acq::PlantCommand::Kind::End, 0, {}, {}}); });
+  connect(undo_, &QPushButton::clicked, this, [this] { (void)command({.kind = acq::PlantCommand::Kind::Undo}); });
+  connect(end_, &QPushButton::clicked, this, [this] { (void)command({.kind = acq::PlantCommand::Kind::End}); });
   connect(pause_, &QPushButton::clicked, this, [this] {
     (void)command({paused_ ? acq::PlantCommand::Kind::Resume : acq::PlantCommand::Kind::Pause,
                    0,
@@ -199,7 +208,7 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
     c.kind = m::leafKindFromString(leafKind_->currentText().toStdString());
     c.state = m::leafStateFromString(leafState_->currentText().toStdString());
     c.type = leafType_->currentText().trimmed().toStdString();
-    (void)command({acq::PlantCommand::Kind::Choose, choiceNode(), c, {}});
+    (void)command({.kind = acq::PlantCommand::Kind::Choose, .node = choiceNode(), .choice = c});
   });
   // The GUI thread takes what the capture and preview threads left in their mailboxes at 60 Hz:
   // nothing crosses threads through Qt's event queue (whose lock ThreadSanitizer cannot see).

@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <deque>
 #include <functional>
+#include <istream>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -35,6 +36,10 @@ struct Command {
 // "undo", "end", "retake marker 3 5", "retake tip", "retake midrib_thickness 2", "pause",
 // "resume", "abandon [why]", "quit". Throws std::invalid_argument naming the accepted words.
 [[nodiscard]] Command parseCommand(const std::string& line);
+// A leaf's item in words, read from `in` ("marker 3 5", "tip", "midrib_thickness 2", "board 2")
+// as a Step (a midrib or vein-origin reading at point 4); `command` names the command in the
+// words of what is wrong (std::invalid_argument).
+[[nodiscard]] Step parseLeafItemWords(std::istream& in, const std::string& command);
 
 struct LoopListener {
   std::function<void(const Feedback&)> onFeedback;  // after the event is committed

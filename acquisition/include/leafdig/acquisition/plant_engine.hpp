@@ -14,12 +14,20 @@
 // (its long press ends the rows); a very long press there with nothing of the leaf to undo
 // undoes the plant's last action.
 //
+// Retake (as on a leaf): any item held — a landmark, the collar, a node's point or reading, a
+// quick leaf's point, or a full leaf's marker or reading — is taken out and becomes the next step
+// wherever the capture is; the next accepted input of that kind replaces it, with the same
+// plant-frame and leaf-pose checks as the first time (a landmark that would leave no plant frame
+// is refused). undo() before that puts the old item back; undo() after it takes the new item out
+// and the step asks for it again.
+//
 // Protocols: one repeating axis of order 1 with its leaves. Branches (entities of axis order 2)
 // are refused by the constructor in words (docs/plants.md says what comes next).
 //
 // Thread contract: one thread owns a PlantEngine; it never blocks.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -77,9 +85,11 @@ struct PlantDecision {
     LandmarksReopened,
     PlantEnded,
     PlantReopened,
-    LeafChosen,    // node's leaf kind / state set (choice); `previous` is what it was
-    ChoiceUndone,  // the last LeafChosen taken back: node's leaf is `previous` again
-    Leaf           // a decision of node's full leaf Engine (leaf)
+    LeafChosen,       // node's leaf kind / state set (choice); `previous` is what it was
+    ChoiceUndone,     // the last LeafChosen taken back: node's leaf is `previous` again
+    Leaf,             // a decision of node's full leaf Engine (leaf; its own retakes too)
+    RetakeStarted,    // item (the plant's own) is taken out and is the next step
+    RetakeCancelled,  // item is put back as it was
   };
   Kind kind = Kind::Ignored;
   PlantItem item;  // Accepted / Undone
@@ -104,6 +114,13 @@ class PlantEngine {
   // Sets node's leaf kind and state (the current node or one still to come; a leaf with points
   // taken cannot change kind: undo them first).
   PlantDecision chooseLeaf(int node, LeafChoice choice);
+  // Takes a held item out to take it again (RetakeStarted): the plant's own (landmark number,
+  // node number; part = which point or reading, 1 for the first) or node's full leaf's (what,
+  // row, col as on a leaf: retakeLeaf). Rejected in words when nothing is held there or another
+  // retake is in progress.
+  PlantDecision retake(PlantWhat what, int index, int part);
+  PlantDecision retakeLeaf(int node, What what, int row, int col);
+  [[nodiscard]] bool retaking() const;
 
   void apply(const PlantDecision& d);
   // A curator's correction in review (review.hpp's correct() on a plant session, and its
@@ -141,6 +158,15 @@ class PlantEngine {
   [[nodiscard]] PlantDecision fromLeaf(int node, const Decision& d) const;
   [[nodiscard]] const PlantItem* find(PlantWhat w, int index, int part) const;
   [[nodiscard]] int landmarks() const;
+  // The landmarks by number (a retaken one comes back at its place), with `extra` at number
+  // `extraIndex` when given (a landmark being retaken, not held).
+  [[nodiscard]] std::vector<Eigen::Vector3d> landmarkPoints(const Eigen::Vector3d* extra = nullptr,
+                                                            int extraIndex = 0) const;
+  // The plant frame and a quick leaf's pose with `p` at step st: the words of what fails.
+  [[nodiscard]] std::optional<std::string> geometryRefusal(const PlantStep& st, const Eigen::Vector3d& p) const;
+  [[nodiscard]] int lastLandmark() const;  // the highest landmark number held, 0 for none
+  [[nodiscard]] int lastNode() const;      // the highest node number with a point, reading or quick point held
+  void eraseItem(std::size_t index);
   [[nodiscard]] std::optional<PlantStep> nodeStep(int node) const;  // the first step node still needs
   [[nodiscard]] int leafNode() const;                               // the node whose full leaf has the stylus now, or 0
   [[nodiscard]] std::string pointName(const PlantStep& s) const;
@@ -161,6 +187,8 @@ class PlantEngine {
   std::map<int, LeafChoice> choices_;
   std::vector<Action> actions_;
   bool landmarksEnded_ = false, plantEnded_ = false;
+  std::optional<PlantStep> retake_;  // a plant item being retaken
+  PlantItem retakeOld_;
   StylusPress press_;
   std::int64_t lastAcceptedReleaseNs_ = -1;
   std::int64_t lastReadingAt_ = -1;

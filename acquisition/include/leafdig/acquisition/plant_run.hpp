@@ -26,15 +26,20 @@
 namespace leafdig::acquisition {
 
 struct PlantCommand {
-  enum class Kind { Undo, End, Choose, Pause, Resume, Quit };
+  enum class Kind { Undo, End, Choose, Pause, Resume, Quit, Retake };
   Kind kind = Kind::Undo;
-  int node = 0;       // Choose
-  LeafChoice choice;  // Choose
-  std::string text;   // Pause: the reason
+  int node = 0;                          // Choose; Retake: a full leaf's node (0: the plant's own item)
+  LeafChoice choice{};                   // Choose
+  std::string text{};                    // Pause: the reason
+  PlantWhat what = PlantWhat::Landmark;  // Retake of the plant's own item: which, and its number
+  int index = 0, part = 0;
+  Step leaf{};  // Retake of a full leaf's item (node > 0)
 };
 // "undo", "end" (ends the landmarks, a full leaf's rows or the plant, as the long press),
 // "leaf N full|quick|none [alive|dead|broken|yellow|pruned] [TYPE]" (node N's leaf),
-// "pause [reason…]", "resume", "quit".
+// "pause [reason…]", "resume", "quit", "retake WHAT [N [PART]]" (landmark N, collar,
+// collar_diameter, point N [PART], reading N [PART], quick_point N PART) and "retake node N
+// WHAT [ROW [POINT]]" (node N's full leaf's item, as a leaf's retake).
 // Throws std::invalid_argument naming the accepted words.
 [[nodiscard]] PlantCommand parsePlantCommand(const std::string& line);
 

@@ -10,6 +10,7 @@
 // node number, col = which point) or a full leaf's ("node3.marker", row and col the leaf's),
 // `rows_ended` / `rows_reopened` {"node"}, `landmarks_ended`, `landmarks_reopened`,
 // `plant_ended`, `plant_reopened`, `leaf_chosen` / `choice_undone` {"node", "kind", "state"},
+// `retake` (the item and the seq of the event that put it in) / `retake_cancelled` (the item),
 // `rejected`, `status`, `paused` {"reason"} / `resumed`, `ignored_reading` (a reading while
 // paused), `device` {"device","state","message"}, and a curator's `corrected`
 // (correctPlantSession, below).
@@ -70,6 +71,10 @@ class PlantCaptureSession {
   PlantFeedback undo(std::int64_t monoNs = 0);
   PlantFeedback end(std::int64_t monoNs = 0);
   PlantFeedback chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs = 0);
+  // PlantEngine::retake / retakeLeaf made durable (`retake` names the event that put the item
+  // in; undo before the new one puts it back: `retake_cancelled` with the item).
+  PlantFeedback retake(PlantWhat what, int index, int part, std::int64_t monoNs = 0);
+  PlantFeedback retakeLeaf(int node, What what, int row, int col, std::int64_t monoNs = 0);
   // Ends the session unfinished (status `abandoned`, with why).
   PlantFeedback abandon(const std::string& why, std::int64_t monoNs = 0);
   // An operator's pause (a `paused` event with the reason): until resume() the stylus and the
