@@ -2,6 +2,7 @@
 
 #include <QComboBox>
 #include <QHBoxLayout>
+#include <QInputDialog>
 #include <QLabel>
 #include <QLineEdit>
 #include <QPushButton>
@@ -169,6 +170,10 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   undo_ = new QPushButton(tr("Undo"));
   end_ = new QPushButton(tr("End"));
   end_->setToolTip(tr("Ends the landmarks, a full leaf's rows or the plant (as the long press)"));
+  retake_ = new QPushButton(tr("Retake…"));
+  retake_->setToolTip(
+      tr("Takes a point or reading out to take it again (the item selected in the tree, or "
+         "any: landmark 2, collar, point 4, reading 4, quick_point 5 2, node 2 marker 1 3)"));
   pause_ = new QPushButton(tr("Pause"));
   pause_->setToolTip(tr("Presses and readings change nothing until Resume (the pause is kept in the log)"));
   leafKind_ = new QComboBox;
@@ -182,10 +187,11 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   leafType_->setMinimumWidth(140);
   setLeaf_ = new QPushButton(tr("Set node 1's leaf"));
   devices_ = new QLabel;
-  for (QWidget* w : std::initializer_list<QWidget*>{undo_, end_, pause_, leafKind_, leafState_, setLeaf_})
+  for (QWidget* w : std::initializer_list<QWidget*>{undo_, end_, retake_, pause_, leafKind_, leafState_, setLeaf_})
     w->setFocusPolicy(Qt::NoFocus);
   row->addWidget(undo_);
   row->addWidget(end_);
+  row->addWidget(retake_);
   row->addWidget(pause_);
   row->addSpacing(16);
   row->addWidget(leafKind_);
@@ -202,6 +208,16 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
                    0,
                    {},
                    tr("paused at the station").toStdString()});
+  });
+  connect(retake_, &QPushButton::clicked, this, [this] {
+    bool ok = false;
+    const QString words = QInputDialog::getText(
+        this, tr("Retake"),
+        tr("Which point or reading? (landmark 2, collar, collar_diameter, point 4, reading 4, quick_point 5 2, "
+           "node 2 marker 1 3, node 2 midrib_thickness 3)"),
+        QLineEdit::Normal, retakeSuggestion(), &ok);
+    if (!ok) return;
+    if (const QString why = retake(words); !why.isEmpty()) feedback_->setText(tr("✗ %1").arg(why));
   });
   connect(setLeaf_, &QPushButton::clicked, this, [this] {
     acq::LeafChoice c;
@@ -239,6 +255,29 @@ int PlantCaptureView::choiceNode() const {
     case acq::PlantWhat::Done: return std::max(1, engine_->nodes());
     default: return 1;
   }
+}
+
+QString PlantCaptureView::retake(const QString& words) {
+  acq::PlantCommand c;
+  try {
+    c = acq::parsePlantCommand("retake " + words.simplified().toStdString());
+  } catch (const std::invalid_argument& e) {
+    return QString::fromStdString(e.what());
+  }
+  return command(c) ? QString() : tr("no plant is being captured with the devices");
+}
+
+QString PlantCaptureView::retakeSuggestion() const {
+  const QTreeWidgetItem* item = tree_->currentItem();
+  if (!item) return {};
+  const QString text = item->text(0);
+  const QTreeWidgetItem* parent = item->parent();
+  if (text.startsWith(tr("Landmark ")) && parent) return "landmark " + text.section(' ', 1, 1);
+  if (text == tr("Collar")) return "collar";
+  if (text.startsWith(tr("Node ")) && !parent) return "point " + text.section(' ', 1, 1);
+  if (text == tr("Leaf") && parent && parent->text(0).startsWith(tr("Node ")))
+    return "node " + parent->text(0).section(' ', 1, 1) + " marker 1 1";
+  return {};
 }
 
 bool PlantCaptureView::command(const acq::PlantCommand& c) {

@@ -66,6 +66,12 @@ class PlantCaptureView : public QWidget {
   // The operator's commands (devices only; the virtual technician decides its own): false when
   // no capture with devices is running.
   bool command(const acquisition::PlantCommand& c);
+  // A retake in the words of `plant capture`'s standard input after "retake" ("landmark 2",
+  // "collar", "point 4", "reading 4", "quick_point 5 2", "node 2 marker 1 3"): the words of what
+  // is wrong, or empty when the command went to the capture (its decision comes as feedback).
+  QString retake(const QString& words);
+  // What the Retake… dialog offers first: the item selected in the tree, in those words.
+  [[nodiscard]] QString retakeSuggestion() const;
 
   [[nodiscard]] std::int64_t sessionId() const { return session_; }
   [[nodiscard]] bool complete() const { return complete_; }
@@ -84,6 +90,7 @@ class PlantCaptureView : public QWidget {
   [[nodiscard]] QComboBox* leafState() const { return leafState_; }
   [[nodiscard]] QComboBox* leafType() const { return leafType_; }
   [[nodiscard]] QPushButton* setLeafButton() const { return setLeaf_; }
+  [[nodiscard]] QPushButton* retakeButton() const { return retake_; }
   [[nodiscard]] QString devicesText() const;
   [[nodiscard]] PreviewWidget* plantPreview() const { return plantPreview_; }
   [[nodiscard]] PreviewWidget* leafPreview() const { return leafPreview_; }
@@ -121,7 +128,7 @@ class PlantCaptureView : public QWidget {
 
   QLabel *banner_, *feedback_, *summary_;
   QTreeWidget* tree_;
-  QPushButton *review_, *undo_, *end_, *setLeaf_, *pause_;
+  QPushButton *review_, *undo_, *end_, *setLeaf_, *pause_, *retake_;
   bool paused_ = false;  // as the last committed state said
   QComboBox *leafKind_, *leafState_, *leafType_;
   QLabel* devices_;

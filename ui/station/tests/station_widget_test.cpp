@@ -1365,6 +1365,21 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
   rig.caliperEmulator().pressData();
   ASSERT_TRUE(waitFor([&] { return v->tree()->topLevelItem(1)->text(1) == "Ø 21.5 mm"; }))
       << v->tree()->topLevelItem(1)->text(1).toStdString() << " / " << v->feedbackText().toStdString();
+  // Retake: words that name no item are refused before anything is sent; an item not taken is
+  // refused by the engine in words; landmark 2 is taken out (the banner says so) and pressed
+  // again at its place. The Retake… dialog offers the tree's selected item in those words.
+  EXPECT_TRUE(v->retakeButton()->isVisibleTo(v));
+  EXPECT_TRUE(v->retake("stem 2").contains("a plant's item is landmark N")) << v->retake("stem 2").toStdString();
+  EXPECT_EQ(v->retake("landmark 9"), "");
+  ASSERT_TRUE(waitFor([&] { return v->feedbackText().contains("nothing was captured as landmark 9"); }))
+      << v->feedbackText().toStdString();
+  v->tree()->setCurrentItem(v->tree()->topLevelItem(0)->child(1));
+  EXPECT_EQ(v->retakeSuggestion(), "landmark 2");
+  EXPECT_EQ(v->retake(v->retakeSuggestion()), "");
+  ASSERT_TRUE(waitFor([&] { return v->bannerText().startsWith("Retake · Landmark 2"); }))
+      << v->bannerText().toStdString();
+  ASSERT_TRUE(press(plant.landmarksMm[1])) << v->feedbackText().toStdString();
+  ASSERT_TRUE(waitFor([&] { return !v->bannerText().startsWith("Retake"); })) << v->bannerText().toStdString();
   // Pause: the banner says so, a reading is logged as ignored and changes nothing; Resume.
   QTest::mouseClick(v->pauseButton(), Qt::LeftButton);
   ASSERT_TRUE(waitFor([&] { return v->bannerText().startsWith("PAUSED"); })) << v->bannerText().toStdString();
@@ -1410,9 +1425,9 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
     kinds.push_back(e.kind);
   }
   EXPECT_EQ(devicesLogged, (std::set<std::string>{"FASTRAK", "Sylvac"}));
-  EXPECT_EQ(kinds,
-            (std::vector<std::string>{"accepted", "undone", "accepted", "accepted", "accepted", "landmarks_ended",
-                                      "accepted", "accepted", "paused", "ignored_reading", "resumed", "leaf_chosen"}));
+  EXPECT_EQ(kinds, (std::vector<std::string>{"accepted", "undone", "accepted", "accepted", "accepted",
+                                             "landmarks_ended", "accepted", "accepted", "rejected", "retake",
+                                             "accepted", "paused", "ignored_reading", "resumed", "leaf_chosen"}));
 }
 
 TEST(PlantCaptureView, ADevicesSpecThatDoesNotReadWritesNothing) {
