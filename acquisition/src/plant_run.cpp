@@ -120,6 +120,12 @@ void PlantCaptureLoop::push(Input in) {
 }
 
 void PlantCaptureLoop::post(const dev::DeviceEvent& e) {
+  if (const auto* s = std::get_if<dev::StylusSample>(&e); s && pedal_ && !s->button) {
+    dev::StylusSample pressed = *s;
+    pressed.button = true;
+    push(pressed);
+    return;
+  }
   push(e);
 }
 

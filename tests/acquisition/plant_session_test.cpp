@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/plant_run.hpp"
+#include "leafdig/acquisition/point_rules.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/acquisition/truth.hpp"
@@ -525,6 +526,41 @@ TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThread
   EXPECT_NE(logged[0].find("\"streaming\""), std::string::npos) << logged[0];
   EXPECT_NE(logged[1].find("the cable was pulled"), std::string::npos) << logged[1];
   EXPECT_TRUE(store.verify(id).ok);
+}
+
+// A foot pedal held down is the stylus button: samples whose own button is up are taken as
+// pressed while it is down, and the point is decided when it comes up, as on a leaf.
+TEST_F(PlantSession, AFootPedalHeldDownIsTheStylusButton) {
+  db::Store store(path_);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
+  acq::PlantCaptureLoop loop(store, id);
+  std::thread devices([&] {
+    namespace dev = leafdig::devices;
+    const auto t0 = dev::Clock::now();
+    int k = 0;
+    const acq::Vec3 p{plant_.landmarksMm[0].x(), plant_.landmarksMm[0].y(), plant_.landmarksMm[0].z()};
+    const auto record = [&] {
+      dev::StylusSample s;
+      s.t = t0 + std::chrono::milliseconds(8 * ++k);
+      s.positionMm = p;
+      s.button = false;  // the stylus's own button is never pressed
+      s.raw = "01 x";
+      loop.post(s);
+    };
+    for (int i = 0; i < 40; ++i) record();
+    EXPECT_FALSE(loop.pedal());
+    loop.setPedal(true);
+    for (int i = 0; i < 25; ++i) record();
+    loop.setPedal(false);
+    record();
+    loop.command(acq::parsePlantCommand("quit"));
+  });
+  const acq::PlantRunStats stats = loop.run([](const acq::PlantFeedback&, const acq::PlantCaptureSession&) {});
+  devices.join();
+  EXPECT_EQ(stats.accepted, 1);
+  ASSERT_EQ(loop.session().engine().items().size(), 1u);
+  EXPECT_EQ(loop.session().engine().items()[0].what, PlantWhat::Landmark);
+  EXPECT_LT((acq::rules::toPoint(loop.session().engine().items()[0].positionMm) - plant_.landmarksMm[0]).norm(), 1e-9);
 }
 
 TEST(PlantCommand, TheWordsATechnicianTypesAreReadOrRefusedByName) {

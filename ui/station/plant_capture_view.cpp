@@ -280,6 +280,18 @@ QString PlantCaptureView::retakeSuggestion() const {
   return {};
 }
 
+bool PlantCaptureView::setPedal(bool down) {
+  std::lock_guard lock(mutex_);
+  if (!loop_) return false;
+  loop_->setPedal(down);
+  return true;
+}
+
+bool PlantCaptureView::pedal() const {
+  std::lock_guard lock(mutex_);
+  return loop_ && loop_->pedal();
+}
+
 bool PlantCaptureView::command(const acq::PlantCommand& c) {
   std::lock_guard lock(mutex_);
   if (!loop_) return false;

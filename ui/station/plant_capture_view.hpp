@@ -66,6 +66,9 @@ class PlantCaptureView : public QWidget {
   // The operator's commands (devices only; the virtual technician decides its own): false when
   // no capture with devices is running.
   bool command(const acquisition::PlantCommand& c);
+  // The foot pedal (the Accept key held down) as the stylus button; false without devices.
+  bool setPedal(bool down);
+  [[nodiscard]] bool pedal() const;
   // A retake in the words of `plant capture`'s standard input after "retake" ("landmark 2",
   // "collar", "point 4", "reading 4", "quick_point 5 2", "node 2 marker 1 3"): the words of what
   // is wrong, or empty when the command went to the capture (its decision comes as feedback).
@@ -145,7 +148,7 @@ class PlantCaptureView : public QWidget {
 
   std::thread capture_, previewer_;
   std::atomic<bool> stop_{false};
-  std::mutex mutex_;  // guards everything below
+  mutable std::mutex mutex_;  // guards everything below
   std::condition_variable wake_;
   std::optional<State> stateMailbox_;
   std::optional<acquisition::PlantEngine> previewWanted_;

@@ -277,13 +277,20 @@ bool StationWindow::eventFilter(QObject* watched, QEvent* event) {
   // The Accept key (a foot pedal) held down is the stylus button: press → button down,
   // release → up, and the engine decides on release as it does for the stylus.
   // Only keys meant for this window count (not a dialog's Enter): their widget is in it.
-  if ((event->type() == QEvent::KeyPress || event->type() == QEvent::KeyRelease) && run_ &&
-      tabs_->currentIndex() == 0 && watched->isWidgetType() && static_cast<QWidget*>(watched)->window() == this) {
+  // The same on the plant capture tab, for a plant taken with the devices.
+  const bool leafTab = run_ && tabs_->currentIndex() == 0;
+  const bool plantTab = plantCapture_ && tabs_->currentWidget() == plantCapture_;
+  if ((event->type() == QEvent::KeyPress || event->type() == QEvent::KeyRelease) && (leafTab || plantTab) &&
+      watched->isWidgetType() && static_cast<QWidget*>(watched)->window() == this) {
     auto* k = static_cast<QKeyEvent*>(event);
     const QKeySequence accept = settings_.shortcuts[Action::Accept];
     if (!k->isAutoRepeat() && !accept.isEmpty() && QKeySequence(k->keyCombination()) == accept) {
-      run_->setPedal(event->type() == QEvent::KeyPress);
-      return true;
+      const bool down = event->type() == QEvent::KeyPress;
+      if (leafTab) {
+        run_->setPedal(down);
+        return true;
+      }
+      if (plantCapture_->setPedal(down)) return true;
     }
   }
   return QMainWindow::eventFilter(watched, event);

@@ -1380,6 +1380,11 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
       << v->bannerText().toStdString();
   ASSERT_TRUE(press(plant.landmarksMm[1])) << v->feedbackText().toStdString();
   ASSERT_TRUE(waitFor([&] { return !v->bannerText().startsWith("Retake"); })) << v->bannerText().toStdString();
+  // The Accept key held down (a foot pedal) is the stylus button here too.
+  QTest::keyPress(&w, Qt::Key_Return);
+  EXPECT_TRUE(v->pedal());
+  QTest::keyRelease(&w, Qt::Key_Return);
+  EXPECT_FALSE(v->pedal());
   // Pause: the banner says so, a reading is logged as ignored and changes nothing; Resume.
   QTest::mouseClick(v->pauseButton(), Qt::LeftButton);
   ASSERT_TRUE(waitFor([&] { return v->bannerText().startsWith("PAUSED"); })) << v->bannerText().toStdString();

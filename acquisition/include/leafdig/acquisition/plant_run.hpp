@@ -58,6 +58,10 @@ class PlantCaptureLoop {
   PlantCaptureLoop& operator=(const PlantCaptureLoop&) = delete;
 
   void post(const devices::DeviceEvent& e);
+  // A foot pedal (the station's Accept key) held down is the stylus button, as in a leaf
+  // capture: every stylus sample while it is down is taken as pressed. From any thread.
+  void setPedal(bool down) { pedal_ = down; }
+  [[nodiscard]] bool pedal() const { return pedal_; }
   void command(const PlantCommand& c);
   void stop();
 
@@ -82,6 +86,7 @@ class PlantCaptureLoop {
   std::condition_variable cv_;
   std::deque<Input> inputs_;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> pedal_{false};
   std::map<std::string, std::string> deviceStates_;  // the last state logged per device (run's thread)
 };
 
