@@ -332,6 +332,22 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
   db::EventInput ev;
   ev.monoNs = monoNs;
   std::string key;  // Accepted: the item's key; Undone: the key whose event it retracts
+  // An event that puts an item in (accepted, retake_cancelled) or takes the held one back
+  // (undone, retake: naming the event that put it in).
+  const auto putsIn = [&](const char* kind, const json& item, const std::string& itemRaw, std::string itemKey) {
+    ev.kind = kind;
+    ev.payloadJson = item.dump();
+    ev.raw = itemRaw;
+    ev.projection = projectionOf(ev.payloadJson, ev.raw);
+    key = std::move(itemKey);
+  };
+  const auto takesBack = [&](const char* kind, json item, std::string itemKey) {
+    key = std::move(itemKey);
+    item["seq"] = seqs_.at(key);
+    ev.kind = kind;
+    ev.payloadJson = item.dump();
+    ev.retracts = seqs_.at(key);
+  };
   switch (d.kind) {
     case PlantDecision::Kind::Rejected: {
       const PlantStep st = engine_.step();
@@ -343,31 +359,13 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
       ev.raw = raw;
       break;
     }
-    case PlantDecision::Kind::Accepted: {
-      const json item = plantItemJson(d.item);
-      ev.kind = "accepted";
-      ev.payloadJson = item.dump();
-      ev.raw = d.item.raw;
-      ev.projection = projectionOf(ev.payloadJson, ev.raw);
-      key = keyOf(d.item);
-      break;
-    }
+    case PlantDecision::Kind::Accepted: putsIn("accepted", plantItemJson(d.item), d.item.raw, keyOf(d.item)); break;
     case PlantDecision::Kind::Undone:
-    case PlantDecision::Kind::RetakeStarted: {
-      key = keyOf(d.item);
-      json item = plantItemJson(d.item);
-      item["seq"] = seqs_.at(key);
-      ev.kind = d.kind == PlantDecision::Kind::Undone ? "undone" : "retake";
-      ev.payloadJson = item.dump();
-      ev.retracts = seqs_.at(key);
+    case PlantDecision::Kind::RetakeStarted:
+      takesBack(d.kind == PlantDecision::Kind::Undone ? "undone" : "retake", plantItemJson(d.item), keyOf(d.item));
       break;
-    }
     case PlantDecision::Kind::RetakeCancelled:
-      ev.kind = "retake_cancelled";
-      ev.payloadJson = plantItemJson(d.item).dump();
-      ev.raw = d.item.raw;
-      ev.projection = projectionOf(ev.payloadJson, ev.raw);
-      key = keyOf(d.item);
+      putsIn("retake_cancelled", plantItemJson(d.item), d.item.raw, keyOf(d.item));
       break;
     case PlantDecision::Kind::Leaf: {
       const Decision& l = d.leaf;
@@ -375,26 +373,13 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
       item["what"] = leafWhat(d.node, l.item);
       switch (l.kind) {
         case Decision::Kind::Accepted:
-          ev.kind = "accepted";
-          ev.payloadJson = item.dump();
-          ev.raw = l.item.raw;
-          ev.projection = projectionOf(ev.payloadJson, ev.raw);
-          key = keyOf(d.node, l.item);
+        case Decision::Kind::RetakeCancelled:
+          putsIn(l.kind == Decision::Kind::Accepted ? "accepted" : "retake_cancelled", item, l.item.raw,
+                 keyOf(d.node, l.item));
           break;
         case Decision::Kind::Undone:
         case Decision::Kind::RetakeStarted:
-          key = keyOf(d.node, l.item);
-          item["seq"] = seqs_.at(key);
-          ev.kind = l.kind == Decision::Kind::Undone ? "undone" : "retake";
-          ev.payloadJson = item.dump();
-          ev.retracts = seqs_.at(key);
-          break;
-        case Decision::Kind::RetakeCancelled:
-          ev.kind = "retake_cancelled";
-          ev.payloadJson = item.dump();
-          ev.raw = l.item.raw;
-          ev.projection = projectionOf(ev.payloadJson, ev.raw);
-          key = keyOf(d.node, l.item);
+          takesBack(l.kind == Decision::Kind::Undone ? "undone" : "retake", item, keyOf(d.node, l.item));
           break;
         case Decision::Kind::RowsEnded:
         case Decision::Kind::RowsReopened:
