@@ -27,6 +27,7 @@
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/io/leaf_build.hpp"
 #include "leafdig/model/io/mesh_export.hpp"
 #include "leafdig/model/io/model_json.hpp"
 #include "leafdig/model/io/plant_export.hpp"
@@ -121,12 +122,9 @@ struct Mesh {
   m::LeafMesh mesh;
 };
 
-struct Leaf {
+// model build's model, mesh and metrics (model/io/leaf_build.hpp), and where the markers came from.
+struct Leaf : m::BuiltLeaf {
   std::string source;  // the markers file as given (the simulation formats name it), else the leaf's id
-  m::LeafModel model;
-  m::LeafMesh mesh;
-  m::LeafMetrics metrics;
-  std::string frame;
 };
 
 m::MeshOptions meshOptions(const std::string& resolution, const std::string& method, std::optional<double> maxError) {
@@ -147,18 +145,12 @@ m::MeshOptions meshOptions(const std::string& resolution, const std::string& met
 Leaf buildLeaf(const m::MarkerSet& markers, const std::string& source, const std::string& blade,
                const std::string& resolution, const std::string& method, std::optional<double> maxError,
                const std::string& frame, const Eigen::Vector3d& light) {
-  if (frame != "digitizer" && frame != "leaf")
-    throw m::InputError("frame \"" + frame + "\" is not one: \"digitizer\" (as digitized) or \"leaf\"");
   const m::MeshOptions options = meshOptions(resolution, method, maxError);
+  const m::BladeKind kind = m::bladeKindFromString(blade);
   py::gil_scoped_release free;
   Leaf out;
+  static_cast<m::BuiltLeaf&>(out) = m::buildLeafAsModelBuild(markers, kind, frame, options, light, 5.0);
   out.source = source.empty() ? markers.leaf.id : source;
-  out.model = m::buildLeafModel(markers, {m::bladeKindFromString(blade), nullptr});
-  if (frame == "leaf") out.model = m::transformed(out.model, m::leafFrameFromDigitizer(out.model));
-  out.frame = frame;
-  out.mesh = m::meshLeaf(out.model, options);
-  out.metrics = m::computeLeafMetrics(out.model, light, 5.0);
-  m::addSilhouette(out.metrics, out.mesh);
   return out;
 }
 
@@ -222,15 +214,8 @@ std::vector<std::string> exportLeaf(const Leaf& leaf, const std::string& path, c
   } else {
     const m::PlantFormat f = m::plantFormatForPath(p);
     if (f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv) {
-      const int rank = std::clamp(leaf.model.markers.leaf.position.value_or(1), 1, 999);
-      const m::Plant alone = m::singleLeafPlant(leaf.model, rank, leaf.source);
-      const m::LeafMesh mesh = m::meshPlant(alone, m::MeshResolution::preset("export"));
-      m::PlantMetrics metrics = m::computePlantMetrics(alone, mesh, light);
-      if (leaf.metrics.areaInterval && !metrics.leaves.empty()) {
-        metrics.leaves.front().bladeAreaLow95Mm2 = leaf.metrics.areaInterval->low95Mm2;
-        metrics.leaves.front().bladeAreaHigh95Mm2 = leaf.metrics.areaInterval->high95Mm2;
-      }
-      files = m::encodePlant(p, alone, mesh, metrics, {m::CanUnit::Metre, kGenerator});
+      const m::LeafAsPlant alone = m::leafAsPlant(leaf, leaf.source, light);
+      files = m::encodePlant(p, alone.plant, alone.mesh, alone.metrics, {m::CanUnit::Metre, kGenerator});
     } else {
       files.push_back({p, m::encodeMesh(leaf.mesh, m::meshFormatForPath(p), header)});
     }

@@ -7,6 +7,7 @@
 #include <unsupported/Eigen/Splines>
 #include <utility>
 
+#include "leafdig/model/io/leaf_build.hpp"
 #include "leafdig/model/leaf/leaf_model.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/mesh/mesh.hpp"
@@ -59,15 +60,13 @@ BENCHMARK(BM_RebuildExport)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 // tests/bench/python_bench.py builds the same leaves from Python and reports the ratio.
 void BM_BuildLeafAsModelBuild(benchmark::State& state) {
   const m::MarkerSet samples[] = {loadSample(0), loadSample(1), loadSample(2)};
-  const m::MeshResolution resolution = m::MeshResolution::preset("export");
+  m::MeshOptions options;
+  options.resolution = m::MeshResolution::preset("export");
   std::size_t k = 0;
   for (auto _ : state) {
-    const m::MarkerSet& markers = samples[k++ % 3];
-    const m::LeafModel leaf = m::buildLeafModel(markers);
-    const m::LeafMesh mesh = m::meshLeaf(leaf, resolution);
-    m::LeafMetrics metrics = m::computeLeafMetrics(leaf, {0, 0, 1}, 5.0);
-    m::addSilhouette(metrics, mesh);
-    benchmark::DoNotOptimize(m::metricsToJson(metrics));
+    const m::BuiltLeaf leaf =
+        m::buildLeafAsModelBuild(samples[k++ % 3], m::BladeKind::Interp, "digitizer", options, {0, 0, 1}, 5.0);
+    benchmark::DoNotOptimize(m::metricsToJson(leaf.metrics));
   }
   state.SetLabel("the three samples in turn, export mesh");
 }

@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/io/leaf_build.hpp"
 #include "leafdig/model/io/mesh_export.hpp"
 #include "leafdig/model/io/model_json.hpp"
 #include "leafdig/model/io/plant_export.hpp"
@@ -156,37 +157,24 @@ int runModelBuild(const ModelBuildOptions& o) {
     // The scan's margin at the markers' spacing along it: the interval's margin term.
     markers.leaf.marginFromScan = m::MarginFromScan{m::marginFromOutline(scan->outline, m::marginSpacingMm(markers))};
   }
-  m::LeafModel leaf = m::buildLeafModel(markers, {m::bladeKindFromString(o.blade), nullptr});
-  if (o.frame == "leaf") leaf = m::transformed(leaf, m::leafFrameFromDigitizer(leaf));
-
-  const m::LeafMesh mesh = m::meshLeaf(leaf, meshOptions);
-  m::LeafMetrics metrics = m::computeLeafMetrics(leaf, light, o.areaThresholdPercent);
-  m::addSilhouette(metrics, mesh);
+  const m::BuiltLeaf built = m::buildLeafAsModelBuild(markers, m::bladeKindFromString(o.blade), o.frame, meshOptions,
+                                                      light, o.areaThresholdPercent);
+  const m::LeafModel& leaf = built.model;
+  const m::LeafMesh& mesh = built.mesh;
+  const m::LeafMetrics& metrics = built.metrics;
   const m::ExportHeader header{leaf.markers.leaf.id, o.frame, std::string("leafdig ") + leafdig::kVersion};
 
   // Encode everything first, then write: a build error never leaves some files written.
   std::vector<std::pair<std::string, std::string>> files;
-  std::optional<m::Plant> alone;  // made when a simulation format is asked for
-  std::optional<m::LeafMesh> aloneMesh;
-  std::optional<m::PlantMetrics> aloneMetrics;
+  std::optional<m::LeafAsPlant> alone;  // made when a simulation format is asked for
   for (std::size_t i = 0; i < o.outputs.size(); ++i) {
     if (formats[i]) {
       files.emplace_back(o.outputs[i], m::encodeMesh(mesh, *formats[i], header));
       continue;
     }
-    if (!alone) {
-      // CARIBU's leaf field must not be 000 (the stem, opaque): the leaf's position, or 1.
-      const int rank = std::clamp(leaf.markers.leaf.position.value_or(1), 1, 999);
-      alone = m::singleLeafPlant(leaf, rank, o.markersPath);
-      aloneMesh = m::meshPlant(*alone, meshOptions);
-      aloneMetrics = m::computePlantMetrics(*alone, *aloneMesh, light);
-      if (metrics.areaInterval && !aloneMetrics->leaves.empty()) {  // the leaf's own, already computed
-        aloneMetrics->leaves.front().bladeAreaLow95Mm2 = metrics.areaInterval->low95Mm2;
-        aloneMetrics->leaves.front().bladeAreaHigh95Mm2 = metrics.areaInterval->high95Mm2;
-      }
-    }
+    if (!alone) alone = m::leafAsPlant(built, o.markersPath, light);
     for (auto& f :
-         m::encodePlant(o.outputs[i], *alone, *aloneMesh, *aloneMetrics, {m::CanUnit::Metre, header.generator}))
+         m::encodePlant(o.outputs[i], alone->plant, alone->mesh, alone->metrics, {m::CanUnit::Metre, header.generator}))
       files.emplace_back(f.path.string(), std::move(f.bytes));
   }
   if (!o.modelJsonPath.empty()) {
