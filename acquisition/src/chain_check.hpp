@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 
 #include "leafdig/acquisition/session.hpp"
@@ -21,6 +22,19 @@ inline void requireChain(const db::EventStore& store, std::int64_t id, const std
     throw SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
                        std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + "): it cannot be " +
                        doing);
+}
+
+// What a curator's correction of session `id` needs before anything is read (a leaf's and a
+// plant's alike): a complete session (approved and rejected are final, open is still being
+// captured), a reason, a name, and a chain that verifies. std::invalid_argument / SessionError.
+inline void requireCorrectable(const db::EventStore& store, std::int64_t id, const std::string& status,
+                               const std::string& reason, const std::string& who) {
+  if (status != "complete")
+    throw std::invalid_argument("session " + std::to_string(id) + " is " + status +
+                                ": only a complete session (awaiting review) can be corrected");
+  if (reason.empty()) throw std::invalid_argument("a correction needs a reason: say what was wrong");
+  if (who.empty()) throw std::invalid_argument("a correction needs the curator's name");
+  requireChain(store, id, "corrected");
 }
 
 }  // namespace leafdig::acquisition::detail

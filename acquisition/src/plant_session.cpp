@@ -546,12 +546,7 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
   const auto info = store.session(id);
   if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());
   if (info->kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");
-  if (info->status != "complete")
-    throw std::invalid_argument("session " + std::to_string(id) + " is " + info->status +
-                                ": only a complete session (awaiting review) can be corrected");
-  if (c.reason.empty()) throw std::invalid_argument("a correction needs a reason: say what was wrong");
-  if (c.who.empty()) throw std::invalid_argument("a correction needs the curator's name");
-  detail::requireChain(store, id, "corrected");
+  detail::requireCorrectable(store, id, info->status, c.reason, c.who);
   const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
   std::map<std::string, std::int64_t> held;
   PlantEngine engine = PlantCaptureSession::replay(setup, store.events(id), &held);

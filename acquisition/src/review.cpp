@@ -197,12 +197,7 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
     throw std::invalid_argument("session " + std::to_string(id) +
                                 " captured one leaf: a plant's item or a node does not apply (--what tip, marker, "
                                 "or a thickness, with --row and --col)");
-  if (info.status != "complete")
-    throw std::invalid_argument("session " + std::to_string(id) + " is " + info.status +
-                                ": only a complete session (awaiting review) can be corrected");
-  if (c.reason.empty()) throw std::invalid_argument("a correction needs a reason: say what was wrong");
-  if (c.who.empty()) throw std::invalid_argument("a correction needs the curator's name");
-  requireChain(store, id, "corrected");
+  detail::requireCorrectable(store, id, info.status, c.reason, c.who);
   const ReviewedSession r = openForReview(store, id);
   const Item* old = findItem(r.engine.items(), c.what, c.row, c.col);
   if (!old)
