@@ -27,6 +27,7 @@
 #include <tuple>
 
 #include "compact_chart.hpp"
+#include "correction_dialog.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/review.hpp"
@@ -606,47 +607,12 @@ void PlantView::correctDialog() {
     status_->setText(tr("This plant has no point or reading to correct."));
     return;
   }
-  QDialog d(this);
-  d.setWindowTitle(tr("Correct a point or reading of plant session %1").arg(capturedSession_));
-  auto* form = new QFormLayout(&d);
-  auto* which = new QComboBox;
-  for (const CorrectableItem& i : items) which->addItem(i.label);
-  form->addRow(tr("Item"), which);
-  std::vector<QDoubleSpinBox*> boxes;
-  const QStringList names{tr("x"), tr("y"), tr("z"), tr("diameter")};
-  for (int k = 0; k < 4; ++k) {
-    auto* b = new QDoubleSpinBox;
-    b->setRange(k < 3 ? -10000 : 0, 10000);
-    b->setDecimals(3);
-    b->setSuffix(" mm");
-    boxes.push_back(b);
-    form->addRow(names[k], b);
-  }
-  const auto fill = [&](int index) {
-    const acquisition::Correction& c = items[static_cast<std::size_t>(index)].item;
-    for (int k = 0; k < 3; ++k) {
-      boxes[static_cast<std::size_t>(k)]->setEnabled(c.positionMm.has_value());
-      boxes[static_cast<std::size_t>(k)]->setValue(c.positionMm ? (*c.positionMm)[static_cast<std::size_t>(k)] : 0.0);
-    }
-    boxes[3]->setEnabled(c.valueMm.has_value());
-    boxes[3]->setValue(c.valueMm.value_or(0.0));
-  };
-  fill(0);
-  connect(which, qOverload<int>(&QComboBox::currentIndexChanged), &d, fill);
-  auto* reason = new QLineEdit;
-  reason->setPlaceholderText(tr("why (required)"));
-  form->addRow(tr("Reason"), reason);
-  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
-  connect(buttons, &QDialogButtonBox::accepted, &d, &QDialog::accept);
-  connect(buttons, &QDialogButtonBox::rejected, &d, &QDialog::reject);
-  form->addRow(buttons);
-  if (d.exec() != QDialog::Accepted) return;
-  acquisition::Correction c = items[static_cast<std::size_t>(which->currentIndex())].item;
-  if (c.positionMm)
-    c.positionMm = acquisition::Vec3{boxes[0]->value(), boxes[1]->value(), boxes[2]->value()};
-  else
-    c.valueMm = boxes[3]->value();
-  c.reason = reason->text().toStdString();
+  std::vector<CorrectionChoice> choices;
+  for (const CorrectableItem& i : items) choices.push_back({i.label, i.item});
+  std::optional<acquisition::Correction> asked = askCorrection(
+      this, tr("Correct a point or reading of plant session %1").arg(capturedSession_), choices, tr("diameter"));
+  if (!asked) return;
+  acquisition::Correction c = *asked;
   c.who = curator_->text().toStdString();
   const QString error = correctCaptured(c);
   status_->setText(error.isEmpty() ? tr("Corrected; the plant is shown as corrected.") : error);

@@ -21,6 +21,7 @@
 #include <set>
 
 #include "compact_chart.hpp"
+#include "correction_dialog.hpp"
 #include "export_dialog.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/model/errors.hpp"
@@ -516,37 +517,18 @@ void ReviewView::correctSelected() {
     banner_->setText(tr("REVIEW · select the item to correct in the table or the 3D view"));
     return;
   }
-  QDialog d(this);
-  d.setWindowTitle(tr("Correct %1").arg(QString::fromLatin1(acq::toString(item->what))));
-  auto* form = new QFormLayout(&d);
-  std::vector<QDoubleSpinBox*> boxes;
-  const int n = acq::isStylusItem(item->what) ? 3 : 1;
-  for (int k = 0; k < n; ++k) {
-    auto* b = new QDoubleSpinBox;
-    b->setRange(n == 3 ? -5000 : 0, 5000);
-    b->setDecimals(3);
-    b->setSuffix(" mm");
-    b->setValue(n == 3 ? item->positionMm[static_cast<std::size_t>(k)] : item->valueMm);
-    boxes.push_back(b);
-    form->addRow(n == 3 ? QString("xyz").mid(k, 1) : tr("thickness"), b);
-  }
-  auto* reason = new QLineEdit;
-  reason->setPlaceholderText(tr("why (required)"));
-  form->addRow(tr("Reason"), reason);
-  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
-  connect(buttons, &QDialogButtonBox::accepted, &d, &QDialog::accept);
-  connect(buttons, &QDialogButtonBox::rejected, &d, &QDialog::reject);
-  form->addRow(buttons);
-  if (d.exec() != QDialog::Accepted) return;
-  acq::Correction c;
-  c.what = item->what;
-  c.row = item->row;
-  c.col = item->col;
-  if (n == 3)
-    c.positionMm = acq::Vec3{boxes[0]->value(), boxes[1]->value(), boxes[2]->value()};
+  acq::Correction stored;
+  stored.what = item->what;
+  stored.row = item->row;
+  stored.col = item->col;
+  if (acq::isStylusItem(item->what))
+    stored.positionMm = item->positionMm;
   else
-    c.valueMm = boxes[0]->value();
-  c.reason = reason->text().toStdString();
+    stored.valueMm = item->valueMm;
+  std::optional<acq::Correction> asked = askCorrection(
+      this, tr("Correct %1").arg(QString::fromLatin1(acq::toString(item->what))), {{{}, stored}}, tr("thickness"));
+  if (!asked) return;
+  acq::Correction c = *asked;
   c.who = curator_->text().toStdString();
   (void)correct(c);
 }

@@ -8,6 +8,8 @@
 #include <QChart>
 #include <QChartView>
 #include <QComboBox>
+#include <QDialog>
+#include <QDialogButtonBox>
 #include <QDir>
 #include <QDoubleSpinBox>
 #include <QElapsedTimer>
@@ -17,6 +19,7 @@
 #include <QGraphicsTextItem>
 #include <QHeaderView>
 #include <QLabel>
+#include <QLineEdit>
 #include <QListWidget>
 #include <QPushButton>
 #include <QScrollBar>
@@ -40,6 +43,7 @@
 #include <thread>
 
 #include "../../../tests/support/pg_cluster.hpp"
+#include "correction_dialog.hpp"
 #include "export_dialog.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
@@ -1501,4 +1505,48 @@ TEST(PlantSetupDialog, AChoiceIsValidatedAndNamesWhatIsMissing) {
   d.digitizer()->setCurrentText("fastrak:/dev/ttyUSB0");
   EXPECT_FALSE(d.choice(&problem));
   EXPECT_TRUE(problem.contains("nonexistent")) << problem.toStdString();
+}
+
+// The correction dialog the leaf review and the Plant view share: the chosen item's stored
+// position or value, edited, with the reason; nothing when cancelled.
+TEST(CorrectionDialog, TheChosenItemIsEditedWithItsReasonAndCancelGivesNothing) {
+  acq::Correction point;
+  point.plantWhat = acq::PlantWhat::Landmark;
+  point.row = 2;
+  point.positionMm = acq::Vec3{1, 2, 3};
+  acq::Correction reading;
+  reading.plantWhat = acq::PlantWhat::Reading;
+  reading.row = 3;
+  reading.col = 1;
+  reading.valueMm = 17.1;
+  const std::vector<leafdig::station::CorrectionChoice> choices{{"Landmark 2", point}, {"Node 3 · stem", reading}};
+  bool shown = false;
+  QTimer::singleShot(0, [&] {
+    auto* d = qobject_cast<QDialog*>(QApplication::activeModalWidget());
+    ASSERT_NE(d, nullptr);
+    shown = true;
+    auto* which = d->findChild<QComboBox*>();
+    ASSERT_NE(which, nullptr);
+    const auto boxes = d->findChildren<QDoubleSpinBox*>();
+    ASSERT_EQ(boxes.size(), 4);
+    EXPECT_EQ(boxes[0]->value(), 1.0);  // the first item's stored position
+    EXPECT_FALSE(boxes[3]->isEnabled());
+    which->setCurrentIndex(1);  // the reading: its value, the position boxes off
+    EXPECT_DOUBLE_EQ(boxes[3]->value(), 17.1);
+    EXPECT_FALSE(boxes[0]->isEnabled());
+    boxes[3]->setValue(16.4);
+    d->findChild<QLineEdit*>()->setText("re-measured");
+    d->accept();
+  });
+  const auto got = leafdig::station::askCorrection(nullptr, "Correct", choices, "diameter");
+  ASSERT_TRUE(shown);
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->plantWhat, acq::PlantWhat::Reading);
+  EXPECT_EQ(got->row, 3);
+  EXPECT_DOUBLE_EQ(*got->valueMm, 16.4);
+  EXPECT_FALSE(got->positionMm);
+  EXPECT_EQ(got->reason, "re-measured");
+  QTimer::singleShot(0, [] { qobject_cast<QDialog*>(QApplication::activeModalWidget())->reject(); });
+  EXPECT_FALSE(leafdig::station::askCorrection(nullptr, "Correct", choices, "diameter"));
+  EXPECT_FALSE(leafdig::station::askCorrection(nullptr, "Correct", {}, "diameter"));  // nothing to offer
 }

@@ -1,0 +1,28 @@
+// The curator's correction dialog, one for a leaf's review and a plant's (Plant view): the items
+// offered (one, or a list to choose from), the stored position (x, y, z) or value of the one
+// chosen to edit, and the reason, which the correction needs.
+#pragma once
+
+#include <QString>
+#include <optional>
+#include <vector>
+
+#include "leafdig/acquisition/review.hpp"
+
+class QWidget;
+
+namespace leafdig::station {
+
+struct CorrectionChoice {
+  QString label;                 // "Node 3 · stem diameter (17.10 mm)"; empty for a single item
+  acquisition::Correction item;  // what, row, col, … and the stored position or value
+};
+
+// Shows the dialog (modal). The chosen item with the edited position or value and the reason
+// (not who: the caller's curator), or nothing when cancelled. `valueName` names a value
+// ("thickness", "diameter").
+[[nodiscard]] std::optional<acquisition::Correction> askCorrection(QWidget* parent, const QString& title,
+                                                                   const std::vector<CorrectionChoice>& choices,
+                                                                   const QString& valueName);
+
+}  // namespace leafdig::station
