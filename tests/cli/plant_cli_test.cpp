@@ -1138,10 +1138,14 @@ TEST_F(PlantCli, APlantIsTakenWithDevicesOnTheOperatorsPortsAndCommandsOnStandar
             dir_ / "sv.out", dir_ / "sv.err");
   for (int i = 0; i < 100 && !(fs::exists(fk) && fs::exists(sv)); ++i) ::usleep(50'000);
   ASSERT_TRUE(fs::exists(fk) && fs::exists(sv)) << slurp(dir_ / "fk.err") << slurp(dir_ / "sv.err");
-  // Node 1's leaf chosen by command, a word the loop does not know refused, then quit after 8 s.
-  const Result r = run("(echo 'leaf 1 quick lower'; echo 'leaf 1 sideways'; sleep 8; echo quit) | " +
-                       quote(LEAFDIG_CLI) + " plant capture --digitizer fastrak:" + quote(fk.string()) +
-                       " --caliper sylvac:" + quote(sv.string()) + " --plant P-ports --db " + quote(db) + " --json");
+  // Node 1's leaf chosen by command, a word the loop does not know refused, a retake of what was
+  // not taken refused by the engine and one that names no item by the command's words, then quit
+  // after 8 s.
+  const Result r =
+      run("(echo 'leaf 1 quick lower'; echo 'leaf 1 sideways'; echo 'retake landmark 99'; "
+          "echo 'retake stem 2'; sleep 8; echo quit) | " +
+          quote(LEAFDIG_CLI) + " plant capture --digitizer fastrak:" + quote(fk.string()) +
+          " --caliper sylvac:" + quote(sv.string()) + " --plant P-ports --db " + quote(db) + " --json");
   EXPECT_EQ(r.exitCode, 0) << r.err;
   const std::vector<json> lines = jsonLines(r.out);
   ASSERT_FALSE(lines.empty());
@@ -1156,6 +1160,13 @@ TEST_F(PlantCli, APlantIsTakenWithDevicesOnTheOperatorsPortsAndCommandsOnStandar
   EXPECT_TRUE(events.count("leaf_chosen")) << r.out;
   EXPECT_TRUE(events.count("accepted") || events.count("rejected")) << "the ports' records reach the plant: " << r.out;
   EXPECT_NE(r.err.find("sideways"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("retake stem?"), std::string::npos) << r.err;
+  bool retakeRefused = false;
+  for (const json& j : lines)
+    retakeRefused =
+        retakeRefused || (j.value("event", "") == "rejected" &&
+                          j.value("reason", "").find("nothing was captured as landmark 99") != std::string::npos);
+  EXPECT_TRUE(retakeRefused) << r.out;
   {
     const Result list = leafdig("sessions list --db " + quote(db) + " --json");
     ASSERT_EQ(list.exitCode, 0) << list.err;
