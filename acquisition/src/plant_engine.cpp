@@ -223,18 +223,16 @@ std::string PlantEngine::pointName(const PlantStep& s) const {
 
 std::string PlantEngine::prompt() const {
   const PlantStep s = step();
-  const std::string node = (retake_ ? "Retake · Node " : "Node ") + num(s.index) + " · ";
+  const std::string again = retake_ ? "Retake · " : "";  // as a leaf's prompt says it
+  const std::string node = again + "Node " + num(s.index) + " · ";
   switch (s.what) {
     case PlantWhat::Landmark: {
-      std::string p =
-          (retake_ ? "Retake · Landmark " : "Landmark ") + num(s.index) + " · a mark on the pot rim (or the board)";
+      std::string p = again + "Landmark " + num(s.index) + " · a mark on the pot rim (or the board)";
       if (!retake_ && s.index > protocol_.minLandmarks) p += "  (or hold the button to end the landmarks)";
       return p;
     }
-    case PlantWhat::Collar:
-      return retake_ ? "Retake · Collar · the stem at soil level" : "Collar · the stem at soil level";
-    case PlantWhat::CollarDiameter:
-      return retake_ ? "Retake · Collar · stem diameter with the caliper" : "Collar · stem diameter with the caliper";
+    case PlantWhat::Collar: return again + "Collar · the stem at soil level";
+    case PlantWhat::CollarDiameter: return again + "Collar · stem diameter with the caliper";
     case PlantWhat::Point: {
       std::string p = node + pointName(s) + " on the stem";
       if (!retake_ && s.part == 1 && s.index > 1) p += "  (or hold the button to end the plant)";
