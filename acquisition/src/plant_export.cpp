@@ -39,6 +39,13 @@ bool wants(const std::vector<std::string>& chosen, const std::string& f) {
   return std::find(chosen.begin(), chosen.end(), f) != chosen.end();
 }
 
+// The first node that starts a branch, if any.
+std::optional<m::SurveyedNode> firstBranch(const m::PlantSurvey& survey) {
+  for (const m::SurveyedNode& n : survey.nodes)
+    if (n.link.relation == '+') return n;
+  return std::nullopt;
+}
+
 }  // namespace
 
 const std::vector<std::string>& plantExportFormats() {
@@ -49,6 +56,11 @@ const std::vector<std::string>& plantExportFormats() {
 
 std::string plantPlanJson(const m::Plant& plant, const m::PlantSurvey& survey,
                           const std::vector<std::string>& leafMarkers) {
+  if (const auto branch = firstBranch(survey))
+    throw m::InputError("node " + std::to_string(branch->index) + " starts a branch (from node " +
+                        std::to_string(branch->link.parent) +
+                        "): a leafdig.plant/1 plan holds one stem and its leaves; export the plant's MTG, GLB or "
+                        "plant-markers instead");
   // The stem's points as the plan reads them (the collar first), and each node's height
   // along them: the polyline's length to it, as the plan measures insertion heights.
   json points = json::array({json::array({0.0, 0.0, 0.0, survey.collarDiameterMm})});
@@ -111,7 +123,7 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
                                const std::string& outDir) {
   if (outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
   const std::vector<std::string>& all = plantExportFormats();
-  const std::vector<std::string> chosen = formats.empty() ? all : formats;
+  std::vector<std::string> chosen = formats.empty() ? all : formats;
   for (const std::string& f : chosen)
     if (!wants(all, f))
       throw std::invalid_argument("unknown export format '" + f +
@@ -121,6 +133,11 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
   const m::PlantMarkers& plant = captured.markers;
   PlantExport out;
   out.survey = captured.survey;
+  // Every format by default: a branched plant's plan is left out (a plan holds one stem), said.
+  if (formats.empty() && firstBranch(out.survey)) {
+    chosen.erase(std::find(chosen.begin(), chosen.end(), "plan"));
+    out.notes.emplace_back("no leafdig.plant/1 plan: the plant has branches and a plan holds one stem");
+  }
   const m::SurveyDate day = plant.date.value_or(m::SurveyDate{2000, 1, 1});
   const std::string name = "session-" + std::to_string(id);
   const std::string base = outDir + "/" + name;
@@ -139,7 +156,7 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
   if (!meshPaths.empty() || wants(chosen, "plan")) {
     CapturedModel made = capturedModel(store, out.survey);
     const m::Plant& model = made.plant;
-    out.notes = std::move(made.notes);
+    out.notes.insert(out.notes.end(), made.notes.begin(), made.notes.end());
     if (!meshPaths.empty()) {
       const m::LeafMesh mesh = m::meshPlant(model, m::MeshOptions{});
       const m::PlantMetrics metrics = m::computePlantMetrics(model, mesh, Eigen::Vector3d::UnitZ());

@@ -56,9 +56,17 @@ void printSurvey(const m::PlantSurvey& s, const std::string& input) {
             << s.leaves.size() << " leaf record(s); landmarks flat within " << fixed(s.frame.flatnessMm, 2)
             << " mm RMS\n";
   std::cout << "  collar: stem " << fixed(s.collarDiameterMm, 1) << " mm\n";
-  for (const m::SurveyedNode& n : s.nodes)
-    std::cout << "  node " << n.index << ": height " << fixed(n.heightMm, 1) << " mm, internode "
-              << fixed(n.internodeMm, 1) << " mm, stem " << fixed(n.diameterMm, 1) << " mm\n";
+  for (const m::SurveyedNode& n : s.nodes) {
+    std::cout << "  node " << n.index;
+    // Where a node of a branched plant hangs, when not on the node before it on the main stem.
+    if (n.link.relation == '+')
+      std::cout << " (branch of order " << n.link.order << " from node " << n.link.parent << ")";
+    else if (n.link.order > 1 || n.link.parent != n.index - 1)
+      std::cout << " (after node " << n.link.parent << (n.link.order > 1 ? ", on a branch" : ", on the main stem")
+                << ")";
+    std::cout << ": height " << fixed(n.heightMm, 1) << " mm, internode " << fixed(n.internodeMm, 1) << " mm, stem "
+              << fixed(n.diameterMm, 1) << " mm\n";
+  }
   for (const m::SurveyedLeaf& l : s.leaves) {
     std::cout << "  leaf at node " << l.node << " (" << m::toString(l.kind);
     if (l.state != m::LeafState::Alive) std::cout << ", " << m::toString(l.state);

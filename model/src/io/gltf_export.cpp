@@ -168,22 +168,31 @@ std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
 
 namespace {
 
-// The stem's mesh cut at the nodes: each triangle goes to the internode (the segment from node
-// k-1, the collar at the plant frame's origin for k = 1, to node k) nearest its centroid — the
-// mesh's rings fall on the nodes, so no triangle straddles two. Named "<stem>/I<k>".
-std::vector<Organ> stemPerInternode(const Organ& stem, const PlantSurvey& survey) {
-  std::vector<Eigen::Vector3d> ends{Eigen::Vector3d::Zero()};
-  for (const SurveyedNode& n : survey.nodes) ends.push_back(n.pointMm);
+// An axis' mesh (the stem, or a branch) cut at its nodes: each triangle goes to the internode
+// (the segment from the node it hangs on — the collar at the plant frame's origin for node 1 —
+// to node k) nearest its centroid; the mesh's rings fall on the nodes, so no triangle straddles
+// two. Named "<axis>/I<k>".
+std::vector<Organ> axisPerInternode(const Organ& stem, const PlantSurvey& survey, int axis) {
+  std::vector<Eigen::Vector3d> ends;
+  std::vector<int> numbers;
+  for (const SurveyedNode& n : survey.nodes) {
+    if (n.link.axis != axis) continue;
+    if (ends.empty())
+      ends.push_back(n.link.parent > 0 ? survey.nodes[static_cast<std::size_t>(n.link.parent - 1)].pointMm
+                                       : Eigen::Vector3d::Zero());
+    ends.push_back(n.pointMm);
+    numbers.push_back(n.index);
+  }
   const auto distance = [](const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     const Eigen::Vector3d ab = b - a;
     const double t = ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
     return (a + t * ab - p).norm();
   };
-  std::vector<Organ> pieces(survey.nodes.size());
+  std::vector<Organ> pieces(numbers.size());
   std::vector<std::vector<std::int64_t>> remap(pieces.size(),
                                                std::vector<std::int64_t>(stem.mesh.positions.size(), -1));
   for (std::size_t k = 0; k < pieces.size(); ++k)
-    pieces[k] = Organ{stem.name + "/I" + std::to_string(k + 1), stem.kind, {}, 0};
+    pieces[k] = Organ{stem.name + "/I" + std::to_string(numbers[k]), stem.kind, {}, 0};
   for (const auto& t : stem.mesh.triangles) {
     const Eigen::Vector3d c = (stem.mesh.positions[t[0]] + stem.mesh.positions[t[1]] + stem.mesh.positions[t[2]]) / 3.0;
     std::size_t best = 0;
@@ -250,14 +259,17 @@ std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, c
   }
   for (const SurveyEntity& e : entities)
     if (e.relation != 0) model.nodes[static_cast<std::size_t>(index.at(e.parent))].children.push_back(index.at(e.name));
-  // The stem in pieces, one per internode, each under its I<k>.
+  // The stem and the branches in pieces, one per internode, each under its I<k>.
   std::vector<Organ> organs;
   for (const Organ& organ : mesh.organs) {
     if (organ.leafRank != 0 || survey.nodes.empty()) {
       organs.push_back(organ);
       continue;
     }
-    for (Organ& piece : stemPerInternode(organ, survey)) organs.push_back(std::move(piece));
+    // "plant/stem" is the main stem's (axis 1), "plant/branch-<k>" the branch whose first node is k.
+    const auto dash = organ.name.rfind("/branch-");
+    const int axis = dash == std::string::npos ? 1 : std::stoi(organ.name.substr(dash + 8));
+    for (Organ& piece : axisPerInternode(organ, survey, axis)) organs.push_back(std::move(piece));
   }
   for (const Organ& organ : organs) {
     const std::string owner = organ.leafRank == 0 ? stemOwner(organ.name) : "L" + std::to_string(organ.leafRank);
@@ -285,6 +297,12 @@ std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, c
       "one node per MTG entity: I0 the collar, I<k> the internode ending at node k (child of the one it follows) "
       "holding the stem's piece from node k-1 (the collar for k = 1) to node k, L<k> node k's leaf (child of I<k>); "
       "features in each node's extras, in mm, mm2 and degrees"));
+  bool branched = false;
+  for (const SurveyedNode& n : survey.nodes) branched = branched || n.link.relation == '+';
+  if (branched)
+    extras["branches"] = tinygltf::Value(std::string(
+        "a branch's first I<k> is a child of the I of the node bearing it (mtg_relation +) and holds the branch's "
+        "piece from that node to node k"));
   root.extras = tinygltf::Value(extras);
   root.children.push_back(index.at("I0"));
   return finishGlb(model, std::move(root), "leafdig");
@@ -365,7 +383,8 @@ std::string encodeGrowthGlb(const Plant& final, const std::vector<Plant>& states
                                             final.stemBaseDiameterMm,
                                             final.stemTopDiameterMm,
                                             final.stem,
-                                            {}},
+                                            {},
+                                            final.branches},
                                       resolution);
   tinygltf::Node stem;
   stem.name = "plant/stem";

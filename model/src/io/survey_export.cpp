@@ -1,7 +1,9 @@
 #include "leafdig/model/io/survey_export.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -40,27 +42,51 @@ std::string azimuthText(const LeafPose& pose) {
   return a == "360.000" ? mtgReal(0.0) : a;
 }
 
+// The nodes (0-based) in the MTG's order with their lines' depth: depth first along each axis
+// from the collar — a node, then the branches it bears (each whole, one deeper), then the node
+// after it on its axis.
+std::vector<std::pair<std::size_t, int>> mtgOrder(const PlantSurvey& survey) {
+  std::vector<std::pair<std::size_t, int>> out;
+  const auto visit = [&](const auto& self, std::size_t first, int depth) -> void {
+    for (std::optional<std::size_t> k = first; k;) {
+      out.emplace_back(*k, depth);
+      const int number = survey.nodes[*k].index;
+      std::optional<std::size_t> next;
+      for (std::size_t j = *k + 1; j < survey.nodes.size(); ++j) {
+        const NodeLink& l = survey.nodes[j].link;
+        if (l.parent != number) continue;
+        if (l.relation == '+')
+          self(self, j, depth + 1);
+        else
+          next = j;
+      }
+      k = next;
+    }
+  };
+  if (!survey.nodes.empty()) visit(visit, 0, 0);
+  return out;
+}
+
 }  // namespace
 
 std::vector<SurveyEntity> surveyEntities(const PlantSurvey& survey) {
   std::vector<SurveyEntity> out;
-  SurveyEntity collar{"I0", "", 0, {}};
+  SurveyEntity collar{"I0", "", 0, 0, {}};
   collar.features = {{"XX", 0.0}, {"YY", 0.0}, {"ZZ", 0.0}, {"TopDia", survey.collarDiameterMm}};
   out.push_back(std::move(collar));
-  std::string previous = "I0";
-  for (const SurveyedNode& n : survey.nodes) {
+  for (const auto& [k, depth] : mtgOrder(survey)) {
+    const SurveyedNode& n = survey.nodes[k];
     const std::string internode = "I" + std::to_string(n.index);
-    SurveyEntity i{internode, previous, '<', {}};
+    SurveyEntity i{internode, "I" + std::to_string(n.link.parent), n.link.relation, depth, {}};
     i.features = {{"Length", n.internodeMm},
                   {"XX", n.pointMm.x()},
                   {"YY", n.pointMm.y()},
                   {"ZZ", n.pointMm.z()},
                   {"TopDia", n.diameterMm}};
     out.push_back(std::move(i));
-    previous = internode;
     for (const SurveyedLeaf& l : survey.leaves) {
       if (l.node != n.index) continue;
-      SurveyEntity leaf{"L" + std::to_string(n.index), internode, '+', {}};
+      SurveyEntity leaf{"L" + std::to_string(n.index), internode, '+', depth + 1, {}};
       auto& f = leaf.features;
       // A posed leaf's length: along the midrib for a full leaf, base to tip for a quick one.
       if (l.pose) f.emplace_back("Length", l.midribLengthMm.value_or(l.pose->lengthMm));
@@ -95,15 +121,25 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       << "# L<k> the leaf of node k: XX YY ZZ its base, Azimuth counterclockwise from +X seen from above in [0, 360), "
          "Inclination of the base-to-tip chord from +Z\n"
       << "# Length of a full leaf along its midrib, of a quick leaf base to tip; Area of full leaves only\n";
+  const std::vector<SurveyEntity> entities = surveyEntities(survey);
+  int columns = 2;  // TOPO's: the deepest line's depth + 1
+  bool branched = false;
+  for (const SurveyEntity& e : entities) {
+    columns = std::max(columns, e.depth + 1);
+    branched = branched || (e.relation == '+' && e.name[0] == 'I');
+  }
+  if (branched)
+    out << "# a branch: +I<k> branches from the internode of the node that bears it, its next internodes follow with "
+           "^<; Length of +I<k> from the bearing node\n";
   // AMAP's reserved features first, in their order (Date, Length, State), then the
   // coordinates and sizes PlantFrame reads, then ours.
   static const std::vector<std::pair<const char*, const char*>> kFeatures{
       {"Date", "DD/MM/YYYY"}, {"Length", "REAL"},  {"State", "ALPHA"},      {"XX", "REAL"},
       {"YY", "REAL"},         {"ZZ", "REAL"},      {"TopDia", "REAL"},      {"Width", "REAL"},
       {"Area", "REAL"},       {"Azimuth", "REAL"}, {"Inclination", "REAL"}, {"Kind", "ALPHA"}};
-  detail::writeMtgHeader(out, kFeatures);
+  detail::writeMtgHeader(out, kFeatures, branched, columns);
   const std::string day = ddmmyyyy(date);
-  for (const SurveyEntity& e : surveyEntities(survey)) {
+  for (const SurveyEntity& e : entities) {
     Values v;
     v[kDate] = day;
     for (const auto& [name, value] : e.features) {
@@ -113,7 +149,7 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       v[column] = number ? mtgReal(*number) : std::get<std::string>(value);
     }
     const std::string code = e.relation == 0 ? "/P1/" + e.name : std::string(e.relation == '<' ? "^<" : "+") + e.name;
-    detail::writeMtgLine(out, e.relation == '+' ? 1 : 0, code, std::vector<std::string>(v.begin(), v.end()));
+    detail::writeMtgLine(out, e.depth, code, std::vector<std::string>(v.begin(), v.end()), columns);
   }
   return out.str();
 }
@@ -128,12 +164,11 @@ std::string encodeSurveyCsv(const PlantSurvey& survey, const SurveyDate& date) {
   };
   out << "I0,I,0,,," << day << "," << xyz(Eigen::Vector3d::Zero()) << "," << mtgReal(survey.collarDiameterMm)
       << ",,,,,,,,,,,\n";
-  std::string previous = "I0";
-  for (const SurveyedNode& n : survey.nodes) {
+  for (const auto& [k, depth] : mtgOrder(survey)) {
+    const SurveyedNode& n = survey.nodes[k];
     const std::string entity = "I" + std::to_string(n.index);
-    out << entity << ",I," << n.index << "," << previous << ",<," << day << "," << xyz(n.pointMm) << ","
-        << mtgReal(n.diameterMm) << "," << mtgReal(n.internodeMm) << ",,,,,,,,,,\n";
-    previous = entity;
+    out << entity << ",I," << n.index << ",I" << n.link.parent << "," << n.link.relation << "," << day << ","
+        << xyz(n.pointMm) << "," << mtgReal(n.diameterMm) << "," << mtgReal(n.internodeMm) << ",,,,,,,,,,\n";
     for (const SurveyedLeaf& l : survey.leaves) {
       if (l.node != n.index) continue;
       out << "L" << n.index << ",L," << n.index << "," << entity << ",+," << day << ","

@@ -260,6 +260,7 @@ Plant PlantBuilder::build(std::optional<double> time) const {
               plan_.stem.baseDiameterMm,
               plan_.stem.topDiameterMm,
               Vein{"stem", BallBSplineCurve::interpolate(stemBalls(plan_.stem, heightFactor))},
+              {},
               {}};
 
   for (const Resolved& r : leaves_) {
@@ -300,8 +301,15 @@ Plant PlantBuilder::build(std::optional<double> time) const {
 }
 
 Plant singleLeafPlant(const LeafModel& leaf, int rank, std::string source) {
-  Plant plant{
-      leaf.markers.leaf.id.empty() ? "leaf" : leaf.markers.leaf.id, std::nullopt, "", 0.0, 0.0, 0.0, std::nullopt, {}};
+  Plant plant{leaf.markers.leaf.id.empty() ? "leaf" : leaf.markers.leaf.id,
+              std::nullopt,
+              "",
+              0.0,
+              0.0,
+              0.0,
+              std::nullopt,
+              {},
+              {}};
   PlacedLeaf l;
   l.rank = rank;
   l.source = std::move(source);
@@ -326,20 +334,19 @@ LeafMesh meshPlant(const Plant& plant, const MeshResolution& resolution) {
 
 LeafMesh meshPlant(const Plant& plant, const MeshOptions& options) {
   LeafMesh out;
-  if (plant.stem) {
-    Mesh stem;
+  const auto axisMesh = [&](const Vein& axis) {
     switch (options.method) {
       case MeshMethod::Uniform:
-        stem = meshVein(*plant.stem, subdivideSpans(plant.stem->curve.dataParameters(), 24),
+        return meshVein(axis, subdivideSpans(axis.curve.dataParameters(), 24),
                         std::max(12, options.resolution.ringVertices), CapStyle::None, 0, out.warnings);
-        break;
-      case MeshMethod::Seed: stem = meshVeinSeed(*plant.stem, options.seed, CapStyle::None, out.warnings); break;
-      case MeshMethod::Adaptive:
-        stem = meshVeinAdaptive(*plant.stem, options.maxErrorMm, CapStyle::None, out.warnings);
-        break;
+      case MeshMethod::Seed: return meshVeinSeed(axis, options.seed, CapStyle::None, out.warnings);
+      case MeshMethod::Adaptive: return meshVeinAdaptive(axis, options.maxErrorMm, CapStyle::None, out.warnings);
     }
-    out.organs.push_back({"plant/stem", OrganKind::Vein, std::move(stem), 0});
-  }
+    return Mesh{};
+  };
+  if (plant.stem) out.organs.push_back({"plant/stem", OrganKind::Vein, axisMesh(*plant.stem), 0});
+  for (const Vein& branch : plant.branches)
+    out.organs.push_back({"plant/" + branch.name, OrganKind::Vein, axisMesh(branch), 0});
   for (const PlacedLeaf& leaf : plant.leaves) {
     LeafMesh m = meshLeaf(leaf.model, options);
     const std::string prefix = "plant/leaf-" + std::to_string(leaf.rank) + "/";

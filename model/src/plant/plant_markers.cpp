@@ -82,6 +82,56 @@ std::string toIso(const SurveyDate& date) {
   return b;
 }
 
+std::vector<NodeLink> plantTopology(const std::vector<PlantNode>& nodes, const std::string& source) {
+  std::vector<NodeLink> links;
+  std::vector<bool> followed(nodes.size() + 1, false);  // node k already has a node after it on its axis
+  const auto fail = [&](std::size_t i, const std::string& what) {
+    throw InputError(source + ": node " + std::to_string(i + 1) + ": " + what);
+  };
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const PlantNode& n = nodes[i];
+    const int self = static_cast<int>(i) + 1;
+    NodeLink link;
+    if (n.after && n.branchesFrom)
+      fail(i,
+           "says both \"after\" and \"branches_from\": a node follows a node on its axis or starts a branch, "
+           "not both");
+    const std::optional<int> named = n.after ? n.after : n.branchesFrom;
+    if (named && (*named < 1 || *named >= self))
+      fail(i, std::string(n.after ? "\"after\"" : "\"branches_from\"") + " names node " + std::to_string(*named) +
+                  ": it must be a node listed before it (1 to " + std::to_string(self - 1) + ")");
+    if (n.branchesFrom) {
+      const NodeLink& bearer = links[static_cast<std::size_t>(*n.branchesFrom - 1)];
+      link = {*n.branchesFrom, '+', bearer.order + 1, self};
+      if (link.order > kMaxAxisOrder)
+        fail(i, "would start an axis of order " + std::to_string(link.order) + " (node " +
+                    std::to_string(*n.branchesFrom) + " is on one of order " + std::to_string(bearer.order) +
+                    "): a plant takes axes up to order " + std::to_string(kMaxAxisOrder));
+    } else {
+      const int parent = n.after ? *n.after : self - 1;
+      link.parent = parent;
+      if (parent > 0) {
+        const NodeLink& previous = links[static_cast<std::size_t>(parent - 1)];
+        link.order = previous.order;
+        link.axis = previous.axis;
+      }
+      if (followed[static_cast<std::size_t>(parent)])
+        fail(i, "follows node " + std::to_string(parent) +
+                    ", which another node already follows on its axis: give it \"after\" the last node of that "
+                    "axis, or \"branches_from\" for a branch");
+      followed[static_cast<std::size_t>(parent)] = true;
+    }
+    links.push_back(link);
+  }
+  return links;
+}
+
+bool hasBranches(const std::vector<NodeLink>& links) {
+  for (const NodeLink& l : links)
+    if (l.relation == '+') return true;
+  return false;
+}
+
 PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& source) {
   const detail::JsonReader reader(source, kPlantMarkersFormat);
   if (textIn.find_first_not_of(" \t\r\n") == std::string_view::npos)
@@ -124,6 +174,14 @@ PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& s
     PlantNode node;
     node.pointMm = reader.point(reader.require(n, "point", where), where + " point", scale);
     node.diameterMm = stemDiameter(reader, reader.require(n, "diameter", where), where, scale);
+    for (const char* key : {"after", "branches_from"}) {
+      const auto it = n.find(key);
+      if (it == n.end() || it->is_null()) continue;
+      if (!it->is_number_integer() || it->get<long long>() < 1 || it->get<long long>() > static_cast<long long>(i))
+        reader.fail(where + " " + key, "must be the number of a node listed before it (1 to " + std::to_string(i) +
+                                           "), found " + it->dump());
+      (std::string_view(key) == "after" ? node.after : node.branchesFrom) = static_cast<int>(it->get<long long>());
+    }
     const auto leafIt = n.find("leaf");
     if (leafIt != n.end() && !leafIt->is_null()) {
       const json& leaf = *leafIt;
@@ -161,6 +219,7 @@ PlantMarkers parsePlantMarkersJson(std::string_view textIn, const std::string& s
     }
     p.nodes.push_back(std::move(node));
   }
+  (void)plantTopology(p.nodes, source);
   return p;
 }
 
@@ -186,6 +245,8 @@ std::string plantMarkersToJson(const PlantMarkers& p) {
   json nodes = json::array();
   for (const PlantNode& n : p.nodes) {
     json node = {{"point", point(n.pointMm)}, {"diameter", n.diameterMm}};
+    if (n.after) node["after"] = *n.after;
+    if (n.branchesFrom) node["branches_from"] = *n.branchesFrom;
     json leaf;
     if (const auto* full = std::get_if<MarkerSet>(&n.leaf)) {
       leaf = {{"kind", toString(LeafKind::Full)}, {"markers", json::parse(markersToJson(*full))}};

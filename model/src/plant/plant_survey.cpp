@@ -1,6 +1,7 @@
 #include "leafdig/model/plant/plant_survey.hpp"
 
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "json_text.hpp"
@@ -36,18 +37,20 @@ PlantSurvey surveyPlant(const PlantMarkers& p) {
   s.date = p.date;
   s.collarDiameterMm = p.collarDiameterMm;
   s.frame = plantFrameFromLandmarks(p.landmarksMm, p.collarMm, p.nodes.front().pointMm - p.collarMm);
-  Eigen::Vector3d below = Eigen::Vector3d::Zero();  // the collar, in the plant frame
-  std::optional<double> lastAzimuth;
+  const std::vector<NodeLink> links = plantTopology(p.nodes, p.plant.empty() ? "plant" : p.plant);
+  std::map<int, double> lastAzimuths;  // by axis
   for (std::size_t i = 0; i < p.nodes.size(); ++i) {
     const PlantNode& n = p.nodes[i];
     const int index = static_cast<int>(i) + 1;
     SurveyedNode node;
     node.index = index;
+    node.link = links[i];
     node.pointMm = s.frame.point(n.pointMm);
     node.diameterMm = n.diameterMm;
     node.heightMm = node.pointMm.z();
+    const Eigen::Vector3d below = node.link.parent > 0 ? s.nodes[static_cast<std::size_t>(node.link.parent - 1)].pointMm
+                                                       : Eigen::Vector3d::Zero();  // the collar, in the plant frame
     node.internodeMm = (node.pointMm - below).norm();
-    below = node.pointMm;
     s.nodes.push_back(node);
 
     SurveyedLeaf leaf;
@@ -86,8 +89,9 @@ PlantSurvey surveyPlant(const PlantMarkers& p) {
       throw InputError(at(index) + e.what());
     }
     if (leaf.pose) {
-      if (lastAzimuth) leaf.divergenceDeg = divergenceDeg(*lastAzimuth, leaf.pose->azimuthDeg);
-      lastAzimuth = leaf.pose->azimuthDeg;
+      if (const auto last = lastAzimuths.find(node.link.axis); last != lastAzimuths.end())
+        leaf.divergenceDeg = divergenceDeg(last->second, leaf.pose->azimuthDeg);
+      lastAzimuths[node.link.axis] = leaf.pose->azimuthDeg;
     }
     s.leaves.push_back(std::move(leaf));
   }
@@ -111,12 +115,21 @@ std::string plantSurveyToJson(const PlantSurvey& s) {
   const Eigen::Matrix4d m = s.frame.fromDigitizer.matrix();
   for (int r = 0; r < 4; ++r) matrix.push_back(json::array({m(r, 0), m(r, 1), m(r, 2), m(r, 3)}));
   json nodes = json::array();
-  for (const SurveyedNode& n : s.nodes)
-    nodes.push_back({{"node", n.index},
-                     {"point_mm", point(n.pointMm)},
-                     {"diameter_mm", n.diameterMm},
-                     {"height_mm", n.heightMm},
-                     {"internode_mm", n.internodeMm}});
+  bool branched = false;
+  for (const SurveyedNode& n : s.nodes) branched = branched || n.link.relation == '+';
+  for (const SurveyedNode& n : s.nodes) {
+    json j = {{"node", n.index},
+              {"point_mm", point(n.pointMm)},
+              {"diameter_mm", n.diameterMm},
+              {"height_mm", n.heightMm},
+              {"internode_mm", n.internodeMm}};
+    if (branched) {  // a branched plant says where every node hangs
+      j["parent"] = n.link.parent;
+      j["relation"] = std::string(1, n.link.relation);
+      j["order"] = n.link.order;
+    }
+    nodes.push_back(j);
+  }
   json leaves = json::array();
   double sum = 0.0;
   int count = 0;

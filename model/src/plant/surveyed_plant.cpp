@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "leaf_shaping.hpp"
 #include "leafdig/model/errors.hpp"
@@ -82,13 +83,30 @@ Eigen::Isometry3d onPoints(const MarkerSet& shaped, const SurveyedLeaf& leaf) {
 Plant surveyedPlant(const PlantSurvey& survey, const std::vector<LibraryLeaf>& library, const LibraryLeaf& fallback) {
   Plant plant;
   plant.id = survey.plant.empty() ? "plant" : survey.plant;
-  std::vector<Ball> balls{{Eigen::Vector3d::Zero(), survey.collarDiameterMm / 2}};
-  for (const SurveyedNode& n : survey.nodes) balls.push_back({n.pointMm, n.diameterMm / 2});
+  // Each axis' balls: the main stem's from the collar, a branch's from the node bearing it
+  // (with the branch's first diameter), then its nodes in order.
+  std::map<int, std::vector<Ball>> axes;  // by the axis' first node
+  axes[1].push_back({Eigen::Vector3d::Zero(), survey.collarDiameterMm / 2});
+  for (const SurveyedNode& n : survey.nodes) {
+    std::vector<Ball>& balls = axes[n.link.axis];
+    if (balls.empty())
+      balls.push_back({survey.nodes.at(static_cast<std::size_t>(n.link.parent) - 1).pointMm, n.diameterMm / 2});
+    balls.push_back({n.pointMm, n.diameterMm / 2});
+  }
   plant.stemBaseDiameterMm = survey.collarDiameterMm;
+  for (const SurveyedNode& n : survey.nodes)
+    if (n.link.axis == 1) {
+      plant.stemHeightMm = n.heightMm;
+      plant.stemTopDiameterMm = n.diameterMm;
+    }
   if (!survey.nodes.empty()) {
-    plant.stemHeightMm = survey.nodes.back().heightMm;
-    plant.stemTopDiameterMm = survey.nodes.back().diameterMm;
-    plant.stem = Vein{"stem", BallBSplineCurve::interpolate(balls)};
+    for (const auto& [first, balls] : axes) {
+      Vein axis{first == 1 ? "stem" : "branch-" + std::to_string(first), BallBSplineCurve::interpolate(balls)};
+      if (first == 1)
+        plant.stem = std::move(axis);
+      else
+        plant.branches.push_back(std::move(axis));
+    }
   }
 
   std::vector<MarkerSet> frames;  // the library's leaves (and the fallback, last) in their own frames, once

@@ -5,7 +5,9 @@
 // `Length` the internode), `I0` the collar; each leaf `+L<k>` from its node's internode with
 // `XX YY ZZ` (its base), `Length`, `Width`, `Area`, `Azimuth`, `Inclination`, `State` and
 // its `Kind`; every entity carries the survey's `Date`. Lengths in mm, areas in mm², angles
-// in degrees, in the plant frame; the header says so.
+// in degrees, in the plant frame; the header says so. A branch's internodes are `I` too, the
+// first one branching (`+I<k>`) from the internode of the node that bears it; the MTG's order
+// is depth first (a node, its leaf, its branches whole, then the next node on its axis).
 #include <string>
 #include <utility>
 #include <variant>
@@ -25,6 +27,7 @@ struct SurveyEntity {
   std::string name;    // "I0", "I3", "L3"
   std::string parent;  // the entity it follows or that bears it; empty for I0
   char relation = 0;   // '<' follows, '+' bears; 0 for I0
+  int depth = 0;       // the MTG line's indentation: 0 the main stem, +1 for each `+`
   using Value = std::variant<double, std::string>;
   std::vector<std::pair<std::string, Value>> features;
 };

@@ -145,6 +145,7 @@ struct Plant {
   double stemTopDiameterMm = 0.0;
   std::optional<Vein> stem;        // name "stem"; absent for a leaf exported alone
   std::vector<PlacedLeaf> leaves;  // by rank; leaves not yet appeared are absent
+  std::vector<Vein> branches;      // a plant digitized in place: "branch-<k>", the axis whose first node is k
 };
 
 // Resolves every leaf (its markers file, or a draw from `library`), draws the random
@@ -185,8 +186,9 @@ struct StemPoint {
 [[nodiscard]] double midribLengthMm(const LeafModel& leaf);
 [[nodiscard]] double bladeWidthMm(const MarkerSet& markers);
 
-// Triangle meshes of every organ: "plant/stem", then "plant/leaf-<rank>/<organ>" in rank order, each
-// organ carrying its leaf rank (0 for the stem).
+// Triangle meshes of every organ: "plant/stem", "plant/<branch>" for each branch, then
+// "plant/leaf-<rank>/<organ>" in rank order, each organ carrying its leaf rank (0 for the stem
+// and the branches).
 [[nodiscard]] LeafMesh meshPlant(const Plant& plant, const MeshResolution& resolution);
 // The same with any mesh method (uniform, seed, adaptive; mesh_method.hpp).
 [[nodiscard]] LeafMesh meshPlant(const Plant& plant, const MeshOptions& options);

@@ -3,8 +3,11 @@
 // data/schema/leafdig.plant-markers-1.schema.json; docs/plants.md): landmarks on the pot rim,
 // the collar with its stem diameter, then node by node from the base, each with its stem
 // diameter and its leaf — a full leaf (a whole leafdig.markers/1 document), a quick leaf
-// (base, tip and the widest point of one margin) or none, with an MTG state. All points are
-// in the digitizer's frame. Unknown keys are ignored; every problem is an InputError naming
+// (base, tip and the widest point of one margin) or none, with an MTG state. A node follows
+// the node listed before it on that node's axis unless it says otherwise: `"branches_from": K`
+// starts a branch (an axis one order above K's, up to kMaxAxisOrder) at node K, `"after": K`
+// follows node K on K's axis (back on the stem after a branch). All points are in the
+// digitizer's frame. Unknown keys are ignored; every problem is an InputError naming
 // the source, the node and the key, and what to fix.
 #include <Eigen/Core>
 #include <filesystem>
@@ -44,7 +47,12 @@ struct QuickLeaf {
   std::string type;                                  // the organ library's type ("lower", …); empty: any
 };
 
+inline constexpr int kMaxAxisOrder = 3;  // the main stem 1, its branches 2, theirs 3
+
 struct PlantNode {
+  // Where it hangs, when not after the node listed before it (node numbers are 1-based).
+  std::optional<int> after;                                 // follows this node on that node's axis
+  std::optional<int> branchesFrom;                          // starts a branch from this node
   Eigen::Vector3d pointMm = Eigen::Vector3d::Zero();        // on the stem
   double diameterMm = 0.0;                                  // the stem's, by caliper
   std::variant<std::monostate, MarkerSet, QuickLeaf> leaf;  // none, full, quick
@@ -57,8 +65,21 @@ struct PlantMarkers {
   std::vector<Eigen::Vector3d> landmarksMm;
   Eigen::Vector3d collarMm = Eigen::Vector3d::Zero();
   double collarDiameterMm = 0.0;
-  std::vector<PlantNode> nodes;  // base to top
+  std::vector<PlantNode> nodes;  // base to top (a branch's nodes in the order taken)
 };
+
+// Where each node hangs, worked out from the nodes' `after` / `branchesFrom`.
+struct NodeLink {
+  int parent = 0;       // the node it follows or branches from; 0: the collar (node 1)
+  char relation = '<';  // '<' follows on the parent's axis, '+' starts a branch from it
+  int order = 1;        // its axis' order: 1 the main stem
+  int axis = 1;         // its axis, named by the axis' first node (1: the main stem)
+};
+// One link per node. Throws InputError (from `source`, naming the node) when a node hangs on a
+// node not listed before it, says both keys, follows a node another already follows, or makes
+// an axis of order above kMaxAxisOrder.
+[[nodiscard]] std::vector<NodeLink> plantTopology(const std::vector<PlantNode>& nodes, const std::string& source);
+[[nodiscard]] bool hasBranches(const std::vector<NodeLink>& links);
 
 // `source` names the input in messages (a path, "<stdin>").
 [[nodiscard]] PlantMarkers parsePlantMarkersJson(std::string_view text, const std::string& source);

@@ -18,7 +18,8 @@ struct SurveyedNode {
   Eigen::Vector3d pointMm = Eigen::Vector3d::Zero();  // in the plant frame
   double diameterMm = 0.0;
   double heightMm = 0.0;     // above the collar (the point's z)
-  double internodeMm = 0.0;  // from the node below (the collar for node 1), straight
+  double internodeMm = 0.0;  // from the node it hangs on (the collar for node 1), straight
+  NodeLink link;             // where it hangs: the main stem, or a branch
 };
 
 struct SurveyedLeaf {
@@ -33,7 +34,7 @@ struct SurveyedLeaf {
   std::optional<double> midribLengthMm;   // full: along the midrib
   std::optional<double> areaMm2;          // full: the blade's area
   std::optional<double> areaLow95Mm2, areaHigh95Mm2;
-  std::optional<double> divergenceDeg;  // from the previous leaf with a pose, counterclockwise
+  std::optional<double> divergenceDeg;  // from the previous leaf with a pose on its axis, counterclockwise
   std::optional<MarkerSet> markers;     // full: the markers in the plant frame
 };
 
@@ -53,7 +54,8 @@ struct PlantSurvey {
 
 // The survey as JSON: {"plant", "frame": {"flatness_mm", "from_digitizer": 4×4 row-major},
 // "collar_diameter_mm", "nodes": [...], "leaves": [...], "divergence": {"count", "mean_deg"}},
-// and "date" ("YYYY-MM-DD") when the survey has one.
+// and "date" ("YYYY-MM-DD") when the survey has one. A branched plant's nodes also say where
+// they hang: "parent" (0 the collar), "relation" ("<" or "+") and "order".
 [[nodiscard]] std::string plantSurveyToJson(const PlantSurvey& survey);
 
 }  // namespace leafdig::model
