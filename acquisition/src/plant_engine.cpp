@@ -61,38 +61,99 @@ bool isStylusItem(PlantWhat w) {
 PlantEngine::PlantEngine(m::PlantProtocol protocol, Settings leafSettings)
     : protocol_(std::move(protocol)), settings_(leafSettings) {
   settings_.boardFrame = false;  // a full leaf is taken where it hangs, in the plant frame
+  // First the axes (order 1, the stem; order 2, a branch), then the leaves hanging on them.
   for (std::size_t k = 0; k < protocol_.entities.size(); ++k) {
     const m::ProtocolEntity& e = protocol_.entities[k];
-    if (e.order > 1)
-      throw std::invalid_argument("the protocol's \"" + e.name +
-                                  "\" is an axis of order 2 (a branch): plant capture takes the main stem and its "
-                                  "leaves for now; digitize branches as plants of their own");
-    if (e.leaf) {
-      if (leafIndex_ >= 0)
-        throw std::invalid_argument("the protocol hangs two leaf entities (\"" + leafEntity()->name + "\" and \"" +
-                                    e.name + "\") on its nodes: plant capture takes one leaf per node");
-      leafIndex_ = static_cast<int>(k);
-    } else if (axisIndex_ < 0) {
-      axisIndex_ = static_cast<int>(k);
-    } else {
-      throw std::invalid_argument("the protocol lists two stem entities (\"" + axis().name + "\" and \"" + e.name +
-                                  "\"): plant capture takes one entity node by node");
-    }
+    if (e.leaf) continue;
+    if (e.order > 2)
+      throw std::invalid_argument("the protocol's \"" + e.name + "\" is an axis of order " + num(e.order) +
+                                  ": plant capture takes the main stem and branches from it (order 2); digitize "
+                                  "a branch's branches as a plant of their own");
+    int& slot = axisIndex_[e.order - 1];
+    if (slot >= 0)
+      throw std::invalid_argument("the protocol lists two " + std::string(e.order == 1 ? "stem" : "branch") +
+                                  " entities (\"" + protocol_.entities[static_cast<std::size_t>(slot)].name +
+                                  "\" and \"" + e.name +
+                                  "\"): plant capture takes one entity node by node on each axis");
+    slot = static_cast<int>(k);
   }
-  if (axisIndex_ < 0 || !axis().repeat || axis().points.empty())
+  if (axisIndex_[0] < 0 || !axis().repeat || axis().points.empty())
     throw std::invalid_argument(
         "the protocol has no stem entity taken node by node with a point (\"repeat\": true, \"points\": [\"node\"])");
-  if (leafEntity() && leafEntity()->parent != axis().name)
-    throw std::invalid_argument("the protocol's leaf \"" + leafEntity()->name + "\" does not hang on \"" + axis().name +
-                                "\"");
+  if (axisIndex_[1] >= 0 && (!axis(2).repeat || axis(2).points.empty() || axis(2).parent != axis().name))
+    throw std::invalid_argument("the protocol's branch \"" + axis(2).name + "\" must hang on \"" + axis().name +
+                                "\" and be taken node by node with a point (\"repeat\": true, \"points\": [\"node\"])");
+  for (std::size_t k = 0; k < protocol_.entities.size(); ++k) {
+    const m::ProtocolEntity& e = protocol_.entities[k];
+    if (!e.leaf) continue;
+    const int order = e.parent == axis().name ? 1 : axisIndex_[1] >= 0 && e.parent == axis(2).name ? 2 : 0;
+    if (order == 0)
+      throw std::invalid_argument("the protocol's leaf \"" + e.name + "\" does not hang on \"" + axis().name + "\"" +
+                                  (axisIndex_[1] >= 0 ? " or \"" + axis(2).name + "\"" : std::string()));
+    int& slot = leafIndex_[order - 1];
+    if (slot >= 0)
+      throw std::invalid_argument("the protocol hangs two leaf entities (\"" +
+                                  protocol_.entities[static_cast<std::size_t>(slot)].name + "\" and \"" + e.name +
+                                  "\") on its " + (order == 1 ? "nodes" : "branch nodes") +
+                                  ": plant capture takes one leaf per node");
+    slot = static_cast<int>(k);
+  }
 }
 
-const m::ProtocolEntity& PlantEngine::axis() const {
-  return protocol_.entities[static_cast<std::size_t>(axisIndex_)];
+const m::ProtocolEntity& PlantEngine::axis(int order) const {
+  return protocol_.entities[static_cast<std::size_t>(axisIndex_[order - 1])];
 }
 
-const m::ProtocolEntity* PlantEngine::leafEntity() const {
-  return leafIndex_ < 0 ? nullptr : &protocol_.entities[static_cast<std::size_t>(leafIndex_)];
+const m::ProtocolEntity* PlantEngine::leafEntity(int order) const {
+  const int k = leafIndex_[order - 1];
+  return k < 0 ? nullptr : &protocol_.entities[static_cast<std::size_t>(k)];
+}
+
+void PlantEngine::relink() {
+  placedLinks_.clear();
+  if (places_.empty()) return;
+  std::vector<m::PlantNode> nodes(static_cast<std::size_t>(places_.rbegin()->first));
+  for (const auto& [node, where] : places_) {
+    m::PlantNode& n = nodes[static_cast<std::size_t>(node - 1)];
+    if (where.relation == '+')
+      n.branchesFrom = where.parent;
+    else
+      n.after = where.parent;
+  }
+  placedLinks_ = m::plantTopology(nodes, "the capture");  // place() let in only what holds
+}
+
+m::NodeLink PlantEngine::link(int node) const {
+  if (node < 1) return {};
+  const auto placed = static_cast<int>(placedLinks_.size());
+  if (node <= placed) return placedLinks_[static_cast<std::size_t>(node - 1)];
+  // Past the last placed node each follows the one before, on its axis.
+  m::NodeLink l{node - 1, '<', 1, 1};
+  if (placed > 0) {
+    l.order = placedLinks_.back().order;
+    l.axis = placedLinks_.back().axis;
+  }
+  return l;
+}
+
+std::vector<m::NodeLink> PlantEngine::links(int upTo) const {
+  std::vector<m::NodeLink> out;
+  for (int k = 1; k <= upTo; ++k) out.push_back(link(k));
+  return out;
+}
+
+const m::ProtocolEntity& PlantEngine::axisOf(int node) const {
+  return axis(link(node).order);
+}
+
+const m::ProtocolEntity* PlantEngine::leafEntityOf(int node) const {
+  return leafEntity(link(node).order);
+}
+
+int PlantEngine::mainLast() const {
+  for (int k = nodes(); k >= 1; --k)
+    if (link(k).order == 1) return k;
+  return 0;
 }
 
 const PlantItem* PlantEngine::find(PlantWhat w, int index, int part) const {
@@ -158,9 +219,17 @@ Engine& PlantEngine::leafEngine(int node) {
 
 LeafChoice PlantEngine::choiceFor(int node) const {
   if (const auto it = choices_.find(node); it != choices_.end()) return it->second;
-  if (!leafEntity()) return {};
-  const m::ProtocolLeaf& p = *leafEntity()->leaf;
-  const bool kth = p.fullEvery > 0 && node % p.fullEvery == 0;
+  const m::ProtocolEntity* leafIs = leafEntityOf(node);
+  if (!leafIs) return {};
+  const m::ProtocolLeaf& p = *leafIs->leaf;
+  // Every k-th node of its axis (on a plant without branches, its number).
+  int rank = node;
+  if (!places_.empty()) {
+    const int axisOfNode = link(node).axis;
+    rank = 0;
+    for (int k = 1; k <= node; ++k) rank += link(k).axis == axisOfNode;
+  }
+  const bool kth = p.fullEvery > 0 && rank % p.fullEvery == 0;
   if (kth && p.allows(m::LeafKind::Full)) return {m::LeafKind::Full, m::LeafState::Alive, {}};
   for (const m::LeafKind k : {m::LeafKind::Quick, m::LeafKind::Full})
     if (p.allows(k)) return {k, m::LeafState::Alive, {}};
@@ -168,11 +237,12 @@ LeafChoice PlantEngine::choiceFor(int node) const {
 }
 
 std::optional<PlantStep> PlantEngine::nodeStep(int node) const {
-  for (int p = 1; p <= static_cast<int>(axis().points.size()); ++p)
+  const m::ProtocolEntity& entity = axisOf(node);
+  for (int p = 1; p <= static_cast<int>(entity.points.size()); ++p)
     if (!find(PlantWhat::Point, node, p)) return PlantStep{PlantWhat::Point, node, p, {}};
-  for (int r = 1; r <= static_cast<int>(axis().readings.size()); ++r)
+  for (int r = 1; r <= static_cast<int>(entity.readings.size()); ++r)
     if (!find(PlantWhat::Reading, node, r)) return PlantStep{PlantWhat::Reading, node, r, {}};
-  if (!leafEntity()) return std::nullopt;
+  if (!leafEntityOf(node)) return std::nullopt;
   switch (choiceFor(node).kind) {
     case m::LeafKind::Full: {
       const Engine* e = leaf(node);
@@ -214,9 +284,9 @@ int PlantEngine::leafNode() const {
 
 std::string PlantEngine::pointName(const PlantStep& s) const {
   switch (s.what) {
-    case PlantWhat::Point: return axis().points[static_cast<std::size_t>(s.part - 1)];
-    case PlantWhat::Reading: return axis().readings[static_cast<std::size_t>(s.part - 1)];
-    case PlantWhat::QuickPoint: return leafEntity()->leaf->quickPoints[static_cast<std::size_t>(s.part - 1)];
+    case PlantWhat::Point: return axisOf(s.index).points[static_cast<std::size_t>(s.part - 1)];
+    case PlantWhat::Reading: return axisOf(s.index).readings[static_cast<std::size_t>(s.part - 1)];
+    case PlantWhat::QuickPoint: return leafEntityOf(s.index)->leaf->quickPoints[static_cast<std::size_t>(s.part - 1)];
     default: return toString(s.what);
   }
 }
@@ -234,11 +304,20 @@ std::string PlantEngine::prompt() const {
     case PlantWhat::Collar: return again + "Collar · the stem at soil level";
     case PlantWhat::CollarDiameter: return again + "Collar · stem diameter with the caliper";
     case PlantWhat::Point: {
+      const m::NodeLink l = link(s.index);
+      if (l.order > 1) {
+        std::string p = node + pointName(s) + " on the branch";
+        if (l.relation == '+') p += " from node " + num(l.parent);
+        if (!retake_ && s.part == 1 && l.relation != '+') p += "  (or hold the button to end the branch)";
+        return p;
+      }
       std::string p = node + pointName(s) + " on the stem";
+      if (l.parent != s.index - 1) p += " after node " + num(l.parent);
       if (!retake_ && s.part == 1 && s.index > 1) p += "  (or hold the button to end the plant)";
       return p;
     }
-    case PlantWhat::Reading: return node + "stem " + pointName(s) + " with the caliper";
+    case PlantWhat::Reading:
+      return node + (link(s.index).order > 1 ? "branch " : "stem ") + pointName(s) + " with the caliper";
     case PlantWhat::QuickPoint: return node + "quick leaf · " + quickHint(pointName(s), s.part);
     case PlantWhat::Leaf: {
       const Engine* e = leaf(s.index);
@@ -412,6 +491,16 @@ PlantDecision PlantEngine::decideEnd() const {
   }
   if (st.what == PlantWhat::Point && st.part == 1) {
     if (st.index == 1) return reject("a plant needs at least one node: take node 1 on the stem");
+    const m::NodeLink l = link(st.index);
+    if (l.order > 1) {
+      // On a branch: the branch ends, the next node goes on along the main stem.
+      if (l.relation == '+')
+        return reject("node " + num(st.index) + " starts the branch: take its point, or undo the branch");
+      d.kind = PlantDecision::Kind::NodePlaced;
+      d.node = st.index;
+      d.place = {mainLast(), '<'};
+      return d;
+    }
     d.kind = PlantDecision::Kind::PlantEnded;
     return d;
   }
@@ -463,6 +552,11 @@ PlantDecision PlantEngine::undo() {
       d.choice = choiceFor(a.node);
       d.previous = a.previous;
       break;
+    case Action::Kind::Place:
+      d.kind = PlantDecision::Kind::PlacementUndone;
+      d.node = a.node;
+      d.place = places_.at(a.node);
+      break;
     case Action::Kind::Leaf: {
       const Decision ld = leafEngine(a.node).undo();
       d = fromLeaf(a.node, ld);
@@ -475,8 +569,12 @@ PlantDecision PlantEngine::undo() {
 }
 
 PlantDecision PlantEngine::chooseLeaf(int node, LeafChoice choice) {
-  if (!leafEntity()) return reject("this protocol's nodes carry no leaf");
-  if (!leafEntity()->leaf->allows(choice.kind))
+  const bool inRange = node >= 1 && node <= nodes() + 1;
+  const m::ProtocolEntity* leafIs = inRange ? leafEntityOf(node) : leafEntity();
+  if (!leafIs)
+    return reject(inRange && link(node).order > 1 ? "this protocol's branch nodes carry no leaf"
+                                                  : "this protocol's nodes carry no leaf");
+  if (!leafIs->leaf->allows(choice.kind))
     return reject("the protocol does not take " + std::string(m::toString(choice.kind)) + " leaves");
   if (plantEnded_) return reject("the plant is ended: undo the end first");
   if (choice.type.size() > kMaxLeafTypeChars)
@@ -497,6 +595,43 @@ PlantDecision PlantEngine::chooseLeaf(int node, LeafChoice choice) {
   d.node = node;
   d.choice = choice;
   d.previous = now;
+  apply(d);
+  return d;
+}
+
+PlantDecision PlantEngine::branch(int from) {
+  if (from == 0) from = mainLast();
+  if (from == 0) return reject("take node 1 on the stem first: a branch starts from a node of the main stem");
+  return place(step().index, {from, '+'});
+}
+
+PlantDecision PlantEngine::place(int node, NodePlace where) {
+  if (where.relation == '+' && axisIndex_[1] < 0)
+    return reject(
+        "this protocol has no branches (no axis of order 2): capture with one that has, such as "
+        "data/protocols/branched.plant-protocol.json");
+  if (plantEnded_) return reject("the plant is ended: undo the end first");
+  if (retaking()) return reject("finish the retake in progress first (or undo it)");
+  const PlantStep st = step();
+  if (st.what != PlantWhat::Point || st.part != 1 || st.index != node || node <= lastNode())
+    return reject("a node is placed on the plant before its first point, and now: " + prompt());
+  if (where.parent < 1 || where.parent >= node)
+    return reject("node " + num(where.parent) + " is not taken: a node hangs on one taken before it (1 to " +
+                  num(node - 1) + ")");
+  if (where.relation == '+' && link(where.parent).order != 1)
+    return reject("node " + num(where.parent) +
+                  " is on a branch: branches start from the main stem (plant capture takes axes of order 2)");
+  if (where.relation == '<')
+    for (int k = where.parent + 1; k < node; ++k)
+      if (const m::NodeLink l = link(k); l.parent == where.parent && l.relation == '<')
+        return reject("node " + num(k) + " already follows node " + num(where.parent) +
+                      " on its axis: a node after it starts a branch (branch " + num(where.parent) + ")");
+  const m::NodeLink now = link(node);
+  if (now.parent == where.parent && now.relation == where.relation) return {};
+  PlantDecision d;
+  d.kind = PlantDecision::Kind::NodePlaced;
+  d.node = node;
+  d.place = where;
   apply(d);
   return d;
 }
@@ -549,7 +684,9 @@ void PlantEngine::mirror(int node, const Decision& d) {
   switch (d.kind) {
     case Decision::Kind::Accepted:
     case Decision::Kind::RowsEnded:
-    case Decision::Kind::RetakeCancelled: actions_.push_back({Action::Kind::Leaf, node, {}, false}); break;
+    case Decision::Kind::RetakeCancelled:
+      actions_.push_back({Action::Kind::Leaf, node, {}, false, std::nullopt});
+      break;
     case Decision::Kind::Undone:
     case Decision::Kind::RowsReopened:
     case Decision::Kind::RetakeStarted:
@@ -567,7 +704,7 @@ void PlantEngine::apply(const PlantDecision& d) {
   switch (d.kind) {
     case PlantDecision::Kind::Accepted:
       items_.push_back(d.item);
-      actions_.push_back({Action::Kind::Item, 0, {}, false});
+      actions_.push_back({Action::Kind::Item, 0, {}, false, std::nullopt});
       if (retake_ && retake_->what == d.item.what && retake_->index == d.item.index && retake_->part == d.item.part)
         retake_.reset();
       break;
@@ -583,7 +720,7 @@ void PlantEngine::apply(const PlantDecision& d) {
     case PlantDecision::Kind::RetakeCancelled:
       if (retake_) {
         items_.push_back(d.item);
-        actions_.push_back({Action::Kind::Item, 0, {}, false});
+        actions_.push_back({Action::Kind::Item, 0, {}, false, std::nullopt});
         retake_.reset();
       }
       break;
@@ -595,7 +732,7 @@ void PlantEngine::apply(const PlantDecision& d) {
       break;
     case PlantDecision::Kind::LandmarksEnded:
       landmarksEnded_ = true;
-      actions_.push_back({Action::Kind::LandmarksEnded, 0, {}, false});
+      actions_.push_back({Action::Kind::LandmarksEnded, 0, {}, false, std::nullopt});
       break;
     case PlantDecision::Kind::LandmarksReopened:
       landmarksEnded_ = false;
@@ -603,7 +740,7 @@ void PlantEngine::apply(const PlantDecision& d) {
       break;
     case PlantDecision::Kind::PlantEnded:
       plantEnded_ = true;
-      actions_.push_back({Action::Kind::PlantEnded, 0, {}, false});
+      actions_.push_back({Action::Kind::PlantEnded, 0, {}, false, std::nullopt});
       break;
     case PlantDecision::Kind::PlantReopened:
       plantEnded_ = false;
@@ -611,7 +748,7 @@ void PlantEngine::apply(const PlantDecision& d) {
       break;
     case PlantDecision::Kind::LeafChosen: {
       const bool had = choices_.count(d.node) > 0;
-      actions_.push_back({Action::Kind::Choice, d.node, had ? choices_[d.node] : LeafChoice{}, had});
+      actions_.push_back({Action::Kind::Choice, d.node, had ? choices_[d.node] : LeafChoice{}, had, std::nullopt});
       choices_[d.node] = d.choice;
       break;
     }
@@ -628,6 +765,25 @@ void PlantEngine::apply(const PlantDecision& d) {
     case PlantDecision::Kind::Leaf:
       leafEngine(d.node).apply(d.leaf);
       mirror(d.node, d.leaf);
+      break;
+    case PlantDecision::Kind::NodePlaced: {
+      Action a{Action::Kind::Place, d.node, {}, false, std::nullopt};
+      if (const auto it = places_.find(d.node); it != places_.end()) a.previousPlace = it->second;
+      actions_.push_back(a);
+      places_[d.node] = d.place;
+      relink();
+      break;
+    }
+    case PlantDecision::Kind::PlacementUndone:
+      if (!actions_.empty() && actions_.back().kind == Action::Kind::Place) {
+        const Action a = actions_.back();
+        actions_.pop_back();
+        if (a.previousPlace)
+          places_[a.node] = *a.previousPlace;
+        else
+          places_.erase(a.node);
+        relink();
+      }
       break;
     default: break;
   }
@@ -669,17 +825,24 @@ m::PlantMarkers PlantEngine::captured(const std::string& plant) const {
   if (const PlantItem* c = find(PlantWhat::CollarDiameter, 0, 0)) out.collarDiameterMm = c->valueMm;
   for (int node = 1; node <= nodes(); ++node) {
     m::PlantNode n;
+    if (const auto where = places_.find(node); where != places_.end()) {
+      if (where->second.relation == '+')
+        n.branchesFrom = where->second.parent;
+      else if (where->second.parent != node - 1)
+        n.after = where->second.parent;
+    }
     n.pointMm = at(*find(PlantWhat::Point, node, 1));
     if (const PlantItem* r = find(PlantWhat::Reading, node, 1)) n.diameterMm = r->valueMm;
     const LeafChoice choice = choiceFor(node);
     n.state = choice.state;
-    if (leafEntity() && choice.kind == m::LeafKind::Full) {
+    const m::ProtocolEntity* leafIs = leafEntityOf(node);
+    if (leafIs && choice.kind == m::LeafKind::Full) {
       if (const Engine* e = leaf(node); e && e->complete()) {
         m::MarkerSet set = toMarkerSet(e->items(), settings_);
         set.leaf.type = choice.type;
         n.leaf = std::move(set);
       }
-    } else if (leafEntity() && choice.kind == m::LeafKind::Quick) {
+    } else if (leafIs && choice.kind == m::LeafKind::Quick) {
       const PlantItem* b = find(PlantWhat::QuickPoint, node, 1);
       const PlantItem* t = find(PlantWhat::QuickPoint, node, 2);
       const PlantItem* s = find(PlantWhat::QuickPoint, node, 3);

@@ -28,6 +28,16 @@ PlantCommand parsePlantCommand(const std::string& line) {
     if (c.text.size() > 200) throw std::invalid_argument("a pause's reason is a few words (at most 200 characters)");
   } else if (word == "resume" || word == "r") {
     c.kind = PlantCommand::Kind::Resume;
+  } else if (word == "branch" || word == "b") {
+    c.kind = PlantCommand::Kind::Branch;
+    std::string from;
+    if (in >> from) {
+      if (from.empty() || from.size() > 4 || from.find_first_not_of("0123456789") != std::string::npos ||
+          std::stoi(from) < 1)
+        throw std::invalid_argument("'branch' takes the number of the main-stem node it starts from: branch 4 (got '" +
+                                    from + "')");
+      c.node = std::stoi(from);
+    }
   } else if (word == "retake") {
     c.kind = PlantCommand::Kind::Retake;
     std::string what;
@@ -98,8 +108,8 @@ PlantCommand parsePlantCommand(const std::string& line) {
   } else {
     throw std::invalid_argument(
         "unknown command '" + line +
-        "': use undo, end, leaf N full|quick|none [state] [type], retake WHAT [N [PART]], pause [reason], "
-        "resume, or quit");
+        "': use undo, end, leaf N full|quick|none [state] [type], retake WHAT [N [PART]], branch [N], "
+        "pause [reason], resume, or quit");
   }
   if (c.kind != PlantCommand::Kind::Choose && c.kind != PlantCommand::Kind::Pause) {
     std::string extra;
@@ -163,6 +173,7 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
           case PlantCommand::Kind::Undo: f = session_.undo(now); break;
           case PlantCommand::Kind::End: f = session_.end(now); break;
           case PlantCommand::Kind::Choose: f = session_.chooseLeaf(c->node, c->choice, now); break;
+          case PlantCommand::Kind::Branch: f = session_.branch(c->node, now); break;
           case PlantCommand::Kind::Retake:
             f = c->node > 0 ? session_.retakeLeaf(c->node, c->leaf.what, c->leaf.row, c->leaf.col, now)
                             : session_.retake(c->what, c->index, c->part, now);

@@ -113,15 +113,21 @@ json choiceJson(int node, const LeafChoice& c) {
   return j;
 }
 
-constexpr NameTable<PlantDecision::Kind, 9> kEvents{{{PlantDecision::Kind::Accepted, "accepted"},
-                                                     {PlantDecision::Kind::Rejected, "rejected"},
-                                                     {PlantDecision::Kind::Undone, "undone"},
-                                                     {PlantDecision::Kind::LandmarksEnded, "landmarks_ended"},
-                                                     {PlantDecision::Kind::LandmarksReopened, "landmarks_reopened"},
-                                                     {PlantDecision::Kind::PlantEnded, "plant_ended"},
-                                                     {PlantDecision::Kind::PlantReopened, "plant_reopened"},
-                                                     {PlantDecision::Kind::LeafChosen, "leaf_chosen"},
-                                                     {PlantDecision::Kind::ChoiceUndone, "choice_undone"}}};
+constexpr NameTable<PlantDecision::Kind, 11> kEvents{{{PlantDecision::Kind::Accepted, "accepted"},
+                                                      {PlantDecision::Kind::Rejected, "rejected"},
+                                                      {PlantDecision::Kind::Undone, "undone"},
+                                                      {PlantDecision::Kind::LandmarksEnded, "landmarks_ended"},
+                                                      {PlantDecision::Kind::LandmarksReopened, "landmarks_reopened"},
+                                                      {PlantDecision::Kind::PlantEnded, "plant_ended"},
+                                                      {PlantDecision::Kind::PlantReopened, "plant_reopened"},
+                                                      {PlantDecision::Kind::LeafChosen, "leaf_chosen"},
+                                                      {PlantDecision::Kind::ChoiceUndone, "choice_undone"},
+                                                      {PlantDecision::Kind::NodePlaced, "node_placed"},
+                                                      {PlantDecision::Kind::PlacementUndone, "placement_undone"}}};
+
+json placeJson(int node, const NodePlace& p) {
+  return {{"node", node}, {"parent", p.parent}, {"relation", std::string(1, p.relation)}};
+}
 
 }  // namespace
 
@@ -260,13 +266,25 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
         d.node = p.at("node").get<int>();
         d.choice = {m::leafKindFromString(p.at("kind").get<std::string>()),
                     m::leafStateFromString(p.at("state").get<std::string>()), p.value("type", std::string())};
+      } else if (e.kind == "node_placed" || e.kind == "placement_undone") {
+        d.kind = e.kind == "node_placed" ? PlantDecision::Kind::NodePlaced : PlantDecision::Kind::PlacementUndone;
+        d.node = p.at("node").get<int>();
+        const std::string relation = p.at("relation").get<std::string>();
+        if (relation != "<" && relation != "+") fail("its relation is \"" + relation + "\", not < or +");
+        d.place = {p.at("parent").get<int>(), relation[0]};
       } else if (const auto k = valueIn(kEvents, e.kind); k && e.kind != "rejected") {
         d.kind = *k;  // the ends and their reopenings
       } else {
         continue;  // rejections, status, devices: nothing to apply
       }
+      if (d.kind == PlantDecision::Kind::NodePlaced && (d.node < 2 || d.node > static_cast<int>(m::kMaxPlantNodes) ||
+                                                        d.place.parent < 1 || d.place.parent >= d.node))
+        fail("it places node " + std::to_string(d.node) + " on node " + std::to_string(d.place.parent) +
+             ", which is not a node before it");
       engine.apply(d);
     } catch (const json::exception& x) {
+      fail(x.what());
+    } catch (const m::InputError& x) {  // a placement the plant's topology does not take
       fail(x.what());
     } catch (const std::invalid_argument& x) {  // an unknown word (UnknownName)
       fail(x.what());
@@ -398,6 +416,11 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
       ev.kind = "choice_undone";
       ev.payloadJson = choiceJson(d.node, d.previous).dump();
       break;
+    case PlantDecision::Kind::NodePlaced:
+    case PlantDecision::Kind::PlacementUndone:
+      ev.kind = nameIn(kEvents, d.kind);
+      ev.payloadJson = placeJson(d.node, d.place).dump();
+      break;
     default:
       ev.kind = nameIn(kEvents, d.kind);
       ev.payloadJson = "{}";
@@ -477,6 +500,11 @@ PlantFeedback PlantCaptureSession::retakeLeaf(int node, What what, int row, int 
 PlantFeedback PlantCaptureSession::chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs) {
   if (ended() || paused_) return {};
   return commit(engine_.chooseLeaf(node, choice), monoNs, {});
+}
+
+PlantFeedback PlantCaptureSession::branch(int from, std::int64_t monoNs) {
+  if (ended() || paused_) return {};
+  return commit(engine_.branch(from), monoNs, {});
 }
 
 PlantFeedback PlantCaptureSession::abandon(const std::string& why, std::int64_t monoNs) {

@@ -24,7 +24,8 @@ struct Desk {
   std::condition_variable cv;
   // The session as the technician sees it, after every committed change.
   PlantStep step;
-  LeafChoice choice;  // the step's node's leaf, as the session has it
+  LeafChoice choice;     // the step's node's leaf, as the session has it
+  model::NodeLink link;  // where the step's node hangs, as the session has it
   std::uint64_t version = 0;
   bool ended = false;
   bool stop = false;
@@ -35,13 +36,19 @@ struct Desk {
 class PlantTechnician {
  public:
   PlantTechnician(SimulatedRig& rig, Desk& desk, PlantCaptureLoop& loop, const model::PlantMarkers& plant, double speed)
-      : rig_(rig), desk_(desk), loop_(loop), plant_(plant), speed_(speed) {}
+      : rig_(rig),
+        desk_(desk),
+        loop_(loop),
+        plant_(plant),
+        links_(model::plantTopology(plant.nodes, plant.plant)),
+        speed_(speed) {}
 
   void run(PlantRunStats& stats) {
     AnswerWait wait(speed_);
     while (true) {
       PlantStep step;
       LeafChoice choice;
+      model::NodeLink link;
       std::uint64_t version = 0;
       {
         std::unique_lock lock(desk_.mutex);
@@ -49,16 +56,29 @@ class PlantTechnician {
         if (desk_.stop || desk_.ended) return;
         step = desk_.step;
         choice = desk_.choice;
+        link = desk_.link;
         version = desk_.version;
       }
-      if (wait.due(version, rig_.hand().idle())) act(step, choice, stats);
+      if (wait.due(version, rig_.hand().idle())) act(step, choice, link, stats);
     }
   }
 
  private:
-  void act(const PlantStep& s, const LeafChoice& current, PlantRunStats& stats) {
-    // Before a node's first point, the technician says how its leaf will be taken.
+  void act(const PlantStep& s, const LeafChoice& current, const model::NodeLink& hangs, PlantRunStats& stats) {
+    // Before a node's first point, the technician says where the node hangs (a branch begins
+    // from a node of the stem, or ends: back on the stem) and how its leaf will be taken.
     if (s.what == PlantWhat::Point && s.part == 1 && s.index <= static_cast<int>(plant_.nodes.size())) {
+      const model::NodeLink& where = links_[static_cast<std::size_t>(s.index - 1)];
+      if (where.relation == '+' && (hangs.relation != '+' || hangs.parent != where.parent)) {
+        loop_.command({.kind = PlantCommand::Kind::Branch, .node = where.parent});
+        ++stats.choices;
+        return;
+      }
+      if (where.relation == '<' && where.order == 1 && hangs.order > 1) {
+        loop_.command({.kind = PlantCommand::Kind::End});
+        ++stats.choices;
+        return;
+      }
       const LeafChoice want = plantChoiceTruth(plant_, s.index);
       if (!(current == want)) {
         loop_.command({.kind = PlantCommand::Kind::Choose, .node = s.index, .choice = want});
@@ -93,6 +113,7 @@ class PlantTechnician {
   Desk& desk_;
   PlantCaptureLoop& loop_;
   const model::PlantMarkers& plant_;
+  std::vector<model::NodeLink> links_;  // where each of the plant's nodes hangs
   double speed_;
   Vec3 last_{};
 };
@@ -114,6 +135,7 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
     std::lock_guard lock(desk.mutex);
     desk.step = s.engine().step();
     desk.choice = s.engine().choiceFor(desk.step.index);
+    desk.link = s.engine().link(desk.step.index);
     desk.ended = s.ended();
     ++desk.version;
     desk.cv.notify_all();

@@ -137,6 +137,19 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
         continue;
       }
     }
+    if (s.kind == "plant" && schema < 5) {
+      const std::vector<Event> events = local.events(s.id);
+      if (std::any_of(events.begin(), events.end(),
+                      [](const Event& e) { return e.kind == "node_placed" || e.kind == "placement_undone"; })) {
+        problem(
+            s,
+            "is a plant session with branches and the lab server (schema " + std::to_string(schema) +
+                ") does not take a plant's branches yet; it stays on this station, whole",
+            "the lab's administrator runs 'leafdig server init --url …' with this leafdig (it upgrades the server), "
+            "then push again");
+        continue;
+      }
+    }
     auto stationHeads = heads.find(s.station);
     if (stationHeads == heads.end()) stationHeads = heads.emplace(s.station, serverHeads(c, s.station)).first;
     for (int attempt = 0;; ++attempt) {

@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <random>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <variant>
@@ -85,12 +87,27 @@ struct Technician {
     keep(d);
     return d;
   }
+  acq::PlantDecision branch(int from) {
+    const auto d = engine.branch(from);
+    keep(d);
+    return d;
+  }
 
   // One step as the plant-markers document says; false when a press or reading was refused.
   bool act(const m::PlantMarkers& plant, std::string* why = nullptr) {
     const acq::PlantStep s = engine.step();
     acq::PlantDecision d;
     if (s.what == PlantWhat::Point && s.part == 1 && s.index <= static_cast<int>(plant.nodes.size())) {
+      // Where the node hangs first: a branch begins (from a node of the stem), or ends.
+      const m::NodeLink where = m::plantTopology(plant.nodes, "truth")[static_cast<std::size_t>(s.index - 1)];
+      const m::NodeLink now = engine.link(s.index);
+      if (where.relation == '+' && (now.relation != '+' || now.parent != where.parent)) {
+        d = branch(where.parent);
+        if (d.kind == Kind::Rejected) return why && (*why = d.reason, false);
+      } else if (where.relation == '<' && now.order > 1 && where.order == 1) {
+        d = end();
+        if (d.kind == Kind::Rejected) return why && (*why = d.reason, false);
+      }
       const acq::LeafChoice wanted = acq::plantChoiceTruth(plant, s.index);
       if (!(engine.choiceFor(s.index) == wanted)) {
         d = choose(s.index, wanted);
@@ -495,15 +512,139 @@ TEST(PlantEngine, AMaizeProtocolAsksForTheLiguleAfterTheNodeAndKeepsTheNodeAsThe
   expectSamePoints(got.nodes[0].pointMm, {0, 0, 50}, 1e-9, "node 1");
 }
 
-TEST(PlantEngine, AProtocolWithBranchesOrTwoStemsIsRefusedInWords) {
-  const m::PlantProtocol branched =
+TEST(PlantEngine, AProtocolOfDeeperBranchesOrTwoStemsIsRefusedInWords) {
+  const auto refusal = [](const std::string& entities) {
+    try {
+      acq::PlantEngine engine(m::parsePlantProtocolJson(
+          R"({"format": "leafdig.plant-protocol/1", "species": "x", "entities": [)" + entities + "]}", "p.json"));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("taken");
+  };
+  const std::string stem = R"({"name": "internode", "class": "I", "repeat": true, "points": ["node"]})";
+  const std::string branch =
+      R"({"name": "branch", "class": "B", "parent": "internode", "relation": "+", "repeat": true, "points": ["node"]})";
+  EXPECT_NE(
+      refusal(
+          stem + "," + branch +
+          R"(, {"name": "twig", "class": "T", "parent": "branch", "relation": "+", "repeat": true, "points": ["node"]})")
+          .find("\"twig\" is an axis of order 3: plant capture takes the main stem and branches from it"),
+      std::string::npos);
+  EXPECT_NE(
+      refusal(stem + R"(, {"name": "shoot", "class": "S", "parent": "internode", "repeat": true, "points": ["node"]})")
+          .find("two stem entities (\"internode\" and \"shoot\")"),
+      std::string::npos);
+  EXPECT_NE(refusal(stem + "," + branch + R"(, {"name": "leaf", "class": "L", "parent": "branch", "leaf": {}})" +
+                    R"(, {"name": "leaflet", "class": "F", "parent": "branch", "leaf": {}})")
+                .find("two leaf entities (\"leaf\" and \"leaflet\") on its branch nodes"),
+            std::string::npos);
+  EXPECT_EQ(refusal(stem + "," + branch), "taken");
+}
+
+// A branched plant (a sucker at node 2: nodes 3 and 4 on it, then the stem again after node 2)
+// taken with the branched protocol: the technician starts the branch from node 2, ends it with
+// the long press, and the plant comes back exactly as its file says, branch leaves as the
+// branch's leaf entity takes them; the prompts say where on the plant; replay gives the same.
+TEST(PlantEngine, ABranchIsStartedFromAStemNodeEndedByTheLongPressAndGivenBackWhereItHangs) {
+  const m::PlantMarkers truth =
+      m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/branched.plant-markers.json");
+  const m::PlantProtocol protocol =
       m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json");
-  try {
-    acq::PlantEngine engine(branched);
-    FAIL() << "a branched protocol was taken";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("\"branch\" is an axis of order 2"), std::string::npos) << e.what();
+  acq::PlantEngine engine(protocol);
+  Technician tech{engine};
+  std::set<std::string> prompts;  // as the technician saw them between actions
+  for (int guard = 0; guard < 3000 && !engine.complete(); ++guard) {
+    std::string why;
+    ASSERT_TRUE(tech.act(truth, &why)) << why << " at " << engine.prompt();
+    prompts.insert(engine.prompt());
   }
+  ASSERT_TRUE(engine.complete());
+  for (const char* said :
+       {"Node 3 · branch diameter with the caliper",
+        "Node 4 · node on the branch  (or hold the button to end the branch)",
+        "Node 5 · stem diameter with the caliper", "Node 6 · node on the stem  (or hold the button to end the plant)"})
+    EXPECT_TRUE(prompts.count(said)) << said;
+  const m::PlantMarkers got = engine.captured(truth.plant);
+  ASSERT_EQ(got.nodes.size(), truth.nodes.size());
+  for (std::size_t i = 0; i < got.nodes.size(); ++i) {
+    SCOPED_TRACE("node " + std::to_string(i + 1));
+    EXPECT_EQ(got.nodes[i].after, truth.nodes[i].after);
+    EXPECT_EQ(got.nodes[i].branchesFrom, truth.nodes[i].branchesFrom);
+    expectSamePoints(got.nodes[i].pointMm, truth.nodes[i].pointMm, 1e-9, "point");
+    EXPECT_EQ(got.nodes[i].leaf.index(), truth.nodes[i].leaf.index());
+  }
+  // The branch's nodes took the branch entity's reading; the stem's its own.
+  EXPECT_DOUBLE_EQ(got.nodes[2].diameterMm, 9.0);
+  const std::vector<acq::PlantDecision> placed = [&] {
+    std::vector<acq::PlantDecision> out;
+    for (const acq::PlantDecision& d : tech.log)
+      if (d.kind == Kind::NodePlaced) out.push_back(d);
+    return out;
+  }();
+  ASSERT_EQ(placed.size(), 2U);
+  EXPECT_EQ(placed[0].node, 3);
+  EXPECT_EQ(placed[0].place, (acq::NodePlace{2, '+'}));
+  EXPECT_EQ(placed[1].node, 5);
+  EXPECT_EQ(placed[1].place, (acq::NodePlace{2, '<'}));  // the long press ended the branch
+  // Replaying the decisions rebuilds the same plant.
+  acq::PlantEngine replayed(protocol);
+  for (const acq::PlantDecision& d : tech.log) replayed.apply(d);
+  EXPECT_EQ(m::plantMarkersToJson(replayed.captured(truth.plant)), m::plantMarkersToJson(got));
+  // Its survey hangs the branch where the file does.
+  const m::PlantSurvey survey = m::surveyPlant(got);
+  EXPECT_EQ(survey.nodes[2].link.relation, '+');
+  EXPECT_EQ(survey.nodes[4].link.parent, 2);
+}
+
+TEST(PlantEngine, ABranchIsPlacedOnlyWhereItCanHangAndUndoneLikeAnyDecision) {
+  const m::PlantMarkers truth =
+      m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/branched.plant-markers.json");
+  {  // A protocol without branches says so.
+    acq::PlantEngine plain(m::defaultPlantProtocol());
+    const acq::PlantDecision d = plain.branch(1);
+    ASSERT_EQ(d.kind, Kind::Rejected);
+    EXPECT_NE(d.reason.find("this protocol has no branches"), std::string::npos) << d.reason;
+  }
+  acq::PlantEngine engine(
+      m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json"));
+  Technician tech{engine};
+  EXPECT_NE(engine.branch().reason.find("take node 1 on the stem first"), std::string::npos);
+  // Up to node 3's first point (nodes 1 and 2 on the stem, as the file has them).
+  while (!(engine.step().what == PlantWhat::Point && engine.step().index == 3)) {
+    const acq::PlantStep s = engine.step();
+    if (s.what == PlantWhat::Point && s.index == 2 && s.part == 1) {
+      // Not before node 2's point: node 2 would hang on node 1 by branching from it — taken;
+      // then undone, so that the rest follows the file.
+      ASSERT_EQ(tech.branch(1).kind, Kind::NodePlaced);
+      EXPECT_EQ(engine.prompt(), "Node 2 · node on the branch from node 1");
+      const acq::PlantDecision back = tech.undo();
+      ASSERT_EQ(back.kind, Kind::PlacementUndone);
+      EXPECT_EQ(back.place, (acq::NodePlace{1, '+'}));
+      EXPECT_EQ(engine.link(2).relation, '<');
+    }
+    std::string why;
+    ASSERT_TRUE(tech.act(truth, &why)) << why;
+  }
+  EXPECT_NE(engine.branch(7).reason.find("node 7 is not taken"), std::string::npos);
+  ASSERT_EQ(tech.branch(0).kind, Kind::NodePlaced);  // from the stem's last node: 2
+  EXPECT_EQ(engine.link(3).parent, 2);
+  EXPECT_EQ(engine.link(3).order, 2);
+  // Node 3's point and reading, then at node 4: a branch from node 3 (on the branch) is refused,
+  // and so is placing anything while inside a node.
+  ASSERT_TRUE(tech.act(truth));
+  EXPECT_NE(engine.branch(2).reason.find("before its first point"), std::string::npos);
+  while (!(engine.step().what == PlantWhat::Point && engine.step().index == 4)) ASSERT_TRUE(tech.act(truth));
+  EXPECT_NE(engine.branch(3).reason.find("node 3 is on a branch: branches start from the main stem"),
+            std::string::npos);
+  // The long press at node 4's first point ends the branch: node 4 follows node 2 on the stem;
+  // undo puts it back on the branch.
+  ASSERT_EQ(tech.end().kind, Kind::NodePlaced);
+  EXPECT_EQ(engine.link(4).order, 1);
+  EXPECT_EQ(engine.link(4).parent, 2);
+  ASSERT_EQ(tech.undo().kind, Kind::PlacementUndone);
+  EXPECT_EQ(engine.link(4).order, 2);
+  EXPECT_EQ(engine.link(4).parent, 3);
 }
 
 // The station's live plant preview at the moments a technician sees it change: the points alone

@@ -54,6 +54,12 @@ class PlantSession : public ::testing::Test {
     const acq::PlantEngine& e = s.engine();
     const acq::PlantStep st = e.step();
     if (st.what == PlantWhat::Point && st.part == 1 && st.index <= static_cast<int>(plant_.nodes.size())) {
+      // Where the node hangs: a branch begins from a stem node, or ends (back on the stem).
+      const m::NodeLink where = m::plantTopology(plant_.nodes, "truth")[static_cast<std::size_t>(st.index - 1)];
+      const m::NodeLink now = e.link(st.index);
+      if (where.relation == '+' && (now.relation != '+' || now.parent != where.parent))
+        return s.branch(where.parent, t_);
+      if (where.relation == '<' && where.order == 1 && now.order > 1) return s.end(t_);
       const acq::LeafChoice want = acq::plantChoiceTruth(plant_, st.index);
       if (!(e.choiceFor(st.index) == want)) return s.chooseLeaf(st.index, want, t_);
     }
@@ -217,6 +223,62 @@ TEST_F(PlantSession, ReopenedAfterAnyEventItGoesOnAtTheExactStep) {
   EXPECT_TRUE(store.verify(id).ok);
 }
 
+// A branched plant (data/plants/branched.plant-markers.json, the branched protocol), the
+// session closed as by kill -9 after every decision: where each node hangs is committed as
+// `node_placed` before it is announced, and the plant comes back whole, branch and all.
+TEST_F(PlantSession, ABranchedPlantSurvivesAReopeningAfterEveryDecisionAndReplaysWhereEachNodeHangs) {
+  plant_ = m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/branched.plant-markers.json");
+  setup_.plant = plant_.plant;
+  setup_.protocol =
+      m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json");
+  std::int64_t id = 0;
+  {
+    db::Store store(path_);
+    id = acq::PlantCaptureSession::create(store, setup_);
+  }
+  for (int guard = 0; guard < 400; ++guard) {
+    db::Store store(path_);
+    if (store.session(id)->status != "open") break;
+    acq::PlantCaptureSession session(store, id);
+    const acq::PlantFeedback f = act(session);
+    ASSERT_NE(f.decision.kind, Kind::Rejected) << f.decision.reason;
+  }
+  db::Store store(path_);
+  ASSERT_EQ(store.session(id)->status, "complete");
+  EXPECT_TRUE(store.verify(id).ok);
+  std::vector<std::string> placed;
+  for (const db::Event& e : store.events(id))
+    if (e.kind == "node_placed") placed.push_back(e.payloadJson);
+  EXPECT_EQ(placed, (std::vector<std::string>{R"({"node":3,"parent":2,"relation":"+"})",
+                                              R"({"node":5,"parent":2,"relation":"<"})"}));
+  const m::PlantMarkers got =
+      acq::PlantCaptureSession::replay(acq::PlantCaptureSession::setupFromJson(store.session(id)->settingsJson),
+                                       store.events(id))
+          .captured(plant_.plant);
+  ASSERT_EQ(got.nodes.size(), plant_.nodes.size());
+  for (std::size_t i = 0; i < got.nodes.size(); ++i) {
+    EXPECT_EQ(got.nodes[i].after, plant_.nodes[i].after) << "node " << i + 1;
+    EXPECT_EQ(got.nodes[i].branchesFrom, plant_.nodes[i].branchesFrom) << "node " << i + 1;
+  }
+  // A placement no leafdig writes (a node hanging on itself, as a doctored file might hold) is
+  // refused by name when the session is read.
+  db::EventInput bad;
+  bad.kind = "node_placed";
+  bad.payloadJson = R"({"node":9,"parent":9,"relation":"+"})";
+  std::vector<db::Event> events = store.events(id);
+  events.push_back(
+      db::Event{id, static_cast<std::int64_t>(events.size() + 1), "", 0, bad.kind, bad.payloadJson, "", "", ""});
+  try {
+    (void)acq::PlantCaptureSession::replay(acq::PlantCaptureSession::setupFromJson(store.session(id)->settingsJson),
+                                           events);
+    FAIL() << "a node hanging on itself was replayed";
+  } catch (const acq::SessionError& e) {
+    EXPECT_NE(std::string(e.what()).find("it places node 9 on node 9, which is not a node before it"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(PlantSession, AReopenedSessionAsksForWhatTheClosedOneAskedFor) {
   std::int64_t id = 0;
   std::vector<std::string> prompts;
@@ -276,9 +338,13 @@ TEST_F(PlantSession, PlantAndLeafSessionsAreNotTakenForOneAnother) {
   } catch (const acq::SessionError& e) {
     EXPECT_NE(std::string(e.what()).find("captures one leaf, not a plant"), std::string::npos) << e.what();
   }
-  // A protocol the engine cannot follow is refused before anything is written.
-  setup_.protocol =
-      m::readPlantProtocolFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json");
+  // A protocol the engine cannot follow (a branch's branches) is refused before anything is written.
+  setup_.protocol = m::parsePlantProtocolJson(
+      R"({"format": "leafdig.plant-protocol/1", "species": "x", "entities": [
+           {"name": "internode", "class": "I", "repeat": true, "points": ["node"]},
+           {"name": "branch", "class": "B", "parent": "internode", "relation": "+", "repeat": true, "points": ["node"]},
+           {"name": "twig", "class": "T", "parent": "branch", "relation": "+", "repeat": true, "points": ["node"]}]})",
+      "deep.json");
   const std::size_t before = store.sessions().size();
   EXPECT_THROW((void)acq::PlantCaptureSession::create(store, setup_), acq::SessionError);
   EXPECT_EQ(store.sessions().size(), before);
@@ -636,4 +702,22 @@ TEST(PlantCommand, TheWordsATechnicianTypesAreReadOrRefusedByName) {
   EXPECT_EQ(acq::parsePlantCommand("resume").kind, C::Resume);
   refused("resume now", "takes no words");
   refused("pause " + std::string(201, 'w'), "at most 200");
+}
+
+// "branch [N]" on plant capture's standard input: the stem's last node by default, or the
+// main-stem node named; anything else refused naming the form.
+TEST(PlantCommand, BranchTakesTheStemNodeItStartsFromOrNone) {
+  const acq::PlantCommand plain = acq::parsePlantCommand("branch");
+  EXPECT_EQ(plain.kind, acq::PlantCommand::Kind::Branch);
+  EXPECT_EQ(plain.node, 0);
+  EXPECT_EQ(acq::parsePlantCommand("branch 4").node, 4);
+  EXPECT_EQ(acq::parsePlantCommand("b 12").node, 12);
+  for (const char* bad : {"branch x", "branch 0", "branch -2", "branch 99999", "branch 4 5"}) {
+    try {
+      (void)acq::parsePlantCommand(bad);
+      ADD_FAILURE() << bad << " was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("branch"), std::string::npos) << bad << ": " << e.what();
+    }
+  }
 }

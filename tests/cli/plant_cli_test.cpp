@@ -780,6 +780,78 @@ TEST_F(PlantCli, APlantCaptureKilledMidwayLosesNothingAcknowledgedAndResumesToTh
     EXPECT_EQ(got["leaves"][k]["kind"], want["leaves"][k]["kind"]);
 }
 
+// A plant with a sucker (data/plants/branched.plant-markers.json) captured by the virtual
+// technician with the branched protocol, devices on pseudo-terminals: the branch is begun and
+// ended by the technician's commands, committed as node_placed, and the exports hang it where
+// it grows — the MTG for the strict reader (+I3 from I2, I5 after I2), the GLB for the Khronos
+// validator (the branch's tube under its own internodes) — and the plan is refused in words.
+TEST_F(PlantCli, ABranchedPlantIsCapturedAndExportedWithItsBranchWhereItGrows) {
+  const fs::path db = dir_ / "station.sqlite";
+  const std::string data = std::string(LEAFDIG_SOURCE_DIR) + "/data";
+  const Result r =
+      leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --seed 3 --json --plant-markers " +
+              quote(data + "/plants/branched.plant-markers.json") + " --protocol " +
+              quote(data + "/protocols/branched.plant-protocol.json"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::vector<json> lines = jsonLines(r.out);
+  const std::int64_t id = lines.front().at("session");
+  std::vector<json> placed;
+  for (const json& j : lines)
+    if (j.value("event", "") == "node_placed") placed.push_back(j);
+  ASSERT_EQ(placed.size(), 2U) << r.out;
+  EXPECT_EQ(placed[0].at("node"), 3);
+  EXPECT_EQ(placed[0].at("relation"), "+");
+  EXPECT_EQ(placed[1].at("node"), 5);
+  EXPECT_EQ(placed[1].at("parent"), 2);
+  const fs::path out = dir_ / "out";
+  const Result exported = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " +
+                                  quote(out) + " --format mtg,csv,json,glb --json");
+  ASSERT_EQ(exported.exitCode, 0) << exported.err;
+  const std::string base = (out / ("session-" + std::to_string(id))).string();
+  const leafdig::test::MtgFile mtg = leafdig::test::readMtgStrictly(slurp(base + ".mtg"));
+  std::map<std::string, std::pair<std::string, char>> hang;
+  const auto label = [&](int k) {
+    const auto& e = mtg.entities[static_cast<std::size_t>(k)];
+    return std::string(1, e.symbol) + std::to_string(e.index);
+  };
+  for (std::size_t k = 0; k < mtg.entities.size(); ++k)
+    if (mtg.entities[k].symbol != 'P' && mtg.entities[k].parent >= 0)
+      hang[label(static_cast<int>(k))] = {label(mtg.entities[k].parent), mtg.entities[k].relation};
+  EXPECT_EQ(hang["I3"], (std::pair<std::string, char>{"I2", '+'}));
+  EXPECT_EQ(hang["I4"], (std::pair<std::string, char>{"I3", '<'}));
+  EXPECT_EQ(hang["L4"], (std::pair<std::string, char>{"I4", '+'}));
+  EXPECT_EQ(hang["I5"], (std::pair<std::string, char>{"I2", '<'}));
+  // The survey equals the file's own (plant measure), node by node, where each hangs included.
+  const json got = json::parse(slurp(base + ".survey.json"));
+  const json want =
+      json::parse(leafdig("plant measure " + quote(data + "/plants/branched.plant-markers.json") + " --json").out);
+  ASSERT_EQ(got.at("nodes").size(), want.at("nodes").size());
+  for (std::size_t k = 0; k < got.at("nodes").size(); ++k) {
+    EXPECT_EQ(got["nodes"][k]["parent"], want["nodes"][k]["parent"]) << k;
+    EXPECT_EQ(got["nodes"][k]["relation"], want["nodes"][k]["relation"]) << k;
+    EXPECT_NEAR(got["nodes"][k]["internode_mm"].get<double>(), want["nodes"][k]["internode_mm"].get<double>(), 0.5);
+  }
+  const Result check = run("node " + quote(std::string(LEAFDIG_SOURCE_DIR) + "/tests/tools/validate-gltf.mjs") + " " +
+                           quote(base + ".glb"));
+  ASSERT_EQ(check.exitCode, 0) << check.out << check.err;
+  EXPECT_EQ(json::parse(check.out)["numErrors"], 0) << check.out;
+  const std::string glb = slurp(base + ".glb");
+  for (const char* node : {"\"plant/branch-3/I3\"", "\"plant/branch-3/I4\"", "\"plant/stem/I5\""})
+    EXPECT_NE(glb.find(node), std::string::npos) << node;
+  // A plan holds one stem: asked for, refused by node; in "everything", left out and said.
+  const Result plan = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(out) +
+                              " --format plan");
+  EXPECT_EQ(plan.exitCode, 2);
+  EXPECT_NE(plan.err.find("node 3 starts a branch (from node 2): a leafdig.plant/1 plan holds one stem"),
+            std::string::npos)
+      << plan.err;
+  const Result all = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " +
+                             quote(dir_ / "all") + " --json");
+  ASSERT_EQ(all.exitCode, 0) << all.err;
+  EXPECT_NE(all.out.find("no leafdig.plant/1 plan: the plant has branches"), std::string::npos) << all.out;
+  EXPECT_FALSE(fs::exists(dir_ / "all" / ("session-" + std::to_string(id) + ".plant.json")));
+}
+
 TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlantBuildTakes) {
   const fs::path db = dir_ / "station.sqlite";
   const Result r = leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --seed 3 --json");
@@ -1104,11 +1176,16 @@ TEST_F(PlantCli, PlantCaptureRefusesWhatItCannotDoInWordsBeforeTheStoreIsTouched
   const Result real = leafdig("plant capture --db " + quote(db));
   EXPECT_EQ(real.exitCode, 2);
   EXPECT_NE(real.err.find("give the devices"), std::string::npos) << real.err;
+  // A branch's branches: a protocol plant capture cannot follow.
+  std::ofstream(dir_ / "deep.plant-protocol.json")
+      << R"({"format": "leafdig.plant-protocol/1", "species": "x", "entities": [
+           {"name": "internode", "class": "I", "repeat": true, "points": ["node"]},
+           {"name": "branch", "class": "B", "parent": "internode", "relation": "+", "repeat": true, "points": ["node"]},
+           {"name": "twig", "class": "T", "parent": "branch", "relation": "+", "repeat": true, "points": ["node"]}]})";
   const Result branched =
-      leafdig("plant capture --simulate --db " + quote(db) + " --protocol " +
-              quote(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/branched.plant-protocol.json"));
+      leafdig("plant capture --simulate --db " + quote(db) + " --protocol " + quote(dir_ / "deep.plant-protocol.json"));
   EXPECT_NE(branched.exitCode, 0);
-  EXPECT_NE(branched.err.find("axis of order 2"), std::string::npos) << branched.err;
+  EXPECT_NE(branched.err.find("axis of order 3"), std::string::npos) << branched.err;
   const Result date = leafdig("plant capture --simulate --db " + quote(db) + " --date 2026-02-30");
   EXPECT_EQ(date.exitCode, 2);
   EXPECT_NE(date.err.find("YYYY-MM-DD"), std::string::npos) << date.err;

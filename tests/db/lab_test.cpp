@@ -155,12 +155,12 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "4");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "5");
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 4);
-  EXPECT_EQ(again.toVersion, 4);
+  EXPECT_EQ(again.fromVersion, 5);
+  EXPECT_EQ(again.toVersion, 5);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -362,6 +362,34 @@ TEST_F(Lab, APlantSessionsRetakesWaitForASchema4ServerAndThenGoWhole) {
   EXPECT_EQ(landmark2, 1);
 }
 
+TEST_F(Lab, APlantSessionsBranchesWaitForASchema5ServerAndThenGoWhole) {
+  db::Store station(file("a.sqlite"));
+  const auto plant = capturePlantSession(station, "bench-a", "P-10", "tobacco-2026", "ana", /*complete=*/false);
+  db::EventInput e;
+  e.kind = "node_placed";
+  e.payloadJson = R"({"node":9,"parent":2,"relation":"+"})";
+  e.monoNs = 900000;
+  (void)station.append(plant, e);
+  ASSERT_TRUE(station.verify(plant).ok);
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  // A schema 4 server would refuse the placement: the session stays here, whole, named.
+  (void)Sql(admin_).value("UPDATE leafdig.meta SET value = '4' WHERE key = 'schema_version' RETURNING value");
+  auto pushed = db::push(station, tech);
+  ASSERT_EQ(pushed.problems.size(), 1U);
+  EXPECT_NE(pushed.problems[0].problem.find("plant session with branches and the lab server (schema 4)"),
+            std::string::npos)
+      << pushed.problems[0].problem;
+  EXPECT_NE(pushed.problems[0].remedy.find("leafdig server init"), std::string::npos);
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.sessions"), "0");
+  (void)Sql(admin_).value("UPDATE leafdig.meta SET value = '5' WHERE key = 'schema_version' RETURNING value");
+  pushed = db::push(station, tech);
+  EXPECT_TRUE(pushed.problems.empty()) << pushed.problems[0].problem;
+  db::LabStore reader(login(db::LabRole::Reader));
+  const std::int64_t serverId = reader.sessions().at(0).id;
+  EXPECT_TRUE(reader.verify(serverId).ok);
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.events WHERE kind = 'node_placed'"), "1");
+}
+
 TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
   db::Store station(file("a.sqlite"));
   const std::string tech = login(db::LabRole::Technician, "bench-a");
@@ -385,6 +413,10 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
       // A retake (schema 4) names the event that put the item in; the item put back holds it again.
       {"retake", R"({"what":"landmark","row":2,"col":null,"position_mm":[200,1,20],"seq":2})"},
       {"retake_cancelled", R"({"what":"landmark","row":2,"col":null,"position_mm":[200,1,20]})"},
+      // Where a node hangs (schema 5): a branch begun, its undo, a branch ended.
+      {"node_placed", R"({"node":5,"parent":4,"relation":"+"})"},
+      {"placement_undone", R"({"node":5,"parent":4,"relation":"+"})"},
+      {"node_placed", R"({"node":7,"parent":4,"relation":"<"})"},
   };
   for (const auto& [kind, payload] : good)
     EXPECT_EQ(appendBySql(asTech, plant, "bench-a", kind, payload), "") << kind << " " << payload;
@@ -406,6 +438,11 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
       {{"retake_cancelled", R"({"what":"marker","row":1,"col":1,"position_mm":[1,2,3]})"}, "not a plant's item"},
       {{"undone", R"({"what":"point","seq":99999})"}, "does not name an earlier event"},
       {{"undone", R"({"what":"point","seq":4})"}, "which is not a captured item"},  // landmarks_ended
+      {{"node_placed", R"({"node":5,"parent":5,"relation":"+"})"}, "not where a node hangs"},
+      {{"node_placed", R"({"node":5,"parent":"4","relation":"+"})"}, "not where a node hangs"},
+      {{"node_placed", R"({"node":5,"parent":4,"relation":"^"})"}, "not where a node hangs"},
+      {{"node_placed", R"({"node":5,"parent":0,"relation":"<"})"}, "not where a node hangs"},
+      {{"placement_undone", R"({"parent":4,"relation":"+"})"}, "not where a node hangs"},
   };
   for (const auto& [event, words] : bad) {
     const std::string refused = appendBySql(asTech, plant, "bench-a", event.first, event.second);
@@ -415,6 +452,7 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
   for (const auto& [kind, payload] : std::vector<std::pair<std::string, std::string>>{
            {"landmarks_ended", "{}"},
            {"leaf_chosen", R"({"node":1,"kind":"full","state":"alive"})"},
+           {"node_placed", R"({"node":3,"parent":2,"relation":"+"})"},
            {"accepted", R"({"what":"landmark","row":1,"col":null,"position_mm":[1,2,3]})"}}) {
     const std::string refused = appendBySql(asTech, leaf, "bench-a", kind, payload);
     EXPECT_FALSE(refused.empty()) << kind;

@@ -110,6 +110,13 @@ json feedbackJson(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s
     case K::LandmarksReopened: j = {{"event", "landmarks_reopened"}}; break;
     case K::PlantEnded: j = {{"event", "plant_ended"}}; break;
     case K::PlantReopened: j = {{"event", "plant_reopened"}}; break;
+    case K::NodePlaced:
+    case K::PlacementUndone:
+      j = {{"event", d.kind == K::NodePlaced ? "node_placed" : "placement_undone"},
+           {"node", d.node},
+           {"parent", d.place.parent},
+           {"relation", std::string(1, d.place.relation)}};
+      break;
     case K::Ignored: break;
   }
   j["seq"] = f.seq;

@@ -47,6 +47,11 @@ int main(int argc, char** argv) {
       "With --simulate: a plant capture instead of a leaf; the virtual technician digitizes this plant "
       "(leafdig.plant-markers/1) where it stands",
       "FILE");
+  const QCommandLineOption plantProtocol(
+      "plant-protocol",
+      "With --plant-markers or --capture-plant: take the plant by this protocol (leafdig.plant-protocol/1; "
+      "default: the built-in tobacco's)",
+      "FILE");
   const QCommandLineOption capturePlant(
       "capture-plant",
       "Digitize this plant (its id) where it stands with --digitizer and --caliper, in the plant capture view", "ID");
@@ -64,7 +69,7 @@ int main(int argc, char** argv) {
   p.addOptions({simulate,  db,           speed,      seed,         markers,      digitizer,      caliper,
                 resume,    screenshot,   reviewShot, quit,         setupDialog,  settingsFile,   firstFrame,
                 plantPlan, plantSession, plantShot,  plantMarkers, capturePlant, screenshotWhen, noAudio,
-                station});
+                station,   plantProtocol});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -134,8 +139,16 @@ int main(int argc, char** argv) {
     setup.operatorName = o.setup.operatorName;
     setup.digitizer = o.setup.digitizer;
     setup.caliper = o.setup.caliper;
-    const bool started =
-        devices ? w.startPlantCaptureWithDevices(setup) : w.startPlantCapture(p.value(plantMarkers).toStdString());
+    if (p.isSet(plantProtocol)) {
+      try {
+        setup.protocol = leafdig::model::readPlantProtocolFile(p.value(plantProtocol).toStdString());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "leafdig-station: %s\n", e.what());
+        return 2;
+      }
+    }
+    const bool started = devices ? w.startPlantCaptureWithDevices(setup)
+                                 : w.startPlantCapture(p.value(plantMarkers).toStdString(), setup.protocol);
     if (!started) {
       std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
       return 2;

@@ -60,6 +60,11 @@ QString said(const acq::PlantDecision& d) {
     case Kind::LeafChosen:
       return QObject::tr("node %1's leaf: %2").arg(d.node).arg(QString::fromStdString(m::toString(d.choice.kind)));
     case Kind::ChoiceUndone: return QObject::tr("↶ node %1's leaf choice undone").arg(d.node);
+    case Kind::NodePlaced:
+      return d.place.relation == '+'
+                 ? QObject::tr("✓ node %1 starts a branch from node %2").arg(d.node).arg(d.place.parent)
+                 : QObject::tr("✓ branch ended: node %1 follows node %2 on the stem").arg(d.node).arg(d.place.parent);
+    case Kind::PlacementUndone: return QObject::tr("↶ node %1 is placed as before").arg(d.node);
     case Kind::Leaf:
       switch (d.leaf.kind) {
         case acq::Decision::Kind::Accepted:
@@ -170,6 +175,10 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   undo_ = new QPushButton(tr("Undo"));
   end_ = new QPushButton(tr("End"));
   end_->setToolTip(tr("Ends the landmarks, a full leaf's rows or the plant (as the long press)"));
+  branch_ = new QPushButton(tr("Branch"));
+  branch_->setToolTip(
+      tr("The next node starts a branch from the stem's last node; End at a branch node's first point ends "
+         "the branch (the protocol must have one)"));
   retake_ = new QPushButton(tr("Retake…"));
   retake_->setToolTip(
       tr("Takes a point or reading out to take it again (the item selected in the tree, or "
@@ -187,10 +196,12 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   leafType_->setMinimumWidth(140);
   setLeaf_ = new QPushButton(tr("Set node 1's leaf"));
   devices_ = new QLabel;
-  for (QWidget* w : std::initializer_list<QWidget*>{undo_, end_, retake_, pause_, leafKind_, leafState_, setLeaf_})
+  for (QWidget* w :
+       std::initializer_list<QWidget*>{undo_, end_, branch_, retake_, pause_, leafKind_, leafState_, setLeaf_})
     w->setFocusPolicy(Qt::NoFocus);
   row->addWidget(undo_);
   row->addWidget(end_);
+  row->addWidget(branch_);
   row->addWidget(retake_);
   row->addWidget(pause_);
   row->addSpacing(16);
@@ -203,6 +214,7 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   controls_->hide();
   connect(undo_, &QPushButton::clicked, this, [this] { (void)command({.kind = acq::PlantCommand::Kind::Undo}); });
   connect(end_, &QPushButton::clicked, this, [this] { (void)command({.kind = acq::PlantCommand::Kind::End}); });
+  connect(branch_, &QPushButton::clicked, this, [this] { (void)command({.kind = acq::PlantCommand::Kind::Branch}); });
   connect(pause_, &QPushButton::clicked, this, [this] {
     (void)command({paused_ ? acq::PlantCommand::Kind::Resume : acq::PlantCommand::Kind::Pause,
                    0,
@@ -274,7 +286,7 @@ QString PlantCaptureView::retakeSuggestion() const {
   const QTreeWidgetItem* parent = item->parent();
   if (text.startsWith(tr("Landmark ")) && parent) return "landmark " + text.section(' ', 1, 1);
   if (text == tr("Collar")) return "collar";
-  if (text.startsWith(tr("Node ")) && !parent) return "point " + text.section(' ', 1, 1);
+  if (text.startsWith(tr("Node "))) return "point " + text.section(' ', 1, 1);
   if (text == tr("Leaf") && parent && parent->text(0).startsWith(tr("Node ")))
     return "node " + parent->text(0).section(' ', 1, 1) + " marker 1 1";
   return {};
@@ -413,12 +425,14 @@ QString PlantCaptureView::summaryText() const {
 
 QString PlantCaptureView::startSimulated(const std::string& db, const std::string& plantMarkersFile,
                                          const acq::SimulationOptions& simulation, const std::string& operatorName,
-                                         const std::string& station, std::int64_t resume) {
+                                         const std::string& station, std::int64_t resume,
+                                         const m::PlantProtocol& protocol) {
   if (capture_.joinable()) return tr("A plant is being captured already.");
   try {
     db::Store store(db);
     if (resume == 0) {
       acq::PlantSessionSetup setup = acq::simulatedPlantSetup(m::readPlantMarkersFile(plantMarkersFile));
+      setup.protocol = protocol;
       setup.project = "default";
       setup.operatorName = operatorName;
       setup.station = station;
@@ -578,8 +592,22 @@ void PlantCaptureView::fillTree(const acq::PlantEngine& e) {
   if (step.what == acq::PlantWhat::Collar || step.what == acq::PlantWhat::CollarDiameter) current = collar;
   const int next = step.what == acq::PlantWhat::Point && step.part == 1 ? step.index : 0;
   const int nodes = std::max(e.nodes(), next);
+  // A branch's nodes hang under the stem node that bears it, in the order taken.
+  bool branched = false;
+  for (const m::ProtocolEntity& entity : e.protocol().entities)
+    branched = branched || (!entity.leaf && entity.order == 2);
+  branch_->setVisible(branched);
+  std::map<int, QTreeWidgetItem*> nodeItems;
   for (int node = 1; node <= nodes; ++node) {
-    auto* n = new QTreeWidgetItem(tree_, {tr("Node %1").arg(node)});
+    const m::NodeLink where = e.link(node);
+    QTreeWidgetItem* bearer = where.order > 1 ? nodeItems[e.link(where.axis).parent] : nullptr;
+    auto* n = bearer ? new QTreeWidgetItem(bearer, {tr("Node %1").arg(node)})
+                     : new QTreeWidgetItem(tree_, {tr("Node %1").arg(node)});
+    nodeItems[node] = n;
+    if (where.order > 1) {
+      n->setToolTip(0, tr("on the branch from node %1").arg(e.link(where.axis).parent));
+      if (bearer) bearer->setExpanded(true);
+    }
     QString measured = node > e.nodes() ? tr("next") : tr("point taken");
     for (const acq::PlantItem& i : e.items())
       if (i.what == acq::PlantWhat::Reading && i.index == node) measured = "Ø " + mm(i.valueMm);

@@ -50,10 +50,12 @@ class PlantCaptureView : public QWidget {
   // A new plant session in `db` (created as needed) that the virtual technician digitizes
   // through the simulated FASTRAK and caliper: the plant of `plantMarkersFile` (a
   // leafdig.plant-markers/1 file), or, with `resume`, the plant session of that id going on
-  // where it stopped. Returns what went wrong in words (empty: started).
+  // where it stopped; taken by `protocol` (the built-in tobacco's by default). Returns what went
+  // wrong in words (empty: started).
   QString startSimulated(const std::string& db, const std::string& plantMarkersFile,
                          const acquisition::SimulationOptions& simulation, const std::string& operatorName,
-                         const std::string& station, std::int64_t resume = 0);
+                         const std::string& station, std::int64_t resume = 0,
+                         const model::PlantProtocol& protocol = model::defaultPlantProtocol());
   // A new plant session of `setup` (its plant, project, operator, station and the devices'
   // specs) taken by a person with the digitizer and caliper on those ports: the stylus and the
   // caliper as in the leaf capture, and the buttons for what a press cannot say (undo, end,
@@ -94,6 +96,8 @@ class PlantCaptureView : public QWidget {
   [[nodiscard]] QComboBox* leafType() const { return leafType_; }
   [[nodiscard]] QPushButton* setLeafButton() const { return setLeaf_; }
   [[nodiscard]] QPushButton* retakeButton() const { return retake_; }
+  // The next node starts a branch from the stem's last node (shown for a protocol with branches).
+  [[nodiscard]] QPushButton* branchButton() const { return branch_; }
   [[nodiscard]] QString devicesText() const;
   [[nodiscard]] PreviewWidget* plantPreview() const { return plantPreview_; }
   [[nodiscard]] PreviewWidget* leafPreview() const { return leafPreview_; }
@@ -131,7 +135,7 @@ class PlantCaptureView : public QWidget {
 
   QLabel *banner_, *feedback_, *summary_;
   QTreeWidget* tree_;
-  QPushButton *review_, *undo_, *end_, *setLeaf_, *pause_, *retake_;
+  QPushButton *review_, *undo_, *end_, *setLeaf_, *pause_, *retake_, *branch_;
   bool paused_ = false;  // as the last committed state said
   QComboBox *leafKind_, *leafState_, *leafType_;
   QLabel* devices_;

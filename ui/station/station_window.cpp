@@ -475,7 +475,7 @@ bool StationWindow::newPlantDialog() {
   stopCapture();
   options_.setup.project = c->setup.project;
   options_.setup.operatorName = c->setup.operatorName;
-  return c->simulated ? startPlantCapture(c->plantMarkers) : startPlantCaptureWithDevices(c->setup);
+  return c->simulated ? startPlantCapture(c->plantMarkers, c->setup.protocol) : startPlantCaptureWithDevices(c->setup);
 }
 
 bool StationWindow::newSessionDialog() {
@@ -591,15 +591,15 @@ PlantCaptureView* StationWindow::plantCaptureTab() {
   return plantCapture_;
 }
 
-bool StationWindow::startPlantCapture(const std::string& plantMarkers) {
+bool StationWindow::startPlantCapture(const std::string& plantMarkers, const model::PlantProtocol& protocol) {
   if (!capturesIntoStationFile()) return false;
   (void)plantCaptureTab();
   acq::SimulationOptions sim;
   sim.speed = options_.speed;
   sim.seed = options_.seed;
   sim.mistakes = false;
-  const QString error =
-      plantCapture_->startSimulated(dbPath(), plantMarkers, sim, options_.setup.operatorName, options_.setup.station);
+  const QString error = plantCapture_->startSimulated(dbPath(), plantMarkers, sim, options_.setup.operatorName,
+                                                      options_.setup.station, 0, protocol);
   if (!error.isEmpty()) {
     banner_->setText(tr("Cannot start the plant capture: %1").arg(error));
     return false;

@@ -55,8 +55,10 @@ class StationWindow : public QMainWindow {
   bool start();
   // A plant digitized where it stands, in a "Plant capture" tab made current: the plant of
   // `plantMarkers` (a leafdig.plant-markers/1 file) taken by the virtual technician through the
-  // simulated devices. False, with the reason in the banner, when it cannot start.
-  bool startPlantCapture(const std::string& plantMarkers);
+  // simulated devices, by `protocol` (the set-up dialog's; tobacco's by default). False, with the
+  // reason in the banner, when it cannot start.
+  bool startPlantCapture(const std::string& plantMarkers,
+                         const model::PlantProtocol& protocol = model::defaultPlantProtocol());
   // The same tab for a person with the devices of `setup` (its digitizer and caliper specs)
   // digitizing its plant; this station's id when the setup names none.
   bool startPlantCaptureWithDevices(acquisition::PlantSessionSetup setup);

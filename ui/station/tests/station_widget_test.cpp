@@ -55,6 +55,7 @@
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
+#include "leafdig/model/plant/plant_protocol.hpp"
 #include "mesh_choice.hpp"
 #include "plant_capture_view.hpp"
 #include "plant_setup_dialog.hpp"
@@ -1268,6 +1269,49 @@ TEST(PlantCaptureView, APlantIsDigitizedInTheStationAndReviewedThere) {
   const auto events = store.events(v->sessionId());
   EXPECT_EQ(events.back().kind, "status");
   EXPECT_NE(events.back().payloadJson.find("\"cur\""), std::string::npos) << events.back().payloadJson;
+}
+
+// A plant with a sucker digitized in the station by the branched protocol: the branch's nodes
+// hang under the stem node that bears it in the tree, the Branch button is there for this
+// protocol, and the preview draws the branch's tube beside the stem.
+TEST(PlantCaptureView, ABranchedPlantHangsItsBranchUnderTheBearingNode) {
+  const fs::path dir = freshDir("plant-branched");
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.simulate = true;
+  o.speed = 50;
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(o);
+  const std::string data = std::string(LEAFDIG_SOURCE_DIR) + "/data";
+  ASSERT_TRUE(
+      w.startPlantCapture(data + "/plants/branched.plant-markers.json",
+                          leafdig::model::readPlantProtocolFile(data + "/protocols/branched.plant-protocol.json")))
+      << w.bannerText().toStdString();
+  leafdig::station::PlantCaptureView* v = w.plantCapture();
+  ASSERT_NE(v, nullptr);
+  QStringList prompts;
+  QObject::connect(v, &leafdig::station::PlantCaptureView::stepChanged, v,
+                   [&](const QString& prompt, bool) { prompts << prompt; });
+  for (int i = 0; i < 6000 && !v->complete(); ++i) QTest::qWait(20);
+  ASSERT_TRUE(v->complete()) << v->bannerText().toStdString() << " / " << v->feedbackText().toStdString();
+  EXPECT_TRUE(prompts.contains("Node 3 · branch diameter with the caliper")) << prompts.join("\n").toStdString();
+  EXPECT_FALSE(v->branchButton()->isHidden());
+  // Top level: landmarks, collar, nodes 1, 2, 5, 6, 7; nodes 3 and 4 under node 2.
+  QStringList top;
+  for (int k = 0; k < v->tree()->topLevelItemCount(); ++k) top << v->tree()->topLevelItem(k)->text(0);
+  EXPECT_EQ(top, (QStringList{"Landmarks", "Collar", "Node 1", "Node 2", "Node 5", "Node 6", "Node 7"}));
+  const QTreeWidgetItem* two = v->tree()->topLevelItem(3);
+  QStringList under;
+  for (int k = 0; k < two->childCount(); ++k) under << two->child(k)->text(0);
+  EXPECT_EQ(under, (QStringList{"Leaf", "Node 3", "Node 4"}));
+  for (int i = 0; i < 500 && (!v->preview() || v->preview()->leafNode != 0 || v->preview()->leaves < 5); ++i)
+    QTest::qWait(20);
+  ASSERT_TRUE(v->preview());
+  std::set<std::string> axes;
+  for (const auto& organ : v->preview()->mesh.organs)
+    if (organ.leafRank == 0) axes.insert(organ.name);
+  EXPECT_EQ(axes, (std::set<std::string>{"plant/stem", "plant/branch-3"}));
 }
 
 TEST(PlantCaptureView, APlantFileThatDoesNotReadStartsNothingAndSaysWhy) {

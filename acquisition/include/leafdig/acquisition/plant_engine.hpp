@@ -21,8 +21,13 @@
 // is refused). undo() before that puts the old item back; undo() after it takes the new item out
 // and the step asks for it again.
 //
-// Protocols: one repeating axis of order 1 with its leaves. Branches (entities of axis order 2)
-// are refused by the constructor in words (docs/plants.md says what comes next).
+// Protocols: one repeating axis of order 1 with its leaf, and optionally one repeating axis of
+// order 2 (a branch) with its own leaf (data/protocols/branched.plant-protocol.json). Nodes are
+// numbered in the order taken, depth first: branch(K) makes the next node start a branch from
+// main-stem node K, and the nodes after it follow on the branch until the branch is ended (the
+// long press or end() at a branch node's first point), when the next node follows the main
+// stem's last node again. Where a node hangs is a decision (NodePlaced), undone like any other;
+// a node's points, readings and leaf are those of its axis' entities.
 //
 // Thread contract: one thread owns a PlantEngine; it never blocks.
 #pragma once
@@ -75,6 +80,14 @@ struct LeafChoice {
   friend bool operator==(const LeafChoice&, const LeafChoice&) = default;
 };
 
+// Where a node hangs, when the technician placed it (a NodePlaced decision): it follows
+// `parent` on its axis ('<': back on the stem after a branch) or starts a branch from it ('+').
+struct NodePlace {
+  int parent = 0;
+  char relation = '<';
+  friend bool operator==(const NodePlace&, const NodePlace&) = default;
+};
+
 struct PlantDecision {
   enum class Kind {
     Ignored,
@@ -90,11 +103,14 @@ struct PlantDecision {
     Leaf,             // a decision of node's full leaf Engine (leaf; its own retakes too)
     RetakeStarted,    // item (the plant's own) is taken out and is the next step
     RetakeCancelled,  // item is put back as it was
+    NodePlaced,       // node (not taken yet) hangs at place: a branch begins or ends
+    PlacementUndone,  // the last NodePlaced taken back: node hangs by default again (place: the one undone)
   };
   Kind kind = Kind::Ignored;
   PlantItem item;  // Accepted / Undone
-  int node = 0;    // LeafChosen, Leaf
+  int node = 0;    // LeafChosen, Leaf, NodePlaced
   LeafChoice choice, previous;
+  NodePlace place;  // NodePlaced, PlacementUndone
   Decision leaf;
   std::string reason;  // Rejected
 };
@@ -121,6 +137,14 @@ class PlantEngine {
   PlantDecision retake(PlantWhat what, int index, int part);
   PlantDecision retakeLeaf(int node, What what, int row, int col);
   [[nodiscard]] bool retaking() const;
+  // The next node starts a branch from node `from` (0: the main stem's last node), or hangs at
+  // `place` — at a new node's first point, nothing of it taken; the protocol must have a branch
+  // for '+', and a branch starts from the main stem. Rejected in words otherwise.
+  PlantDecision branch(int from = 0);
+  PlantDecision place(int node, NodePlace where);
+  // Where node hangs (node numbers 1…; the node asked for next included), as a plant-markers
+  // file says it.
+  [[nodiscard]] model::NodeLink link(int node) const;
 
   void apply(const PlantDecision& d);
   // A curator's correction in review (review.hpp's correct() on a plant session, and its
@@ -147,10 +171,11 @@ class PlantEngine {
 
  private:
   struct Action {
-    enum class Kind { Item, LandmarksEnded, PlantEnded, Leaf, Choice } kind = Kind::Item;
-    int node = 0;  // Leaf, Choice
+    enum class Kind { Item, LandmarksEnded, PlantEnded, Leaf, Choice, Place } kind = Kind::Item;
+    int node = 0;  // Leaf, Choice, Place
     LeafChoice previous;
     bool hadChoice = false;
+    std::optional<NodePlace> previousPlace;  // Place
   };
   [[nodiscard]] PlantDecision decidePoint(const StylusInput& release);
   [[nodiscard]] PlantDecision decideEnd() const;
@@ -174,13 +199,21 @@ class PlantEngine {
   // Keeps the plant's action list in step with a decision node's leaf Engine applied.
   void mirror(int node, const Decision& d);
 
-  // The stem entity taken node by node, and the leaf entity (null: the nodes carry no leaf):
-  // indices into protocol_.entities, so that an engine copies and moves whole.
-  [[nodiscard]] const model::ProtocolEntity& axis() const;
-  [[nodiscard]] const model::ProtocolEntity* leafEntity() const;
+  // The stem entity taken node by node, and the leaf entity (null: the nodes carry no leaf), of
+  // axis order 1 or 2 (the branch: null when the protocol has none): indices into
+  // protocol_.entities, so that an engine copies and moves whole. Of a node: its axis' own.
+  [[nodiscard]] const model::ProtocolEntity& axis(int order = 1) const;
+  [[nodiscard]] const model::ProtocolEntity* leafEntity(int order = 1) const;
+  [[nodiscard]] const model::ProtocolEntity& axisOf(int node) const;
+  [[nodiscard]] const model::ProtocolEntity* leafEntityOf(int node) const;
+  [[nodiscard]] std::vector<model::NodeLink> links(int upTo) const;
+  [[nodiscard]] int mainLast() const;  // the main stem's last node held, 0 for none
+  void relink();                       // placedLinks_ from places_
 
   model::PlantProtocol protocol_;
-  int axisIndex_ = -1, leafIndex_ = -1;
+  int axisIndex_[2] = {-1, -1}, leafIndex_[2] = {-1, -1};
+  std::map<int, NodePlace> places_;           // nodes the technician placed; others follow the node before
+  std::vector<model::NodeLink> placedLinks_;  // nodes 1 … the last placed one
   Settings settings_;
   std::vector<PlantItem> items_;
   std::map<int, Engine> leaves_;

@@ -26,9 +26,9 @@
 namespace leafdig::acquisition {
 
 struct PlantCommand {
-  enum class Kind { Undo, End, Choose, Pause, Resume, Quit, Retake };
+  enum class Kind { Undo, End, Choose, Pause, Resume, Quit, Retake, Branch };
   Kind kind = Kind::Undo;
-  int node = 0;                          // Choose; Retake: a full leaf's node (0: the plant's own item)
+  int node = 0;  // Choose; Retake: a full leaf's node (0: the plant's own item); Branch: from (0: the stem's last)
   LeafChoice choice{};                   // Choose
   std::string text{};                    // Pause: the reason
   PlantWhat what = PlantWhat::Landmark;  // Retake of the plant's own item: which, and its number
@@ -39,7 +39,9 @@ struct PlantCommand {
 // "leaf N full|quick|none [alive|dead|broken|yellow|pruned] [TYPE]" (node N's leaf),
 // "pause [reason…]", "resume", "quit", "retake WHAT [N [PART]]" (landmark N, collar,
 // collar_diameter, point N [PART], reading N [PART], quick_point N PART) and "retake node N
-// WHAT [ROW [POINT]]" (node N's full leaf's item, as a leaf's retake).
+// WHAT [ROW [POINT]]" (node N's full leaf's item, as a leaf's retake), "branch [N]" (the next
+// node starts a branch from main-stem node N, by default the stem's last; "end" at a branch
+// node's first point ends the branch).
 // Throws std::invalid_argument naming the accepted words.
 [[nodiscard]] PlantCommand parsePlantCommand(const std::string& line);
 
