@@ -1,6 +1,7 @@
 // Push and pull between a station's file and the lab server (docs/lab.md, "Sync").
 #include <algorithm>
 #include <map>
+#include <optional>
 
 #include "leafdig/db/lab.hpp"
 #include "pg.hpp"
@@ -88,6 +89,27 @@ void insertEvents(pg::Connection& c, std::int64_t serverId, const std::string& s
   (void)c.exec(sql, params);
 }
 
+// What a plant session holds that a server of `schema` does not take yet: "" (plant sessions
+// at all, before schema 3), " with retakes" (before 4), " with branches" (before 5); nothing
+// when the server takes it all.
+std::optional<std::string> beyondServer(const SessionInfo& s, int schema, Store& local) {
+  if (s.kind != "plant" || schema >= 5) return std::nullopt;
+  if (schema < 3) return std::string();
+  struct Since {
+    int schema;
+    const char *first, *second, *words;
+  };
+  static constexpr Since kSince[] = {{4, "retake", "retake_cancelled", " with retakes"},
+                                     {5, "node_placed", "placement_undone", " with branches"}};
+  const std::vector<Event> events = local.events(s.id);
+  for (const Since& since : kSince)
+    if (schema < since.schema && std::any_of(events.begin(), events.end(), [&](const Event& e) {
+          return e.kind == since.first || e.kind == since.second;
+        }))
+      return std::string(since.words);
+  return std::nullopt;
+}
+
 }  // namespace
 
 PushReport push(Store& local, const std::string& url, const SyncOptions& options) {
@@ -116,39 +138,15 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
       problem(s, e.what(), e.remedy());
       continue;
     }
-    if (s.kind == "plant" && schema < 3) {
+    // What a server of an older schema cannot take yet stays on this station, whole, named.
+    if (const auto missing = beyondServer(s, schema, local)) {
       problem(s,
-              "is a plant session and the lab server (schema " + std::to_string(schema) +
-                  ") does not take plant sessions yet; it stays on this station, whole",
+              "is a plant session" + *missing + " and the lab server (schema " + std::to_string(schema) +
+                  ") does not take " + (missing->empty() ? "plant sessions" : "a plant's" + missing->substr(5)) +
+                  " yet; it stays on this station, whole",
               "the lab's administrator runs 'leafdig server init --url …' with this leafdig (it upgrades the server), "
               "then push again");
       continue;
-    }
-    if (s.kind == "plant" && schema < 4) {
-      const std::vector<Event> events = local.events(s.id);
-      if (std::any_of(events.begin(), events.end(),
-                      [](const Event& e) { return e.kind == "retake" || e.kind == "retake_cancelled"; })) {
-        problem(
-            s,
-            "is a plant session with retakes and the lab server (schema " + std::to_string(schema) +
-                ") does not take a plant's retakes yet; it stays on this station, whole",
-            "the lab's administrator runs 'leafdig server init --url …' with this leafdig (it upgrades the server), "
-            "then push again");
-        continue;
-      }
-    }
-    if (s.kind == "plant" && schema < 5) {
-      const std::vector<Event> events = local.events(s.id);
-      if (std::any_of(events.begin(), events.end(),
-                      [](const Event& e) { return e.kind == "node_placed" || e.kind == "placement_undone"; })) {
-        problem(
-            s,
-            "is a plant session with branches and the lab server (schema " + std::to_string(schema) +
-                ") does not take a plant's branches yet; it stays on this station, whole",
-            "the lab's administrator runs 'leafdig server init --url …' with this leafdig (it upgrades the server), "
-            "then push again");
-        continue;
-      }
     }
     auto stationHeads = heads.find(s.station);
     if (stationHeads == heads.end()) stationHeads = heads.emplace(s.station, serverHeads(c, s.station)).first;
