@@ -628,6 +628,12 @@ PlantDecision PlantEngine::place(int node, NodePlace where) {
                       " on its axis: a node after it starts a branch (branch " + num(where.parent) + ")");
   const m::NodeLink now = link(node);
   if (now.parent == where.parent && now.relation == where.relation) return {};
+  // A leaf chosen ahead for this node must be one its new axis' leaf takes.
+  const int order = where.relation == '+' ? link(where.parent).order + 1 : link(where.parent).order;
+  if (const auto chosen = choices_.find(node);
+      chosen != choices_.end() && leafEntity(order) && !leafEntity(order)->leaf->allows(chosen->second.kind))
+    return reject("node " + num(node) + "'s leaf is chosen " + m::toString(chosen->second.kind) + ", which \"" +
+                  leafEntity(order)->name + "\" does not take: choose its leaf again first");
   PlantDecision d;
   d.kind = PlantDecision::Kind::NodePlaced;
   d.node = node;

@@ -627,6 +627,12 @@ TEST(PlantEngine, ABranchIsPlacedOnlyWhereItCanHangAndUndoneLikeAnyDecision) {
     ASSERT_TRUE(tech.act(truth, &why)) << why;
   }
   EXPECT_NE(engine.branch(7).reason.find("node 7 is not taken"), std::string::npos);
+  // A full leaf chosen ahead for node 3 is not one a branch's leaf takes (quick or none).
+  ASSERT_EQ(tech.choose(3, {m::LeafKind::Full, m::LeafState::Alive, {}}).kind, Kind::LeafChosen);
+  EXPECT_NE(engine.branch().reason.find("node 3's leaf is chosen full, which \"branch_leaf\" does not take"),
+            std::string::npos)
+      << engine.branch().reason;
+  ASSERT_EQ(tech.undo().kind, Kind::ChoiceUndone);
   ASSERT_EQ(tech.branch(0).kind, Kind::NodePlaced);  // from the stem's last node: 2
   EXPECT_EQ(engine.link(3).parent, 2);
   EXPECT_EQ(engine.link(3).order, 2);
