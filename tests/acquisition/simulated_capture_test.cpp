@@ -135,6 +135,21 @@ TEST(SimulatedCapture, TheOperatorTakesADeviceOffLineAndBackAndTheCaptureRecords
   EXPECT_FALSE(devices.status(Role::Digitizer).remedy.empty());
   devices.connect(Role::Digitizer);
   ASSERT_TRUE(waitFor([&] { return devices.status(Role::Digitizer).state == LinkState::Streaming; }));
+  // The loop commits a device's change on its own thread: wait until the file holds the
+  // FASTRAK back on line before stopping it (seen in CI: stopped first, the last event was "off").
+  {
+    leafdig::db::Store watch((dir / "s.sqlite").string());
+    EXPECT_TRUE(waitFor([&] {
+      bool off = false, backOn = false;
+      for (const auto& e : watch.events(id))
+        if (e.kind == "device" && e.payloadJson.find("FASTRAK") != std::string::npos) {
+          const bool down = e.payloadJson.find("disconnected") != std::string::npos;
+          off = off || down;
+          backOn = off && !down;
+        }
+      return backOn;
+    }));
+  }
   loop.stop();
   capture.join();
   devices.stop();
