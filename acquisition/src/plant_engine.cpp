@@ -18,14 +18,15 @@ namespace {
 
 namespace m = leafdig::model;
 
-constexpr NameTable<PlantWhat, 8> kPlantWhatNames{{{PlantWhat::Landmark, "landmark"},
+constexpr NameTable<PlantWhat, 9> kPlantWhatNames{{{PlantWhat::Landmark, "landmark"},
                                                    {PlantWhat::Collar, "collar"},
                                                    {PlantWhat::CollarDiameter, "collar_diameter"},
                                                    {PlantWhat::Point, "point"},
                                                    {PlantWhat::Reading, "reading"},
                                                    {PlantWhat::QuickPoint, "quick_point"},
                                                    {PlantWhat::Leaf, "leaf"},
-                                                   {PlantWhat::Done, "done"}}};
+                                                   {PlantWhat::Done, "done"},
+                                                   {PlantWhat::LandmarkAgain, "landmark_again"}}};
 
 constexpr std::size_t kMaxLeafTypeChars = 64;
 
@@ -55,7 +56,8 @@ PlantWhat plantWhatFromString(const std::string& s) {
 }
 
 bool isStylusItem(PlantWhat w) {
-  return w == PlantWhat::Landmark || w == PlantWhat::Collar || w == PlantWhat::Point || w == PlantWhat::QuickPoint;
+  return w == PlantWhat::Landmark || w == PlantWhat::Collar || w == PlantWhat::Point || w == PlantWhat::QuickPoint ||
+         w == PlantWhat::LandmarkAgain;
 }
 
 PlantEngine::PlantEngine(m::PlantProtocol protocol, Settings leafSettings)
@@ -260,6 +262,13 @@ std::optional<PlantStep> PlantEngine::nodeStep(int node) const {
 }
 
 PlantStep PlantEngine::step() const {
+  if (relocating_) {
+    // The landmarks again, in number order, after moving the transmitter; then the fit.
+    for (int k = 1; k <= lastLandmark(); ++k)
+      if (find(PlantWhat::Landmark, k, 0) && !find(PlantWhat::LandmarkAgain, k, relocating_))
+        return {PlantWhat::LandmarkAgain, k, relocating_, {}};
+    return {PlantWhat::LandmarkAgain, 0, relocating_, {}};
+  }
   if (retake_) return *retake_;
   // A landmark taken out by a retake and then undone is asked for again at its number.
   for (int k = 1; k < lastLandmark(); ++k)
@@ -324,6 +333,14 @@ std::string PlantEngine::prompt() const {
       return node + "leaf · " + (e ? e->prompt() : Engine(settings_).prompt());
     }
     case PlantWhat::Done: return "Plant complete";
+    case PlantWhat::LandmarkAgain: {
+      if (s.index == 0) return "Transmitter moved · every landmark taken again: hold the button (or End) to fit";
+      int again = 0;
+      for (const PlantItem& i : items_) again += i.what == PlantWhat::LandmarkAgain && i.part == s.part;
+      std::string p = "Transmitter moved · landmark " + num(s.index) + " again";
+      if (again >= 3) p += "  (or hold the button to fit)";
+      return p;
+    }
   }
   return "";
 }
@@ -351,11 +368,18 @@ PlantDecision PlantEngine::fromLeaf(int node, const Decision& leafDecision) cons
 PlantDecision PlantEngine::onStylus(const StylusInput& s) {
   // The press as the plant sees it (also inside a full leaf: a very long press there with
   // nothing of the leaf to undo undoes the plant's last action).
-  const std::optional<std::int64_t> held = press_.take(s, settings_);
+  // After a move of the transmitter every sample is taken into the first position's frame
+  // before anything sees it (not while the landmarks are being taken again: those are fitted).
+  StylusInput in = s;
+  if (!relocating_ && toFirst_.size() > 1) {
+    const Eigen::Vector3d p = toFirst_.back() * Eigen::Vector3d(s.positionMm[0], s.positionMm[1], s.positionMm[2]);
+    in.positionMm = {p.x(), p.y(), p.z()};
+  }
+  const std::optional<std::int64_t> held = press_.take(in, settings_);
   if (const int node = leafNode()) {
     Engine& e = leafEngine(node);
     const bool hadActions = !e.items().empty() || e.rowsEnded();
-    const Decision ld = e.onStylus(s);  // decides and applies, as on a detached leaf
+    const Decision ld = e.onStylus(in);  // decides and applies, as on a detached leaf
     if (held && *held >= settings_.undoPressNs && !hadActions && ld.kind == Decision::Kind::Rejected) return undo();
     PlantDecision d = fromLeaf(node, ld);
     if (d.kind == PlantDecision::Kind::Leaf) mirror(node, ld);
@@ -364,7 +388,7 @@ PlantDecision PlantEngine::onStylus(const StylusInput& s) {
   }
   if (!held) return {};
   if (*held >= settings_.undoPressNs) return undo();
-  PlantDecision d = *held >= settings_.longPressNs ? decideEnd() : decidePoint(s);
+  PlantDecision d = *held >= settings_.longPressNs ? decideEnd() : decidePoint(in);
   if (d.kind != PlantDecision::Kind::Rejected && d.kind != PlantDecision::Kind::Ignored) apply(d);
   if (d.kind == PlantDecision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
   return d;
@@ -376,12 +400,16 @@ PlantDecision PlantEngine::decidePoint(const StylusInput& release) {
     if (st.what == PlantWhat::Done) return reject("the plant is complete: nothing more to point at");
     return reject("now measure with the caliper: " + prompt());
   }
+  if (st.what == PlantWhat::LandmarkAgain && st.index == 0)
+    return reject("every landmark is taken again: hold the button (or End) to fit the transmitter's new position");
   const std::vector<const StylusInput*> window = press_.window(release.tNs, settings_);
   const rules::Press press = rules::settle(window, settings_);
   if (press.refusal) return reject(*press.refusal);
+  // The last point in the same frame: landmarks taken again are in the moved transmitter's.
   std::optional<rules::Point> previous;
   for (auto it = items_.rbegin(); it != items_.rend() && !previous; ++it)
-    if (isStylusItem(it->what)) previous = at(*it);
+    if (isStylusItem(it->what) && (it->what == PlantWhat::LandmarkAgain) == (st.what == PlantWhat::LandmarkAgain))
+      previous = at(*it);
   if (auto r = rules::doublePressNear(press.mean, previous, press_.pressedAt(), lastAcceptedReleaseNs_, settings_))
     return reject(*r);
   // The plant's own rules, in the words of the plant frame and the leaf's pose.
@@ -398,6 +426,7 @@ PlantDecision PlantEngine::decidePoint(const StylusInput& release) {
   d.item.index = st.index;
   d.item.part = st.part;
   d.item.positionMm = {press.mean.x(), press.mean.y(), press.mean.z()};
+  d.item.frame = st.what == PlantWhat::LandmarkAgain ? st.part : static_cast<int>(toFirst_.size()) - 1;
   d.item.raw = window.back()->raw;
   return d;
 }
@@ -474,6 +503,14 @@ PlantDecision PlantEngine::decideEnd() const {
   if (retake_) return reject("finish the retake first: " + prompt());
   const PlantStep st = step();
   PlantDecision d;
+  if (st.what == PlantWhat::LandmarkAgain) {
+    const RelocationFit fit = fitOf(st.part);
+    if (fit.refusal) return reject(*fit.refusal);
+    d.kind = PlantDecision::Kind::RelocationFitted;
+    d.node = st.part;
+    d.fit = fit;
+    return d;
+  }
   if (st.what == PlantWhat::Landmark) {
     if (landmarks() < protocol_.minLandmarks)
       return reject("the plant frame needs at least " + num(protocol_.minLandmarks) + " landmarks (" +
@@ -557,6 +594,14 @@ PlantDecision PlantEngine::undo() {
       d.node = a.node;
       d.place = places_.at(a.node);
       break;
+    case Action::Kind::RelocationStart:
+      d.kind = PlantDecision::Kind::RelocationCancelled;
+      d.node = a.node;
+      break;
+    case Action::Kind::RelocationFit:
+      d.kind = PlantDecision::Kind::RelocationReopened;
+      d.node = a.node;
+      break;
     case Action::Kind::Leaf: {
       const Decision ld = leafEngine(a.node).undo();
       d = fromLeaf(a.node, ld);
@@ -577,6 +622,7 @@ PlantDecision PlantEngine::chooseLeaf(int node, LeafChoice choice) {
   if (!leafIs->leaf->allows(choice.kind))
     return reject("the protocol does not take " + std::string(m::toString(choice.kind)) + " leaves");
   if (plantEnded_) return reject("the plant is ended: undo the end first");
+  if (relocating_) return reject("finish moving the transmitter first: " + prompt());
   if (choice.type.size() > kMaxLeafTypeChars)
     return reject("a leaf type is a short word (at most " + num(static_cast<int>(kMaxLeafTypeChars)) +
                   " characters), such as lower or upper");
@@ -599,6 +645,32 @@ PlantDecision PlantEngine::chooseLeaf(int node, LeafChoice choice) {
   return d;
 }
 
+PlantDecision PlantEngine::moveTransmitter() {
+  if (!landmarksEnded_) return reject("end the landmarks first: the transmitter's new position is found from them");
+  if (plantEnded_) return reject("the plant is ended: undo the end first");
+  if (relocating_) return reject("the transmitter is being moved already: " + prompt());
+  if (retaking()) return reject("finish the retake in progress first (or undo it)");
+  PlantDecision d;
+  d.kind = PlantDecision::Kind::RelocationStarted;
+  d.node = static_cast<int>(toFirst_.size());
+  apply(d);
+  return d;
+}
+
+RelocationFit PlantEngine::fitOf(int relocation) const {
+  std::vector<Eigen::Vector3d> before, after;
+  std::vector<int> numbers;
+  for (int k = 1; k <= lastLandmark(); ++k) {
+    const PlantItem* first = find(PlantWhat::Landmark, k, 0);
+    const PlantItem* again = find(PlantWhat::LandmarkAgain, k, relocation);
+    if (!first || !again) continue;
+    before.push_back(at(*first));
+    after.push_back(at(*again));
+    numbers.push_back(k);
+  }
+  return fitRelocation(before, after, relocation_, numbers);
+}
+
 PlantDecision PlantEngine::branch(int from) {
   if (from == 0) from = mainLast();
   if (from == 0) return reject("take node 1 on the stem first: a branch starts from a node of the main stem");
@@ -606,6 +678,7 @@ PlantDecision PlantEngine::branch(int from) {
 }
 
 PlantDecision PlantEngine::place(int node, NodePlace where) {
+  if (relocating_) return reject("finish moving the transmitter first: " + prompt());
   if (where.relation == '+' && axisIndex_[1] < 0)
     return reject(
         "this protocol has no branches (no axis of order 2): capture with one that has, such as "
@@ -643,6 +716,9 @@ PlantDecision PlantEngine::place(int node, NodePlace where) {
 }
 
 PlantDecision PlantEngine::retake(PlantWhat what, int index, int part) {
+  if (relocating_) return reject("finish moving the transmitter first: " + prompt());
+  if (what == PlantWhat::LandmarkAgain)
+    return reject("a landmark taken again after moving the transmitter is undone, not retaken (undo takes it back)");
   if (what == PlantWhat::Leaf || what == PlantWhat::Done)
     return reject(
         "retake names an item: a landmark, the collar, collar_diameter, a node's point or reading, a "
@@ -665,6 +741,7 @@ PlantDecision PlantEngine::retake(PlantWhat what, int index, int part) {
 }
 
 PlantDecision PlantEngine::retakeLeaf(int node, What what, int row, int col) {
+  if (relocating_) return reject("finish moving the transmitter first: " + prompt());
   if (retaking()) return reject("finish the retake in progress first (or undo it)");
   const auto it = leaves_.find(node);
   if (it == leaves_.end() || it->second.items().empty())
@@ -772,6 +849,30 @@ void PlantEngine::apply(const PlantDecision& d) {
       leafEngine(d.node).apply(d.leaf);
       mirror(d.node, d.leaf);
       break;
+    case PlantDecision::Kind::RelocationStarted:
+      relocating_ = d.node;
+      actions_.push_back({Action::Kind::RelocationStart, d.node, {}, false, std::nullopt});
+      break;
+    case PlantDecision::Kind::RelocationFitted:
+      if (relocating_ == d.node) {
+        toFirst_.push_back(fitOf(d.node).newToOld);  // recomputed: replay gives the same
+        relocating_ = 0;
+        actions_.push_back({Action::Kind::RelocationFit, d.node, {}, false, std::nullopt});
+      }
+      break;
+    case PlantDecision::Kind::RelocationReopened:
+      if (!actions_.empty() && actions_.back().kind == Action::Kind::RelocationFit && toFirst_.size() > 1) {
+        relocating_ = actions_.back().node;
+        actions_.pop_back();
+        toFirst_.pop_back();
+      }
+      break;
+    case PlantDecision::Kind::RelocationCancelled:
+      if (!actions_.empty() && actions_.back().kind == Action::Kind::RelocationStart) {
+        actions_.pop_back();
+        relocating_ = 0;
+      }
+      break;
     case PlantDecision::Kind::NodePlaced: {
       Action a{Action::Kind::Place, d.node, {}, false, std::nullopt};
       if (const auto it = places_.find(d.node); it != places_.end()) a.previousPlace = it->second;
@@ -796,6 +897,7 @@ void PlantEngine::apply(const PlantDecision& d) {
 }
 
 bool PlantEngine::correct(const PlantItem& fixed) {
+  if (fixed.what == PlantWhat::LandmarkAgain) return false;  // its fit placed every later point: not in place
   for (PlantItem& i : items_)
     if (i.what == fixed.what && i.index == fixed.index && i.part == fixed.part) {
       i = fixed;

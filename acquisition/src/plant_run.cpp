@@ -28,6 +28,11 @@ PlantCommand parsePlantCommand(const std::string& line) {
     if (c.text.size() > 200) throw std::invalid_argument("a pause's reason is a few words (at most 200 characters)");
   } else if (word == "resume" || word == "r") {
     c.kind = PlantCommand::Kind::Resume;
+  } else if (word == "move") {
+    c.kind = PlantCommand::Kind::MoveTransmitter;
+    std::string what;
+    if (in >> what && what != "transmitter")
+      throw std::invalid_argument("'move' takes no words but 'transmitter' (got '" + what + "')");
   } else if (word == "branch" || word == "b") {
     c.kind = PlantCommand::Kind::Branch;
     std::string from;
@@ -80,6 +85,8 @@ PlantCommand parsePlantCommand(const std::string& line) {
         case PlantWhat::Leaf:
         case PlantWhat::Done:
           throw std::invalid_argument("retake " + what + "? a full leaf's item is 'retake node N' and the item");
+        case PlantWhat::LandmarkAgain:
+          throw std::invalid_argument("a landmark taken again after moving the transmitter is undone, not retaken");
       }
     }
   } else if (word == "leaf") {
@@ -109,7 +116,7 @@ PlantCommand parsePlantCommand(const std::string& line) {
     throw std::invalid_argument(
         "unknown command '" + line +
         "': use undo, end, leaf N full|quick|none [state] [type], retake WHAT [N [PART]], branch [N], "
-        "pause [reason], resume, or quit");
+        "move (the transmitter), pause [reason], resume, or quit");
   }
   if (c.kind != PlantCommand::Kind::Choose && c.kind != PlantCommand::Kind::Pause) {
     std::string extra;
@@ -174,6 +181,7 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
           case PlantCommand::Kind::End: f = session_.end(now); break;
           case PlantCommand::Kind::Choose: f = session_.chooseLeaf(c->node, c->choice, now); break;
           case PlantCommand::Kind::Branch: f = session_.branch(c->node, now); break;
+          case PlantCommand::Kind::MoveTransmitter: f = session_.moveTransmitter(now); break;
           case PlantCommand::Kind::Retake:
             f = c->node > 0 ? session_.retakeLeaf(c->node, c->leaf.what, c->leaf.row, c->leaf.col, now)
                             : session_.retake(c->what, c->index, c->part, now);

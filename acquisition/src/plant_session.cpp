@@ -52,6 +52,7 @@ json plantItemJson(const PlantItem& i) {
   else
     j["value_mm"] = i.valueMm;
   if (!i.flag.empty()) j["flag"] = i.flag;
+  if (i.frame != 0) j["frame"] = i.frame;  // the transmitter position it was taken from (absent: the first)
   return j;
 }
 
@@ -64,6 +65,7 @@ PlantItem plantItemFrom(const json& j, const std::string& raw) {
     for (std::size_t k = 0; k < 3; ++k) i.positionMm[k] = j.at("position_mm").at(k).get<double>();
   if (j.contains("value_mm")) i.valueMm = j.at("value_mm").get<double>();
   i.flag = j.value("flag", std::string());
+  i.frame = j.value("frame", 0);
   i.raw = raw;
   return i;
 }
@@ -124,6 +126,11 @@ constexpr NameTable<PlantDecision::Kind, 11> kEvents{{{PlantDecision::Kind::Acce
                                                       {PlantDecision::Kind::ChoiceUndone, "choice_undone"},
                                                       {PlantDecision::Kind::NodePlaced, "node_placed"},
                                                       {PlantDecision::Kind::PlacementUndone, "placement_undone"}}};
+
+constexpr NameTable<PlantDecision::Kind, 4> kRelocationSteps{{{PlantDecision::Kind::RelocationStarted, "started"},
+                                                              {PlantDecision::Kind::RelocationFitted, "fitted"},
+                                                              {PlantDecision::Kind::RelocationReopened, "reopened"},
+                                                              {PlantDecision::Kind::RelocationCancelled, "cancelled"}}};
 
 json placeJson(int node, const NodePlace& p) {
   return {{"node", node}, {"parent", p.parent}, {"relation", std::string(1, p.relation)}};
@@ -272,6 +279,13 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
         const std::string relation = p.at("relation").get<std::string>();
         if (relation != "<" && relation != "+") fail("its relation is \"" + relation + "\", not < or +");
         d.place = {p.at("parent").get<int>(), relation[0]};
+      } else if (e.kind == "relocation") {
+        const auto step = valueIn(kRelocationSteps, p.at("step").get<std::string>());
+        if (!step)
+          fail("its step is \"" + p.at("step").get<std::string>() + "\", not started, fitted, reopened or cancelled");
+        d.kind = *step;
+        d.node = p.at("relocation").get<int>();
+        if (d.node < 1 || d.node > 999) fail("it names relocation " + std::to_string(d.node));
       } else if (const auto k = valueIn(kEvents, e.kind); k && e.kind != "rejected") {
         d.kind = *k;  // the ends and their reopenings
       } else {
@@ -421,6 +435,19 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
       ev.kind = nameIn(kEvents, d.kind);
       ev.payloadJson = placeJson(d.node, d.place).dump();
       break;
+    case PlantDecision::Kind::RelocationStarted:
+    case PlantDecision::Kind::RelocationFitted:
+    case PlantDecision::Kind::RelocationReopened:
+    case PlantDecision::Kind::RelocationCancelled: {
+      ev.kind = "relocation";
+      json j{{"relocation", d.node}, {"step", nameIn(kRelocationSteps, d.kind)}};
+      if (d.kind == PlantDecision::Kind::RelocationFitted) {
+        j["rms_mm"] = d.fit.rmsMm;  // what the technician was shown; replay fits again
+        j["worst_mm"] = d.fit.worstMm;
+      }
+      ev.payloadJson = j.dump();
+      break;
+    }
     default:
       ev.kind = nameIn(kEvents, d.kind);
       ev.payloadJson = "{}";
@@ -500,6 +527,11 @@ PlantFeedback PlantCaptureSession::retakeLeaf(int node, What what, int row, int 
 PlantFeedback PlantCaptureSession::chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs) {
   if (ended() || paused_) return {};
   return commit(engine_.chooseLeaf(node, choice), monoNs, {});
+}
+
+PlantFeedback PlantCaptureSession::moveTransmitter(std::int64_t monoNs) {
+  if (ended() || paused_) return {};
+  return commit(engine_.moveTransmitter(), monoNs, {});
 }
 
 PlantFeedback PlantCaptureSession::branch(int from, std::int64_t monoNs) {

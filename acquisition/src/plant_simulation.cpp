@@ -3,6 +3,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <random>
 #include <thread>
 #include <utility>
 
@@ -24,8 +25,9 @@ struct Desk {
   std::condition_variable cv;
   // The session as the technician sees it, after every committed change.
   PlantStep step;
-  LeafChoice choice;     // the step's node's leaf, as the session has it
-  model::NodeLink link;  // where the step's node hangs, as the session has it
+  LeafChoice choice;       // the step's node's leaf, as the session has it
+  model::NodeLink link;    // where the step's node hangs, as the session has it
+  int acceptedPoints = 0;  // stylus points held (the plant's and its full leaves')
   std::uint64_t version = 0;
   bool ended = false;
   bool stop = false;
@@ -35,13 +37,16 @@ struct Desk {
 // what the plant says.
 class PlantTechnician {
  public:
-  PlantTechnician(SimulatedRig& rig, Desk& desk, PlantCaptureLoop& loop, const model::PlantMarkers& plant, double speed)
+  PlantTechnician(SimulatedRig& rig, Desk& desk, PlantCaptureLoop& loop, const model::PlantMarkers& plant,
+                  const SimulationOptions& options)
       : rig_(rig),
         desk_(desk),
         loop_(loop),
         plant_(plant),
         links_(model::plantTopology(plant.nodes, plant.plant)),
-        speed_(speed) {}
+        speed_(options.speed),
+        relocateAfter_(options.relocateSourceAfter),
+        rng_(options.seed + 29) {}
 
   void run(PlantRunStats& stats) {
     AnswerWait wait(speed_);
@@ -49,6 +54,7 @@ class PlantTechnician {
       PlantStep step;
       LeafChoice choice;
       model::NodeLink link;
+      int points = 0;
       std::uint64_t version = 0;
       {
         std::unique_lock lock(desk_.mutex);
@@ -57,9 +63,13 @@ class PlantTechnician {
         step = desk_.step;
         choice = desk_.choice;
         link = desk_.link;
+        points = desk_.acceptedPoints;
         version = desk_.version;
       }
-      if (wait.due(version, rig_.hand().idle())) act(step, choice, link, stats);
+      if (wait.due(version, rig_.hand().idle())) {
+        if (relocate(step, points, stats)) continue;
+        act(step, choice, link, stats);
+      }
     }
   }
 
@@ -109,12 +119,44 @@ class PlantTechnician {
     rig_.hand().perform({*at, 0.35, 0.45, 0.6});
   }
 
+  // Moving the transmitter after `relocateAfter_` accepted points: the technician says so, and
+  // once the station asks for the landmarks again, moves it (a seeded random pose) and takes
+  // them. True when it acted.
+  bool relocate(const PlantStep& s, int points, PlantRunStats& stats) {
+    if (relocateAfter_ <= 0 || moved_) return false;
+    if (asked_) {
+      asked_ = false;
+      if (s.what != PlantWhat::LandmarkAgain) return false;  // refused (e.g. a retake in progress): later
+      moved_ = true;
+      std::uniform_real_distribution<double> shift(-150.0, 150.0), lift(-40.0, 40.0), turn(-40.0, 40.0),
+          tilt(-6.0, 6.0);
+      constexpr double kDeg = 3.14159265358979323846 / 180.0;
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.linear() = (Eigen::AngleAxisd(turn(rng_) * kDeg, Eigen::Vector3d::UnitZ()) *
+                       Eigen::AngleAxisd(tilt(rng_) * kDeg, Eigen::Vector3d::UnitX()))
+                          .toRotationMatrix();
+      pose.translation() = Eigen::Vector3d(shift(rng_), shift(rng_), lift(rng_));
+      rig_.moveTransmitter(pose);
+      return false;  // then the first landmark again, as the station asks
+    }
+    const bool between =
+        s.what != PlantWhat::Landmark && s.what != PlantWhat::LandmarkAgain && s.what != PlantWhat::Done;
+    if (points < relocateAfter_ || !between) return false;
+    loop_.command({.kind = PlantCommand::Kind::MoveTransmitter});
+    asked_ = true;
+    ++stats.choices;
+    return true;
+  }
+
   SimulatedRig& rig_;
   Desk& desk_;
   PlantCaptureLoop& loop_;
   const model::PlantMarkers& plant_;
   std::vector<model::NodeLink> links_;  // where each of the plant's nodes hangs
   double speed_;
+  int relocateAfter_ = 0;
+  bool asked_ = false, moved_ = false;
+  std::mt19937_64 rng_;
   Vec3 last_{};
 };
 
@@ -136,6 +178,12 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
     desk.step = s.engine().step();
     desk.choice = s.engine().choiceFor(desk.step.index);
     desk.link = s.engine().link(desk.step.index);
+    int points = 0;
+    for (const PlantItem& i : s.engine().items()) points += isStylusItem(i.what);
+    for (int node = 1; node <= s.engine().nodes(); ++node)
+      if (const Engine* leaf = s.engine().leaf(node))
+        for (const Item& i : leaf->items()) points += i.what == What::Tip || i.what == What::Marker;
+    desk.acceptedPoints = points;
     desk.ended = s.ended();
     ++desk.version;
     desk.cv.notify_all();
@@ -149,7 +197,7 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
   // The real drivers on the rig's pseudo-terminals: the simulated capture is the real one.
   DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop.sinks(), rig.digitizerRateHz());
   devices.start();
-  PlantTechnician technician(rig, desk, loop, plant, options.speed);
+  PlantTechnician technician(rig, desk, loop, plant, options);
   PlantRunStats technicianStats;
   std::thread hands([&] { technician.run(technicianStats); });
   std::atomic<bool> running{true};

@@ -30,7 +30,7 @@ double spreadOffLine(const std::vector<Eigen::Vector3d>& points) {
 }  // namespace
 
 RelocationFit fitRelocation(const std::vector<Eigen::Vector3d>& before, const std::vector<Eigen::Vector3d>& after,
-                            const RelocationSettings& settings) {
+                            const RelocationSettings& settings, const std::vector<int>& numbers) {
   RelocationFit fit;
   if (before.size() != after.size()) {
     fit.refusal = "the landmarks taken again (" + std::to_string(after.size()) + ") are not those taken before (" +
@@ -77,8 +77,9 @@ RelocationFit fitRelocation(const std::vector<Eigen::Vector3d>& before, const st
   fit.rmsMm = std::sqrt(sum / static_cast<double>(before.size()));
   if (fit.rmsMm > settings.toleranceMm)
     fit.refusal = "the landmarks do not agree after the move (RMS " + mm(fit.rmsMm) + ", more than " +
-                  mm(settings.toleranceMm) + "): landmark " + std::to_string(fit.worst + 1) + " is " + mm(fit.worstMm) +
-                  " off — it moved, or was pressed elsewhere; take it again";
+                  mm(settings.toleranceMm) + "): landmark " +
+                  std::to_string(fit.worst < numbers.size() ? numbers[fit.worst] : static_cast<int>(fit.worst) + 1) +
+                  " is " + mm(fit.worstMm) + " off — it moved, or was pressed elsewhere; take it again";
   return fit;
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 
 #include "leafdig/acquisition/truth.hpp"
@@ -16,6 +17,41 @@ namespace sim = leafdig::devices::sim;
 }  // namespace
 
 // ---- simulated rig --------------------------------------------------------------------------
+// The hand's motion as a transmitter reports it: the first position's frame moved by a pose
+// that the virtual technician changes when it moves the transmitter.
+class TransmitterMotion final : public sim::StylusMotion {
+ public:
+  explicit TransmitterMotion(std::shared_ptr<const sim::StylusMotion> hand) : hand_(std::move(hand)) {}
+  void move(const Eigen::Isometry3d& fromFirst) {
+    std::lock_guard lock(mutex_);
+    fromFirst_ = fromFirst;
+  }
+  [[nodiscard]] State at(double t, std::uint64_t k) const override {
+    State s = hand_->at(t, k);
+    Eigen::Isometry3d pose;
+    {
+      std::lock_guard lock(mutex_);
+      pose = fromFirst_;
+    }
+    const auto moved = [&](const Vec3& v) {
+      const Eigen::Vector3d p = pose * Eigen::Vector3d(v[0], v[1], v[2]);
+      return Vec3{p.x(), p.y(), p.z()};
+    };
+    s.positionMm = moved(s.positionMm);
+    s.truthMm = moved(s.truthMm);
+    return s;
+  }
+
+ private:
+  std::shared_ptr<const sim::StylusMotion> hand_;
+  mutable std::mutex mutex_;
+  Eigen::Isometry3d fromFirst_ = Eigen::Isometry3d::Identity();
+};
+
+void SimulatedRig::moveTransmitter(const Eigen::Isometry3d& fromFirst) {
+  transmitter_->move(fromFirst);
+}
+
 SimulatedRig::SimulatedRig(const SimulationOptions& o) {
   sim::StylusOptions so;
   so.seed = o.seed;
@@ -31,7 +67,8 @@ SimulatedRig::SimulatedRig(const SimulationOptions& o) {
   d.linkPath = o.linkDir + "/leafdig-sim-fastrak-" + tag;
   d.faults = sim::FaultPlan::parse(o.digitizerFaults);
   d.faults.seed = o.seed;
-  digitizer_ = sim::makeFastrak(std::shared_ptr<const sim::StylusMotion>(hand_), d);
+  transmitter_ = std::make_shared<TransmitterMotion>(std::shared_ptr<const sim::StylusMotion>(hand_));
+  digitizer_ = sim::makeFastrak(std::shared_ptr<const sim::StylusMotion>(transmitter_), d);
   sim::EmulatorOptions g;
   g.linkPath = o.linkDir + "/leafdig-sim-sylvac-" + tag;
   g.faults = sim::FaultPlan::parse(o.caliperFaults);

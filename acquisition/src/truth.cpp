@@ -52,6 +52,7 @@ double leafReadingTruth(const model::MarkerSet& leaf, What w, int row, int col) 
 std::optional<Vec3> plantPointTruth(const model::PlantMarkers& plant, const PlantStep& s) {
   switch (s.what) {
     case PlantWhat::Landmark:
+    case PlantWhat::LandmarkAgain:  // the same mark on the pot, wherever the transmitter is now
       if (s.index < 1 || s.index > static_cast<int>(plant.landmarksMm.size())) return std::nullopt;
       return vec(plant.landmarksMm[static_cast<std::size_t>(s.index - 1)]);
     case PlantWhat::Collar: return vec(plant.collarMm);

@@ -90,17 +90,19 @@ void insertEvents(pg::Connection& c, std::int64_t serverId, const std::string& s
 }
 
 // What a plant session holds that a server of `schema` does not take yet: "" (plant sessions
-// at all, before schema 3), " with retakes" (before 4), " with branches" (before 5); nothing
+// at all, before schema 3), " with retakes" (before 4), " with branches" (before 5), " with a
+// moved transmitter" (before 6); nothing
 // when the server takes it all.
 std::optional<std::string> beyondServer(const SessionInfo& s, int schema, Store& local) {
-  if (s.kind != "plant" || schema >= 5) return std::nullopt;
+  if (s.kind != "plant" || schema >= 6) return std::nullopt;
   if (schema < 3) return std::string();
   struct Since {
     int schema;
     const char *first, *second, *words;
   };
   static constexpr Since kSince[] = {{4, "retake", "retake_cancelled", " with retakes"},
-                                     {5, "node_placed", "placement_undone", " with branches"}};
+                                     {5, "node_placed", "placement_undone", " with branches"},
+                                     {6, "relocation", "relocation", " with a moved transmitter"}};
   const std::vector<Event> events = local.events(s.id);
   for (const Since& since : kSince)
     if (schema < since.schema && std::any_of(events.begin(), events.end(), [&](const Event& e) {

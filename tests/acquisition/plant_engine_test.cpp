@@ -45,6 +45,8 @@ struct Technician {
   std::mt19937 rng{11};
   std::normal_distribution<double> noise;
   std::vector<acq::PlantDecision> log;  // what a front end would store
+  // Where the transmitter is: the digitizer reports a point p of the first position as this * p.
+  Eigen::Isometry3d fromFirst = Eigen::Isometry3d::Identity();
 
   void keep(const acq::PlantDecision& d) {
     if (d.kind != Kind::Rejected && d.kind != Kind::Ignored) log.push_back(d);
@@ -55,7 +57,8 @@ struct Technician {
       acq::StylusInput s;
       s.tNs = (t += 8 * kMs);
       const double e = noise.stddev() > 0 ? 1.0 : 0.0;
-      s.positionMm = {p[0] + e * noise(rng), p[1] + e * noise(rng), p[2] + e * noise(rng)};
+      const Eigen::Vector3d q = fromFirst * Eigen::Vector3d(p[0], p[1], p[2]);
+      s.positionMm = {q.x() + e * noise(rng), q.y() + e * noise(rng), q.z() + e * noise(rng)};
       s.button = button;
       s.raw = "01 …";
       const auto d = engine.onStylus(s);
@@ -651,6 +654,77 @@ TEST(PlantEngine, ABranchIsPlacedOnlyWhereItCanHangAndUndoneLikeAnyDecision) {
   ASSERT_EQ(tech.undo().kind, Kind::PlacementUndone);
   EXPECT_EQ(engine.link(4).order, 2);
   EXPECT_EQ(engine.link(4).parent, 3);
+}
+
+// Moving the transmitter (issue 29): after node 2's point the technician moves it (turned 30°
+// about the vertical, shifted 120 mm) and takes the landmarks again. A landmark pressed 5 mm off
+// is named by the refused fit; taken again right, the fit holds, every later point — the plant's
+// and a full leaf's — lands where it would have without the move, undo goes back through the
+// fit and the start, and replay gives the same plant.
+TEST(PlantEngine, AMovedTransmitterIsFittedFromTheLandmarksTakenAgainAndEveryLaterPointFollows) {
+  const m::PlantMarkers truth = samplePlant();
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine};
+  EXPECT_NE(engine.moveTransmitter().reason.find("end the landmarks first"), std::string::npos);
+  while (!(engine.step().what == PlantWhat::Reading && engine.step().index == 2)) ASSERT_TRUE(tech.act(truth));
+  const auto keep = [&](acq::PlantDecision d) {
+    tech.keep(d);
+    return d;
+  };
+  ASSERT_EQ(keep(engine.moveTransmitter()).kind, Kind::RelocationStarted);
+  EXPECT_EQ(engine.prompt(), "Transmitter moved · landmark 1 again");
+  EXPECT_NE(engine.chooseLeaf(3, {}).reason.find("finish moving the transmitter first"), std::string::npos);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(30.0 * std::acos(-1.0) / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(120.0, -40.0, 15.0);
+  tech.fromFirst = pose;
+  const auto landmark = [&](int k, const Eigen::Vector3d& off = Eigen::Vector3d::Zero()) {
+    const Eigen::Vector3d p = truth.landmarksMm[static_cast<std::size_t>(k - 1)] + off;
+    return tech.press({p.x(), p.y(), p.z()});
+  };
+  ASSERT_EQ(landmark(1).kind, Kind::Accepted);
+  ASSERT_EQ(landmark(2).kind, Kind::Accepted);
+  EXPECT_NE(tech.end().reason.find("take at least three of the landmarks again"), std::string::npos);
+  ASSERT_EQ(landmark(3, {5.0, 0.0, 0.0}).kind, Kind::Accepted);  // pressed 5 mm off: it moved
+  ASSERT_EQ(landmark(4).kind, Kind::Accepted);
+  EXPECT_EQ(engine.prompt(), "Transmitter moved · every landmark taken again: hold the button (or End) to fit");
+  const acq::PlantDecision refused = tech.end();
+  ASSERT_EQ(refused.kind, Kind::Rejected);
+  EXPECT_NE(refused.reason.find("landmark 3 is"), std::string::npos) << refused.reason;
+  ASSERT_EQ(tech.undo().kind, Kind::Undone);  // landmark 4 again
+  ASSERT_EQ(tech.undo().kind, Kind::Undone);  // landmark 3 again
+  EXPECT_EQ(engine.prompt(), "Transmitter moved · landmark 3 again");
+  ASSERT_EQ(landmark(3).kind, Kind::Accepted);
+  EXPECT_EQ(engine.prompt(), "Transmitter moved · landmark 4 again  (or hold the button to fit)");
+  ASSERT_EQ(landmark(4).kind, Kind::Accepted);
+  const acq::PlantDecision fitted = tech.end();
+  ASSERT_EQ(fitted.kind, Kind::RelocationFitted) << fitted.reason;
+  EXPECT_LT(fitted.fit.rmsMm, 1e-6);
+  // Undo takes the fit back (the landmarks again), and the end fits again.
+  ASSERT_EQ(tech.undo().kind, Kind::RelocationReopened);
+  EXPECT_EQ(engine.relocating(), 1);
+  ASSERT_EQ(tech.end().kind, Kind::RelocationFitted);
+  ASSERT_EQ(engine.toFirst().size(), 2U);
+  EXPECT_TRUE(engine.toFirst()[1].isApprox(pose.inverse(), 1e-9));
+  EXPECT_EQ(engine.step().what, PlantWhat::Reading);  // back where the capture was
+  tech.captureAll(truth);
+  const m::PlantMarkers got = engine.captured(truth.plant);
+  ASSERT_EQ(got.nodes.size(), truth.nodes.size());
+  for (std::size_t i = 0; i < got.nodes.size(); ++i)
+    expectSamePoints(got.nodes[i].pointMm, truth.nodes[i].pointMm, 1e-6, "node " + std::to_string(i + 1));
+  const m::MarkerSet& leaf = std::get<m::MarkerSet>(got.nodes[1].leaf);  // node 2's full leaf, after the move
+  expectSamePoints(leaf.tipMm, std::get<m::MarkerSet>(truth.nodes[1].leaf).tipMm, 1e-6, "node 2's tip");
+  acq::PlantEngine replayed(m::defaultPlantProtocol());
+  for (const acq::PlantDecision& d : tech.log) replayed.apply(d);
+  EXPECT_EQ(m::plantMarkersToJson(replayed.captured(truth.plant)), m::plantMarkersToJson(got));
+  // A start undone with nothing taken again is cancelled.
+  acq::PlantEngine other(m::defaultPlantProtocol());
+  Technician again{other};
+  while (other.step().what != PlantWhat::Collar) ASSERT_TRUE(again.act(truth));
+  ASSERT_EQ(other.moveTransmitter().kind, Kind::RelocationStarted);
+  EXPECT_NE(other.moveTransmitter().reason.find("being moved already"), std::string::npos);
+  ASSERT_EQ(other.undo().kind, Kind::RelocationCancelled);
+  EXPECT_EQ(other.step().what, PlantWhat::Collar);
 }
 
 // The station's live plant preview at the moments a technician sees it change: the points alone

@@ -279,6 +279,58 @@ TEST_F(PlantSession, ABranchedPlantSurvivesAReopeningAfterEveryDecisionAndReplay
   }
 }
 
+// The transmitter moved mid-capture, the session closed (as by kill -9) after the start and
+// after each landmark taken again: it reopens at the same landmark, the fit is committed and
+// replayed (the same transform), and the plant completes.
+TEST_F(PlantSession, AMoveOfTheTransmitterSurvivesAReopeningAtEveryStepOfIt) {
+  std::int64_t id = 0;
+  {
+    db::Store store(path_);
+    id = acq::PlantCaptureSession::create(store, setup_);
+    acq::PlantCaptureSession session(store, id);
+    while (session.engine().step().what != PlantWhat::Collar) ASSERT_NE(act(session).decision.kind, Kind::Rejected);
+    ASSERT_EQ(session.moveTransmitter(t_).decision.kind, Kind::RelocationStarted);
+  }
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(-90.0, 60.0, 0.0);
+  for (int k = 1; k <= 4; ++k) {
+    db::Store store(path_);
+    acq::PlantCaptureSession session(store, id);
+    ASSERT_EQ(session.engine().step(), (acq::PlantStep{PlantWhat::LandmarkAgain, k, 1, {}}));
+    const Eigen::Vector3d p = pose * plant_.landmarksMm[static_cast<std::size_t>(k - 1)];
+    acq::PlantFeedback last;
+    const auto sample = [&](bool button) {
+      const auto f = session.onStylus({t_ += 8 * kMs, {p.x(), p.y(), p.z()}, button, "ok", "01 …"});
+      if (f.decision.kind != Kind::Ignored) last = f;
+    };
+    for (int i = 0; i < 40; ++i) sample(false);
+    for (int i = 0; i < 25; ++i) sample(true);
+    sample(false);
+    ASSERT_EQ(last.decision.kind, Kind::Accepted) << last.decision.reason;
+  }
+  {
+    db::Store store(path_);
+    acq::PlantCaptureSession session(store, id);
+    const acq::PlantFeedback f = session.end(t_);
+    ASSERT_EQ(f.decision.kind, Kind::RelocationFitted) << f.decision.reason;
+  }
+  db::Store store(path_);
+  acq::PlantCaptureSession session(store, id);
+  ASSERT_EQ(session.engine().toFirst().size(), 2U);
+  EXPECT_TRUE(session.engine().toFirst()[1].isApprox(pose.inverse(), 1e-9));
+  EXPECT_EQ(session.engine().step().what, PlantWhat::Collar);
+  std::vector<std::string> relocation;
+  for (const db::Event& e : store.events(id))
+    if (e.kind == "relocation") relocation.push_back(e.payloadJson.substr(0, e.payloadJson.find(",\"step\"")));
+  EXPECT_EQ(relocation.size(), 2U);
+  std::size_t fitted = 0;
+  for (const db::Event& e : store.events(id))
+    fitted += e.kind == "relocation" && e.payloadJson.find("\"fitted\"") != std::string::npos;
+  EXPECT_EQ(fitted, 1U);
+  EXPECT_TRUE(store.verify(id).ok);
+}
+
 TEST_F(PlantSession, AReopenedSessionAsksForWhatTheClosedOneAskedFor) {
   std::int64_t id = 0;
   std::vector<std::string> prompts;

@@ -1,6 +1,7 @@
 // `leafdig plant build|grow` driven as a modeller would: a plan file, every export format,
 // each opened by an independent reader (Khronos glTF validator, assimp, the strict MTG and
 // CARIBU readers of docs/plants.md "Formats"), reproducibility, bad plans, growth series, the organ library.
+#include <cmath>
 #include <csignal>
 #include <cstring>
 #include <map>
@@ -850,6 +851,61 @@ TEST_F(PlantCli, ABranchedPlantIsCapturedAndExportedWithItsBranchWhereItGrows) {
   ASSERT_EQ(all.exitCode, 0) << all.err;
   EXPECT_NE(all.out.find("no leafdig.plant/1 plan: the plant has branches"), std::string::npos) << all.out;
   EXPECT_FALSE(fs::exists(dir_ / "all" / ("session-" + std::to_string(id) + ".plant.json")));
+}
+
+// The transmitter moved mid-capture (issue 29): after 30 accepted points the virtual
+// technician says "move", the simulated transmitter goes to a random pose and the landmarks are
+// taken again; the fit is committed, and the plant comes out where the same plant without the
+// move does — every node within the digitizer's noise, every leaf's angles within 2°.
+TEST_F(PlantCli, AMovedTransmitterIsFittedFromTheLandmarksAndThePlantComesOutTheSame) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r =
+      leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --seed 5 --json --relocate-source-after 30");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::vector<json> lines = jsonLines(r.out);
+  const std::int64_t id = lines.front().at("session");
+  std::vector<std::string> steps;
+  int again = 0;
+  for (const json& j : lines) {
+    if (j.value("event", "") == "relocation") steps.push_back(j.at("step"));
+    if (j.value("what", "") == "landmark_again") ++again;
+    if (j.value("step", "") == "fitted") {
+      EXPECT_LT(j.at("rms_mm").get<double>(), 1.5) << j;
+    }
+  }
+  EXPECT_EQ(steps, (std::vector<std::string>{"started", "fitted"})) << r.out;
+  EXPECT_EQ(again, 4);  // the sample's four landmarks
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(out) +
+                    " --format json")
+                .exitCode,
+            0);
+  const json got = json::parse(slurp(out / ("session-" + std::to_string(id) + ".survey.json")));
+  const json want =
+      json::parse(leafdig("plant measure " +
+                          quote(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json") + " --json")
+                      .out);
+  ASSERT_EQ(got.at("nodes").size(), want.at("nodes").size());
+  for (std::size_t k = 0; k < got.at("nodes").size(); ++k)
+    for (std::size_t c = 0; c < 3; ++c)
+      EXPECT_NEAR(got["nodes"][k]["point_mm"][c].get<double>(), want["nodes"][k]["point_mm"][c].get<double>(), 1.5)
+          << "node " << k + 1;
+  ASSERT_EQ(got.at("leaves").size(), want.at("leaves").size());
+  for (std::size_t k = 0; k < got.at("leaves").size(); ++k) {
+    if (want["leaves"][k]["azimuth_deg"].is_null()) continue;
+    const double da = std::remainder(
+        got["leaves"][k]["azimuth_deg"].get<double>() - want["leaves"][k]["azimuth_deg"].get<double>(), 360.0);
+    EXPECT_LT(std::abs(da), 2.0) << "leaf " << k;
+    EXPECT_NEAR(got["leaves"][k]["inclination_deg"].get<double>(), want["leaves"][k]["inclination_deg"].get<double>(),
+                2.0)
+        << "leaf " << k;
+  }
+  // With devices the technician types "move": the option is the simulation's.
+  const Result real =
+      leafdig("plant capture --db " + quote(db) +
+              " --digitizer fastrak:/dev/null --caliper sylvac:/dev/null --plant p --relocate-source-after 3");
+  EXPECT_EQ(real.exitCode, 2);
+  EXPECT_NE(real.err.find("goes with --simulate"), std::string::npos) << real.err;
 }
 
 TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlantBuildTakes) {

@@ -155,12 +155,12 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "5");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "6");
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 5);
-  EXPECT_EQ(again.toVersion, 5);
+  EXPECT_EQ(again.fromVersion, 6);
+  EXPECT_EQ(again.toVersion, 6);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -417,6 +417,11 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
       {"node_placed", R"({"node":5,"parent":4,"relation":"+"})"},
       {"placement_undone", R"({"node":5,"parent":4,"relation":"+"})"},
       {"node_placed", R"({"node":7,"parent":4,"relation":"<"})"},
+      // The transmitter moved (schema 6): the landmarks again, in the new position's frame, and the fit.
+      {"relocation", R"({"relocation":1,"step":"started"})"},
+      {"accepted", R"({"what":"landmark_again","row":2,"col":1,"position_mm":[210,4,18],"frame":1})"},
+      {"relocation", R"({"relocation":1,"step":"fitted","rms_mm":0.2,"worst_mm":0.3})"},
+      {"accepted", R"({"what":"point","row":8,"col":1,"position_mm":[2,0,500],"frame":1})"},
   };
   for (const auto& [kind, payload] : good)
     EXPECT_EQ(appendBySql(asTech, plant, "bench-a", kind, payload), "") << kind << " " << payload;
@@ -443,6 +448,11 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
       {{"node_placed", R"({"node":5,"parent":4,"relation":"^"})"}, "not where a node hangs"},
       {{"node_placed", R"({"node":5,"parent":0,"relation":"<"})"}, "not where a node hangs"},
       {{"placement_undone", R"({"parent":4,"relation":"+"})"}, "not where a node hangs"},
+      {{"relocation", R"({"relocation":0,"step":"started"})"}, "not a move of the transmitter"},
+      {{"relocation", R"({"relocation":1,"step":"moved"})"}, "not a move of the transmitter"},
+      {{"relocation", R"({"step":"fitted"})"}, "not a move of the transmitter"},
+      {{"accepted", R"({"what":"landmark_again","row":2,"col":1,"value_mm":3})"}, "not a plant's item"},
+      {{"accepted", R"({"what":"point","row":8,"col":1,"position_mm":[2,0,500],"frame":"1"})"}, "not a plant's item"},
   };
   for (const auto& [event, words] : bad) {
     const std::string refused = appendBySql(asTech, plant, "bench-a", event.first, event.second);
@@ -453,6 +463,7 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
            {"landmarks_ended", "{}"},
            {"leaf_chosen", R"({"node":1,"kind":"full","state":"alive"})"},
            {"node_placed", R"({"node":3,"parent":2,"relation":"+"})"},
+           {"relocation", R"({"relocation":1,"step":"started"})"},
            {"accepted", R"({"what":"landmark","row":1,"col":null,"position_mm":[1,2,3]})"}}) {
     const std::string refused = appendBySql(asTech, leaf, "bench-a", kind, payload);
     EXPECT_FALSE(refused.empty()) << kind;

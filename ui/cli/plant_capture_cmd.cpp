@@ -47,6 +47,7 @@ struct PlantCaptureOptions {
   std::string plantMarkers, protocol, db, project = "plants", operatorName = "technician", station, date;
   std::string digitizer, caliper, plant;  // real devices
   double stylusNoiseMm = 0.3, speed = 1.0;
+  int relocateSourceAfter = 0;
   std::uint64_t seed = 1;
   std::int64_t resume = 0;
   bool json = false;
@@ -116,6 +117,21 @@ json feedbackJson(const acq::PlantFeedback& f, const acq::PlantCaptureSession& s
            {"node", d.node},
            {"parent", d.place.parent},
            {"relation", std::string(1, d.place.relation)}};
+      break;
+    case K::RelocationStarted:
+    case K::RelocationFitted:
+    case K::RelocationReopened:
+    case K::RelocationCancelled:
+      j = {{"event", "relocation"},
+           {"relocation", d.node},
+           {"step", d.kind == K::RelocationStarted    ? "started"
+                    : d.kind == K::RelocationFitted   ? "fitted"
+                    : d.kind == K::RelocationReopened ? "reopened"
+                                                      : "cancelled"}};
+      if (d.kind == K::RelocationFitted) {
+        j["rms_mm"] = d.fit.rmsMm;
+        j["worst_mm"] = d.fit.worstMm;
+      }
       break;
     case K::Ignored: break;
   }
@@ -226,6 +242,10 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   if (real && o.plant.empty())
     throw std::invalid_argument("name the plant you digitize: --plant ID (e.g. --plant tobacco-p12)");
   if (!(o.speed > 0 && o.speed <= 50)) throw std::invalid_argument("the simulation speed must be in (0, 50]");
+  if (o.relocateSourceAfter > 0 && !o.simulate)
+    throw std::invalid_argument(
+        "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
+        "'move' when you move the transmitter)");
   if (!(o.stylusNoiseMm >= 0.0 && o.stylusNoiseMm <= 20.0))
     throw std::invalid_argument("the stylus noise must be between 0 and 20 mm");
   std::int64_t id = o.resume;
@@ -301,6 +321,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   sim.speed = o.speed;
   sim.seed = o.seed;
   sim.stylusNoiseMm = o.stylusNoiseMm;
+  sim.relocateSourceAfter = o.relocateSourceAfter;
   sim.mistakes = false;
   const acq::PlantRunStats stats = simulatePlant(
       *store, id, sim,
@@ -418,6 +439,12 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")
       ->capture_default_str();
   capture->add_option("--seed", o->seed, "Simulation seed")->capture_default_str();
+  capture
+      ->add_option("--relocate-source-after", o->relocateSourceAfter,
+                   "Simulation: after N accepted points the transmitter moves to a new random pose (seeded) and "
+                   "the landmarks are taken again (0: never)")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
   capture->add_option("--speed", o->speed, "Simulation speed (1 = real time, up to 50)")->capture_default_str();
   capture->add_option("--resume", o->resume, "Go on with an interrupted plant session");
   capture->add_flag("--json", o->json, "One JSON object per committed change (session first, complete last)");

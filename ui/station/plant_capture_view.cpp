@@ -42,6 +42,7 @@ QString said(const acq::PlantDecision& d) {
       case acq::PlantWhat::Point: return QObject::tr("node %1, point %2").arg(i.index).arg(i.part);
       case acq::PlantWhat::Reading: return QObject::tr("node %1, stem diameter %2").arg(i.index).arg(mm(i.valueMm));
       case acq::PlantWhat::QuickPoint: return QObject::tr("node %1's leaf, point %2 of 3").arg(i.index).arg(i.part);
+      case acq::PlantWhat::LandmarkAgain: return QObject::tr("landmark %1 again").arg(i.index);
       case acq::PlantWhat::Leaf:
       case acq::PlantWhat::Done: break;
     }
@@ -65,6 +66,13 @@ QString said(const acq::PlantDecision& d) {
                  ? QObject::tr("✓ node %1 starts a branch from node %2").arg(d.node).arg(d.place.parent)
                  : QObject::tr("✓ branch ended: node %1 follows node %2 on the stem").arg(d.node).arg(d.place.parent);
     case Kind::PlacementUndone: return QObject::tr("↶ node %1 is placed as before").arg(d.node);
+    case Kind::RelocationStarted: return QObject::tr("↻ transmitter moved (%1): take the landmarks again").arg(d.node);
+    case Kind::RelocationFitted:
+      return QObject::tr("✓ transmitter's new position fitted: RMS %1 mm, worst %2 mm")
+          .arg(d.fit.rmsMm, 0, 'f', 2)
+          .arg(d.fit.worstMm, 0, 'f', 2);
+    case Kind::RelocationReopened: return QObject::tr("↶ the fit is undone: the landmarks again");
+    case Kind::RelocationCancelled: return QObject::tr("↶ the move of the transmitter is undone");
     case Kind::Leaf:
       switch (d.leaf.kind) {
         case acq::Decision::Kind::Accepted:

@@ -29,10 +29,21 @@
 // stem's last node again. Where a node hangs is a decision (NodePlaced), undone like any other;
 // a node's points, readings and leaf are those of its axis' entities.
 //
+// Moving the transmitter (issue 29; docs/plants.md, "Moving the transmitter"): once the
+// landmarks are ended, moveTransmitter() at any step starts relocation r (1, 2, …): the
+// technician moves the transmitter and takes the landmarks again in number order (at least
+// three; the long press or end() then fits), each a LandmarkAgain item in the new transmitter's
+// frame. The fit (fitRelocation, against the landmarks as first taken) is refused in words
+// naming the landmark that moved; accepted, every later stylus sample is taken into the first
+// transmitter position's frame before anything else sees it, so every point — the plant's and
+// a full leaf's — is in one frame, and relocations chain through it (a third position maps to
+// the first directly, not through the second). Undo goes back through a fit and a start.
+//
 // Thread contract: one thread owns a PlantEngine; it never blocks.
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -40,6 +51,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/engine.hpp"
+#include "leafdig/acquisition/relocation.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
 
@@ -47,8 +59,10 @@ namespace leafdig::acquisition {
 
 // Landmark (index 1…), Collar, CollarDiameter, Point / Reading of the axis entity at node
 // `index` (part 1… of the entity's points / readings), QuickPoint (part 1…3 of node `index`'s
-// quick leaf), Leaf (node `index`'s full leaf: the leaf Engine's step), Done.
-enum class PlantWhat { Landmark, Collar, CollarDiameter, Point, Reading, QuickPoint, Leaf, Done };
+// quick leaf), Leaf (node `index`'s full leaf: the leaf Engine's step), LandmarkAgain (landmark
+// `index` taken again after moving the transmitter, relocation `part`; index 0: all are taken
+// again, the fit is next), Done.
+enum class PlantWhat { Landmark, Collar, CollarDiameter, Point, Reading, QuickPoint, Leaf, Done, LandmarkAgain };
 [[nodiscard]] const char* toString(PlantWhat w);  // "landmark", "collar", "collar_diameter", "point", …
 [[nodiscard]] PlantWhat plantWhatFromString(const std::string& s);  // throws UnknownName
 [[nodiscard]] bool isStylusItem(PlantWhat w);
@@ -64,7 +78,8 @@ struct PlantStep {
 struct PlantItem {
   PlantWhat what = PlantWhat::Landmark;
   int index = 0, part = 0;
-  Vec3 positionMm{};   // stylus items, in the digitizer's frame
+  Vec3 positionMm{};   // stylus items, in the first transmitter position's frame (LandmarkAgain: as pressed)
+  int frame = 0;       // the transmitter position it was taken from (0 the first; LandmarkAgain: its own)
   double valueMm = 0;  // caliper items (diameters)
   std::string raw;
   std::string flag;  // e.g. "repeated reading"
@@ -98,19 +113,24 @@ struct PlantDecision {
     LandmarksReopened,
     PlantEnded,
     PlantReopened,
-    LeafChosen,       // node's leaf kind / state set (choice); `previous` is what it was
-    ChoiceUndone,     // the last LeafChosen taken back: node's leaf is `previous` again
-    Leaf,             // a decision of node's full leaf Engine (leaf; its own retakes too)
-    RetakeStarted,    // item (the plant's own) is taken out and is the next step
-    RetakeCancelled,  // item is put back as it was
-    NodePlaced,       // node (not taken yet) hangs at place: a branch begins or ends
-    PlacementUndone,  // the last NodePlaced taken back: node hangs by default again (place: the one undone)
+    LeafChosen,           // node's leaf kind / state set (choice); `previous` is what it was
+    ChoiceUndone,         // the last LeafChosen taken back: node's leaf is `previous` again
+    Leaf,                 // a decision of node's full leaf Engine (leaf; its own retakes too)
+    RetakeStarted,        // item (the plant's own) is taken out and is the next step
+    RetakeCancelled,      // item is put back as it was
+    NodePlaced,           // node (not taken yet) hangs at place: a branch begins or ends
+    PlacementUndone,      // the last NodePlaced taken back: node hangs by default again (place: the one undone)
+    RelocationStarted,    // the transmitter is moved: relocation `node` begins, landmarks again
+    RelocationFitted,     // relocation `node` fitted (fit): later samples go into the first frame
+    RelocationReopened,   // the last fit taken back: its landmarks again (undo)
+    RelocationCancelled,  // the last start taken back, with no landmark taken again (undo)
   };
   Kind kind = Kind::Ignored;
   PlantItem item;  // Accepted / Undone
   int node = 0;    // LeafChosen, Leaf, NodePlaced
   LeafChoice choice, previous;
-  NodePlace place;  // NodePlaced, PlacementUndone
+  NodePlace place;    // NodePlaced, PlacementUndone
+  RelocationFit fit;  // RelocationFitted: its residual and worst landmark (recomputed on apply)
   Decision leaf;
   std::string reason;  // Rejected
 };
@@ -145,6 +165,13 @@ class PlantEngine {
   // Where node hangs (node numbers 1…; the node asked for next included), as a plant-markers
   // file says it.
   [[nodiscard]] model::NodeLink link(int node) const;
+  // Starts a relocation (above); refused in words before the landmarks are ended, during a
+  // retake or another relocation, or once the plant is ended.
+  PlantDecision moveTransmitter();
+  [[nodiscard]] int relocating() const { return relocating_; }  // the relocation in progress, 0 none
+  // Transmitter position r's frame → the first's (0: identity); one per fitted relocation.
+  [[nodiscard]] const std::vector<Eigen::Isometry3d>& toFirst() const { return toFirst_; }
+  [[nodiscard]] const RelocationSettings& relocationSettings() const { return relocation_; }
 
   void apply(const PlantDecision& d);
   // A curator's correction in review (review.hpp's correct() on a plant session, and its
@@ -171,7 +198,16 @@ class PlantEngine {
 
  private:
   struct Action {
-    enum class Kind { Item, LandmarksEnded, PlantEnded, Leaf, Choice, Place } kind = Kind::Item;
+    enum class Kind {
+      Item,
+      LandmarksEnded,
+      PlantEnded,
+      Leaf,
+      Choice,
+      Place,
+      RelocationStart,
+      RelocationFit
+    } kind = Kind::Item;
     int node = 0;  // Leaf, Choice, Place
     LeafChoice previous;
     bool hadChoice = false;
@@ -214,6 +250,11 @@ class PlantEngine {
   int axisIndex_[2] = {-1, -1}, leafIndex_[2] = {-1, -1};
   std::map<int, NodePlace> places_;           // nodes the technician placed; others follow the node before
   std::vector<model::NodeLink> placedLinks_;  // nodes 1 … the last placed one
+  int relocating_ = 0;
+  std::vector<Eigen::Isometry3d> toFirst_{Eigen::Isometry3d::Identity()};
+  RelocationSettings relocation_;
+  // Relocation r's fit from its LandmarkAgain items against the landmarks as first taken.
+  [[nodiscard]] RelocationFit fitOf(int relocation) const;
   Settings settings_;
   std::vector<PlantItem> items_;
   std::map<int, Engine> leaves_;

@@ -26,7 +26,7 @@
 namespace leafdig::acquisition {
 
 struct PlantCommand {
-  enum class Kind { Undo, End, Choose, Pause, Resume, Quit, Retake, Branch };
+  enum class Kind { Undo, End, Choose, Pause, Resume, Quit, Retake, Branch, MoveTransmitter };
   Kind kind = Kind::Undo;
   int node = 0;  // Choose; Retake: a full leaf's node (0: the plant's own item); Branch: from (0: the stem's last)
   LeafChoice choice{};                   // Choose
@@ -41,7 +41,8 @@ struct PlantCommand {
 // collar_diameter, point N [PART], reading N [PART], quick_point N PART) and "retake node N
 // WHAT [ROW [POINT]]" (node N's full leaf's item, as a leaf's retake), "branch [N]" (the next
 // node starts a branch from main-stem node N, by default the stem's last; "end" at a branch
-// node's first point ends the branch).
+// node's first point ends the branch), "move" (the transmitter is being moved: the landmarks
+// are taken again, then "end" fits).
 // Throws std::invalid_argument naming the accepted words.
 [[nodiscard]] PlantCommand parsePlantCommand(const std::string& line);
 

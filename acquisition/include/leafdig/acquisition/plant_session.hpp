@@ -73,6 +73,9 @@ class PlantCaptureSession {
   PlantFeedback chooseLeaf(int node, LeafChoice choice, std::int64_t monoNs = 0);
   // PlantEngine::branch made durable (`node_placed`; its undo `placement_undone`).
   PlantFeedback branch(int from, std::int64_t monoNs = 0);
+  // PlantEngine::moveTransmitter made durable (`relocation` events: started, fitted, reopened,
+  // cancelled; the landmarks taken again are `accepted` landmark_again items).
+  PlantFeedback moveTransmitter(std::int64_t monoNs = 0);
   // PlantEngine::retake / retakeLeaf made durable (`retake` names the event that put the item
   // in; undo before the new one puts it back: `retake_cancelled` with the item).
   PlantFeedback retake(PlantWhat what, int index, int part, std::int64_t monoNs = 0);

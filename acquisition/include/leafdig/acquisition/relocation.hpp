@@ -28,9 +28,11 @@ struct RelocationSettings {
 };
 
 // `before[i]` and `after[i]` are landmark i digitized before and after the move (in the old
-// and the new transmitter frame); at least three pairs.
+// and the new transmitter frame); at least three pairs. `numbers[i]`, when given, is what the
+// words call landmark i (its number on the pot rim); else i + 1.
 [[nodiscard]] RelocationFit fitRelocation(const std::vector<Eigen::Vector3d>& before,
                                           const std::vector<Eigen::Vector3d>& after,
-                                          const RelocationSettings& settings = {});
+                                          const RelocationSettings& settings = {},
+                                          const std::vector<int>& numbers = {});
 
 }  // namespace leafdig::acquisition

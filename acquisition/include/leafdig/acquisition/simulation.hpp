@@ -6,6 +6,7 @@
 // `leafdig demo` run on it.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -29,7 +30,12 @@ struct SimulationOptions {
   bool mistakes = true;
   double stylusNoiseMm = 0.3;    // Gaussian noise per axis of the stylus tip at rest
   std::string linkDir = "/tmp";  // where the stable symlinks to the ptys go
+  // Plant capture: after this many accepted points the virtual technician moves the
+  // transmitter to a new random pose (seeded) and takes the landmarks again (0: never).
+  int relocateSourceAfter = 0;
 };
+
+class TransmitterMotion;
 
 // A FASTRAK and a Sylvac caliper on pseudo-terminals, moved by an OperatorHand.
 class SimulatedRig {
@@ -44,9 +50,13 @@ class SimulatedRig {
   devices::sim::VirtualCaliper& caliper() { return *caliper_; }
   devices::sim::Emulator& digitizerEmulator() { return *digitizer_; }
   devices::sim::Emulator& caliperEmulator() { return *gauge_; }
+  // The transmitter moved: from now on the digitizer reports every point of the first
+  // transmitter position's frame as `fromFirst` maps it (thread-safe).
+  void moveTransmitter(const Eigen::Isometry3d& fromFirst);
 
  private:
   std::shared_ptr<devices::sim::OperatorHand> hand_;
+  std::shared_ptr<TransmitterMotion> transmitter_;
   std::shared_ptr<devices::sim::VirtualCaliper> caliper_;
   std::unique_ptr<devices::sim::Emulator> digitizer_, gauge_;
   double digitizerRateHz_ = 120.0;
