@@ -138,12 +138,6 @@ m::NodeLink PlantEngine::link(int node) const {
   return l;
 }
 
-std::vector<m::NodeLink> PlantEngine::links(int upTo) const {
-  std::vector<m::NodeLink> out;
-  for (int k = 1; k <= upTo; ++k) out.push_back(link(k));
-  return out;
-}
-
 const m::ProtocolEntity& PlantEngine::axisOf(int node) const {
   return axis(link(node).order);
 }

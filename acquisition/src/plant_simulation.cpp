@@ -43,7 +43,6 @@ class PlantTechnician {
         desk_(desk),
         loop_(loop),
         plant_(plant),
-        links_(model::plantTopology(plant.nodes, plant.plant)),
         speed_(options.speed),
         relocateAfter_(options.relocateSourceAfter),
         rng_(options.seed + 29) {}
@@ -78,14 +77,11 @@ class PlantTechnician {
     // Before a node's first point, the technician says where the node hangs (a branch begins
     // from a node of the stem, or ends: back on the stem) and how its leaf will be taken.
     if (s.what == PlantWhat::Point && s.part == 1 && s.index <= static_cast<int>(plant_.nodes.size())) {
-      const model::NodeLink& where = links_[static_cast<std::size_t>(s.index - 1)];
-      if (where.relation == '+' && (hangs.relation != '+' || hangs.parent != where.parent)) {
-        loop_.command({.kind = PlantCommand::Kind::Branch, .node = where.parent});
-        ++stats.choices;
-        return;
-      }
-      if (where.relation == '<' && where.order == 1 && hangs.order > 1) {
-        loop_.command({.kind = PlantCommand::Kind::End});
+      if (const auto place = plantPlacementTruth(plant_, s.index, hangs)) {
+        if (place->relation == '+')
+          loop_.command({.kind = PlantCommand::Kind::Branch, .node = place->parent});
+        else
+          loop_.command({.kind = PlantCommand::Kind::End});  // at a branch node's first point: the branch ends
         ++stats.choices;
         return;
       }
@@ -152,7 +148,6 @@ class PlantTechnician {
   Desk& desk_;
   PlantCaptureLoop& loop_;
   const model::PlantMarkers& plant_;
-  std::vector<model::NodeLink> links_;  // where each of the plant's nodes hangs
   double speed_;
   int relocateAfter_ = 0;
   bool asked_ = false, moved_ = false;
@@ -173,17 +168,20 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
                        " was not started as a simulation: it has no plant for the virtual technician");
   const model::PlantMarkers plant = *session.setup().simulatedPlant;
   Desk desk;
-  const auto publish = [&desk](const PlantCaptureSession& s) {
+  const bool countPoints = options.relocateSourceAfter > 0;  // only a move of the transmitter waits on them
+  const auto publish = [&desk, countPoints](const PlantCaptureSession& s) {
     std::lock_guard lock(desk.mutex);
     desk.step = s.engine().step();
     desk.choice = s.engine().choiceFor(desk.step.index);
     desk.link = s.engine().link(desk.step.index);
-    int points = 0;
-    for (const PlantItem& i : s.engine().items()) points += isStylusItem(i.what);
-    for (int node = 1; node <= s.engine().nodes(); ++node)
-      if (const Engine* leaf = s.engine().leaf(node))
-        for (const Item& i : leaf->items()) points += i.what == What::Tip || i.what == What::Marker;
-    desk.acceptedPoints = points;
+    if (countPoints) {
+      int points = 0;
+      for (const PlantItem& i : s.engine().items()) points += isStylusItem(i.what);
+      for (int node = 1; node <= s.engine().nodes(); ++node)
+        if (const Engine* leaf = s.engine().leaf(node))
+          for (const Item& i : leaf->items()) points += i.what == What::Tip || i.what == What::Marker;
+      desk.acceptedPoints = points;
+    }
     desk.ended = s.ended();
     ++desk.version;
     desk.cv.notify_all();

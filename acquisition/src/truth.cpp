@@ -85,6 +85,14 @@ double plantReadingTruth(const model::PlantMarkers& plant, const PlantStep& s) {
   return n ? n->diameterMm : 0.0;
 }
 
+std::optional<NodePlace> plantPlacementTruth(const model::PlantMarkers& plant, int node, const model::NodeLink& now) {
+  if (node < 1 || node > static_cast<int>(plant.nodes.size())) return std::nullopt;
+  const model::NodeLink where = model::plantTopology(plant.nodes, plant.plant)[static_cast<std::size_t>(node - 1)];
+  if (where.relation == '+' && (now.relation != '+' || now.parent != where.parent)) return NodePlace{where.parent, '+'};
+  if (where.relation == '<' && where.order == 1 && now.order > 1) return NodePlace{where.parent, '<'};
+  return std::nullopt;
+}
+
 LeafChoice plantChoiceTruth(const model::PlantMarkers& plant, int node) {
   const model::PlantNode* n = nodeOf(plant, node);
   if (!n) return {};

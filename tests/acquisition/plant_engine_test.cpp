@@ -102,13 +102,8 @@ struct Technician {
     acq::PlantDecision d;
     if (s.what == PlantWhat::Point && s.part == 1 && s.index <= static_cast<int>(plant.nodes.size())) {
       // Where the node hangs first: a branch begins (from a node of the stem), or ends.
-      const m::NodeLink where = m::plantTopology(plant.nodes, "truth")[static_cast<std::size_t>(s.index - 1)];
-      const m::NodeLink now = engine.link(s.index);
-      if (where.relation == '+' && (now.relation != '+' || now.parent != where.parent)) {
-        d = branch(where.parent);
-        if (d.kind == Kind::Rejected) return why && (*why = d.reason, false);
-      } else if (where.relation == '<' && now.order > 1 && where.order == 1) {
-        d = end();
+      if (const auto place = acq::plantPlacementTruth(plant, s.index, engine.link(s.index))) {
+        d = place->relation == '+' ? branch(place->parent) : end();
         if (d.kind == Kind::Rejected) return why && (*why = d.reason, false);
       }
       const acq::LeafChoice wanted = acq::plantChoiceTruth(plant, s.index);

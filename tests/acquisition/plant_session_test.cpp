@@ -55,11 +55,8 @@ class PlantSession : public ::testing::Test {
     const acq::PlantStep st = e.step();
     if (st.what == PlantWhat::Point && st.part == 1 && st.index <= static_cast<int>(plant_.nodes.size())) {
       // Where the node hangs: a branch begins from a stem node, or ends (back on the stem).
-      const m::NodeLink where = m::plantTopology(plant_.nodes, "truth")[static_cast<std::size_t>(st.index - 1)];
-      const m::NodeLink now = e.link(st.index);
-      if (where.relation == '+' && (now.relation != '+' || now.parent != where.parent))
-        return s.branch(where.parent, t_);
-      if (where.relation == '<' && where.order == 1 && now.order > 1) return s.end(t_);
+      if (const auto place = acq::plantPlacementTruth(plant_, st.index, e.link(st.index)))
+        return place->relation == '+' ? s.branch(place->parent, t_) : s.end(t_);
       const acq::LeafChoice want = acq::plantChoiceTruth(plant_, st.index);
       if (!(e.choiceFor(st.index) == want)) return s.chooseLeaf(st.index, want, t_);
     }

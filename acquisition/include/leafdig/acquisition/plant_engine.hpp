@@ -242,7 +242,6 @@ class PlantEngine {
   [[nodiscard]] const model::ProtocolEntity* leafEntity(int order = 1) const;
   [[nodiscard]] const model::ProtocolEntity& axisOf(int node) const;
   [[nodiscard]] const model::ProtocolEntity* leafEntityOf(int node) const;
-  [[nodiscard]] std::vector<model::NodeLink> links(int upTo) const;
   [[nodiscard]] int mainLast() const;  // the main stem's last node held, 0 for none
   void relink();                       // placedLinks_ from places_
 

@@ -26,6 +26,11 @@ namespace leafdig::acquisition {
 [[nodiscard]] double plantReadingTruth(const model::PlantMarkers& plant, const PlantStep& step);
 // How node's leaf is taken in the document (none, with its state, for a node without a leaf).
 [[nodiscard]] LeafChoice plantChoiceTruth(const model::PlantMarkers& plant, int node);
+// What the technician says before node `node`'s first point so that it hangs as the plant says,
+// given where it hangs now: a branch from a stem node (relation '+', the parent), the end of a
+// branch (relation '<': back on the stem), or nothing.
+[[nodiscard]] std::optional<NodePlace> plantPlacementTruth(const model::PlantMarkers& plant, int node,
+                                                           const model::NodeLink& now);
 // node's full leaf (null when the node's leaf is not full).
 [[nodiscard]] const model::MarkerSet* plantLeafTruth(const model::PlantMarkers& plant, int node);
 
