@@ -38,7 +38,8 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
       // …and knows its margin, as a technician declares it in the set-up.
       if (!setup.serration) setup.serration = setup.simulatedLeaf->leaf.serration;
       if (!setup.toothDepthMm) setup.toothDepthMm = setup.simulatedLeaf->leaf.toothDepthMm;
-      setup.digitizer = "fastrak:simulated";
+      // A reference receiver is kept with the session: a resumed capture goes on in its frame.
+      setup.digitizer = request.simulation.referenceReceiver ? "fastrak:simulated,reference=2" : "fastrak:simulated";
       setup.caliper = "sylvac:simulated";
       setup.timeScale = request.simulation.speed;
     } else {
@@ -104,6 +105,18 @@ void CaptureRun::prepareSimulation(const RunRequest& request) {
   }
   SimulationOptions so = request.simulation;
   so.speed = timeScale_;
+  // The session's own: with a reference receiver (fixed to the leaf's board) or without; the
+  // board turns about the leaf's middle.
+  so.referenceReceiver = parseDigitizerSpec(setup_.digitizer).referenceStation > 0;
+  Eigen::Vector3d middle = leaf.tipMm;
+  int n = 1;
+  for (const auto& row : leaf.rows)
+    for (const auto& p : row.pointsMm) {
+      middle += p;
+      ++n;
+    }
+  middle /= n;
+  so.potCentreMm = {middle.x(), middle.y(), middle.z()};
   rig_ = std::make_unique<SimulatedRig>(so);
   operator_ = std::make_unique<VirtualOperator>(*rig_, std::move(leaf), so);
 }

@@ -31,6 +31,19 @@ dev::DigitizerConfig parseDigitizerSpec(const std::string& spec) {
     throw std::invalid_argument("--digitizer " + kind + " needs a port: " + kind +
                                 ":/dev/ttyUSB0 ('leafdig devices list')");
   c.port = port;
+  // ",reference=N": receiver N is a reference receiver fixed to the pot or the board.
+  if (const std::size_t comma = port.rfind(",reference="); comma != std::string::npos) {
+    c.port = port.substr(0, comma);
+    const std::string n = port.substr(comma + 11);
+    if (n.size() != 1 || n[0] < '2' || n[0] > '9' || c.port.empty())
+      throw std::invalid_argument("--digitizer " + spec + ": the reference receiver is a number from 2 (" + kind +
+                                  ":/dev/ttyUSB0,reference=2); the stylus is receiver 1");
+    if (c.kind == dev::DigitizerKind::MicroScribe)
+      throw std::invalid_argument("--digitizer " + spec +
+                                  ": a MicroScribe arm has no receivers; a reference "
+                                  "receiver needs a FASTRAK, Patriot or Liberty");
+    c.referenceStation = n[0] - '0';
+  }
   return c;
 }
 

@@ -1,5 +1,6 @@
 #include "leafdig/acquisition/plant_simulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
@@ -45,6 +46,7 @@ class PlantTechnician {
         plant_(plant),
         speed_(options.speed),
         relocateAfter_(options.relocateSourceAfter),
+        potTurnDeg_(options.referenceReceiver ? options.potTurnDeg : 0.0),
         rng_(options.seed + 29) {}
 
   void run(PlantRunStats& stats) {
@@ -65,6 +67,7 @@ class PlantTechnician {
         points = desk_.acceptedPoints;
         version = desk_.version;
       }
+      turnPot(step);
       if (wait.due(version, rig_.hand().idle())) {
         if (relocate(step, points, stats)) continue;
         act(step, choice, link, stats);
@@ -144,12 +147,24 @@ class PlantTechnician {
     return true;
   }
 
+  // The pot turns as the technician goes up the plant: by node k of n it aims at (k-1)/(n-1)
+  // of the whole turn (SimulatedRig::aimPot moves it there smoothly).
+  void turnPot(const PlantStep& s) {
+    if (potTurnDeg_ == 0.0 || s.index <= 0) return;
+    if (s.what != PlantWhat::Point && s.what != PlantWhat::Reading && s.what != PlantWhat::QuickPoint &&
+        s.what != PlantWhat::Leaf)
+      return;
+    const int nodes = std::max<int>(2, static_cast<int>(plant_.nodes.size()));
+    rig_.aimPot(potTurnDeg_ * std::min(1.0, static_cast<double>(s.index - 1) / (nodes - 1)));
+  }
+
   SimulatedRig& rig_;
   Desk& desk_;
   PlantCaptureLoop& loop_;
   const model::PlantMarkers& plant_;
   double speed_;
   int relocateAfter_ = 0;
+  double potTurnDeg_ = 0;
   bool asked_ = false, moved_ = false;
   std::mt19937_64 rng_;
   Vec3 last_{};
@@ -157,16 +172,21 @@ class PlantTechnician {
 
 }  // namespace
 
-PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const SimulationOptions& options,
+PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const SimulationOptions& asked,
                                 const std::function<void(const PlantFeedback&, const PlantCaptureSession&)>& onFeedback,
                                 const std::atomic<bool>& stop) {
   // The engine sees device time scaled by the simulation's speed, as the leaf capture does.
-  PlantCaptureLoop loop(store, id, options.speed);
+  PlantCaptureLoop loop(store, id, asked.speed);
   const PlantCaptureSession& session = loop.session();
   if (!session.setup().simulatedPlant)
     throw SessionError("plant session " + std::to_string(id) +
                        " was not started as a simulation: it has no plant for the virtual technician");
   const model::PlantMarkers plant = *session.setup().simulatedPlant;
+  // A session begun with the reference receiver goes on with it (its points are in its frame);
+  // the pot turns about the plant's collar.
+  SimulationOptions options = asked;
+  options.referenceReceiver = parseDigitizerSpec(session.setup().digitizer).referenceStation > 0;
+  options.potCentreMm = {plant.collarMm.x(), plant.collarMm.y(), plant.collarMm.z()};
   Desk desk;
   const bool countPoints = options.relocateSourceAfter > 0;  // only a move of the transmitter waits on them
   const auto publish = [&desk, countPoints](const PlantCaptureSession& s) {

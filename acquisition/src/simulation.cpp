@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "leafdig/acquisition/truth.hpp"
+#include "leafdig/devices/pose.hpp"
 
 namespace leafdig::acquisition {
 namespace {
@@ -17,6 +18,112 @@ namespace sim = leafdig::devices::sim;
 }  // namespace
 
 // ---- simulated rig --------------------------------------------------------------------------
+namespace {
+
+constexpr double kRad = 3.14159265358979323846 / 180.0;
+
+Eigen::Vector3d vec(const Vec3& v) {
+  return {v[0], v[1], v[2]};
+}
+Vec3 arr(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
+Eigen::Matrix3d matrix(const devices::Rotation& r) {
+  Eigen::Matrix3d m;
+  m << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
+  return m;
+}
+devices::Rotation rotation(const Eigen::Matrix3d& m) {
+  return {m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)};
+}
+
+// A motion state moved rigidly: position, truth and the receiver's angles.
+void moveState(sim::StylusMotion::State& s, const Eigen::Isometry3d& pose) {
+  s.positionMm = arr(pose * vec(s.positionMm));
+  s.truthMm = arr(pose * vec(s.truthMm));
+  if (pose.linear().isIdentity(0.0)) return;  // angles exactly as the hand holds them
+  s.orientationDeg =
+      devices::eulerDegFromRotation(rotation(pose.linear() * matrix(devices::rotationFromEulerDeg(s.orientationDeg))));
+}
+
+}  // namespace
+
+// The pot's angle at emulator time t: towards the latest aim at a bounded rate, from where it
+// was when the aim changed. Both receivers ask with the same t in one output cycle, so they
+// see one pot.
+class PotTurn {
+ public:
+  explicit PotTurn(double degPerS) : rate_(degPerS) {}
+  void aim(double deg) {
+    std::lock_guard lock(mutex_);
+    aim_ = deg;
+  }
+  [[nodiscard]] double at(double t) const {
+    std::lock_guard lock(mutex_);
+    if (aim_ != target_) {
+      from_ = value(t);
+      fromT_ = t;
+      target_ = aim_;
+    }
+    return value(t);
+  }
+
+ private:
+  [[nodiscard]] double value(double t) const {
+    const double d = target_ - from_, step = rate_ * std::max(0.0, t - fromT_);
+    return std::abs(d) <= step ? target_ : from_ + std::copysign(step, d);
+  }
+  double rate_;
+  mutable std::mutex mutex_;
+  double aim_ = 0;
+  mutable double target_ = 0, from_ = 0, fromT_ = 0;
+};
+
+namespace {
+
+// A motion on the turning pot: turned about the vertical through the pot's centre.
+class OnPot final : public sim::StylusMotion {
+ public:
+  OnPot(std::shared_ptr<const sim::StylusMotion> motion, std::shared_ptr<const PotTurn> pot, const Vec3& centre)
+      : motion_(std::move(motion)), pot_(std::move(pot)), centre_(vec(centre)) {}
+  [[nodiscard]] State at(double t, std::uint64_t k) const override {
+    State s = motion_->at(t, k);
+    const Eigen::Isometry3d turn = Eigen::Translation3d(centre_) *
+                                   Eigen::AngleAxisd(pot_->at(t) * kRad, Eigen::Vector3d::UnitZ()) *
+                                   Eigen::Translation3d(-centre_);
+    moveState(s, turn);
+    return s;
+  }
+
+ private:
+  std::shared_ptr<const sim::StylusMotion> motion_;
+  std::shared_ptr<const PotTurn> pot_;
+  Eigen::Vector3d centre_;
+};
+
+// The reference receiver where it is fixed on the pot (before the pot turns): on the rim,
+// below and to one side of the stem, at an angle of its own so that every axis counts.
+class FixedReceiver final : public sim::StylusMotion {
+ public:
+  explicit FixedReceiver(const Eigen::Isometry3d& pose) {
+    state_.positionMm = state_.truthMm = arr(pose.translation());
+    state_.orientationDeg = devices::eulerDegFromRotation(rotation(pose.linear()));
+  }
+  [[nodiscard]] State at(double, std::uint64_t) const override { return state_; }
+  // Where it sits for a pot about `centre`.
+  [[nodiscard]] static Eigen::Isometry3d placeFor(const Vec3& centre) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = matrix(devices::rotationFromEulerDeg({35.0, 12.0, -8.0}));
+    pose.translation() = vec(centre) + Eigen::Vector3d(-110.0, -70.0, -40.0);
+    return pose;
+  }
+
+ private:
+  State state_;
+};
+
+}  // namespace
+
 // The hand's motion as a transmitter reports it: the first position's frame moved by a pose
 // that the virtual technician changes when it moves the transmitter.
 class TransmitterMotion final : public sim::StylusMotion {
@@ -33,12 +140,7 @@ class TransmitterMotion final : public sim::StylusMotion {
       std::lock_guard lock(mutex_);
       pose = fromFirst_;
     }
-    const auto moved = [&](const Vec3& v) {
-      const Eigen::Vector3d p = pose * Eigen::Vector3d(v[0], v[1], v[2]);
-      return Vec3{p.x(), p.y(), p.z()};
-    };
-    s.positionMm = moved(s.positionMm);
-    s.truthMm = moved(s.truthMm);
+    moveState(s, pose);
     return s;
   }
 
@@ -50,9 +152,22 @@ class TransmitterMotion final : public sim::StylusMotion {
 
 void SimulatedRig::moveTransmitter(const Eigen::Isometry3d& fromFirst) {
   transmitter_->move(fromFirst);
+  if (referenceTransmitter_) referenceTransmitter_->move(fromFirst);
 }
 
-SimulatedRig::SimulatedRig(const SimulationOptions& o) {
+void SimulatedRig::aimPot(double deg) {
+  if (pot_) pot_->aim(deg);
+}
+
+Vec3 SimulatedRig::toStation(const Vec3& truthMm) const {
+  return reference_ ? arr(receiver_.inverse() * vec(truthMm)) : truthMm;
+}
+
+Vec3 SimulatedRig::fromStation(const Vec3& stationMm) const {
+  return reference_ ? arr(receiver_ * vec(stationMm)) : stationMm;
+}
+
+SimulatedRig::SimulatedRig(const SimulationOptions& o) : reference_(o.referenceReceiver) {
   sim::StylusOptions so;
   so.seed = o.seed;
   so.sigmaMm = o.stylusNoiseMm;
@@ -62,13 +177,23 @@ SimulatedRig::SimulatedRig(const SimulationOptions& o) {
   caliper_ = std::make_shared<sim::VirtualCaliper>(std::vector<double>{1.0}, co);
   const std::string tag = std::to_string(::getpid()) + "-" + std::to_string(o.seed);
   sim::EmulatorOptions d;
-  d.rateHz = std::min(120.0 * o.speed, 960.0);
+  // Two receivers share the FASTRAK's 120 Hz: each reports at half of it.
+  d.rateHz = std::min(120.0 * o.speed, 960.0) / (reference_ ? 2.0 : 1.0);
   digitizerRateHz_ = d.rateHz;
   d.linkPath = o.linkDir + "/leafdig-sim-fastrak-" + tag;
   d.faults = sim::FaultPlan::parse(o.digitizerFaults);
   d.faults.seed = o.seed;
-  transmitter_ = std::make_shared<TransmitterMotion>(std::shared_ptr<const sim::StylusMotion>(hand_));
-  digitizer_ = sim::makeFastrak(std::shared_ptr<const sim::StylusMotion>(transmitter_), d);
+  std::shared_ptr<const sim::StylusMotion> stylus = hand_, reference;
+  if (reference_) {
+    pot_ = std::make_shared<PotTurn>(3.0 * o.speed);
+    stylus = std::make_shared<OnPot>(stylus, pot_, o.potCentreMm);
+    receiver_ = FixedReceiver::placeFor(o.potCentreMm);
+    referenceTransmitter_ = std::make_shared<TransmitterMotion>(
+        std::make_shared<OnPot>(std::make_shared<FixedReceiver>(receiver_), pot_, o.potCentreMm));
+    reference = referenceTransmitter_;
+  }
+  transmitter_ = std::make_shared<TransmitterMotion>(stylus);
+  digitizer_ = sim::makeFastrak(std::shared_ptr<const sim::StylusMotion>(transmitter_), d, reference);
   sim::EmulatorOptions g;
   g.linkPath = o.linkDir + "/leafdig-sim-sylvac-" + tag;
   g.faults = sim::FaultPlan::parse(o.caliperFaults);
@@ -84,7 +209,7 @@ SimulatedRig::~SimulatedRig() {
 }
 
 std::string SimulatedRig::digitizerSpec() const {
-  return "fastrak:" + digitizer_->path();
+  return "fastrak:" + digitizer_->path() + (reference_ ? ",reference=2" : "");
 }
 std::string SimulatedRig::caliperSpec() const {
   return "sylvac:" + gauge_->path();
@@ -148,16 +273,21 @@ void VirtualOperator::act(const Snapshot& s) {
   if (!s.items.empty()) {
     const Item& last = s.items.back();
     const bool wrong = isStylusItem(last.what)
-                           ? distanceMm(last.positionMm, truth(last.what, last.row, last.col)) > 5.0
+                           ? distanceMm(last.positionMm, rig_.toStation(truth(last.what, last.row, last.col))) > 5.0
                            : std::abs(last.valueMm - truthThickness(last.what, last.row, last.col)) > 0.1;
     if (wrong && !s.retaking) {
-      press(last.positionMm, 3.4, 0.3, 0.2);  // a very long press: undo
+      press(rig_.fromStation(last.positionMm), 3.4, 0.3, 0.2);  // a very long press: undo
       std::lock_guard lock(mutex_);
       ++stats_.wrongPointsUndone;
       return;
     }
   }
   const Step st = s.step;
+  // A board on a turntable under a reference receiver: it turns as the rows go by.
+  if (options_.referenceReceiver && options_.potTurnDeg != 0.0 && st.what == What::Marker) {
+    const int rows = std::max<int>(2, static_cast<int>(leaf_.rows.size()));
+    rig_.aimPot(options_.potTurnDeg * std::min(1.0, static_cast<double>(st.row - 1) / (rows - 1)));
+  }
   if (isStylusItem(st.what)) {
     if (st.what == What::Marker && st.row > static_cast<int>(leaf_.rows.size())) {
       press(truth(What::Marker, st.row - 1, 4), 1.7, 0.3, 0.3);  // a long press ends the rows

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -20,6 +21,8 @@
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/acquisition/truth.hpp"
+#include "leafdig/devices/links/reference.hpp"
+#include "leafdig/devices/pose.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/study/synthetic_plant.hpp"
 
@@ -134,6 +137,43 @@ void BM_PressToSnapshot(benchmark::State& state) {
   state.counters["points_in_last_snapshot"] = static_cast<double>(points);
 }
 BENCHMARK(BM_PressToSnapshot)->Iterations(240)->Unit(benchmark::kMillisecond);
+
+// The reference receiver's cost per stylus sample (issue 29): pairing a stylus record with its
+// cycle's reference record and taking it into the reference's frame, on the driver's thread,
+// for 2 000 cycles of a pot turning 30°. Reported per stylus sample, to set beside the record
+// period (1/60 s with two FASTRAK receivers) and the press → snapshot p99 above.
+void BM_ReferenceFramePerSample(benchmark::State& state) {
+  constexpr int kCycles = 2000;
+  constexpr double kRad = 3.14159265358979323846 / 180.0;
+  std::vector<leafdig::devices::StylusSample> records;
+  for (int i = 0; i < kCycles; ++i) {
+    const double a = 30.0 * i / kCycles * kRad;
+    leafdig::devices::StylusSample stylus, reference;
+    stylus.station = 1;
+    stylus.positionMm = {150.0 * std::cos(a), 150.0 * std::sin(a), 40.0};
+    stylus.orientationDeg = leafdig::devices::Vec3{10, -45, 0};
+    stylus.raw = "01   12.30  45.60   7.80  10.00 -45.00   0.00 0\r\n";
+    reference.station = 2;
+    reference.positionMm = {-110.0 * std::cos(a), -110.0 * std::sin(a), -40.0};
+    reference.orientationDeg = leafdig::devices::Vec3{35.0 + 30.0 * i / kCycles, 12, -8};
+    reference.raw = stylus.raw;
+    records.push_back(stylus);
+    records.push_back(reference);
+  }
+  std::vector<leafdig::devices::StylusSample> out;
+  out.reserve(kCycles);
+  for (auto _ : state) {
+    leafdig::devices::ReferenceFrame frame;
+    out.clear();
+    for (const auto& r : records) frame.push(r, out);
+    if (out.size() != kCycles) state.SkipWithError("a stylus sample was not delivered");
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kCycles);
+  state.counters["time_per_stylus_sample"] = benchmark::Counter(
+      static_cast<double>(kCycles), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ReferenceFramePerSample)->Unit(benchmark::kMicrosecond);
 
 // A plant digitized where it stands (issue 28's target: a 20-node plant, press → committed →
 // plant preview updated, p99 within one frame of 16.7 ms): a synthetic plant of

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -324,6 +325,47 @@ TEST_F(CaptureCli, PressesAreTimedByTheDevicesClockWhenItsRecordsArriveInDelayed
   EXPECT_EQ(shown.at("status"), "complete");
   EXPECT_EQ(shown.at("markers").size(), 70u) << "all 10 rows";
   expectAllAcknowledgedStored(acknowledged(lines), shown);
+}
+
+// A leaf on a board that turns 30° while its rows are taken, with a reference receiver fixed to
+// the board (issue 29): every marker is where it is on the leaf — the distance between any two
+// markers of neighbouring rows is the file's, within the stylus' noise — while the turn moved
+// the leaf's far markers by centimetres under the transmitter.
+TEST_F(CaptureCli, ALeafOnATurningBoardUnderAReferenceReceiverKeepsItsShape) {
+  const fs::path db = dir_ / "station.sqlite";
+  const std::string file = sample("lower-leaf-n10.markers.json");
+  const Result r = leafdig("capture --simulate --speed 10 --seed 2 --reference-receiver --pot-turn 30 --json --db " +
+                           quote(db) + " --markers " + quote(file) + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  expectAllAcknowledgedStored(acknowledged(jsonLines(r.out)), show(db, 1));
+  ASSERT_EQ(leafdig("sessions export 1 --format markers --out " + quote(dir_) + " --db " + quote(db)).exitCode, 0);
+  const json got = json::parse(slurp(dir_ / "session-1.markers.json"));
+  const json want = json::parse(slurp(file));
+  ASSERT_EQ(got.at("rows").size(), want.at("rows").size());
+  const auto point = [](const json& rows, std::size_t row, std::size_t col) {
+    const json& p = rows[row]["points"][col];
+    return std::array<double, 3>{p[0].get<double>(), p[1].get<double>(), p[2].get<double>()};
+  };
+  const auto distance = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+  };
+  double worst = 0;
+  int pairs = 0;
+  for (std::size_t row = 0; row + 1 < got["rows"].size(); ++row)
+    for (std::size_t a = 0; a < 7; ++a)
+      for (std::size_t b = 0; b < 7; ++b) {
+        const double d = distance(point(got["rows"], row, a), point(got["rows"], row + 1, b)) -
+                         distance(point(want["rows"], row, a), point(want["rows"], row + 1, b));
+        worst = std::max(worst, std::abs(d));
+        ++pairs;
+      }
+  EXPECT_EQ(pairs, 9 * 49);
+  EXPECT_LT(worst, 1.5) << "a marker moved on the leaf";
+  // The pot turns only under a reference receiver, and only in a simulation.
+  const Result alone = leafdig("capture --simulate --pot-turn 30 --db " + quote(dir_ / "other.sqlite") + " </dev/null");
+  EXPECT_EQ(alone.exitCode, 2);
+  EXPECT_NE(alone.err.find("goes with --simulate --reference-receiver"), std::string::npos) << alone.err;
+  EXPECT_FALSE(fs::exists(dir_ / "other.sqlite"));
 }
 
 TEST_F(CaptureCli, FullModeInterleavedAndSmallModeCaptureTheirOwnReadings) {

@@ -853,6 +853,32 @@ TEST_F(PlantCli, ABranchedPlantIsCapturedAndExportedWithItsBranchWhereItGrows) {
   EXPECT_FALSE(fs::exists(dir_ / "all" / ("session-" + std::to_string(id) + ".plant.json")));
 }
 
+std::string samplePlantMeasure() {
+  return "plant measure " + quote(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json") +
+         " --json";
+}
+
+// The survey of a captured sample plant against the file's own (plant measure): every node within
+// the digitizer's noise, every leaf's azimuth and inclination within 2°.
+// `want`: `plant measure` of the sample's file (samplePlantMeasure()).
+void expectTheSamplePlant(const json& got, const json& want) {
+  ASSERT_EQ(got.at("nodes").size(), want.at("nodes").size());
+  for (std::size_t k = 0; k < got.at("nodes").size(); ++k)
+    for (std::size_t c = 0; c < 3; ++c)
+      EXPECT_NEAR(got["nodes"][k]["point_mm"][c].get<double>(), want["nodes"][k]["point_mm"][c].get<double>(), 1.5)
+          << "node " << k + 1;
+  ASSERT_EQ(got.at("leaves").size(), want.at("leaves").size());
+  for (std::size_t k = 0; k < got.at("leaves").size(); ++k) {
+    if (want["leaves"][k]["azimuth_deg"].is_null()) continue;
+    const double da = std::remainder(
+        got["leaves"][k]["azimuth_deg"].get<double>() - want["leaves"][k]["azimuth_deg"].get<double>(), 360.0);
+    EXPECT_LT(std::abs(da), 2.0) << "leaf " << k;
+    EXPECT_NEAR(got["leaves"][k]["inclination_deg"].get<double>(), want["leaves"][k]["inclination_deg"].get<double>(),
+                2.0)
+        << "leaf " << k;
+  }
+}
+
 // The transmitter moved mid-capture (issue 29): after 30 accepted points the virtual
 // technician says "move", the simulated transmitter goes to a random pose and the landmarks are
 // taken again; the fit is committed, and the plant comes out where the same plant without the
@@ -880,32 +906,60 @@ TEST_F(PlantCli, AMovedTransmitterIsFittedFromTheLandmarksAndThePlantComesOutThe
                     " --format json")
                 .exitCode,
             0);
-  const json got = json::parse(slurp(out / ("session-" + std::to_string(id) + ".survey.json")));
-  const json want =
-      json::parse(leafdig("plant measure " +
-                          quote(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json") + " --json")
-                      .out);
-  ASSERT_EQ(got.at("nodes").size(), want.at("nodes").size());
-  for (std::size_t k = 0; k < got.at("nodes").size(); ++k)
-    for (std::size_t c = 0; c < 3; ++c)
-      EXPECT_NEAR(got["nodes"][k]["point_mm"][c].get<double>(), want["nodes"][k]["point_mm"][c].get<double>(), 1.5)
-          << "node " << k + 1;
-  ASSERT_EQ(got.at("leaves").size(), want.at("leaves").size());
-  for (std::size_t k = 0; k < got.at("leaves").size(); ++k) {
-    if (want["leaves"][k]["azimuth_deg"].is_null()) continue;
-    const double da = std::remainder(
-        got["leaves"][k]["azimuth_deg"].get<double>() - want["leaves"][k]["azimuth_deg"].get<double>(), 360.0);
-    EXPECT_LT(std::abs(da), 2.0) << "leaf " << k;
-    EXPECT_NEAR(got["leaves"][k]["inclination_deg"].get<double>(), want["leaves"][k]["inclination_deg"].get<double>(),
-                2.0)
-        << "leaf " << k;
-  }
+  expectTheSamplePlant(json::parse(slurp(out / ("session-" + std::to_string(id) + ".survey.json"))),
+                       json::parse(leafdig(samplePlantMeasure()).out));
   // With devices the technician types "move": the option is the simulation's.
   const Result real =
       leafdig("plant capture --db " + quote(db) +
               " --digitizer fastrak:/dev/null --caliper sylvac:/dev/null --plant p --relocate-source-after 3");
   EXPECT_EQ(real.exitCode, 2);
   EXPECT_NE(real.err.find("goes with --simulate"), std::string::npos) << real.err;
+}
+
+// The pot turned 30° during the capture with a reference receiver on it (issue 29): the simulated
+// FASTRAK reports two receivers, the driver takes every stylus sample into the reference's frame,
+// and the plant comes out as the file says — the same as a capture on a still pot. The stored
+// raw records show both receivers and the turn (the reference's azimuth 35° at the start, 65° at
+// the last node).
+TEST_F(PlantCli, APotTurnedThirtyDegreesUnderAReferenceReceiverChangesNothing) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("plant capture --simulate --db " + quote(db) +
+                           " --speed 20 --seed 5 --json --reference-receiver --pot-turn 30");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::int64_t id = jsonLines(r.out).front().at("session");
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(out) +
+                    " --format json,mtg")
+                .exitCode,
+            0);
+  const std::string base = (out / ("session-" + std::to_string(id))).string();
+  expectTheSamplePlant(json::parse(slurp(base + ".survey.json")), json::parse(leafdig(samplePlantMeasure()).out));
+  (void)leafdig::test::readMtgStrictly(slurp(base + ".mtg"));
+  // The raw records of the first and the last stylus point: receiver 1 then receiver 2, whose
+  // azimuth (the 2nd angle column after x, y, z) went from 35° to 65° with the pot.
+  const auto rawOf = [&](const char* order) {
+    return run("python3 -c \"import sqlite3,sys; c=sqlite3.connect(sys.argv[1]); print(c.execute(\\\"select raw from "
+               "events where kind='accepted' and payload_json like '%position_mm%' order by seq " +
+               std::string(order) + " limit 1\\\").fetchone()[0])\" " + quote(db))
+        .out;
+  };
+  const auto azimuthOfReference = [](const std::string& raw) {
+    const std::size_t at = raw.find("\n02");
+    EXPECT_NE(at, std::string::npos) << raw;
+    return at == std::string::npos ? 0.0 : std::stod(raw.substr(at + 1 + 3 + 21, 7));
+  };
+  const std::string first = rawOf("asc"), last = rawOf("desc");
+  EXPECT_EQ(first.rfind("01", 0), 0U) << first;
+  EXPECT_NEAR(azimuthOfReference(first), 35.0, 0.05);
+  EXPECT_NEAR(azimuthOfReference(last), 65.0, 0.05);
+  // The pot turns only under a reference receiver, and only in a simulation.
+  const Result alone = leafdig("plant capture --simulate --db " + quote(db) + " --pot-turn 30");
+  EXPECT_EQ(alone.exitCode, 2);
+  EXPECT_NE(alone.err.find("goes with --simulate --reference-receiver"), std::string::npos) << alone.err;
+  const Result bad = leafdig("plant capture --db " + quote(db) +
+                             " --digitizer fastrak:/dev/null,reference=1 --caliper sylvac:/dev/null --plant p");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("the reference receiver is a number from 2"), std::string::npos) << bad.err;
 }
 
 TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlantBuildTakes) {

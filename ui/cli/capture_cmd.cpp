@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -189,7 +190,11 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   } else {
     s.digitizer = o.digitizer;
     s.caliper = o.caliper;
+    if (o.referenceReceiver && !s.digitizer.empty() && s.digitizer.find(",reference=") == std::string::npos)
+      s.digitizer += ",reference=2";
   }
+  r.simulation.referenceReceiver = o.referenceReceiver;
+  r.simulation.potTurnDeg = o.potTurnDeg;
   r.simulation.speed = o.speed.value_or(1.0);
   r.speed = o.speed;
   r.simulation.seed = o.seed;
@@ -294,6 +299,12 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
   if (!o.simulate && !resumeId && (o.digitizer.empty() || o.caliper.empty()))
     throw std::invalid_argument(
         "capture needs --digitizer KIND:PORT and --caliper KIND:PORT (or --simulate): see 'leafdig devices list'");
+  if (o.potTurnDeg != 0.0 && !(o.simulate && o.referenceReceiver))
+    throw std::invalid_argument(
+        "--pot-turn turns the simulated board with the reference receiver on it: it goes with --simulate "
+        "--reference-receiver (without one, a turning board moves the leaf under the stylus)");
+  if (!(std::abs(o.potTurnDeg) <= 360.0))
+    throw std::invalid_argument("--pot-turn must be between -360 and 360 degrees");
   installSignalHandlers();
   const RunResult r = runSession(requestFrom(o, resumeId), o, false, [&](std::int64_t id) {
     if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
@@ -768,6 +779,12 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
       ->check(CLI::IsMember({"sequential", "interleaved"}));
   capture->add_option("--operator", o.operatorName, "Who captures");
   capture->add_flag("--board", o.board, "Start with a 3-point board frame (origin, +X, +Y)");
+  capture->add_flag("--reference-receiver", o.referenceReceiver,
+                    "Receiver 2 is fixed to the leaf's board: every stylus sample is taken in its frame (devices: the "
+                    "digitizer spec's ,reference=2; simulation: the simulated FASTRAK's second receiver)");
+  capture->add_option("--pot-turn", o.potTurnDeg,
+                      "Simulation with --reference-receiver: the board turns by DEG degrees, smoothly, as the rows "
+                      "are taken");
 
   CLI::App* sessions = app.add_subcommand("sessions", "List, inspect, verify, resume, review and export sessions");
   sessions->require_subcommand(1);

@@ -21,6 +21,8 @@ struct CaptureOptions {
   std::string serration;               // the leaf's declared margin teeth ("" : not declared)
   std::optional<double> toothDepthMm;  // their depth
   bool board = false;
+  bool referenceReceiver = false;  // receiver 2 on the leaf's board: the digitizer spec's ",reference=2"
+  double potTurnDeg = 0;           // simulation: the board turns by this under the reference receiver
   // simulation
   bool simulate = false, noMistakes = false;
   std::string markers, faults, caliperFaults;

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -48,6 +49,8 @@ struct PlantCaptureOptions {
   std::string digitizer, caliper, plant;  // real devices
   double stylusNoiseMm = 0.3, speed = 1.0;
   int relocateSourceAfter = 0;
+  bool referenceReceiver = false;
+  double potTurnDeg = 0;
   std::uint64_t seed = 1;
   std::int64_t resume = 0;
   bool json = false;
@@ -246,11 +249,20 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
         "'move' when you move the transmitter)");
+  if (o.potTurnDeg != 0.0 && !(o.simulate && o.referenceReceiver))
+    throw std::invalid_argument(
+        "--pot-turn turns the simulated pot with the reference receiver on it: it goes with --simulate "
+        "--reference-receiver (without one, a turning pot moves the plant under the stylus)");
+  if (!(std::abs(o.potTurnDeg) <= 360.0))
+    throw std::invalid_argument("--pot-turn must be between -360 and 360 degrees");
   if (!(o.stylusNoiseMm >= 0.0 && o.stylusNoiseMm <= 20.0))
     throw std::invalid_argument("the stylus noise must be between 0 and 20 mm");
   std::int64_t id = o.resume;
   std::unique_ptr<db::Store> store;
   std::string digitizer = o.digitizer, caliper = o.caliper;
+  // With devices, --reference-receiver is the spec's ",reference=2" (receiver 2 on the pot).
+  if (o.referenceReceiver && !digitizer.empty() && digitizer.find(",reference=") == std::string::npos)
+    digitizer += ",reference=2";
   // A new session: what the operator typed, read before the store is touched.
   const auto createSession = [&](acq::PlantSessionSetup setup) {
     setup.project = o.project;
@@ -267,7 +279,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   if (real) {
     acq::PlantSessionSetup setup;
     setup.plant = o.plant;
-    setup.digitizer = o.digitizer;
+    setup.digitizer = digitizer;
     setup.caliper = o.caliper;
     createSession(std::move(setup));
   } else if (id == 0) {
@@ -276,7 +288,9 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     const std::string data =
         samples.empty() ? leafdig::sourceDataDir() : std::filesystem::path(samples).parent_path().string();
     const std::string file = o.plantMarkers.empty() ? data + "/plants/sample.plant-markers.json" : o.plantMarkers;
-    createSession(acq::simulatedPlantSetup(m::readPlantMarkersFile(file)));
+    acq::PlantSessionSetup setup = acq::simulatedPlantSetup(m::readPlantMarkersFile(file));
+    if (o.referenceReceiver) setup.digitizer += ",reference=2";  // kept: a resumed capture goes on with it
+    createSession(std::move(setup));
   } else {
     store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
     // A session taken with devices goes on with them (the ports given now, else the recorded ones).
@@ -322,6 +336,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   sim.seed = o.seed;
   sim.stylusNoiseMm = o.stylusNoiseMm;
   sim.relocateSourceAfter = o.relocateSourceAfter;
+  sim.potTurnDeg = o.potTurnDeg;  // the reference receiver: as the session was begun
   sim.mistakes = false;
   const acq::PlantRunStats stats = simulatePlant(
       *store, id, sim,
@@ -444,6 +459,14 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
                    "Simulation: after N accepted points the transmitter moves to a new random pose (seeded) and "
                    "the landmarks are taken again (0: never)")
       ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  capture->add_flag("--reference-receiver", o->referenceReceiver,
+                    "Receiver 2 is fixed to the pot: every stylus sample is taken in its frame (devices: the "
+                    "digitizer spec's ,reference=2; simulation: the simulated FASTRAK's second receiver)");
+  capture
+      ->add_option("--pot-turn", o->potTurnDeg,
+                   "Simulation with --reference-receiver: the pot turns by DEG degrees about the vertical, smoothly, "
+                   "as the technician goes up the plant")
       ->capture_default_str();
   capture->add_option("--speed", o->speed, "Simulation speed (1 = real time, up to 50)")->capture_default_str();
   capture->add_option("--resume", o->resume, "Go on with an interrupted plant session");

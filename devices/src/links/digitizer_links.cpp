@@ -10,6 +10,7 @@
 #include "leafdig/devices/codecs/polhemus.hpp"
 #include "leafdig/devices/codecs/record_clock.hpp"
 #include "leafdig/devices/links/links.hpp"
+#include "leafdig/devices/links/reference.hpp"
 #include "leafdig/names/name_table.hpp"
 #include "links/serial_link.hpp"
 
@@ -59,7 +60,10 @@ const char* bitRemedy(char c) {
 class SerialDigitizer : public DeviceLink {
  public:
   explicit SerialDigitizer(DigitizerConfig c) : cfg_(std::move(c)), open_(detail::orDefault(cfg_.openPort)) {}
-  [[nodiscard]] std::string where() const override { return cfg_.port; }
+  [[nodiscard]] std::string where() const override {
+    return cfg_.referenceStation > 0 ? cfg_.port + " (reference receiver " + std::to_string(cfg_.referenceStation) + ")"
+                                     : cfg_.port;
+  }
   void close() noexcept override {
     if (port_) {
       try {
@@ -72,12 +76,14 @@ class SerialDigitizer : public DeviceLink {
   // A bad status stays reported for a second after the last record that carried it, so the
   // operator sees a steady warning rather than a flicker.
   [[nodiscard]] std::string warning() const override {
+    if (reference_ && !reference_->problem().empty()) return reference_->problem();
     if (!badStatus_.empty() && Clock::now() - badStatusAt_ < std::chrono::seconds(1))
       return name() + " status '" + badStatus_ +
              "': " + (badStatus_.size() == 1 ? bitMeaning(badStatus_[0]) : "device warning");
     return baudNote_;
   }
   [[nodiscard]] std::string warningRemedy() const override {
+    if (reference_ && !reference_->problem().empty()) return reference_->remedy();
     if (!badStatus_.empty() && Clock::now() - badStatusAt_ < std::chrono::seconds(1))
       return badStatus_.size() == 1 ? bitRemedy(badStatus_[0]) : bitRemedy('?');
     return baudNote_.empty() ? std::string() : "set the rate in the station's settings or with --baud";
@@ -125,9 +131,36 @@ class SerialDigitizer : public DeviceLink {
       s.t = t;
       // A streaming device's records by their count, per receiver (issue 26).
       if (recordPeriodS_) s.deviceTime = clocks_.try_emplace(s.station, *recordPeriodS_).first->second.stamp(t);
-      out.emplace_back(std::move(s));
+      if (!reference_) {
+        out.emplace_back(std::move(s));
+        continue;
+      }
+      paired_.clear();
+      reference_->push(s, paired_);
+      for (auto& p : paired_) out.emplace_back(std::move(p));
     }
     noteStatus(out, from);
+  }
+
+  // With a reference receiver (cfg_.referenceStation): checks its number against the tracker's
+  // receivers and starts pairing afresh; returns the number of stations to accept.
+  int useReference(const char* model, int stations) {
+    if (cfg_.referenceStation == 0) {
+      reference_.reset();
+      return 1;
+    }
+    if (cfg_.referenceStation < 2 || cfg_.referenceStation > stations)
+      throw DeviceError(DeviceErrorKind::Config,
+                        std::string("a ") + model + " has no reference receiver " +
+                            std::to_string(cfg_.referenceStation) + " (the stylus is receiver 1; receivers 2-" +
+                            std::to_string(stations) + " can be the reference)",
+                        "plug the reference receiver into socket 2 and say reference=2");
+    ReferenceOptions o;
+    o.referenceStation = cfg_.referenceStation;
+    o.jumpMm = cfg_.referenceJumpMm;
+    o.jumpDeg = cfg_.referenceJumpDeg;
+    reference_.emplace(o);
+    return cfg_.referenceStation;
   }
 
   // Streaming links time their records by count at this period (a new count on every open).
@@ -143,7 +176,8 @@ class SerialDigitizer : public DeviceLink {
   std::map<int, RecordClock> clocks_;
   std::string badStatus_, baudNote_;
   Clock::time_point badStatusAt_{};
-  std::vector<StylusSample> samples_;
+  std::vector<StylusSample> samples_, paired_;
+  std::optional<ReferenceFrame> reference_;
 };
 
 // ---- FASTRAK ------------------------------------------------------------------------------
@@ -168,9 +202,14 @@ class FastrakLink final : public SerialDigitizer {
     f.items = {2, 4, 16, 1};
     f.binary = cfg_.binary;
     f.centimetres = true;
+    f.stations = useReference("FASTRAK", 4);
     send("e1,0\r");  // mouse mode: the button is reported in item 16, the stream never stops
     send("u");       // centimetres
     send(fastrak::outputListCommand(f));
+    if (reference_) {  // the reference receiver on, with the same list (its angles: item 4)
+      send("l" + std::to_string(f.stations) + ",1\r");
+      send(fastrak::outputListCommand(f, f.stations));
+    }
     if (!cfg_.hemisphere.empty()) send("H1," + cfg_.hemisphere + "\r");
     send(f.binary ? "f" : "F");
     send("S");
@@ -186,7 +225,8 @@ class FastrakLink final : public SerialDigitizer {
                         "power-cycle the FASTRAK; if it persists, its firmware may not support these commands");
     dec_ = fastrak::DecoderState{};
     dec_.format = f;
-    streamAt(120.0);  // continuous output: 120 records a second for one receiver
+    // Continuous output: 120 records a second for one receiver, shared by the active ones.
+    streamAt(reference_ ? 60.0 : 120.0);
     send("C");
   }
   void pump(std::chrono::milliseconds timeout, std::vector<DeviceEvent>& out) override {
@@ -237,6 +277,7 @@ class PolhemusLink final : public SerialDigitizer {
     f.centimetres = true;
     f.items = {2, 5, 10, 1};
     f.stations = model_ == polhemus::Model::Patriot ? 2 : 16;
+    (void)useReference(me.c_str(), f.stations);  // every sensor reports at the tracker's rate
     send("U1\r");
     send(f.binary ? "F1\r" : "F0\r");
     send(polhemus::outputListCommand(f));

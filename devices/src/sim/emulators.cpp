@@ -1,5 +1,7 @@
 // Device emulators: FASTRAK, Patriot, Liberty, MicroScribe, Sylvac, Mitutoyo ASCII; the
 // keyboard-wedge gauge and the USB-ITN vendor mode.
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <stdexcept>
 #include <thread>
@@ -9,6 +11,7 @@
 #include "leafdig/devices/codecs/microscribe.hpp"
 #include "leafdig/devices/codecs/polhemus.hpp"
 #include "leafdig/devices/errors.hpp"
+#include "leafdig/devices/pose.hpp"
 #include "leafdig/devices/sim/sim.hpp"
 
 namespace leafdig::devices::sim {
@@ -41,22 +44,28 @@ StylusSample sampleFrom(const StylusMotion::State& st, char status) {
 }
 
 // ---- FASTRAK ------------------------------------------------------------------------------
+// Receiver 1 is the stylus; with a reference motion a second receiver is plugged into socket 2
+// (issue 29). Each active receiver has its own output list ('O<st>,…'); one output cycle sends
+// the active receivers' records in number order, and the 120 Hz update rate is shared by them.
 class FastrakEmulator final : public Emulator {
  public:
-  FastrakEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o)
-      : Emulator(std::move(o)), stylus_(std::move(stylus)) {}
+  FastrakEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o,
+                  std::shared_ptr<const StylusMotion> reference)
+      : Emulator(std::move(o)), stylus_(std::move(stylus)), reference_(std::move(reference)) {}
   ~FastrakEmulator() override { stop(); }
   std::string kind() const override { return "fastrak"; }
 
  protected:
   void powerOn() override {
     format_ = fastrak::Format{};  // inches, ASCII, list 2,4,1
+    items_.fill(format_.items);
+    active_ = {false, true, reference_ != nullptr, false, false};  // receivers found at power-up
     continuous_ = false;
     buttonMode_ = 1;
     cmd_.clear();
     lastButton_ = false;
   }
-  double nativeRateHz() const override { return 120.0; }
+  double nativeRateHz() const override { return reference_ ? 60.0 : 120.0; }
   bool streaming() const override { return continuous_ || (buttonMode_ == 1 && !bursting()); }
   void onInput(const std::string& bytes) override {
     for (char c : bytes) {
@@ -72,7 +81,7 @@ class FastrakEmulator final : public Emulator {
       switch (c) {
         case 'c': continuous_ = false; break;
         case 'C': continuous_ = true; break;
-        case 'P': record(stylus_->at(now(), k_++)); break;
+        case 'P': cycle(now(), k_++); break;
         case 'F': format_.binary = false; break;
         case 'f': format_.binary = true; break;
         case 'U': format_.centimetres = false; break;
@@ -104,17 +113,28 @@ class FastrakEmulator final : public Emulator {
       if (continuous_)
         continuous_ = false;
       else
-        record(st);
+        cycle(t, k, &st);
     }
     lastButton_ = st.button;
-    if (continuous_) record(st);
+    if (continuous_) cycle(t, k, &st);
   }
 
  private:
-  void record(const StylusMotion::State& st) {
+  // One output cycle: every active receiver's record, in number order.
+  void cycle(double t, std::uint64_t k, const StylusMotion::State* stylus = nullptr) {
+    if (active_[1]) record(stylus ? *stylus : stylus_->at(t, k), 1);
+    if (reference_ && active_[2]) record(reference_->at(t, k), 2);
+  }
+  void record(const StylusMotion::State& st, int station) {
     const RecordFaults f = beginRecord();
     if (f.skip) return;
-    sendRecord(fastrak::encode(format_, sampleFrom(st, f.status)), st.positionMm, st.button);
+    fastrak::Format fmt = format_;
+    fmt.items = items_[static_cast<std::size_t>(station)];
+    StylusSample s = sampleFrom(st, f.status);
+    s.station = station;
+    if (std::find(fmt.items.begin(), fmt.items.end(), 11) != fmt.items.end())  // the same angles as a quaternion
+      s.quaternion = quaternionFromRotation(rotationFromEulerDeg(st.orientationDeg));
+    sendRecord(fastrak::encode(fmt, s), st.positionMm, st.button);
   }
   void error(const std::string& cmd, int code) {
     sendReply("2 E*ERROR* " + cmd.substr(0, 1) + " *ERROR* EC " + std::to_string(code) + "\r\n");
@@ -122,11 +142,12 @@ class FastrakEmulator final : public Emulator {
   void execute(const std::string& cmd) {
     const char c = cmd[0];
     const auto args = parseInts(cmd, 1);
+    const bool station = !args.empty() && args[0] >= 1 && args[0] <= 4;
     if (c == 'e') {
       if (args.size() != 2 || args[0] != 1 || (args[1] != 0 && args[1] != 1)) return error(cmd, -3);
       buttonMode_ = args[1];
     } else if (c == 'O') {
-      if (args.size() < 2 || args[0] != 1) return error(cmd, -3);
+      if (args.size() < 2 || !station) return error(cmd, -3);
       fastrak::Format f = format_;
       f.items.assign(args.begin() + 1, args.end());
       try {
@@ -134,14 +155,20 @@ class FastrakEmulator final : public Emulator {
       } catch (const std::invalid_argument&) {
         return error(cmd, -3);
       }
-      format_.items = f.items;
+      items_[static_cast<std::size_t>(args[0])] = f.items;
+    } else if (c == 'l') {  // active station state: on only where a receiver is plugged in
+      if (args.size() != 2 || !station || (args[1] != 0 && args[1] != 1)) return error(cmd, -3);
+      const bool plugged = args[0] == 1 || (args[0] == 2 && reference_);
+      active_[static_cast<std::size_t>(args[0])] = args[1] == 1 && plugged;
     } else if (c == 'N' && args.size() == 1) {
       sendReply("21N  2.523  0.004  0.030\r\n");
     }
-    // H, l, A, I, R, B, b, x, v, X, o, T, G: accepted; they do not change what we emulate.
+    // H, A, I, R, B, b, x, v, X, o, T, G: accepted; they do not change what we emulate.
   }
-  std::shared_ptr<const StylusMotion> stylus_;
+  std::shared_ptr<const StylusMotion> stylus_, reference_;
   fastrak::Format format_;
+  std::array<std::vector<int>, 5> items_;  // output list per receiver (1-4)
+  std::array<bool, 5> active_{};
   bool continuous_ = false, lastButton_ = false;
   int buttonMode_ = 1;
   std::string cmd_;
@@ -464,8 +491,9 @@ std::unique_ptr<Emulator> makeUWave(std::shared_ptr<VirtualCaliper> c, EmulatorO
   return std::make_unique<UWaveEmulator>(std::move(c), std::move(o));
 }
 
-std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
-  return std::make_unique<FastrakEmulator>(std::move(s), std::move(o));
+std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> s, EmulatorOptions o,
+                                      std::shared_ptr<const StylusMotion> reference) {
+  return std::make_unique<FastrakEmulator>(std::move(s), std::move(o), std::move(reference));
 }
 std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
   return std::make_unique<PolhemusEmulator>(std::move(s), std::move(o), polhemus::Model::Patriot);

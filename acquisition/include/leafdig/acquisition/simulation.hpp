@@ -33,16 +33,23 @@ struct SimulationOptions {
   // Plant capture: after this many accepted points the virtual technician moves the
   // transmitter to a new random pose (seeded) and takes the landmarks again (0: never).
   int relocateSourceAfter = 0;
+  // A reference receiver on the pot (FASTRAK receiver 2): the stylus is read in its frame
+  // (docs/devices.md, "A reference receiver"). With it, the pot turns by potTurnDeg about the
+  // vertical through potCentreMm, smoothly, as the technician goes up the plant (aimPot).
+  bool referenceReceiver = false;
+  double potTurnDeg = 0;
+  Vec3 potCentreMm{};
 };
 
 class TransmitterMotion;
+class PotTurn;
 
 // A FASTRAK and a Sylvac caliper on pseudo-terminals, moved by an OperatorHand.
 class SimulatedRig {
  public:
   SimulatedRig(const SimulationOptions& options);
   ~SimulatedRig();
-  [[nodiscard]] std::string digitizerSpec() const;  // "fastrak:<pty symlink>"
+  [[nodiscard]] std::string digitizerSpec() const;  // "fastrak:<pty symlink>[,reference=2]"
   [[nodiscard]] std::string caliperSpec() const;    // "sylvac:<pty symlink>"
   // The simulated FASTRAK's record rate (120 Hz times the speed, at most 960 Hz).
   [[nodiscard]] double digitizerRateHz() const { return digitizerRateHz_; }
@@ -53,10 +60,21 @@ class SimulatedRig {
   // The transmitter moved: from now on the digitizer reports every point of the first
   // transmitter position's frame as `fromFirst` maps it (thread-safe).
   void moveTransmitter(const Eigen::Isometry3d& fromFirst);
+  // The pot (with the plant and the reference receiver on it) turns towards `deg` about the
+  // vertical, at most 3° a second of the simulation's time (no reference receiver: nothing).
+  void aimPot(double deg);
+  // Where the station sees a point of the simulated leaf or plant (as the file gives it, on the
+  // pot before it turns): itself, or with a reference receiver that point in the receiver's
+  // frame — fixed, however the pot turns. fromStation is the inverse (where to press).
+  [[nodiscard]] Vec3 toStation(const Vec3& truthMm) const;
+  [[nodiscard]] Vec3 fromStation(const Vec3& stationMm) const;
 
  private:
   std::shared_ptr<devices::sim::OperatorHand> hand_;
-  std::shared_ptr<TransmitterMotion> transmitter_;
+  std::shared_ptr<TransmitterMotion> transmitter_, referenceTransmitter_;
+  std::shared_ptr<PotTurn> pot_;
+  bool reference_ = false;
+  Eigen::Isometry3d receiver_ = Eigen::Isometry3d::Identity();  // the reference receiver before the pot turns
   std::shared_ptr<devices::sim::VirtualCaliper> caliper_;
   std::unique_ptr<devices::sim::Emulator> digitizer_, gauge_;
   double digitizerRateHz_ = 120.0;

@@ -33,7 +33,11 @@ struct DigitizerConfig {
   // The stream's record rate, for timing records by the device's clock (RecordClock); 0: the
   // device's own (FASTRAK 120 Hz, Patriot 60 Hz, Liberty 240 Hz). A simulator says its own.
   double recordRateHz = 0;
-  line::Config line;  // for DigitizerKind::Line
+  // A reference receiver (FASTRAK 2-4, Patriot 2, Liberty 2-16; 0: none): the stylus is
+  // receiver 1 and every stylus sample is delivered in this receiver's frame (reference.hpp).
+  int referenceStation = 0;
+  double referenceJumpMm = 10.0, referenceJumpDeg = 5.0;  // a jump between two of its records
+  line::Config line;                                      // for DigitizerKind::Line
   // Opens the port; defaults to openSerialPort. Tests substitute their own.
   std::function<std::unique_ptr<SerialPort>(const std::string&, const SerialSettings&)> openPort;
 };

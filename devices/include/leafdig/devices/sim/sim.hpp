@@ -234,8 +234,10 @@ class Emulator {
 };
 
 [[nodiscard]] std::unique_ptr<Emulator> makeFastrak(VirtualStylus stylus, EmulatorOptions options);
-[[nodiscard]] std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> stylus,
-                                                    EmulatorOptions options);
+// With `reference`, a second receiver in socket 2 reports that motion's position and angles
+// (a reference receiver fixed to the pot): both are active at power-up and share the 120 Hz.
+[[nodiscard]] std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options,
+                                                    std::shared_ptr<const StylusMotion> reference = nullptr);
 [[nodiscard]] std::unique_ptr<Emulator> makePatriot(VirtualStylus stylus, EmulatorOptions options);
 [[nodiscard]] std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> stylus,
                                                     EmulatorOptions options);
