@@ -187,6 +187,10 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   branch_->setToolTip(
       tr("The next node starts a branch from the stem's last node; End at a branch node's first point ends "
          "the branch (the protocol must have one)"));
+  move_ = new QPushButton(tr("Move transmitter"));
+  move_->setToolTip(
+      tr("You move the transmitter (a tall plant, the far side): take at least three landmarks again where "
+         "they are, then End; the new position is fitted to them and every later point joins the first frame"));
   retake_ = new QPushButton(tr("Retake…"));
   retake_->setToolTip(
       tr("Takes a point or reading out to take it again (the item selected in the tree, or "
@@ -205,11 +209,12 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   setLeaf_ = new QPushButton(tr("Set node 1's leaf"));
   devices_ = new QLabel;
   for (QWidget* w :
-       std::initializer_list<QWidget*>{undo_, end_, branch_, retake_, pause_, leafKind_, leafState_, setLeaf_})
+       std::initializer_list<QWidget*>{undo_, end_, branch_, move_, retake_, pause_, leafKind_, leafState_, setLeaf_})
     w->setFocusPolicy(Qt::NoFocus);
   row->addWidget(undo_);
   row->addWidget(end_);
   row->addWidget(branch_);
+  row->addWidget(move_);
   row->addWidget(retake_);
   row->addWidget(pause_);
   row->addSpacing(16);
@@ -223,6 +228,8 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   connect(undo_, &QPushButton::clicked, this, [this] { (void)command({.kind = acq::PlantCommand::Kind::Undo}); });
   connect(end_, &QPushButton::clicked, this, [this] { (void)command({.kind = acq::PlantCommand::Kind::End}); });
   connect(branch_, &QPushButton::clicked, this, [this] { (void)command({.kind = acq::PlantCommand::Kind::Branch}); });
+  connect(move_, &QPushButton::clicked, this,
+          [this] { (void)command({.kind = acq::PlantCommand::Kind::MoveTransmitter}); });
   connect(pause_, &QPushButton::clicked, this, [this] {
     (void)command({paused_ ? acq::PlantCommand::Kind::Resume : acq::PlantCommand::Kind::Pause,
                    0,
@@ -592,6 +599,27 @@ void PlantCaptureView::fillTree(const acq::PlantEngine& e) {
     }
   landmarks->setText(1, tr("%1 taken").arg(taken));
   if (step.what == acq::PlantWhat::Landmark && !current) current = landmarks;
+  // The transmitter's positions once it was moved: each fitted one's residual, and the one
+  // whose landmarks are being taken again.
+  const int positions = static_cast<int>(e.toFirst().size());
+  if (positions > 1 || e.relocating() > 0) {
+    auto* transmitter = new QTreeWidgetItem(tree_, {tr("Transmitter")});
+    for (int r = 1; r < positions; ++r) {
+      const acq::RelocationFit fit = e.fitOf(r);
+      (void)new QTreeWidgetItem(transmitter,
+                                {tr("Position %1").arg(r + 1),
+                                 tr("RMS %1 mm, worst %2 mm").arg(fit.rmsMm, 0, 'f', 2).arg(fit.worstMm, 0, 'f', 2)});
+    }
+    if (e.relocating() > 0) {
+      int again = 0;
+      for (const acq::PlantItem& i : e.items())
+        again += i.what == acq::PlantWhat::LandmarkAgain && i.frame == e.relocating();
+      current = new QTreeWidgetItem(
+          transmitter, {tr("Position %1").arg(e.relocating() + 1), tr("moved: %1 landmarks taken again").arg(again)});
+    }
+    transmitter->setText(1, e.relocating() > 0 ? tr("moved: landmarks again") : tr("position %1").arg(positions));
+    transmitter->setExpanded(true);
+  }
   auto* collar = new QTreeWidgetItem(tree_, {tr("Collar")});
   for (const acq::PlantItem& i : e.items()) {
     if (i.what == acq::PlantWhat::Collar && collar->text(1).isEmpty()) collar->setText(1, tr("taken"));

@@ -98,6 +98,9 @@ class PlantCaptureView : public QWidget {
   [[nodiscard]] QPushButton* retakeButton() const { return retake_; }
   // The next node starts a branch from the stem's last node (shown for a protocol with branches).
   [[nodiscard]] QPushButton* branchButton() const { return branch_; }
+  // The technician moved the transmitter: the landmarks are taken again and fitted (issue 29);
+  // the tree's "Transmitter" line shows each position's residual.
+  [[nodiscard]] QPushButton* moveButton() const { return move_; }
   [[nodiscard]] QString devicesText() const;
   [[nodiscard]] PreviewWidget* plantPreview() const { return plantPreview_; }
   [[nodiscard]] PreviewWidget* leafPreview() const { return leafPreview_; }
@@ -135,7 +138,7 @@ class PlantCaptureView : public QWidget {
 
   QLabel *banner_, *feedback_, *summary_;
   QTreeWidget* tree_;
-  QPushButton *review_, *undo_, *end_, *setLeaf_, *pause_, *retake_, *branch_;
+  QPushButton *review_, *undo_, *end_, *setLeaf_, *pause_, *retake_, *branch_, *move_;
   bool paused_ = false;  // as the last committed state said
   QComboBox *leafKind_, *leafState_, *leafType_;
   QLabel* devices_;

@@ -1483,6 +1483,82 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
                                              "accepted", "paused", "ignored_reading", "resumed", "leaf_chosen"}));
 }
 
+// Moving the transmitter at the station (issue 29): after the collar the technician presses
+// Move transmitter, moves it (the simulated transmitter goes 60 mm aside and turns 20°), takes
+// three landmarks again and presses End; the tree's Transmitter line shows the new position's
+// residual, and the next point lands in the first position's frame where the plant has it.
+TEST(PlantCaptureView, ATechnicianMovesTheTransmitterWithTheButtonAndSeesTheResidual) {
+  const fs::path dir = freshDir("plant-capture-move");
+  acq::SimulationOptions sim;
+  sim.seed = 6;
+  sim.mistakes = false;
+  sim.stylusNoiseMm = 0.05;
+  sim.linkDir = dir.string();
+  acq::SimulatedRig rig(sim);
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(o);
+  acq::PlantSessionSetup setup;
+  setup.plant = "P-moved";
+  setup.project = "p";
+  setup.digitizer = rig.digitizerSpec();
+  setup.caliper = rig.caliperSpec();
+  ASSERT_TRUE(w.startPlantCaptureWithDevices(setup)) << w.bannerText().toStdString();
+  leafdig::station::PlantCaptureView* v = w.plantCapture();
+  const auto waitFor = [](const std::function<bool()>& ok) {
+    for (int i = 0; i < 1000 && !ok(); ++i) QTest::qWait(20);
+    return ok();
+  };
+  const auto items = [&] { return v->engine() ? v->engine()->items().size() : 0u; };
+  const m::PlantMarkers plant =
+      m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json");
+  const auto press = [&](const Eigen::Vector3d& p) {
+    const std::size_t before = items();
+    rig.hand().perform({{p.x(), p.y(), p.z()}, 0.35, 0.45, 0.6});
+    return waitFor([&] { return items() > before; });
+  };
+  EXPECT_TRUE(v->moveButton()->isVisibleTo(v));
+  for (std::size_t i = 0; i < 3; ++i) ASSERT_TRUE(press(plant.landmarksMm[i])) << "landmark " << i + 1;
+  QTest::mouseClick(v->endButton(), Qt::LeftButton);
+  ASSERT_TRUE(waitFor([&] { return v->bannerText().startsWith("Collar"); })) << v->bannerText().toStdString();
+  ASSERT_TRUE(press(plant.collarMm));
+  rig.caliper().hold(21.5);
+  rig.caliperEmulator().pressData();
+  ASSERT_TRUE(waitFor([&] { return v->bannerText().startsWith("Node 1"); })) << v->bannerText().toStdString();
+  QTest::mouseClick(v->moveButton(), Qt::LeftButton);
+  ASSERT_TRUE(waitFor([&] { return v->bannerText().startsWith("Transmitter moved · landmark 1 again"); }))
+      << v->bannerText().toStdString();
+  Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
+  moved.linear() =
+      Eigen::AngleAxisd(20.0 * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  moved.translation() = Eigen::Vector3d(60, -40, 10);
+  rig.moveTransmitter(moved);
+  for (std::size_t i = 0; i < 3; ++i) ASSERT_TRUE(press(plant.landmarksMm[i])) << "landmark " << i + 1 << " again";
+  const auto transmitter = [&]() -> QTreeWidgetItem* {
+    for (int k = 0; k < v->tree()->topLevelItemCount(); ++k)
+      if (v->tree()->topLevelItem(k)->text(0) == "Transmitter") return v->tree()->topLevelItem(k);
+    return nullptr;
+  };
+  ASSERT_TRUE(waitFor([&] { return transmitter() && transmitter()->childCount() == 1; }));
+  EXPECT_EQ(transmitter()->child(0)->text(1), "moved: 3 landmarks taken again");
+  QTest::mouseClick(v->endButton(), Qt::LeftButton);
+  ASSERT_TRUE(waitFor([&] { return v->feedbackText().contains("fitted: RMS"); })) << v->feedbackText().toStdString();
+  ASSERT_TRUE(transmitter());
+  EXPECT_EQ(transmitter()->text(1), "position 2");
+  ASSERT_EQ(transmitter()->childCount(), 1);
+  EXPECT_EQ(transmitter()->child(0)->text(0), "Position 2");
+  EXPECT_TRUE(transmitter()->child(0)->text(1).startsWith("RMS 0.")) << transmitter()->child(0)->text(1).toStdString();
+  // Node 1's first point, pressed in the moved frame, is held in the first one.
+  const Eigen::Vector3d node1 = plant.nodes.at(0).pointMm;
+  ASSERT_TRUE(press(node1)) << v->feedbackText().toStdString();
+  const acq::PlantItem& last = v->engine()->items().back();
+  EXPECT_EQ(last.frame, 1);
+  EXPECT_LT((Eigen::Vector3d(last.positionMm[0], last.positionMm[1], last.positionMm[2]) - node1).norm(), 1.0);
+  w.stopCapture();
+}
+
 TEST(PlantCaptureView, ADevicesSpecThatDoesNotReadWritesNothing) {
   const fs::path dir = freshDir("plant-capture-bad-spec");
   leafdig::station::StationOptions o;

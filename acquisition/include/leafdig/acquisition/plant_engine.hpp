@@ -172,6 +172,9 @@ class PlantEngine {
   // Transmitter position r's frame → the first's (0: identity); one per fitted relocation.
   [[nodiscard]] const std::vector<Eigen::Isometry3d>& toFirst() const { return toFirst_; }
   [[nodiscard]] const RelocationSettings& relocationSettings() const { return relocation_; }
+  // Relocation r's fit (1…) from its LandmarkAgain items against the landmarks as first taken:
+  // its residual and worst landmark, as the station shows them.
+  [[nodiscard]] RelocationFit fitOf(int relocation) const;
 
   void apply(const PlantDecision& d);
   // A curator's correction in review (review.hpp's correct() on a plant session, and its
@@ -252,8 +255,6 @@ class PlantEngine {
   int relocating_ = 0;
   std::vector<Eigen::Isometry3d> toFirst_{Eigen::Isometry3d::Identity()};
   RelocationSettings relocation_;
-  // Relocation r's fit from its LandmarkAgain items against the landmarks as first taken.
-  [[nodiscard]] RelocationFit fitOf(int relocation) const;
   Settings settings_;
   std::vector<PlantItem> items_;
   std::map<int, Engine> leaves_;
