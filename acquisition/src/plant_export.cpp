@@ -95,7 +95,11 @@ CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
   const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
   CapturedSurvey out;
   out.status = info->status;
-  out.markers = PlantCaptureSession::replay(setup, store.events(id)).captured(info->plant);
+  const PlantEngine engine = PlantCaptureSession::replay(setup, store.events(id));
+  out.markers = engine.captured(info->plant);
+  out.transmitter = transmitterPositions(engine);
+  for (const PlantItem& i : engine.items())
+    if (i.what == PlantWhat::Point && i.part == 1) out.nodePosition[i.index] = i.frame + 1;
   out.markers.date = setup.date;
   if (!out.markers.date) out.markers.date = m::parseSurveyDate(info->createdUtc.substr(0, 10));
   try {
@@ -106,6 +110,51 @@ CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
   }
   return out;
 }
+
+std::vector<TransmitterPosition> transmitterPositions(const PlantEngine& engine) {
+  std::vector<TransmitterPosition> out;
+  for (int r = 0; r < static_cast<int>(engine.toFirst().size()); ++r) {
+    TransmitterPosition p;
+    p.position = r + 1;
+    for (const PlantItem& i : engine.items())
+      p.points += isStylusItem(i.what) && i.what != PlantWhat::LandmarkAgain && i.frame == r;
+    if (r > 0) {
+      const RelocationFit fit = engine.fitOf(r);
+      p.rmsMm = fit.rmsMm;
+      p.worstMm = fit.worstMm;
+      p.worstLandmark = fit.worstLandmark;
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+namespace {
+
+// The survey's JSON, and once the transmitter was moved its positions and each node's.
+std::string surveyJson(const CapturedSurvey& captured) {
+  const std::string plain = m::plantSurveyToJson(captured.survey) + "\n";
+  if (captured.transmitter.size() < 2) return plain;  // as before moving the transmitter existed
+  json doc = json::parse(plain);
+  json positions = json::array();
+  for (const TransmitterPosition& p : captured.transmitter) {
+    json j{{"position", p.position}, {"points", p.points}};
+    if (p.position > 1) {
+      j["rms_mm"] = p.rmsMm;
+      j["worst_mm"] = p.worstMm;
+      j["worst_landmark"] = p.worstLandmark;
+    }
+    positions.push_back(j);
+  }
+  doc["transmitter_positions"] = positions;
+  for (json& n : doc.at("nodes")) {
+    const auto it = captured.nodePosition.find(n.at("node").get<int>());
+    n["transmitter_position"] = it == captured.nodePosition.end() ? json(nullptr) : json(it->second);
+  }
+  return doc.dump(2) + "\n";
+}
+
+}  // namespace
 
 CapturedModel capturedModel(const db::EventStore& store, const m::PlantSurvey& survey) {
   const bool quick = std::any_of(survey.leaves.begin(), survey.leaves.end(),
@@ -146,7 +195,7 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
     if (f == "mtg") files.push_back({base + ".mtg", m::encodeSurveyMtg(out.survey, day)});
     if (f == "csv") files.push_back({base + ".plant.csv", m::encodeSurveyCsv(out.survey, day)});
     if (f == "markers") files.push_back({base + ".plant-markers.json", m::plantMarkersToJson(plant)});
-    if (f == "json") files.push_back({base + ".survey.json", m::plantSurveyToJson(out.survey) + "\n"});
+    if (f == "json") files.push_back({base + ".survey.json", surveyJson(captured)});
   }
 
   // The plant as a model: only when a model's format is asked for (it meshes every leaf).

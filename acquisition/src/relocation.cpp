@@ -75,11 +75,11 @@ RelocationFit fitRelocation(const std::vector<Eigen::Vector3d>& before, const st
     }
   }
   fit.rmsMm = std::sqrt(sum / static_cast<double>(before.size()));
+  fit.worstLandmark = fit.worst < numbers.size() ? numbers[fit.worst] : static_cast<int>(fit.worst) + 1;
   if (fit.rmsMm > settings.toleranceMm)
     fit.refusal = "the landmarks do not agree after the move (RMS " + mm(fit.rmsMm) + ", more than " +
-                  mm(settings.toleranceMm) + "): landmark " +
-                  std::to_string(fit.worst < numbers.size() ? numbers[fit.worst] : static_cast<int>(fit.worst) + 1) +
-                  " is " + mm(fit.worstMm) + " off — it moved, or was pressed elsewhere; take it again";
+                  mm(settings.toleranceMm) + "): landmark " + std::to_string(fit.worstLandmark) + " is " +
+                  mm(fit.worstMm) + " off — it moved, or was pressed elsewhere; take it again";
   return fit;
 }
 

@@ -906,8 +906,28 @@ TEST_F(PlantCli, AMovedTransmitterIsFittedFromTheLandmarksAndThePlantComesOutThe
                     " --format json")
                 .exitCode,
             0);
-  expectTheSamplePlant(json::parse(slurp(out / ("session-" + std::to_string(id) + ".survey.json"))),
-                       json::parse(leafdig(samplePlantMeasure()).out));
+  const json survey = json::parse(slurp(out / ("session-" + std::to_string(id) + ".survey.json")));
+  expectTheSamplePlant(survey, json::parse(leafdig(samplePlantMeasure()).out));
+  // Which points came from which position, and the fit's residual: in the survey and the review.
+  ASSERT_EQ(survey.at("transmitter_positions").size(), 2U) << survey.dump();
+  const json& moved = survey["transmitter_positions"][1];
+  EXPECT_EQ(moved.at("position"), 2);
+  EXPECT_LT(moved.at("rms_mm").get<double>(), 1.5);
+  EXPECT_GE(moved.at("worst_mm").get<double>(), moved.at("rms_mm").get<double>());
+  EXPECT_GE(moved.at("worst_landmark").get<int>(), 1);
+  EXPECT_EQ(survey["nodes"][0].at("transmitter_position"), 1);
+  EXPECT_EQ(survey["nodes"].back().at("transmitter_position"), 2);
+  const json shown = json::parse(leafdig("sessions show " + std::to_string(id) + " --json --db " + quote(db)).out);
+  EXPECT_EQ(shown.at("transmitter_positions"), survey.at("transmitter_positions"));
+  int fromFirst = 0, fromSecond = 0;
+  for (const json& p : shown.at("points")) {
+    if (!p.contains("transmitter_position")) continue;
+    (p["transmitter_position"] == 1 ? fromFirst : fromSecond) += 1;
+  }
+  EXPECT_EQ(fromFirst, survey["transmitter_positions"][0].at("points").get<int>());
+  EXPECT_EQ(fromSecond, moved.at("points").get<int>() + 4) << "its points and the four landmarks taken again";
+  const Result human = leafdig("sessions show " + std::to_string(id) + " --db " + quote(db));
+  EXPECT_NE(human.out.find("transmitter moved: position 2"), std::string::npos) << human.out;
   // With devices the technician types "move": the option is the simulation's.
   const Result real =
       leafdig("plant capture --db " + quote(db) +

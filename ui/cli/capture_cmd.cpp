@@ -10,6 +10,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -362,11 +363,35 @@ int runShowPlant(const db::EventStore& store, const CaptureOptions& o, const db:
   const db::Projected projected = db::project(events);
   const auto maybe = [](const std::optional<int>& v) { return v ? json(*v) : json(nullptr); };
   json points = json::array(), readings = json::array(), leaves = json::array(), corrections = json::array();
-  for (const auto& mk : projected.markers)
-    points.push_back({{"what", mk.what},
-                      {"row", maybe(mk.row)},
-                      {"col", maybe(mk.col)},
-                      {"position_mm", {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]}}});
+  // Which transmitter position each of the plant's own points was taken from (issue 29): its
+  // event says (no `frame`: the first). A full leaf's markers are its leaf's: not said per point.
+  std::map<std::int64_t, int> frames;
+  for (const db::Event& e : events)
+    if (e.kind == "accepted") {
+      const json p = json::parse(e.payloadJson, nullptr, false);
+      if (p.is_discarded() || !p.contains("what") || !p.at("what").is_string() ||
+          p.at("what").get<std::string>().rfind("node", 0) == 0)
+        continue;
+      frames[e.seq] = p.contains("frame") && p.at("frame").is_number_integer() ? p.at("frame").get<int>() : 0;
+    }
+  for (const auto& mk : projected.markers) {
+    json point{{"what", mk.what},
+               {"row", maybe(mk.row)},
+               {"col", maybe(mk.col)},
+               {"position_mm", {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]}}};
+    if (const auto it = frames.find(mk.seq); it != frames.end()) point["transmitter_position"] = it->second + 1;
+    points.push_back(point);
+  }
+  json transmitter = json::array();
+  for (const acq::TransmitterPosition& p : acq::transmitterPositions(engine)) {
+    json j{{"position", p.position}, {"points", p.points}};
+    if (p.position > 1) {
+      j["rms_mm"] = p.rmsMm;
+      j["worst_mm"] = p.worstMm;
+      j["worst_landmark"] = p.worstLandmark;
+    }
+    transmitter.push_back(j);
+  }
   for (const auto& t : projected.thickness)
     readings.push_back({{"what", t.what}, {"row", maybe(t.row)}, {"col", maybe(t.col)}, {"value_mm", t.valueMm}});
   for (int node = 1; node <= engine.nodes(); ++node) {
@@ -408,6 +433,8 @@ int runShowPlant(const db::EventStore& store, const CaptureOptions& o, const db:
                       {"readings", readings},
                       {"leaves", leaves},
                       {"corrections", corrections},
+                      {"transmitter_positions", transmitter},
+                      {"relocating", engine.relocating() > 0},
                       {"events", chain.events},
                       {"chain_ok", chain.ok},
                       {"problem", chain.problem},
@@ -424,6 +451,13 @@ int runShowPlant(const db::EventStore& store, const CaptureOptions& o, const db:
             << "  step: " << engine.prompt() << "\n  " << engine.nodes() << " nodes, " << points.size() << " points, "
             << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
             << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
+  for (const json& t : transmitter)
+    if (t.at("position").get<int>() > 1)
+      std::cout << "  transmitter moved: position " << t.at("position").get<int>() << ", " << t.at("points").get<int>()
+                << " points, fitted RMS " << std::fixed << std::setprecision(2) << t.at("rms_mm").get<double>()
+                << " mm (worst " << t.at("worst_mm").get<double>() << " mm at landmark "
+                << t.at("worst_landmark").get<int>() << ")\n"
+                << std::defaultfloat;
   for (const json& c : corrections)
     std::cout << "  corrected (event " << c.at("seq").dump() << "): " << terminalText(c.at("what").get<std::string>())
               << " row " << c.at("row").dump() << " by " << terminalText(c.at("who").get<std::string>()) << ": "

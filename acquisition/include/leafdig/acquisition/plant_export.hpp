@@ -2,7 +2,8 @@
 // A plant session's files (docs/plants.md, "A plant session's files"). The survey's own:
 // `mtg` (the MTG in the AMAP conventions), `csv` (its entities one row each), `markers` (what
 // was digitized, a leafdig.plant-markers/1 document in the digitizer's frame), `json` (the
-// survey: frame, nodes, leaves, angles). The plant as a model (model/plant/surveyed_plant.hpp:
+// survey: frame, nodes, leaves, angles; once the transmitter was moved, its positions with each
+// fit's residual and each node's position). The plant as a model (model/plant/surveyed_plant.hpp:
 // the stem through the nodes, full leaves as digitized, quick leaves shaped from the organ
 // library of this store or the built-in sample): `glb`, `obj`, `ply`, `stl` (meshes with plant
 // / leaf / organ names), `can` (CARIBU, in metres, with its `.opt`), `model` (the
@@ -13,6 +14,7 @@
 // date, else the day it was created. Everything is encoded before anything is written; each
 // file is written atomically and recorded in `exports`.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -22,12 +24,28 @@
 
 namespace leafdig::acquisition {
 
+class PlantEngine;
+
+// Where the transmitter stood (issue 29): position 1 where the capture began, 2… after each
+// move, with the fit that related it to the first (its residual and worst landmark) and how
+// many of the plant's own points were taken from it.
+struct TransmitterPosition {
+  int position = 1;
+  int points = 0;  // landmarks, collar, node points, quick leaves' points (a full leaf's are its own)
+  double rmsMm = 0, worstMm = 0;
+  int worstLandmark = 0;  // 0 for position 1
+};
+// Every position of a replayed plant engine, the first included.
+[[nodiscard]] std::vector<TransmitterPosition> transmitterPositions(const PlantEngine& engine);
+
 // A stored plant session read back: verified, replayed, surveyed (InputError when it holds no
 // whole plant frame yet, SessionError when it is not a plant session or does not verify).
 struct CapturedSurvey {
   model::PlantMarkers markers;  // what was digitized, dated (the session's date, else its day)
   model::PlantSurvey survey;
   std::string status;  // the session's ("complete", "approved", …)
+  std::vector<TransmitterPosition> transmitter;
+  std::map<int, int> nodePosition;  // node → the transmitter position its first point was taken from
 };
 [[nodiscard]] CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id);
 
