@@ -78,9 +78,9 @@ double rotationBetweenDeg(const Rotation& a, const Rotation& b) {
 StylusSample inFrameOf(const StylusSample& stylus, const ReceiverPose& reference) {
   StylusSample out = stylus;
   const Eigen::Matrix3d rt = matrix(reference.rotation).transpose();
-  const Eigen::Vector3d p = rt * (Eigen::Vector3d(stylus.positionMm[0], stylus.positionMm[1], stylus.positionMm[2]) -
-                                  Eigen::Vector3d(reference.positionMm[0], reference.positionMm[1],
-                                                  reference.positionMm[2]));
+  const Eigen::Vector3d p =
+      rt * (Eigen::Vector3d(stylus.positionMm[0], stylus.positionMm[1], stylus.positionMm[2]) -
+            Eigen::Vector3d(reference.positionMm[0], reference.positionMm[1], reference.positionMm[2]));
   out.positionMm = {p.x(), p.y(), p.z()};
   if (const auto own = poseOf(stylus)) {
     const Rotation relative = rotation(rt * matrix(own->rotation));

@@ -3,6 +3,8 @@
 // a jump, a silent receiver), and the FASTRAK emulator with two receivers over a real
 // pseudo-terminal — read by our driver, and by VRPN's vrpn_Tracker_Fastrak command sequence and
 // record rules (docs/research/digitizers.md §2.5), parsed here as VRPN does.
+#include "leafdig/devices/links/reference.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -14,7 +16,6 @@
 
 #include "device_test_support.hpp"
 #include "leafdig/devices/links/links.hpp"
-#include "leafdig/devices/links/reference.hpp"
 #include "leafdig/devices/pose.hpp"
 #include "leafdig/devices/transports/serial_port.hpp"
 
@@ -249,8 +250,8 @@ class PotReceiver final : public dev::sim::StylusMotion {
 TEST(FastrakReference, TheDriverDeliversTheStylusInTheReferenceFrameOfATurningPot) {
   TurningPot pot;
   dev::sim::EmulatorOptions eo;
-  auto emu = dev::sim::makeFastrak(std::make_shared<PotReceiver>(pot, true), eo,
-                                   std::make_shared<PotReceiver>(pot, false));
+  auto emu =
+      dev::sim::makeFastrak(std::make_shared<PotReceiver>(pot, true), eo, std::make_shared<PotReceiver>(pot, false));
   emu->start();
   dev::DigitizerConfig cfg;
   cfg.port = emu->path();
@@ -298,8 +299,8 @@ TEST(FastrakReference, AReceiverTheTrackerDoesNotHaveIsAConfigurationErrorInWord
 TEST(FastrakReference, VrpnsFastrakSequenceReadsBothStationsFromTheEmulator) {
   TurningPot pot;
   dev::sim::EmulatorOptions eo;
-  auto emu = dev::sim::makeFastrak(std::make_shared<PotReceiver>(pot, true), eo,
-                                   std::make_shared<PotReceiver>(pot, false));
+  auto emu =
+      dev::sim::makeFastrak(std::make_shared<PotReceiver>(pot, true), eo, std::make_shared<PotReceiver>(pot, false));
   emu->start();
   dev::SerialSettings settings;
   settings.baud = 115200;

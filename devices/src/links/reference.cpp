@@ -45,8 +45,8 @@ void ReferenceFrame::push(const StylusSample& s, std::vector<StylusSample>& out)
     if (++missed_ == o_.silentAfter) {
       ++stats_.silences;
       pause("reference receiver " + std::to_string(o_.referenceStation) + " stopped reporting: the stylus is paused",
-            "check that the reference receiver is plugged into receiver socket " +
-                std::to_string(o_.referenceStation) + " and fixed to the pot; capture goes on when it reports again");
+            "check that the reference receiver is plugged into receiver socket " + std::to_string(o_.referenceStation) +
+                " and fixed to the pot; capture goes on when it reports again");
     }
   }
   pending_ = s;
@@ -64,9 +64,9 @@ void ReferenceFrame::onReference(const StylusSample& s, std::vector<StylusSample
   }
   missed_ = 0;
   if (last_) {
-    const double moved = std::hypot(pose->positionMm[0] - last_->positionMm[0],
-                                    pose->positionMm[1] - last_->positionMm[1],
-                                    pose->positionMm[2] - last_->positionMm[2]);
+    const double moved =
+        std::hypot(pose->positionMm[0] - last_->positionMm[0], pose->positionMm[1] - last_->positionMm[1],
+                   pose->positionMm[2] - last_->positionMm[2]);
     const double turned = rotationBetweenDeg(last_->rotation, pose->rotation);
     if (moved > o_.jumpMm || turned > o_.jumpDeg) {
       ++stats_.jumps;

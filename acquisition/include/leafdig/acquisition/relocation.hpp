@@ -19,8 +19,8 @@ struct RelocationFit {
   double rmsMm = 0.0;                                          // RMS distance of the landmarks after the fit
   double worstMm = 0.0;                                        // the largest one…
   std::size_t worst = 0;                                       // …and its landmark (0-based, in the order given)
-  int worstLandmark = 0;                                       // that landmark's number (numbers[worst]; else worst + 1)
-  std::optional<std::string> refusal;                          // why the fit cannot be used, in words; empty: use it
+  int worstLandmark = 0;               // that landmark's number (numbers[worst]; else worst + 1)
+  std::optional<std::string> refusal;  // why the fit cannot be used, in words; empty: use it
 };
 
 struct RelocationSettings {

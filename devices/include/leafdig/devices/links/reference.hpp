@@ -27,9 +27,9 @@ namespace leafdig::devices {
 struct ReferenceOptions {
   int stylusStation = 1;
   int referenceStation = 2;
-  double jumpMm = 10.0;   // between two records (1/60 s at a FASTRAK's two stations)
+  double jumpMm = 10.0;  // between two records (1/60 s at a FASTRAK's two stations)
   double jumpDeg = 5.0;
-  int silentAfter = 6;    // stylus cycles in a row without a reference record
+  int silentAfter = 6;     // stylus cycles in a row without a reference record
   int steadyRecords = 30;  // steady reference records before the stylus flows again
 };
 
