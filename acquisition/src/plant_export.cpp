@@ -129,6 +129,20 @@ std::vector<TransmitterPosition> transmitterPositions(const PlantEngine& engine)
   return out;
 }
 
+std::string transmitterPositionsJson(const std::vector<TransmitterPosition>& positions) {
+  json out = json::array();
+  for (const TransmitterPosition& p : positions) {
+    json j{{"position", p.position}, {"points", p.points}};
+    if (p.position > 1) {
+      j["rms_mm"] = p.rmsMm;
+      j["worst_mm"] = p.worstMm;
+      j["worst_landmark"] = p.worstLandmark;
+    }
+    out.push_back(j);
+  }
+  return out.dump();
+}
+
 namespace {
 
 // The survey's JSON, and once the transmitter was moved its positions and each node's.
@@ -136,17 +150,7 @@ std::string surveyJson(const CapturedSurvey& captured) {
   const std::string plain = m::plantSurveyToJson(captured.survey) + "\n";
   if (captured.transmitter.size() < 2) return plain;  // as before moving the transmitter existed
   json doc = json::parse(plain);
-  json positions = json::array();
-  for (const TransmitterPosition& p : captured.transmitter) {
-    json j{{"position", p.position}, {"points", p.points}};
-    if (p.position > 1) {
-      j["rms_mm"] = p.rmsMm;
-      j["worst_mm"] = p.worstMm;
-      j["worst_landmark"] = p.worstLandmark;
-    }
-    positions.push_back(j);
-  }
-  doc["transmitter_positions"] = positions;
+  doc["transmitter_positions"] = json::parse(transmitterPositionsJson(captured.transmitter));
   for (json& n : doc.at("nodes")) {
     const auto it = captured.nodePosition.find(n.at("node").get<int>());
     n["transmitter_position"] = it == captured.nodePosition.end() ? json(nullptr) : json(it->second);

@@ -382,16 +382,7 @@ int runShowPlant(const db::EventStore& store, const CaptureOptions& o, const db:
     if (const auto it = frames.find(mk.seq); it != frames.end()) point["transmitter_position"] = it->second + 1;
     points.push_back(point);
   }
-  json transmitter = json::array();
-  for (const acq::TransmitterPosition& p : acq::transmitterPositions(engine)) {
-    json j{{"position", p.position}, {"points", p.points}};
-    if (p.position > 1) {
-      j["rms_mm"] = p.rmsMm;
-      j["worst_mm"] = p.worstMm;
-      j["worst_landmark"] = p.worstLandmark;
-    }
-    transmitter.push_back(j);
-  }
+  const json transmitter = json::parse(acq::transmitterPositionsJson(acq::transmitterPositions(engine)));
   for (const auto& t : projected.thickness)
     readings.push_back({{"what", t.what}, {"row", maybe(t.row)}, {"col", maybe(t.col)}, {"value_mm", t.valueMm}});
   for (int node = 1; node <= engine.nodes(); ++node) {

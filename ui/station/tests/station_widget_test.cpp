@@ -1337,22 +1337,60 @@ TEST(PlantCaptureView, APlantFileThatDoesNotReadStartsNothingAndSaysWhy) {
 // ports named like any serial port), moved by the test's own hand. The stylus takes the
 // landmarks, the Undo and End buttons do what a press cannot, the caliper reads the collar, the
 // leaf controls set node 1's leaf; stopping keeps the session open.
-TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
-  const fs::path dir = freshDir("plant-capture-devices");
-  acq::SimulationOptions sim;
-  sim.seed = 5;
-  sim.mistakes = false;
-  sim.stylusNoiseMm = 0.05;
-  sim.linkDir = dir.string();
-  acq::SimulatedRig rig(sim);
+// A technician's hands on a plant at the station: the simulated devices of a rig (their
+// links in the test's folder), the station's options on a database there, the sample plant, and
+// presses that wait until the station holds one more item.
+struct HandsOnAPlant {
+  HandsOnAPlant(const std::string& name, std::uint64_t seed) : dir(freshDir(name)), rig(simulation(dir, seed)) {
+    o.audio = audio();
+    o.db = (dir / "s.sqlite").string();
+    o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  }
+  static acq::SimulationOptions simulation(const fs::path& dir, std::uint64_t seed) {
+    acq::SimulationOptions sim;
+    sim.seed = seed;
+    sim.mistakes = false;
+    sim.stylusNoiseMm = 0.05;
+    sim.linkDir = dir.string();
+    return sim;
+  }
+  static bool waitFor(const std::function<bool()>& ok) {
+    for (int i = 0; i < 1000 && !ok(); ++i) QTest::qWait(20);
+    return ok();
+  }
+  // The plant session with the rig's devices.
+  [[nodiscard]] acq::PlantSessionSetup setup(const std::string& plantId) const {
+    acq::PlantSessionSetup s;
+    s.plant = plantId;
+    s.project = "p";
+    s.operatorName = "ana";
+    s.digitizer = rig.digitizerSpec();
+    s.caliper = rig.caliperSpec();
+    return s;
+  }
+  static std::size_t items(const leafdig::station::PlantCaptureView* v) {
+    return v->engine() ? v->engine()->items().size() : 0U;
+  }
+  bool press(const leafdig::station::PlantCaptureView* v, const Eigen::Vector3d& p) {
+    const std::size_t before = items(v);
+    rig.hand().perform({{p.x(), p.y(), p.z()}, 0.35, 0.45, 0.6});
+    return waitFor([&] { return items(v) > before; });
+  }
+  fs::path dir;
+  acq::SimulatedRig rig;
   leafdig::station::StationOptions o;
-  o.audio = audio();
-  o.db = (dir / "s.sqlite").string();
+  m::PlantMarkers plant =
+      m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json");
+};
+
+TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
+  HandsOnAPlant hands("plant-capture-devices", 5);
+  acq::SimulatedRig& rig = hands.rig;
+  leafdig::station::StationOptions& o = hands.o;
   o.setup.project = "p";
   o.setup.operatorName = "ana";
   o.setup.digitizer = rig.digitizerSpec();
   o.setup.caliper = rig.caliperSpec();
-  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
   {
     // An approved leaf of type "middle" (a simulated capture): the leaf controls offer its type.
     acq::RunRequest r;
@@ -1377,30 +1415,16 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
     (void)acq::review(store, approved, "approved", "cur", "");
   }
   leafdig::station::StationWindow w(o);
-  acq::PlantSessionSetup setup;
-  setup.plant = "P-hands";
-  setup.project = "p";
-  setup.operatorName = "ana";
-  setup.digitizer = rig.digitizerSpec();
-  setup.caliper = rig.caliperSpec();
-  ASSERT_TRUE(w.startPlantCaptureWithDevices(setup)) << w.bannerText().toStdString();
+  ASSERT_TRUE(w.startPlantCaptureWithDevices(hands.setup("P-hands"))) << w.bannerText().toStdString();
   leafdig::station::PlantCaptureView* v = w.plantCapture();
-  const auto waitFor = [](const std::function<bool()>& ok) {
-    for (int i = 0; i < 1000 && !ok(); ++i) QTest::qWait(20);
-    return ok();
-  };
+  const auto waitFor = HandsOnAPlant::waitFor;
   EXPECT_TRUE(v->undoButton()->isVisibleTo(v));
   EXPECT_TRUE(waitFor([&] {
     return v->devicesText().contains("FASTRAK: streaming") && v->devicesText().contains("Sylvac: streaming");
   })) << v->devicesText().toStdString();
-  const auto items = [&] { return v->engine() ? v->engine()->items().size() : 0u; };
-  const m::PlantMarkers plant =
-      m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json");
-  const auto press = [&](const Eigen::Vector3d& p) {
-    const std::size_t before = items();
-    rig.hand().perform({{p.x(), p.y(), p.z()}, 0.35, 0.45, 0.6});
-    return waitFor([&] { return items() > before; });
-  };
+  const auto items = [&] { return HandsOnAPlant::items(v); };
+  const m::PlantMarkers& plant = hands.plant;
+  const auto press = [&](const Eigen::Vector3d& p) { return hands.press(v, p); };
   ASSERT_TRUE(press(plant.landmarksMm[0])) << v->feedbackText().toStdString();
   EXPECT_EQ(v->tree()->topLevelItem(0)->text(1), "1 taken");
   QTest::mouseClick(v->undoButton(), Qt::LeftButton);
@@ -1488,37 +1512,14 @@ TEST(PlantCaptureView, APersonDigitizesWithTheDevicesAndTheButtons) {
 // three landmarks again and presses End; the tree's Transmitter line shows the new position's
 // residual, and the next point lands in the first position's frame where the plant has it.
 TEST(PlantCaptureView, ATechnicianMovesTheTransmitterWithTheButtonAndSeesTheResidual) {
-  const fs::path dir = freshDir("plant-capture-move");
-  acq::SimulationOptions sim;
-  sim.seed = 6;
-  sim.mistakes = false;
-  sim.stylusNoiseMm = 0.05;
-  sim.linkDir = dir.string();
-  acq::SimulatedRig rig(sim);
-  leafdig::station::StationOptions o;
-  o.audio = audio();
-  o.db = (dir / "s.sqlite").string();
-  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
-  leafdig::station::StationWindow w(o);
-  acq::PlantSessionSetup setup;
-  setup.plant = "P-moved";
-  setup.project = "p";
-  setup.digitizer = rig.digitizerSpec();
-  setup.caliper = rig.caliperSpec();
-  ASSERT_TRUE(w.startPlantCaptureWithDevices(setup)) << w.bannerText().toStdString();
+  HandsOnAPlant hands("plant-capture-move", 6);
+  acq::SimulatedRig& rig = hands.rig;
+  leafdig::station::StationWindow w(hands.o);
+  ASSERT_TRUE(w.startPlantCaptureWithDevices(hands.setup("P-moved"))) << w.bannerText().toStdString();
   leafdig::station::PlantCaptureView* v = w.plantCapture();
-  const auto waitFor = [](const std::function<bool()>& ok) {
-    for (int i = 0; i < 1000 && !ok(); ++i) QTest::qWait(20);
-    return ok();
-  };
-  const auto items = [&] { return v->engine() ? v->engine()->items().size() : 0u; };
-  const m::PlantMarkers plant =
-      m::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json");
-  const auto press = [&](const Eigen::Vector3d& p) {
-    const std::size_t before = items();
-    rig.hand().perform({{p.x(), p.y(), p.z()}, 0.35, 0.45, 0.6});
-    return waitFor([&] { return items() > before; });
-  };
+  const auto waitFor = HandsOnAPlant::waitFor;
+  const m::PlantMarkers& plant = hands.plant;
+  const auto press = [&](const Eigen::Vector3d& p) { return hands.press(v, p); };
   EXPECT_TRUE(v->moveButton()->isVisibleTo(v));
   for (std::size_t i = 0; i < 3; ++i) ASSERT_TRUE(press(plant.landmarksMm[i])) << "landmark " << i + 1;
   QTest::mouseClick(v->endButton(), Qt::LeftButton);

@@ -37,6 +37,9 @@ struct TransmitterPosition {
 };
 // Every position of a replayed plant engine, the first included.
 [[nodiscard]] std::vector<TransmitterPosition> transmitterPositions(const PlantEngine& engine);
+// As the survey's and `sessions show`'s JSON say them: [{"position", "points"[, "rms_mm",
+// "worst_mm", "worst_landmark"]}, …].
+[[nodiscard]] std::string transmitterPositionsJson(const std::vector<TransmitterPosition>& positions);
 
 // A stored plant session read back: verified, replayed, surveyed (InputError when it holds no
 // whole plant frame yet, SessionError when it is not a plant session or does not verify).
