@@ -982,6 +982,63 @@ TEST_F(PlantCli, APotTurnedThirtyDegreesUnderAReferenceReceiverChangesNothing) {
   EXPECT_NE(bad.err.find("the reference receiver is a number from 2"), std::string::npos) << bad.err;
 }
 
+// kill -9 on a turning pot: the capture is killed twice after a random acknowledged event and
+// resumed with the pot turning again from where the resumed simulation starts; the session keeps
+// its reference receiver, so every point before and after the kills is in the receiver's frame
+// and the plant comes out as its file says.
+TEST_F(PlantCli, APlantOnATurningPotKilledAndResumedKeepsItsReferenceFrame) {
+  const fs::path db = dir_ / "station.sqlite", out = dir_ / "out.jsonl", err = dir_ / "err.txt";
+  std::int64_t id = 0;
+  std::mt19937 rng(11);
+  for (int run = 0; run < 2; ++run) {
+    const std::size_t k = std::uniform_int_distribution<std::size_t>(20, 60)(rng);
+    std::vector<std::string> args{"plant",
+                                  "capture",
+                                  "--db",
+                                  db.string(),
+                                  "--speed",
+                                  "20",
+                                  "--json",
+                                  "--pot-turn",
+                                  "30",
+                                  "--seed",
+                                  std::to_string(run + 1)};
+    if (id == 0)
+      args.insert(args.end(), {"--simulate", "--reference-receiver"});
+    else
+      args.insert(args.end(), {"--resume", std::to_string(id)});
+    const pid_t pid = spawn(args, out, err);
+    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    std::vector<json> lines;
+    while ((lines = jsonLines(slurp(out))).size() < k + 1 && std::chrono::steady_clock::now() < giveUp)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ::kill(pid, SIGKILL);
+    reap(pid);
+    lines = jsonLines(slurp(out));
+    ASSERT_FALSE(lines.empty()) << slurp(err);
+    id = lines.front().at("session");
+  }
+  const Result done = leafdig("plant capture --resume " + std::to_string(id) + " --db " + quote(db) +
+                              " --speed 20 --pot-turn 30 --json </dev/null");
+  ASSERT_EQ(done.exitCode, 0) << done.err;
+  const json list = json::parse(leafdig("sessions list --json --db " + quote(db)).out);
+  ASSERT_EQ(list.size(), 1U);
+  EXPECT_EQ(list[0].at("status"), "complete");
+  ASSERT_EQ(leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(dir_ / "x") +
+                    " --format json")
+                .exitCode,
+            0);
+  expectTheSamplePlant(json::parse(slurp(dir_ / "x" / ("session-" + std::to_string(id) + ".survey.json"))),
+                       json::parse(leafdig(samplePlantMeasure()).out));
+  // A session begun without the reference receiver is not turned on resume.
+  const fs::path plain = dir_ / "plain.sqlite";
+  ASSERT_EQ(leafdig("plant capture --simulate --db " + quote(plain) + " --speed 20 --json </dev/null").exitCode, 0);
+  const Result refused = leafdig("plant capture --resume 1 --db " + quote(plain) + " --pot-turn 30");
+  EXPECT_EQ(refused.exitCode, 2);
+  EXPECT_NE(refused.err.find("was not begun as a simulation with a reference receiver"), std::string::npos)
+      << refused.err;
+}
+
 TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlantBuildTakes) {
   const fs::path db = dir_ / "station.sqlite";
   const Result r = leafdig("plant capture --simulate --db " + quote(db) + " --speed 20 --seed 3 --json");

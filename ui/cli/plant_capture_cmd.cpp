@@ -249,7 +249,9 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
         "'move' when you move the transmitter)");
-  if (o.potTurnDeg != 0.0 && !(o.simulate && o.referenceReceiver))
+  // A resumed simulation goes on as it was begun (with or without the reference receiver):
+  // checked against the session below.
+  if (o.potTurnDeg != 0.0 && o.resume == 0 && !(o.simulate && o.referenceReceiver))
     throw std::invalid_argument(
         "--pot-turn turns the simulated pot with the reference receiver on it: it goes with --simulate "
         "--reference-receiver (without one, a turning pot moves the plant under the stylus)");
@@ -297,6 +299,11 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     const auto info = store->session(id);
     if (info && info->kind == "plant") {
       const acq::PlantSessionSetup recorded = acq::PlantCaptureSession::setupFromJson(info->settingsJson);
+      if (o.potTurnDeg != 0.0 &&
+          (!recorded.simulatedPlant || acq::parseDigitizerSpec(recorded.digitizer).referenceStation == 0))
+        throw std::invalid_argument("plant session " + std::to_string(id) +
+                                    " was not begun as a simulation with a reference receiver: --pot-turn would "
+                                    "move the plant under the stylus; resume it without --pot-turn");
       if (!recorded.simulatedPlant) {
         if (o.simulate)
           throw std::invalid_argument("plant session " + std::to_string(id) +
