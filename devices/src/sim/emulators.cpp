@@ -176,10 +176,13 @@ class FastrakEmulator final : public Emulator {
 };
 
 // ---- Patriot / Liberty --------------------------------------------------------------------
+// With a reference motion a second sensor is plugged into port 2: every frame then carries sensor
+// 1's record and sensor 2's, in that order, each at the tracker's rate.
 class PolhemusEmulator final : public Emulator {
  public:
-  PolhemusEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o, polhemus::Model m)
-      : Emulator(std::move(o)), stylus_(std::move(stylus)), model_(m) {}
+  PolhemusEmulator(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions o, polhemus::Model m,
+                   std::shared_ptr<const StylusMotion> reference)
+      : Emulator(std::move(o)), stylus_(std::move(stylus)), reference_(std::move(reference)), model_(m) {}
   ~PolhemusEmulator() override { stop(); }
   std::string kind() const override { return polhemus::toString(model_); }
 
@@ -202,7 +205,9 @@ class PolhemusEmulator final : public Emulator {
     for (char c : bytes) {
       if (line_.empty() && (c == 'P' || c == 'p')) {  // single record; ends continuous output
         continuous_ = false;
-        record(stylus_->at(now(), k_++), 'P');
+        const std::uint64_t k = k_++;
+        record(stylus_->at(now(), k), 'P');
+        if (reference_) record(reference_->at(now(), k), 'P', 2);
         continue;
       }
       if (c == '\n') continue;
@@ -220,18 +225,27 @@ class PolhemusEmulator final : public Emulator {
       if (continuous_)
         continuous_ = false;
       else
-        record(st, 'P');
+        frame(t, k, st, 'P');
     }
     lastButton_ = st.button;
-    if (continuous_) record(st, 'C');
+    if (continuous_) frame(t, k, st, 'C');
   }
 
  private:
-  void record(const StylusMotion::State& st, char command) {
+  // One frame: sensor 1's record, then the reference sensor's.
+  void frame(double t, std::uint64_t k, const StylusMotion::State& stylus, char command) {
+    record(stylus, command);
+    if (reference_) record(reference_->at(t, k), command, 2);
+  }
+  void record(const StylusMotion::State& st, char command, int station = 1) {
     const RecordFaults f = beginRecord();
     if (f.skip) return;
     const auto ms = static_cast<std::uint32_t>(now() * 1000.0);
-    sendRecord(polhemus::encode(format_, sampleFrom(st, f.status), frame_++, ms, command), st.positionMm, st.button);
+    StylusSample s = sampleFrom(st, f.status);
+    s.station = station;
+    if (std::find(format_.items.begin(), format_.items.end(), 7) != format_.items.end())
+      s.quaternion = quaternionFromRotation(rotationFromEulerDeg(st.orientationDeg));
+    sendRecord(polhemus::encode(format_, s, frame_++, ms, command), st.positionMm, st.button);
   }
   void execute(const std::string& l) {
     if (l.empty()) return;
@@ -247,7 +261,8 @@ class PolhemusEmulator final : public Emulator {
       format_.binary = false;
     else if (l[0] == '\x16') {
       const std::string name = model_ == polhemus::Model::Patriot ? "Patriot" : "Liberty";
-      sendReply("\r\nPolhemus " + name + " (leafdig emulator)\r\nFirmware 1.0.0  IO Rev 1\r\nStations: 1\r\n");
+      sendReply("\r\nPolhemus " + name +
+                " (leafdig emulator)\r\nFirmware 1.0.0  IO Rev 1\r\nStations: " + (reference_ ? "2" : "1") + "\r\n");
     } else if (l.rfind("O*,", 0) == 0 || l.rfind("O1,", 0) == 0) {
       polhemus::Format f = format_;
       f.items.clear();
@@ -266,7 +281,7 @@ class PolhemusEmulator final : public Emulator {
       sendReply("*ERROR* unknown command\r\n");
     }
   }
-  std::shared_ptr<const StylusMotion> stylus_;
+  std::shared_ptr<const StylusMotion> stylus_, reference_;
   polhemus::Model model_;
   polhemus::Format format_;
   bool continuous_ = false, lastButton_ = false;
@@ -495,11 +510,13 @@ std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> s, Emu
                                       std::shared_ptr<const StylusMotion> reference) {
   return std::make_unique<FastrakEmulator>(std::move(s), std::move(o), std::move(reference));
 }
-std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
-  return std::make_unique<PolhemusEmulator>(std::move(s), std::move(o), polhemus::Model::Patriot);
+std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> s, EmulatorOptions o,
+                                      std::shared_ptr<const StylusMotion> reference) {
+  return std::make_unique<PolhemusEmulator>(std::move(s), std::move(o), polhemus::Model::Patriot, std::move(reference));
 }
-std::unique_ptr<Emulator> makeLiberty(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
-  return std::make_unique<PolhemusEmulator>(std::move(s), std::move(o), polhemus::Model::Liberty);
+std::unique_ptr<Emulator> makeLiberty(std::shared_ptr<const StylusMotion> s, EmulatorOptions o,
+                                      std::shared_ptr<const StylusMotion> reference) {
+  return std::make_unique<PolhemusEmulator>(std::move(s), std::move(o), polhemus::Model::Liberty, std::move(reference));
 }
 std::unique_ptr<Emulator> makeMicroScribe(std::shared_ptr<const StylusMotion> s, EmulatorOptions o) {
   return std::make_unique<MicroScribeEmulator>(std::move(s), std::move(o));

@@ -239,11 +239,12 @@ class Emulator {
 [[nodiscard]] std::unique_ptr<Emulator> makeFastrak(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options,
                                                     std::shared_ptr<const StylusMotion> reference = nullptr);
 [[nodiscard]] std::unique_ptr<Emulator> makePatriot(VirtualStylus stylus, EmulatorOptions options);
-[[nodiscard]] std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> stylus,
-                                                    EmulatorOptions options);
+// With `reference`, a second sensor (port 2) reports that motion after sensor 1 in every frame.
+[[nodiscard]] std::unique_ptr<Emulator> makePatriot(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options,
+                                                    std::shared_ptr<const StylusMotion> reference = nullptr);
 [[nodiscard]] std::unique_ptr<Emulator> makeLiberty(VirtualStylus stylus, EmulatorOptions options);
-[[nodiscard]] std::unique_ptr<Emulator> makeLiberty(std::shared_ptr<const StylusMotion> stylus,
-                                                    EmulatorOptions options);
+[[nodiscard]] std::unique_ptr<Emulator> makeLiberty(std::shared_ptr<const StylusMotion> stylus, EmulatorOptions options,
+                                                    std::shared_ptr<const StylusMotion> reference = nullptr);
 // The arm's base is the device origin; put the leaf within reach with StylusOptions::offsetMm
 // (kMicroScribeLeafOffset is a good place).
 [[nodiscard]] std::unique_ptr<Emulator> makeMicroScribe(VirtualStylus stylus, EmulatorOptions options);
