@@ -3,6 +3,7 @@
 #include <QApplication>
 #include <QCommandLineParser>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "leafdig/db/lab.hpp"
@@ -52,6 +53,13 @@ int main(int argc, char** argv) {
       "With --plant-markers or --capture-plant: take the plant by this protocol (leafdig.plant-protocol/1; "
       "default: the built-in tobacco's)",
       "FILE");
+  const QCommandLineOption referenceReceiver(
+      "reference-receiver",
+      "With --simulate --plant-markers: a reference receiver on the pot (receiver 2); every stylus sample is taken "
+      "in its frame");
+  const QCommandLineOption potTurn(
+      "pot-turn", "With --reference-receiver: the simulated pot turns by DEG degrees as the plant is taken", "DEG",
+      "0");
   const QCommandLineOption capturePlant(
       "capture-plant",
       "Digitize this plant (its id) where it stands with --digitizer and --caliper, in the plant capture view", "ID");
@@ -66,10 +74,10 @@ int main(int argc, char** argv) {
   const QCommandLineOption station(
       "station",
       "This station's id, stored with every session (default: [station] id= in the settings, or the host name)", "ID");
-  p.addOptions({simulate,  db,           speed,      seed,         markers,      digitizer,      caliper,
-                resume,    screenshot,   reviewShot, quit,         setupDialog,  settingsFile,   firstFrame,
-                plantPlan, plantSession, plantShot,  plantMarkers, capturePlant, screenshotWhen, noAudio,
-                station,   plantProtocol});
+  p.addOptions({simulate,       db,           speed,      seed,         markers,      digitizer,         caliper,
+                resume,         screenshot,   reviewShot, quit,         setupDialog,  settingsFile,      firstFrame,
+                plantPlan,      plantSession, plantShot,  plantMarkers, capturePlant, referenceReceiver, potTurn,
+                screenshotWhen, noAudio,      station,    plantProtocol});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -78,6 +86,14 @@ int main(int argc, char** argv) {
   o.speed = p.value(speed).toDouble();
   o.seed = p.value(seed).toULongLong();
   o.markers = p.value(markers).toStdString();
+  o.referenceReceiver = p.isSet(referenceReceiver);
+  o.potTurnDeg = p.value(potTurn).toDouble();
+  if ((o.potTurnDeg != 0 && !o.referenceReceiver) || !(std::abs(o.potTurnDeg) <= 360.0)) {
+    std::fprintf(stderr,
+                 "leafdig-station: --pot-turn DEG (-360…360) turns the simulated pot with the reference receiver on "
+                 "it: add --reference-receiver\n");
+    return 2;
+  }
   o.setup.project = "default";
   o.setup.plant = "plant-1";
   o.setup.operatorName = qEnvironmentVariable("USER", "technician").toStdString();

@@ -447,6 +447,7 @@ QString PlantCaptureView::startSimulated(const std::string& db, const std::strin
     db::Store store(db);
     if (resume == 0) {
       acq::PlantSessionSetup setup = acq::simulatedPlantSetup(m::readPlantMarkersFile(plantMarkersFile));
+      if (simulation.referenceReceiver) setup.digitizer += ",reference=2";  // kept with the session
       setup.protocol = protocol;
       setup.project = "default";
       setup.operatorName = operatorName;

@@ -598,6 +598,8 @@ bool StationWindow::startPlantCapture(const std::string& plantMarkers, const mod
   sim.speed = options_.speed;
   sim.seed = options_.seed;
   sim.mistakes = false;
+  sim.referenceReceiver = options_.referenceReceiver;
+  sim.potTurnDeg = options_.potTurnDeg;
   const QString error = plantCapture_->startSimulated(dbPath(), plantMarkers, sim, options_.setup.operatorName,
                                                       options_.setup.station, 0, protocol);
   if (!error.isEmpty()) {

@@ -37,7 +37,10 @@ struct StationOptions {
   bool simulate = false;  // simulated FASTRAK + Sylvac and a virtual technician
   double speed = 1.0;
   std::uint64_t seed = 1;
-  std::string markers;              // the simulated leaf
+  std::string markers;  // the simulated leaf
+  // A simulated plant: a reference receiver on the pot, which turns by potTurnDeg (issue 29).
+  bool referenceReceiver = false;
+  double potTurnDeg = 0;
   acquisition::SessionSetup setup;  // project, plant, …, devices (ignored when simulating)
   std::int64_t resume = 0;          // a session to continue; 0: a new one
   QString settingsFile;             // empty: defaultSettingsFile()

@@ -56,6 +56,7 @@
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
 #include "mesh_choice.hpp"
 #include "plant_capture_view.hpp"
 #include "plant_setup_dialog.hpp"
@@ -1312,6 +1313,40 @@ TEST(PlantCaptureView, ABranchedPlantHangsItsBranchUnderTheBearingNode) {
   for (const auto& organ : v->preview()->mesh.organs)
     if (organ.leafRank == 0) axes.insert(organ.name);
   EXPECT_EQ(axes, (std::set<std::string>{"plant/stem", "plant/branch-3"}));
+}
+
+// The station's simulated plant on a turning pot (leafdig-station --simulate --plant-markers …
+// --reference-receiver --pot-turn 30): the session keeps its reference receiver (a resume goes
+// on in its frame), and the plant the virtual technician took is the file's, node by node,
+// within the stylus' noise.
+TEST(PlantCaptureView, APlantOnATurningPotUnderAReferenceReceiverIsTheFilesPlant) {
+  const fs::path dir = freshDir("plant-capture-pot");
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.simulate = true;
+  o.speed = 50;
+  o.referenceReceiver = true;
+  o.potTurnDeg = 30;
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(o);
+  const std::string sample = std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json";
+  ASSERT_TRUE(w.startPlantCapture(sample)) << w.bannerText().toStdString();
+  leafdig::station::PlantCaptureView* v = w.plantCapture();
+  for (int i = 0; i < 6000 && !v->complete(); ++i) QTest::qWait(20);
+  ASSERT_TRUE(v->complete()) << v->bannerText().toStdString() << " / " << v->feedbackText().toStdString();
+  {
+    leafdig::db::Store store(o.db, true);
+    const auto info = store.session(v->sessionId());
+    ASSERT_TRUE(info);
+    EXPECT_EQ(acq::PlantCaptureSession::setupFromJson(info->settingsJson).digitizer, "fastrak:simulated,reference=2");
+  }
+  ASSERT_TRUE(v->engine());
+  const m::PlantSurvey got = m::surveyPlant(v->engine()->captured("p"));
+  const m::PlantSurvey want = m::surveyPlant(m::readPlantMarkersFile(sample));
+  ASSERT_EQ(got.nodes.size(), want.nodes.size());
+  for (std::size_t k = 0; k < got.nodes.size(); ++k)
+    EXPECT_LT((got.nodes[k].pointMm - want.nodes[k].pointMm).norm(), 2.0) << "node " << k + 1;
 }
 
 TEST(PlantCaptureView, APlantFileThatDoesNotReadStartsNothingAndSaysWhy) {
