@@ -651,6 +651,11 @@ PlantDecision PlantEngine::moveTransmitter() {
   return d;
 }
 
+std::set<int> PlantEngine::leafPositions(int node) const {
+  const auto it = leafPositions_.find(node);
+  return it == leafPositions_.end() ? std::set<int>{} : it->second;
+}
+
 RelocationFit PlantEngine::fitOf(int relocation) const {
   std::vector<Eigen::Vector3d> before, after;
   std::vector<int> numbers;
@@ -842,6 +847,8 @@ void PlantEngine::apply(const PlantDecision& d) {
     case PlantDecision::Kind::Leaf:
       leafEngine(d.node).apply(d.leaf);
       mirror(d.node, d.leaf);
+      if (d.leaf.kind == Decision::Kind::Accepted && isStylusItem(d.leaf.item.what))
+        leafPositions_[d.node].insert(static_cast<int>(toFirst_.size()) - 1);
       break;
     case PlantDecision::Kind::RelocationStarted:
       relocating_ = d.node;

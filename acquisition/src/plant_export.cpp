@@ -1,10 +1,12 @@
 #include "leafdig/acquisition/plant_export.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <future>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <utility>
 #include <variant>
 
@@ -16,6 +18,7 @@
 #include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/io/survey_export.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/metrics/area_interval.hpp"
 #include "leafdig/model/plant/surveyed_plant.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
@@ -108,6 +111,21 @@ CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
     throw m::InputError("plant session " + std::to_string(id) + " holds no whole plant yet (" + e.what() +
                         "): go on with `leafdig plant capture --resume " + std::to_string(id) + "`");
   }
+  // A full leaf taken across a move of the transmitter: its points before and after stand in
+  // frames related by a fit with a residual, which the interval's draws add to the noise.
+  for (m::SurveyedLeaf& leaf : out.survey.leaves) {
+    const std::set<int> positions = engine.leafPositions(leaf.node);
+    if (positions.size() < 2 || !leaf.markers || !leaf.areaLow95Mm2) continue;
+    double rms = 0;
+    for (int r : positions)
+      if (r > 0) rms = std::max(rms, engine.fitOf(r).rmsMm);
+    m::AreaUncertaintyOptions options;
+    options.sigmaMm = std::hypot(options.sigmaMm, rms);
+    const m::AreaUncertainty u = m::areaUncertainty(*leaf.markers, options);
+    leaf.areaLow95Mm2 = u.low95Mm2;
+    leaf.areaHigh95Mm2 = u.high95Mm2;
+    out.leafSigmaMm[leaf.node] = options.sigmaMm;
+  }
   return out;
 }
 
@@ -155,6 +173,9 @@ std::string surveyJson(const CapturedSurvey& captured) {
     const auto it = captured.nodePosition.find(n.at("node").get<int>());
     n["transmitter_position"] = it == captured.nodePosition.end() ? json(nullptr) : json(it->second);
   }
+  for (json& l : doc.at("leaves"))
+    if (const auto it = captured.leafSigmaMm.find(l.at("node").get<int>()); it != captured.leafSigmaMm.end())
+      l["area_interval_sigma_mm"] = it->second;  // taken across a move: the residual added to the noise
   return doc.dump(2) + "\n";
 }
 

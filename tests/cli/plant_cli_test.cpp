@@ -917,6 +917,20 @@ TEST_F(PlantCli, AMovedTransmitterIsFittedFromTheLandmarksAndThePlantComesOutThe
   EXPECT_GE(moved.at("worst_landmark").get<int>(), 1);
   EXPECT_EQ(survey["nodes"][0].at("transmitter_position"), 1);
   EXPECT_EQ(survey["nodes"].back().at("transmitter_position"), 2);
+  // Node 2's full leaf was taken across the move (after 30 points, inside its rows): its area
+  // interval is drawn with the fit's residual added to the digitizer's noise, and still holds
+  // the area; the other leaves are from one position and keep the stated accuracy.
+  int widened = 0;
+  for (const json& leaf : survey.at("leaves")) {
+    if (!leaf.contains("area_interval_sigma_mm")) continue;
+    ++widened;
+    EXPECT_EQ(leaf.at("node"), 2);
+    EXPECT_NEAR(leaf["area_interval_sigma_mm"].get<double>(), std::hypot(0.762, moved.at("rms_mm").get<double>()),
+                1e-9);
+    EXPECT_LT(leaf["area_95_mm2"][0].get<double>(), leaf["area_mm2"].get<double>());
+    EXPECT_GT(leaf["area_95_mm2"][1].get<double>(), leaf["area_mm2"].get<double>());
+  }
+  EXPECT_EQ(widened, 1);
   const json shown = json::parse(leafdig("sessions show " + std::to_string(id) + " --json --db " + quote(db)).out);
   EXPECT_EQ(shown.at("transmitter_positions"), survey.at("transmitter_positions"));
   int fromFirst = 0, fromSecond = 0;

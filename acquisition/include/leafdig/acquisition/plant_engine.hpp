@@ -47,6 +47,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -175,6 +176,9 @@ class PlantEngine {
   // Relocation r's fit (1…) from its LandmarkAgain items against the landmarks as first taken:
   // its residual and worst landmark, as the station shows them.
   [[nodiscard]] RelocationFit fitOf(int relocation) const;
+  // The transmitter positions (0 the first) node's full leaf's stylus points were accepted from,
+  // as far as replayed (a point undone keeps its position counted: the set only grows).
+  [[nodiscard]] std::set<int> leafPositions(int node) const;
 
   void apply(const PlantDecision& d);
   // A curator's correction in review (review.hpp's correct() on a plant session, and its
@@ -254,6 +258,7 @@ class PlantEngine {
   std::vector<model::NodeLink> placedLinks_;  // nodes 1 … the last placed one
   int relocating_ = 0;
   std::vector<Eigen::Isometry3d> toFirst_{Eigen::Isometry3d::Identity()};
+  std::map<int, std::set<int>> leafPositions_;
   RelocationSettings relocation_;
   Settings settings_;
   std::vector<PlantItem> items_;

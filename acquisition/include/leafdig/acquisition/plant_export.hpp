@@ -49,6 +49,10 @@ struct CapturedSurvey {
   std::string status;  // the session's ("complete", "approved", …)
   std::vector<TransmitterPosition> transmitter;
   std::map<int, int> nodePosition;  // node → the transmitter position its first point was taken from
+  // Full leaves taken across a move of the transmitter (their points from two positions or
+  // more): node → the digitizer noise their area interval was drawn with instead of the stated
+  // accuracy, √(σ² + RMS²) with the largest RMS of the moves involved.
+  std::map<int, double> leafSigmaMm;
 };
 [[nodiscard]] CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id);
 
