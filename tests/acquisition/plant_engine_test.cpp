@@ -722,6 +722,85 @@ TEST(PlantEngine, AMovedTransmitterIsFittedFromTheLandmarksTakenAgainAndEveryLat
   EXPECT_EQ(other.step().what, PlantWhat::Collar);
 }
 
+// A move of the transmitter at every kind of step a plant capture asks for — the collar, its
+// diameter, a node's point and reading, a quick leaf's point, a full leaf's marker and its
+// thickness reading — and in one case a second move later (a chain of three positions, the
+// third fitted to the first directly): the landmarks taken again fit, the capture goes on at the
+// step it left, and the plant comes out as the file says, replayed to the same file.
+TEST(PlantEngine, AMoveAtEveryKindOfStepAndAChainOfThreePositionsGiveTheFilesPlant) {
+  const m::PlantMarkers truth = samplePlant();
+  struct Case {
+    const char* name;
+    std::function<bool(const acq::PlantStep&)> at;
+  };
+  const std::vector<Case> cases{
+      {"the collar", [](const acq::PlantStep& s) { return s.what == PlantWhat::Collar; }},
+      {"the collar's diameter", [](const acq::PlantStep& s) { return s.what == PlantWhat::CollarDiameter; }},
+      {"node 3's point", [](const acq::PlantStep& s) { return s.what == PlantWhat::Point && s.index == 3; }},
+      {"node 3's reading", [](const acq::PlantStep& s) { return s.what == PlantWhat::Reading && s.index == 3; }},
+      {"node 3's quick leaf", [](const acq::PlantStep& s) { return s.what == PlantWhat::QuickPoint && s.index == 3; }},
+      {"node 2's full leaf, a marker",
+       [](const acq::PlantStep& s) {
+         return s.what == PlantWhat::Leaf && s.leaf.what == acq::What::Marker && s.leaf.row == 3;
+       }},
+      {"node 2's full leaf, a thickness",
+       [](const acq::PlantStep& s) { return s.what == PlantWhat::Leaf && !acq::isStylusItem(s.leaf.what); }},
+  };
+  const auto pose = [](double turnDeg, const Eigen::Vector3d& shift) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = (Eigen::AngleAxisd(turnDeg * std::acos(-1.0) / 180.0, Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+    p.translation() = shift;
+    return p;
+  };
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    SCOPED_TRACE(cases[c].name);
+    acq::PlantEngine engine(m::defaultPlantProtocol());
+    Technician tech{engine};
+    // Moves the transmitter at the current step, takes the four landmarks again, fits.
+    const auto move = [&](const Eigen::Isometry3d& to) {
+      const acq::PlantStep before = engine.step();
+      const acq::PlantDecision started = engine.moveTransmitter();
+      tech.keep(started);
+      ASSERT_EQ(started.kind, Kind::RelocationStarted) << started.reason;
+      tech.fromFirst = to;
+      for (const Eigen::Vector3d& l : truth.landmarksMm)
+        ASSERT_EQ(tech.press({l.x(), l.y(), l.z()}).kind, Kind::Accepted);
+      const acq::PlantDecision fitted = tech.end();
+      ASSERT_EQ(fitted.kind, Kind::RelocationFitted) << fitted.reason;
+      EXPECT_LT(fitted.fit.rmsMm, 1e-6);
+      EXPECT_EQ(engine.step(), before) << "the capture goes on where it was";
+    };
+    for (int guard = 0; guard < 2000 && !cases[c].at(engine.step()); ++guard) ASSERT_TRUE(tech.act(truth));
+    ASSERT_TRUE(cases[c].at(engine.step())) << engine.prompt();
+    move(pose(25.0 + 10.0 * static_cast<double>(c), {80.0, -60.0, 10.0}));
+    if (c == 0) {  // a third position, later: fitted to the first, not through the second
+      for (int guard = 0; guard < 2000 && !(engine.step().what == PlantWhat::Point && engine.step().index == 4);
+           ++guard)
+        ASSERT_TRUE(tech.act(truth));
+      const Eigen::Isometry3d third = pose(-70.0, {-150.0, 90.0, -20.0});
+      move(third);
+      ASSERT_EQ(engine.toFirst().size(), 3U);
+      EXPECT_TRUE(engine.toFirst()[2].isApprox(third.inverse(), 1e-9));
+    }
+    tech.captureAll(truth);
+    const m::PlantMarkers got = engine.captured(truth.plant);
+    ASSERT_EQ(got.nodes.size(), truth.nodes.size());
+    for (std::size_t i = 0; i < got.nodes.size(); ++i)
+      expectSamePoints(got.nodes[i].pointMm, truth.nodes[i].pointMm, 1e-6, "node " + std::to_string(i + 1));
+    const m::MarkerSet& leaf = std::get<m::MarkerSet>(got.nodes[1].leaf);
+    const m::MarkerSet& want = std::get<m::MarkerSet>(truth.nodes[1].leaf);
+    ASSERT_EQ(leaf.rows.size(), want.rows.size());
+    for (std::size_t r = 0; r < leaf.rows.size(); ++r)
+      for (std::size_t k = 0; k < m::kMarkersPerRow; ++k)
+        expectSamePoints(leaf.rows[r].pointsMm[k], want.rows[r].pointsMm[k], 1e-6, "node 2's marker");
+    acq::PlantEngine replayed(m::defaultPlantProtocol());
+    for (const acq::PlantDecision& d : tech.log) replayed.apply(d);
+    EXPECT_EQ(m::plantMarkersToJson(replayed.captured(truth.plant)), m::plantMarkersToJson(got));
+  }
+}
+
 // The station's live plant preview at the moments a technician sees it change: the points alone
 // before the plant frame, the stem from the first node (its diameter not read yet said so), the
 // full leaf under capture drawn in the plant from its own live preview, and at the end exactly
