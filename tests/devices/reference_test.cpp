@@ -304,6 +304,53 @@ INSTANTIATE_TEST_SUITE_P(Devices, TrackerWithAReferenceReceiver,
                                            ReferenceCase{"LibertyBinary", dev::DigitizerKind::Liberty, true, 1e-3}),
                          [](const auto& info) { return std::string(info.param.name); });
 
+namespace {
+
+// The reference receiver knocked 25 mm aside at 1 s (it slipped on the pot): a jump.
+class KnockedReceiver final : public dev::sim::StylusMotion {
+ public:
+  [[nodiscard]] State at(double t, std::uint64_t) const override {
+    State st;
+    st.positionMm = st.truthMm = {-90.0 + (t >= 1.0 ? 25.0 : 0.0), -100.0, -140.0};
+    st.orientationDeg = {35, 12, -8};
+    return st;
+  }
+};
+
+}  // namespace
+
+// Through the driver: the knock is a warning that names the jump and the remedy, the stylus is
+// withheld meanwhile, and once the receiver is still again the stream goes on.
+TEST(FastrakReference, AKnockedReferenceReceiverPausesTheStylusWithWordsThroughTheDriver) {
+  TurningPot pot;
+  dev::sim::EmulatorOptions eo;
+  auto emu = dev::sim::makeFastrak(std::make_shared<PotReceiver>(pot, true), eo, std::make_shared<KnockedReceiver>());
+  emu->start();
+  dev::DigitizerConfig cfg;
+  cfg.port = emu->path();
+  cfg.referenceStation = 2;
+  Collector col;
+  dev::Driver driver(dev::makeDigitizerLink(cfg), col.callbacks());
+  driver.start();
+  ASSERT_TRUE(col.waitFor([](Collector& k) { return k.sawState(dev::LinkState::Warning, "jumped 25.0 mm"); }, 20s))
+      << col.statusLog();
+  const std::size_t warnedAt = col.stylusCount();
+  ASSERT_TRUE(col.waitFor(
+      [](Collector& k) {
+        return !k.statuses.empty() && k.statuses.back().state == dev::LinkState::Streaming &&
+               k.sawState(dev::LinkState::Warning);
+      },
+      20s))
+      << col.statusLog();
+  ASSERT_TRUE(col.waitFor([&](Collector& k) { return k.stylus.size() > warnedAt + 30; }, 20s));
+  driver.stop();
+  emu->stop();
+  std::lock_guard lock(col.mutex);
+  bool remedy = false;
+  for (const auto& st : col.statuses) remedy = remedy || st.remedy.find("hold the pot still") != std::string::npos;
+  EXPECT_TRUE(remedy) << col.statusLog();
+}
+
 TEST(FastrakReference, AReceiverTheTrackerDoesNotHaveIsAConfigurationErrorInWords) {
   dev::sim::EmulatorOptions eo;
   auto emu = dev::sim::makeFastrak(dev::testing::quickStylus(), eo);
