@@ -47,6 +47,10 @@ PlantSetupDialog::PlantSetupDialog(const acq::PlantSessionSetup& defaults, const
   caliper_->setEditable(true);
   markers_ = new QLineEdit(sampleMarkers);
   markers_->setToolTip(tr("The plant the virtual technician digitizes (simulated devices only)"));
+  reference_ = new QCheckBox(tr("Receiver 2 is fixed to the pot (reference receiver): turn the pot freely"));
+  reference_->setToolTip(
+      tr("Every stylus point is taken in the frame of the receiver on the pot, so turning or nudging the pot "
+         "changes nothing (docs/devices.md, \"A reference receiver\")"));
   problem_ = new QLabel;
   problem_->setStyleSheet("color: #b00020");
   problem_->setWordWrap(true);
@@ -59,6 +63,7 @@ PlantSetupDialog::PlantSetupDialog(const acq::PlantSessionSetup& defaults, const
   form->addRow(tr("Digitizer"), digitizer_);
   form->addRow(tr("Caliper"), caliper_);
   form->addRow(tr("Simulated plant"), markers_);
+  form->addRow(tr("Reference"), reference_);
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
   connect(buttons, &QDialogButtonBox::accepted, this, &PlantSetupDialog::accept);
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
@@ -96,6 +101,7 @@ std::optional<PlantSetupChoice> PlantSetupDialog::choice(QString* problem) const
   if (simDigitizer != simCaliper)
     return fail(tr("A plant is simulated whole: choose both simulated devices, or two real ones."));
   c.simulated = simDigitizer;
+  c.referenceReceiver = reference_->isChecked();
   if (c.simulated) {
     c.plantMarkers = markers_->text().trimmed().toStdString();
     if (c.plantMarkers.empty() || !std::filesystem::is_regular_file(c.plantMarkers))
@@ -105,6 +111,8 @@ std::optional<PlantSetupChoice> PlantSetupDialog::choice(QString* problem) const
   }
   c.setup.digitizer = specOf(digitizer_).toStdString();
   c.setup.caliper = specOf(caliper_).toStdString();
+  if (c.referenceReceiver && c.setup.digitizer.find(",reference=") == std::string::npos)
+    c.setup.digitizer += ",reference=2";
   try {
     (void)acq::parseDigitizerSpec(c.setup.digitizer);
     (void)acq::parseCaliperSpec(c.setup.caliper);

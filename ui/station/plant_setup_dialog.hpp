@@ -4,6 +4,7 @@
 // leafdig.plant-markers/1 file, the sample plant by default).
 #pragma once
 
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDialog>
 #include <QLabel>
@@ -20,6 +21,7 @@ struct PlantSetupChoice {
   acquisition::PlantSessionSetup setup;  // plant, project, operator, date, protocol; devices' specs when real
   bool simulated = false;                // both devices simulated: the virtual technician digitizes `plantMarkers`
   std::string plantMarkers;
+  bool referenceReceiver = false;  // receiver 2 on the pot (real: in setup.digitizer's ",reference=2")
 };
 
 class PlantSetupDialog : public QDialog {
@@ -41,6 +43,7 @@ class PlantSetupDialog : public QDialog {
   QComboBox* digitizer() const { return digitizer_; }
   QComboBox* caliper() const { return caliper_; }
   QLineEdit* plantMarkers() const { return markers_; }
+  QCheckBox* referenceReceiver() const { return reference_; }
 
  public slots:
   void accept() override;
@@ -48,6 +51,7 @@ class PlantSetupDialog : public QDialog {
  private:
   QComboBox *plant_, *project_, *digitizer_, *caliper_;
   QLineEdit *operator_, *date_, *protocol_, *markers_;
+  QCheckBox* reference_;
   QLabel* problem_;
 };
 

@@ -475,6 +475,7 @@ bool StationWindow::newPlantDialog() {
   stopCapture();
   options_.setup.project = c->setup.project;
   options_.setup.operatorName = c->setup.operatorName;
+  if (c->simulated) options_.referenceReceiver = c->referenceReceiver;  // the pot stays as --pot-turn says
   return c->simulated ? startPlantCapture(c->plantMarkers, c->setup.protocol) : startPlantCaptureWithDevices(c->setup);
 }
 

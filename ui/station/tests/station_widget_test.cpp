@@ -1638,6 +1638,12 @@ TEST(PlantSetupDialog, AChoiceIsValidatedAndNamesWhatIsMissing) {
   EXPECT_TRUE(c->simulated);
   EXPECT_EQ(c->plantMarkers, sample.toStdString());
   EXPECT_EQ(c->setup.plant, "tobacco-p12");
+  EXPECT_FALSE(c->referenceReceiver);
+  d.referenceReceiver()->setChecked(true);
+  c = d.choice(&problem);
+  ASSERT_TRUE(c) << problem.toStdString();
+  EXPECT_TRUE(c->simulated && c->referenceReceiver) << "the simulated pot with a reference receiver";
+  d.referenceReceiver()->setChecked(false);
   d.date()->setText("2026-02-30");
   EXPECT_FALSE(d.choice(&problem));
   EXPECT_TRUE(problem.contains("YYYY-MM-DD")) << problem.toStdString();
@@ -1654,6 +1660,16 @@ TEST(PlantSetupDialog, AChoiceIsValidatedAndNamesWhatIsMissing) {
   EXPECT_EQ(c->setup.caliper, "sylvac:/dev/ttyUSB1");
   ASSERT_TRUE(c->setup.date);
   EXPECT_EQ(leafdig::model::toIso(*c->setup.date), "2026-07-01");
+  // A reference receiver on the pot: the digitizer's spec says so (once), and a simulation knows.
+  d.referenceReceiver()->setChecked(true);
+  c = d.choice(&problem);
+  ASSERT_TRUE(c) << problem.toStdString();
+  EXPECT_EQ(c->setup.digitizer, "fastrak:/dev/ttyUSB0,reference=2");
+  d.digitizer()->setCurrentText("fastrak:/dev/ttyUSB0,reference=3");
+  c = d.choice(&problem);
+  ASSERT_TRUE(c) << problem.toStdString();
+  EXPECT_EQ(c->setup.digitizer, "fastrak:/dev/ttyUSB0,reference=3") << "the receiver typed is kept";
+  d.referenceReceiver()->setChecked(false);
   d.digitizer()->setCurrentText("wand:/dev/ttyUSB0");
   EXPECT_FALSE(d.choice(&problem));
   EXPECT_TRUE(problem.contains("wand")) << problem.toStdString();
