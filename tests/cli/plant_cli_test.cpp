@@ -37,6 +37,18 @@ class PlantCli : public Cli {
     EXPECT_EQ(r.exitCode, 0) << r.err;
     return markers;
   }
+  // `leafdig args` (with --json) killed with SIGKILL once it has printed k + 1 lines — after its
+  // k-th acknowledged event: mid-capture by construction, not by a timer. Its JSON lines.
+  std::vector<json> killAfterLines(const std::vector<std::string>& args, std::size_t k, const fs::path& out,
+                                   const fs::path& err) {
+    const pid_t pid = spawn(args, out, err);
+    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (jsonLines(slurp(out)).size() < k + 1 && std::chrono::steady_clock::now() < giveUp)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ::kill(pid, SIGKILL);
+    reap(pid);
+    return jsonLines(slurp(out));
+  }
 };
 
 TEST_F(PlantCli, EveryExportOfTheSamplePlantOpensInAnIndependentReader) {
@@ -744,14 +756,7 @@ TEST_F(PlantCli, APlantCaptureKilledMidwayLosesNothingAcknowledgedAndResumesToTh
     } else {
       args.insert(args.end(), {"--resume", std::to_string(id)});
     }
-    const pid_t pid = spawn(args, out, err);
-    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    std::vector<json> lines;
-    while ((lines = jsonLines(slurp(out))).size() < k + 1 && std::chrono::steady_clock::now() < giveUp)
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    ::kill(pid, SIGKILL);
-    reap(pid);
-    lines = jsonLines(slurp(out));
+    const std::vector<json> lines = killAfterLines(args, k, out, err);
     ASSERT_FALSE(lines.empty()) << slurp(err);
     id = lines.front().at("session");
     // Every acknowledged event is in the file, and the chain verifies.
@@ -1021,14 +1026,7 @@ TEST_F(PlantCli, APlantOnATurningPotKilledAndResumedKeepsItsReferenceFrame) {
       args.insert(args.end(), {"--simulate", "--reference-receiver"});
     else
       args.insert(args.end(), {"--resume", std::to_string(id)});
-    const pid_t pid = spawn(args, out, err);
-    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    std::vector<json> lines;
-    while ((lines = jsonLines(slurp(out))).size() < k + 1 && std::chrono::steady_clock::now() < giveUp)
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    ::kill(pid, SIGKILL);
-    reap(pid);
-    lines = jsonLines(slurp(out));
+    const std::vector<json> lines = killAfterLines(args, k, out, err);
     ASSERT_FALSE(lines.empty()) << slurp(err);
     id = lines.front().at("session");
   }

@@ -1186,16 +1186,23 @@ int main(int argc, char** argv) {
 // FASTRAK and caliper: the prompt and the tree follow the plant node by node, the leaf view
 // opens while node 2's full leaf is taken, the 3-D plant ends as the captured plant's model;
 // then "Review this plant" opens it in the Plant view, where a curator approves it.
-TEST(PlantCaptureView, APlantIsDigitizedInTheStationAndReviewedThere) {
-  const fs::path dir = freshDir("plant-capture");
+// A station that simulates, at 50 times real time, on a database in `dir`, its settings there.
+leafdig::station::StationOptions simulatingStation(const fs::path& dir) {
   leafdig::station::StationOptions o;
   o.audio = audio();
   o.db = (dir / "s.sqlite").string();
   o.simulate = true;
   o.speed = 50;
   o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  return o;
+}
+
+const std::string kSamplePlant = std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json";
+
+TEST(PlantCaptureView, APlantIsDigitizedInTheStationAndReviewedThere) {
+  const leafdig::station::StationOptions o = simulatingStation(freshDir("plant-capture"));
   leafdig::station::StationWindow w(o);
-  const std::string sample = std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json";
+  const std::string& sample = kSamplePlant;
   ASSERT_TRUE(w.startPlantCapture(sample)) << w.bannerText().toStdString();
   leafdig::station::PlantCaptureView* v = w.plantCapture();
   ASSERT_NE(v, nullptr);
@@ -1276,13 +1283,7 @@ TEST(PlantCaptureView, APlantIsDigitizedInTheStationAndReviewedThere) {
 // hang under the stem node that bears it in the tree, the Branch button is there for this
 // protocol, and the preview draws the branch's tube beside the stem.
 TEST(PlantCaptureView, ABranchedPlantHangsItsBranchUnderTheBearingNode) {
-  const fs::path dir = freshDir("plant-branched");
-  leafdig::station::StationOptions o;
-  o.audio = audio();
-  o.db = (dir / "s.sqlite").string();
-  o.simulate = true;
-  o.speed = 50;
-  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  const leafdig::station::StationOptions o = simulatingStation(freshDir("plant-branched"));
   leafdig::station::StationWindow w(o);
   const std::string data = std::string(LEAFDIG_SOURCE_DIR) + "/data";
   ASSERT_TRUE(
@@ -1320,17 +1321,11 @@ TEST(PlantCaptureView, ABranchedPlantHangsItsBranchUnderTheBearingNode) {
 // on in its frame), and the plant the virtual technician took is the file's, node by node,
 // within the stylus' noise.
 TEST(PlantCaptureView, APlantOnATurningPotUnderAReferenceReceiverIsTheFilesPlant) {
-  const fs::path dir = freshDir("plant-capture-pot");
-  leafdig::station::StationOptions o;
-  o.audio = audio();
-  o.db = (dir / "s.sqlite").string();
-  o.simulate = true;
-  o.speed = 50;
+  leafdig::station::StationOptions o = simulatingStation(freshDir("plant-capture-pot"));
   o.referenceReceiver = true;
   o.potTurnDeg = 30;
-  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
   leafdig::station::StationWindow w(o);
-  const std::string sample = std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json";
+  const std::string& sample = kSamplePlant;
   ASSERT_TRUE(w.startPlantCapture(sample)) << w.bannerText().toStdString();
   leafdig::station::PlantCaptureView* v = w.plantCapture();
   for (int i = 0; i < 6000 && !v->complete(); ++i) QTest::qWait(20);
