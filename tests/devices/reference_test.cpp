@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <thread>
 
 #include "device_test_support.hpp"
 #include "leafdig/devices/links/links.hpp"
@@ -349,6 +350,50 @@ TEST(FastrakReference, AKnockedReferenceReceiverPausesTheStylusWithWordsThroughT
   bool remedy = false;
   for (const auto& st : col.statuses) remedy = remedy || st.remedy.find("hold the pot still") != std::string::npos;
   EXPECT_TRUE(remedy) << col.statusLog();
+}
+
+namespace {
+
+// The reference receiver's cable pulled at 1 s: its records stop making sense (the tracker
+// prints "nan" columns, which no decoder takes), the stylus' records go on.
+class UnpluggedReceiver final : public dev::sim::StylusMotion {
+ public:
+  [[nodiscard]] State at(double t, std::uint64_t) const override {
+    State st;
+    const double v = t >= 1.0 ? std::nan("") : -90.0;
+    st.positionMm = st.truthMm = {v, -100.0, -140.0};
+    st.orientationDeg = {35, 12, -8};
+    return st;
+  }
+};
+
+}  // namespace
+
+// A silent reference receiver holds the stylus back for as long as it is silent, with words
+// that say where to look — and the tracker, still sending the stylus' records, is not taken for
+// a stalled one (no re-initialising every second, whose words would blame the wrong cable).
+TEST(FastrakReference, ASilentReferenceReceiverPausesTheStylusWithoutReinitialisingTheTracker) {
+  TurningPot pot;
+  dev::sim::EmulatorOptions eo;
+  auto emu = dev::sim::makeFastrak(std::make_shared<PotReceiver>(pot, true), eo, std::make_shared<UnpluggedReceiver>());
+  emu->start();
+  dev::DigitizerConfig cfg;
+  cfg.port = emu->path();
+  cfg.referenceStation = 2;
+  Collector col;
+  dev::Driver driver(dev::makeDigitizerLink(cfg), col.callbacks());
+  driver.start();
+  ASSERT_TRUE(col.waitFor(
+      [](Collector& k) { return k.sawState(dev::LinkState::Warning, "reference receiver 2 stopped reporting"); }, 20s))
+      << col.statusLog();
+  const std::size_t before = col.stylusCount();
+  std::this_thread::sleep_for(2500ms);  // more than the stall watchdog's second, twice
+  driver.stop();
+  emu->stop();
+  std::lock_guard lock(col.mutex);
+  EXPECT_EQ(col.stylus.size(), before) << "nothing delivered while the reference is silent";
+  EXPECT_FALSE(col.sawState(dev::LinkState::Warning, "re-initialising")) << col.statusLog();
+  EXPECT_EQ(driver.status().reconnects, 0) << col.statusLog();
 }
 
 TEST(FastrakReference, AReceiverTheTrackerDoesNotHaveIsAConfigurationErrorInWords) {

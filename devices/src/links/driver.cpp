@@ -139,6 +139,10 @@ void Driver::run() {
       events_.clear();
       link_->pump(std::chrono::milliseconds(50), events_);
       const auto now = Clock::now();
+      if (const std::uint64_t records = link_->stats().records; records != recordsHeard_ || !events_.empty()) {
+        recordsHeard_ = records;
+        lastHeard_ = now;
+      }
       recordDelivery(deliver(), now);
       reportWarningChange();
       reinitialiseIfStalled(now);
@@ -170,6 +174,8 @@ bool Driver::connect() {
     std::lock_guard lock(mutex_);
     lastEvent_ = Clock::now();
   }
+  lastHeard_ = Clock::now();
+  recordsHeard_ = link_->stats().records;
   setState(LinkState::Streaming, link_->name() + " ready on " + link_->where());
   return true;
 }
@@ -230,8 +236,8 @@ void Driver::reportWarningChange() {
 // A streaming device silent too long is re-initialised: that one path recovers resets,
 // stalls and a FASTRAK knocked out of continuous mode.
 void Driver::reinitialiseIfStalled(Clock::time_point now) {
-  if (!link_->streams() || now - lastEvent_ <= link_->stallTimeout()) return;
-  const auto silentMs = std::chrono::duration_cast<std::chrono::milliseconds>(now - lastEvent_).count();
+  if (!link_->streams() || now - lastHeard_ <= link_->stallTimeout()) return;
+  const auto silentMs = std::chrono::duration_cast<std::chrono::milliseconds>(now - lastHeard_).count();
   setState(LinkState::Warning, link_->name() + " sent no data for " + std::to_string(silentMs) + " ms: re-initialising",
            "if this repeats, check the cable and that the device is powered");
   dropConnection();

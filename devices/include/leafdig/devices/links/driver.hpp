@@ -131,6 +131,10 @@ class Driver {
   Clock::time_point lastEvent_{};
   std::deque<Clock::time_point> recent_;
   // I/O thread only:
+  // When the device last sent a valid record, delivered or not (a stylus sample withheld while
+  // a reference receiver is silent is still the device talking): the stall watchdog's clock.
+  Clock::time_point lastHeard_{};
+  std::uint64_t recordsHeard_ = 0;
   bool connected_ = false;
   std::chrono::milliseconds retry_{0};
   Clock::time_point lastPoll_{};
