@@ -44,15 +44,22 @@ Command parseCommand(const std::string& line) {
     c.kind = Command::Kind::Quit;
   else if (word == "abandon")
     c.kind = Command::Kind::Abandon;
-  else if (word == "retake" || word == "r") {
+  else if (word == "move") {
+    c.kind = Command::Kind::MoveTransmitter;
+    std::string what;
+    if (in >> what && what != "transmitter")
+      throw std::invalid_argument("'move' takes no words but 'transmitter' (got '" + what + "')");
+  } else if (word == "retake" || word == "r") {
     c.kind = Command::Kind::Retake;
     const Step st = parseLeafItemWords(in, "retake");
     c.what = st.what;
     c.row = st.row;
     c.col = st.col;
   } else {
-    throw std::invalid_argument("unknown command '" + word +
-                                "': use undo, end, retake WHAT [ROW [POINT]], pause, resume, abandon [why], quit");
+    throw std::invalid_argument(
+        "unknown command '" + word +
+        "': use undo, end, retake WHAT [ROW [POINT]], move (the transmitter), pause, resume, abandon [why], "
+        "quit");
   }
   std::getline(in >> std::ws, c.text);
   return c;
@@ -218,6 +225,7 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
     case Command::Kind::Undo: deliver(session_.undo(now)); break;
     case Command::Kind::EndRows: deliver(session_.endRows(now)); break;
     case Command::Kind::Retake: deliver(session_.retake(c.what, c.row, c.col, now)); break;
+    case Command::Kind::MoveTransmitter: deliver(session_.moveTransmitter(now)); break;
     case Command::Kind::Pause: deliver(session_.pause(c.text.empty() ? "operator pause" : c.text, now)); break;
     case Command::Kind::Resume: deliver(session_.resume(now)); break;
     case Command::Kind::Abandon:

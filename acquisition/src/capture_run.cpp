@@ -119,6 +119,20 @@ void CaptureRun::prepareSimulation(const RunRequest& request) {
   so.potCentreMm = {middle.x(), middle.y(), middle.z()};
   rig_ = std::make_unique<SimulatedRig>(so);
   operator_ = std::make_unique<VirtualOperator>(*rig_, std::move(leaf), so);
+  operator_->setCommands([this](const Command& c) { loop_->command(c); });
+  // A session that moved the transmitter goes on from where it was: the rig reports every
+  // point as the last fitted position sees it (the inverse of that position's fit).
+  const Engine& engine = session_->engine();
+  if (const int positions = engine.transmitterPositions(); positions > 1) {
+    const std::array<double, 12>& m = engine.positionToFirst(positions - 1);
+    Eigen::Isometry3d toFirst = Eigen::Isometry3d::Identity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) toFirst.linear()(r, c) = m[static_cast<std::size_t>(3 * r + c)];
+      toFirst.translation()(r) = m[static_cast<std::size_t>(9 + r)];
+    }
+    rig_->moveTransmitter(toFirst.inverse());
+    operator_->transmitterMovedBefore();
+  }
 }
 
 CaptureRun::~CaptureRun() {

@@ -6,8 +6,10 @@
 #include <stdexcept>
 
 #include "leafdig/acquisition/point_rules.hpp"
+#include "leafdig/acquisition/relocation.hpp"
 #include "leafdig/model/leaf/markers.hpp"
 #include "leafdig/names/name_table.hpp"
+#include "words.hpp"
 
 namespace leafdig::acquisition {
 
@@ -35,7 +37,7 @@ const char* boardName(int col) {
 }  // namespace
 
 bool isStylusItem(What w) {
-  return w == What::Board || w == What::Tip || w == What::Marker;
+  return w == What::Board || w == What::Tip || w == What::Marker || w == What::BoardAgain;
 }
 
 double distanceMm(const Vec3& a, const Vec3& b) {
@@ -62,13 +64,14 @@ int completeRows(const std::vector<Item>& items) {
 namespace {
 
 constexpr NameTable<Order, 2> kOrderNames{{{Order::Sequential, "sequential"}, {Order::Interleaved, "interleaved"}}};
-constexpr NameTable<What, 8> kWhatNames{{{What::Board, "board"},
+constexpr NameTable<What, 9> kWhatNames{{{What::Board, "board"},
                                          {What::Tip, "tip"},
                                          {What::Marker, "marker"},
                                          {What::MidribThickness, "midrib_thickness"},
                                          {What::VeinOriginThickness, "vein_origin_thickness"},
                                          {What::EdgeThickness, "edge_thickness"},
                                          {What::PointThickness, "point_thickness"},
+                                         {What::BoardAgain, "board_again"},
                                          {What::Done, "done"}}};
 // The items a technician can name: every word but "done", the end of the protocol.
 constexpr auto kItemNames = [] {
@@ -128,6 +131,12 @@ std::vector<Step> Engine::thicknessSteps(int row) const {
 }
 
 Step Engine::step() const {
+  if (relocating_) {
+    // The board points again, from the moved transmitter; then the fit (col 0).
+    for (int c = 1; c <= 3; ++c)
+      if (!find(What::BoardAgain, relocating_, c)) return {What::BoardAgain, relocating_, c};
+    return {What::BoardAgain, relocating_, 0};
+  }
   if (retake_) return *retake_;
   if (settings_.boardFrame)
     for (int c = 1; c <= 3; ++c)
@@ -169,6 +178,9 @@ std::vector<PlannedStep> Engine::plan() const {
     const bool retaken = retake_ && retake_->what == What::Marker && retake_->row == row;
     return markersInRow(row) + (retaken ? 1 : 0) == kMarkersPerRow;
   };
+  // A move of the transmitter in progress: its board points first, they are what is asked now.
+  if (relocating_)
+    for (int c = 1; c <= 3; ++c) add({What::BoardAgain, relocating_, c});
   if (settings_.boardFrame)
     for (int c = 1; c <= 3; ++c) add({What::Board, 0, c});
   add({What::Tip, 0, 0});
@@ -211,6 +223,12 @@ std::string Engine::prompt() const {
     case What::PointThickness:
       return again + row + "back side · thickness at point " + std::to_string(s.col) + " (" + colName(s.col) + ")";
     case What::EdgeThickness: return again + "Margin thickness (d) with the caliper";
+    case What::BoardAgain:
+      if (s.col == 0)
+        return "Transmitter moved · every board point is taken again: hold the button (or End) to fit its new "
+               "position";
+      return "Transmitter moved · board point " + std::to_string(s.col) + " of 3 again · " + boardName(s.col) +
+             " of the board";
     case What::Done: return "Leaf complete";
   }
   return "";
@@ -244,7 +262,17 @@ std::vector<const StylusInput*> StylusPress::window(std::int64_t releaseNs, cons
   return out;
 }
 
-Decision Engine::onStylus(const StylusInput& s) {
+Vec3 Engine::toFirst(const Vec3& p) const {
+  const std::array<double, 12>& m = toFirst_.back();
+  return {m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[9], m[3] * p[0] + m[4] * p[1] + m[5] * p[2] + m[10],
+          m[6] * p[0] + m[7] * p[1] + m[8] * p[2] + m[11]};
+}
+
+Decision Engine::onStylus(const StylusInput& sample) {
+  // After a move of the transmitter every sample is taken into the first position's frame
+  // before anything sees it (not while the board points are taken again: those are fitted).
+  StylusInput s = sample;
+  if (!relocating_ && toFirst_.size() > 1) s.positionMm = toFirst(sample.positionMm);
   Decision d;
   if (const auto heldFor = press_.take(s, settings_)) {
     const std::int64_t held = *heldFor;
@@ -253,7 +281,9 @@ Decision Engine::onStylus(const StylusInput& s) {
       d = decideEndRows();
     else
       d = decidePoint(s);
-    if (d.kind == Decision::Kind::Accepted || d.kind == Decision::Kind::RowsEnded) apply(d);
+    if (d.kind == Decision::Kind::Accepted || d.kind == Decision::Kind::RowsEnded ||
+        d.kind == Decision::Kind::RelocationFitted)
+      apply(d);
     if (d.kind == Decision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
   }
   return d;
@@ -265,17 +295,29 @@ Decision Engine::decidePoint(const StylusInput& release) {
     if (st.what == What::Done) return reject("the leaf is complete: nothing more to point at");
     return reject("now measure with the caliper: " + prompt());
   }
+  if (st.what == What::BoardAgain && st.col == 0)
+    return reject("every board point is taken again: hold the button (or End) to fit the transmitter's new position");
   // The still samples just before the press (and while it was held).
   const std::vector<const StylusInput*> window = press_.window(release.tNs, settings_);
   const rules::Press press = rules::settle(window, settings_);
   if (press.refusal) return reject(*press.refusal);
-  const rules::Candidate candidate{st, press.mean, items_, settings_};
   // In this order: the first rule that refuses names the problem; the later ones are not run.
-  if (auto refusal = rules::doublePress(candidate, press_.pressedAt(), lastAcceptedReleaseNs_)) return reject(*refusal);
+  // A double press is judged against the last point in the same frame: board points taken
+  // again are in the moved transmitter's.
+  const bool again = st.what == What::BoardAgain;
+  std::optional<rules::Point> previous;
+  for (auto it = items_.rbegin(); it != items_.rend() && !previous; ++it)
+    if (isStylusItem(it->what) && (it->what == What::BoardAgain) == again)
+      previous = rules::Point(it->positionMm[0], it->positionMm[1], it->positionMm[2]);
+  if (auto refusal =
+          rules::doublePressNear(press.mean, previous, press_.pressedAt(), lastAcceptedReleaseNs_, settings_))
+    return reject(*refusal);
+  const rules::Candidate candidate{st, press.mean, items_, settings_};
   using Rule = rules::Refusal (*)(const rules::Candidate&);
-  for (const Rule rule :
-       {&rules::boardAxes, &rules::rowDirection, &rules::rowStart, &rules::evenSpacing, &rules::onMidrib})
-    if (auto refusal = rule(candidate)) return reject(*refusal);
+  if (!again)
+    for (const Rule rule :
+         {&rules::boardAxes, &rules::rowDirection, &rules::rowStart, &rules::evenSpacing, &rules::onMidrib})
+      if (auto refusal = rule(candidate)) return reject(*refusal);
   Decision d;
   d.kind = Decision::Kind::Accepted;
   d.item.what = st.what;
@@ -283,6 +325,7 @@ Decision Engine::decidePoint(const StylusInput& release) {
   d.item.col = st.col;
   d.item.positionMm = {press.mean.x(), press.mean.y(), press.mean.z()};
   d.item.raw = window.back()->raw;
+  d.item.frame = again ? st.row : static_cast<int>(toFirst_.size()) - 1;
   return d;
 }
 
@@ -313,6 +356,12 @@ Decision Engine::onCaliper(const CaliperInput& c) {
 
 Decision Engine::undo() {
   Decision d;
+  if (relocating_ && (actions_.empty() || actions_.back() == kMoveStarted)) {
+    d.kind = Decision::Kind::RelocationCancelled;  // no board point taken again yet: the move is undone
+    d.relocation = relocating_;
+    apply(d);
+    return d;
+  }
   if (retake_) {
     d.kind = Decision::Kind::RetakeCancelled;
     d.item = retakeOld_;
@@ -320,7 +369,10 @@ Decision Engine::undo() {
     return d;
   }
   if (actions_.empty()) return reject("nothing to undo");
-  if (actions_.back() < 0) {
+  if (actions_.back() == kMoveFitted) {
+    d.kind = Decision::Kind::RelocationReopened;
+    d.relocation = static_cast<int>(toFirst_.size()) - 1;
+  } else if (actions_.back() == kRowsEnded) {
     d.kind = Decision::Kind::RowsReopened;
   } else {
     d.kind = Decision::Kind::Undone;
@@ -331,7 +383,12 @@ Decision Engine::undo() {
 }
 
 Decision Engine::retake(What what, int row, int col) {
+  if (relocating_) return reject("finish moving the transmitter first: " + prompt());
   if (retake_) return reject("finish the retake in progress first (or undo it)");
+  if (what == What::BoardAgain)
+    return reject(
+        "a board point taken again after a move placed every later point: it cannot be retaken alone "
+        "(undo back to it, or move the transmitter again)");
   const Item* old = find(what, row, col);
   if (!old) {
     std::string where = toString(what);
@@ -363,8 +420,9 @@ Decision Engine::endRows() {
 }
 
 Decision Engine::decideEndRows() const {
-  if (retake_) return reject("finish the retake first: " + prompt());
   const Step st = step();
+  if (st.what == What::BoardAgain) return fitOf(st.row);
+  if (retake_) return reject("finish the retake first: " + prompt());
   if (st.what != What::Marker) return reject("the rows are already ended");
   if (st.col != 1)
     return reject("finish row " + std::to_string(st.row) + " first (point " + std::to_string(st.col) + " of 7)");
@@ -372,6 +430,78 @@ Decision Engine::decideEndRows() const {
     return reject("a leaf needs at least " + std::to_string(settings_.minRows) + " rows");
   Decision d;
   d.kind = Decision::Kind::RowsEnded;
+  return d;
+}
+
+Decision Engine::moveTransmitter() {
+  if (!settings_.boardFrame)
+    return reject(
+        "a leaf's transmitter can move only when the capture began with the board frame (--board, the "
+        "station's Board box): its three points are the landmarks taken again after the move");
+  if (relocating_) return reject("the transmitter is being moved already: " + prompt());
+  if (retake_) return reject("finish the retake first: " + prompt());
+  for (int c = 1; c <= 3; ++c)
+    if (!find(What::Board, 0, c))
+      return reject("take the board's three points first: they are what a move is fitted to");
+  if (complete()) return reject("the leaf is complete: there is nothing left to take from another position");
+  Decision d;
+  d.kind = Decision::Kind::RelocationStarted;
+  d.relocation = static_cast<int>(toFirst_.size());
+  apply(d);
+  return d;
+}
+
+namespace {
+
+// Move r's fit: the board points as first taken against the same points taken again.
+RelocationFit fitBoardPoints(const std::vector<Item>& items, int relocation, double toleranceMm) {
+  std::vector<Eigen::Vector3d> before, after;
+  for (int c = 1; c <= 3; ++c) {
+    const Item* b = findItem(items, What::Board, 0, c);
+    const Item* a = findItem(items, What::BoardAgain, relocation, c);
+    if (!b || !a) {
+      RelocationFit missing;
+      missing.refusal = "take board point " + std::to_string(c) + " (" + boardName(c) + ") again first";
+      return missing;
+    }
+    before.emplace_back(b->positionMm[0], b->positionMm[1], b->positionMm[2]);
+    after.emplace_back(a->positionMm[0], a->positionMm[1], a->positionMm[2]);
+  }
+  RelocationSettings rs;
+  rs.toleranceMm = toleranceMm;
+  rs.noun = "board point";
+  rs.lineRemedy = "undo and take the board's origin, +X and +Y points again";
+  RelocationFit fit = fitRelocation(before, after, rs);
+  if (fit.refusal && fit.rmsMm > toleranceMm) {
+    // Three points share a bad one's error in the fit; a move keeps their distances, so the
+    // one that moved is the one outside the pair whose distance still agrees.
+    const auto error = [&](int i, int j) {
+      const auto u = static_cast<std::size_t>(i), v = static_cast<std::size_t>(j);
+      return std::abs((before[u] - before[v]).norm() - (after[u] - after[v]).norm());
+    };
+    const double without[3] = {error(1, 2), error(0, 2), error(0, 1)};
+    const int moved = static_cast<int>(std::min_element(without, without + 3) - without);
+    const double off = std::max(error(moved, (moved + 1) % 3), error(moved, (moved + 2) % 3));
+    fit.worstLandmark = moved + 1;
+    fit.refusal = "the board points do not agree after the move (RMS " + detail::mm(fit.rmsMm) + ", more than " +
+                  detail::mm(toleranceMm) + "): board point " + std::to_string(moved + 1) + " (" +
+                  boardName(moved + 1) + ") moved: its distances to the others changed by up to " + detail::mm(off) +
+                  " — it slipped, or was pressed elsewhere; undo and take it again";
+  }
+  return fit;
+}
+
+}  // namespace
+
+Decision Engine::fitOf(int relocation) const {
+  const RelocationFit fit = fitBoardPoints(items_, relocation, settings_.relocationToleranceMm);
+  if (fit.refusal) return reject(*fit.refusal);
+  Decision d;
+  d.kind = Decision::Kind::RelocationFitted;
+  d.relocation = relocation;
+  d.fitRmsMm = fit.rmsMm;
+  d.fitWorstMm = fit.worstMm;
+  d.fitWorstPoint = fit.worstLandmark;
   return d;
 }
 
@@ -401,11 +531,46 @@ void Engine::apply(const Decision& d) {
       break;
     case Decision::Kind::RowsEnded:
       rowsEnded_ = true;
-      actions_.push_back(-1);
+      actions_.push_back(kRowsEnded);
       break;
     case Decision::Kind::RowsReopened:
       rowsEnded_ = false;
-      if (!actions_.empty() && actions_.back() < 0) actions_.pop_back();
+      if (!actions_.empty() && actions_.back() == kRowsEnded) actions_.pop_back();
+      break;
+    case Decision::Kind::RelocationStarted:
+      if (!relocating_ && d.relocation == static_cast<int>(toFirst_.size())) {
+        relocating_ = d.relocation;
+        actions_.push_back(kMoveStarted);
+      }
+      break;
+    case Decision::Kind::RelocationFitted:
+      if (relocating_ == d.relocation) {
+        // Recomputed from the items: replay gives the same.
+        const RelocationFit fit = fitBoardPoints(items_, d.relocation, settings_.relocationToleranceMm);
+        if (fit.refusal) break;
+        const Eigen::Isometry3d& m = fit.newToOld;
+        std::array<double, 12> a{};
+        for (int r = 0; r < 3; ++r) {
+          for (int c = 0; c < 3; ++c) a[static_cast<std::size_t>(3 * r + c)] = m.linear()(r, c);
+          a[static_cast<std::size_t>(9 + r)] = m.translation()(r);
+        }
+        toFirst_.push_back(a);
+        relocating_ = 0;
+        actions_.push_back(kMoveFitted);
+      }
+      break;
+    case Decision::Kind::RelocationReopened:
+      if (!relocating_ && !actions_.empty() && actions_.back() == kMoveFitted && toFirst_.size() > 1) {
+        actions_.pop_back();
+        toFirst_.pop_back();
+        relocating_ = static_cast<int>(toFirst_.size());
+      }
+      break;
+    case Decision::Kind::RelocationCancelled:
+      if (relocating_ && !actions_.empty() && actions_.back() == kMoveStarted) {
+        actions_.pop_back();
+        relocating_ = 0;
+      }
       break;
     case Decision::Kind::Undone:
       if (!actions_.empty() && actions_.back() >= 0) erase(static_cast<std::size_t>(actions_.back()));

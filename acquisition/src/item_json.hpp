@@ -2,6 +2,8 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 #include "leafdig/acquisition/engine.hpp"
@@ -26,6 +28,7 @@ inline nlohmann::json itemJson(const Item& i) {
   else
     j["value_mm"] = i.valueMm;
   if (!i.flag.empty()) j["flag"] = i.flag;
+  if (i.frame > 0) j["frame"] = i.frame;  // taken after a move of the transmitter
   return j;
 }
 
@@ -38,6 +41,9 @@ inline Item itemFrom(const nlohmann::json& j, const std::string& raw) {
     for (std::size_t k = 0; k < 3; ++k) i.positionMm[k] = j.at("position_mm").at(k).get<double>();
   if (j.contains("value_mm")) i.valueMm = j.at("value_mm").get<double>();
   i.flag = j.value("flag", std::string());
+  i.frame = j.value("frame", 0);
+  if (i.frame < 0 || i.frame > 999)
+    throw std::invalid_argument("its frame " + std::to_string(i.frame) + " is not 0–999");
   i.raw = raw;
   return i;
 }

@@ -127,15 +127,7 @@ class PlantTechnician {
       asked_ = false;
       if (s.what != PlantWhat::LandmarkAgain) return false;  // refused (e.g. a retake in progress): later
       moved_ = true;
-      std::uniform_real_distribution<double> shift(-150.0, 150.0), lift(-40.0, 40.0), turn(-40.0, 40.0),
-          tilt(-6.0, 6.0);
-      constexpr double kDeg = 3.14159265358979323846 / 180.0;
-      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-      pose.linear() = (Eigen::AngleAxisd(turn(rng_) * kDeg, Eigen::Vector3d::UnitZ()) *
-                       Eigen::AngleAxisd(tilt(rng_) * kDeg, Eigen::Vector3d::UnitX()))
-                          .toRotationMatrix();
-      pose.translation() = Eigen::Vector3d(shift(rng_), shift(rng_), lift(rng_));
-      rig_.moveTransmitter(pose);
+      rig_.moveTransmitter(randomTransmitterMove(rng_));
       return false;  // then the first landmark again, as the station asks
     }
     const bool between =

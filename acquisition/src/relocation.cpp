@@ -33,24 +33,24 @@ RelocationFit fitRelocation(const std::vector<Eigen::Vector3d>& before, const st
                             const RelocationSettings& settings, const std::vector<int>& numbers) {
   RelocationFit fit;
   if (before.size() != after.size()) {
-    fit.refusal = "the landmarks taken again (" + std::to_string(after.size()) + ") are not those taken before (" +
-                  std::to_string(before.size()) + "): take each one again";
+    fit.refusal = "the " + settings.noun + "s taken again (" + std::to_string(after.size()) +
+                  ") are not those taken before (" + std::to_string(before.size()) + "): take each one again";
     return fit;
   }
   if (before.size() < 3) {
-    fit.refusal = "take at least three of the landmarks again after moving the transmitter (" +
+    fit.refusal = "take at least three of the " + settings.noun + "s again after moving the transmitter (" +
                   std::to_string(before.size()) + " so far)";
     return fit;
   }
   for (const auto& p : before)
-    if (!p.allFinite()) fit.refusal = "a landmark is not a number: take it again";
+    if (!p.allFinite()) fit.refusal = "a " + settings.noun + " is not a number: take it again";
   for (const auto& p : after)
-    if (!p.allFinite()) fit.refusal = "a landmark is not a number: take it again";
+    if (!p.allFinite()) fit.refusal = "a " + settings.noun + " is not a number: take it again";
   if (fit.refusal) return fit;
   const double spreadBefore = spreadOffLine(before);
   if (spreadBefore < settings.minSpreadMm || spreadOffLine(after) < settings.minSpreadMm) {
-    fit.refusal = "the landmarks are nearly on one line (" + mm(spreadBefore) +
-                  " off it): they cannot fix the transmitter's turn; take landmarks around the pot";
+    fit.refusal = "the " + settings.noun + "s are nearly on one line (" + mm(spreadBefore) +
+                  " off it): they cannot fix the transmitter's turn; " + settings.lineRemedy;
     return fit;
   }
   // Kabsch: the rotation R minimising Σ |R (a_i − ā) − (b_i − b̄)|² from the SVD of the
@@ -77,8 +77,8 @@ RelocationFit fitRelocation(const std::vector<Eigen::Vector3d>& before, const st
   fit.rmsMm = std::sqrt(sum / static_cast<double>(before.size()));
   fit.worstLandmark = fit.worst < numbers.size() ? numbers[fit.worst] : static_cast<int>(fit.worst) + 1;
   if (fit.rmsMm > settings.toleranceMm)
-    fit.refusal = "the landmarks do not agree after the move (RMS " + mm(fit.rmsMm) + ", more than " +
-                  mm(settings.toleranceMm) + "): landmark " + std::to_string(fit.worstLandmark) + " is " +
+    fit.refusal = "the " + settings.noun + "s do not agree after the move (RMS " + mm(fit.rmsMm) + ", more than " +
+                  mm(settings.toleranceMm) + "): " + settings.noun + " " + std::to_string(fit.worstLandmark) + " is " +
                   mm(fit.worstMm) + " off — it moved, or was pressed elsewhere; take it again";
   return fit;
 }

@@ -198,6 +198,10 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
                                 " captured one leaf: a plant's item or a node does not apply (--what tip, marker, "
                                 "or a thickness, with --row and --col)");
   detail::requireCorrectable(store, id, info.status, c.reason, c.who);
+  if (c.what == What::BoardAgain)
+    throw std::invalid_argument(
+        "a board point taken again after moving the transmitter placed every later point: it "
+        "is not corrected alone (correct the markers it placed, --what marker)");
   const ReviewedSession r = openForReview(store, id);
   const Item* old = findItem(r.engine.items(), c.what, c.row, c.col);
   if (!old)

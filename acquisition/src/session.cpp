@@ -28,7 +28,7 @@ using Key = detail::Key;
 namespace {
 
 // Feedback names are the JSON-lines contract's `event` values (README).
-constexpr NameTable<Feedback::Kind, 12> kFeedbackNames{{{Feedback::Kind::Accepted, "accepted"},
+constexpr NameTable<Feedback::Kind, 13> kFeedbackNames{{{Feedback::Kind::Accepted, "accepted"},
                                                         {Feedback::Kind::Rejected, "rejected"},
                                                         {Feedback::Kind::Undone, "undone"},
                                                         {Feedback::Kind::RowsEnded, "rows_ended"},
@@ -39,7 +39,8 @@ constexpr NameTable<Feedback::Kind, 12> kFeedbackNames{{{Feedback::Kind::Accepte
                                                         {Feedback::Kind::Resumed, "resumed"},
                                                         {Feedback::Kind::Complete, "complete"},
                                                         {Feedback::Kind::Abandoned, "abandoned"},
-                                                        {Feedback::Kind::Device, "device"}}};
+                                                        {Feedback::Kind::Device, "device"},
+                                                        {Feedback::Kind::Relocation, "relocation"}}};
 
 // The stored event kind of each engine decision (docs/schema.md); the same word is the
 // feedback announced once it is stored.
@@ -50,6 +51,14 @@ constexpr NameTable<Decision::Kind, 7> kDecisionEvents{{{Decision::Kind::Accepte
                                                         {Decision::Kind::RowsReopened, "rows_reopened"},
                                                         {Decision::Kind::RetakeStarted, "retake"},
                                                         {Decision::Kind::RetakeCancelled, "retake_cancelled"}}};
+// A move of the transmitter is one event kind, `relocation`, with its step.
+constexpr NameTable<Decision::Kind, 4> kRelocationSteps{{{Decision::Kind::RelocationStarted, "started"},
+                                                         {Decision::Kind::RelocationFitted, "fitted"},
+                                                         {Decision::Kind::RelocationReopened, "reopened"},
+                                                         {Decision::Kind::RelocationCancelled, "cancelled"}}};
+bool isRelocation(Decision::Kind k) {
+  return std::any_of(kRelocationSteps.begin(), kRelocationSteps.end(), [k](const auto& n) { return n.first == k; });
+}
 
 }  // namespace
 
@@ -91,23 +100,26 @@ std::string thisStation() {
 }
 
 std::string CaptureSession::settingsToJson(const Settings& s) {
-  return json{{"mode", toString(s.mode)},
-              {"order", toString(s.order)},
-              {"double_tap_mm", s.doubleTapMm},
-              {"double_tap_ns", s.doubleTapNs},
-              {"still_tolerance_mm", s.stillToleranceMm},
-              {"still_window_ns", s.stillWindowNs},
-              {"long_press_ns", s.longPressNs},
-              {"undo_press_ns", s.undoPressNs},
-              {"min_thickness_mm", s.minThicknessMm},
-              {"max_thickness_mm", s.maxThicknessMm},
-              {"repeat_window_ns", s.repeatWindowNs},
-              {"spacing_tolerance", s.spacingTolerance},
-              {"midrib_tolerance_mm", s.midribToleranceMm},
-              {"min_rows", s.minRows},
-              {"board_frame", s.boardFrame},
-              {"board_min_mm", s.boardMinMm}}
-      .dump();
+  json j{{"mode", toString(s.mode)},
+         {"order", toString(s.order)},
+         {"double_tap_mm", s.doubleTapMm},
+         {"double_tap_ns", s.doubleTapNs},
+         {"still_tolerance_mm", s.stillToleranceMm},
+         {"still_window_ns", s.stillWindowNs},
+         {"long_press_ns", s.longPressNs},
+         {"undo_press_ns", s.undoPressNs},
+         {"min_thickness_mm", s.minThicknessMm},
+         {"max_thickness_mm", s.maxThicknessMm},
+         {"repeat_window_ns", s.repeatWindowNs},
+         {"spacing_tolerance", s.spacingTolerance},
+         {"midrib_tolerance_mm", s.midribToleranceMm},
+         {"min_rows", s.minRows},
+         {"board_frame", s.boardFrame},
+         {"board_min_mm", s.boardMinMm}};
+  // Written only when it is not the default, so that a session without it reads the same.
+  if (s.relocationToleranceMm != Settings{}.relocationToleranceMm)
+    j["relocation_tolerance_mm"] = s.relocationToleranceMm;
+  return j.dump();
 }
 
 Settings CaptureSession::settingsFromJson(const std::string& text) {
@@ -130,6 +142,7 @@ Settings CaptureSession::settingsFromJson(const std::string& text) {
   s.minRows = e.value("min_rows", s.minRows);
   s.boardFrame = e.value("board_frame", s.boardFrame);
   s.boardMinMm = e.value("board_min_mm", s.boardMinMm);
+  s.relocationToleranceMm = e.value("relocation_tolerance_mm", s.relocationToleranceMm);
   return s;
 }
 
@@ -214,6 +227,14 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
         d.kind = Decision::Kind::Accepted;
         d.item = itemFrom(p.at("corrected"), e.raw);
         d.item.flag = "corrected: " + p.at("reason").get<std::string>();
+      } else if (e.kind == "relocation") {
+        const std::string step = p.at("step").get<std::string>();
+        const auto kind = valueIn(kRelocationSteps, step);
+        if (!kind) throw SessionError("its step is \"" + step + "\", not started, fitted, reopened or cancelled");
+        d.kind = *kind;
+        d.relocation = p.at("relocation").get<int>();
+        if (d.relocation < 1 || d.relocation > 999)
+          throw SessionError("it names relocation " + std::to_string(d.relocation));
       } else {
         const auto kind = valueIn(kDecisionEvents, e.kind);
         // Rejections, pauses, device and status events change no item.
@@ -238,9 +259,12 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
         }
       }
       const std::size_t before = engine.items().size();
+      const int relocating = engine.relocating(), positions = engine.transmitterPositions();
       engine.apply(d);
       if (d.kind == Decision::Kind::Undone && engine.items().size() + 1 != before)
         throw SessionError("nothing was undone");
+      if (isRelocation(d.kind) && relocating == engine.relocating() && positions == engine.transmitterPositions())
+        throw SessionError("the move of the transmitter does not follow from the events before it");
     } catch (const SessionError& err) {
       throw SessionError("event " + std::to_string(e.seq) + " (" + e.kind + ") does not replay: " + err.what());
     } catch (const std::exception& err) {
@@ -332,11 +356,29 @@ std::vector<Feedback> CaptureSession::commit(const Decision& d, std::int64_t mon
   if (d.kind == Decision::Kind::Ignored) return out;
   db::EventInput ev;
   ev.monoNs = monoNs;
-  ev.kind = nameIn(kDecisionEvents, d.kind);
+  const char* relocationStep = isRelocation(d.kind) ? nameIn(kRelocationSteps, d.kind) : nullptr;
+  ev.kind = relocationStep ? "relocation" : nameIn(kDecisionEvents, d.kind);
   Feedback f;
   f.kind = *valueIn(kFeedbackNames, ev.kind);
   f.item = d.item;
   switch (d.kind) {
+    case Decision::Kind::RelocationStarted:
+    case Decision::Kind::RelocationFitted:
+    case Decision::Kind::RelocationReopened:
+    case Decision::Kind::RelocationCancelled: {
+      json j{{"relocation", d.relocation}, {"step", std::string(relocationStep)}};
+      if (d.kind == Decision::Kind::RelocationFitted) {
+        j["rms_mm"] = d.fitRmsMm;  // what the technician was shown; replay fits again
+        j["worst_mm"] = d.fitWorstMm;
+      }
+      ev.payloadJson = j.dump();
+      f.text = relocationStep;
+      f.relocation = d.relocation;
+      f.fitRmsMm = d.fitRmsMm;
+      f.fitWorstMm = d.fitWorstMm;
+      f.fitWorstPoint = d.fitWorstPoint;
+      break;
+    }
     case Decision::Kind::Rejected:
       ev.payloadJson = json{{"reason", d.reason},
                             {"step",
@@ -432,6 +474,11 @@ std::vector<Feedback> CaptureSession::undo(std::int64_t monoNs) {
 std::vector<Feedback> CaptureSession::endRows(std::int64_t monoNs) {
   if (paused_ || ended_) return {};
   return commit(engine_.endRows(), monoNs, {});
+}
+
+std::vector<Feedback> CaptureSession::moveTransmitter(std::int64_t monoNs) {
+  if (paused_ || ended_) return {};
+  return commit(engine_.moveTransmitter(), monoNs, {});
 }
 
 std::vector<Feedback> CaptureSession::retake(What what, int row, int col, std::int64_t monoNs) {

@@ -215,6 +215,20 @@ std::string SimulatedRig::caliperSpec() const {
   return "sylvac:" + gauge_->path();
 }
 
+Eigen::Isometry3d randomTransmitterMove(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> shift(-150.0, 150.0), lift(-40.0, 40.0), turn(-40.0, 40.0), tilt(-6.0, 6.0);
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  // In this order (the draws of a seed stay what they were): the turn, the tilt, the shift.
+  const double about = turn(rng) * kDeg, tilted = tilt(rng) * kDeg;
+  const double x = shift(rng), y = shift(rng), z = lift(rng);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() =
+      (Eigen::AngleAxisd(about, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(tilted, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(x, y, z);
+  return pose;
+}
+
 // ---- virtual operator -----------------------------------------------------------------------
 VirtualOperator::VirtualOperator(SimulatedRig& rig, model::MarkerSet leaf, const SimulationOptions& o)
     : rig_(rig), leaf_(std::move(leaf)), options_(o), rng_(o.seed * 7919 + 3) {}
@@ -267,10 +281,43 @@ void VirtualOperator::measure(double mm) {
   rig_.caliperEmulator().pressData();
 }
 
+// Moving the transmitter after `relocateSourceAfter` accepted points (tip and markers): the
+// technician says so, and once the station asks for the board points again, moves it (a
+// seeded random pose) and takes them. A move this run did not make (found half-done after a
+// restart: the transmitter's pose went with the process) is undone first.
+bool VirtualOperator::relocate(const Snapshot& s) {
+  if (!send_) return false;
+  if (s.step.what == What::BoardAgain && !moved_) {
+    if (askedToMove_) {
+      askedToMove_ = false;
+      moved_ = true;
+      rig_.moveTransmitter(randomTransmitterMove(rng_));
+      return false;  // then the first board point again, as the station asks
+    }
+    Command undo;
+    undo.kind = Command::Kind::Undo;
+    send_(undo);
+    return true;
+  }
+  askedToMove_ = false;
+  if (options_.relocateSourceAfter <= 0 || moved_ || s.retaking) return false;
+  int points = 0;
+  for (const Item& i : s.items) points += i.what == What::Tip || i.what == What::Marker;
+  const bool between = s.step.what == What::Tip || s.step.what == What::Marker || !isStylusItem(s.step.what);
+  if (points < options_.relocateSourceAfter || !between || s.step.what == What::Done) return false;
+  Command move;
+  move.kind = Command::Kind::MoveTransmitter;
+  send_(move);
+  askedToMove_ = true;
+  return true;
+}
+
 void VirtualOperator::act(const Snapshot& s) {
   if (s.paused || s.complete || s.status != "open") return;
-  // A wrong item accepted last (a deliberate mistake, or noise): undo it with the stylus.
-  if (!s.items.empty()) {
+  if (relocate(s)) return;
+  // A wrong item accepted last (a deliberate mistake, or noise): undo it with the stylus. A
+  // board point taken again is in the moved transmitter's frame: the fit judges it.
+  if (!s.items.empty() && s.items.back().what != What::BoardAgain) {
     const Item& last = s.items.back();
     const bool wrong = isStylusItem(last.what)
                            ? distanceMm(last.positionMm, rig_.toStation(truth(last.what, last.row, last.col))) > 5.0
@@ -287,6 +334,13 @@ void VirtualOperator::act(const Snapshot& s) {
   if (options_.referenceReceiver && options_.potTurnDeg != 0.0 && st.what == What::Marker) {
     const int rows = std::max<int>(2, static_cast<int>(leaf_.rows.size()));
     rig_.aimPot(options_.potTurnDeg * std::min(1.0, static_cast<double>(st.row - 1) / (rows - 1)));
+  }
+  if (st.what == What::BoardAgain) {
+    if (st.col == 0)
+      press(truth(What::Board, 0, 3), 1.7, 0.3, 0.3);  // every board point again: a long press fits the move
+    else
+      press(truth(What::Board, 0, st.col), 0.35);
+    return;
   }
   if (isStylusItem(st.what)) {
     if (st.what == What::Marker && st.row > static_cast<int>(leaf_.rows.size())) {

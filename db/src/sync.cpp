@@ -89,26 +89,33 @@ void insertEvents(pg::Connection& c, std::int64_t serverId, const std::string& s
   (void)c.exec(sql, params);
 }
 
-// What a plant session holds that a server of `schema` does not take yet: "" (plant sessions
-// at all, before schema 3), " with retakes" (before 4), " with branches" (before 5), " with a
-// moved transmitter" (before 6); nothing
-// when the server takes it all.
+// What a session holds that a server of `schema` does not take yet, in words ("is a plant
+// session with branches and the lab server (schema 4) does not take a plant's branches yet"):
+// plant sessions at all before schema 3, a plant's retakes before 4, its branches before 5, its
+// moved transmitter before 6, a leaf's moved transmitter before 7; nothing when the server
+// takes it all.
 std::optional<std::string> beyondServer(const SessionInfo& s, int schema, Store& local) {
-  if (s.kind != "plant" || schema >= 6) return std::nullopt;
-  if (schema < 3) return std::string();
+  if (schema >= 7) return std::nullopt;
+  const bool plant = s.kind == "plant";
+  const std::string server = " and the lab server (schema " + std::to_string(schema) + ") does not take ";
+  if (plant && schema < 3) return "is a plant session" + server + "plant sessions yet";
   struct Since {
+    bool plant;
     int schema;
-    const char *first, *second, *words;
+    const char *first, *second, *what;
   };
-  static constexpr Since kSince[] = {{4, "retake", "retake_cancelled", " with retakes"},
-                                     {5, "node_placed", "placement_undone", " with branches"},
-                                     {6, "relocation", "relocation", " with a moved transmitter"}};
+  static constexpr Since kSince[] = {{true, 4, "retake", "retake_cancelled", "retakes"},
+                                     {true, 5, "node_placed", "placement_undone", "branches"},
+                                     {true, 6, "relocation", "relocation", "moved transmitter"},
+                                     {false, 7, "relocation", "relocation", "moved transmitter"}};
   const std::vector<Event> events = local.events(s.id);
+  const std::string kind = plant ? "plant" : "leaf";
   for (const Since& since : kSince)
-    if (schema < since.schema && std::any_of(events.begin(), events.end(), [&](const Event& e) {
+    if (since.plant == plant && schema < since.schema && std::any_of(events.begin(), events.end(), [&](const Event& e) {
           return e.kind == since.first || e.kind == since.second;
         }))
-      return std::string(since.words);
+      return "is a " + kind + " session with " + (since.schema == 4 || since.schema == 5 ? "" : "a ") + since.what +
+             server + "a " + kind + "'s " + since.what + " yet";
   return std::nullopt;
 }
 
@@ -142,10 +149,7 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
     }
     // What a server of an older schema cannot take yet stays on this station, whole, named.
     if (const auto missing = beyondServer(s, schema, local)) {
-      problem(s,
-              "is a plant session" + *missing + " and the lab server (schema " + std::to_string(schema) +
-                  ") does not take " + (missing->empty() ? "plant sessions" : "a plant's" + missing->substr(5)) +
-                  " yet; it stays on this station, whole",
+      problem(s, *missing + "; it stays on this station, whole",
               "the lab's administrator runs 'leafdig server init --url …' with this leafdig (it upgrades the server), "
               "then push again");
       continue;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <random>
 
@@ -313,3 +314,164 @@ TEST(EnginePlan, InterleavedOrderPutsARowsThicknessRightAfterIt) {
 }
 
 }  // namespace
+
+// ---- moving the transmitter (issue 29): a leaf's board points are the landmarks -------------
+namespace {
+
+// The board (truth, first transmitter position) and a technician whose stylus is read from
+// wherever the transmitter stands now: `from` maps the first position's frame to the current one.
+class EngineMove : public ::testing::Test {
+ protected:
+  static acq::Settings boardSettings() {
+    acq::Settings s;
+    s.boardFrame = true;
+    return s;
+  }
+  static acq::Vec3 board(int col) { return {col == 2 ? 150.0 : -150.0, col == 3 ? 150.0 : -150.0, -5.0}; }
+  static acq::Vec3 pt(int row, int col) { return {40.0 - 12.0 * (col - 1), -30.0 * row, 0.0}; }
+  acq::Decision press(const acq::Vec3& truth, std::int64_t ms = 200) {
+    const Eigen::Vector3d p = from * Eigen::Vector3d(truth[0], truth[1], truth[2]);
+    return op.press({p.x(), p.y(), p.z()}, ms);
+  }
+  acq::Decision move() {
+    const acq::Decision d = engine.moveTransmitter();
+    if (d.kind == Kind::RelocationStarted) op.log.push_back(d);
+    return d;
+  }
+  acq::Decision undo() {
+    const acq::Decision d = engine.undo();
+    if (d.kind != Kind::Rejected) op.log.push_back(d);
+    return d;
+  }
+  // Moves the transmitter to `pose` and takes the three board points again from there.
+  void relocateTo(const Eigen::Isometry3d& pose) {
+    ASSERT_EQ(move().kind, Kind::RelocationStarted);
+    EXPECT_NE(op.read(1.2).reason.find("a caliper reading now?"), std::string::npos) << "the board points first";
+    from = pose;
+    for (int c = 1; c <= 3; ++c) {
+      EXPECT_EQ(engine.step().what, acq::What::BoardAgain);
+      EXPECT_EQ(engine.step().col, c);
+      ASSERT_EQ(press(board(c)).kind, Kind::Accepted) << "board point " << c << " again";
+    }
+    EXPECT_EQ(engine.step().col, 0);
+    EXPECT_NE(engine.prompt().find("hold the button (or End) to fit"), std::string::npos) << engine.prompt();
+    EXPECT_NE(press(board(1)).reason.find("every board point is taken again"), std::string::npos);
+    const acq::Decision fit = press(board(3), 1500);  // the long press fits
+    ASSERT_EQ(fit.kind, Kind::RelocationFitted) << fit.reason;
+    EXPECT_LT(fit.fitRmsMm, 0.3);
+  }
+  static Eigen::Isometry3d pose(double turnDeg, const Eigen::Vector3d& shift) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() =
+        Eigen::AngleAxisd(turnDeg * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    p.translation() = shift;
+    return p;
+  }
+  void SetUp() override {
+    for (int c = 1; c <= 3; ++c) ASSERT_EQ(press(board(c)).kind, Kind::Accepted);
+    ASSERT_EQ(press({0, 0, 0}).kind, Kind::Accepted);  // the tip
+  }
+  acq::Engine engine{boardSettings()};
+  Operator op{engine};
+  Eigen::Isometry3d from = Eigen::Isometry3d::Identity();
+};
+
+}  // namespace
+
+TEST_F(EngineMove, ALeafTakenFromThreeTransmitterPositionsLiesInTheFirstAndReplaysTheSame) {
+  for (int c = 1; c <= 7; ++c) ASSERT_EQ(press(pt(1, c)).kind, Kind::Accepted);
+  for (int c = 1; c <= 3; ++c) ASSERT_EQ(press(pt(2, c)).kind, Kind::Accepted);
+  // Moved in the middle of row 2, then again after it: the third position is fitted to the
+  // first directly (the board points as first taken), so the chain holds.
+  relocateTo(pose(25, {120, -80, 30}));
+  for (int c = 4; c <= 7; ++c) ASSERT_EQ(press(pt(2, c)).kind, Kind::Accepted) << "row 2 point " << c;
+  relocateTo(pose(-35, {-60, 140, -20}));
+  for (int c = 1; c <= 7; ++c) ASSERT_EQ(press(pt(3, c)).kind, Kind::Accepted) << "row 3 point " << c;
+  EXPECT_EQ(engine.transmitterPositions(), 3);
+  ASSERT_EQ(press({0, 0, 0}, 1500).kind, Kind::RowsEnded);
+  for (int r = 1; r <= 3; ++r)
+    for (int c = 1; c <= 7; ++c) {
+      const acq::Item* i = acq::findItem(engine.items(), acq::What::Marker, r, c);
+      ASSERT_NE(i, nullptr);
+      EXPECT_LT(acq::distanceMm(i->positionMm, pt(r, c)), 0.3) << "row " << r << " point " << c;
+      EXPECT_EQ(i->frame, r == 1 || (r == 2 && c <= 3) ? 0 : r == 2 ? 1 : 2) << "row " << r << " point " << c;
+    }
+  // The board points taken again are kept as pressed, in their position's frame.
+  const acq::Item* again = acq::findItem(engine.items(), acq::What::BoardAgain, 2, 1);
+  ASSERT_NE(again, nullptr);
+  EXPECT_EQ(again->frame, 2);
+  EXPECT_GT(acq::distanceMm(again->positionMm, board(1)), 50.0);
+  acq::Engine replay{boardSettings()};
+  for (const auto& d : op.log) replay.apply(d);
+  EXPECT_EQ(replay.transmitterPositions(), 3);
+  ASSERT_EQ(replay.items().size(), engine.items().size());
+  for (std::size_t i = 0; i < engine.items().size(); ++i)
+    EXPECT_EQ(replay.items()[i].positionMm, engine.items()[i].positionMm);
+  for (int k = 0; k < 12; ++k)
+    EXPECT_EQ(replay.positionToFirst(2)[static_cast<std::size_t>(k)],
+              engine.positionToFirst(2)[static_cast<std::size_t>(k)]);
+}
+
+TEST_F(EngineMove, AMoveIsFittedAtEveryKindOfStepAndUndoneStepByStep) {
+  // At the tip's row start, inside a row, after the rows (a thickness step): each move fits.
+  relocateTo(pose(10, {30, 0, 0}));
+  for (int r = 1; r <= 2; ++r)
+    for (int c = 1; c <= 7; ++c) ASSERT_EQ(press(pt(r, c)).kind, Kind::Accepted);
+  ASSERT_EQ(press({0, 0, 0}, 1500).kind, Kind::RowsEnded);
+  ASSERT_EQ(engine.step().what, acq::What::MidribThickness);
+  relocateTo(pose(-20, {0, 50, 10}));
+  ASSERT_EQ(engine.step().what, acq::What::MidribThickness) << "the thickness step comes back after the fit";
+  // Undone step by step: the fit, each board point again, the move itself.
+  ASSERT_EQ(undo().kind, Kind::RelocationReopened);
+  EXPECT_EQ(engine.step().what, acq::What::BoardAgain);
+  EXPECT_EQ(engine.transmitterPositions(), 2);
+  for (int c = 3; c >= 1; --c) {
+    const acq::Decision d = undo();
+    ASSERT_EQ(d.kind, Kind::Undone);
+    EXPECT_EQ(d.item.what, acq::What::BoardAgain);
+    EXPECT_EQ(d.item.col, c);
+  }
+  ASSERT_EQ(undo().kind, Kind::RelocationCancelled);
+  EXPECT_EQ(engine.relocating(), 0);
+  EXPECT_EQ(engine.step().what, acq::What::MidribThickness);
+  acq::Engine replay{boardSettings()};
+  for (const auto& d : op.log) replay.apply(d);
+  EXPECT_EQ(replay.relocating(), 0);
+  EXPECT_EQ(replay.transmitterPositions(), 2);
+  EXPECT_EQ(replay.items().size(), engine.items().size());
+}
+
+TEST_F(EngineMove, AMovedBoardPointOrPointsOnOneLineAreRefusedByName) {
+  // A board point that moved 5 mm while the transmitter was moved: the fit names it.
+  ASSERT_EQ(move().kind, Kind::RelocationStarted);
+  from = pose(15, {40, 20, 0});
+  EXPECT_NE(engine.retake(acq::What::Tip, 0, 0).reason.find("finish moving the transmitter first"), std::string::npos);
+  EXPECT_NE(engine.moveTransmitter().reason.find("being moved already"), std::string::npos);
+  ASSERT_EQ(press(board(1)).kind, Kind::Accepted);
+  acq::Vec3 slipped = board(2);
+  slipped[1] += 5.0;
+  ASSERT_EQ(press(slipped).kind, Kind::Accepted);
+  ASSERT_EQ(press(board(3)).kind, Kind::Accepted);
+  const acq::Decision refused = press(board(3), 1500);
+  ASSERT_EQ(refused.kind, Kind::Rejected);
+  EXPECT_NE(refused.reason.find("the board points do not agree after the move"), std::string::npos) << refused.reason;
+  EXPECT_NE(
+      refused.reason.find("board point 2 (+X direction) moved: its distances to the others changed by up to 3.5 mm"),
+      std::string::npos)
+      << refused.reason;
+  EXPECT_EQ(engine.transmitterPositions(), 1);
+  // Taken again where it is: fitted.
+  ASSERT_EQ(undo().kind, Kind::Undone);
+  ASSERT_EQ(undo().kind, Kind::Undone);
+  ASSERT_EQ(press(board(2)).kind, Kind::Accepted);
+  ASSERT_EQ(press(board(3)).kind, Kind::Accepted);
+  ASSERT_EQ(engine.endRows().kind, Kind::RelocationFitted) << "End fits, as the long press does";
+  // Three points on one line cannot fix the turn.
+  ASSERT_EQ(move().kind, Kind::RelocationStarted);
+  for (const acq::Vec3& p : {acq::Vec3{0, 0, 0}, acq::Vec3{100, 0, 0}, acq::Vec3{200, 0.5, 0}})
+    ASSERT_EQ(op.press(p).kind, Kind::Accepted);
+  EXPECT_NE(engine.endRows().reason.find("the board points are nearly on one line"), std::string::npos);
+  // Without a board frame there is nothing to fit a move to.
+  acq::Engine plain;
+  EXPECT_NE(plain.moveTransmitter().reason.find("began with the board frame"), std::string::npos);
+}

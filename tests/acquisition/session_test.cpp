@@ -349,6 +349,84 @@ TEST_F(Session, ABoardFrameIsCapturedFirstAndMarkersAreExpressedInIt) {
   EXPECT_NEAR(tip.z(), 10, 0.2);
 }
 
+// Issue 29: a move of the transmitter made durable. The session is dropped (as kill -9 drops
+// it) between the move and the board points taken again, and between them: reopened, it asks
+// for the next board point again; once fitted, every later point is in the first frame.
+TEST_F(Session, AMoveOfTheTransmitterSurvivesARestartAtEveryStepAndItsEventsAreChecked) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  acq::Settings settings;
+  settings.boardFrame = true;
+  const auto id = create(store, settings);
+  const acq::Vec3 board[3] = {{-150, -150, -5}, {150, -150, -5}, {-150, 150, -5}};
+  Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
+  moved.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  moved.translation() = Eigen::Vector3d(80, -40, 25);
+  const auto from = [&](const acq::Vec3& p) { return v(moved * Eigen::Vector3d(p[0], p[1], p[2])); };
+  std::int64_t t = 0;
+  {
+    acq::CaptureSession s(store, id);
+    Hand h{&s};
+    for (const acq::Vec3& b : board) ASSERT_TRUE(has(h.press(b), FK::Accepted));
+    captureRows(h, 1);
+    const auto started = s.moveTransmitter(h.t);
+    ASSERT_EQ(started.size(), 1u);
+    EXPECT_EQ(started[0].kind, FK::Relocation);
+    EXPECT_EQ(started[0].text, "started");
+    EXPECT_EQ(started[0].relocation, 1);
+    t = h.t;
+  }
+  for (int c = 1; c <= 3; ++c) {
+    acq::CaptureSession s(store, id);  // reopened: the move is still in progress
+    EXPECT_EQ(s.engine().step(), (acq::Step{acq::What::BoardAgain, 1, c}));
+    Hand h{&s, t};
+    ASSERT_TRUE(has(h.press(from(board[c - 1])), FK::Accepted));
+    t = h.t;
+  }
+  {
+    acq::CaptureSession s(store, id);
+    EXPECT_EQ(s.engine().step(), (acq::Step{acq::What::BoardAgain, 1, 0}));
+    Hand h{&s, t};
+    const auto fitted = h.press(from(board[2]), 1500);
+    ASSERT_TRUE(has(fitted, FK::Relocation));
+    EXPECT_LT(fitted.back().fitRmsMm, 0.3);
+    for (int c = 1; c <= 7; ++c) ASSERT_TRUE(has(h.press(from(point(2, c))), FK::Accepted)) << c;
+    finish(h);
+  }
+  const acq::ReviewedSession r = acq::openForReview(store, id);
+  EXPECT_EQ(r.engine.transmitterPositions(), 2);
+  for (int c = 1; c <= 7; ++c) {
+    const acq::Item* i = acq::findItem(r.engine.items(), acq::What::Marker, 2, c);
+    ASSERT_NE(i, nullptr);
+    EXPECT_LT(acq::distanceMm(i->positionMm, point(2, c)), 0.3) << c;
+    EXPECT_EQ(i->frame, 1);
+  }
+  expectProjectionFromEventsMatchesTheStore(store, id);
+  // A board point taken again is not corrected alone: it placed every later point.
+  acq::Correction c;
+  c.what = acq::What::BoardAgain;
+  c.row = 1;
+  c.col = 2;
+  c.positionMm = acq::Vec3{0, 0, 0};
+  c.who = "curator";
+  c.reason = "test";
+  try {
+    (void)acq::correct(store, id, c);
+    FAIL() << "a board point taken again was corrected";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("placed every later point"), std::string::npos) << e.what();
+  }
+  // Events a doctored file could hold: a fit before any move, a move of another number, a step
+  // that is not one.
+  leafdig::db::Event e;
+  e.seq = 2;
+  e.kind = "relocation";
+  for (const std::string payload : {R"({"relocation":1,"step":"fitted"})", R"({"relocation":2,"step":"started"})",
+                                    R"({"relocation":1,"step":"moved"})", R"({"relocation":0,"step":"started"})"}) {
+    e.payloadJson = payload;
+    EXPECT_THROW((void)acq::CaptureSession::replay(settings, {e}), acq::SessionError) << payload;
+  }
+}
+
 TEST_F(Session, ThePreviewGrowsMidribFirstThenLateralsPerRowThenTheBlade) {
   leafdig::db::Store store((dir_ / "s.sqlite").string());
   const auto id = create(store);

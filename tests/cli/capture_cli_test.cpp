@@ -64,6 +64,9 @@ class CaptureCli : public Cli {
     if (!shown.at("tip").is_null()) stored.insert("tip/-/-");
     for (const auto& m : shown.at("markers")) stored.insert(key("marker", m.at("row"), m.at("col")));
     for (const auto& t : shown.at("thickness")) stored.insert(key(t.at("what"), t.at("row"), t.at("col")));
+    for (const auto& b : shown.value("board", json::array())) stored.insert(key("board", nullptr, b.at("col")));
+    for (const auto& b : shown.value("board_again", json::array()))
+      stored.insert(key("board_again", b.at("relocation"), b.at("col")));
     for (const auto& [seq, a] : acks) {
       const std::string k = key(a.at("what"), a.at("row"), a.at("col"));
       if (stored.count(k) == 0 && !db.empty() && takenOutAfterwards(db, session, seq)) continue;
@@ -79,7 +82,9 @@ class CaptureCli : public Cli {
     }
     // And nothing more than what replays from the log.
     EXPECT_EQ(stored.size(), static_cast<std::size_t>(shown.at("markers").size() + shown.at("thickness").size() +
-                                                      (shown.at("tip").is_null() ? 0 : 1)));
+                                                      (shown.at("tip").is_null() ? 0 : 1) +
+                                                      shown.value("board", json::array()).size() +
+                                                      shown.value("board_again", json::array()).size()));
   }
 };
 
@@ -365,6 +370,63 @@ TEST_F(CaptureCli, ALeafOnATurningBoardUnderAReferenceReceiverKeepsItsShape) {
   const Result alone = leafdig("capture --simulate --pot-turn 30 --db " + quote(dir_ / "other.sqlite") + " </dev/null");
   EXPECT_EQ(alone.exitCode, 2);
   EXPECT_NE(alone.err.find("goes with --simulate --reference-receiver"), std::string::npos) << alone.err;
+  EXPECT_FALSE(fs::exists(dir_ / "other.sqlite"));
+}
+
+// A leaf captured across a move of the transmitter (issue 29, `--relocate-source-after`): after
+// 12 points the simulated transmitter moves to a seeded random pose (up to 150 mm and 40°), the
+// virtual technician takes the board's three points again, and the fit takes every later point
+// back into the first position's frame — every marker within the stylus' noise of the file,
+// where without the fit 59 of them would be off by centimetres.
+TEST_F(CaptureCli, ALeafTakenAcrossAMoveOfTheTransmitterIsTheSameLeaf) {
+  const fs::path db = dir_ / "station.sqlite";
+  const std::string file = sample("lower-leaf-n10.markers.json");
+  const Result r = leafdig("capture --simulate --speed 20 --seed 3 --relocate-source-after 12 --json --db " +
+                           quote(db) + " --markers " + quote(file) + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto lines = jsonLines(r.out);
+  std::vector<std::string> steps;
+  for (const json& j : lines)
+    if (j.at("event") == "relocation") {
+      steps.push_back(j.at("step").get<std::string>());
+      if (steps.back() == "fitted") {
+        EXPECT_LT(j.at("rms_mm").get<double>(), 1.0) << j.dump();
+      }
+    }
+  EXPECT_EQ(steps, (std::vector<std::string>{"started", "fitted"}));
+  const json shown = show(db, 1);
+  EXPECT_EQ(shown.at("status"), "complete");
+  EXPECT_EQ(shown.at("markers").size(), 70u) << "the board points taken again are not markers";
+  EXPECT_EQ(shown.at("board_again").size(), 3u);
+  ASSERT_EQ(shown.at("transmitter_positions").size(), 2u);
+  EXPECT_GT(shown["transmitter_positions"][1].at("points").get<int>(), 50);
+  int fromTheMove = 0;
+  for (const json& m : shown.at("markers")) fromTheMove += m.at("transmitter_position").get<int>() == 2;
+  EXPECT_EQ(fromTheMove, shown["transmitter_positions"][1].at("points").get<int>());
+  expectAllAcknowledgedStored(acknowledged(lines), shown);
+  // In the board's frame (the simulated board's origin is at (-150, -150, -5) of the file's
+  // frame, its axes the file's), every marker is the file's.
+  ASSERT_EQ(leafdig("sessions export 1 --format markers --out " + quote(dir_) + " --db " + quote(db)).exitCode, 0);
+  const json got = json::parse(slurp(dir_ / "session-1.markers.json"));
+  const json want = json::parse(slurp(file));
+  ASSERT_EQ(got.at("rows").size(), want.at("rows").size());
+  double worst = 0;
+  for (std::size_t row = 0; row < want["rows"].size(); ++row)
+    for (std::size_t col = 0; col < 7; ++col) {
+      const json& a = got["rows"][row]["points"][col];
+      const json& b = want["rows"][row]["points"][col];
+      worst = std::max(worst, std::hypot(a[0].get<double>() - 150.0 - b[0].get<double>(),
+                                         a[1].get<double>() - 150.0 - b[1].get<double>(),
+                                         a[2].get<double>() - 5.0 - b[2].get<double>()));
+    }
+  EXPECT_LT(worst, 1.5) << "a marker is off the file after the move";
+  // Only a simulation moves the transmitter by itself; with devices the technician types 'move'.
+  const Result alone = leafdig(
+      "capture --relocate-source-after 5 --digitizer fastrak:/dev/null --caliper "
+      "sylvac:/dev/null --db " +
+      quote(dir_ / "other.sqlite") + " </dev/null");
+  EXPECT_EQ(alone.exitCode, 2);
+  EXPECT_NE(alone.err.find("goes with --simulate"), std::string::npos) << alone.err;
   EXPECT_FALSE(fs::exists(dir_ / "other.sqlite"));
 }
 

@@ -155,12 +155,12 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "6");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "7");
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 6);
-  EXPECT_EQ(again.toVersion, 6);
+  EXPECT_EQ(again.fromVersion, 7);
+  EXPECT_EQ(again.toVersion, 7);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -362,6 +362,72 @@ TEST_F(Lab, APlantSessionsRetakesWaitForASchema4ServerAndThenGoWhole) {
   EXPECT_EQ(landmark2, 1);
 }
 
+// Schema 7 (issue 29): a leaf's transmitter moved — `relocation` and its board points taken
+// again, by plain SQL as a technician; what is not one of them, refused by name.
+TEST_F(Lab, ALeafSessionTakesAMoveOfTheTransmitterAndItsBoardPointsAgainBySql) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed leaf = pushOne(station, "bench-a", tech, /*complete=*/false);
+  Sql asTech(tech);
+  for (const auto& [kind, payload] : std::vector<std::pair<std::string, std::string>>{
+           {"relocation", R"({"relocation":1,"step":"started"})"},
+           {"accepted", R"({"what":"board_again","row":1,"col":1,"position_mm":[-130,20,-26],"frame":1})"},
+           {"accepted", R"({"what":"board_again","row":1,"col":2,"position_mm":[100,-160,-26],"frame":1})"},
+           {"accepted", R"({"what":"board_again","row":1,"col":3,"position_mm":[50,250,-50],"frame":1})"},
+           {"relocation", R"({"relocation":1,"step":"fitted","rms_mm":0.1,"worst_mm":0.2})"},
+           {"accepted", R"({"what":"marker","row":3,"col":1,"position_mm":[160,110,5],"frame":1})"},
+           {"accepted", R"({"what":"midrib_thickness","row":1,"col":4,"value_mm":1.2})"}})
+    EXPECT_EQ(appendBySql(asTech, leaf, "bench-a", kind, payload), "") << kind << " " << payload;
+  for (const auto& [event, words] : std::vector<std::pair<std::pair<std::string, std::string>, std::string>>{
+           {{"relocation", R"({"relocation":0,"step":"started"})"}, "not a move of the transmitter"},
+           {{"relocation", R"({"relocation":1,"step":"moved"})"}, "not a move of the transmitter"},
+           {{"relocation", R"({"relocation":"1","step":"started"})"}, "not a move of the transmitter"},
+           {{"relocation", "[1]"}, "not a JSON object"},
+           {{"relocation", "{"}, "not JSON"},
+           {{"accepted", R"({"what":"board_again","row":1,"col":4,"position_mm":[1,2,3]})"}, "not an item"},
+           {{"accepted", R"({"what":"board_again","row":0,"col":1,"position_mm":[1,2,3]})"}, "not an item"},
+           {{"accepted", R"({"what":"board_again","row":1,"col":1,"value_mm":3})"}, "not an item"},
+           {{"accepted", R"({"what":"marker","row":3,"col":2,"position_mm":[1,2,3],"frame":"1"})"}, "not an item"},
+           {{"accepted", R"({"what":"marker","row":3,"col":2,"position_mm":[1,2,3],"frame":-1})"}, "not an item"},
+           {{"accepted", R"({"what":"marker","row":3,"col":2,"position_mm":[1,2,3],"frame":1000})"}, "not an item"},
+           {{"retake_cancelled", R"({"what":"board_again","row":1,"col":2})"}, "not an item"}}) {
+    const std::string refused = appendBySql(asTech, leaf, "bench-a", event.first, event.second);
+    EXPECT_NE(refused.find(words), std::string::npos) << event.first << " " << event.second << ": " << refused;
+  }
+  // A curator adds no capture event to a leaf either.
+  EXPECT_NE(appendBySql(Sql(login(db::LabRole::Curator)), leaf, "bench-a", "relocation",
+                        R"({"relocation":2,"step":"started"})")
+                .find("only the station's technician pushes them"),
+            std::string::npos);
+  db::LabStore reader(login(db::LabRole::Reader));
+  EXPECT_TRUE(reader.verify(std::stoll(leaf.serverId)).ok);
+}
+
+// A leaf session with a moved transmitter waits on the station for a schema 7 server.
+TEST_F(Lab, ALeafSessionsMovedTransmitterWaitsForASchema7ServerAndThenGoesWhole) {
+  db::Store station(file("a.sqlite"));
+  const auto id = captureSession(station, "bench-a", 1, 3, "tobacco-2026", "P-07", "ana", /*complete=*/false);
+  db::EventInput e;
+  e.kind = "relocation";
+  e.payloadJson = R"({"relocation":1,"step":"started"})";
+  e.monoNs = 900000;
+  (void)station.append(id, e);
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  (void)Sql(admin_).value("UPDATE leafdig.meta SET value = '6' WHERE key = 'schema_version' RETURNING value");
+  auto pushed = db::push(station, tech);
+  ASSERT_EQ(pushed.problems.size(), 1U);
+  EXPECT_NE(pushed.problems[0].problem.find("is a leaf session with a moved transmitter and the lab server (schema 6) "
+                                            "does not take a leaf's moved transmitter yet"),
+            std::string::npos)
+      << pushed.problems[0].problem;
+  EXPECT_NE(pushed.problems[0].remedy.find("leafdig server init"), std::string::npos);
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.sessions"), "0");
+  (void)Sql(admin_).value("UPDATE leafdig.meta SET value = '7' WHERE key = 'schema_version' RETURNING value");
+  pushed = db::push(station, tech);
+  EXPECT_TRUE(pushed.problems.empty()) << pushed.problems[0].problem;
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.events WHERE kind = 'relocation'"), "1");
+}
+
 TEST_F(Lab, APlantSessionsBranchesWaitForASchema5ServerAndThenGoWhole) {
   db::Store station(file("a.sqlite"));
   const auto plant = capturePlantSession(station, "bench-a", "P-10", "tobacco-2026", "ana", /*complete=*/false);
@@ -458,12 +524,12 @@ TEST_F(Lab, APlantSessionIsHeldToThePlantsWordsAndALeafSessionToTheLeafsBySql) {
     const std::string refused = appendBySql(asTech, plant, "bench-a", event.first, event.second);
     EXPECT_NE(refused.find(words), std::string::npos) << event.first << " " << event.second << ": " << refused;
   }
-  // A leaf session takes none of the plant's words.
+  // A leaf session takes none of the plant's words (a move of the transmitter: schema 7, below).
   for (const auto& [kind, payload] : std::vector<std::pair<std::string, std::string>>{
            {"landmarks_ended", "{}"},
            {"leaf_chosen", R"({"node":1,"kind":"full","state":"alive"})"},
            {"node_placed", R"({"node":3,"parent":2,"relation":"+"})"},
-           {"relocation", R"({"relocation":1,"step":"started"})"},
+           {"accepted", R"({"what":"landmark_again","row":1,"col":1,"position_mm":[1,2,3]})"},
            {"accepted", R"({"what":"landmark","row":1,"col":null,"position_mm":[1,2,3]})"}}) {
     const std::string refused = appendBySql(asTech, leaf, "bench-a", kind, payload);
     EXPECT_FALSE(refused.empty()) << kind;

@@ -71,6 +71,8 @@ std::string describe(const acq::Item& i) {
     s << "tip";
   else if (i.what == acq::What::Board)
     s << "board point " << i.col;
+  else if (i.what == acq::What::BoardAgain)
+    s << "board point " << i.col << " again (transmitter position " << i.row + 1 << ")";
   else if (i.what == acq::What::Marker)
     s << "row " << i.row << " point " << i.col;
   else if (i.what == acq::What::EdgeThickness)
@@ -127,6 +129,16 @@ json feedbackJson(const acq::Feedback& f, std::int64_t session) {
       j["seq"] = f.seq;
       j["message"] = f.text;
       break;
+    case K::Relocation:
+      j["seq"] = f.seq;
+      j["relocation"] = f.relocation;
+      j["step"] = f.text;
+      if (f.text == "fitted") {
+        j["rms_mm"] = f.fitRmsMm;
+        j["worst_mm"] = f.fitWorstMm;
+        j["worst_point"] = f.fitWorstPoint;
+      }
+      break;
     default: j["seq"] = f.seq; break;
   }
   return j;
@@ -147,6 +159,17 @@ void printTerminal(const acq::Feedback& f) {
     case K::Complete: std::cout << "\a  ✓ LEAF COMPLETE\n"; break;
     case K::Abandoned: std::cout << "  ✗ session abandoned: " << f.text << "\n"; break;
     case K::Device: std::cout << "  ⚙ " << f.text << "\n"; break;
+    case K::Relocation:
+      if (f.text == "started")
+        std::cout << "\a  ⇄ transmitter moved (position " << f.relocation + 1
+                  << "): take the three board points again\n";
+      else if (f.text == "fitted")
+        std::cout << "\a  ✓ transmitter position " << f.relocation + 1 << " fitted: RMS " << std::setprecision(2)
+                  << std::fixed << f.fitRmsMm << " mm, worst board point " << f.fitWorstPoint << " " << f.fitWorstMm
+                  << " mm\n";
+      else
+        std::cout << "  ↶ move of the transmitter " << f.text << "\n";
+      break;
   }
 }
 
@@ -183,7 +206,8 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   s.station = o.station;
   s.settings.mode = m::thicknessModeFromString(o.mode);
   s.settings.order = acq::orderFromString(o.order);
-  s.settings.boardFrame = o.board;
+  // A simulated move of the transmitter is fitted to the board's three points: it takes them.
+  s.settings.boardFrame = o.board || (o.simulate && o.relocateSourceAfter > 0);
   s.simulated = o.simulate;
   if (resumeId) {
     r.digitizer = o.digitizer;
@@ -196,6 +220,7 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   }
   r.simulation.referenceReceiver = o.referenceReceiver;
   r.simulation.potTurnDeg = o.potTurnDeg;
+  r.simulation.relocateSourceAfter = o.relocateSourceAfter;
   r.simulation.speed = o.speed.value_or(1.0);
   r.speed = o.speed;
   r.simulation.seed = o.seed;
@@ -306,6 +331,12 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
         "--reference-receiver (without one, a turning board moves the leaf under the stylus)");
   if (!(std::abs(o.potTurnDeg) <= 360.0))
     throw std::invalid_argument("--pot-turn must be between -360 and 360 degrees");
+  if (o.relocateSourceAfter != 0 && !o.simulate)
+    throw std::invalid_argument(
+        "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
+        "'move' when you move the transmitter; the capture needs --board)");
+  if (o.relocateSourceAfter < 0 || o.relocateSourceAfter > 10000)
+    throw std::invalid_argument("--relocate-source-after must be a number of points, 1 to 10000 (0: never)");
   installSignalHandlers();
   const RunResult r = runSession(requestFrom(o, resumeId), o, false, [&](std::int64_t id) {
     if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
@@ -463,15 +494,41 @@ int runShow(const db::EventStore& store, const CaptureOptions& o) {
   // What the events say (a table edited behind them shows as chain_ok false, with the problem).
   const db::Projected projected = db::project(store.events(o.id));
   json tip = nullptr;
-  json markers = json::array(), board = json::array(), thickness = json::array();
+  json markers = json::array(), board = json::array(), boardAgain = json::array(), thickness = json::array();
+  // A leaf taken across a move of the transmitter: each position, its points and its fit;
+  // each marker's position (only once it was moved).
+  const int positions = r.engine.transmitterPositions();
+  json transmitter = json::array();
+  for (int p = 0; p < positions && positions > 1; ++p) {
+    int points = 0;
+    for (const acq::Item& i : r.engine.items())
+      points += acq::isStylusItem(i.what) && i.what != acq::What::BoardAgain && i.frame == p;
+    json t{{"position", p + 1}, {"points", points}};
+    if (p > 0) {
+      const acq::Decision fit = r.engine.fitOf(p);
+      t["rms_mm"] = fit.fitRmsMm;
+      t["worst_mm"] = fit.fitWorstMm;
+      t["worst_point"] = fit.fitWorstPoint;
+      if (fit.kind == acq::Decision::Kind::Rejected) t["refusal"] = fit.reason;
+    }
+    transmitter.push_back(t);
+  }
   for (const auto& mk : projected.markers) {
     const json pos = {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]};
-    if (mk.what == "tip")
+    if (mk.what == "tip") {
       tip = pos;
-    else if (mk.what == "board")
+    } else if (mk.what == "board") {
       board.push_back({{"col", mk.col.value_or(0)}, {"position_mm", pos}});
-    else
-      markers.push_back({{"row", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}});
+    } else if (mk.what == "board_again") {
+      boardAgain.push_back({{"relocation", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}});
+    } else {
+      json m{{"row", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}};
+      if (positions > 1)
+        if (const acq::Item* i =
+                acq::findItem(r.engine.items(), acq::What::Marker, mk.row.value_or(0), mk.col.value_or(0)))
+          m["transmitter_position"] = i->frame + 1;
+      markers.push_back(m);
+    }
   }
   for (const auto& t : projected.thickness)
     thickness.push_back({{"what", t.what},
@@ -498,6 +555,8 @@ int runShow(const db::EventStore& store, const CaptureOptions& o) {
            {"mode", r.info.mode},
            {"order", r.info.order}};
     if (!board.empty()) j["board"] = board;
+    if (!boardAgain.empty()) j["board_again"] = boardAgain;
+    if (positions > 1) j["transmitter_positions"] = transmitter;
     std::cout << j.dump() << "\n";
     return 0;
   }
@@ -508,6 +567,13 @@ int runShow(const db::EventStore& store, const CaptureOptions& o) {
             << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
             << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem))
             << "\n";
+  for (const json& t : transmitter)
+    if (t.at("position").get<int>() > 1)
+      std::cout << "  transmitter moved: position " << t.at("position").get<int>() << ", " << t.at("points").get<int>()
+                << " points, fitted RMS " << std::fixed << std::setprecision(2) << t.at("rms_mm").get<double>()
+                << " mm (worst " << t.at("worst_mm").get<double>() << " mm at board point "
+                << t.at("worst_point").get<int>() << ")\n"
+                << std::defaultfloat;
   return 0;
 }
 
@@ -810,6 +876,9 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   capture->add_option("--pot-turn", o.potTurnDeg,
                       "Simulation with --reference-receiver: the board turns by DEG degrees, smoothly, as the rows "
                       "are taken");
+  capture->add_option("--relocate-source-after", o.relocateSourceAfter,
+                      "Simulation: after N accepted points the transmitter moves to a new random pose (seeded) and the "
+                      "virtual technician takes the board's three points again (implies --board)");
 
   CLI::App* sessions = app.add_subcommand("sessions", "List, inspect, verify, resume, review and export sessions");
   sessions->require_subcommand(1);

@@ -23,6 +23,7 @@ struct CaptureOptions {
   bool board = false;
   bool referenceReceiver = false;  // receiver 2 on the leaf's board: the digitizer spec's ",reference=2"
   double potTurnDeg = 0;           // simulation: the board turns by this under the reference receiver
+  int relocateSourceAfter = 0;     // simulation: the transmitter moves after this many points (0: never)
   // simulation
   bool simulate = false, noMistakes = false;
   std::string markers, faults, caliperFaults;

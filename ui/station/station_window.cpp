@@ -659,6 +659,17 @@ void StationWindow::applyFeedback(const acq::Feedback& f) {
       text = tr("✓ leaf complete — session %1 is ready for review").arg(sessionId_);
       sounds_->play(Cue::StepDone);
       break;
+    case K::Relocation:
+      if (f.text == "started")
+        text = tr("⇄ transmitter moved: take the three board points again, then hold the button");
+      else if (f.text == "fitted")
+        text = tr("✓ transmitter position %1 fitted: RMS %2, worst board point %3")
+                   .arg(f.relocation + 1)
+                   .arg(settings_.length(f.fitRmsMm, 2), QString::number(f.fitWorstPoint));
+      else
+        text = tr("↶ move of the transmitter %1").arg(QString::fromStdString(f.text));
+      sounds_->play(Cue::StepDone);
+      break;
     case K::Device: {
       statusBar()->showMessage(QString::fromStdString(f.text), 8000);
       refreshDevices();

@@ -27,14 +27,14 @@
 namespace leafdig::acquisition {
 
 struct Command {
-  enum class Kind { Undo, EndRows, Retake, Pause, Resume, Abandon, Quit };
+  enum class Kind { Undo, EndRows, Retake, MoveTransmitter, Pause, Resume, Abandon, Quit };
   Kind kind = Kind::Undo;
   What what = What::Marker;  // Retake
   int row = 0, col = 0;      // Retake
   std::string text;          // Pause reason, Abandon reason
 };
-// "undo", "end", "retake marker 3 5", "retake tip", "retake midrib_thickness 2", "pause",
-// "resume", "abandon [why]", "quit". Throws std::invalid_argument naming the accepted words.
+// "undo", "end", "retake marker 3 5", "retake tip", "retake midrib_thickness 2", "move
+// [transmitter]", "pause", "resume", "abandon [why]", "quit". Throws std::invalid_argument naming the accepted words.
 [[nodiscard]] Command parseCommand(const std::string& line);
 // A leaf's item in words, read from `in` ("marker 3 5", "tip", "midrib_thickness 2", "board 2")
 // as a Step (a midrib or vein-origin reading at point 4); `command` names the command in the

@@ -47,12 +47,25 @@ struct Settings {
   std::int64_t undoPressNs = 3'000'000'000;     // a press this long undoes the last action
   bool boardFrame = false;                      // start with 3 board points: origin, +X, +Y
   double boardMinMm = 20.0;                     // board points at least this far apart / off the X axis
+  double relocationToleranceMm = 1.5;           // a move's fit of the board points: RMS above this is refused
 };
 
-enum class What { Board, Tip, Marker, MidribThickness, VeinOriginThickness, EdgeThickness, PointThickness, Done };
+// BoardAgain: a board point taken again after moving the transmitter (row: the relocation,
+// col: the board point; its position in the moved transmitter's frame).
+enum class What {
+  Board,
+  Tip,
+  Marker,
+  MidribThickness,
+  VeinOriginThickness,
+  EdgeThickness,
+  PointThickness,
+  BoardAgain,
+  Done
+};
 [[nodiscard]] const char* toString(What w);               // "board", "tip", "marker", "midrib_thickness", …
 [[nodiscard]] What whatFromString(const std::string& s);  // throws UnknownName
-[[nodiscard]] bool isStylusItem(What w);                  // board, tip, marker
+[[nodiscard]] bool isStylusItem(What w);                  // board, tip, marker, board_again
 
 struct Step {
   What what = What::Tip;
@@ -74,6 +87,7 @@ struct Item {
   double valueMm = 0;  // caliper items (thickness)
   std::string raw;
   std::string flag;  // e.g. "repeated reading"; empty when clean
+  int frame = 0;     // stylus items: the transmitter position it was pressed from (0: the first)
 };
 
 // Helpers on a list of items (the engine's, or a snapshot's).
@@ -82,10 +96,26 @@ struct Item {
 [[nodiscard]] double distanceMm(const Vec3& a, const Vec3& b);
 
 struct Decision {
-  enum class Kind { Ignored, Accepted, Rejected, Undone, RowsEnded, RowsReopened, RetakeStarted, RetakeCancelled };
+  enum class Kind {
+    Ignored,
+    Accepted,
+    Rejected,
+    Undone,
+    RowsEnded,
+    RowsReopened,
+    RetakeStarted,
+    RetakeCancelled,
+    RelocationStarted,    // the transmitter is moved: relocation `relocation` begins, board points again
+    RelocationFitted,     // its fit (fit*): later samples go into the first position's frame
+    RelocationReopened,   // the fit undone: the board points again are asked for once more
+    RelocationCancelled,  // the move undone before any board point was taken again
+  };
   Kind kind = Kind::Ignored;
   Item item;           // Accepted / Undone / the item a retake replaces (RetakeStarted, RetakeCancelled)
   std::string reason;  // Rejected: what was wrong and what to do
+  int relocation = 0;  // Relocation*: its number (1, 2, …)
+  double fitRmsMm = 0, fitWorstMm = 0;  // RelocationFitted: the board points' residual…
+  int fitWorstPoint = 0;                // …and the board point farthest off (1–3)
 };
 
 struct StylusInput {
@@ -133,6 +163,14 @@ class Engine {
   // Takes a chosen item out and makes it the next step; the next accepted input replaces it.
   // undo() before that puts the old item back.
   Decision retake(What what, int row, int col);
+  // Moving the transmitter (docs/devices.md, "Moving the transmitter"): the three board points
+  // are the landmarks. Starts relocation r (1, 2, …): the board points are taken again from the
+  // new position, then a long press (or endRows()) fits the move — refused, naming the board
+  // point, when they do not agree. From then on every sample is taken into the first
+  // position's frame. Refused in words without a board frame, before it is taken, during a
+  // retake or another move, or once the leaf is complete. undo() takes back a board point
+  // again, the fit, or the move.
+  Decision moveTransmitter();
 
   // Applies a decision (what onStylus/onCaliper/undo/endRows did, or one read back from
   // the store). Rejected and Ignored decisions change nothing.
@@ -150,11 +188,20 @@ class Engine {
   [[nodiscard]] bool rowsEnded() const { return rowsEnded_; }
   [[nodiscard]] bool complete() const { return step().what == What::Done; }
   [[nodiscard]] bool retaking() const { return retake_.has_value(); }
+  [[nodiscard]] int relocating() const { return relocating_; }  // the move in progress, 0 none
+  // Transmitter positions so far (1 + the fitted moves) and the fit of move r (1…).
+  [[nodiscard]] int transmitterPositions() const { return static_cast<int>(toFirst_.size()); }
+  // Position p's frame → the first's: row-major rotation, then translation (p = 0: the identity).
+  [[nodiscard]] const std::array<double, 12>& positionToFirst(int p) const {
+    return toFirst_.at(static_cast<std::size_t>(p));
+  }
+  [[nodiscard]] Decision fitOf(int relocation) const;  // RelocationFitted with its numbers, or Rejected
   [[nodiscard]] const Settings& settings() const { return settings_; }
 
  private:
   [[nodiscard]] Decision decidePoint(const StylusInput& release);
   [[nodiscard]] Decision decideEndRows() const;
+  [[nodiscard]] Vec3 toFirst(const Vec3& p) const;  // the current position's frame → the first's
   [[nodiscard]] Decision reject(std::string reason) const;
   [[nodiscard]] const Item* find(What w, int row, int col) const;
   [[nodiscard]] int markersInRow(int row) const;
@@ -166,8 +213,14 @@ class Engine {
   std::vector<Item> items_;
   std::optional<Step> retake_;
   Item retakeOld_;
-  std::vector<int> actions_;  // applied actions in order: index into items_, or -1 = rows ended
+  // Applied actions in order: index into items_, or kRowsEnded, kMoveStarted, kMoveFitted.
+  std::vector<int> actions_;
+  static constexpr int kRowsEnded = -1, kMoveStarted = -2, kMoveFitted = -3;
   bool rowsEnded_ = false;
+  int relocating_ = 0;
+  // Each transmitter position's frame → the first's, row-major rotation then translation
+  // ([0]: the identity); Eigen stays in engine.cpp.
+  std::vector<std::array<double, 12>> toFirst_{{1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}};
   StylusPress press_;
   std::int64_t lastAcceptedReleaseNs_ = -1;
   std::int64_t lastReadingAt_ = -1;

@@ -26,6 +26,10 @@ struct RelocationFit {
 struct RelocationSettings {
   double toleranceMm = 1.5;  // RMS residual above this: refused
   double minSpreadMm = 5.0;  // the landmarks must stand this far off their best line
+  // How the words name the landmarks, and what to do when they stand on one line: a plant's
+  // landmarks around the pot, a leaf's three board points.
+  std::string noun = "landmark";
+  std::string lineRemedy = "take landmarks around the pot";
 };
 
 // `before[i]` and `after[i]` are landmark i digitized before and after the move (in the old

@@ -69,13 +69,17 @@ struct Feedback {
     Resumed,
     Complete,
     Abandoned,
-    Device
+    Device,
+    Relocation  // a move of the transmitter: text is its step (started, fitted, reopened, cancelled)
   };
   Kind kind = Kind::Rejected;
   std::int64_t seq = 0;        // 0 only for a pause caused by the store (nothing was written)
   std::int64_t undoneSeq = 0;  // Undone / RetakeStarted: the event whose item is taken out
   Item item;
-  std::string text;  // reason, pause message, device message
+  std::string text;    // reason, pause message, device message, a move's step
+  int relocation = 0;  // Relocation: the move's number, and when fitted its board points' residual
+  double fitRmsMm = 0, fitWorstMm = 0;
+  int fitWorstPoint = 0;
 };
 [[nodiscard]] const char* toString(Feedback::Kind k);  // "accepted", "rejected", "undone", …
 
@@ -122,6 +126,7 @@ class CaptureSession {
   std::vector<Feedback> undo(std::int64_t monoNs = 0);
   std::vector<Feedback> endRows(std::int64_t monoNs = 0);
   std::vector<Feedback> retake(What what, int row, int col, std::int64_t monoNs = 0);
+  std::vector<Feedback> moveTransmitter(std::int64_t monoNs = 0);  // Engine::moveTransmitter
   std::vector<Feedback> pause(const std::string& reason, std::int64_t monoNs = 0);
   // Resumes after pause() or a store failure; the store failure's message again if the
   // store still refuses.

@@ -30,8 +30,9 @@ struct SimulationOptions {
   bool mistakes = true;
   double stylusNoiseMm = 0.3;    // Gaussian noise per axis of the stylus tip at rest
   std::string linkDir = "/tmp";  // where the stable symlinks to the ptys go
-  // Plant capture: after this many accepted points the virtual technician moves the
-  // transmitter to a new random pose (seeded) and takes the landmarks again (0: never).
+  // After this many accepted points the virtual technician moves the transmitter to a new
+  // random pose (seeded) and takes the landmarks again — a plant's, or a leaf's three board
+  // points (0: never).
   int relocateSourceAfter = 0;
   // A reference receiver on the pot (FASTRAK receiver 2): the stylus is read in its frame
   // (docs/devices.md, "A reference receiver"). With it, the pot turns by potTurnDeg about the
@@ -43,6 +44,10 @@ struct SimulationOptions {
 
 class TransmitterMotion;
 class PotTurn;
+
+// Where a virtual technician moves the transmitter (SimulatedRig::moveTransmitter's pose): up
+// to 150 mm aside, 40 mm up or down, 40° about the vertical and 6° of tilt, drawn from `rng`.
+[[nodiscard]] Eigen::Isometry3d randomTransmitterMove(std::mt19937_64& rng);
 
 // A FASTRAK and a Sylvac caliper on pseudo-terminals, moved by an OperatorHand.
 class SimulatedRig {
@@ -107,6 +112,12 @@ class VirtualOperator {
   };
   VirtualOperator(SimulatedRig& rig, model::MarkerSet leaf, const SimulationOptions& options);
   ~VirtualOperator();
+  // How the technician says what a stylus cannot: move the transmitter, undo a move found
+  // half-done after a restart (set before start()).
+  void setCommands(std::function<void(const Command&)> send) { send_ = std::move(send); }
+  // A restarted simulation whose session already fitted a move: the rig was put back where
+  // the transmitter was; the technician does not move it again.
+  void transmitterMovedBefore() { moved_ = true; }
   void observe(const Snapshot& s);  // the station's latest state (any thread)
   void start();
   void stop();
@@ -117,6 +128,7 @@ class VirtualOperator {
   void act(const Snapshot& s);
   void press(const Vec3& at, double pressS, double settleS = 0.45, double travelS = 0.6);
   void measure(double mm);
+  bool relocate(const Snapshot& s);  // true when it acted
   [[nodiscard]] Vec3 truth(What w, int row, int col) const;
   [[nodiscard]] double truthThickness(What w, int row, int col) const;
 
@@ -133,6 +145,8 @@ class VirtualOperator {
   Stats stats_;
   int stylusAccepted_ = 0, thicknessSteps_ = 0;
   bool didDoubleTap_ = false, didOutOfOrder_ = false, didWrongPoint_ = false, didBounce_ = false;
+  std::function<void(const Command&)> send_;
+  bool askedToMove_ = false, moved_ = false;
 };
 
 }  // namespace leafdig::acquisition
