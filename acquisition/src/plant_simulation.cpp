@@ -122,6 +122,12 @@ class PlantTechnician {
   // once the station asks for the landmarks again, moves it (a seeded random pose) and takes
   // them. True when it acted.
   bool relocate(const PlantStep& s, int points, PlantRunStats& stats) {
+    // A move this run did not make (found half-done after a restart: the transmitter's pose
+    // went with the killed process) is undone first.
+    if (s.what == PlantWhat::LandmarkAgain && !moved_ && !asked_) {
+      loop_.command({.kind = PlantCommand::Kind::Undo});
+      return true;
+    }
     if (relocateAfter_ <= 0 || moved_) return false;
     if (asked_) {
       asked_ = false;
@@ -150,6 +156,11 @@ class PlantTechnician {
     rig_.aimPot(potTurnDeg_ * std::min(1.0, static_cast<double>(s.index - 1) / (nodes - 1)));
   }
 
+ public:
+  // A restarted simulation whose session already fitted a move stands where it stood.
+  void transmitterMovedBefore() { moved_ = true; }
+
+ private:
   SimulatedRig& rig_;
   Desk& desk_;
   PlantCaptureLoop& loop_;
@@ -208,6 +219,12 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
   DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop.sinks(), rig.digitizerRateHz());
   devices.start();
   PlantTechnician technician(rig, desk, loop, plant, options);
+  // A session that moved the transmitter goes on from where it was: the rig reports every
+  // point as the last fitted position sees it.
+  if (session.engine().toFirst().size() > 1) {
+    rig.moveTransmitter(session.engine().toFirst().back().inverse());
+    technician.transmitterMovedBefore();
+  }
   PlantRunStats technicianStats;
   std::thread hands([&] { technician.run(technicianStats); });
   std::atomic<bool> running{true};

@@ -430,6 +430,64 @@ TEST_F(CaptureCli, ALeafTakenAcrossAMoveOfTheTransmitterIsTheSameLeaf) {
   EXPECT_FALSE(fs::exists(dir_ / "other.sqlite"));
 }
 
+// kill -9 across a move of the transmitter (issue 29): one capture is killed between the move
+// and its fit (the station asks for the next board point again; the simulated transmitter's
+// pose died with the process, so the virtual technician undoes the half-done move and goes on
+// from the first position), another just after the fit (the resumed simulation stands where the
+// fitted position stood). Both leaves come out as the file's; every acknowledged item is stored.
+TEST_F(CaptureCli, ALeafKilledAcrossAMoveOfTheTransmitterResumesAndIsTheSameLeaf) {
+  const std::string file = sample("lower-leaf-n10.markers.json");
+  const auto relocation = [](const std::vector<json>& lines, const std::string& step) {
+    return std::count_if(lines.begin(), lines.end(),
+                         [&](const json& j) { return j.at("event") == "relocation" && j.at("step") == step; });
+  };
+  for (const std::string after : {"started", "fitted"}) {
+    const fs::path db = dir_ / (after + ".sqlite"), out = dir_ / "out.jsonl", err = dir_ / "err.txt";
+    const std::vector<json> killed = killWhen(
+        {"capture", "--simulate", "--speed", "20", "--seed", "4", "--relocate-source-after", "10", "--json", "--db",
+         db.string(), "--markers", file},
+        [&](const std::vector<json>& lines) {
+          // One board point again after the start; two more points after the fit.
+          const auto at = std::find_if(lines.begin(), lines.end(), [&](const json& j) {
+            return j.at("event") == "relocation" && j.at("step") == after;
+          });
+          return at != lines.end() && lines.end() - at > (after == "started" ? 1 : 2);
+        },
+        out, err);
+    ASSERT_EQ(relocation(killed, after), 1) << after << ": " << slurp(err);
+    if (after == "started") {
+      ASSERT_EQ(relocation(killed, "fitted"), 0) << "killed before the fit";
+    }
+    const Result resumed = leafdig("sessions resume 1 --simulate --speed 20 --json --db " + quote(db) + " </dev/null");
+    ASSERT_EQ(resumed.exitCode, 0) << after << ": " << resumed.err;
+    const std::vector<json> more = jsonLines(resumed.out);
+    if (after == "started") {
+      EXPECT_EQ(relocation(more, "cancelled"), 1) << "the half-done move is undone";
+    }
+    const json shown = show(db, 1);
+    EXPECT_EQ(shown.at("status"), "complete") << after;
+    EXPECT_EQ(shown.contains("transmitter_positions"), after == "fitted") << after;
+    std::map<std::int64_t, json> acks = acknowledged(killed);
+    for (const auto& [seq, j] : acknowledged(more)) acks[seq] = j;
+    expectAllAcknowledgedStored(acks, shown, db, 1);
+    ASSERT_EQ(
+        leafdig("sessions export 1 --format markers --out " + quote(dir_ / after) + " --db " + quote(db)).exitCode, 0);
+    const json got = json::parse(slurp(dir_ / after / "session-1.markers.json"));
+    const json want = json::parse(slurp(file));
+    ASSERT_EQ(got.at("rows").size(), want.at("rows").size()) << after;
+    double worst = 0;
+    for (std::size_t row = 0; row < want["rows"].size(); ++row)
+      for (std::size_t col = 0; col < 7; ++col) {
+        const json& a = got["rows"][row]["points"][col];
+        const json& b = want["rows"][row]["points"][col];
+        worst = std::max(worst, std::hypot(a[0].get<double>() - 150.0 - b[0].get<double>(),
+                                           a[1].get<double>() - 150.0 - b[1].get<double>(),
+                                           a[2].get<double>() - 5.0 - b[2].get<double>()));
+      }
+    EXPECT_LT(worst, 1.5) << after << ": a marker is off the file";
+  }
+}
+
 TEST_F(CaptureCli, FullModeInterleavedAndSmallModeCaptureTheirOwnReadings) {
   const fs::path db = dir_ / "station.sqlite";
   Result r = leafdig("capture --simulate --speed 12 --mode full --order interleaved --no-mistakes --json --db " +

@@ -9,12 +9,16 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 extern char** environ;
 
@@ -103,6 +107,26 @@ class Cli : public ::testing::Test {
     int status = 0;
     ::waitpid(pid, &status, 0);
     return status;
+  }
+  // `leafdig args` (with --json) killed with SIGKILL once its JSON lines satisfy `enough` (it
+  // has printed them, so they are committed): mid-capture by construction, not by a timer.
+  // Its JSON lines.
+  std::vector<json> killWhen(const std::vector<std::string>& args,
+                             const std::function<bool(const std::vector<json>&)>& enough, const fs::path& out,
+                             const fs::path& err) {
+    const pid_t pid = spawn(args, out, err);
+    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!enough(jsonLines(slurp(out))) && std::chrono::steady_clock::now() < giveUp)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ::kill(pid, SIGKILL);
+    reap(pid);
+    return jsonLines(slurp(out));
+  }
+  // …once it has printed k + 1 lines: after its k-th acknowledged event.
+  std::vector<json> killAfterLines(const std::vector<std::string>& args, std::size_t k, const fs::path& out,
+                                   const fs::path& err) {
+    return killWhen(
+        args, [k](const std::vector<json>& lines) { return lines.size() >= k + 1; }, out, err);
   }
 
   static std::string sample(const std::string& name) {

@@ -37,18 +37,6 @@ class PlantCli : public Cli {
     EXPECT_EQ(r.exitCode, 0) << r.err;
     return markers;
   }
-  // `leafdig args` (with --json) killed with SIGKILL once it has printed k + 1 lines — after its
-  // k-th acknowledged event: mid-capture by construction, not by a timer. Its JSON lines.
-  std::vector<json> killAfterLines(const std::vector<std::string>& args, std::size_t k, const fs::path& out,
-                                   const fs::path& err) {
-    const pid_t pid = spawn(args, out, err);
-    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (jsonLines(slurp(out)).size() < k + 1 && std::chrono::steady_clock::now() < giveUp)
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    ::kill(pid, SIGKILL);
-    reap(pid);
-    return jsonLines(slurp(out));
-  }
 };
 
 TEST_F(PlantCli, EveryExportOfTheSamplePlantOpensInAnIndependentReader) {
@@ -999,6 +987,42 @@ TEST_F(PlantCli, APotTurnedThirtyDegreesUnderAReferenceReceiverChangesNothing) {
                              " --digitizer fastrak:/dev/null,reference=1 --caliper sylvac:/dev/null --plant p");
   EXPECT_EQ(bad.exitCode, 2);
   EXPECT_NE(bad.err.find("the reference receiver is a number from 2"), std::string::npos) << bad.err;
+}
+
+// kill -9 across a move of the transmitter (issue 29): killed between the move and its fit (the
+// simulated transmitter's pose died with the process: the virtual technician undoes the half-done
+// move and goes on from the first position), or just after the fit (the resumed simulation stands
+// where the fitted position stood) — the plant comes out as its file says either way.
+TEST_F(PlantCli, APlantKilledAcrossAMoveOfTheTransmitterResumesAndIsTheSamePlant) {
+  for (const std::string after : {"started", "fitted"}) {
+    const fs::path db = dir_ / (after + ".sqlite"), out = dir_ / "out.jsonl", err = dir_ / "err.txt";
+    const std::vector<json> killed = killWhen(
+        {"plant", "capture", "--simulate", "--db", db.string(), "--speed", "20", "--seed", "5", "--json",
+         "--relocate-source-after", "30"},
+        [&](const std::vector<json>& lines) {
+          const auto at = std::find_if(lines.begin(), lines.end(), [&](const json& j) {
+            return j.value("event", "") == "relocation" && j.value("step", "") == after;
+          });
+          return at != lines.end() && lines.end() - at > 2;
+        },
+        out, err);
+    ASSERT_FALSE(killed.empty()) << slurp(err);
+    const std::int64_t id = killed.front().at("session");
+    const Result done = leafdig("plant capture --resume " + std::to_string(id) + " --db " + quote(db) +
+                                " --speed 20 --json </dev/null");
+    ASSERT_EQ(done.exitCode, 0) << after << ": " << done.err;
+    int cancelled = 0;
+    for (const json& j : jsonLines(done.out)) cancelled += j.value("step", "") == "cancelled";
+    EXPECT_EQ(cancelled, after == "started" ? 1 : 0) << after;
+    const fs::path x = dir_ / ("x-" + after);
+    ASSERT_EQ(leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(x) +
+                      " --format json")
+                  .exitCode,
+              0);
+    const json survey = json::parse(slurp(x / ("session-" + std::to_string(id) + ".survey.json")));
+    EXPECT_EQ(survey.contains("transmitter_positions"), after == "fitted") << after;
+    expectTheSamplePlant(survey, json::parse(leafdig(samplePlantMeasure()).out));
+  }
 }
 
 // kill -9 on a turning pot: the capture is killed twice after a random acknowledged event and
