@@ -283,23 +283,39 @@ void VirtualOperator::measure(double mm) {
 
 // Moving the transmitter after `relocateSourceAfter` accepted points (tip and markers): the
 // technician says so, and once the station asks for the board points again, moves it (a
-// seeded random pose) and takes them. A move this run did not make (found half-done after a
-// restart: the transmitter's pose went with the process) is undone first.
+// seeded random pose) and takes them; a move asked for at the station (its key) is made the
+// same way. A move found half-done when this run began (after a restart: the transmitter's
+// pose went with the process) is undone first.
 bool VirtualOperator::relocate(const Snapshot& s) {
-  if (!send_) return false;
-  if (s.step.what == What::BoardAgain && !moved_) {
-    if (askedToMove_) {
-      askedToMove_ = false;
+  if (!started_) {
+    started_ = true;
+    resumedInMove_ = s.step.what == What::BoardAgain;
+  }
+  if (s.step.what == What::BoardAgain) {
+    if (resumedInMove_) {
+      if (!send_) return false;
+      Command undo;
+      undo.kind = Command::Kind::Undo;
+      send_(undo);
+      return true;
+    }
+    if (movedFor_ != s.step.row) {  // asked for by the technician, or by the station's key
+      // A press under way when the move was asked for was taken as a board point again
+      // before the transmitter moved: undone first.
+      if (findItem(s.items, What::BoardAgain, s.step.row, 1) && send_) {
+        Command undo;
+        undo.kind = Command::Kind::Undo;
+        send_(undo);
+        return true;
+      }
+      movedFor_ = s.step.row;
       moved_ = true;
       rig_.moveTransmitter(randomTransmitterMove(rng_));
-      return false;  // then the first board point again, as the station asks
     }
-    Command undo;
-    undo.kind = Command::Kind::Undo;
-    send_(undo);
-    return true;
+    return false;  // the board points again, as the station asks
   }
-  askedToMove_ = false;
+  resumedInMove_ = false;
+  if (!send_) return false;
   if (options_.relocateSourceAfter <= 0 || moved_ || s.retaking) return false;
   int points = 0;
   for (const Item& i : s.items) points += i.what == What::Tip || i.what == What::Marker;
@@ -308,7 +324,6 @@ bool VirtualOperator::relocate(const Snapshot& s) {
   Command move;
   move.kind = Command::Kind::MoveTransmitter;
   send_(move);
-  askedToMove_ = true;
   return true;
 }
 

@@ -15,12 +15,13 @@
 namespace leafdig::station {
 
 namespace {
-constexpr NameTable<Action, 6> kActions{{{Action::Accept, "accept"},
+constexpr NameTable<Action, 7> kActions{{{Action::Accept, "accept"},
                                          {Action::Undo, "undo"},
                                          {Action::EndRows, "end_rows"},
                                          {Action::Retake, "retake"},
                                          {Action::Pause, "pause"},
-                                         {Action::Resume, "resume"}}};
+                                         {Action::Resume, "resume"},
+                                         {Action::MoveTransmitter, "move_transmitter"}}};
 }  // namespace
 
 const char* toString(Action a) {
@@ -35,6 +36,7 @@ QString actionLabel(Action a) {
     case Action::Retake: return QObject::tr("Retake selected step");
     case Action::Pause: return QObject::tr("Pause");
     case Action::Resume: return QObject::tr("Resume");
+    case Action::MoveTransmitter: return QObject::tr("Move transmitter (then the board points again)");
   }
   return {};
 }
@@ -46,6 +48,7 @@ StationSettings::StationSettings() {
   shortcuts[Action::Retake] = QKeySequence(Qt::Key_R | Qt::ControlModifier);
   shortcuts[Action::Pause] = QKeySequence(Qt::Key_Escape);
   shortcuts[Action::Resume] = QKeySequence(Qt::Key_Space);
+  shortcuts[Action::MoveTransmitter] = QKeySequence(Qt::Key_M | Qt::ControlModifier);
 }
 
 QString defaultSettingsFile() {

@@ -14,7 +14,7 @@
 namespace leafdig::station {
 
 // The operator commands that have shortcuts (a USB foot pedal types one of these keys).
-enum class Action { Accept, Undo, EndRows, Retake, Pause, Resume };
+enum class Action { Accept, Undo, EndRows, Retake, Pause, Resume, MoveTransmitter };
 [[nodiscard]] const char* toString(Action a);  // "undo", "end_rows", …
 [[nodiscard]] QString actionLabel(Action a);   // "Undo last point", …
 

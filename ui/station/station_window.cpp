@@ -308,6 +308,7 @@ void StationWindow::runAction(Action a) {
       c.text = "paused at the station";
       break;
     case Action::Resume: c.kind = acq::Command::Kind::Resume; break;
+    case Action::MoveTransmitter: c.kind = acq::Command::Kind::MoveTransmitter; break;
     case Action::Retake:
       if (!retakeTarget_) {
         feedback_->setText(tr("Click the marker to retake in the 3D view first"));
@@ -714,6 +715,9 @@ void StationWindow::fillSteps(const acq::Snapshot& s) {
       case acq::What::Tip: text = tr("Tip"); break;
       case acq::What::Marker: text = tr("Row %1 · %2 of %3 points").arg(g.row).arg(g.done).arg(g.total); break;
       case acq::What::EdgeThickness: text = tr("Margin thickness (d)"); break;
+      case acq::What::BoardAgain:
+        text = tr("Transmitter moved · board points again · %1 of %2").arg(g.done).arg(g.total);
+        break;
       default: text = tr("Row %1 · back side thickness (%2 of %3)").arg(g.row).arg(g.done).arg(g.total); break;
     }
     const bool done = g.done == g.total;

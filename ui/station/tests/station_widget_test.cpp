@@ -698,6 +698,71 @@ TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
   fs::remove_all(dir);
 }
 
+// Issue 29: a technician moves the transmitter in a leaf's capture with the station's key
+// (Ctrl+M, in the settings' shortcuts): the steps list and the banner ask for the three board
+// points again, the virtual technician moves the simulated transmitter and takes them, the fit is
+// announced, and the leaf comes out in the first position's frame.
+TEST(StationWindow, ATechnicianMovesTheTransmitterOfALeafWithTheKey) {
+  const fs::path dir = freshDir("leaf-move");
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.simulate = true;
+  o.speed = 10;
+  o.setup.project = "p";
+  o.setup.plant = "pl";
+  o.setup.settings.boardFrame = true;
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(o);
+  EXPECT_EQ(w.settings().shortcuts.at(leafdig::station::Action::MoveTransmitter),
+            QKeySequence(Qt::Key_M | Qt::ControlModifier));
+  ASSERT_TRUE(w.start()) << w.bannerText().toStdString();
+  const auto waitFor = [&](const std::function<bool()>& ok, int seconds = 60) {
+    for (int i = 0; i < seconds * 50 && !ok(); ++i) QTest::qWait(20);
+    return ok();
+  };
+  const auto step = [&] { return w.lastSnapshot() ? w.lastSnapshot()->step : acq::Step{}; };
+  ASSERT_TRUE(waitFor([&] { return step().what == acq::What::Marker && step().row == 2; }))
+      << w.bannerText().toStdString();
+  // The key as the station binds it (a window shortcut: the window is shown and active).
+  w.show();
+  QApplication::setActiveWindow(&w);
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&w));
+  QTest::keyClick(&w, Qt::Key_M, Qt::ControlModifier);
+  ASSERT_TRUE(waitFor([&] { return step().what == acq::What::BoardAgain; })) << w.bannerText().toStdString();
+  EXPECT_TRUE(w.bannerText().startsWith("Transmitter moved · board point")) << w.bannerText().toStdString();
+  const QStringList lines = texts(w.findChild<QListWidget*>("steps"));
+  EXPECT_TRUE(lines.filter("Transmitter moved · board points again").size() == 1) << lines.join(" | ").toStdString();
+  // The feedback line says each step of the move; the fit's words are checked here, as shown.
+  acq::Feedback fit;
+  fit.kind = acq::Feedback::Kind::Relocation;
+  fit.text = "fitted";
+  fit.relocation = 1;
+  fit.fitRmsMm = 0.12;
+  fit.fitWorstPoint = 2;
+  w.applyFeedback(fit);
+  bool said = false;
+  for (const auto* l : w.findChildren<QLabel*>())
+    said = said || l->text().contains("transmitter position 2 fitted: RMS 0.12 mm, worst board point 2");
+  EXPECT_TRUE(said);
+  ASSERT_TRUE(waitFor([&] { return w.lastSnapshot() && w.lastSnapshot()->complete; }, 120))
+      << w.bannerText().toStdString();
+  w.stopCapture();
+  const leafdig::db::Store store(o.db, true);
+  const acq::ReviewedSession r = acq::openForReview(store, w.sessionId());
+  EXPECT_EQ(r.engine.transmitterPositions(), 2);
+  const auto leaf =
+      leafdig::model::readMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json");
+  for (std::size_t row = 0; row < leaf.rows.size(); ++row)
+    for (int col = 1; col <= 7; ++col) {
+      const acq::Item* i = acq::findItem(r.engine.items(), acq::What::Marker, static_cast<int>(row) + 1, col);
+      ASSERT_NE(i, nullptr);
+      const Eigen::Vector3d& want = leaf.rows[row].pointsMm[static_cast<std::size_t>(col - 1)];
+      EXPECT_LT(acq::distanceMm(i->positionMm, {want.x(), want.y(), want.z()}), 1.5) << row + 1 << "," << col;
+    }
+  fs::remove_all(dir);
+}
+
 // The capture run's snapshots come from two threads (the loop, and the preview worker whose
 // meshes they carry). The window takes them through one locked slot: a burst is applied once,
 // newest last, and what the worker built is handed over under a lock ThreadSanitizer sees

@@ -146,7 +146,9 @@ class VirtualOperator {
   int stylusAccepted_ = 0, thicknessSteps_ = 0;
   bool didDoubleTap_ = false, didOutOfOrder_ = false, didWrongPoint_ = false, didBounce_ = false;
   std::function<void(const Command&)> send_;
-  bool askedToMove_ = false, moved_ = false;
+  bool moved_ = false;  // the transmitter was moved in this session (by this run or before it)
+  bool started_ = false, resumedInMove_ = false;  // the first state seen was a move half-done
+  int movedFor_ = 0;                              // the move the rig was moved for (0: none)
 };
 
 }  // namespace leafdig::acquisition
