@@ -27,6 +27,12 @@ Step parseLeafItemWords(std::istream& in, const std::string& command) {
   return st;
 }
 
+void readMoveWords(std::istream& in) {
+  std::string what;
+  if (in >> what && what != "transmitter")
+    throw std::invalid_argument("'move' takes no words but 'transmitter' (got '" + what + "')");
+}
+
 Command parseCommand(const std::string& line) {
   std::istringstream in(line);
   std::string word;
@@ -46,9 +52,7 @@ Command parseCommand(const std::string& line) {
     c.kind = Command::Kind::Abandon;
   else if (word == "move") {
     c.kind = Command::Kind::MoveTransmitter;
-    std::string what;
-    if (in >> what && what != "transmitter")
-      throw std::invalid_argument("'move' takes no words but 'transmitter' (got '" + what + "')");
+    readMoveWords(in);
   } else if (word == "retake" || word == "r") {
     c.kind = Command::Kind::Retake;
     const Step st = parseLeafItemWords(in, "retake");

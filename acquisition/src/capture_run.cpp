@@ -4,6 +4,7 @@
 
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/version.hpp"
+#include "rigid_map.hpp"
 
 namespace leafdig::acquisition {
 namespace {
@@ -124,13 +125,7 @@ void CaptureRun::prepareSimulation(const RunRequest& request) {
   // point as the last fitted position sees it (the inverse of that position's fit).
   const Engine& engine = session_->engine();
   if (const int positions = engine.transmitterPositions(); positions > 1) {
-    const std::array<double, 12>& m = engine.positionToFirst(positions - 1);
-    Eigen::Isometry3d toFirst = Eigen::Isometry3d::Identity();
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) toFirst.linear()(r, c) = m[static_cast<std::size_t>(3 * r + c)];
-      toFirst.translation()(r) = m[static_cast<std::size_t>(9 + r)];
-    }
-    rig_->moveTransmitter(toFirst.inverse());
+    rig_->moveTransmitter(detail::isometryOf(engine.positionToFirst(positions - 1)).inverse());
     operator_->transmitterMovedBefore();
   }
 }

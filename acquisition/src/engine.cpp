@@ -9,6 +9,7 @@
 #include "leafdig/acquisition/relocation.hpp"
 #include "leafdig/model/leaf/markers.hpp"
 #include "leafdig/names/name_table.hpp"
+#include "rigid_map.hpp"
 #include "words.hpp"
 
 namespace leafdig::acquisition {
@@ -548,13 +549,7 @@ void Engine::apply(const Decision& d) {
         // Recomputed from the items: replay gives the same.
         const RelocationFit fit = fitBoardPoints(items_, d.relocation, settings_.relocationToleranceMm);
         if (fit.refusal) break;
-        const Eigen::Isometry3d& m = fit.newToOld;
-        std::array<double, 12> a{};
-        for (int r = 0; r < 3; ++r) {
-          for (int c = 0; c < 3; ++c) a[static_cast<std::size_t>(3 * r + c)] = m.linear()(r, c);
-          a[static_cast<std::size_t>(9 + r)] = m.translation()(r);
-        }
-        toFirst_.push_back(a);
+        toFirst_.push_back(detail::mapOf(fit.newToOld));
         relocating_ = 0;
         actions_.push_back(kMoveFitted);
       }

@@ -30,9 +30,7 @@ PlantCommand parsePlantCommand(const std::string& line) {
     c.kind = PlantCommand::Kind::Resume;
   } else if (word == "move") {
     c.kind = PlantCommand::Kind::MoveTransmitter;
-    std::string what;
-    if (in >> what && what != "transmitter")
-      throw std::invalid_argument("'move' takes no words but 'transmitter' (got '" + what + "')");
+    readMoveWords(in);
   } else if (word == "branch" || word == "b") {
     c.kind = PlantCommand::Kind::Branch;
     std::string from;

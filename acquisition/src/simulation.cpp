@@ -9,6 +9,7 @@
 
 #include "leafdig/acquisition/truth.hpp"
 #include "leafdig/devices/pose.hpp"
+#include "leafdig/devices/rotation_eigen.hpp"
 
 namespace leafdig::acquisition {
 namespace {
@@ -28,22 +29,16 @@ Eigen::Vector3d vec(const Vec3& v) {
 Vec3 arr(const Eigen::Vector3d& v) {
   return {v.x(), v.y(), v.z()};
 }
-Eigen::Matrix3d matrix(const devices::Rotation& r) {
-  Eigen::Matrix3d m;
-  m << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
-  return m;
-}
-devices::Rotation rotation(const Eigen::Matrix3d& m) {
-  return {m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)};
-}
+using devices::matrixOf;
+using devices::rotationOf;
 
 // A motion state moved rigidly: position, truth and the receiver's angles.
 void moveState(sim::StylusMotion::State& s, const Eigen::Isometry3d& pose) {
   s.positionMm = arr(pose * vec(s.positionMm));
   s.truthMm = arr(pose * vec(s.truthMm));
   if (pose.linear().isIdentity(0.0)) return;  // angles exactly as the hand holds them
-  s.orientationDeg =
-      devices::eulerDegFromRotation(rotation(pose.linear() * matrix(devices::rotationFromEulerDeg(s.orientationDeg))));
+  s.orientationDeg = devices::eulerDegFromRotation(
+      rotationOf(pose.linear() * matrixOf(devices::rotationFromEulerDeg(s.orientationDeg))));
 }
 
 }  // namespace
@@ -107,13 +102,13 @@ class FixedReceiver final : public sim::StylusMotion {
  public:
   explicit FixedReceiver(const Eigen::Isometry3d& pose) {
     state_.positionMm = state_.truthMm = arr(pose.translation());
-    state_.orientationDeg = devices::eulerDegFromRotation(rotation(pose.linear()));
+    state_.orientationDeg = devices::eulerDegFromRotation(rotationOf(pose.linear()));
   }
   [[nodiscard]] State at(double, std::uint64_t) const override { return state_; }
   // Where it sits for a pot about `centre`.
   [[nodiscard]] static Eigen::Isometry3d placeFor(const Vec3& centre) {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = matrix(devices::rotationFromEulerDeg({35.0, 12.0, -8.0}));
+    pose.linear() = matrixOf(devices::rotationFromEulerDeg({35.0, 12.0, -8.0}));
     pose.translation() = vec(centre) + Eigen::Vector3d(-110.0, -70.0, -40.0);
     return pose;
   }

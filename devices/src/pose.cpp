@@ -5,21 +5,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "leafdig/devices/rotation_eigen.hpp"
+
 namespace leafdig::devices {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kRad = kPi / 180.0;
-
-Eigen::Matrix3d matrix(const Rotation& r) {
-  Eigen::Matrix3d m;
-  m << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
-  return m;
-}
-
-Rotation rotation(const Eigen::Matrix3d& m) {
-  return {m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)};
-}
 
 }  // namespace
 
@@ -28,17 +20,17 @@ Rotation rotationFromEulerDeg(const Vec3& e) {
                              Eigen::AngleAxisd(e[1] * kRad, Eigen::Vector3d::UnitY()) *
                              Eigen::AngleAxisd(e[2] * kRad, Eigen::Vector3d::UnitX()))
                                 .toRotationMatrix();
-  return rotation(m);
+  return rotationOf(m);
 }
 
 Rotation rotationFromQuaternion(const std::array<double, 4>& q) {
   Eigen::Quaterniond e(q[0], q[1], q[2], q[3]);
   if (!(e.norm() > 0.0)) return rotationFromEulerDeg({0, 0, 0});
-  return rotation(e.normalized().toRotationMatrix());
+  return rotationOf(e.normalized().toRotationMatrix());
 }
 
 std::array<double, 4> quaternionFromRotation(const Rotation& r) {
-  Eigen::Quaterniond q(matrix(r));
+  Eigen::Quaterniond q(matrixOf(r));
   if (q.w() < 0) q.coeffs() *= -1.0;
   return {q.w(), q.x(), q.y(), q.z()};
 }
@@ -71,19 +63,19 @@ std::optional<ReceiverPose> poseOf(const StylusSample& s) {
 }
 
 double rotationBetweenDeg(const Rotation& a, const Rotation& b) {
-  const Eigen::Matrix3d d = matrix(a).transpose() * matrix(b);
+  const Eigen::Matrix3d d = matrixOf(a).transpose() * matrixOf(b);
   return std::acos(std::clamp((d.trace() - 1.0) / 2.0, -1.0, 1.0)) / kRad;
 }
 
 StylusSample inFrameOf(const StylusSample& stylus, const ReceiverPose& reference) {
   StylusSample out = stylus;
-  const Eigen::Matrix3d rt = matrix(reference.rotation).transpose();
+  const Eigen::Matrix3d rt = matrixOf(reference.rotation).transpose();
   const Eigen::Vector3d p =
       rt * (Eigen::Vector3d(stylus.positionMm[0], stylus.positionMm[1], stylus.positionMm[2]) -
             Eigen::Vector3d(reference.positionMm[0], reference.positionMm[1], reference.positionMm[2]));
   out.positionMm = {p.x(), p.y(), p.z()};
   if (const auto own = poseOf(stylus)) {
-    const Rotation relative = rotation(rt * matrix(own->rotation));
+    const Rotation relative = rotationOf(rt * matrixOf(own->rotation));
     out.orientationDeg = eulerDegFromRotation(relative);
     if (stylus.quaternion) out.quaternion = quaternionFromRotation(relative);
   }

@@ -206,8 +206,8 @@ class PolhemusEmulator final : public Emulator {
       if (line_.empty() && (c == 'P' || c == 'p')) {  // single record; ends continuous output
         continuous_ = false;
         const std::uint64_t k = k_++;
-        record(stylus_->at(now(), k), 'P');
-        if (reference_) record(reference_->at(now(), k), 'P', 2);
+        const double t = now();
+        frame(t, k, stylus_->at(t, k), 'P');
         continue;
       }
       if (c == '\n') continue;

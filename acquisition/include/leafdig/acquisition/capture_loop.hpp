@@ -36,6 +36,9 @@ struct Command {
 // "undo", "end", "retake marker 3 5", "retake tip", "retake midrib_thickness 2", "move
 // [transmitter]", "pause", "resume", "abandon [why]", "quit". Throws std::invalid_argument naming the accepted words.
 [[nodiscard]] Command parseCommand(const std::string& line);
+// What may follow "move" (a leaf's or a plant's command): nothing, or "transmitter";
+// std::invalid_argument naming anything else.
+void readMoveWords(std::istream& in);
 // A leaf's item in words, read from `in` ("marker 3 5", "tip", "midrib_thickness 2", "board 2")
 // as a Step (a midrib or vein-origin reading at point 4); `command` names the command in the
 // words of what is wrong (std::invalid_argument).
