@@ -88,6 +88,18 @@ std::string describe(const acq::Item& i) {
   return s.str();
 }
 
+// `sessions show`'s lines for a moved transmitter: each position after the first with its
+// points and its fit (`worst` names the landmark — a plant's, or a leaf's board point).
+void printTransmitterPositions(const json& positions, const char* landmark, const char* worst) {
+  for (const json& t : positions)
+    if (t.at("position").get<int>() > 1)
+      std::cout << "  transmitter moved: position " << t.at("position").get<int>() << ", " << t.at("points").get<int>()
+                << " points, fitted RMS " << std::fixed << std::setprecision(2) << t.at("rms_mm").get<double>()
+                << " mm (worst " << t.at("worst_mm").get<double>() << " mm at " << landmark << " "
+                << t.at(worst).get<int>() << ")\n"
+                << std::defaultfloat;
+}
+
 // The JSON-lines contract of the README: one object per committed change.
 json feedbackJson(const acq::Feedback& f, std::int64_t session) {
   using K = acq::Feedback::Kind;
@@ -473,13 +485,7 @@ int runShowPlant(const db::EventStore& store, const CaptureOptions& o, const db:
             << "  step: " << engine.prompt() << "\n  " << engine.nodes() << " nodes, " << points.size() << " points, "
             << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
             << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
-  for (const json& t : transmitter)
-    if (t.at("position").get<int>() > 1)
-      std::cout << "  transmitter moved: position " << t.at("position").get<int>() << ", " << t.at("points").get<int>()
-                << " points, fitted RMS " << std::fixed << std::setprecision(2) << t.at("rms_mm").get<double>()
-                << " mm (worst " << t.at("worst_mm").get<double>() << " mm at landmark "
-                << t.at("worst_landmark").get<int>() << ")\n"
-                << std::defaultfloat;
+  printTransmitterPositions(transmitter, "landmark", "worst_landmark");
   for (const json& c : corrections)
     std::cout << "  corrected (event " << c.at("seq").dump() << "): " << terminalText(c.at("what").get<std::string>())
               << " row " << c.at("row").dump() << " by " << terminalText(c.at("who").get<std::string>()) << ": "
@@ -567,13 +573,7 @@ int runShow(const db::EventStore& store, const CaptureOptions& o) {
             << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
             << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem))
             << "\n";
-  for (const json& t : transmitter)
-    if (t.at("position").get<int>() > 1)
-      std::cout << "  transmitter moved: position " << t.at("position").get<int>() << ", " << t.at("points").get<int>()
-                << " points, fitted RMS " << std::fixed << std::setprecision(2) << t.at("rms_mm").get<double>()
-                << " mm (worst " << t.at("worst_mm").get<double>() << " mm at board point "
-                << t.at("worst_point").get<int>() << ")\n"
-                << std::defaultfloat;
+  printTransmitterPositions(transmitter, "board point", "worst_point");
   return 0;
 }
 
