@@ -269,10 +269,28 @@ model::MarkerSet sessionMarkers(const ReviewedSession& r) {
   return toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
 }
 
+namespace {
+
+// A leaf taken across a move of the transmitter: its points before and after stand in frames
+// related by a fit with a residual, which the interval's draws add to the digitizer's noise
+// (the largest move's RMS; the plant's full leaves follow the same rule, plant_export.cpp).
+void widenForMoves(const Engine& engine, const model::LeafModel& leaf, model::LeafMetrics& metrics) {
+  if (engine.transmitterPositions() < 2 || !metrics.areaInterval) return;
+  double rms = 0;
+  for (int r = 1; r < engine.transmitterPositions(); ++r) rms = std::max(rms, engine.fitOf(r).fitRmsMm);
+  model::AreaUncertaintyOptions options;
+  options.blade = leaf.blade.kind;
+  options.sigmaMm = std::hypot(options.sigmaMm, rms);
+  metrics.areaInterval = model::areaUncertainty(leaf.markers, options);
+}
+
+}  // namespace
+
 LeafSummary summarize(const ReviewedSession& r) {
   const model::MarkerSet set = sessionMarkers(r);
   LeafSummary s{model::buildLeafModel(set, {}), {}};
   s.metrics = model::computeLeafMetrics(s.model, Eigen::Vector3d(0, 0, 1), 5.0);
+  widenForMoves(r.engine, s.model, s.metrics);
   // Silhouette and STAR of the mesh an export writes (model build's default resolution).
   model::addSilhouette(s.metrics, model::meshLeaf(s.model, model::MeshResolution::preset("export")));
   return s;
@@ -287,6 +305,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
     if (std::find(exportFormats().begin(), exportFormats().end(), f) == exportFormats().end())
       throw std::invalid_argument("unknown export format '" + f + "': use glb, obj, ply, stl, model, markers, csv");
   model::MarkerSet set;
+  std::optional<ReviewedSession> reviewed;  // a single leaf's session (not a plant's leaf)
   std::string base = request.outDir + "/session-" + std::to_string(id);
   std::string itemPrefix;  // a plant's leaf: its items' words begin "node<k>."
   if (request.node) {
@@ -294,9 +313,9 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
     base += ".node-" + std::to_string(*request.node);
     itemPrefix = "node" + std::to_string(*request.node) + ".";
   } else {
-    const ReviewedSession r = openForReview(store, id);
+    reviewed = openForReview(store, id);
     requireChain(store, id, "exported");
-    set = sessionMarkers(r);
+    set = sessionMarkers(*reviewed);
   }
   const model::LeafInfo& info = set.leaf;
   model::LeafModel leaf = model::buildLeafModel(set, {model::bladeKindFromString(request.blade), nullptr});
@@ -309,6 +328,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   const model::LeafMesh mesh = model::meshLeaf(leaf, meshOptions);
   ExportResult result;
   result.metrics = model::computeLeafMetrics(leaf, Eigen::Vector3d(0, 0, 1), 5.0);
+  if (reviewed) widenForMoves(reviewed->engine, leaf, result.metrics);
   model::addSilhouette(result.metrics, mesh);
   result.rows = set.rows.size();
   const model::ExportHeader header{info.id, request.frame, std::string("leafdig ") + kVersion};

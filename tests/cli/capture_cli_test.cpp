@@ -428,6 +428,14 @@ TEST_F(CaptureCli, ALeafTakenAcrossAMoveOfTheTransmitterIsTheSameLeaf) {
   ASSERT_EQ(leafdig("sessions export 1 --format markers --out " + quote(dir_) + " --db " + quote(db)).exitCode, 0);
   EXPECT_LT(worstMarkerOffTheBoardFileMm(dir_ / "session-1.markers.json", file), 1.5)
       << "a marker is off the file after the move";
+  // The leaf's area interval is drawn with the fit's residual added to the digitizer's noise
+  // (its points stand in two frames related by the fit), and still holds the area.
+  ASSERT_EQ(leafdig("sessions export 1 --format model --out " + quote(dir_) + " --db " + quote(db)).exitCode, 0);
+  const json metrics = json::parse(slurp(dir_ / "session-1.model.json")).at("metrics");
+  EXPECT_NEAR(metrics.at("area_interval").at("digitizer_sigma_mm").get<double>(),
+              std::hypot(0.762, shown["transmitter_positions"][1].at("rms_mm").get<double>()), 1e-9);
+  EXPECT_LT(metrics["blade_area_95_mm2"][0].get<double>(), metrics["blade_area_mm2"].get<double>());
+  EXPECT_GT(metrics["blade_area_95_mm2"][1].get<double>(), metrics["blade_area_mm2"].get<double>());
   // Only a simulation moves the transmitter by itself; with devices the technician types 'move'.
   const Result alone = leafdig(
       "capture --relocate-source-after 5 --digitizer fastrak:/dev/null --caliper "
