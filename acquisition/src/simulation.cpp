@@ -213,7 +213,8 @@ std::string SimulatedRig::caliperSpec() const {
 Eigen::Isometry3d randomTransmitterMove(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> shift(-150.0, 150.0), lift(-40.0, 40.0), turn(-40.0, 40.0), tilt(-6.0, 6.0);
   constexpr double kDeg = 3.14159265358979323846 / 180.0;
-  // In this order (the draws of a seed stay what they were): the turn, the tilt, the shift.
+  // Drawn in this order on every compiler (function arguments have none): the turn, the tilt, the
+  // shift. The plant's technician drew them in an order GCC chose, so a seed's pose changed once.
   const double about = turn(rng) * kDeg, tilted = tilt(rng) * kDeg;
   const double x = shift(rng), y = shift(rng), z = lift(rng);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
