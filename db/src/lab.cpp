@@ -325,9 +325,19 @@ ChainReport LabStore::verify(std::int64_t session) const {
 }
 
 std::int64_t LabStore::append(std::int64_t session, const EventInput& in) {
+  return appendAll(session, {in});
+}
+
+std::int64_t LabStore::appendAll(std::int64_t session, const std::vector<EventInput>& events) {
   // The chain is computed here and checked again by the server; another curator deciding
   // at the same instant makes the server refuse one of the two, which then retries once on
   // the new head (and is refused by review's rules if the session is no longer complete).
+  // Several events go in one transaction: all or none.
+  for (const EventInput& in : events)
+    for (const std::string* text : {&in.payloadJson, &in.raw})
+      if (const auto bad = badTextByte(*text))
+        throw StoreError(StoreErrorKind::Input, "the event's text is not UTF-8 (byte " + std::to_string(*bad) + ")",
+                         "the lab server stores text as UTF-8");
   for (int attempt = 0;; ++attempt) {
     const auto h =
         conn_->exec("SELECT station, station_session_id, head_seq, head_hash FROM leafdig.sessions WHERE id = $1",
@@ -335,26 +345,31 @@ std::int64_t LabStore::append(std::int64_t session, const EventInput& in) {
     if (h.rows() == 0)
       throw StoreError(StoreErrorKind::Input, "no session " + std::to_string(session) + " on " + conn_->where(),
                        "'leafdig sessions list --db …' shows the sessions this login may see");
-    for (const std::string* text : {&in.payloadJson, &in.raw})
-      if (const auto bad = badTextByte(*text))
-        throw StoreError(StoreErrorKind::Input, "the event's text is not UTF-8 (byte " + std::to_string(*bad) + ")",
-                         "the lab server stores text as UTF-8");
-    Event e;
-    e.seq = h.int64(0, 2) + 1;
-    e.utc = utcNow();
-    e.monoNs = in.monoNs;
-    e.prevHash = h.text(0, 3);
-    e.hash = eventHash(e.prevHash, h.int64(0, 1), e.seq, e.utc, e.monoNs, in.kind, in.payloadJson, in.raw);
+    std::int64_t seq = h.int64(0, 2);
+    std::string hash = h.text(0, 3);
     try {
-      (void)conn_->exec(
-          "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, "
-          "hash) "
-          "VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10)",
-          {std::to_string(session), h.text(0, 0), std::to_string(e.seq), e.utc, std::to_string(e.monoNs), in.kind,
-           in.payloadJson, in.raw, e.prevHash, e.hash});
-      return e.seq;
+      if (events.size() > 1) conn_->begin();
+      for (const EventInput& in : events) {
+        const std::string utc = utcNow();
+        const std::string next =
+            eventHash(hash, h.int64(0, 1), seq + 1, utc, in.monoNs, in.kind, in.payloadJson, in.raw);
+        (void)conn_->exec(
+            "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, "
+            "hash) "
+            "VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10)",
+            {std::to_string(session), h.text(0, 0), std::to_string(seq + 1), utc, std::to_string(in.monoNs), in.kind,
+             in.payloadJson, in.raw, hash, next});
+        ++seq;
+        hash = next;
+      }
+      if (events.size() > 1) conn_->commit();
+      return seq;
     } catch (const pg::Error& x) {
+      if (events.size() > 1) conn_->rollback();
       if (x.kind() != StoreErrorKind::Conflict || attempt > 0) throw;
+    } catch (...) {
+      conn_->rollback();
+      throw;
     }
   }
 }

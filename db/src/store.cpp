@@ -574,23 +574,30 @@ void writeEvent(SQLite::Database& db, std::int64_t session, const Event& e, cons
 }  // namespace
 
 std::int64_t Store::append(std::int64_t session, const EventInput& ev) {
+  return appendAll(session, {ev});
+}
+
+std::int64_t Store::appendAll(std::int64_t session, const std::vector<EventInput>& events) {
   OperationClock clock(impl_->budget);
   try {
     SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
-    const Head head = headOf(*impl_->db, session, path_);
-    Event e;
-    e.session = session;
-    e.seq = head.seq + 1;
-    e.utc = utcNow();
-    e.monoNs = ev.monoNs;
-    e.kind = ev.kind;
-    e.payloadJson = ev.payloadJson;
-    e.raw = ev.raw;
-    e.prevHash = head.hash;
-    e.hash = eventHash(e.prevHash, session, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw);
-    writeEvent(*impl_->db, session, e, ev);
+    Head head = headOf(*impl_->db, session, path_);
+    for (const EventInput& ev : events) {
+      Event e;
+      e.session = session;
+      e.seq = head.seq + 1;
+      e.utc = utcNow();
+      e.monoNs = ev.monoNs;
+      e.kind = ev.kind;
+      e.payloadJson = ev.payloadJson;
+      e.raw = ev.raw;
+      e.prevHash = head.hash;
+      e.hash = eventHash(e.prevHash, session, e.seq, e.utc, e.monoNs, e.kind, e.payloadJson, e.raw);
+      writeEvent(*impl_->db, session, e, ev);
+      head = {e.seq, e.hash};
+    }
     tx.commit();  // synchronous=FULL: durable when this returns
-    return e.seq;
+    return head.seq;
   } catch (const SQLite::Exception& e) {
     rethrow(e, path_, "cannot record an event in");
   }

@@ -155,12 +155,12 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "7");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "8");
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 7);
-  EXPECT_EQ(again.toVersion, 7);
+  EXPECT_EQ(again.fromVersion, 8);
+  EXPECT_EQ(again.toVersion, 8);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -399,7 +399,68 @@ TEST_F(Lab, ALeafSessionTakesAMoveOfTheTransmitterAndItsBoardPointsAgainBySql) {
                         R"({"relocation":2,"step":"started"})")
                 .find("only the station's technician pushes them"),
             std::string::npos);
+  // Schema 8: once complete, a curator corrects a board point taken again by plain SQL — the
+  // item it names, no other, and a well-formed one; a technician does not.
+  EXPECT_EQ(appendBySql(asTech, leaf, "bench-a", "status", R"({"status":"complete"})"), "");
+  const std::string again = Sql(admin_).value(
+      "SELECT seq FROM leafdig.events WHERE session_id = $1 AND payload_json::jsonb ->> 'what' = 'board_again' "
+      "AND payload_json::jsonb ->> 'col' = '2'",
+      {leaf.serverId});
+  nlohmann::json fix = nlohmann::json::parse(R"({"what":"board_again","row":1,"col":2,"position_mm":[100,-160,-26]})");
+  fix["frame"] = 1;
+  fix["seq"] = std::stoll(again);
+  fix["reason"] = "pressed on a crumb";
+  fix["who"] = "carla";
+  fix["corrected"] = {{"what", "board_again"}, {"row", 1}, {"col", 2}, {"position_mm", {100, -160, -24}}, {"frame", 1}};
+  EXPECT_NE(appendBySql(asTech, leaf, "bench-a", "corrected", fix.dump()).find("only curators review"),
+            std::string::npos);
+  for (const auto& [key, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"col", 3}, {"row", 2}, {"what", "board"}, {"position_mm", {1, 2}}, {"frame", "1"}}) {
+    nlohmann::json bad = fix;
+    bad["corrected"][key] = value;
+    EXPECT_NE(appendBySql(Sql(login(db::LabRole::Curator)), leaf, "bench-a", "corrected", bad.dump()), "")
+        << key << " " << value;
+  }
+  EXPECT_EQ(appendBySql(Sql(login(db::LabRole::Curator)), leaf, "bench-a", "corrected", fix.dump()), "");
   db::LabStore reader(login(db::LabRole::Reader));
+  EXPECT_TRUE(reader.verify(std::stoll(leaf.serverId)).ok);
+  // Through leafdig, a correction and the points it moves go in one transaction: one the
+  // server refuses (here a marker "corrected" into another row) leaves none of them in.
+  const std::string marker = Sql(admin_).value(
+      "SELECT seq FROM leafdig.events WHERE session_id = $1 AND payload_json::jsonb ->> 'what' = 'marker'",
+      {leaf.serverId});
+  // The board point is now held by the curator's correction, the session's last event.
+  const std::string head = Sql(admin_).value("SELECT head_seq FROM leafdig.sessions WHERE id = $1", {leaf.serverId});
+  db::LabStore curator(login(db::LabRole::Curator));
+  const auto correction = [&](const std::string& seq, nlohmann::json old, nlohmann::json fixed) {
+    old["seq"] = std::stoll(seq);
+    old["corrected"] = std::move(fixed);
+    old["reason"] = "refit";
+    old["who"] = "carla";
+    db::EventInput e;
+    e.kind = "corrected";
+    e.payloadJson = old.dump();
+    return e;
+  };
+  const nlohmann::json oldMarker =
+      nlohmann::json::parse(R"({"what":"marker","row":3,"col":1,"position_mm":[160,110,5],"frame":1})");
+  nlohmann::json movedMarker = oldMarker;
+  movedMarker["position_mm"] = {160, 110, 6};
+  nlohmann::json wrongRow = movedMarker;
+  wrongRow["row"] = 4;
+  nlohmann::json board = fix["corrected"];
+  nlohmann::json boardAgain = board;
+  boardAgain["position_mm"] = {100, -160, -25};
+  const std::string corrections = "SELECT count(*) FROM leafdig.events WHERE session_id = $1 AND kind = 'corrected'";
+  EXPECT_THROW((void)curator.appendAll(std::stoll(leaf.serverId),
+                                       {correction(head, board, boardAgain), correction(marker, oldMarker, wrongRow)}),
+               db::StoreError);
+  EXPECT_EQ(Sql(admin_).value(corrections, {leaf.serverId}), "1");
+  EXPECT_EQ(Sql(admin_).value("SELECT head_seq FROM leafdig.sessions WHERE id = $1", {leaf.serverId}), head);
+  const auto last = curator.appendAll(
+      std::stoll(leaf.serverId), {correction(head, board, boardAgain), correction(marker, oldMarker, movedMarker)});
+  EXPECT_EQ(last, std::stoll(head) + 2);
+  EXPECT_EQ(Sql(admin_).value(corrections, {leaf.serverId}), "3");
   EXPECT_TRUE(reader.verify(std::stoll(leaf.serverId)).ok);
 }
 

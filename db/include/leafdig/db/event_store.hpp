@@ -130,6 +130,9 @@ class EventStore {
   [[nodiscard]] virtual ChainReport verify(std::int64_t session) const = 0;
   // Appends one event (and what it changes) atomically; returns its seq once durable.
   virtual std::int64_t append(std::int64_t session, const EventInput& event) = 0;
+  // Appends several events one after the other, all or none (a correction that moves other
+  // points with it); returns the last one's seq. Nothing is written when `events` is empty.
+  virtual std::int64_t appendAll(std::int64_t session, const std::vector<EventInput>& events) = 0;
   // Status change (open, complete, approved, rejected, abandoned) as a `status` event.
   std::int64_t setStatus(std::int64_t session, const std::string& status, const std::string& who,
                          const std::string& why);

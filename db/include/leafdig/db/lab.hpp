@@ -39,7 +39,7 @@ struct ServerInit {
   std::vector<std::string> rolesCreated;
 };
 ServerInit initServer(const std::string& url, double lockWaitSeconds = 30);
-inline constexpr int kLabSchemaVersion = 7;
+inline constexpr int kLabSchemaVersion = 8;
 
 enum class LabRole { Technician, Curator, Reader };
 [[nodiscard]] const char* toString(LabRole role);
@@ -73,6 +73,7 @@ class LabStore final : public EventStore {
   [[nodiscard]] std::vector<ThicknessRow> thickness(std::int64_t session) const override;
   [[nodiscard]] ChainReport verify(std::int64_t session) const override;
   std::int64_t append(std::int64_t session, const EventInput& event) override;
+  std::int64_t appendAll(std::int64_t session, const std::vector<EventInput>& events) override;
   std::int64_t ensureOperator(const std::string& name, const std::string& role) override;
   std::int64_t recordExport(std::int64_t session, const std::string& path, const std::string& format) override;
 

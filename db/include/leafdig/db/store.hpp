@@ -58,6 +58,7 @@ class Store final : public EventStore {
   // Appends one event (and its projection change) in one transaction; returns its seq once
   // it is durable. Throws StoreError (DiskFull, Busy, Io): nothing was written then.
   std::int64_t append(std::int64_t session, const EventInput& event) override;
+  std::int64_t appendAll(std::int64_t session, const std::vector<EventInput>& events) override;
   // Takes in events written elsewhere (the lab server's copy of this session: a curator's
   // decision), exactly as they are — seq, time, hashes — each checked to follow the
   // session's head and to hash to what it says; what each changes (changeOf) is applied.
