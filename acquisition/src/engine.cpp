@@ -303,17 +303,9 @@ Decision Engine::decidePoint(const StylusInput& release) {
   const rules::Press press = rules::settle(window, settings_);
   if (press.refusal) return reject(*press.refusal);
   // In this order: the first rule that refuses names the problem; the later ones are not run.
-  // A double press is judged against the last point in the same frame: board points taken
-  // again are in the moved transmitter's.
   const bool again = st.what == What::BoardAgain;
-  std::optional<rules::Point> previous;
-  for (auto it = items_.rbegin(); it != items_.rend() && !previous; ++it)
-    if (isStylusItem(it->what) && (it->what == What::BoardAgain) == again)
-      previous = rules::Point(it->positionMm[0], it->positionMm[1], it->positionMm[2]);
-  if (auto refusal =
-          rules::doublePressNear(press.mean, previous, press_.pressedAt(), lastAcceptedReleaseNs_, settings_))
-    return reject(*refusal);
   const rules::Candidate candidate{st, press.mean, items_, settings_};
+  if (auto refusal = rules::doublePress(candidate, press_.pressedAt(), lastAcceptedReleaseNs_)) return reject(*refusal);
   using Rule = rules::Refusal (*)(const rules::Candidate&);
   if (!again)
     for (const Rule rule :

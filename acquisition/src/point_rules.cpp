@@ -66,7 +66,10 @@ Refusal doublePressNear(const Point& candidate, const std::optional<Point>& prev
 }
 
 Refusal doublePress(const Candidate& c, std::int64_t pressedAtNs, std::int64_t lastAcceptedReleaseNs) {
-  const auto last = std::find_if(c.items.rbegin(), c.items.rend(), [](const Item& i) { return isStylusItem(i.what); });
+  const bool again = c.step.what == What::BoardAgain;
+  const auto last = std::find_if(c.items.rbegin(), c.items.rend(), [&](const Item& i) {
+    return isStylusItem(i.what) && (i.what == What::BoardAgain) == again;
+  });
   if (last == c.items.rend()) return std::nullopt;
   return doublePressNear(c.point, toPoint(last->positionMm), pressedAtNs, lastAcceptedReleaseNs, c.settings);
 }

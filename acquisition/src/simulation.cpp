@@ -287,23 +287,18 @@ bool VirtualOperator::relocate(const Snapshot& s) {
     started_ = true;
     resumedInMove_ = s.step.what == What::BoardAgain;
   }
+  const auto undo = [&] {
+    Command c;
+    c.kind = Command::Kind::Undo;
+    send_(c);
+    return true;
+  };
   if (s.step.what == What::BoardAgain) {
-    if (resumedInMove_) {
-      if (!send_) return false;
-      Command undo;
-      undo.kind = Command::Kind::Undo;
-      send_(undo);
-      return true;
-    }
+    if (resumedInMove_) return send_ ? undo() : false;
     if (movedFor_ != s.step.row) {  // asked for by the technician, or by the station's key
       // A press under way when the move was asked for was taken as a board point again
       // before the transmitter moved: undone first.
-      if (findItem(s.items, What::BoardAgain, s.step.row, 1) && send_) {
-        Command undo;
-        undo.kind = Command::Kind::Undo;
-        send_(undo);
-        return true;
-      }
+      if (findItem(s.items, What::BoardAgain, s.step.row, 1) && send_) return undo();
       movedFor_ = s.step.row;
       moved_ = true;
       rig_.moveTransmitter(randomTransmitterMove(rng_));

@@ -66,6 +66,16 @@ TEST(PointRules, ADoublePressIsNearAndSoonAfterThePreviousPoint) {
   EXPECT_FALSE(rules::doublePress(near, 1'200'000'000, -1)) << "nothing accepted by a press yet";
   const rules::Candidate far{{acq::What::Marker, 1, 2}, {14, 0, 0}, items, settings};
   EXPECT_FALSE(rules::doublePress(far, 1'200'000'000, 1'000'000'000));
+  // After a move of the transmitter: a board point taken again is judged against the board
+  // points taken again (the moved frame), a marker against the markers (the first frame).
+  std::vector<acq::Item> moved = items;
+  moved.push_back(stylus(acq::What::BoardAgain, 1, 1, {50, 50, 0}));
+  const rules::Candidate again{{acq::What::BoardAgain, 1, 2}, {10.5, 0, 0}, moved, settings};
+  EXPECT_FALSE(rules::doublePress(again, 1'200'000'000, 1'000'000'000)) << "the marker is in another frame";
+  const rules::Candidate sameAgain{{acq::What::BoardAgain, 1, 2}, {50.5, 50, 0}, moved, settings};
+  EXPECT_TRUE(refusedWith(rules::doublePress(sameAgain, 1'200'000'000, 1'000'000'000), "from the previous one"));
+  const rules::Candidate nextMarker{{acq::What::Marker, 1, 2}, {50.5, 50, 0}, moved, settings};
+  EXPECT_FALSE(rules::doublePress(nextMarker, 1'200'000'000, 1'000'000'000)) << "the board point is in another frame";
 }
 
 TEST(PointRules, TheBoardsAxesAreFarEnoughApart) {

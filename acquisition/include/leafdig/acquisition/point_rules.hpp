@@ -38,7 +38,9 @@ struct Press {
 [[nodiscard]] Press settle(const std::vector<const StylusInput*>& window, const Settings& settings);
 
 // A second press close to the previous accepted point and right after it (distance alone
-// would refuse the 2 mm rows near the tip of a small leaf).
+// would refuse the 2 mm rows near the tip of a small leaf). The previous point is the last one
+// in the candidate's frame: a board point taken again after a move of the transmitter is
+// judged against the board points taken again (they are in the moved transmitter's frame).
 [[nodiscard]] Refusal doublePress(const Candidate& c, std::int64_t pressedAtNs, std::int64_t lastAcceptedReleaseNs);
 // The same rule for any capture: `previous` is the last accepted stylus point, if any.
 [[nodiscard]] Refusal doublePressNear(const Point& candidate, const std::optional<Point>& previous,
