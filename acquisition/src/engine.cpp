@@ -264,9 +264,7 @@ std::vector<const StylusInput*> StylusPress::window(std::int64_t releaseNs, cons
 }
 
 Vec3 Engine::toFirst(const Vec3& p) const {
-  const std::array<double, 12>& m = toFirst_.back();
-  return {m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[9], m[3] * p[0] + m[4] * p[1] + m[5] * p[2] + m[10],
-          m[6] * p[0] + m[7] * p[1] + m[8] * p[2] + m[11]};
+  return detail::placed(toFirst_.back(), p);
 }
 
 Decision Engine::onStylus(const StylusInput& sample) {
@@ -318,7 +316,7 @@ Decision Engine::decidePoint(const StylusInput& release) {
   d.item.col = st.col;
   d.item.positionMm = {press.mean.x(), press.mean.y(), press.mean.z()};
   d.item.raw = window.back()->raw;
-  d.item.frame = again ? st.row : static_cast<int>(toFirst_.size()) - 1;
+  d.item.frame = again ? st.row : static_cast<int>(toFirst_.size()) - 1 + plantPosition_;
   return d;
 }
 
@@ -485,6 +483,14 @@ RelocationFit fitBoardPoints(const std::vector<Item>& items, int relocation, dou
 }
 
 }  // namespace
+
+BoardMoveFit fitBoardMove(const std::vector<Item>& items, int relocation, double toleranceMm) {
+  const RelocationFit fit = fitBoardPoints(items, relocation, toleranceMm);
+  BoardMoveFit out;
+  out.toFirst = detail::mapOf(fit.newToOld);
+  out.refusal = fit.refusal;
+  return out;
+}
 
 Decision Engine::fitOf(int relocation) const {
   const RelocationFit fit = fitBoardPoints(items_, relocation, settings_.relocationToleranceMm);

@@ -372,6 +372,7 @@ PlantDecision PlantEngine::onStylus(const StylusInput& s) {
   const std::optional<std::int64_t> held = press_.take(in, settings_);
   if (const int node = leafNode()) {
     Engine& e = leafEngine(node);
+    e.setPlantPosition(static_cast<int>(toFirst_.size()) - 1);
     const bool hadActions = !e.items().empty() || e.rowsEnded();
     const Decision ld = e.onStylus(in);  // decides and applies, as on a detached leaf
     if (held && *held >= settings_.undoPressNs && !hadActions && ld.kind == Decision::Kind::Rejected) return undo();
@@ -898,7 +899,6 @@ void PlantEngine::apply(const PlantDecision& d) {
 }
 
 bool PlantEngine::correct(const PlantItem& fixed) {
-  if (fixed.what == PlantWhat::LandmarkAgain) return false;  // its fit placed every later point: not in place
   for (PlantItem& i : items_)
     if (i.what == fixed.what && i.index == fixed.index && i.part == fixed.part) {
       i = fixed;

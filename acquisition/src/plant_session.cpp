@@ -15,6 +15,7 @@
 #include "leafdig/model/io/survey_export.hpp"
 #include "leafdig/model/limits.hpp"
 #include "leafdig/names/name_table.hpp"
+#include "rigid_map.hpp"
 
 namespace leafdig::acquisition {
 
@@ -631,8 +632,25 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
     throw std::invalid_argument(b);
   }
 
-  json old, fixedJson;
-  std::string key;
+  // One correction as stored: the old item, the event it replaces, the corrected one, why, who.
+  std::vector<db::EventInput> events;
+  const auto correction = [&](json old, const json& fixed, const std::string& key, const std::string& why) {
+    const std::int64_t seq = held.at(key);
+    old["seq"] = seq;
+    old["corrected"] = fixed;
+    old["reason"] = why;
+    old["who"] = c.who;
+    db::EventInput ev;
+    ev.kind = "corrected";
+    ev.payloadJson = old.dump();
+    ev.raw = "corrected by " + c.who;
+    ev.projection = projectionOf(fixed.dump(), ev.raw);
+    ev.retracts = seq;
+    events.push_back(std::move(ev));
+  };
+  const PlantEngine before = engine;
+  bool refit = false;
+  int onlyMove = 0;  // a landmark taken again refits its own move; a landmark as first taken, every move
   if (c.node > 0) {
     const Engine* leaf = engine.leaf(c.node);
     const Item* found = nullptr;
@@ -647,14 +665,17 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
                                   " to correct");
     Item fixed = *found;
     fixed.flag.clear();
-    if (c.positionMm) fixed.positionMm = *c.positionMm;
+    if (c.positionMm) {
+      fixed.positionMm = *c.positionMm;
+      fixed.frame = 0;  // a corrected point is given in the first transmitter position's frame
+    }
     if (c.valueMm) fixed.valueMm = *c.valueMm;
     fixed.raw = "corrected by " + c.who;
-    old = itemJson(*found);
+    json old = itemJson(*found);
     old["what"] = leafWhat(c.node, *found);
-    fixedJson = itemJson(fixed);
+    json fixedJson = itemJson(fixed);
     fixedJson["what"] = leafWhat(c.node, fixed);
-    key = keyOf(c.node, *found);
+    correction(old, fixedJson, keyOf(c.node, *found), c.reason);
     fixed.flag = "corrected: " + c.reason;
     (void)engine.correctLeaf(c.node, fixed);
   } else {
@@ -669,14 +690,63 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
                                   " to correct (landmarks by number, a node's point and reading by node)");
     PlantItem fixed = *found;
     fixed.flag.clear();
-    if (c.positionMm) fixed.positionMm = *c.positionMm;
+    if (c.positionMm) {
+      fixed.positionMm = *c.positionMm;
+      // A corrected point is given in the first transmitter position's frame; a landmark taken
+      // again stays in its own.
+      if (fixed.what != PlantWhat::LandmarkAgain) fixed.frame = 0;
+    }
     if (c.valueMm) fixed.valueMm = *c.valueMm;
     fixed.raw = "corrected by " + c.who;
-    old = plantItemJson(*found);
-    fixedJson = plantItemJson(fixed);
-    key = keyOf(*found);
+    correction(plantItemJson(*found), plantItemJson(fixed), keyOf(*found), c.reason);
+    refit = fixed.what == PlantWhat::Landmark || fixed.what == PlantWhat::LandmarkAgain;
+    if (fixed.what == PlantWhat::LandmarkAgain) onlyMove = fixed.part;
     fixed.flag = "corrected: " + c.reason;
     (void)engine.correct(fixed);
+  }
+  // A landmark places every point taken after a move: each move it takes part in is fitted
+  // again and the points taken from that position moved with the new fit, each by its own
+  // correction, all written together or not at all.
+  const int moves = static_cast<int>(before.toFirst().size()) - 1;
+  for (int move = 1; refit && move <= moves; ++move) {
+    if (onlyMove && move != onlyMove) continue;
+    const RelocationFit was = before.fitOf(move);
+    const RelocationFit now = engine.fitOf(move);
+    if (was.refusal || now.refusal)
+      throw std::invalid_argument("with this correction the transmitter's move " + std::to_string(move) +
+                                  " no longer fits (" + *(now.refusal ? now.refusal : was.refusal) +
+                                  "): check the position, nothing was written");
+    const std::string why = std::string("placed again by its move's new fit (") + toString(c.what) + " " +
+                            std::to_string(c.row) + (onlyMove ? " of move " + std::to_string(onlyMove) : "") +
+                            " corrected): " + c.reason;
+    for (const PlantItem& i : before.items()) {
+      if (!isStylusItem(i.what) || i.what == PlantWhat::LandmarkAgain || i.frame != move) continue;
+      PlantItem moved = i;
+      moved.flag.clear();
+      moved.raw = "corrected by " + c.who;
+      moved.positionMm = detail::replaced(was.newToOld, now.newToOld, i.positionMm);
+      correction(plantItemJson(i), plantItemJson(moved), keyOf(i), why);
+      moved.flag = "corrected: " + why;
+      (void)engine.correct(moved);
+    }
+    for (int node = 1; node <= before.nodes(); ++node) {
+      const Engine* leaf = before.leaf(node);
+      if (!leaf) continue;
+      for (const Item& i : leaf->items()) {
+        if (!acquisition::isStylusItem(i.what) || i.frame != move) continue;
+        Item moved = i;
+        moved.flag.clear();
+        moved.raw = "corrected by " + c.who;
+        moved.positionMm = detail::replaced(was.newToOld, now.newToOld, i.positionMm);
+        json old = itemJson(i);
+        old["what"] = leafWhat(node, i);
+        json movedJson = itemJson(moved);
+        movedJson["what"] = leafWhat(node, moved);
+        correction(old, movedJson, keyOf(node, i), why);
+        moved.flag = "corrected: " + why;
+        (void)engine.correctLeaf(node, moved);
+      }
+    }
   }
   // The corrected plant must still stand: a landmark moved onto the others' line leaves no frame.
   try {
@@ -685,20 +755,8 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
     throw std::invalid_argument(std::string("the corrected plant would not hold together (") + e.what() +
                                 "): check the position, nothing was written");
   }
-  const std::int64_t seq = held.at(key);
-  json payload = old;
-  payload["seq"] = seq;
-  payload["corrected"] = fixedJson;
-  payload["reason"] = c.reason;
-  payload["who"] = c.who;
-  db::EventInput ev;
-  ev.kind = "corrected";
-  ev.payloadJson = payload.dump();
-  ev.raw = "corrected by " + c.who;
-  ev.projection = projectionOf(fixedJson.dump(), ev.raw);
-  ev.retracts = seq;
   (void)store.ensureOperator(c.who, "curator");
-  return store.append(id, ev);
+  return store.appendAll(id, events);
 }
 
 }  // namespace leafdig::acquisition

@@ -18,6 +18,7 @@
 #include "leafdig/model/io/model_json.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/version.hpp"
+#include "rigid_map.hpp"
 
 namespace leafdig::acquisition {
 namespace {
@@ -165,14 +166,36 @@ void setCorrectionItem(Correction& c, const std::string& word, int node) {
     c.plantWhat = plantWhatFromString(word);
   } catch (const std::invalid_argument&) {
     throw std::invalid_argument(word +
-                                " is not an item: a leaf's tip, marker, midrib_thickness, vein_origin_thickness, "
-                                "point_thickness or edge_thickness; a plant's landmark, collar, collar_diameter, "
-                                "point, reading or quick_point");
+                                " is not an item: a leaf's board, board_again, tip, marker, midrib_thickness, "
+                                "vein_origin_thickness, point_thickness or edge_thickness; a plant's landmark, "
+                                "landmark_again, collar, collar_diameter, point, reading or quick_point");
   }
   if (node > 0)
     throw std::invalid_argument("node " + std::to_string(node) +
                                 " is a full leaf: its items are tip, marker and the thicknesses, not " + word);
 }
+
+namespace {
+
+// A curator's correction of one item as stored: the old item, the event it replaces, the
+// corrected one, why and who.
+db::EventInput correctionEvent(const Item& old, const Item& fixed, std::int64_t seq, const std::string& reason,
+                               const std::string& who) {
+  json payload = detail::itemJson(old);
+  payload["seq"] = seq;
+  payload["corrected"] = detail::itemJson(fixed);
+  payload["reason"] = reason;
+  payload["who"] = who;
+  db::EventInput ev;
+  ev.kind = "corrected";
+  ev.payloadJson = payload.dump();
+  ev.raw = fixed.raw;
+  ev.projection = detail::projectionOf(fixed);
+  ev.retracts = seq;
+  return ev;
+}
+
+}  // namespace
 
 std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c) {
   const db::SessionInfo info = infoOrThrow(store, id);
@@ -198,10 +221,6 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
                                 " captured one leaf: a plant's item or a node does not apply (--what tip, marker, "
                                 "or a thickness, with --row and --col)");
   detail::requireCorrectable(store, id, info.status, c.reason, c.who);
-  if (c.what == What::BoardAgain)
-    throw std::invalid_argument(
-        "a board point taken again after moving the transmitter placed every later point: it "
-        "is not corrected alone (correct the markers it placed, --what marker)");
   const ReviewedSession r = openForReview(store, id);
   const Item* old = findItem(r.engine.items(), c.what, c.row, c.col);
   if (!old)
@@ -216,6 +235,9 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
     for (double v : *c.positionMm)
       if (!std::isfinite(v)) throw std::invalid_argument("the corrected position must be finite numbers in mm");
     fixed.positionMm = *c.positionMm;
+    // A corrected point is given in the first transmitter position's frame (as the review shows
+    // it); a board point taken again stays in its own.
+    if (c.what != What::BoardAgain) fixed.frame = 0;
   } else {
     if (!c.valueMm || c.positionMm) throw std::invalid_argument("a thickness is corrected with a value in mm");
     if (!(*c.valueMm >= r.settings.minThicknessMm && *c.valueMm <= r.settings.maxThicknessMm)) {
@@ -227,20 +249,38 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
     fixed.valueMm = *c.valueMm;
   }
   fixed.raw = "corrected by " + c.who;
-  const auto seq = r.seqs.at(detail::keyOf(*old));
-  json payload = detail::itemJson(*old);
-  payload["seq"] = seq;
-  payload["corrected"] = detail::itemJson(fixed);
-  payload["reason"] = c.reason;
-  payload["who"] = c.who;
-  db::EventInput ev;
-  ev.kind = "corrected";
-  ev.payloadJson = payload.dump();
-  ev.raw = fixed.raw;
-  ev.projection = detail::projectionOf(fixed);
-  ev.retracts = seq;
+  std::vector<db::EventInput> events{correctionEvent(*old, fixed, r.seqs.at(detail::keyOf(*old)), c.reason, c.who)};
+  // A board point (as first taken, or taken again after a move) places every point taken after a
+  // move: each move is fitted again and its points moved with the new fit, each by its own
+  // correction, all written together or not at all.
+  if ((c.what == What::Board || c.what == What::BoardAgain) && r.engine.transmitterPositions() > 1) {
+    std::vector<Item> after = r.engine.items();
+    for (Item& i : after)
+      if (detail::keyOf(i) == detail::keyOf(fixed)) i = fixed;
+    const std::string because =
+        std::string("placed again by its move's new fit (") + toString(c.what) + " " + std::to_string(c.col) +
+        (c.what == What::BoardAgain ? " of move " + std::to_string(c.row) : "") + " corrected): " + c.reason;
+    for (int move = 1; move < r.engine.transmitterPositions(); ++move) {
+      if (c.what == What::BoardAgain && c.row != move) continue;
+      const BoardMoveFit was = fitBoardMove(r.engine.items(), move, r.settings.relocationToleranceMm);
+      const BoardMoveFit now = fitBoardMove(after, move, r.settings.relocationToleranceMm);
+      if (was.refusal || now.refusal)
+        throw std::invalid_argument("with this correction the transmitter's move " + std::to_string(move) +
+                                    " no longer fits (" + *(now.refusal ? now.refusal : was.refusal) +
+                                    "): check the position, nothing was written");
+      for (const Item& i : r.engine.items()) {
+        if (!isStylusItem(i.what) || i.what == What::BoardAgain || i.frame != move) continue;
+        Item moved = i;
+        moved.flag.clear();
+        moved.raw = fixed.raw;
+        moved.positionMm =
+            detail::replaced(detail::isometryOf(was.toFirst), detail::isometryOf(now.toFirst), i.positionMm);
+        events.push_back(correctionEvent(i, moved, r.seqs.at(detail::keyOf(i)), because, c.who));
+      }
+    }
+  }
   (void)store.ensureOperator(c.who, "curator");
-  return store.append(id, ev);
+  return store.appendAll(id, events);
 }
 
 std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& status, const std::string& who,

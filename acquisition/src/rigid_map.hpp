@@ -25,4 +25,18 @@ namespace leafdig::acquisition::detail {
   return m;
 }
 
+// p (in a position's frame) placed into the first's by map m.
+[[nodiscard]] inline std::array<double, 3> placed(const std::array<double, 12>& m, const std::array<double, 3>& p) {
+  const Eigen::Vector3d q = isometryOf(m) * Eigen::Vector3d(p[0], p[1], p[2]);
+  return {q.x(), q.y(), q.z()};
+}
+
+// A point `before` placed into the first frame, placed by `after` instead (a move refitted
+// after a curator corrected one of its landmarks).
+[[nodiscard]] inline std::array<double, 3> replaced(const Eigen::Isometry3d& before, const Eigen::Isometry3d& after,
+                                                    const std::array<double, 3>& p) {
+  const Eigen::Vector3d q = after * (before.inverse() * Eigen::Vector3d(p[0], p[1], p[2]));
+  return {q.x(), q.y(), q.z()};
+}
+
 }  // namespace leafdig::acquisition::detail

@@ -226,6 +226,7 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
         map[keyOf(out.item)] = e.seq;
         d.kind = Decision::Kind::Accepted;
         d.item = itemFrom(p.at("corrected"), e.raw);
+        if (keyOf(d.item) != keyOf(out.item)) throw SessionError("the corrected item is not the one it names");
         d.item.flag = "corrected: " + p.at("reason").get<std::string>();
       } else if (e.kind == "relocation") {
         const std::string step = p.at("step").get<std::string>();

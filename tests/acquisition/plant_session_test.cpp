@@ -64,6 +64,12 @@ class PlantSession : public ::testing::Test {
                          (st.what == PlantWhat::Leaf && !acq::isStylusItem(st.leaf.what));
     if (reading) return s.onCaliper({t_ += 500 * kMs, acq::plantReadingTruth(plant_, st), "+1.0\r"});
     std::optional<acq::Vec3> p = acq::plantPointTruth(plant_, st);
+    if (p) {
+      // From where the transmitter stands now (pose_: the first position → the current one).
+      Eigen::Vector3d q = pose_ * Eigen::Vector3d((*p)[0], (*p)[1], (*p)[2]);
+      if (st.what == PlantWhat::LandmarkAgain && st.index == slipped_) q += slip_;
+      p = acq::Vec3{q.x(), q.y(), q.z()};
+    }
     std::int64_t pressMs = 200;
     if (st.what == PlantWhat::Leaf && st.leaf.what == acq::What::Marker && st.leaf.col == 1 &&
         st.leaf.row > static_cast<int>(acq::plantLeafTruth(plant_, st.index)->rows.size()))
@@ -88,7 +94,31 @@ class PlantSession : public ::testing::Test {
   m::PlantMarkers plant_;
   acq::PlantSessionSetup setup_;
   std::int64_t t_ = 0;
+  Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
+  int slipped_ = 0;  // the landmark taken again off its mark, by slip_
+  Eigen::Vector3d slip_ = Eigen::Vector3d::Zero();
 };
+
+// Every stylus point of `a` against `b`'s: the collar, the nodes, full and quick leaves.
+double worstApartMm(const m::PlantMarkers& a, const m::PlantMarkers& b) {
+  double worst = (a.collarMm - b.collarMm).norm();
+  for (std::size_t n = 0; n < a.nodes.size(); ++n) {
+    worst = std::max(worst, (a.nodes[n].pointMm - b.nodes[n].pointMm).norm());
+    if (const auto* qa = std::get_if<m::QuickLeaf>(&a.nodes[n].leaf)) {
+      const auto& qb = std::get<m::QuickLeaf>(b.nodes[n].leaf);
+      for (const auto& [x, y] : {std::pair{qa->baseMm, qb.baseMm}, {qa->tipMm, qb.tipMm}, {qa->sideMm, qb.sideMm}})
+        worst = std::max(worst, (x - y).norm());
+    }
+    if (const auto* fa = std::get_if<m::MarkerSet>(&a.nodes[n].leaf)) {
+      const auto& fb = std::get<m::MarkerSet>(b.nodes[n].leaf);
+      worst = std::max(worst, (fa->tipMm - fb.tipMm).norm());
+      for (std::size_t r = 0; r < fa->rows.size(); ++r)
+        for (std::size_t c = 0; c < fa->rows[r].pointsMm.size(); ++c)
+          worst = std::max(worst, (fa->rows[r].pointsMm[c] - fb.rows[r].pointsMm[c]).norm());
+    }
+  }
+  return worst;
+}
 
 }  // namespace
 
@@ -326,6 +356,71 @@ TEST_F(PlantSession, AMoveOfTheTransmitterSurvivesAReopeningAtEveryStepOfIt) {
     fitted += e.kind == "relocation" && e.payloadJson.find("\"fitted\"") != std::string::npos;
   EXPECT_EQ(fitted, 1U);
   EXPECT_TRUE(store.verify(id).ok);
+}
+
+// A landmark taken again slipped: the move's fit placed every later point a little off — node
+// points, readings' places, a full leaf's markers, quick leaves. The curator corrects the reading;
+// the move is fitted again and every point taken from that position placed again (each by a
+// correction event, all in one transaction), and replay gives the plant as it stands.
+TEST_F(PlantSession, ACorrectedLandmarkTakenAgainPlacesEveryPointOfItsMoveAgain) {
+  db::Store store(path_);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(-90.0, 60.0, 0.0);
+  {
+    acq::PlantCaptureSession session(store, id);
+    for (int guard = 0; guard < 400 && !session.ended(); ++guard) {
+      const acq::PlantStep st = session.engine().step();
+      if (st.what == PlantWhat::Point && st.index == 2 && st.part == 1 && session.engine().toFirst().size() == 1 &&
+          !session.engine().relocating()) {
+        ASSERT_EQ(session.moveTransmitter(t_).decision.kind, Kind::RelocationStarted);
+        pose_ = pose;
+        slipped_ = 2;
+        slip_ = Eigen::Vector3d(0.0, 0.0, 2.0);
+        continue;
+      }
+      const acq::PlantFeedback f = act(session);
+      ASSERT_NE(f.decision.kind, Kind::Rejected) << f.decision.reason;
+    }
+  }
+  ASSERT_EQ(store.session(id)->status, "complete");
+  const auto replayed = [&] {
+    const acq::PlantSessionSetup kept = acq::PlantCaptureSession::setupFromJson(store.session(id)->settingsJson);
+    return acq::PlantCaptureSession::replay(kept, store.events(id));
+  };
+  ASSERT_EQ(replayed().toFirst().size(), 2U);
+  const double before = worstApartMm(replayed().captured(plant_.plant), plant_);
+  EXPECT_GT(before, 0.3);  // the slip shows in every point the move placed
+
+  acq::Correction c;
+  c.who = "curator-kim";
+  c.reason = "landmark 2 was pressed on the pot's label";
+  c.plantWhat = PlantWhat::LandmarkAgain;
+  c.row = 2;
+  c.col = 1;
+  const Eigen::Vector3d right = pose * plant_.landmarksMm[1];
+  c.positionMm = acq::Vec3{right.x(), right.y(), right.z()};
+  const std::size_t eventsBefore = store.events(id).size();
+  const std::int64_t head = acq::correct(store, id, c);
+  const auto events = store.events(id);
+  EXPECT_GT(events.size(), eventsBefore + 20);  // the landmark, and the points of five nodes
+  EXPECT_EQ(head, events.back().seq);
+  for (std::size_t k = eventsBefore; k < events.size(); ++k) EXPECT_EQ(events[k].kind, "corrected");
+  EXPECT_TRUE(store.verify(id).ok) << store.verify(id).problem;
+  const acq::PlantEngine after = replayed();
+  EXPECT_LT(worstApartMm(after.captured(plant_.plant), plant_), 1e-6) << "before the correction: " << before;
+  EXPECT_LT(after.fitOf(1).rmsMm, 1e-6);
+
+  // A correction the move cannot fit is refused, and nothing is written.
+  c.positionMm = acq::Vec3{right.x() + 40.0, right.y(), right.z()};
+  try {
+    (void)acq::correct(store, id, c);
+    FAIL() << "a landmark that breaks the move's fit was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("move 1 no longer fits"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(store.events(id).size(), events.size());
 }
 
 TEST_F(PlantSession, AReopenedSessionAsksForWhatTheClosedOneAskedFor) {

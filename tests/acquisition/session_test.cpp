@@ -401,20 +401,6 @@ TEST_F(Session, AMoveOfTheTransmitterSurvivesARestartAtEveryStepAndItsEventsAreC
     EXPECT_EQ(i->frame, 1);
   }
   expectProjectionFromEventsMatchesTheStore(store, id);
-  // A board point taken again is not corrected alone: it placed every later point.
-  acq::Correction c;
-  c.what = acq::What::BoardAgain;
-  c.row = 1;
-  c.col = 2;
-  c.positionMm = acq::Vec3{0, 0, 0};
-  c.who = "curator";
-  c.reason = "test";
-  try {
-    (void)acq::correct(store, id, c);
-    FAIL() << "a board point taken again was corrected";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("placed every later point"), std::string::npos) << e.what();
-  }
   // Events a doctored file could hold: a fit before any move, a move of another number, a step
   // that is not one.
   leafdig::db::Event e;
@@ -425,6 +411,90 @@ TEST_F(Session, AMoveOfTheTransmitterSurvivesARestartAtEveryStepAndItsEventsAreC
     e.payloadJson = payload;
     EXPECT_THROW((void)acq::CaptureSession::replay(settings, {e}), acq::SessionError) << payload;
   }
+}
+
+// A board point taken again slipped: the move's fit placed every later marker a little off. The
+// curator corrects the reading; the move is fitted again and its markers placed again (each by a
+// correction event, in one transaction), a marker the curator set by hand stays, and a
+// correction that breaks the fit is refused with nothing written.
+TEST_F(Session, ACorrectedBoardPointTakenAgainPlacesEveryPointOfItsMoveAgain) {
+  leafdig::db::Store store((dir_ / "s.sqlite").string());
+  acq::Settings settings;
+  settings.boardFrame = true;
+  const auto id = create(store, settings);
+  const acq::Vec3 board[3] = {{-150, -150, -5}, {150, -150, -5}, {-150, 150, -5}};
+  Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
+  moved.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  moved.translation() = Eigen::Vector3d(80, -40, 25);
+  const auto from = [&](const acq::Vec3& p) { return v(moved * Eigen::Vector3d(p[0], p[1], p[2])); };
+  acq::Vec3 slipped = from(board[1]);
+  slipped[2] += 1.6;  // pressed on a crumb of soil
+  {
+    acq::CaptureSession s(store, id);
+    Hand h{&s};
+    for (const acq::Vec3& b : board) ASSERT_TRUE(has(h.press(b), FK::Accepted));
+    captureRows(h, 1);
+    ASSERT_EQ(s.moveTransmitter(h.t).size(), 1u);
+    for (const acq::Vec3& b : {from(board[0]), slipped, from(board[2])}) ASSERT_TRUE(has(h.press(b), FK::Accepted));
+    ASSERT_TRUE(has(h.press(from(board[2]), 1500), FK::Relocation));
+    for (int c = 1; c <= 7; ++c) ASSERT_TRUE(has(h.press(from(point(2, c))), FK::Accepted)) << c;
+    finish(h);
+  }
+  const auto worstOff = [&] {
+    const acq::ReviewedSession r = acq::openForReview(store, id);
+    double worst = 0;
+    for (int c = 1; c <= 7; ++c) {
+      const acq::Item* i = acq::findItem(r.engine.items(), acq::What::Marker, 2, c);
+      if (c != 4) worst = std::max(worst, acq::distanceMm(i->positionMm, point(2, c)));
+    }
+    return worst;
+  };
+  const double before = worstOff();
+  EXPECT_GT(before, 0.5);  // the slip shows in the markers the move placed
+
+  acq::Correction c;
+  c.who = "curator";
+  c.reason = "marker 4 re-measured on the leaf";
+  c.what = acq::What::Marker;
+  c.row = 2;
+  c.col = 4;
+  c.positionMm = point(2, 4);
+  (void)acq::correct(store, id, c);
+  const std::size_t eventsBefore = store.events(id).size();
+
+  c.what = acq::What::BoardAgain;
+  c.row = 1;
+  c.col = 2;
+  c.reason = "board point 2 was pressed on a crumb";
+  c.positionMm = from(board[1]);
+  const std::int64_t head = acq::correct(store, id, c);
+  const auto events = store.events(id);
+  ASSERT_EQ(events.size(), eventsBefore + 7);  // the board point and the six markers it placed
+  EXPECT_EQ(head, events.back().seq);
+  for (std::size_t k = eventsBefore; k < events.size(); ++k) EXPECT_EQ(events[k].kind, "corrected");
+  EXPECT_TRUE(store.verify(id).ok) << store.verify(id).problem;
+  expectProjectionFromEventsMatchesTheStore(store, id);
+  EXPECT_LT(worstOff(), 0.3) << "before the correction: " << before;
+  const acq::ReviewedSession r = acq::openForReview(store, id);
+  const acq::Item* byHand = acq::findItem(r.engine.items(), acq::What::Marker, 2, 4);
+  EXPECT_EQ(byHand->positionMm, point(2, 4));  // set by hand, in the first frame: not moved
+  EXPECT_EQ(byHand->frame, 0);
+  EXPECT_LT(r.engine.fitOf(1).fitRmsMm, 0.3);
+  for (const auto& m : store.markers(id))
+    if (m.what == "marker" && m.row == 2) {
+      const acq::Item* i = acq::findItem(r.engine.items(), acq::What::Marker, 2, *m.col);
+      EXPECT_EQ(m.positionMm, i->positionMm) << *m.col;  // the projection is the replayed model
+    }
+
+  // A correction the move cannot fit is refused, and nothing is written.
+  c.positionMm = acq::Vec3{from(board[1])[0] + 30, from(board[1])[1], from(board[1])[2]};
+  try {
+    (void)acq::correct(store, id, c);
+    FAIL() << "a board point that breaks the move's fit was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("move 1 no longer fits"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(store.events(id).size(), events.size());
 }
 
 TEST_F(Session, ThePreviewGrowsMidribFirstThenLateralsPerRowThenTheBlade) {

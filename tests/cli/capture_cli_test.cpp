@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <thread>
@@ -436,6 +437,44 @@ TEST_F(CaptureCli, ALeafTakenAcrossAMoveOfTheTransmitterIsTheSameLeaf) {
               std::hypot(0.762, shown["transmitter_positions"][1].at("rms_mm").get<double>()), 1e-9);
   EXPECT_LT(metrics["blade_area_95_mm2"][0].get<double>(), metrics["blade_area_mm2"].get<double>());
   EXPECT_GT(metrics["blade_area_95_mm2"][1].get<double>(), metrics["blade_area_mm2"].get<double>());
+  // A curator corrects board point 2 as taken again (0.8 mm higher): the move is fitted again
+  // and every marker pressed from the moved position is placed again; the others stay.
+  json again;
+  for (const json& b : shown.at("board_again"))
+    if (b.at("col") == 2) again = b.at("position_mm");
+  ASSERT_TRUE(again.is_array());
+  const Result corrected = leafdig(
+      "sessions correct 1 --what board_again --row 1 --col 2 --position " + std::to_string(again[0].get<double>()) +
+      "," + std::to_string(again[1].get<double>()) + "," + std::to_string(again[2].get<double>() + 0.8) +
+      " --who carla --why 'pressed on a crumb' --db " + quote(db));
+  ASSERT_EQ(corrected.exitCode, 0) << corrected.err;
+  const json after = show(db, 1);
+  EXPECT_TRUE(after.at("chain_ok").get<bool>()) << after.at("problem");
+  std::map<std::pair<int, int>, json> was;
+  for (const json& m : shown.at("markers")) was[{m.at("row").get<int>(), m.at("col").get<int>()}] = m;
+  int placedAgain = 0;
+  for (const json& m : after.at("markers")) {
+    const json& old = was.at({m.at("row").get<int>(), m.at("col").get<int>()});
+    const double apart = std::hypot(m["position_mm"][0].get<double>() - old["position_mm"][0].get<double>(),
+                                    m["position_mm"][1].get<double>() - old["position_mm"][1].get<double>(),
+                                    m["position_mm"][2].get<double>() - old["position_mm"][2].get<double>());
+    if (old.at("transmitter_position") == 2) {
+      EXPECT_GT(apart, 1e-3) << m.dump();
+      ++placedAgain;
+    } else {
+      EXPECT_EQ(apart, 0.0) << m.dump();
+    }
+  }
+  EXPECT_EQ(placedAgain, fromTheMove);
+  EXPECT_EQ(after.at("markers").size(), 70u);
+  // One the move cannot fit (30 mm off) is refused by name, and nothing is written.
+  const Result broken =
+      leafdig("sessions correct 1 --what board_again --row 1 --col 2 --position " +
+              std::to_string(again[0].get<double>() + 30) + "," + std::to_string(again[1].get<double>()) + "," +
+              std::to_string(again[2].get<double>()) + " --who carla --why test --db " + quote(db));
+  EXPECT_EQ(broken.exitCode, 2);
+  EXPECT_NE(broken.err.find("move 1 no longer fits"), std::string::npos) << broken.err;
+  EXPECT_EQ(show(db, 1).at("events"), after.at("events"));
   // Only a simulation moves the transmitter by itself; with devices the technician types 'move'.
   const Result alone = leafdig(
       "capture --relocate-source-after 5 --digitizer fastrak:/dev/null --caliper "

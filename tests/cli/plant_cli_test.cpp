@@ -927,10 +927,18 @@ TEST_F(PlantCli, AMovedTransmitterIsFittedFromTheLandmarksAndThePlantComesOutThe
   const json shown = json::parse(leafdig("sessions show " + std::to_string(id) + " --json --db " + quote(db)).out);
   EXPECT_EQ(shown.at("transmitter_positions"), survey.at("transmitter_positions"));
   int fromFirst = 0, fromSecond = 0;
+  std::set<int> leafPositions;  // node 2's full leaf was taken across the move: its markers say so
   for (const json& p : shown.at("points")) {
+    if (p.at("what").get<std::string>().rfind("node", 0) == 0) {
+      ASSERT_TRUE(p.contains("transmitter_position")) << p;
+      if (p.at("what").get<std::string>().rfind("node2.", 0) == 0)
+        leafPositions.insert(p["transmitter_position"].get<int>());
+      continue;
+    }
     if (!p.contains("transmitter_position")) continue;
     (p["transmitter_position"] == 1 ? fromFirst : fromSecond) += 1;
   }
+  EXPECT_EQ(leafPositions, (std::set<int>{1, 2}));
   EXPECT_EQ(fromFirst, survey["transmitter_positions"][0].at("points").get<int>());
   EXPECT_EQ(fromSecond, moved.at("points").get<int>() + 4) << "its points and the four landmarks taken again";
   const Result human = leafdig("sessions show " + std::to_string(id) + " --db " + quote(db));

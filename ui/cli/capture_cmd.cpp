@@ -407,15 +407,19 @@ int runShowPlant(const db::EventStore& store, const CaptureOptions& o, const db:
   const auto maybe = [](const std::optional<int>& v) { return v ? json(*v) : json(nullptr); };
   json points = json::array(), readings = json::array(), leaves = json::array(), corrections = json::array();
   // Which transmitter position each of the plant's own points was taken from (issue 29): its
-  // event says (no `frame`: the first). A full leaf's markers are its leaf's: not said per point.
+  // event says (no `frame`: the first). Once the transmitter moved, a full leaf's markers and
+  // the points a correction placed again say it too.
+  const bool moved = engine.toFirst().size() > 1;
   std::map<std::int64_t, int> frames;
   for (const db::Event& e : events)
-    if (e.kind == "accepted") {
+    if (e.kind == "accepted" || (moved && (e.kind == "corrected" || e.kind == "retake_cancelled"))) {
       const json p = json::parse(e.payloadJson, nullptr, false);
-      if (p.is_discarded() || !p.contains("what") || !p.at("what").is_string() ||
-          p.at("what").get<std::string>().rfind("node", 0) == 0)
+      if (p.is_discarded() || !p.is_object()) continue;
+      const json& item = e.kind == "corrected" ? p.value("corrected", json()) : p;
+      if (!item.is_object() || !item.contains("what") || !item.at("what").is_string() ||
+          (!moved && item.at("what").get<std::string>().rfind("node", 0) == 0))
         continue;
-      frames[e.seq] = p.contains("frame") && p.at("frame").is_number_integer() ? p.at("frame").get<int>() : 0;
+      frames[e.seq] = item.contains("frame") && item.at("frame").is_number_integer() ? item.at("frame").get<int>() : 0;
     }
   for (const auto& mk : projected.markers) {
     json point{{"what", mk.what},
@@ -898,11 +902,16 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   addCaptureOptions(resume);
   for (CLI::App* c : {show, resume, approve, reject, corr, exp}) c->add_option("id", o.id, "Session id")->required();
   corr->add_option("--what", o.what,
-                   "A leaf's tip, marker, midrib_thickness, vein_origin_thickness, point_thickness, "
-                   "edge_thickness; a plant's landmark, collar, collar_diameter, point, reading, quick_point")
+                   "A leaf's board, board_again, tip, marker, midrib_thickness, vein_origin_thickness, "
+                   "point_thickness, edge_thickness; a plant's landmark, landmark_again, collar, collar_diameter, "
+                   "point, reading, quick_point (a board point or landmark after a move of the transmitter moves the "
+                   "points of that move with it)")
       ->required();
-  corr->add_option("--row", o.row, "Row (1-based; where it applies); a plant's landmark or node number");
-  corr->add_option("--col", o.col, "Column (1-based; where it applies); a plant item's part");
+  corr->add_option("--row", o.row,
+                   "Row (1-based; where it applies; board_again: the move); a plant's landmark or node number");
+  corr->add_option("--col", o.col,
+                   "Column (1-based; where it applies; board: the board point); a plant item's part "
+                   "(landmark_again: the move)");
   corr->add_option("--node", o.node, "A plant session: the node whose full leaf holds the item");
   corr->add_option("--position", o.position, "Corrected marker position x,y,z in mm")->delimiter(',')->expected(3);
   corr->add_option("--value", o.value, "Corrected thickness (a plant: stem diameter) in mm");

@@ -197,6 +197,9 @@ class Engine {
   }
   [[nodiscard]] Decision fitOf(int relocation) const;  // RelocationFitted with its numbers, or Rejected
   [[nodiscard]] const Settings& settings() const { return settings_; }
+  // Inside a plant: the plant's transmitter position the samples come from (the plant maps them
+  // into its first position's frame itself), stamped on each stylus item as its frame.
+  void setPlantPosition(int p) { plantPosition_ = p; }
 
  private:
   [[nodiscard]] Decision decidePoint(const StylusInput& release);
@@ -225,6 +228,16 @@ class Engine {
   std::int64_t lastAcceptedReleaseNs_ = -1;
   std::int64_t lastReadingAt_ = -1;
   double lastReading_ = -1;
+  int plantPosition_ = 0;
 };
+
+// Move `relocation`'s fit from a leaf's items (its board points as first taken and taken
+// again): its map into the first position's frame (positionToFirst's layout), or the refusal in
+// words. A curator's correction of a board point refits every move from the items as they are.
+struct BoardMoveFit {
+  std::array<double, 12> toFirst{};
+  std::optional<std::string> refusal;
+};
+[[nodiscard]] BoardMoveFit fitBoardMove(const std::vector<Item>& items, int relocation, double toleranceMm);
 
 }  // namespace leafdig::acquisition
