@@ -62,7 +62,8 @@ bool isStylusItem(PlantWhat w) {
 
 PlantEngine::PlantEngine(m::PlantProtocol protocol, Settings leafSettings)
     : protocol_(std::move(protocol)), settings_(leafSettings) {
-  settings_.boardFrame = false;  // a full leaf is taken where it hangs, in the plant frame
+  settings_.boardFrame = false;                               // a full leaf is taken where it hangs, in the plant frame
+  relocation_.toleranceMm = settings_.relocationToleranceMm;  // the session's, like every other rule
   // First the axes (order 1, the stem; order 2, a branch), then the leaves hanging on them.
   for (std::size_t k = 0; k < protocol_.entities.size(); ++k) {
     const m::ProtocolEntity& e = protocol_.entities[k];

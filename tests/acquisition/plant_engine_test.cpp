@@ -722,6 +722,34 @@ TEST(PlantEngine, AMovedTransmitterIsFittedFromTheLandmarksTakenAgainAndEveryLat
   EXPECT_EQ(other.step().what, PlantWhat::Collar);
 }
 
+// The tolerance is the session's (Settings::relocationToleranceMm: the station's settings,
+// `--relocation-tolerance`): a landmark 5 mm off is refused at 1.5 mm and fitted at 10 mm.
+TEST(PlantEngine, TheSessionsRelocationToleranceDecidesWhetherAMoveFits) {
+  const m::PlantMarkers truth = samplePlant();
+  for (const double tolerance : {1.5, 10.0}) {
+    acq::Settings settings;
+    settings.relocationToleranceMm = tolerance;
+    acq::PlantEngine engine(m::defaultPlantProtocol(), settings);
+    EXPECT_EQ(engine.relocationSettings().toleranceMm, tolerance);
+    Technician tech{engine};
+    while (engine.step().what != PlantWhat::Collar) ASSERT_TRUE(tech.act(truth));
+    tech.keep(engine.moveTransmitter());
+    for (int k = 1; k <= 4; ++k) {
+      const Eigen::Vector3d p =
+          truth.landmarksMm[static_cast<std::size_t>(k - 1)] + Eigen::Vector3d(k == 3 ? 5.0 : 0.0, 0.0, 0.0);
+      ASSERT_EQ(tech.press({p.x(), p.y(), p.z()}).kind, Kind::Accepted);
+    }
+    const acq::PlantDecision fit = tech.end();
+    if (tolerance < 2) {
+      EXPECT_EQ(fit.kind, Kind::Rejected);
+      EXPECT_NE(fit.reason.find("more than 1.5 mm"), std::string::npos) << fit.reason;
+    } else {
+      EXPECT_EQ(fit.kind, Kind::RelocationFitted) << fit.reason;
+      EXPECT_GT(fit.fit.rmsMm, 1.5);
+    }
+  }
+}
+
 // A move of the transmitter at every kind of step a plant capture asks for — the collar, its
 // diameter, a node's point and reading, a quick leaf's point, a full leaf's marker and its
 // thickness reading — and in one case a second move later (a chain of three positions, the

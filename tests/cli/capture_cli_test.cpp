@@ -483,6 +483,24 @@ TEST_F(CaptureCli, ALeafTakenAcrossAMoveOfTheTransmitterIsTheSameLeaf) {
   EXPECT_EQ(alone.exitCode, 2);
   EXPECT_NE(alone.err.find("goes with --simulate"), std::string::npos) << alone.err;
   EXPECT_FALSE(fs::exists(dir_ / "other.sqlite"));
+  // The tolerance of a move's fit is set when a capture begins, within 0.1–10 mm; it is kept
+  // in the session's settings.
+  const Result tolerance =
+      leafdig("capture --simulate --relocation-tolerance 20 --db " + quote(dir_ / "other.sqlite") + " </dev/null");
+  EXPECT_EQ(tolerance.exitCode, 2);
+  EXPECT_NE(tolerance.err.find("--relocation-tolerance must be a residual in mm, 0.1 to 10"), std::string::npos)
+      << tolerance.err;
+  EXPECT_FALSE(fs::exists(dir_ / "other.sqlite"));
+  const Result kept = leafdig("capture --simulate --speed 20 --seed 4 --relocation-tolerance 2.5 --db " +
+                              quote(dir_ / "kept.sqlite") + " --markers " + quote(file) + " </dev/null");
+  ASSERT_EQ(kept.exitCode, 0) << kept.err;
+  const Result settings =
+      run("python3 -c \"import json, sqlite3, sys; c = sqlite3.connect('file:' + sys.argv[1] + '?mode=ro', "
+          "uri=True); print(json.loads(c.execute('SELECT settings_json FROM sessions').fetchone()[0])['engine']"
+          "['relocation_tolerance_mm'])\" " +
+          quote(dir_ / "kept.sqlite"));
+  ASSERT_EQ(settings.exitCode, 0) << settings.err;
+  EXPECT_EQ(settings.out, "2.5\n");
 }
 
 // kill -9 across a move of the transmitter (issue 29): one capture is killed between the move

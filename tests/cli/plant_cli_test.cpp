@@ -949,6 +949,19 @@ TEST_F(PlantCli, AMovedTransmitterIsFittedFromTheLandmarksAndThePlantComesOutThe
               " --digitizer fastrak:/dev/null --caliper sylvac:/dev/null --plant p --relocate-source-after 3");
   EXPECT_EQ(real.exitCode, 2);
   EXPECT_NE(real.err.find("goes with --simulate"), std::string::npos) << real.err;
+  // The tolerance of a move's fit is the session's, set when it begins, within 0.1–10 mm.
+  for (const std::string bad : {"0.01", "11", "-1"}) {
+    const Result refused = leafdig("plant capture --simulate --db " + quote(dir_ / "other.sqlite") +
+                                   " --speed 20 --relocation-tolerance " + bad);
+    EXPECT_EQ(refused.exitCode, 2) << bad;
+    EXPECT_NE(refused.err.find("--relocation-tolerance must be a residual in mm, 0.1 to 10"), std::string::npos)
+        << bad << ": " << refused.err;
+  }
+  const Result resumed = leafdig("plant capture --simulate --db " + quote(db) + " --resume " + std::to_string(id) +
+                                 " --relocation-tolerance 2");
+  EXPECT_EQ(resumed.exitCode, 2);
+  EXPECT_NE(resumed.err.find("a resumed session keeps its own"), std::string::npos) << resumed.err;
+  EXPECT_FALSE(fs::exists(dir_ / "other.sqlite"));
 }
 
 // The pot turned 30° during the capture with a reference receiver on it (issue 29): the simulated

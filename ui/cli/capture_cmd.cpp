@@ -220,6 +220,7 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   s.settings.order = acq::orderFromString(o.order);
   // A simulated move of the transmitter is fitted to the board's three points: it takes them.
   s.settings.boardFrame = o.board || (o.simulate && o.relocateSourceAfter > 0);
+  if (o.relocationToleranceMm) s.settings.relocationToleranceMm = *o.relocationToleranceMm;
   s.simulated = o.simulate;
   if (resumeId) {
     r.digitizer = o.digitizer;
@@ -333,6 +334,19 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   return result;
 }
 
+}  // namespace
+
+void checkRelocationTolerance(const std::optional<double>& mm, bool resuming) {
+  if (!mm) return;
+  if (!(*mm >= 0.1 && *mm <= 10.0))
+    throw std::invalid_argument("--relocation-tolerance must be a residual in mm, 0.1 to 10 (default 1.5)");
+  if (resuming)
+    throw std::invalid_argument(
+        "--relocation-tolerance is set when a capture begins: a resumed session keeps its own (leave it out)");
+}
+
+namespace {
+
 int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
   if (!o.simulate && !resumeId && (o.digitizer.empty() || o.caliper.empty()))
     throw std::invalid_argument(
@@ -349,6 +363,7 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
         "'move' when you move the transmitter; the capture needs --board)");
   if (o.relocateSourceAfter < 0 || o.relocateSourceAfter > 10000)
     throw std::invalid_argument("--relocate-source-after must be a number of points, 1 to 10000 (0: never)");
+  checkRelocationTolerance(o.relocationToleranceMm, resumeId.has_value());
   installSignalHandlers();
   const RunResult r = runSession(requestFrom(o, resumeId), o, false, [&](std::int64_t id) {
     if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
@@ -880,6 +895,9 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   capture->add_option("--pot-turn", o.potTurnDeg,
                       "Simulation with --reference-receiver: the board turns by DEG degrees, smoothly, as the rows "
                       "are taken");
+  capture->add_option("--relocation-tolerance", o.relocationToleranceMm,
+                      "A move of the transmitter is refused when its fit's RMS residual is above this, in mm "
+                      "(0.1–10; default 1.5): set when a capture begins");
   capture->add_option("--relocate-source-after", o.relocateSourceAfter,
                       "Simulation: after N accepted points the transmitter moves to a new random pose (seeded) and the "
                       "virtual technician takes the board's three points again (implies --board)");

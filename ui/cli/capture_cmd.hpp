@@ -21,9 +21,10 @@ struct CaptureOptions {
   std::string serration;               // the leaf's declared margin teeth ("" : not declared)
   std::optional<double> toothDepthMm;  // their depth
   bool board = false;
-  bool referenceReceiver = false;  // receiver 2 on the leaf's board: the digitizer spec's ",reference=2"
-  double potTurnDeg = 0;           // simulation: the board turns by this under the reference receiver
-  int relocateSourceAfter = 0;     // simulation: the transmitter moves after this many points (0: never)
+  bool referenceReceiver = false;               // receiver 2 on the leaf's board: the digitizer spec's ",reference=2"
+  double potTurnDeg = 0;                        // simulation: the board turns by this under the reference receiver
+  std::optional<double> relocationToleranceMm;  // --relocation-tolerance: a new session's
+  int relocateSourceAfter = 0;                  // simulation: the transmitter moves after this many points (0: never)
   // simulation
   bool simulate = false, noMistakes = false;
   std::string markers, faults, caliperFaults;
@@ -49,6 +50,9 @@ struct CaptureOptions {
 };
 
 class CommandTable;
+// --relocation-tolerance (leaf and plant capture): 0.1–10 mm, given when a capture begins (a
+// resumed one keeps its session's). Throws std::invalid_argument in words.
+void checkRelocationTolerance(const std::optional<double>& mm, bool resuming);
 // Registers `capture`, `demo` and `sessions list|show|verify|resume|approve|reject|correct|export`.
 void addCaptureCommands(CLI::App& app, CommandTable& table);
 

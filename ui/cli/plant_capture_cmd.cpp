@@ -15,9 +15,11 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <thread>
 
+#include "capture_cmd.hpp"
 #include "commands.hpp"
 #include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
@@ -49,6 +51,7 @@ struct PlantCaptureOptions {
   std::string digitizer, caliper, plant;  // real devices
   double stylusNoiseMm = 0.3, speed = 1.0;
   int relocateSourceAfter = 0;
+  std::optional<double> relocationToleranceMm;  // --relocation-tolerance: a new session's
   bool referenceReceiver = false;
   double potTurnDeg = 0;
   std::uint64_t seed = 1;
@@ -245,6 +248,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   if (real && o.plant.empty())
     throw std::invalid_argument("name the plant you digitize: --plant ID (e.g. --plant tobacco-p12)");
   if (!(o.speed > 0 && o.speed <= 50)) throw std::invalid_argument("the simulation speed must be in (0, 50]");
+  checkRelocationTolerance(o.relocationToleranceMm, o.resume != 0);
   if (o.relocateSourceAfter > 0 && !o.simulate)
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
@@ -270,6 +274,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     setup.project = o.project;
     setup.operatorName = o.operatorName;
     setup.station = o.station;
+    if (o.relocationToleranceMm) setup.settings.relocationToleranceMm = *o.relocationToleranceMm;
     if (!o.protocol.empty()) setup.protocol = m::readPlantProtocolFile(o.protocol);
     if (!o.date.empty()) {
       setup.date = m::parseSurveyDate(o.date);
@@ -461,6 +466,9 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")
       ->capture_default_str();
   capture->add_option("--seed", o->seed, "Simulation seed")->capture_default_str();
+  capture->add_option("--relocation-tolerance", o->relocationToleranceMm,
+                      "A move of the transmitter is refused when its fit's RMS residual is above this, in mm "
+                      "(0.1–10; default 1.5): set when a capture begins");
   capture
       ->add_option("--relocate-source-after", o->relocateSourceAfter,
                    "Simulation: after N accepted points the transmitter moves to a new random pose (seeded) and "

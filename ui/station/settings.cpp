@@ -103,6 +103,7 @@ StationSettings StationSettings::load(const QString& file, QStringList* problems
   e.stillToleranceMm = number("capture/still_tolerance_mm", e.stillToleranceMm, 0.1, 10);
   e.spacingTolerance = number("capture/spacing_tolerance", e.spacingTolerance, 0.1, 2.0);
   e.midribToleranceMm = number("capture/midrib_tolerance_mm", e.midribToleranceMm, 1, 100);
+  e.relocationToleranceMm = number("capture/relocation_tolerance_mm", e.relocationToleranceMm, 0.1, 10);
   e.minThicknessMm = number("capture/min_thickness_mm", e.minThicknessMm, 0.001, 5);
   e.maxThicknessMm = number("capture/max_thickness_mm", e.maxThicknessMm, 1, 100);
   s.exportDir = q.value("export/dir", QDir::homePath() + "/leafdig-exports").toString();
@@ -129,6 +130,7 @@ void StationSettings::save(const QString& file) const {
   q.setValue("capture/still_tolerance_mm", engine.stillToleranceMm);
   q.setValue("capture/spacing_tolerance", engine.spacingTolerance);
   q.setValue("capture/midrib_tolerance_mm", engine.midribToleranceMm);
+  q.setValue("capture/relocation_tolerance_mm", engine.relocationToleranceMm);
   q.setValue("capture/min_thickness_mm", engine.minThicknessMm);
   q.setValue("capture/max_thickness_mm", engine.maxThicknessMm);
   q.setValue("export/dir", exportDir);

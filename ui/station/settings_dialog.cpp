@@ -53,12 +53,14 @@ SettingsDialog::SettingsDialog(const StationSettings& s, QWidget* parent) : QDia
   stillTol_ = spin(e.stillToleranceMm, 0.1, 10, 0.1, 2, " mm");
   spacing_ = spin(e.spacingTolerance * 100, 10, 200, 5, 0, " %");
   midrib_ = spin(e.midribToleranceMm, 1, 100, 1, 1, " mm");
+  relocation_ = spin(e.relocationToleranceMm, 0.1, 10, 0.1, 2, " mm");
   minT_ = spin(e.minThicknessMm, 0.001, 5, 0.01, 3, " mm");
   maxT_ = spin(e.maxThicknessMm, 1, 100, 1, 1, " mm");
   cf->addRow(tr("Stillness window before a press"), still_);
   cf->addRow(tr("Stillness tolerance"), stillTol_);
   cf->addRow(tr("Row spacing tolerance"), spacing_);
   cf->addRow(tr("Midrib line tolerance"), midrib_);
+  cf->addRow(tr("Transmitter move: largest fit residual"), relocation_);
   cf->addRow(tr("Thinnest reading accepted"), minT_);
   cf->addRow(tr("Thickest reading accepted"), maxT_);
 
@@ -97,6 +99,7 @@ StationSettings SettingsDialog::result() const {
   s.engine.stillToleranceMm = stillTol_->value();
   s.engine.spacingTolerance = spacing_->value() / 100.0;
   s.engine.midribToleranceMm = midrib_->value();
+  s.engine.relocationToleranceMm = relocation_->value();
   s.engine.minThicknessMm = minT_->value();
   s.engine.maxThicknessMm = std::max(maxT_->value(), minT_->value() * 2);
   s.labUrl = labUrl_->text().trimmed();

@@ -28,13 +28,14 @@ class SettingsDialog : public QDialog {
   QCheckBox* sounds() const { return sounds_; }
   QKeySequenceEdit* shortcut(Action a) const { return keys_.at(a); }
   QDoubleSpinBox* stillWindowMs() const { return still_; }
+  QDoubleSpinBox* relocationToleranceMm() const { return relocation_; }
   QLineEdit* labUrl() const { return labUrl_; }
   QSpinBox* labSyncMinutes() const { return labMinutes_; }
 
  private:
   StationSettings base_;
   QComboBox *units_, *theme_;
-  QDoubleSpinBox *font_, *volume_, *still_, *stillTol_, *spacing_, *midrib_, *minT_, *maxT_;
+  QDoubleSpinBox *font_, *volume_, *still_, *stillTol_, *spacing_, *midrib_, *relocation_, *minT_, *maxT_;
   QCheckBox* sounds_;
   QLineEdit* labUrl_;
   QSpinBox* labMinutes_;

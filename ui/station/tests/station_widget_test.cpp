@@ -211,6 +211,7 @@ TEST(StationSettings, SaveLoadRoundTripsAndBadValuesAreNamedAndReplaced) {
   s.fontScale = 1.6;
   s.shortcuts[leafdig::station::Action::Undo] = QKeySequence(Qt::Key_F5);
   s.engine.stillWindowNs = 400'000'000;
+  s.engine.relocationToleranceMm = 0.8;
   s.save(file);
   QStringList problems;
   auto back = leafdig::station::StationSettings::load(file, &problems);
@@ -220,15 +221,18 @@ TEST(StationSettings, SaveLoadRoundTripsAndBadValuesAreNamedAndReplaced) {
   EXPECT_DOUBLE_EQ(back.fontScale, 1.6);
   EXPECT_EQ(back.shortcuts[leafdig::station::Action::Undo], QKeySequence(Qt::Key_F5));
   EXPECT_EQ(back.engine.stillWindowNs, 400'000'000);
+  EXPECT_DOUBLE_EQ(back.engine.relocationToleranceMm, 0.8);
   EXPECT_EQ(back.length(25.4, 2), "1.000 in");
   {
     QSettings q(file, QSettings::IniFormat);
     q.setValue("display/theme", "purple");
     q.setValue("display/font_scale", "huge");
     q.setValue("capture/still_window_ms", 99999);
+    q.setValue("capture/relocation_tolerance_mm", 0);
   }
   back = leafdig::station::StationSettings::load(file, &problems);
-  EXPECT_EQ(problems.size(), 3) << problems.join("; ").toStdString();
+  EXPECT_EQ(problems.size(), 4) << problems.join("; ").toStdString();
+  EXPECT_DOUBLE_EQ(back.engine.relocationToleranceMm, acq::Settings().relocationToleranceMm);
   EXPECT_EQ(back.theme, "light");
   EXPECT_DOUBLE_EQ(back.fontScale, leafdig::station::StationSettings().fontScale);
   // The dialog edits every field it shows.
@@ -238,12 +242,14 @@ TEST(StationSettings, SaveLoadRoundTripsAndBadValuesAreNamedAndReplaced) {
   d.sounds()->setChecked(false);
   d.shortcut(leafdig::station::Action::Pause)->setKeySequence(QKeySequence(Qt::Key_F9));
   d.stillWindowMs()->setValue(300);
+  d.relocationToleranceMm()->setValue(2.5);
   const auto r = d.result();
   EXPECT_EQ(r.units, "mm");
   EXPECT_EQ(r.theme, "dark");
   EXPECT_FALSE(r.sounds);
   EXPECT_EQ(r.shortcuts.at(leafdig::station::Action::Pause), QKeySequence(Qt::Key_F9));
   EXPECT_EQ(r.engine.stillWindowNs, 300'000'000);
+  EXPECT_DOUBLE_EQ(r.engine.relocationToleranceMm, 2.5);
   fs::remove_all(dir);
 }
 
