@@ -326,6 +326,28 @@ void widenForMoves(const Engine& engine, const model::LeafModel& leaf, model::Le
 
 }  // namespace
 
+std::string leafTransmitterPositionsJson(const Engine& engine, bool withItems) {
+  json out = json::array();
+  for (int p = 0; p < engine.transmitterPositions(); ++p) {
+    json items = json::array();
+    for (const Item& i : engine.items())
+      if (isStylusItem(i.what) && i.what != What::BoardAgain && i.frame == p)
+        items.push_back(
+            {{"what", toString(i.what)}, {"row", detail::nullable(i.row)}, {"col", detail::nullable(i.col)}});
+    json t{{"position", p + 1}, {"points", items.size()}};
+    if (p > 0) {
+      const Decision fit = engine.fitOf(p);
+      t["rms_mm"] = fit.fitRmsMm;
+      t["worst_mm"] = fit.fitWorstMm;
+      t["worst_point"] = fit.fitWorstPoint;
+      if (fit.kind == Decision::Kind::Rejected) t["refusal"] = fit.reason;
+    }
+    if (withItems) t["items"] = std::move(items);
+    out.push_back(std::move(t));
+  }
+  return out.dump();
+}
+
 LeafSummary summarize(const ReviewedSession& r) {
   const model::MarkerSet set = sessionMarkers(r);
   LeafSummary s{model::buildLeafModel(set, {}), {}};
@@ -377,7 +399,15 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
     if (f == "glb" || f == "obj" || f == "ply" || f == "stl") {
       files.emplace_back(base + "." + f, model::encodeMesh(mesh, model::meshFormatForPath(base + "." + f), header));
     } else if (f == "model") {
-      files.emplace_back(base + ".model.json", model::modelToJson(leaf, request.frame, result.metrics));
+      std::string text = model::modelToJson(leaf, request.frame, result.metrics);
+      if (reviewed && reviewed->engine.transmitterPositions() > 1) {
+        // Taken across a move of the transmitter: which points came from which position, and
+        // each move's fit (a leaf taken from one position: the file as it always was).
+        json doc = json::parse(text);
+        doc["transmitter_positions"] = json::parse(leafTransmitterPositionsJson(reviewed->engine, true));
+        text = doc.dump(1) + "\n";
+      }
+      files.emplace_back(base + ".model.json", text);
     } else if (f == "markers") {
       files.emplace_back(base + ".markers.json", model::markersToJson(set));
     } else if (f == "csv") {

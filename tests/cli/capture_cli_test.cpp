@@ -432,7 +432,16 @@ TEST_F(CaptureCli, ALeafTakenAcrossAMoveOfTheTransmitterIsTheSameLeaf) {
   // The leaf's area interval is drawn with the fit's residual added to the digitizer's noise
   // (its points stand in two frames related by the fit), and still holds the area.
   ASSERT_EQ(leafdig("sessions export 1 --format model --out " + quote(dir_) + " --db " + quote(db)).exitCode, 0);
-  const json metrics = json::parse(slurp(dir_ / "session-1.model.json")).at("metrics");
+  const json modelFile = json::parse(slurp(dir_ / "session-1.model.json"));
+  const json& metrics = modelFile.at("metrics");
+  // The model file says which points came from which transmitter position, and each fit.
+  ASSERT_EQ(modelFile.at("transmitter_positions").size(), 2u) << modelFile.dump();
+  const json& second = modelFile["transmitter_positions"][1];
+  EXPECT_EQ(second.at("rms_mm"), shown["transmitter_positions"][1].at("rms_mm"));
+  EXPECT_EQ(second.at("items").size(), static_cast<std::size_t>(fromTheMove));
+  EXPECT_EQ(modelFile["transmitter_positions"][0].at("items").size() + second.at("items").size(), 74u)
+      << "the board's three points, the tip and the 70 markers, each once";
+  for (const json& i : second.at("items")) EXPECT_EQ(i.at("what"), "marker") << i;
   EXPECT_NEAR(metrics.at("area_interval").at("digitizer_sigma_mm").get<double>(),
               std::hypot(0.762, shown["transmitter_positions"][1].at("rms_mm").get<double>()), 1e-9);
   EXPECT_LT(metrics["blade_area_95_mm2"][0].get<double>(), metrics["blade_area_mm2"].get<double>());

@@ -523,21 +523,8 @@ int runShow(const db::EventStore& store, const CaptureOptions& o) {
   // A leaf taken across a move of the transmitter: each position, its points and its fit;
   // each marker's position (only once it was moved).
   const int positions = r.engine.transmitterPositions();
-  json transmitter = json::array();
-  for (int p = 0; p < positions && positions > 1; ++p) {
-    int points = 0;
-    for (const acq::Item& i : r.engine.items())
-      points += acq::isStylusItem(i.what) && i.what != acq::What::BoardAgain && i.frame == p;
-    json t{{"position", p + 1}, {"points", points}};
-    if (p > 0) {
-      const acq::Decision fit = r.engine.fitOf(p);
-      t["rms_mm"] = fit.fitRmsMm;
-      t["worst_mm"] = fit.fitWorstMm;
-      t["worst_point"] = fit.fitWorstPoint;
-      if (fit.kind == acq::Decision::Kind::Rejected) t["refusal"] = fit.reason;
-    }
-    transmitter.push_back(t);
-  }
+  const json transmitter =
+      positions > 1 ? json::parse(acq::leafTransmitterPositionsJson(r.engine, false)) : json::array();
   for (const auto& mk : projected.markers) {
     const json pos = {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]};
     if (mk.what == "tip") {

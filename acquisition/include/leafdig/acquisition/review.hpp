@@ -112,6 +112,13 @@ struct LeafSummary {
 };
 [[nodiscard]] LeafSummary summarize(const ReviewedSession& r);
 
+// A leaf taken across a move of the transmitter (engine.transmitterPositions() > 1): each
+// position, the first included, with how many of the leaf's points were pressed from it and,
+// after the first, its fit — [{"position", "points"[, "rms_mm", "worst_mm", "worst_point",
+// "refusal"]}, …] as `sessions show` says them; with `withItems`, each position's points too,
+// "items": [{"what", "row", "col"}, …] (the leaf's model file).
+[[nodiscard]] std::string leafTransmitterPositionsJson(const Engine& engine, bool withItems);
+
 // The organ library of seed 003: every approved session of the store as a leaf (markers
 // with its type and position). An approved session that does not replay into a whole leaf
 // is left out and named in `skipped`.
