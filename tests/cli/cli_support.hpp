@@ -82,7 +82,14 @@ class Cli : public ::testing::Test {
     return r;
   }
 
-  Result leafdig(const std::string& args) { return run(quote(LEAFDIG_CLI) + " " + args); }
+  // One leafdig command; one that never ends (a capture that never completes) is stopped after
+  // 800 s — before ctest's 900 s would stop the whole test binary without its output — and its
+  // Result says so.
+  Result leafdig(const std::string& args) {
+    Result r = run("timeout --foreground --kill-after=5 800 " + quote(LEAFDIG_CLI) + " " + args);
+    if (r.exitCode == 124) r.err += "\n(the test stopped this leafdig command after 800 s: it never finished)";
+    return r;
+  }
 
   // Starts leafdig in the background with stdout/stderr to files and stdin from /dev/null
   // (for tests that kill it at a chosen instant); reap() waits for it.
