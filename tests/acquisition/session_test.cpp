@@ -129,6 +129,16 @@ class Session : public ::testing::Test {
     ASSERT_TRUE(has(last, FK::Complete));
   }
 
+  // A board frame's three points, and where the stylus reads a point of the first transmitter
+  // position's frame once the transmitter was moved (half a radian about Z, and shifted).
+  static constexpr acq::Vec3 kBoard[3] = {{-150, -150, -5}, {150, -150, -5}, {-150, 150, -5}};
+  static acq::Vec3 from(const acq::Vec3& p) {
+    Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
+    moved.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    moved.translation() = Eigen::Vector3d(80, -40, 25);
+    return v(moved * Eigen::Vector3d(p[0], p[1], p[2]));
+  }
+
   fs::path dir_;
   leafdig::model::MarkerSet leaf_;
 };
@@ -357,11 +367,7 @@ TEST_F(Session, AMoveOfTheTransmitterSurvivesARestartAtEveryStepAndItsEventsAreC
   acq::Settings settings;
   settings.boardFrame = true;
   const auto id = create(store, settings);
-  const acq::Vec3 board[3] = {{-150, -150, -5}, {150, -150, -5}, {-150, 150, -5}};
-  Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
-  moved.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  moved.translation() = Eigen::Vector3d(80, -40, 25);
-  const auto from = [&](const acq::Vec3& p) { return v(moved * Eigen::Vector3d(p[0], p[1], p[2])); };
+  const auto& board = kBoard;
   std::int64_t t = 0;
   {
     acq::CaptureSession s(store, id);
@@ -422,11 +428,7 @@ TEST_F(Session, ACorrectedBoardPointTakenAgainPlacesEveryPointOfItsMoveAgain) {
   acq::Settings settings;
   settings.boardFrame = true;
   const auto id = create(store, settings);
-  const acq::Vec3 board[3] = {{-150, -150, -5}, {150, -150, -5}, {-150, 150, -5}};
-  Eigen::Isometry3d moved = Eigen::Isometry3d::Identity();
-  moved.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  moved.translation() = Eigen::Vector3d(80, -40, 25);
-  const auto from = [&](const acq::Vec3& p) { return v(moved * Eigen::Vector3d(p[0], p[1], p[2])); };
+  const auto& board = kBoard;
   acq::Vec3 slipped = from(board[1]);
   slipped[2] += 1.6;  // pressed on a crumb of soil
   {
