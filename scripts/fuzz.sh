@@ -6,18 +6,29 @@
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 10; new inputs go to a temporary
 #                                                directory: the repository corpus only
 #                                                changes when someone adds seeds on purpose)
-#        scripts/fuzz.sh --long [RUNS]          (every target to RUNS executions, default 10^7,
-#                                                with its corpus kept in build/fuzz-corpus/
-#                                                between runs; prints executions, time and
-#                                                corpus size per target for docs/benchmarks.md)
+#        scripts/fuzz.sh --long [RUNS [TARGET ...]]
+#                                               (every target, or the TARGETs named, to RUNS
+#                                                executions, default 10^7, with its corpus kept
+#                                                in build/fuzz-corpus/ between runs; prints
+#                                                executions, time and corpus size per target for
+#                                                docs/benchmarks.md. Two runs on different
+#                                                targets may run side by side, one per core)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 long=0
 runs=10000000
 seconds=10
+only=()
 if [ "${1:-}" = "--long" ]; then
   long=1
   runs=${2:-$runs}
+  only=("${@:3}")
+  for target in "${only[@]}"; do
+    [ -d "$root/tests/fuzz/corpus/$target" ] || {
+      echo "fuzz.sh: no fuzz target \"$target\" (the targets are the directories of tests/fuzz/corpus/)" >&2
+      exit 2
+    }
+  done
 else
   seconds=${1:-10}
 fi
@@ -28,6 +39,9 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for corpus in tests/fuzz/corpus/*/; do
   target=$(basename "$corpus")
+  if [ "${#only[@]}" -gt 0 ] && [[ " ${only[*]} " != *" $target "* ]]; then
+    continue
+  fi
   if [ "$long" = 1 ]; then
     kept="$root/build/fuzz-corpus/$target"
     mkdir -p "$kept"
