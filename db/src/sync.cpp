@@ -66,27 +66,45 @@ void insertSession(pg::Connection& c, const SessionInfo& s) {
        s.operatorName, s.mode, s.order, s.settingsJson, s.createdUtc, genesisOf(s)});
 }
 
-// Events [first, last) in one statement of many rows (the server checks them in order).
+// A text array literal of `values` ({"a","b\\"c"}): each element quoted, its quotes and
+// backslashes escaped (PostgreSQL's array input).
+std::string arrayLiteral(const std::vector<std::string>& values) {
+  std::string out = "{";
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    out += i ? ",\"" : "\"";
+    for (const char ch : values[i]) {
+      if (ch == '"' || ch == '\\') out += '\\';
+      out += ch;
+    }
+    out += '"';
+  }
+  return out + "}";
+}
+
+// Events [first, last) in one statement: each column one array parameter, so the statement
+// is the same short text whatever its rows (parsed in microseconds, where a VALUES list of
+// 5 000 parameters took milliseconds), its rows in the station's order. The server checks
+// them in order of seq (schema 9: once per statement; before: row by row).
 void insertEvents(pg::Connection& c, std::int64_t serverId, const std::string& station,
                   const std::vector<Event>& events, std::size_t first, std::size_t last) {
-  constexpr std::size_t kColumns = 10;
-  std::string sql =
-      "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
-      "VALUES ";
-  std::vector<pg::Param> params;
-  params.reserve((last - first) * kColumns);
+  std::vector<std::string> columns[8];
+  for (auto& column : columns) column.reserve(last - first);
   for (std::size_t i = first; i < last; ++i) {
     const Event& e = events[i];
-    sql += i == first ? "(" : ",(";
-    for (std::size_t k = 0; k < kColumns; ++k) {
-      sql += (k ? ",$" : "$") + std::to_string(params.size() + k + 1);
-    }
-    sql += ')';
-    for (auto& v : {std::to_string(serverId), station, std::to_string(e.seq), e.utc, std::to_string(e.monoNs), e.kind,
-                    e.payloadJson, e.raw, e.prevHash, e.hash})
-      params.emplace_back(v);
+    std::size_t k = 0;
+    for (auto& v :
+         {std::to_string(e.seq), e.utc, std::to_string(e.monoNs), e.kind, e.payloadJson, e.raw, e.prevHash, e.hash})
+      columns[k++].push_back(v);
   }
-  (void)c.exec(sql, params);
+  std::vector<pg::Param> params{std::to_string(serverId), station};
+  for (const auto& column : columns) params.emplace_back(arrayLiteral(column));
+  (void)c.exec(
+      "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+      "SELECT $1::bigint, $2::text, u.seq, u.utc, u.mono_ns, u.kind, u.payload_json, u.raw, u.prev_hash, u.hash "
+      "FROM unnest($3::bigint[], $4::text[], $5::bigint[], $6::text[], $7::text[], $8::text[], $9::text[], "
+      "$10::text[]) WITH ORDINALITY AS u(seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash, n) "
+      "ORDER BY u.n",
+      params);
 }
 
 // What a session holds that a server of `schema` does not take yet, in words ("is a plant

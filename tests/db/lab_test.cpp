@@ -9,10 +9,12 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
+#include <tuple>
 
 #include "../support/cutting_proxy.hpp"
 #include "../support/pg_cluster_environment.hpp"
@@ -155,12 +157,12 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "8");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "9");
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 8);
-  EXPECT_EQ(again.toVersion, 8);
+  EXPECT_EQ(again.fromVersion, 9);
+  EXPECT_EQ(again.toVersion, 9);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -668,6 +670,132 @@ TEST_F(Lab, TheServerRechecksEveryChainAndNamesTheSessionAndEventItRefuses) {
   EXPECT_NE(admin.error("TRUNCATE leafdig.events CASCADE").find("append-only"), std::string::npos);
   // A technician cannot move a session's head by hand.
   EXPECT_NE(sql.error("UPDATE leafdig.sessions SET head_seq = 1").find("permission denied"), std::string::npos);
+}
+
+// Schema 9 checks a statement's events together, after the statement (issue 26: the push's
+// rate): still in order of seq, still all or nothing, with the words of the row that fails,
+// and the session's own status events in the statement count for the rows after them.
+TEST_F(Lab, AStatementOfManyEventsIsCheckedInOrderAndTakenWholeOrNotAtAll) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech, /*complete=*/false);
+  Sql admin(admin_);
+  const auto headOf = [&] {
+    const auto r = admin.rows("SELECT head_seq, head_hash, status FROM leafdig.sessions WHERE id = $1", {s.serverId});
+    return std::tuple<std::int64_t, std::string, std::string>{std::stoll(r[0][0]), r[0][1], r[0][2]};
+  };
+  const auto [head, headHash, status] = headOf();
+  ASSERT_EQ(status, "open");
+  const std::string count = admin.value("SELECT count(*) FROM leafdig.events");
+  // One INSERT of the events (kind, payload), chained right from the server's head unless
+  // `tamper` changes an event's previous hash: "" when taken, else the server's words.
+  const auto insertAll = [&](const std::vector<std::pair<std::string, std::string>>& events,
+                             const std::function<void(std::size_t, std::string&)>& tamper = {}) {
+    std::string sql =
+        "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+        "VALUES ";
+    std::vector<std::string> params{s.serverId};
+    std::string prev = headHash;
+    for (std::size_t i = 0; i < events.size(); ++i) {
+      const std::int64_t seq = head + 1 + static_cast<std::int64_t>(i);
+      std::string linked = prev;
+      if (tamper) tamper(i, linked);
+      const std::string hash =
+          db::eventHash(linked, s.stationId, seq, "2026-11-27T10:00:00.000Z", 9, events[i].first, events[i].second, "");
+      const auto n = params.size();
+      sql += (i ? ",($1, 'bench-a', $" : "($1, 'bench-a', $") + std::to_string(n + 1) +
+             ", '2026-11-27T10:00:00.000Z', 9, $" + std::to_string(n + 2) + ", $" + std::to_string(n + 3) + ", '', $" +
+             std::to_string(n + 4) + ", $" + std::to_string(n + 5) + ")";
+      params.insert(params.end(), {std::to_string(seq), events[i].first, events[i].second, linked, hash});
+      prev = hash;
+    }
+    return Sql(tech).error(sql, params);
+  };
+  const std::string lunch = R"({"reason":"lunch"})";
+  const auto untouched = [&](const std::string& why) {
+    EXPECT_EQ(headOf(), std::make_tuple(head, headHash, std::string("open"))) << why;
+    EXPECT_EQ(admin.value("SELECT count(*) FROM leafdig.events"), count) << why;
+  };
+  const std::string at = "session bench-a:" + std::to_string(s.stationId) + " event ";
+  // The third of three has a payload that is not JSON: the statement is refused by its words.
+  const std::string badPayload = insertAll({{"paused", lunch}, {"resumed", "{}"}, {"paused", "not json"}});
+  EXPECT_NE(badPayload.find(at + std::to_string(head + 3) + " (paused) refused: its payload is not JSON"),
+            std::string::npos)
+      << badPayload;
+  untouched("a bad payload");
+  // The second does not follow the first.
+  const std::string fork = insertAll({{"paused", lunch}, {"resumed", "{}"}}, [](std::size_t i, std::string& prev) {
+    prev = i == 1 ? std::string(64, 'a') : prev;
+  });
+  EXPECT_NE(
+      fork.find(at + std::to_string(head + 2) + " does not follow the server's event " + std::to_string(head + 1)),
+      std::string::npos)
+      << fork;
+  untouched("a fork");
+  // The statement's own "complete" ends the capture for the rows after it.
+  const std::string afterEnd =
+      insertAll({{"paused", lunch}, {"status", R"({"status":"complete"})"}, {"resumed", "{}"}});
+  EXPECT_NE(afterEnd.find("is complete: its capture is over and only a curator adds to it (event " +
+                          std::to_string(head + 3) + " refused)"),
+            std::string::npos)
+      << afterEnd;
+  untouched("a capture event after the statement's own end");
+  // A technician's statement cannot carry a decision, wherever it stands in it.
+  const std::string decision =
+      insertAll({{"paused", lunch}, {"status", R"({"status":"complete"})"}, {"status", R"({"status":"approved"})"}});
+  EXPECT_NE(decision.find("only curators review"), std::string::npos) << decision;
+  untouched("a decision in a technician's statement");
+  // A right statement is taken whole: the head is its last event.
+  ASSERT_EQ(insertAll({{"paused", lunch}, {"resumed", "{}"}}), "");
+  EXPECT_EQ(std::get<0>(headOf()), head + 2);
+  EXPECT_EQ(std::get<1>(headOf()), admin.value("SELECT hash FROM leafdig.events WHERE session_id = $1 AND seq = $2",
+                                               {s.serverId, std::to_string(head + 2)}));
+  EXPECT_EQ(admin.value("SELECT count(DISTINCT written_by) || ' ' || bool_and(written_by = $2) FROM leafdig.events "
+                        "WHERE session_id = $1 AND seq > $3",
+                        {s.serverId, Sql(tech).value("SELECT session_user"), std::to_string(head)}),
+            "1 true");
+  // The same statement again: the server holds those events already, and says so.
+  const std::string again = Sql(tech).error(
+      "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+      "SELECT session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash FROM leafdig.events "
+      "WHERE session_id = $1 AND seq > $2 ORDER BY seq",
+      {s.serverId, std::to_string(head)});
+  EXPECT_NE(again.find(at + std::to_string(head + 1) + " does not follow: the server holds events 1 to " +
+                       std::to_string(head + 2)),
+            std::string::npos)
+      << again;
+  // A statement's status is the session's once it is taken.
+  const std::string heldHash = std::get<1>(headOf());
+  const std::string end = R"({"status":"complete"})";
+  EXPECT_EQ(Sql(tech).error("INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, "
+                            "raw, prev_hash, hash) VALUES ($1, 'bench-a', $2, 't', 1, 'status', $3, '', $4, $5)",
+                            {s.serverId, std::to_string(head + 3), end, heldHash,
+                             db::eventHash(heldHash, s.stationId, head + 3, "t", 1, "status", end, "")}),
+            "");
+  EXPECT_EQ(headOf(), std::make_tuple(head + 3,
+                                      admin.value("SELECT hash FROM leafdig.events WHERE session_id = $1 "
+                                                  "AND seq = $2",
+                                                  {s.serverId, std::to_string(head + 3)}),
+                                      std::string("complete")));
+}
+
+// The push sends each column as one array: text that array syntax would take apart (quotes,
+// backslashes, braces, commas, NULL, an empty raw record) arrives as the station wrote it.
+TEST_F(Lab, EventsWhoseTextLooksLikeArraySyntaxArriveUnchanged) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const auto id = captureSession(station, "bench-a", 1, 2, "tobacco-2026", "P-07", "ana", /*complete=*/false);
+  for (const std::string& text : {std::string(R"({"reason":"a \"quoted\", {braced} back\\slash"})"),
+                                  std::string(R"({"reason":"NULL"})"), std::string(R"({"reason":"}\\\\,\"{"})")}) {
+    db::EventInput e;
+    e.kind = "paused";
+    e.payloadJson = text;
+    e.raw = text.size() % 2 ? "" : "NULL,{\"\\\"}";
+    (void)station.append(id, e);
+  }
+  const auto report = db::push(station, tech);
+  ASSERT_TRUE(report.problems.empty()) << report.problems.front().problem;
+  EXPECT_EQ(serverEvents(), fileEvents(station));
 }
 
 TEST_F(Lab, EachRoleIsHeldToWhatItMayDoByTheServer) {

@@ -39,7 +39,7 @@ struct ServerInit {
   std::vector<std::string> rolesCreated;
 };
 ServerInit initServer(const std::string& url, double lockWaitSeconds = 30);
-inline constexpr int kLabSchemaVersion = 8;
+inline constexpr int kLabSchemaVersion = 9;
 
 enum class LabRole { Technician, Curator, Reader };
 [[nodiscard]] const char* toString(LabRole role);
