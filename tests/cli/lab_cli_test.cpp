@@ -133,6 +133,34 @@ TEST_F(LabCli, ALabSetsUpPushesReviewsOnTheServerAndTheStationTakesTheDecisionsI
 // The attacks of issue 25 that go through leafdig rather than plain SQL: a station file whose
 // technician reopens an approved session or writes a status outside the closed set, pushed
 // with `sync push`; `server init` while another login holds its lock.
+// A login bound to another station refuses every session of the file for one reason: the
+// reason is said once, then how many more and which (a station of 1 000 sessions printed the
+// same words 1 000 times); --json still lists each.
+TEST_F(LabCli, ManySessionsRefusedForOneReasonAreToldOnceWithTheirCount) {
+  ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
+  const std::string otherTech = addUser("tech_bench_b_" + database_, "technician", "bench-b");
+  const fs::path file = dir_ / "station.sqlite";
+  {
+    leafdig::db::Store s(file.string());
+    for (int leaf = 1; leaf <= 14; ++leaf) (void)leafdig::test::captureSession(s, "bench-a", leaf, 1);
+  }
+  const Result push = leafdig("sync push --db " + quote(file) + " --to " + quote(otherTech));
+  EXPECT_NE(push.exitCode, 0);
+  const auto count = [&](const std::string& words) {
+    std::size_t n = 0;
+    for (auto at = push.err.find(words); at != std::string::npos; at = push.err.find(words, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("not synced: "), 1u) << push.err;
+  EXPECT_EQ(count("pushes for station bench-b, not for station bench-a"), 1u) << push.err;
+  EXPECT_NE(push.err.find("leafdig: 13 more session(s) of station bench-a not synced for the same reason: 2, 3, 4, 5, "
+                          "6, 7, 8, 9, 10, 11 and 3 more (--json lists each)"),
+            std::string::npos)
+      << push.err;
+  const Result asJson = leafdig("sync push --db " + quote(file) + " --to " + quote(otherTech) + " --json");
+  EXPECT_EQ(json::parse(asJson.out).at("problems").size(), 14u) << asJson.out;
+}
+
 TEST_F(LabCli, AStationFileCannotOverturnADecisionOrFakeOneAndInitNamesWhoHoldsItsLock) {
   ASSERT_EQ(leafdig("server init --url " + quote(admin_)).exitCode, 0);
   const std::string tech = addUser("tech_bench_d_" + database_, "technician", "bench-d");

@@ -41,11 +41,41 @@ json problemsJson(const std::vector<db::SyncProblem>& problems) {
   return a;
 }
 
+// A problem's words without the session they name ("session bench-a:12", "bench-a:12"): the
+// same reason for every session of a station reads the same.
+std::string reasonOf(const db::SyncProblem& p) {
+  std::string text = p.problem;
+  const std::string self = p.station + ":" + std::to_string(p.stationSessionId);
+  for (std::size_t at = text.find(self); at != std::string::npos; at = text.find(self, at + 1))
+    text.replace(at, self.size(), "#");
+  return text + "\n" + p.remedy;
+}
+
+// Each problem in its words; sessions of one station refused for the same reason (a login
+// bound to another station, a server that does not take their kind yet) after the first as
+// one line naming how many and which, not a screen of the same words.
 void printProblems(const std::vector<db::SyncProblem>& problems) {
-  for (const auto& p : problems) {
+  std::vector<bool> told(problems.size(), false);
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    if (told[i]) continue;
+    const auto& p = problems[i];
     std::cerr << "leafdig: session " << terminalText(p.station) << ":" << p.stationSessionId
               << " not synced: " << terminalMessage(p.problem) << "\n";
     if (!p.remedy.empty()) std::cerr << "  what to do: " << terminalMessage(p.remedy) << "\n";
+    const std::string reason = reasonOf(p);
+    std::vector<std::int64_t> same;
+    for (std::size_t j = i + 1; j < problems.size(); ++j)
+      if (!told[j] && problems[j].station == p.station && reasonOf(problems[j]) == reason) {
+        told[j] = true;
+        same.push_back(problems[j].stationSessionId);
+      }
+    if (same.empty()) continue;
+    constexpr std::size_t kNamed = 10;
+    std::cerr << "leafdig: " << same.size() << " more session(s) of station " << terminalText(p.station)
+              << " not synced for the same reason:";
+    for (std::size_t k = 0; k < same.size() && k < kNamed; ++k) std::cerr << (k ? ", " : " ") << same[k];
+    if (same.size() > kNamed) std::cerr << " and " << same.size() - kNamed << " more (--json lists each)";
+    std::cerr << "\n";
   }
 }
 
