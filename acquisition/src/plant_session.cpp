@@ -716,6 +716,8 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
       throw std::invalid_argument("with this correction the transmitter's move " + std::to_string(move) +
                                   " no longer fits (" + *(now.refusal ? now.refusal : was.refusal) +
                                   "): check the position, nothing was written");
+    // A move that did not take the corrected landmark again fits as before: its points stay.
+    if (was.newToOld.matrix() == now.newToOld.matrix()) continue;
     const std::string why = std::string("placed again by its move's new fit (") + toString(c.what) + " " +
                             std::to_string(c.row) + (onlyMove ? " of move " + std::to_string(onlyMove) : "") +
                             " corrected): " + c.reason;

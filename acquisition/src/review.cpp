@@ -268,6 +268,7 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
         throw std::invalid_argument("with this correction the transmitter's move " + std::to_string(move) +
                                     " no longer fits (" + *(now.refusal ? now.refusal : was.refusal) +
                                     "): check the position, nothing was written");
+      if (was.toFirst == now.toFirst) continue;  // a fit the correction leaves as it was: its points stay
       for (const Item& i : r.engine.items()) {
         if (!isStylusItem(i.what) || i.what == What::BoardAgain || i.frame != move) continue;
         Item moved = i;

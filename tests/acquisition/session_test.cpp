@@ -488,7 +488,15 @@ TEST_F(Session, ACorrectedBoardPointTakenAgainPlacesEveryPointOfItsMoveAgain) {
       EXPECT_EQ(m.positionMm, i->positionMm) << *m.col;  // the projection is the replayed model
     }
 
+  // Corrected again to where it now is: the move fits as it did, so its markers stay (no
+  // corrections that change nothing); only the board point's own event is written.
+  c.reason = "board point 2 confirmed";
+  (void)acq::correct(store, id, c);
+  EXPECT_EQ(store.events(id).size(), events.size() + 1);
+  EXPECT_EQ(store.events(id).back().payloadJson.find("placed again"), std::string::npos);
+
   // A correction the move cannot fit is refused, and nothing is written.
+  const std::size_t held = store.events(id).size();
   c.positionMm = acq::Vec3{from(board[1])[0] + 30, from(board[1])[1], from(board[1])[2]};
   try {
     (void)acq::correct(store, id, c);
@@ -496,7 +504,7 @@ TEST_F(Session, ACorrectedBoardPointTakenAgainPlacesEveryPointOfItsMoveAgain) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("move 1 no longer fits"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(store.events(id).size(), events.size());
+  EXPECT_EQ(store.events(id).size(), held);
 }
 
 TEST_F(Session, ThePreviewGrowsMidribFirstThenLateralsPerRowThenTheBlade) {
