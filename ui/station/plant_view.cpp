@@ -540,6 +540,9 @@ std::vector<PlantView::CorrectableItem> PlantView::correctableItems() const {
       QString where;
       switch (i.what) {
         case acquisition::PlantWhat::Landmark: where = tr("Landmark %1").arg(i.index); break;
+        case acquisition::PlantWhat::LandmarkAgain:  // as pressed after move `part`, in its own frame
+          where = tr("Landmark %1 again · move %2").arg(i.index).arg(i.part);
+          break;
         case acquisition::PlantWhat::Collar: where = tr("Collar"); break;
         case acquisition::PlantWhat::CollarDiameter: where = tr("Collar · stem diameter"); break;
         case acquisition::PlantWhat::Point: where = tr("Node %1 · point %2").arg(i.index).arg(i.part); break;

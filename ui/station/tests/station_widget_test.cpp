@@ -1132,6 +1132,52 @@ TEST(PlantView, TheTickedApprovedLeavesOfTheStationMakeThePlant) {
   std::filesystem::remove(db);
 }
 
+// The transmitter moved during the capture: the landmarks taken again are in the curator's
+// list with their move, and correcting one places the points of that move again (each by its
+// own correction, as from the CLI).
+TEST(PlantView, ALandmarkTakenAgainAfterAMoveIsInTheCuratorsListAndItsCorrectionPlacesTheMoveAgain) {
+  namespace acq = leafdig::acquisition;
+  const std::string db =
+      (QDir::tempPath() + "/leafdig-plant-moved-" + QString::number(::getpid()) + ".sqlite").toStdString();
+  std::filesystem::remove(db);
+  std::int64_t id = 0;
+  {
+    leafdig::db::Store store(db);
+    acq::PlantSessionSetup setup = acq::simulatedPlantSetup(leafdig::model::readPlantMarkersFile(
+        std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json"));
+    setup.project = "p";
+    id = acq::PlantCaptureSession::create(store, setup);
+    acq::SimulationOptions sim;
+    sim.speed = 40;
+    sim.mistakes = false;
+    sim.relocateSourceAfter = 8;
+    const std::atomic<bool> stop{false};
+    (void)acq::runSimulatedPlant(store, id, sim, {}, stop);
+    ASSERT_EQ(store.session(id)->status, "complete");
+  }
+  leafdig::station::PlantView v;
+  v.setDatabase(db);
+  ASSERT_EQ(v.openCapturedPlant(id), QString());
+  const auto items = v.correctableItems();
+  const auto again = std::find_if(items.begin(), items.end(), [](const auto& i) {
+    return i.item.plantWhat == acq::PlantWhat::LandmarkAgain && i.item.row == 2 && i.item.col == 1;
+  });
+  ASSERT_NE(again, items.end());
+  EXPECT_TRUE(again->label.startsWith("Landmark 2 again · move 1 (")) << again->label.toStdString();
+  const std::size_t before = leafdig::db::Store(db, true).events(id).size();
+  acq::Correction c = again->item;
+  (*c.positionMm)[2] += 0.6;
+  c.who = "cur";
+  c.reason = "pressed on the pot's rim";
+  ASSERT_EQ(v.correctCaptured(c), QString());
+  const auto events = leafdig::db::Store(db, true).events(id);
+  EXPECT_GT(events.size(), before + 5);  // the landmark, then every point pressed after the move
+  EXPECT_NE(events.back().payloadJson.find("placed again by its move's new fit (landmark_again 2 of move 1"),
+            std::string::npos)
+      << events.back().payloadJson;
+  std::filesystem::remove(db);
+}
+
 TEST(PlantView, APlantCapturedWhereItStandsOpensAsMeasured) {
   namespace acq = leafdig::acquisition;
   const std::string db =
