@@ -827,6 +827,27 @@ TEST(StationWindow, SnapshotsFromTheCaptureThreadsArriveNewestLastThroughOneLock
   fs::remove_all(dir);
 }
 
+// The sample plant digitized into a fresh file `db` by the virtual technician through the
+// simulated devices (moving the transmitter after `relocateAfter` points, when not 0): its
+// session id, the session complete.
+std::int64_t captureSamplePlant(const std::string& db, int relocateAfter = 0) {
+  namespace acq = leafdig::acquisition;
+  std::filesystem::remove(db);
+  leafdig::db::Store store(db);
+  acq::PlantSessionSetup setup = acq::simulatedPlantSetup(
+      leafdig::model::readPlantMarkersFile(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json"));
+  setup.project = "p";
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup);
+  acq::SimulationOptions sim;
+  sim.speed = 40;
+  sim.mistakes = false;
+  sim.relocateSourceAfter = relocateAfter;
+  const std::atomic<bool> stop{false};
+  (void)acq::runSimulatedPlant(store, id, sim, {}, stop);
+  EXPECT_EQ(store.session(id)->status, "complete");
+  return id;
+}
+
 }  // namespace
 
 // Every step, table cell and axis title shows whole at the screen sizes stations use.
@@ -1139,22 +1160,8 @@ TEST(PlantView, ALandmarkTakenAgainAfterAMoveIsInTheCuratorsListAndItsCorrection
   namespace acq = leafdig::acquisition;
   const std::string db =
       (QDir::tempPath() + "/leafdig-plant-moved-" + QString::number(::getpid()) + ".sqlite").toStdString();
-  std::filesystem::remove(db);
-  std::int64_t id = 0;
-  {
-    leafdig::db::Store store(db);
-    acq::PlantSessionSetup setup = acq::simulatedPlantSetup(leafdig::model::readPlantMarkersFile(
-        std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json"));
-    setup.project = "p";
-    id = acq::PlantCaptureSession::create(store, setup);
-    acq::SimulationOptions sim;
-    sim.speed = 40;
-    sim.mistakes = false;
-    sim.relocateSourceAfter = 8;
-    const std::atomic<bool> stop{false};
-    (void)acq::runSimulatedPlant(store, id, sim, {}, stop);
-    ASSERT_EQ(store.session(id)->status, "complete");
-  }
+  const std::int64_t id = captureSamplePlant(db, 8);
+  ASSERT_FALSE(::testing::Test::HasFailure());
   leafdig::station::PlantView v;
   v.setDatabase(db);
   ASSERT_EQ(v.openCapturedPlant(id), QString());
@@ -1182,22 +1189,8 @@ TEST(PlantView, APlantCapturedWhereItStandsOpensAsMeasured) {
   namespace acq = leafdig::acquisition;
   const std::string db =
       (QDir::tempPath() + "/leafdig-plant-captured-" + QString::number(::getpid()) + ".sqlite").toStdString();
-  std::filesystem::remove(db);
-  std::int64_t id = 0;
-  {
-    // The sample plant digitized by the virtual technician through the simulated devices.
-    leafdig::db::Store store(db);
-    acq::PlantSessionSetup setup = acq::simulatedPlantSetup(leafdig::model::readPlantMarkersFile(
-        std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json"));
-    setup.project = "p";
-    id = acq::PlantCaptureSession::create(store, setup);
-    acq::SimulationOptions sim;
-    sim.speed = 40;
-    sim.mistakes = false;
-    const std::atomic<bool> stop{false};
-    (void)acq::runSimulatedPlant(store, id, sim, {}, stop);
-    ASSERT_EQ(store.session(id)->status, "complete");
-  }
+  const std::int64_t id = captureSamplePlant(db);
+  ASSERT_FALSE(::testing::Test::HasFailure());
   leafdig::station::PlantView v;
   v.setDatabase(db);
   ASSERT_EQ(v.capturedList()->count(), 1);
