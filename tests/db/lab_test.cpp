@@ -779,6 +779,34 @@ TEST_F(Lab, AStatementOfManyEventsIsCheckedInOrderAndTakenWholeOrNotAtAll) {
                                       std::string("complete")));
 }
 
+// Row-level security holds by itself (schema 9 looks the login's station up once per
+// statement in the policy): with both arrival triggers disabled by the owner, a technician
+// still adds no event of another station and no review event.
+TEST_F(Lab, ThePoliciesHoldWithoutTheTriggers) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech, /*complete=*/false);
+  Sql admin(admin_);
+  (void)admin.rows("ALTER TABLE leafdig.events DISABLE TRIGGER event_arrives");
+  (void)admin.rows("ALTER TABLE leafdig.events DISABLE TRIGGER events_arrived");
+  const std::string insert =
+      "INSERT INTO leafdig.events(session_id, station, seq, utc, mono_ns, kind, payload_json, raw, prev_hash, hash) "
+      "VALUES ($1, $2, 999, 't', 1, $3, $4, '', 'x', 'y')";
+  Sql asTech(tech);
+  EXPECT_NE(asTech.error(insert, {s.serverId, "bench-b", "paused", "{}"}).find("row-level security"),
+            std::string::npos);
+  EXPECT_NE(
+      asTech.error(insert, {s.serverId, "bench-a", "status", R"({"status":"approved"})"}).find("row-level security"),
+      std::string::npos);
+  EXPECT_NE(asTech.error(insert, {s.serverId, "bench-a", "corrected", "{}"}).find("row-level security"),
+            std::string::npos);
+  EXPECT_EQ(asTech.error(insert, {s.serverId, "bench-a", "paused", "{}"}), "");  // the policy's own reach ends here
+  EXPECT_NE(Sql(login(db::LabRole::Curator))
+                .error(insert, {s.serverId, "bench-a", "paused", "{}"})
+                .find("row-level security"),
+            std::string::npos);
+}
+
 // The push sends each column as one array: text that array syntax would take apart (quotes,
 // backslashes, braces, commas, NULL, an empty raw record) arrives as the station wrote it.
 TEST_F(Lab, EventsWhoseTextLooksLikeArraySyntaxArriveUnchanged) {
