@@ -549,7 +549,10 @@ bool StationWindow::start() {
     r.leafFile = options_.markers;
     acq::RunObserver observer;
     // Called on the capture thread: hand over to the UI thread.
-    observer.onFeedback = [this](const acq::Feedback& f) { postFeedback(f); };
+    observer.onFeedback = [this](const acq::Feedback& f) {
+      QMetaObject::invokeMethod(
+          this, [this, f] { applyFeedback(f); }, Qt::QueuedConnection);
+    };
     observer.onSnapshot = [this](const acq::Snapshot& s) { postSnapshot(s); };
     run_ = std::make_unique<acq::CaptureRun>(r, observer);
     sessionId_ = run_->sessionId();
@@ -745,35 +748,17 @@ void StationWindow::postSnapshot(const acq::Snapshot& s) {
     mailbox_ = s;
   }
   if (!wake) return;
-  QMetaObject::invokeMethod(this, "takeSnapshot", Qt::QueuedConnection);
-}
-
-void StationWindow::takeSnapshot() {
-  std::optional<acq::Snapshot> s;
-  {
-    const std::lock_guard lock(mailboxMutex_);
-    s.swap(mailbox_);
-  }
-  if (s) applySnapshot(*s);
-}
-
-void StationWindow::postFeedback(const acq::Feedback& f) {
-  bool wake = false;
-  {
-    const std::lock_guard lock(mailboxMutex_);
-    wake = feedbackBox_.empty();  // a call is already queued while feedback waits
-    feedbackBox_.push_back(f);
-  }
-  if (wake) QMetaObject::invokeMethod(this, "takeFeedback", Qt::QueuedConnection);
-}
-
-void StationWindow::takeFeedback() {
-  std::vector<acq::Feedback> waiting;
-  {
-    const std::lock_guard lock(mailboxMutex_);
-    waiting.swap(feedbackBox_);
-  }
-  for (const acq::Feedback& f : waiting) applyFeedback(f);
+  QMetaObject::invokeMethod(
+      this,
+      [this] {
+        std::optional<acq::Snapshot> s;
+        {
+          const std::lock_guard lock(mailboxMutex_);
+          s.swap(mailbox_);
+        }
+        if (s) applySnapshot(*s);
+      },
+      Qt::QueuedConnection);
 }
 
 void StationWindow::applySnapshot(const acq::Snapshot& s) {

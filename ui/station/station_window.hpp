@@ -117,8 +117,6 @@ class StationWindow : public QMainWindow {
   // applies it, so a burst of snapshots is applied once and the hand-over is a lock both
   // threads take, not Qt's event queue alone (whose lock ThreadSanitizer cannot see).
   void postSnapshot(const acquisition::Snapshot& s);
-  // The same for the capture's feedback, every one in order (none is dropped).
-  void postFeedback(const acquisition::Feedback& f);
   // Polls device status and the stylus position (10 Hz / 30 Hz timers call these).
   void refreshDevices();
   void refreshCursor();
@@ -126,13 +124,6 @@ class StationWindow : public QMainWindow {
 
  signals:
   void captureComplete();
-
- private slots:
-  // The GUI thread's side of postSnapshot and postFeedback: applies what waits in the mailbox.
-  // Named slots, not functors: invokeMethod with a functor allocates it in the worker and the
-  // GUI thread reads it through Qt's own lock, which ThreadSanitizer cannot see.
-  void takeSnapshot();
-  void takeFeedback();
 
  protected:
   bool eventFilter(QObject* watched, QEvent* event) override;
@@ -179,8 +170,7 @@ class StationWindow : public QMainWindow {
   std::int64_t sessionId_ = 0;
   std::optional<acquisition::Snapshot> last_;
   std::mutex mailboxMutex_;
-  std::optional<acquisition::Snapshot> mailbox_;    // the newest snapshot not yet applied (under mailboxMutex_)
-  std::vector<acquisition::Feedback> feedbackBox_;  // feedback not yet applied, in order (under mailboxMutex_)
+  std::optional<acquisition::Snapshot> mailbox_;  // the newest snapshot not yet applied (under mailboxMutex_)
   std::map<acquisition::DeviceSet::Role, devices::LinkState> lastState_;
 };
 
