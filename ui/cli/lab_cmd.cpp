@@ -56,16 +56,18 @@ std::string reasonOf(const db::SyncProblem& p) {
 // one line naming how many and which, not a screen of the same words.
 void printProblems(const std::vector<db::SyncProblem>& problems) {
   std::vector<bool> told(problems.size(), false);
+  std::vector<std::string> reasons;  // each problem's reason, worked out once
+  reasons.reserve(problems.size());
+  for (const auto& p : problems) reasons.push_back(reasonOf(p));
   for (std::size_t i = 0; i < problems.size(); ++i) {
     if (told[i]) continue;
     const auto& p = problems[i];
     std::cerr << "leafdig: session " << terminalText(p.station) << ":" << p.stationSessionId
               << " not synced: " << terminalMessage(p.problem) << "\n";
     if (!p.remedy.empty()) std::cerr << "  what to do: " << terminalMessage(p.remedy) << "\n";
-    const std::string reason = reasonOf(p);
     std::vector<std::int64_t> same;
     for (std::size_t j = i + 1; j < problems.size(); ++j)
-      if (!told[j] && problems[j].station == p.station && reasonOf(problems[j]) == reason) {
+      if (!told[j] && problems[j].station == p.station && reasons[j] == reasons[i]) {
         told[j] = true;
         same.push_back(problems[j].stationSessionId);
       }
