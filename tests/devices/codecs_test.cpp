@@ -768,12 +768,60 @@ TEST(RecordClock, RecordsDeliveredInDelayedBurstsAreTimedByTheirCount) {
   EXPECT_GT(arrival[182] - arrival[140], 0.6);
 }
 
+TEST(RecordClock, AHostThatDoesNotReadForSecondsKeepsTheCountOfWhatItThenReadsAtOnce) {
+  // A starved station PC: the driver does not read for 1.6 s, then reads every record the
+  // FASTRAK made meanwhile at once, then one every 2–6 ms again. Nothing was lost: the records
+  // keep their count, so a press made while nobody read (records 200 to 242, 0.35 s) is 0.35 s
+  // long and the records before it are still 1/120 s apart.
+  RecordClock clock(1.0 / 120);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(0.002, 0.006);
+  std::vector<double> device;
+  for (int k = 0; k < 900; ++k) {
+    const double made = 10.0 + k / 120.0;
+    const double got = k >= 120 && k < 312 ? 10.0 + 312 / 120.0 : made + jitter(rng);  // 1.6 s unread
+    device.push_back(seconds(clock.stamp(at(got))));
+  }
+  for (std::size_t k = 61; k < device.size(); ++k) ASSERT_NEAR(device[k] - device[k - 1], 1.0 / 120, 5e-5) << k;
+  EXPECT_NEAR(device[242] - device[200], 0.35, 1e-4);
+  EXPECT_NEAR(device[199] - device[170], 29 / 120.0, 1e-4);
+}
+
+TEST(RecordClock, AHostSlowForSecondsIsNotTakenForAnotherRate) {
+  // For six seconds the host reads every record at least 0.1 s late (a compile on the
+  // station PC), then promptly again: the least delay of a block or two moves and comes back,
+  // which is no rate. Every record stays 1/120 s after the one before.
+  RecordClock clock(1.0 / 120);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(0.002, 0.006);
+  std::vector<double> device;
+  for (int k = 0; k < 4800; ++k) {
+    const double made = 10.0 + k / 120.0;
+    const double late = k >= 600 && k < 1300 ? 0.1 : 0.0;
+    device.push_back(seconds(clock.stamp(at(made + late + jitter(rng)))));
+  }
+  for (std::size_t k = 61; k < device.size(); ++k) ASSERT_NEAR(device[k] - device[k - 1], 1.0 / 120, 5e-5) << k;
+}
+
 TEST(RecordClock, AGapStartsANewCountAndAnotherRateIsTakenUp) {
   RecordClock clock(1.0 / 120);
   for (int k = 0; k < 100; ++k) (void)clock.stamp(at(1.0 + k / 120.0));
-  // An unplug: two seconds without records; the next one is timed when it came.
-  EXPECT_DOUBLE_EQ(seconds(clock.stamp(at(4.0))), 4.0);
-  EXPECT_NEAR(seconds(clock.stamp(at(4.0 + 1 / 120.0))), 4.0 + 1 / 120.0, 1e-9);
+  // An unplug: two seconds without records, then the stream again. For a second they might be
+  // records a starved host read late, so they go on with the count; then, none having come as
+  // early as the count wants, the count moves on by the records missing (once) and the stream
+  // is timed as it comes.
+  std::vector<double> after;
+  for (int k = 0; k < 240; ++k) after.push_back(seconds(clock.stamp(at(4.0 + k / 120.0))));
+  EXPECT_NEAR(after[0], 1.0 + 100 / 120.0, 1e-6);
+  EXPECT_NEAR(after[239], 4.0 + 239 / 120.0, 1e-6);
+  int jumps = 0;
+  for (std::size_t k = 1; k < after.size(); ++k) {
+    if (std::abs(after[k] - after[k - 1] - 1 / 120.0) < 1e-6) continue;
+    ++jumps;
+    EXPECT_GE(k, 120U) << "not before a second of the stream has shown the loss";
+    EXPECT_NEAR(after[k] - after[k - 1], 4.0 - (1.0 + 100 / 120.0) + 1 / 120.0, 1e-6);
+  }
+  EXPECT_EQ(jumps, 1);
   // A stream that really runs at 100 Hz (a serial line too slow for 120): after a few blocks
   // its records are timed 10 ms apart.
   RecordClock slow(1.0 / 120);

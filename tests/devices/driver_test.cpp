@@ -520,4 +520,38 @@ TEST(StylusFilter, ASingleFlippedButtonRecordIsNoPress) {
   EXPECT_TRUE(std::any_of(out.begin(), out.end(), [](auto& s) { return s.button; }));
 }
 
+// The simulated hand moves on the device's clock (the emulator's record times), not the
+// host's: an emulator woken late makes the records it owes in a burst, and each shows the
+// hand as it was at its own instant — the press as long as the hand held it, the stylus still
+// on its target throughout. The technician waits until the device has made every record of
+// the gesture (idle), however late that is.
+TEST(OperatorHand, AGestureIsInTheDevicesRecordsHoweverLateTheyAreMade) {
+  dev::sim::StylusOptions o;
+  o.sigmaMm = 0.1;
+  o.tremorMm = 0.0;
+  dev::sim::OperatorHand hand(o, 1.0);
+  const dev::Vec3 target{120.0, -40.0, 15.0};
+  hand.perform({target, 0.35, 0.45, 0.6});
+  EXPECT_FALSE(hand.idle());
+  // 3 s of records at 120 Hz, all made at once (the host did not run the emulator meanwhile).
+  int pressed = 0;
+  bool idleBeforeTheEnd = false;
+  for (std::uint64_t k = 0; k < 360; ++k) {
+    const double t = static_cast<double>(k) / 120.0;
+    const auto st = hand.at(t, k);
+    if (st.button) {
+      ++pressed;
+      EXPECT_LT(dist(st.positionMm, target), 1.0) << "record " << k << " moved during the press";
+    }
+    if (t < 1.4 && hand.idle()) idleBeforeTheEnd = true;
+  }
+  EXPECT_NEAR(pressed, 42, 1) << "0.35 s at 120 Hz";
+  EXPECT_FALSE(idleBeforeTheEnd);
+  EXPECT_TRUE(hand.idle());
+  // The next gesture starts after the records made so far, not back in the device's past.
+  hand.perform({{0.0, 0.0, 0.0}, 0.35, 0.45, 0.6});
+  EXPECT_FALSE(hand.at(3.0, 360).button);
+  EXPECT_FALSE(hand.idle());
+}
+
 }  // namespace

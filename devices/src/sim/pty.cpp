@@ -273,6 +273,7 @@ void Emulator::run() {
       while (!stop_ && now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
       if (stop_ || !openPty()) break;
       powerOn();
+      nextTick = now();  // the device was off: no records are owed for that time
       continue;
     }
     const double t = now();
@@ -304,7 +305,10 @@ void Emulator::run() {
       burst.swap(held_);
       sendReply(burst);
     }
-    if (!streaming()) continue;
+    if (!streaming()) {
+      nextTick = now();  // records only while streaming: none are owed for a quiet spell
+      continue;
+    }
     if (options_.burst) {
       if (options_.burstRecords > 0 && recordsSent() >= options_.burstRecords) {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -317,16 +321,17 @@ void Emulator::run() {
       continue;
     }
     // A streaming device makes its records on its own clock, whatever the host does: an
-    // emulator woken late (a busy machine) makes the records it owes at once, as the device
-    // would have made them and its cable delivered them late — the host times them by their
-    // count (RecordClock). Only after a quarter of a second behind (a stall) does it skip.
+    // emulator woken late (a busy machine) makes every record it owes, each for its own instant
+    // (the stylus as it was then), as the device would have made them and its cable delivered
+    // them late — the host times them by their count (RecordClock). It never skips: a skip
+    // would be a pause of the device's clock, which no digitizer has; only an unplug (above)
+    // starts the clock again. At most 256 at a time, so the host's bytes are still read.
     const double tn = now();
     for (int owed = 0; tn >= nextTick && owed < 256; ++owed) {
-      produce(static_cast<double>(k) / rate, k);
+      produce(nextTick, k);
       ++k;
       nextTick += 1.0 / rate;
     }
-    if (tn - nextTick > 0.25) nextTick = tn;  // fell far behind (a stall): do not burst
   }
 }
 

@@ -96,30 +96,28 @@ std::size_t VirtualCaliper::count() const {
 }
 
 // ---- operator hand -------------------------------------------------------------------------
-OperatorHand::OperatorHand(StylusOptions o, double speed)
-    : o_(o), speed_(speed > 0 ? speed : 1.0), t0_(std::chrono::steady_clock::now()) {}
-
-double OperatorHand::clock() const {
-  return speed_ * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-}
+OperatorHand::OperatorHand(StylusOptions o, double speed) : o_(o), speed_(speed > 0 ? speed : 1.0) {}
 
 void OperatorHand::perform(const Gesture& g) {
   std::lock_guard lock(mutex_);
-  const double start = std::max(clock(), busyUntil_);
+  // It begins at the device's latest record: however late the device's records reach the host,
+  // the whole gesture is in them, as long and as still as the hand made it.
+  const double start = std::max(seenUntil_, busyUntil_);
   queue_.emplace_back(start, g);
   busyUntil_ = start + g.travelS + g.settleS + g.pressS + (g.pressS > 0 ? 0.05 : 0.0);
 }
 
 bool OperatorHand::idle() const {
   std::lock_guard lock(mutex_);
-  return clock() >= busyUntil_;
+  return seenUntil_ >= busyUntil_;
 }
 
-StylusMotion::State OperatorHand::at(double, std::uint64_t k) const {
-  const double now = clock();
+StylusMotion::State OperatorHand::at(double t, std::uint64_t k) const {
+  const double now = speed_ * t;
   State s;
   {
     std::lock_guard lock(mutex_);
+    seenUntil_ = std::max(seenUntil_, now);
     // Gestures that are over leave the hand resting on their target.
     auto& q = queue_;
     auto& rest = restMm_;

@@ -90,9 +90,11 @@ class VirtualStylus final : public StylusMotion {
 };
 
 // A hand that the program moves: gestures are queued (from any thread) and performed one
-// after the other in real time, scaled by `speed` (2 = twice as fast); between gestures
-// the stylus rests where it is, button up. Noise and tremor as VirtualStylus. Used by the
-// virtual operator, which reacts to what the station says.
+// after the other on the device's clock — the emulator's record time `t`, scaled by `speed`
+// (2 = twice as fast) — so a device whose records reach the host late, or in a burst, still
+// reports each gesture as the hand made it; between gestures the stylus rests where it is,
+// button up. Noise and tremor as VirtualStylus. Used by the virtual operator, which reacts to
+// what the station says. One device samples it (its record times never go back).
 class OperatorHand final : public StylusMotion {
  public:
   struct Gesture {
@@ -102,19 +104,20 @@ class OperatorHand final : public StylusMotion {
     double travelS = 0.6;   // moving there (lifted off the leaf)
   };
   explicit OperatorHand(StylusOptions options = {}, double speed = 1.0);
+  // Queues a gesture; it starts after the last one, and not before the latest record made.
   void perform(const Gesture& g);
-  // True when every queued gesture has been performed (the button is up again).
+  // True when the device has made the records of every queued gesture (the button is up
+  // again in them).
   [[nodiscard]] bool idle() const;
   [[nodiscard]] State at(double t, std::uint64_t k) const override;
 
  private:
-  [[nodiscard]] double clock() const;  // seconds since construction, scaled by speed
   StylusOptions o_;
   double speed_;
-  std::chrono::steady_clock::time_point t0_;
   mutable std::mutex mutex_;
   mutable std::deque<std::pair<double, Gesture>> queue_;  // start time, gesture (at() drops finished ones)
   mutable Vec3 restMm_{};
+  mutable double seenUntil_ = 0;  // the latest record's time (scaled)
   double busyUntil_ = 0;
 };
 
