@@ -171,6 +171,7 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
       batch.swap(inputs_);
     }
     for (const Input& in : batch) {
+      const bool isCommand = std::holds_alternative<PlantCommand>(in);
       PlantFeedback f;
       if (const auto* c = std::get_if<PlantCommand>(&in)) {
         const std::int64_t now = monoNs(Clock::now());
@@ -205,14 +206,17 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
         f = session_.onCaliper({monoNs(r->t), r->valueMm, dev::printableRaw(r->raw, true)});
       }
       if (f.decision.kind == PlantDecision::Kind::Ignored && !f.storeRefused &&
-          f.control == PlantFeedback::Control::None)
+          f.control == PlantFeedback::Control::None) {
+        commandsTaken_ += isCommand;
         continue;
+      }
       if (f.decision.kind == PlantDecision::Kind::Rejected)
         ++stats.rejected;
       else if (f.seq > 0 && f.control == PlantFeedback::Control::None)
         ++stats.accepted;
       if (onFeedback) onFeedback(f, session_);
       if (onChange) onChange(session_);
+      commandsTaken_ += isCommand;
       if (session_.ended()) break;
     }
   }

@@ -52,6 +52,10 @@ class PlantTechnician {
   void run(PlantRunStats& stats) {
     AnswerWait wait(speed_);
     while (true) {
+      // A command is never lost: until the station has dealt with the last one, the state on
+      // the desk is from before it, and acting on it again would say it twice (a second "end"
+      // would end the plant).
+      const bool commandPending = loop_.commandsTaken() < commandsSent_;
       PlantStep step;
       LeafChoice choice;
       model::NodeLink link;
@@ -68,6 +72,7 @@ class PlantTechnician {
         version = desk_.version;
       }
       turnPot(step);
+      if (commandPending) continue;
       if (wait.due(version, rig_.hand().idle())) {
         if (relocate(step, points, stats)) continue;
         act(step, choice, link, stats);
@@ -82,15 +87,15 @@ class PlantTechnician {
     if (s.what == PlantWhat::Point && s.part == 1 && s.index <= static_cast<int>(plant_.nodes.size())) {
       if (const auto place = plantPlacementTruth(plant_, s.index, hangs)) {
         if (place->relation == '+')
-          loop_.command({.kind = PlantCommand::Kind::Branch, .node = place->parent});
+          send({.kind = PlantCommand::Kind::Branch, .node = place->parent});
         else
-          loop_.command({.kind = PlantCommand::Kind::End});  // at a branch node's first point: the branch ends
+          send({.kind = PlantCommand::Kind::End});  // at a branch node's first point: the branch ends
         ++stats.choices;
         return;
       }
       const LeafChoice want = plantChoiceTruth(plant_, s.index);
       if (!(current == want)) {
-        loop_.command({.kind = PlantCommand::Kind::Choose, .node = s.index, .choice = want});
+        send({.kind = PlantCommand::Kind::Choose, .node = s.index, .choice = want});
         ++stats.choices;
         return;
       }
@@ -118,6 +123,11 @@ class PlantTechnician {
     rig_.hand().perform({*at, 0.35, 0.45, 0.6});
   }
 
+  void send(const PlantCommand& c) {
+    loop_.command(c);
+    ++commandsSent_;
+  }
+
   // Moving the transmitter after `relocateAfter_` accepted points: the technician says so, and
   // once the station asks for the landmarks again, moves it (a seeded random pose) and takes
   // them. True when it acted.
@@ -125,7 +135,7 @@ class PlantTechnician {
     // A move this run did not make (found half-done after a restart: the transmitter's pose
     // went with the killed process) is undone first.
     if (s.what == PlantWhat::LandmarkAgain && !moved_ && !asked_) {
-      loop_.command({.kind = PlantCommand::Kind::Undo});
+      send({.kind = PlantCommand::Kind::Undo});
       return true;
     }
     if (relocateAfter_ <= 0 || moved_) return false;
@@ -139,7 +149,7 @@ class PlantTechnician {
     const bool between =
         s.what != PlantWhat::Landmark && s.what != PlantWhat::LandmarkAgain && s.what != PlantWhat::Done;
     if (points < relocateAfter_ || !between) return false;
-    loop_.command({.kind = PlantCommand::Kind::MoveTransmitter});
+    send({.kind = PlantCommand::Kind::MoveTransmitter});
     asked_ = true;
     ++stats.choices;
     return true;
@@ -169,6 +179,7 @@ class PlantTechnician {
   int relocateAfter_ = 0;
   double potTurnDeg_ = 0;
   bool asked_ = false, moved_ = false;
+  std::uint64_t commandsSent_ = 0;
   std::mt19937_64 rng_;
   Vec3 last_{};
 };

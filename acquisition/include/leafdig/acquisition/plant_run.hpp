@@ -66,6 +66,9 @@ class PlantCaptureLoop {
   void setPedal(bool down) { pedal_ = down; }
   [[nodiscard]] bool pedal() const { return pedal_; }
   void command(const PlantCommand& c);
+  // How many commands run() has dealt with (each after its onChange): a caller that sent n
+  // knows its last one is answered, or ignored, once this reaches n. From any thread.
+  [[nodiscard]] std::uint64_t commandsTaken() const { return commandsTaken_; }
   void stop();
 
   // Runs until the session ends (complete or abandoned), a Quit command, or stop(). After every
@@ -90,6 +93,7 @@ class PlantCaptureLoop {
   std::deque<Input> inputs_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> pedal_{false};
+  std::atomic<std::uint64_t> commandsTaken_{0};
   std::map<std::string, std::string> deviceStates_;  // the last state logged per device (run's thread)
 };
 
