@@ -745,6 +745,37 @@ TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThread
   EXPECT_TRUE(store.verify(id).ok);
 }
 
+// A caller that sent n commands knows when the loop has dealt with all of them — answered or
+// ignored — and that by then the state it was told of is after them (the simulated technician
+// waits on this rather than a clock: a slow answer must not make it say "end" twice).
+TEST_F(PlantSession, TheLoopCountsTheCommandsItHasDealtWithAfterSayingWhatChanged) {
+  db::Store store(path_);
+  const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
+  acq::PlantCaptureLoop loop(store, id);
+  EXPECT_EQ(loop.commandsTaken(), 0u);
+  bool allTaken = false;
+  std::thread sender([&] {
+    loop.command(acq::parsePlantCommand("resume"));  // not paused: ignored, nothing said
+    loop.command(acq::parsePlantCommand("pause tea"));
+    loop.command(acq::parsePlantCommand("resume"));
+    for (int i = 0; i < 1000 && loop.commandsTaken() < 3; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    allTaken = loop.commandsTaken() == 3;
+    loop.command(acq::parsePlantCommand("quit"));
+  });
+  std::vector<std::pair<bool, std::uint64_t>> changes;  // paused?, commands taken when told
+  (void)loop.run([](const acq::PlantFeedback&, const acq::PlantCaptureSession&) {},
+                 [&](const acq::PlantCaptureSession& s) { changes.emplace_back(s.paused(), loop.commandsTaken()); });
+  sender.join();
+  EXPECT_TRUE(allTaken);
+  EXPECT_EQ(loop.commandsTaken(), 3u) << "quit ends the loop; it is not counted";
+  // At the start; after the pause (the ignored resume counted, the pause not yet); after the resume.
+  ASSERT_EQ(changes.size(), 3u);
+  EXPECT_EQ(changes[0], std::make_pair(false, std::uint64_t{0}));
+  EXPECT_EQ(changes[1], std::make_pair(true, std::uint64_t{1}));
+  EXPECT_EQ(changes[2], std::make_pair(false, std::uint64_t{2}));
+}
+
 // A foot pedal held down is the stylus button: samples whose own button is up are taken as
 // pressed while it is down, and the point is decided when it comes up, as on a leaf.
 TEST_F(PlantSession, AFootPedalHeldDownIsTheStylusButton) {
