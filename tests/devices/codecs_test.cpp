@@ -5,6 +5,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <string>
 #include <tuple>
@@ -768,21 +769,36 @@ TEST(RecordClock, RecordsDeliveredInDelayedBurstsAreTimedByTheirCount) {
   EXPECT_GT(arrival[182] - arrival[140], 0.6);
 }
 
+// A 120 Hz stream of `records` made from t = 10 s, stamped as the host read them:
+// `arrival(k, made, jitter)` says when it read record k (jitter: 2–6 ms, drawn for each).
+std::vector<double> stampedAt120(int records, unsigned seed,
+                                 const std::function<double(int, double, double)>& arrival) {
+  RecordClock clock(1.0 / 120);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(0.002, 0.006);
+  std::vector<double> device;
+  for (int k = 0; k < records; ++k) {
+    const double made = 10.0 + k / 120.0;
+    const double j = jitter(rng);
+    device.push_back(seconds(clock.stamp(at(arrival(k, made, j)))));
+  }
+  return device;
+}
+
+// Once the anchor has settled, every record one period after the one before.
+void expectOnePeriodApart(const std::vector<double>& device) {
+  for (std::size_t k = 61; k < device.size(); ++k) ASSERT_NEAR(device[k] - device[k - 1], 1.0 / 120, 5e-5) << k;
+}
+
 TEST(RecordClock, AHostThatDoesNotReadForSecondsKeepsTheCountOfWhatItThenReadsAtOnce) {
   // A starved station PC: the driver does not read for 1.6 s, then reads every record the
   // FASTRAK made meanwhile at once, then one every 2–6 ms again. Nothing was lost: the records
   // keep their count, so a press made while nobody read (records 200 to 242, 0.35 s) is 0.35 s
   // long and the records before it are still 1/120 s apart.
-  RecordClock clock(1.0 / 120);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> jitter(0.002, 0.006);
-  std::vector<double> device;
-  for (int k = 0; k < 900; ++k) {
-    const double made = 10.0 + k / 120.0;
-    const double got = k >= 120 && k < 312 ? 10.0 + 312 / 120.0 : made + jitter(rng);  // 1.6 s unread
-    device.push_back(seconds(clock.stamp(at(got))));
-  }
-  for (std::size_t k = 61; k < device.size(); ++k) ASSERT_NEAR(device[k] - device[k - 1], 1.0 / 120, 5e-5) << k;
+  const std::vector<double> device = stampedAt120(900, 11, [](int k, double made, double jitter) {
+    return k >= 120 && k < 312 ? 10.0 + 312 / 120.0 : made + jitter;  // 1.6 s unread
+  });
+  expectOnePeriodApart(device);
   EXPECT_NEAR(device[242] - device[200], 0.35, 1e-4);
   EXPECT_NEAR(device[199] - device[170], 29 / 120.0, 1e-4);
 }
@@ -791,16 +807,8 @@ TEST(RecordClock, AHostSlowForSecondsIsNotTakenForAnotherRate) {
   // For six seconds the host reads every record at least 0.1 s late (a compile on the
   // station PC), then promptly again: the least delay of a block or two moves and comes back,
   // which is no rate. Every record stays 1/120 s after the one before.
-  RecordClock clock(1.0 / 120);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> jitter(0.002, 0.006);
-  std::vector<double> device;
-  for (int k = 0; k < 4800; ++k) {
-    const double made = 10.0 + k / 120.0;
-    const double late = k >= 600 && k < 1300 ? 0.1 : 0.0;
-    device.push_back(seconds(clock.stamp(at(made + late + jitter(rng)))));
-  }
-  for (std::size_t k = 61; k < device.size(); ++k) ASSERT_NEAR(device[k] - device[k - 1], 1.0 / 120, 5e-5) << k;
+  expectOnePeriodApart(stampedAt120(
+      4800, 5, [](int k, double made, double jitter) { return made + (k >= 600 && k < 1300 ? 0.1 : 0.0) + jitter; }));
 }
 
 TEST(RecordClock, AGapStartsANewCountAndAnotherRateIsTakenUp) {
