@@ -172,6 +172,7 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
     }
     for (const Input& in : batch) {
       const bool isCommand = std::holds_alternative<PlantCommand>(in);
+      bool released = false;  // the stylus button came up in this sample
       PlantFeedback f;
       if (const auto* c = std::get_if<PlantCommand>(&in)) {
         const std::int64_t now = monoNs(Clock::now());
@@ -200,6 +201,8 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
                                   monoNs(Clock::now()));
         if (!f.storeRefused) continue;  // said by the devices' own callback; nothing for the technician
       } else if (const auto* s = std::get_if<dev::StylusSample>(&std::get<dev::DeviceEvent>(in))) {
+        released = buttonDown_ && !s->button;
+        buttonDown_ = s->button;
         f = session_.onStylus({monoNs(s->deviceTime.value_or(s->t)), s->positionMm, s->button, s->status,
                                dev::printableRaw(s->raw, true)});
       } else if (const auto* r = std::get_if<dev::CaliperReading>(&std::get<dev::DeviceEvent>(in))) {
@@ -208,6 +211,7 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
       if (f.decision.kind == PlantDecision::Kind::Ignored && !f.storeRefused &&
           f.control == PlantFeedback::Control::None) {
         commandsTaken_ += isCommand;
+        releasesTaken_ += released;
         continue;
       }
       if (f.decision.kind == PlantDecision::Kind::Rejected)
@@ -217,6 +221,7 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
       if (onFeedback) onFeedback(f, session_);
       if (onChange) onChange(session_);
       commandsTaken_ += isCommand;
+      releasesTaken_ += released;
       if (session_.ended()) break;
     }
   }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <thread>
 #include <utility>
@@ -56,6 +57,10 @@ class PlantTechnician {
       // the desk is from before it, and acting on it again would say it twice (a second "end"
       // would end the plant).
       const bool commandPending = loop_.commandsTaken() < commandsSent_;
+      // Nor is a press pressed twice because the station was slow to say what it made of it:
+      // until the loop has taken the press's release, the desk is from before it. Only a
+      // press whose release never comes (its records lost) is given up on, after 20 s.
+      const bool pressPending = loop_.releasesTaken() < pressesMade_;
       PlantStep step;
       LeafChoice choice;
       model::NodeLink link;
@@ -73,6 +78,13 @@ class PlantTechnician {
       }
       turnPot(step);
       if (commandPending) continue;
+      if (pressPending && rig_.hand().idle()) {
+        const auto now = Clock::now();
+        if (!pendingSince_) pendingSince_ = now;
+        if (now - *pendingSince_ < std::chrono::seconds(20)) continue;
+        pressesMade_ = loop_.releasesTaken();  // lost: pressed again below
+      }
+      pendingSince_.reset();
       if (wait.due(version, rig_.hand().idle())) {
         if (relocate(step, points, stats)) continue;
         act(step, choice, link, stats);
@@ -117,10 +129,12 @@ class PlantTechnician {
     if (!at) {
       // A long press anywhere ends the landmarks, the leaf's rows or the plant.
       rig_.hand().perform({last_, 1.7, 0.3, 0.3});
+      ++pressesMade_;
       return;
     }
     last_ = *at;
     rig_.hand().perform({*at, 0.35, 0.45, 0.6});
+    ++pressesMade_;
   }
 
   void send(const PlantCommand& c) {
@@ -179,7 +193,8 @@ class PlantTechnician {
   int relocateAfter_ = 0;
   double potTurnDeg_ = 0;
   bool asked_ = false, moved_ = false;
-  std::uint64_t commandsSent_ = 0;
+  std::uint64_t commandsSent_ = 0, pressesMade_ = 0;
+  std::optional<Clock::time_point> pendingSince_;  // a press's release awaited since (the hand done)
   std::mt19937_64 rng_;
   Vec3 last_{};
 };

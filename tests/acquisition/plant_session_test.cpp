@@ -11,6 +11,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "leafdig/acquisition/plant_run.hpp"
@@ -745,35 +746,56 @@ TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThread
   EXPECT_TRUE(store.verify(id).ok);
 }
 
-// A caller that sent n commands knows when the loop has dealt with all of them — answered or
-// ignored — and that by then the state it was told of is after them (the simulated technician
-// waits on this rather than a clock: a slow answer must not make it say "end" twice).
-TEST_F(PlantSession, TheLoopCountsTheCommandsItHasDealtWithAfterSayingWhatChanged) {
+// A caller that sent n commands, or pressed n times, knows when the loop has dealt with all
+// of them — answered or ignored — and that by then the state it was told of is after them
+// (the simulated technician waits on this rather than a clock: a slow answer must not make
+// it say "end" twice, or press twice).
+TEST_F(PlantSession, TheLoopCountsTheCommandsAndPressesItHasDealtWithAfterSayingWhatChanged) {
   db::Store store(path_);
   const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
   acq::PlantCaptureLoop loop(store, id);
   EXPECT_EQ(loop.commandsTaken(), 0u);
+  EXPECT_EQ(loop.releasesTaken(), 0u);
   bool allTaken = false;
   std::thread sender([&] {
+    namespace dev = leafdig::devices;
+    const auto t0 = dev::Clock::now();
+    int k = 0;
+    const acq::Vec3 landmark{plant_.landmarksMm[0].x(), plant_.landmarksMm[0].y(), plant_.landmarksMm[0].z()};
+    const auto record = [&](bool button) {
+      dev::StylusSample s;
+      s.t = t0 + std::chrono::milliseconds(8 * ++k);
+      s.positionMm = landmark;
+      s.button = button;
+      s.raw = "01 x";
+      loop.post(s);
+    };
+    for (int i = 0; i < 40; ++i) record(false);
+    for (int i = 0; i < 25; ++i) record(true);
+    record(false);                                   // the release: landmark 1 taken
     loop.command(acq::parsePlantCommand("resume"));  // not paused: ignored, nothing said
     loop.command(acq::parsePlantCommand("pause tea"));
     loop.command(acq::parsePlantCommand("resume"));
-    for (int i = 0; i < 1000 && loop.commandsTaken() < 3; ++i)
+    for (int i = 0; i < 1000 && (loop.commandsTaken() < 3 || loop.releasesTaken() < 1); ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    allTaken = loop.commandsTaken() == 3;
+    allTaken = loop.commandsTaken() == 3 && loop.releasesTaken() == 1;
     loop.command(acq::parsePlantCommand("quit"));
   });
-  std::vector<std::pair<bool, std::uint64_t>> changes;  // paused?, commands taken when told
+  // Told at each change: paused?, landmarks held, commands and releases taken by then.
+  std::vector<std::tuple<bool, std::size_t, std::uint64_t, std::uint64_t>> changes;
   (void)loop.run([](const acq::PlantFeedback&, const acq::PlantCaptureSession&) {},
-                 [&](const acq::PlantCaptureSession& s) { changes.emplace_back(s.paused(), loop.commandsTaken()); });
+                 [&](const acq::PlantCaptureSession& s) {
+                   changes.emplace_back(s.paused(), s.engine().items().size(), loop.commandsTaken(),
+                                        loop.releasesTaken());
+                 });
   sender.join();
   EXPECT_TRUE(allTaken);
   EXPECT_EQ(loop.commandsTaken(), 3u) << "quit ends the loop; it is not counted";
-  // At the start; after the pause (the ignored resume counted, the pause not yet); after the resume.
-  ASSERT_EQ(changes.size(), 3u);
-  EXPECT_EQ(changes[0], std::make_pair(false, std::uint64_t{0}));
-  EXPECT_EQ(changes[1], std::make_pair(true, std::uint64_t{1}));
-  EXPECT_EQ(changes[2], std::make_pair(false, std::uint64_t{2}));
+  EXPECT_EQ(loop.releasesTaken(), 1u);
+  // At the start; after the landmark (its release not yet counted); after the pause (the
+  // ignored resume counted, the pause not yet); after the resume.
+  using Change = std::tuple<bool, std::size_t, std::uint64_t, std::uint64_t>;
+  EXPECT_EQ(changes, (std::vector<Change>{{false, 0, 0, 0}, {false, 1, 0, 0}, {true, 1, 1, 1}, {false, 1, 2, 1}}));
 }
 
 // A foot pedal held down is the stylus button: samples whose own button is up are taken as

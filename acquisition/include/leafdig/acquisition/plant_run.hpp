@@ -69,6 +69,8 @@ class PlantCaptureLoop {
   // How many commands run() has dealt with (each after its onChange): a caller that sent n
   // knows its last one is answered, or ignored, once this reaches n. From any thread.
   [[nodiscard]] std::uint64_t commandsTaken() const { return commandsTaken_; }
+  // Likewise the stylus button's releases (a press is decided at its release).
+  [[nodiscard]] std::uint64_t releasesTaken() const { return releasesTaken_; }
   void stop();
 
   // Runs until the session ends (complete or abandoned), a Quit command, or stop(). After every
@@ -93,7 +95,8 @@ class PlantCaptureLoop {
   std::deque<Input> inputs_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> pedal_{false};
-  std::atomic<std::uint64_t> commandsTaken_{0};
+  std::atomic<std::uint64_t> commandsTaken_{0}, releasesTaken_{0};
+  bool buttonDown_ = false;                          // the last stylus sample's button (run's thread)
   std::map<std::string, std::string> deviceStates_;  // the last state logged per device (run's thread)
 };
 
