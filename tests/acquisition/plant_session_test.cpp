@@ -121,6 +121,25 @@ double worstApartMm(const m::PlantMarkers& a, const m::PlantMarkers& b) {
   return worst;
 }
 
+// A driver's thread posting stylus samples to a loop, 8 ms apart.
+class PostedStylus {
+ public:
+  explicit PostedStylus(acq::PlantCaptureLoop& loop) : loop_(loop), t0_(leafdig::devices::Clock::now()) {}
+  void record(const acq::Vec3& p, bool button) {
+    leafdig::devices::StylusSample s;
+    s.t = t0_ + std::chrono::milliseconds(8 * ++k_);
+    s.positionMm = p;
+    s.button = button;
+    s.raw = "01 x";
+    loop_.post(s);
+  }
+
+ private:
+  acq::PlantCaptureLoop& loop_;
+  leafdig::devices::Clock::time_point t0_;
+  int k_ = 0;
+};
+
 }  // namespace
 
 TEST_F(PlantSession, APlantIsCommittedEventByEventAndItsChainAndProjectionsVerify) {
@@ -691,16 +710,8 @@ TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThread
     streaming.state = dev::LinkState::Streaming;
     sinks.onStatus(streaming);
     sinks.onStatus(streaming);
-    const auto t0 = dev::Clock::now();
-    int k = 0;
-    const auto record = [&](const acq::Vec3& p, bool button) {
-      dev::StylusSample s;
-      s.t = t0 + std::chrono::milliseconds(8 * ++k);
-      s.positionMm = p;
-      s.button = button;
-      s.raw = "01 x";
-      loop.post(s);
-    };
+    PostedStylus stylus(loop);
+    const auto record = [&](const acq::Vec3& p, bool button) { stylus.record(p, button); };
     const acq::Vec3 landmark{plant_.landmarksMm[0].x(), plant_.landmarksMm[0].y(), plant_.landmarksMm[0].z()};
     for (int i = 0; i < 40; ++i) record(landmark, false);
     for (int i = 0; i < 25; ++i) record(landmark, true);
@@ -758,18 +769,9 @@ TEST_F(PlantSession, TheLoopCountsTheCommandsAndPressesItHasDealtWithAfterSaying
   EXPECT_EQ(loop.releasesTaken(), 0u);
   bool allTaken = false;
   std::thread sender([&] {
-    namespace dev = leafdig::devices;
-    const auto t0 = dev::Clock::now();
-    int k = 0;
+    PostedStylus stylus(loop);
     const acq::Vec3 landmark{plant_.landmarksMm[0].x(), plant_.landmarksMm[0].y(), plant_.landmarksMm[0].z()};
-    const auto record = [&](bool button) {
-      dev::StylusSample s;
-      s.t = t0 + std::chrono::milliseconds(8 * ++k);
-      s.positionMm = landmark;
-      s.button = button;
-      s.raw = "01 x";
-      loop.post(s);
-    };
+    const auto record = [&](bool button) { stylus.record(landmark, button); };
     for (int i = 0; i < 40; ++i) record(false);
     for (int i = 0; i < 25; ++i) record(true);
     record(false);                                   // the release: landmark 1 taken
@@ -805,18 +807,9 @@ TEST_F(PlantSession, AFootPedalHeldDownIsTheStylusButton) {
   const std::int64_t id = acq::PlantCaptureSession::create(store, setup_);
   acq::PlantCaptureLoop loop(store, id);
   std::thread devices([&] {
-    namespace dev = leafdig::devices;
-    const auto t0 = dev::Clock::now();
-    int k = 0;
+    PostedStylus stylus(loop);
     const acq::Vec3 p{plant_.landmarksMm[0].x(), plant_.landmarksMm[0].y(), plant_.landmarksMm[0].z()};
-    const auto record = [&] {
-      dev::StylusSample s;
-      s.t = t0 + std::chrono::milliseconds(8 * ++k);
-      s.positionMm = p;
-      s.button = false;  // the stylus's own button is never pressed
-      s.raw = "01 x";
-      loop.post(s);
-    };
+    const auto record = [&] { stylus.record(p, false); };  // the stylus's own button is never pressed
     for (int i = 0; i < 40; ++i) record();
     EXPECT_FALSE(loop.pedal());
     loop.setPedal(true);
