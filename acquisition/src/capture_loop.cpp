@@ -205,8 +205,8 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
     if (const auto* s = std::get_if<devices::StylusSample>(e)) {
       // docs/schema.md: the stored record is text; binary bytes become \xNN. A press is timed by
       // the device's clock where it has one (issue 26), else by when its bytes arrived.
-      StylusInput in{monoNs(s->deviceTime.value_or(s->t)), s->positionMm, s->button, s->status,
-                     devices::printableRaw(s->raw, true)};
+      StylusInput in{monoNs(s->deviceTime.value_or(s->t)), s->positionMm,  s->button, s->status,
+                     devices::printableRaw(s->raw, true),  s->streamBegins};
       deliver(session_.onStylus(in));
     } else if (const auto* r = std::get_if<devices::CaliperReading>(e)) {
       deliver(session_.onCaliper({monoNs(r->t), r->valueMm, devices::printableRaw(r->raw, true)}));

@@ -242,7 +242,26 @@ Decision Engine::reject(std::string reason) const {
   return d;
 }
 
-std::optional<std::int64_t> StylusPress::take(const StylusInput& s, const Settings& settings) {
+std::string cutPressWords(std::int64_t heldNs) {
+  char b[200];
+  std::snprintf(b, sizeof b,
+                "the digitizer connected again %.1f s into the press (a reset or an unplug cut it): the press was "
+                "not taken; press again",
+                static_cast<double>(heldNs) / 1e9);
+  return b;
+}
+
+std::optional<PressEnd> StylusPress::take(const StylusInput& s, const Settings& settings) {
+  std::optional<PressEnd> end;
+  if (s.streamBegins) {
+    // Nothing before a reconnect is continuous with what follows: not the still samples, not
+    // the press.
+    recent_.clear();
+    if (pressed_) {
+      pressed_ = false;
+      end = PressEnd{s.tNs - pressedAt_, true};
+    }
+  }
   recent_.push_back(s);
   while (!recent_.empty() && s.tNs - recent_.front().tNs > 3 * settings.stillWindowNs + settings.longPressNs)
     recent_.pop_front();
@@ -251,9 +270,9 @@ std::optional<std::int64_t> StylusPress::take(const StylusInput& s, const Settin
     pressedAt_ = s.tNs;
   } else if (!s.button && pressed_) {
     pressed_ = false;
-    return s.tNs - pressedAt_;
+    return PressEnd{s.tNs - pressedAt_, false};
   }
-  return std::nullopt;
+  return end;
 }
 
 std::vector<const StylusInput*> StylusPress::window(std::int64_t releaseNs, const Settings& settings) const {
@@ -273,8 +292,9 @@ Decision Engine::onStylus(const StylusInput& sample) {
   StylusInput s = sample;
   if (!relocating_ && toFirst_.size() > 1) s.positionMm = toFirst(sample.positionMm);
   Decision d;
-  if (const auto heldFor = press_.take(s, settings_)) {
-    const std::int64_t held = *heldFor;
+  if (const auto end = press_.take(s, settings_)) {
+    if (end->cut) return reject(cutPressWords(end->heldNs));
+    const std::int64_t held = end->heldNs;
     if (held >= settings_.undoPressNs) return undo();
     if (held >= settings_.longPressNs)
       d = decideEndRows();

@@ -370,7 +370,8 @@ PlantDecision PlantEngine::onStylus(const StylusInput& s) {
     const Eigen::Vector3d p = toFirst_.back() * Eigen::Vector3d(s.positionMm[0], s.positionMm[1], s.positionMm[2]);
     in.positionMm = {p.x(), p.y(), p.z()};
   }
-  const std::optional<std::int64_t> held = press_.take(in, settings_);
+  const std::optional<PressEnd> end = press_.take(in, settings_);
+  const std::optional<std::int64_t> held = end && !end->cut ? std::optional<std::int64_t>(end->heldNs) : std::nullopt;
   if (const int node = leafNode()) {
     Engine& e = leafEngine(node);
     e.setPlantPosition(static_cast<int>(toFirst_.size()) - 1);
@@ -382,6 +383,7 @@ PlantDecision PlantEngine::onStylus(const StylusInput& s) {
     if (ld.kind == Decision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
     return d;
   }
+  if (end && end->cut) return reject(cutPressWords(end->heldNs));
   if (!held) return {};
   if (*held >= settings_.undoPressNs) return undo();
   PlantDecision d = *held >= settings_.longPressNs ? decideEnd() : decidePoint(in);

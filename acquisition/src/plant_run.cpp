@@ -204,7 +204,7 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
         released = buttonDown_ && !s->button;
         buttonDown_ = s->button;
         f = session_.onStylus({monoNs(s->deviceTime.value_or(s->t)), s->positionMm, s->button, s->status,
-                               dev::printableRaw(s->raw, true)});
+                               dev::printableRaw(s->raw, true), s->streamBegins});
       } else if (const auto* r = std::get_if<dev::CaliperReading>(&std::get<dev::DeviceEvent>(in))) {
         f = session_.onCaliper({monoNs(r->t), r->valueMm, dev::printableRaw(r->raw, true)});
       }

@@ -318,6 +318,18 @@ bool VirtualOperator::relocate(const Snapshot& s) {
   return true;
 }
 
+// A point is wrong more than 5 mm off its marker — or nearer another marker of its row than its
+// own: a press taken for another step (on a small leaf the markers are under 5 mm apart).
+bool VirtualOperator::wrongPoint(const Item& i) const {
+  const double own = distanceMm(i.positionMm, rig_.toStation(truth(i.what, i.row, i.col)));
+  if (own > 5.0) return true;
+  if (i.what != What::Marker || i.row < 1 || i.row > static_cast<int>(leaf_.rows.size())) return false;
+  const int points = static_cast<int>(leaf_.rows[static_cast<std::size_t>(i.row - 1)].pointsMm.size());
+  for (int c = 1; c <= points; ++c)
+    if (c != i.col && distanceMm(i.positionMm, rig_.toStation(truth(What::Marker, i.row, c))) < own) return true;
+  return false;
+}
+
 void VirtualOperator::act(const Snapshot& s) {
   if (s.paused || s.complete || s.status != "open") return;
   if (relocate(s)) return;
@@ -326,7 +338,7 @@ void VirtualOperator::act(const Snapshot& s) {
   if (!s.items.empty() && s.items.back().what != What::BoardAgain) {
     const Item& last = s.items.back();
     const bool wrong = isStylusItem(last.what)
-                           ? distanceMm(last.positionMm, rig_.toStation(truth(last.what, last.row, last.col))) > 5.0
+                           ? wrongPoint(last)
                            : std::abs(last.valueMm - truthThickness(last.what, last.row, last.col)) > 0.1;
     if (wrong && !s.retaking) {
       press(rig_.fromStation(last.positionMm), 3.4, 0.3, 0.2);  // a very long press: undo

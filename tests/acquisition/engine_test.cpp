@@ -141,6 +141,39 @@ TEST_F(EngineRow, RejectsADoubleTapAMovingStylusAndAStatusLetter) {
   EXPECT_EQ(op.press(pt(2, 2)).kind, Kind::Accepted);  // the step was kept
 }
 
+// A digitizer that resets (or is unplugged) while the button is down: the driver connects again
+// and its stream begins anew, button up. The press it cut is no press — not an undo, as its
+// length across the outage would say, nor a point — and is refused in words; the next press
+// is taken as usual.
+TEST_F(EngineRow, APressCutByTheDigitizersReconnectIsRefusedNotTakenForAnUndo) {
+  ASSERT_EQ(op.press(pt(2, 1)).kind, Kind::Accepted);
+  const std::size_t before = engine.items().size();
+  const auto sample = [&](const acq::Vec3& p, bool button, bool streamBegins) {
+    acq::StylusInput s;
+    s.tNs = (op.t += 8 * kMs);
+    s.positionMm = p;
+    s.button = button;
+    s.raw = "01 …";
+    s.streamBegins = streamBegins;
+    return engine.onStylus(s);
+  };
+  for (int i = 0; i < 60; ++i) EXPECT_EQ(sample(pt(2, 2), false, false).kind, Kind::Ignored);
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(sample(pt(2, 2), true, false).kind, Kind::Ignored);
+  op.t += 20'000 * kMs;  // the digitizer's outage: longer than the press that undoes
+  const acq::Decision d = sample(pt(2, 2), false, true);
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.reason.find("press again"), std::string::npos) << d.reason;
+  EXPECT_NE(d.reason.find("digitizer"), std::string::npos) << d.reason;
+  EXPECT_EQ(engine.items().size(), before);  // nothing undone
+  EXPECT_EQ(engine.step(), (acq::Step{acq::What::Marker, 2, 2}));
+  EXPECT_EQ(op.press(pt(2, 2)).kind, Kind::Accepted);
+  // A stream that begins again with the button up and no press under way changes nothing.
+  for (int i = 0; i < 5; ++i) sample(pt(2, 3), false, false);
+  op.t += 5'000 * kMs;
+  EXPECT_EQ(sample(pt(2, 3), false, true).kind, Kind::Ignored);
+  EXPECT_EQ(op.press(pt(2, 3)).kind, Kind::Accepted);
+}
+
 TEST_F(EngineRow, RejectsOrderSpacingAndMidribMistakes) {
   ASSERT_EQ(op.press(pt(2, 1)).kind, Kind::Accepted);
   ASSERT_EQ(op.press(pt(2, 2)).kind, Kind::Accepted);

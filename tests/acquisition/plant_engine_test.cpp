@@ -70,6 +70,27 @@ struct Technician {
     keep(last);
     return last;
   }
+  // The button goes down on p; the digitizer resets for `outageMs`; its stream begins again,
+  // button up (the driver has seen no press since it connected).
+  acq::PlantDecision pressCutByAReconnect(const acq::Vec3& p, std::int64_t outageMs) {
+    acq::PlantDecision last;
+    const auto sample = [&](bool button, bool streamBegins) {
+      acq::StylusInput s;
+      s.tNs = (t += 8 * kMs);
+      s.positionMm = p;
+      s.button = button;
+      s.raw = "01 …";
+      s.streamBegins = streamBegins;
+      const auto d = engine.onStylus(s);
+      if (d.kind != Kind::Ignored) last = d;
+    };
+    for (int i = 0; i < 60; ++i) sample(false, false);
+    for (int i = 0; i < 10; ++i) sample(true, false);
+    t += outageMs * kMs;
+    sample(false, true);
+    keep(last);
+    return last;
+  }
   acq::PlantDecision read(double mm) {
     const auto d = engine.onCaliper({t += 500 * kMs, mm, "+" + std::to_string(mm) + "\r"});
     keep(d);
@@ -355,6 +376,35 @@ TEST(PlantEngine, UndoGoesBackThroughTheLeafAndThePlantInTheOrderTheyWereTaken) 
   for (const auto& d : tech.log) replayed.apply(d);
   EXPECT_EQ(replayed.step(), engine.step());
   EXPECT_EQ(replayed.items().size(), engine.items().size());
+}
+
+// A press the digitizer's reconnect cut is refused in words — on the plant and inside a full
+// leaf — and not taken for the very long press that undoes, as its length would say.
+TEST(PlantEngine, APressCutByTheDigitizersReconnectIsRefusedNotTakenForAnUndo) {
+  acq::PlantEngine engine(m::defaultPlantProtocol());
+  Technician tech{engine};
+  ASSERT_EQ(tech.press({100, 0, 0}).kind, Kind::Accepted);
+  const auto cut = tech.pressCutByAReconnect({0, 100, 0}, 20'000);
+  EXPECT_EQ(cut.kind, Kind::Rejected);
+  EXPECT_NE(cut.reason.find("press again"), std::string::npos) << cut.reason;
+  EXPECT_EQ(engine.items().size(), 1U);  // the first landmark is still there
+  ASSERT_EQ(tech.press({0, 100, 0}).kind, Kind::Accepted);
+  ASSERT_EQ(tech.press({-100, 0, 0}).kind, Kind::Accepted);
+  ASSERT_EQ(tech.end().kind, Kind::LandmarksEnded);
+  ASSERT_EQ(tech.press({0, 0, 0}).kind, Kind::Accepted);
+  ASSERT_EQ(tech.read(12).kind, Kind::Accepted);
+  ASSERT_EQ(tech.press({0, 0, 40}).kind, Kind::Accepted);
+  ASSERT_EQ(tech.choose(1, {m::LeafKind::Full, m::LeafState::Alive, {}}).kind, Kind::LeafChosen);
+  ASSERT_EQ(tech.read(10).kind, Kind::Accepted);
+  ASSERT_EQ(tech.press({150, 0, 50}).kind, Kind::Leaf);  // the leaf's tip
+  const std::size_t plantItems = engine.items().size();
+  const auto inLeaf = tech.pressCutByAReconnect({150, 0, 30}, 20'000);
+  EXPECT_EQ(inLeaf.kind, Kind::Rejected);
+  EXPECT_EQ(inLeaf.leaf.kind, acq::Decision::Kind::Rejected);
+  EXPECT_NE(inLeaf.reason.find("node 1 leaf: the digitizer connected again"), std::string::npos) << inLeaf.reason;
+  ASSERT_NE(engine.leaf(1), nullptr);
+  EXPECT_EQ(engine.leaf(1)->items().size(), 1U);  // the tip is kept
+  EXPECT_EQ(engine.items().size(), plantItems);
 }
 
 TEST(PlantEngine, AnyPointOrReadingIsRetakenWhereItStandsAndReplaysToTheSamePlant) {

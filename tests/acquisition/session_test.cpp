@@ -45,7 +45,8 @@ struct Hand {
     std::vector<acq::Feedback> out;
     const auto sample = [&](bool button) {
       acq::StylusInput s{
-          t += 8 * kMs, {p[0] + noise(rng), p[1] + noise(rng), p[2] + noise(rng)}, button, "ok", "01   1.0  2.0  3.0"};
+          t += 8 * kMs, {p[0] + noise(rng), p[1] + noise(rng), p[2] + noise(rng)}, button, "ok", "01   1.0  2.0  3.0",
+          false};
       for (auto& f : session->onStylus(s)) out.push_back(f);
     };
     for (int i = 0; i < 60; ++i) sample(false);

@@ -209,7 +209,7 @@ void BM_PlantPressToPreview(benchmark::State& state) {
         (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, false, "ok", "01"});
       for (int i = 0; i < heldSamples; ++i)
         (void)s.onStylus({t += 8 * kMs, {p[0] + n(rng), p[1] + n(rng), p[2] + n(rng)}, true, "ok", "01"});
-      return acq::StylusInput{t += 8 * kMs, p, false, "ok", "01"};
+      return acq::StylusInput{t += 8 * kMs, p, false, "ok", "01", false};
     };
     for (int guard = 0; guard < 20000 && !s.engine().complete(); ++guard) {
       const acq::PlantStep step = s.engine().step();

@@ -332,6 +332,63 @@ TEST_F(CaptureCli, AnUnpluggedDigitizerMidRowIsReportedAndTheCaptureCarriesOnAtT
   expectAllAcknowledgedStored(acknowledged(lines), shown);
 }
 
+// A FASTRAK that resets now and then: its stream stops and the station re-initialises it. A
+// reset while the button was down used to end that press only when the stream came back, as
+// long as the outage — the very long press that undoes — so the last point was undone
+// unasked, and the simulated technician, pressing the next marker where the station now asked
+// again for the undone one, was refused for ever (this leaf, seed 1, never completed). The cut
+// press is refused in words; nothing is undone that the technician did not undo.
+TEST_F(CaptureCli, ADigitizerResetUnderAPressCutsThePressInWordsAndTheCaptureCompletes) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r =
+      leafdig("capture --simulate --speed 15 --seed 1 --no-mistakes --faults reset=0.001 --json --db " + quote(db) +
+              " --markers " + quote(sample("upper-small-leaf-n17.markers.json")) + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const auto lines = jsonLines(r.out);
+  int reinitialised = 0, cut = 0, undone = 0;
+  for (const json& j : lines) {
+    const std::string event = j.at("event");
+    if (event == "device" && j.at("message").get<std::string>().find("re-initialising") != std::string::npos)
+      ++reinitialised;
+    if (event == "rejected" && j.at("reason").get<std::string>().find("the digitizer connected again") == 0) {
+      ++cut;
+      EXPECT_NE(j.at("reason").get<std::string>().find("press again"), std::string::npos) << j.dump();
+    }
+    undone += event == "undone";
+  }
+  EXPECT_GT(reinitialised, 0) << r.out;
+  // How many presses the resets cut depends on where the technician's gestures fall against
+  // the resets, which a loaded host moves: here 1–3 a run, but none is possible, so it is
+  // recorded, not asserted (the engine tests cut a press on purpose).
+  RecordProperty("presses_cut", cut);
+  EXPECT_EQ(undone, 0) << r.out;
+  const json shown = show(db, 1);
+  EXPECT_EQ(shown.at("status"), "complete");
+  EXPECT_EQ(shown.at("markers").size(), 119u);
+  expectAllAcknowledgedStored(acknowledged(lines), shown);
+}
+
+// A simulated capture that gets nowhere — here a FASTRAK whose every record carries a status
+// letter, so every press is refused — is stopped after --give-up-after seconds, in words that
+// say where it stood and what was refused last, and kept; it is never waited on for ever.
+TEST_F(CaptureCli, ASimulatedCaptureThatGetsNowhereIsStoppedInWordsAndKept) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r =
+      leafdig("capture --simulate --speed 15 --no-mistakes --faults status=1:x --give-up-after 5 --json --db " +
+              quote(db) + " </dev/null");
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("the simulated technician got nowhere for 5 s at 'Tip: touch the leaf tip and press'"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("inputs refused since the last accepted one; the last: 'the digitizer reported status 'x'"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("leafdig sessions show 1"), std::string::npos) << r.err;
+  const json shown = show(db, 1);
+  EXPECT_EQ(shown.at("status"), "open");  // kept, to be resumed or looked at
+  EXPECT_EQ(leafdig("capture --simulate --give-up-after 0 --db " + quote(dir_ / "x.sqlite")).exitCode, 2);
+}
+
 // Issue 26: records delivered in delayed bursts (the simulated FASTRAK holds its output back
 // a quarter of a second now and then, as a busy station PC or a USB-serial adapter does, and
 // then sends it all at once). Timed by arrival, an ordinary press straddling a burst looked

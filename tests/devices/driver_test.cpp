@@ -187,6 +187,17 @@ TEST(Fastrak, ReconnectsAfterAnUnplugWithoutARestart) {
   ASSERT_TRUE(col.waitFor([&](Collector& k) { return k.stylus.size() >= atUnplug + 40; }, 10s)) << col.statusLog();
   EXPECT_GE(driver.status().reconnects, 1);
   driver.stop();
+  // The first sample of each connection says the stream began there (a press under way before
+  // it was cut); no other sample does.
+  std::lock_guard lock(col.mutex);
+  ASSERT_FALSE(col.stylus.empty());
+  EXPECT_TRUE(col.stylus.front().streamBegins);
+  std::vector<std::size_t> begins;
+  for (std::size_t i = 0; i < col.stylus.size(); ++i)
+    if (col.stylus[i].streamBegins) begins.push_back(i);
+  EXPECT_EQ(begins.size(), static_cast<std::size_t>(1 + driver.status().reconnects));
+  ASSERT_GE(begins.size(), 2U);
+  EXPECT_GE(begins[1], atUnplug);
 }
 
 TEST(SerialPorts, ABusyPortSaysWhoToClose) {

@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -267,8 +268,26 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   RunResult result;
   std::string lastPrompt;
   std::int64_t id = 0;
+  // How far the capture got: a simulated technician that gets nowhere (every input refused, or
+  // none made) is stopped with words after --give-up-after seconds, not waited on for ever.
+  std::mutex progressMutex;
+  auto lastProgress = std::chrono::steady_clock::now();
+  std::string lastRefusal;
+  int refusedSince = 0;
+  bool paused = false;
+  std::string where;  // the station's prompt
   acq::RunObserver observer;
   observer.onFeedback = [&](const acq::Feedback& f) {
+    {
+      std::lock_guard lock(progressMutex);
+      if (f.kind == acq::Feedback::Kind::Rejected) {
+        lastRefusal = f.text;
+        ++refusedSince;
+      } else if (f.kind != acq::Feedback::Kind::Device) {
+        lastProgress = std::chrono::steady_clock::now();
+        refusedSince = 0;
+      }
+    }
     if (quiet) return;
     if (o.json)
       std::cout << feedbackJson(f, id).dump() << "\n" << std::flush;
@@ -276,6 +295,12 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
       printTerminal(f);
   };
   observer.onSnapshot = [&](const acq::Snapshot& s) {
+    {
+      std::lock_guard lock(progressMutex);
+      if (s.paused != paused) lastProgress = std::chrono::steady_clock::now();  // a pause is no lack of progress
+      paused = s.paused;
+      where = s.prompt;
+    }
     if (quiet || s.prompt == lastPrompt) return;
     lastPrompt = s.prompt;
     if (o.json) {
@@ -315,9 +340,28 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
       std::cerr << "leafdig: " << e.what() << "\n";
     }
   });
+  std::atomic<bool> stuck{false};
+  std::string stuckWords;  // written by the watcher before `stuck`, read after it is joined
+  const auto giveUpAfter = std::chrono::duration<double>(o.giveUpAfterS);
   std::thread watcher([&] {
     while (!done && !run.finished()) {
       if (interrupted()) run.requestStop();
+      if (run.simulated() && !stuck) {
+        std::lock_guard lock(progressMutex);
+        if (!paused && std::chrono::steady_clock::now() - lastProgress > giveUpAfter) {
+          std::ostringstream why;
+          why << std::fixed << std::setprecision(0) << "leafdig: the simulated technician got nowhere for "
+              << o.giveUpAfterS << " s at '" << where << "' (" << refusedSince
+              << " inputs refused since the last accepted one"
+              << (lastRefusal.empty() ? "" : "; the last: '" + lastRefusal + "'")
+              << "): the capture was stopped and kept. This is a fault of the simulation or of the station: "
+                 "report it with 'leafdig sessions show "
+              << id << " --db " << run.dbPath() << "'\n";
+          stuckWords = why.str();
+          stuck = true;
+          run.requestStop();
+        }
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });
@@ -325,9 +369,15 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   done = true;
   input.stop();
   watcher.join();
-  result.last = run.shutdown(interrupted() ? "capture interrupted" : "capture stopped by the operator");
+  result.last = run.shutdown(interrupted() ? "capture interrupted"
+                             : stuck       ? "the simulated technician got nowhere"
+                                           : "capture stopped by the operator");
   result.stats = run.operatorStats();
   result.exitCode = interrupted() ? 130 : 0;
+  if (stuck && !interrupted()) {
+    std::cerr << stuckWords;
+    result.exitCode = 1;
+  }
   if (!quiet && !o.json && !result.last.complete && result.last.status == "open")
     std::cout << "  session " << id << " kept at: " << result.last.prompt
               << "\n  continue with: leafdig sessions resume " << id << " --db " << run.dbPath() << "\n";
@@ -851,6 +901,9 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
     c->add_option("--seed", o.seed, "Seed of the simulation (noise, mistakes, faults)");
     c->add_option("--speed", o.speed, "Time scale of the simulated operator and devices (e.g. 10)");
     c->add_flag("--no-mistakes", o.noMistakes, "The virtual operator makes no deliberate mistakes");
+    c->add_option("--give-up-after", o.giveUpAfterS,
+                  "Simulation: stop, in words, a capture that gets nowhere for this many seconds (default 180)")
+        ->check(CLI::Range(1.0, 86400.0));
     c->add_option(
         "--station", o.station,
         "This station's id, stored with the session (default: [station] id= in ~/.config/leafdig/station.ini, "
@@ -948,6 +1001,9 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   demo->add_option("--samples", o.samples, "Directory of *.markers.json leaves (default: data/samples)");
   demo->add_option("--speed", o.speed, "Time scale (default 8)");
   demo->add_option("--seed", o.seed, "Seed");
+  demo->add_option("--give-up-after", o.giveUpAfterS,
+                   "Stop, in words, a capture that gets nowhere for this many seconds (default 180)")
+      ->check(CLI::Range(1.0, 86400.0));
   demo->add_option("--synth-leaves", o.synthLeaves,
                    "Synthetic leaves with a known area captured after the samples (default 2, up to 20)");
   demo->add_option("--stylus-noise", o.stylusNoiseMm, "Noise of the simulated stylus per axis, σ in mm (default 0.3)");

@@ -32,6 +32,7 @@ struct CaptureOptions {
   std::optional<double> stylusNoiseMm;  // the simulated stylus's noise per axis
   std::uint64_t seed = 1;
   std::optional<double> speed;  // not given: 1 for a new capture, a resumed one's own, 8 for the demo
+  double giveUpAfterS = 180;    // a simulated technician that gets nowhere this long is stopped
   // sessions
   std::int64_t id = 0;
   bool all = false;

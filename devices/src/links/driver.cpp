@@ -1,6 +1,7 @@
 #include "leafdig/devices/links/driver.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "leafdig/names/name_table.hpp"
 
@@ -170,6 +171,7 @@ bool Driver::connect() {
   connected_ = true;
   retry_ = options_.retryMin;
   filter_.reset();
+  streamBegins_ = true;
   {
     std::lock_guard lock(mutex_);
     lastEvent_ = Clock::now();
@@ -197,15 +199,19 @@ void Driver::pollIfDue() {
 
 std::size_t Driver::deliver() {
   std::size_t delivered = 0;
+  // The first stylus sample of a connection says so: a press under way before it was cut.
+  const auto mark = [&](StylusSample& s) { s.streamBegins = std::exchange(streamBegins_, false); };
   for (auto& ev : events_) {
     if (auto* s = std::get_if<StylusSample>(&ev); s && options_.filterStylus) {
       kept_.clear();
       filter_.push(std::move(*s), kept_);
       for (auto& k : kept_) {
+        mark(k);
         if (callbacks_.onEvent) callbacks_.onEvent(DeviceEvent(std::move(k)));
         ++delivered;
       }
     } else {
+      if (auto* u = std::get_if<StylusSample>(&ev)) mark(*u);
       if (callbacks_.onEvent) callbacks_.onEvent(ev);
       ++delivered;
     }

@@ -124,6 +124,9 @@ struct StylusInput {
   bool button = false;
   std::string status = "ok";
   std::string raw;
+  // The first sample after the digitizer (re)connected: nothing before it is continuous with
+  // it, and a press under way was cut (StylusSample::streamBegins).
+  bool streamBegins = false;
 };
 struct CaliperInput {
   std::int64_t tNs = 0;
@@ -133,10 +136,20 @@ struct CaliperInput {
 
 // The stylus between samples as an engine follows it (the leaf's and the plant's): the recent
 // samples and the button.
+// How a press ended: held this long — or cut, when the digitizer's stream began again while the
+// button was down (a reset, an unplug): its length spans the outage and says nothing.
+struct PressEnd {
+  std::int64_t heldNs = 0;
+  bool cut = false;
+};
+// The words a cut press is refused with (leaf and plant alike).
+[[nodiscard]] std::string cutPressWords(std::int64_t heldNs);
+
 class StylusPress {
  public:
-  // Takes a sample; when it releases the button, how long the button was held.
-  std::optional<std::int64_t> take(const StylusInput& s, const Settings& settings);
+  // Takes a sample; when it releases the button (or the stream begins again under a press),
+  // how the press ended.
+  std::optional<PressEnd> take(const StylusInput& s, const Settings& settings);
   // The samples a press ending at releaseNs settles from: from stillWindow before the press
   // to the release.
   [[nodiscard]] std::vector<const StylusInput*> window(std::int64_t releaseNs, const Settings& settings) const;

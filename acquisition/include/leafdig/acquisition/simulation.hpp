@@ -129,6 +129,7 @@ class VirtualOperator {
   void press(const Vec3& at, double pressS, double settleS = 0.45, double travelS = 0.6);
   void measure(double mm);
   bool relocate(const Snapshot& s);  // true when it acted
+  [[nodiscard]] bool wrongPoint(const Item& i) const;
   [[nodiscard]] Vec3 truth(What w, int row, int col) const;
   [[nodiscard]] double truthThickness(What w, int row, int col) const;
 

@@ -27,6 +27,10 @@ struct StylusSample {
   std::string status = "ok";                        // "ok" or the device's status code
   std::string rawUnit;                              // unit on the wire: "in", "cm" or "mm"
   std::string raw;                                  // the record's bytes exactly as received
+  // The first sample the driver delivers after it (re)connected: the stream broke before it (a
+  // reset, an unplug, a stall) and a press that was under way is lost, whatever the button
+  // says now.
+  bool streamBegins = false;
 };
 
 struct CaliperReading {

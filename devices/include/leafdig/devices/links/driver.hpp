@@ -136,6 +136,7 @@ class Driver {
   Clock::time_point lastHeard_{};
   std::uint64_t recordsHeard_ = 0;
   bool connected_ = false;
+  bool streamBegins_ = false;  // the next stylus sample delivered is the first of a connection
   std::chrono::milliseconds retry_{0};
   Clock::time_point lastPoll_{};
   std::string lastWarning_;
