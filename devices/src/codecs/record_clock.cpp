@@ -24,6 +24,11 @@ Clock::time_point RecordClock::stamp(Clock::time_point arrival) {
     gapEnded_.reset();
     return arrival;
   };
+  // The stamp of record `count_`: the count at the rate from the least-delayed record.
+  const auto counted = [&] {
+    return base_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::nano>(
+                       minOffsetNs_ + static_cast<double>(count_) * periodNs_));
+  };
   if (count_ < 0) return newCount();
   // Nothing for more than a second: records lost (an unplug, a stall, a reset) — or a host that
   // did not read for that long (a starved PC) and now reads them all at once. Which one, the
@@ -53,9 +58,7 @@ Clock::time_point RecordClock::stamp(Clock::time_point arrival) {
       previousBlockMinNs_.reset();
       previousDriftNs_.reset();
     } else {
-      // Not yet known: timed by the count as it was.
-      return base_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::nano>(
-                         minOffsetNs_ + static_cast<double>(count_) * periodNs_));
+      return counted();  // not yet known: timed by the count as it was
     }
   }
   minOffsetNs_ = std::min(minOffsetNs_, offset);  // the least-delayed record sets the anchor
@@ -82,8 +85,7 @@ Clock::time_point RecordClock::stamp(Clock::time_point arrival) {
     blockStart_ = count_;
     blockBegan_ = arrival;
   }
-  return base_ + std::chrono::duration_cast<Clock::duration>(
-                     std::chrono::duration<double, std::nano>(minOffsetNs_ + static_cast<double>(count_) * periodNs_));
+  return counted();
 }
 
 }  // namespace leafdig::devices
