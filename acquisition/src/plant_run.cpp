@@ -208,18 +208,17 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
       } else if (const auto* r = std::get_if<dev::CaliperReading>(&std::get<dev::DeviceEvent>(in))) {
         f = session_.onCaliper({monoNs(r->t), r->valueMm, dev::printableRaw(r->raw, true)});
       }
-      if (f.decision.kind == PlantDecision::Kind::Ignored && !f.storeRefused &&
-          f.control == PlantFeedback::Control::None) {
-        commandsTaken_ += isCommand;
-        releasesTaken_ += released;
-        continue;
+      // Anything to tell: a decision, a refused write, a control (pause, resume, a move).
+      if (f.decision.kind != PlantDecision::Kind::Ignored || f.storeRefused ||
+          f.control != PlantFeedback::Control::None) {
+        if (f.decision.kind == PlantDecision::Kind::Rejected)
+          ++stats.rejected;
+        else if (f.seq > 0 && f.control == PlantFeedback::Control::None)
+          ++stats.accepted;
+        if (onFeedback) onFeedback(f, session_);
+        if (onChange) onChange(session_);
       }
-      if (f.decision.kind == PlantDecision::Kind::Rejected)
-        ++stats.rejected;
-      else if (f.seq > 0 && f.control == PlantFeedback::Control::None)
-        ++stats.accepted;
-      if (onFeedback) onFeedback(f, session_);
-      if (onChange) onChange(session_);
+      // Counted once told: the technician waits for these before it acts again.
       commandsTaken_ += isCommand;
       releasesTaken_ += released;
       if (session_.ended()) break;
