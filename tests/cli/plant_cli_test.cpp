@@ -1415,6 +1415,27 @@ TEST_F(PlantCli, RepeatSurveysOfOnePlantAreListedByTheirDay) {
   EXPECT_FALSE(fs::exists(dir_ / "none.sqlite"));
 }
 
+// A simulated plant capture that gets nowhere is stopped in words and kept, never waited on for
+// ever. Here at real speed with a 1-s limit: the first landmark's gesture alone takes 1.4 s of
+// the device's clock (travel, settle, press), so nothing can be taken within the second — on
+// any machine; a slower one only takes longer.
+TEST_F(PlantCli, ASimulatedPlantCaptureThatGetsNowhereIsStoppedInWordsAndKept) {
+  const fs::path db = dir_ / "station.sqlite";
+  const Result r = leafdig("plant capture --simulate --speed 1 --give-up-after 1 --db " + quote(db) + " </dev/null");
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("the simulated technician got nowhere for 1 s before its first input was taken"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("'leafdig sessions show 1 --db "), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("plant session 1 kept open"), std::string::npos) << r.out;
+  const Result listed = leafdig("sessions list --json --db " + quote(db));
+  ASSERT_EQ(listed.exitCode, 0) << listed.err;
+  const json sessions = json::parse(listed.out);
+  ASSERT_EQ(sessions.size(), 1U);
+  EXPECT_EQ(sessions[0].at("status"), "open");
+  EXPECT_EQ(leafdig("plant capture --simulate --give-up-after 0.5 --db " + quote(dir_ / "x.sqlite")).exitCode, 2);
+}
+
 TEST_F(PlantCli, PlantCaptureRefusesWhatItCannotDoInWordsBeforeTheStoreIsTouched) {
   const fs::path db = dir_ / "station.sqlite";
   const Result real = leafdig("plant capture --db " + quote(db));

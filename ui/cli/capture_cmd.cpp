@@ -774,7 +774,7 @@ int demoPlant(const CaptureOptions& c, const std::string& samples, const std::st
   sim.stylusNoiseMm = c.stylusNoiseMm.value_or(0.3);
   sim.mistakes = false;
   const auto t0 = std::chrono::steady_clock::now();
-  const acq::PlantRunStats stats = simulatePlant(store, id, sim, {});
+  const acq::PlantRunStats stats = simulatePlant(store, id, sim, {}, c.giveUpAfterS);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (store.session(id)->status != "complete") {
     std::cout << "not complete\n";

@@ -11,11 +11,13 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -50,6 +52,7 @@ struct PlantCaptureOptions {
   std::string plantMarkers, protocol, db, project = "plants", operatorName = "technician", station, date;
   std::string digitizer, caliper, plant;  // real devices
   double stylusNoiseMm = 0.3, speed = 1.0;
+  double giveUpAfterS = 180;  // simulation: a technician that gets nowhere this long is stopped
   int relocateSourceAfter = 0;
   std::optional<double> relocationToleranceMm;  // --relocation-tolerance: a new session's
   bool referenceReceiver = false;
@@ -350,9 +353,11 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   sim.relocateSourceAfter = o.relocateSourceAfter;
   sim.potTurnDeg = o.potTurnDeg;  // the reference receiver: as the session was begun
   sim.mistakes = false;
+  bool gaveUp = false;
   const acq::PlantRunStats stats = simulatePlant(
       *store, id, sim,
-      [&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) { printFeedback(o, id, f, s); });
+      [&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) { printFeedback(o, id, f, s); },
+      o.giveUpAfterS, &gaveUp);
   const auto info = store->session(id);
   const bool complete = info && info->status == "complete";
   if (!o.json)
@@ -363,7 +368,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
                            : "\n  continue with: leafdig plant capture --resume " + std::to_string(id) + " --db " +
                                  store->path())
               << "\n";
-  return interrupted() ? 130 : 0;
+  return interrupted() ? 130 : gaveUp ? 1 : 0;
 }
 
 struct SurveysOptions {
@@ -423,20 +428,63 @@ void addPlantSurveysCommand(CLI::App& plant, CommandTable& table) {
 
 acq::PlantRunStats simulatePlant(
     db::Store& store, std::int64_t id, const acq::SimulationOptions& options,
-    const std::function<void(const acq::PlantFeedback&, const acq::PlantCaptureSession&)>& onFeedback) {
+    const std::function<void(const acq::PlantFeedback&, const acq::PlantCaptureSession&)>& onFeedback,
+    double giveUpAfterS, bool* gaveUp) {
   installSignalHandlers();
+  // How far the technician got (as runSession does for a leaf): anything but a refusal is
+  // progress, and a pause is no lack of it.
+  std::mutex progressMutex;
+  auto lastProgress = std::chrono::steady_clock::now();
+  std::string where, lastRefusal;
+  int refusedSince = 0;
+  bool paused = false;
+  const auto told = [&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
+    {
+      std::lock_guard lock(progressMutex);
+      if (f.decision.kind == acq::PlantDecision::Kind::Rejected) {
+        lastRefusal = f.decision.reason;
+        ++refusedSince;
+      } else {
+        lastProgress = std::chrono::steady_clock::now();
+        refusedSince = 0;
+      }
+      if (s.paused() != paused) lastProgress = std::chrono::steady_clock::now();
+      paused = s.paused();
+      where = s.engine().prompt();
+    }
+    if (onFeedback) onFeedback(f, s);
+  };
   // Ctrl-C or SIGTERM stops the capture between two events; the session stays open.
-  std::atomic<bool> stop{false}, running{true};
+  std::atomic<bool> stop{false}, running{true}, stuck{false};
+  std::string stuckWords;  // written by the watcher before `stuck`, read after it is joined
   std::thread watcher([&] {
     while (running) {
       if (interrupted()) stop = true;
+      if (!stuck) {
+        std::lock_guard lock(progressMutex);
+        if (!paused && std::chrono::steady_clock::now() - lastProgress > std::chrono::duration<double>(giveUpAfterS)) {
+          std::ostringstream why;
+          why << std::fixed << std::setprecision(0) << "leafdig: the simulated technician got nowhere for "
+              << giveUpAfterS << " s " << (where.empty() ? "before its first input was taken" : "at '" + where + "'")
+              << " (" << refusedSince << " inputs refused since the last accepted one"
+              << (lastRefusal.empty() ? "" : "; the last: '" + lastRefusal + "'")
+              << "): the plant capture was stopped and kept. This is a fault of the simulation or of the station: "
+                 "report it with 'leafdig sessions show "
+              << id << " --db " << store.path() << "'\n";
+          stuckWords = why.str();
+          stuck = true;
+          stop = true;
+        }
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });
   try {
-    const acq::PlantRunStats stats = acq::runSimulatedPlant(store, id, options, onFeedback, stop);
+    const acq::PlantRunStats stats = acq::runSimulatedPlant(store, id, options, told, stop);
     running = false;
     watcher.join();
+    if (stuck && !interrupted()) std::cerr << stuckWords;
+    if (gaveUp) *gaveUp = stuck && !interrupted();
     return stats;
   } catch (...) {
     running = false;
@@ -484,6 +532,11 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
                    "as the technician goes up the plant")
       ->capture_default_str();
   capture->add_option("--speed", o->speed, "Simulation speed (1 = real time, up to 50)")->capture_default_str();
+  capture
+      ->add_option("--give-up-after", o->giveUpAfterS,
+                   "Simulation: stop, in words, a capture that gets nowhere for this many seconds")
+      ->check(CLI::Range(1.0, 86400.0))
+      ->capture_default_str();
   capture->add_option("--resume", o->resume, "Go on with an interrupted plant session");
   capture->add_flag("--json", o->json, "One JSON object per committed change (session first, complete last)");
   table.add(capture, [o] { return runPlantCapture(*o); });
