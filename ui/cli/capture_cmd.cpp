@@ -268,26 +268,15 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   RunResult result;
   std::string lastPrompt;
   std::int64_t id = 0;
-  // How far the capture got: a simulated technician that gets nowhere (every input refused, or
-  // none made) is stopped with words after --give-up-after seconds, not waited on for ever.
-  std::mutex progressMutex;
-  auto lastProgress = std::chrono::steady_clock::now();
-  std::string lastRefusal;
-  int refusedSince = 0;
-  bool paused = false;
-  std::string where;  // the station's prompt
+  // A simulated technician that gets nowhere (every input refused, or none made) is stopped
+  // with words after --give-up-after seconds, not waited on for ever.
+  GiveUpWatch progress(o.giveUpAfterS);
   acq::RunObserver observer;
   observer.onFeedback = [&](const acq::Feedback& f) {
-    {
-      std::lock_guard lock(progressMutex);
-      if (f.kind == acq::Feedback::Kind::Rejected) {
-        lastRefusal = f.text;
-        ++refusedSince;
-      } else if (f.kind != acq::Feedback::Kind::Device) {
-        lastProgress = std::chrono::steady_clock::now();
-        refusedSince = 0;
-      }
-    }
+    if (f.kind == acq::Feedback::Kind::Rejected)
+      progress.refused(f.text);
+    else if (f.kind != acq::Feedback::Kind::Device)
+      progress.progressed();
     if (quiet) return;
     if (o.json)
       std::cout << feedbackJson(f, id).dump() << "\n" << std::flush;
@@ -295,12 +284,7 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
       printTerminal(f);
   };
   observer.onSnapshot = [&](const acq::Snapshot& s) {
-    {
-      std::lock_guard lock(progressMutex);
-      if (s.paused != paused) lastProgress = std::chrono::steady_clock::now();  // a pause is no lack of progress
-      paused = s.paused;
-      where = s.prompt;
-    }
+    progress.at(s.prompt, s.paused);
     if (quiet || s.prompt == lastPrompt) return;
     lastPrompt = s.prompt;
     if (o.json) {
@@ -342,22 +326,12 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   });
   std::atomic<bool> stuck{false};
   std::string stuckWords;  // written by the watcher before `stuck`, read after it is joined
-  const auto giveUpAfter = std::chrono::duration<double>(o.giveUpAfterS);
   std::thread watcher([&] {
     while (!done && !run.finished()) {
       if (interrupted()) run.requestStop();
       if (run.simulated() && !stuck) {
-        std::lock_guard lock(progressMutex);
-        if (!paused && std::chrono::steady_clock::now() - lastProgress > giveUpAfter) {
-          std::ostringstream why;
-          why << std::fixed << std::setprecision(0) << "leafdig: the simulated technician got nowhere for "
-              << o.giveUpAfterS << " s at '" << where << "' (" << refusedSince
-              << " inputs refused since the last accepted one"
-              << (lastRefusal.empty() ? "" : "; the last: '" + lastRefusal + "'")
-              << "): the capture was stopped and kept. This is a fault of the simulation or of the station: "
-                 "report it with 'leafdig sessions show "
-              << id << " --db " << run.dbPath() << "'\n";
-          stuckWords = why.str();
+        if (std::string words = progress.overdue("capture", id, run.dbPath()); !words.empty()) {
+          stuckWords = std::move(words);
           stuck = true;
           run.requestStop();
         }
@@ -385,6 +359,41 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
 }
 
 }  // namespace
+
+GiveUpWatch::GiveUpWatch(double seconds) : seconds_(seconds), lastProgress_(std::chrono::steady_clock::now()) {}
+
+void GiveUpWatch::progressed() {
+  std::lock_guard lock(mutex_);
+  lastProgress_ = std::chrono::steady_clock::now();
+  refusedSince_ = 0;
+}
+
+void GiveUpWatch::refused(const std::string& reason) {
+  std::lock_guard lock(mutex_);
+  lastRefusal_ = reason;
+  ++refusedSince_;
+}
+
+void GiveUpWatch::at(const std::string& prompt, bool paused) {
+  std::lock_guard lock(mutex_);
+  if (paused != paused_) lastProgress_ = std::chrono::steady_clock::now();  // a pause is no lack of progress
+  paused_ = paused;
+  where_ = prompt;
+}
+
+std::string GiveUpWatch::overdue(const std::string& capture, std::int64_t id, const std::string& db) const {
+  std::lock_guard lock(mutex_);
+  if (paused_ || std::chrono::steady_clock::now() - lastProgress_ <= std::chrono::duration<double>(seconds_)) return {};
+  std::ostringstream why;
+  why << std::fixed << std::setprecision(0) << "leafdig: the simulated technician got nowhere for " << seconds_ << " s "
+      << (where_.empty() ? "before its first input was taken" : "at '" + where_ + "'") << " (" << refusedSince_
+      << " inputs refused since the last accepted one"
+      << (lastRefusal_.empty() ? "" : "; the last: '" + lastRefusal_ + "'") << "): the " << capture
+      << " was stopped and kept. This is a fault of the simulation or of the station: report it with 'leafdig "
+         "sessions show "
+      << id << " --db " << db << "'\n";
+  return why.str();
+}
 
 void checkRelocationTolerance(const std::optional<double>& mm, bool resuming) {
   if (!mm) return;

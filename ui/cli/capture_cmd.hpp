@@ -2,7 +2,9 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdint>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,6 +50,27 @@ struct CaptureOptions {
   // demo
   std::string samples;
   int synthLeaves = 2;
+};
+
+// How far a simulated capture got, for --give-up-after: anything the station took (but a device
+// message) is progress, a refusal is not, and a pause is no lack of it. Thread-safe: the
+// capture's thread tells it, a watcher asks it.
+class GiveUpWatch {
+ public:
+  explicit GiveUpWatch(double seconds);
+  void progressed();
+  void refused(const std::string& reason);
+  void at(const std::string& prompt, bool paused);  // the station's state now
+  // The words to print once the technician got nowhere for the limit; empty before.
+  [[nodiscard]] std::string overdue(const std::string& capture, std::int64_t id, const std::string& db) const;
+
+ private:
+  double seconds_;
+  mutable std::mutex mutex_;
+  std::chrono::steady_clock::time_point lastProgress_;
+  std::string where_, lastRefusal_;
+  int refusedSince_ = 0;
+  bool paused_ = false;
 };
 
 class CommandTable;

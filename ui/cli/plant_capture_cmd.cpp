@@ -11,13 +11,11 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <thread>
 
@@ -431,27 +429,13 @@ acq::PlantRunStats simulatePlant(
     const std::function<void(const acq::PlantFeedback&, const acq::PlantCaptureSession&)>& onFeedback,
     double giveUpAfterS, bool* gaveUp) {
   installSignalHandlers();
-  // How far the technician got (as runSession does for a leaf): anything but a refusal is
-  // progress, and a pause is no lack of it.
-  std::mutex progressMutex;
-  auto lastProgress = std::chrono::steady_clock::now();
-  std::string where, lastRefusal;
-  int refusedSince = 0;
-  bool paused = false;
+  GiveUpWatch progress(giveUpAfterS);  // as runSession's, for a leaf
   const auto told = [&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
-    {
-      std::lock_guard lock(progressMutex);
-      if (f.decision.kind == acq::PlantDecision::Kind::Rejected) {
-        lastRefusal = f.decision.reason;
-        ++refusedSince;
-      } else {
-        lastProgress = std::chrono::steady_clock::now();
-        refusedSince = 0;
-      }
-      if (s.paused() != paused) lastProgress = std::chrono::steady_clock::now();
-      paused = s.paused();
-      where = s.engine().prompt();
-    }
+    if (f.decision.kind == acq::PlantDecision::Kind::Rejected)
+      progress.refused(f.decision.reason);
+    else
+      progress.progressed();
+    progress.at(s.engine().prompt(), s.paused());
     if (onFeedback) onFeedback(f, s);
   };
   // Ctrl-C or SIGTERM stops the capture between two events; the session stays open.
@@ -461,17 +445,8 @@ acq::PlantRunStats simulatePlant(
     while (running) {
       if (interrupted()) stop = true;
       if (!stuck) {
-        std::lock_guard lock(progressMutex);
-        if (!paused && std::chrono::steady_clock::now() - lastProgress > std::chrono::duration<double>(giveUpAfterS)) {
-          std::ostringstream why;
-          why << std::fixed << std::setprecision(0) << "leafdig: the simulated technician got nowhere for "
-              << giveUpAfterS << " s " << (where.empty() ? "before its first input was taken" : "at '" + where + "'")
-              << " (" << refusedSince << " inputs refused since the last accepted one"
-              << (lastRefusal.empty() ? "" : "; the last: '" + lastRefusal + "'")
-              << "): the plant capture was stopped and kept. This is a fault of the simulation or of the station: "
-                 "report it with 'leafdig sessions show "
-              << id << " --db " << store.path() << "'\n";
-          stuckWords = why.str();
+        if (std::string words = progress.overdue("plant capture", id, store.path()); !words.empty()) {
+          stuckWords = std::move(words);
           stuck = true;
           stop = true;
         }
