@@ -371,22 +371,23 @@ PlantDecision PlantEngine::onStylus(const StylusInput& s) {
     in.positionMm = {p.x(), p.y(), p.z()};
   }
   const std::optional<PressEnd> end = press_.take(in, settings_);
-  const std::optional<std::int64_t> held = end && !end->cut ? std::optional<std::int64_t>(end->heldNs) : std::nullopt;
+  const bool released = end && !end->cut;  // a press that ended as pressed, not one a reconnect cut
   if (const int node = leafNode()) {
     Engine& e = leafEngine(node);
     e.setPlantPosition(static_cast<int>(toFirst_.size()) - 1);
     const bool hadActions = !e.items().empty() || e.rowsEnded();
     const Decision ld = e.onStylus(in);  // decides and applies, as on a detached leaf
-    if (held && *held >= settings_.undoPressNs && !hadActions && ld.kind == Decision::Kind::Rejected) return undo();
+    if (released && end->heldNs >= settings_.undoPressNs && !hadActions && ld.kind == Decision::Kind::Rejected)
+      return undo();
     PlantDecision d = fromLeaf(node, ld);
     if (d.kind == PlantDecision::Kind::Leaf) mirror(node, ld);
     if (ld.kind == Decision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
     return d;
   }
-  if (end && end->cut) return reject(cutPressWords(end->heldNs));
-  if (!held) return {};
-  if (*held >= settings_.undoPressNs) return undo();
-  PlantDecision d = *held >= settings_.longPressNs ? decideEnd() : decidePoint(in);
+  if (!end) return {};
+  if (end->cut) return reject(cutPressWords(end->heldNs));
+  if (end->heldNs >= settings_.undoPressNs) return undo();
+  PlantDecision d = end->heldNs >= settings_.longPressNs ? decideEnd() : decidePoint(in);
   if (d.kind != PlantDecision::Kind::Rejected && d.kind != PlantDecision::Kind::Ignored) apply(d);
   if (d.kind == PlantDecision::Kind::Accepted) lastAcceptedReleaseNs_ = s.tNs;
   return d;

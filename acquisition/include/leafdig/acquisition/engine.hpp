@@ -134,8 +134,6 @@ struct CaliperInput {
   std::string raw;
 };
 
-// The stylus between samples as an engine follows it (the leaf's and the plant's): the recent
-// samples and the button.
 // How a press ended: held this long — or cut, when the digitizer's stream began again while the
 // button was down (a reset, an unplug): its length spans the outage and says nothing.
 struct PressEnd {
@@ -145,6 +143,8 @@ struct PressEnd {
 // The words a cut press is refused with (leaf and plant alike).
 [[nodiscard]] std::string cutPressWords(std::int64_t heldNs);
 
+// The stylus between samples as an engine follows it (the leaf's and the plant's): the recent
+// samples and the button.
 class StylusPress {
  public:
   // Takes a sample; when it releases the button (or the stream begins again under a press),
