@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -204,6 +205,15 @@ void writeFiles(const std::vector<m::EncodedFile>& files) {
 
 // A leaf's files by extension, as `model build -o` writes them (the simulation formats through
 // the leaf as a plant of one leaf; the model document for .json).
+// A light direction from Python: three finite numbers, not all zero; only its direction
+// counts, so it is scaled to a largest component of 1 (nan, or 1e200, would leave no light).
+Eigen::Vector3d lightOf(const std::array<double, 3>& light) {
+  const Eigen::Vector3d d(light[0], light[1], light[2]);
+  if (!d.allFinite() || d.cwiseAbs().maxCoeff() == 0.0)
+    throw std::invalid_argument("light must be three finite numbers (x, y, z), not all zero, e.g. (0, 0, 1)");
+  return d / d.cwiseAbs().maxCoeff();
+}
+
 std::vector<std::string> exportLeaf(const Leaf& leaf, const std::string& path, const Eigen::Vector3d& light) {
   py::gil_scoped_release free;
   const std::filesystem::path p(path);
@@ -469,6 +479,10 @@ PYBIND11_MODULE(_leafdig, mod) {
                              })
       .def("to_json", [](const Markers& s) { return m::markersToJson(s.set); });
   mod.def("read_markers", &readMarkers, py::arg("path"));
+  // A file the package reads itself (a plan): through the same checks as every reader (a
+  // regular file, not a device or a FIFO, within leafdig's size bound), as bytes.
+  mod.def(
+      "read_file", [](const std::string& path) { return py::bytes(m::readFile(path)); }, py::arg("path"));
   mod.def("parse_markers", &parseMarkers, py::arg("text"), py::arg("source") = "markers");
 
   py::class_<Leaf>(mod, "Leaf")
@@ -516,7 +530,7 @@ PYBIND11_MODULE(_leafdig, mod) {
       .def(
           "export",
           [](const Leaf& l, const std::string& path, const std::array<double, 3>& light) {
-            return exportLeaf(l, path, Eigen::Vector3d(light[0], light[1], light[2]));
+            return exportLeaf(l, path, lightOf(light));
           },
           py::arg("path"), py::arg("light") = std::array<double, 3>{0, 0, 1});
   mod.def(
@@ -524,8 +538,7 @@ PYBIND11_MODULE(_leafdig, mod) {
       [](const Markers& markers, const std::string& source, const std::string& blade, const std::string& resolution,
          const std::string& mesh, std::optional<double> maxError, const std::string& frame,
          const std::array<double, 3>& light) {
-        return buildLeaf(markers.set, source, blade, resolution, mesh, maxError, frame,
-                         Eigen::Vector3d(light[0], light[1], light[2]));
+        return buildLeaf(markers.set, source, blade, resolution, mesh, maxError, frame, lightOf(light));
       },
       py::arg("markers"), py::arg("source") = "", py::arg("blade") = "interp", py::arg("resolution") = "export",
       py::arg("mesh") = "uniform", py::arg("max_error") = py::none(), py::arg("frame") = "digitizer",
@@ -563,7 +576,7 @@ PYBIND11_MODULE(_leafdig, mod) {
       [](const std::string& text, const std::string& source, const std::string& baseDir,
          const std::vector<std::optional<double>>& times, const std::string& resolution,
          const std::array<double, 3>& light) {
-        return buildPlants(text, source, baseDir, times, resolution, Eigen::Vector3d(light[0], light[1], light[2]));
+        return buildPlants(text, source, baseDir, times, resolution, lightOf(light));
       },
       py::arg("text"), py::arg("source"), py::arg("base_dir"), py::arg("times"), py::arg("resolution") = "export",
       py::arg("light") = std::array<double, 3>{0, 0, 1});
@@ -576,7 +589,7 @@ PYBIND11_MODULE(_leafdig, mod) {
       .def(
           "plant",
           [](const Store& s, std::int64_t id, const std::array<double, 3>& light) {
-            return capturedPlant(s, id, Eigen::Vector3d(light[0], light[1], light[2]));
+            return capturedPlant(s, id, lightOf(light));
           },
           py::arg("id"), py::arg("light") = std::array<double, 3>{0, 0, 1})
       .def_property_readonly("where", [](const Store& s) { return s.where; })

@@ -14,18 +14,20 @@ std::string defaultLeafFile() {
   return (dir.empty() ? sourceDataDir() + "/samples" : dir) + "/lower-leaf-n10.markers.json";
 }
 
-void checkSpeed(double speed) {
-  if (!(speed > 0 && speed <= 50)) throw std::invalid_argument("the simulation speed must be in (0, 50]");
-}
-
 }  // namespace
+
+void checkSimulationSpeed(double speed) {
+  // Slower than a tenth of real time a simulated capture would take hours (1e-300: for ever).
+  if (!(speed >= kMinSimulationSpeed && speed <= kMaxSimulationSpeed))
+    throw std::invalid_argument("the simulation speed must be between 0.1 (ten times slower than real time) and 50");
+}
 
 CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std::move(observer)) {
   SessionSetup setup = request.setup;
   if (request.resume == 0) {
     // Everything the operator typed is checked before the store is touched.
     if (setup.simulated) {
-      checkSpeed(request.simulation.speed);
+      checkSimulationSpeed(request.simulation.speed);
       if (request.leaf && !request.leafFile.empty())
         throw std::invalid_argument("give the simulated leaf as a file or as a synthetic leaf, not both");
       if (!(request.simulation.stylusNoiseMm >= 0.0 && request.simulation.stylusNoiseMm <= 20.0))
@@ -54,7 +56,7 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
       setup.timeScale = 1.0;
     }
   }
-  if (request.speed) checkSpeed(*request.speed);
+  if (request.speed) checkSimulationSpeed(*request.speed);
   store_ = std::make_unique<db::Store>(request.db.empty() ? db::Store::defaultPath() : request.db);
   id_ = request.resume > 0 ? request.resume : CaptureSession::create(*store_, setup);
   session_ = std::make_unique<CaptureSession>(*store_, id_);

@@ -8,6 +8,8 @@
 
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/db/event_store.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/files.hpp"
 
 namespace leafdig::acquisition::detail {
 
@@ -24,6 +26,13 @@ inline void requireChain(const db::EventStore& store, std::int64_t id, const std
                        doing);
 }
 
+// An export never writes over the station's file it reads (nor its WAL): named as inputs of
+// this process, model::writeFileAtomically refuses them by name.
+inline void noteStoreAsInput(const db::EventStore& store) {
+  if (const auto* file = dynamic_cast<const db::Store*>(&store))
+    for (const char* suffix : {"", "-wal", "-shm"}) model::noteInput(file->path() + suffix);
+}
+
 // What a curator's correction of session `id` needs before anything is read (a leaf's and a
 // plant's alike): a complete session (approved and rejected are final, open is still being
 // captured), a reason, a name, and a chain that verifies. std::invalid_argument / SessionError.
@@ -32,8 +41,9 @@ inline void requireCorrectable(const db::EventStore& store, std::int64_t id, con
   if (status != "complete")
     throw std::invalid_argument("session " + std::to_string(id) + " is " + status +
                                 ": only a complete session (awaiting review) can be corrected");
-  if (reason.empty()) throw std::invalid_argument("a correction needs a reason: say what was wrong");
-  if (who.empty()) throw std::invalid_argument("a correction needs the curator's name");
+  const auto blank = [](const std::string& t) { return t.find_first_not_of(" \t\r\n") == std::string::npos; };
+  if (blank(reason)) throw std::invalid_argument("a correction needs a reason: say what was wrong");
+  if (blank(who)) throw std::invalid_argument("a correction needs the curator's name");
   requireChain(store, id, "corrected");
 }
 

@@ -8,6 +8,7 @@
 
 #include "leafdig/acquisition/engine.hpp"
 #include "leafdig/db/store.hpp"
+#include "leafdig/model/limits.hpp"
 
 namespace leafdig::acquisition::detail {
 
@@ -44,6 +45,24 @@ inline Item itemFrom(const nlohmann::json& j, const std::string& raw) {
   i.frame = j.value("frame", 0);
   if (i.frame < 0 || i.frame > 999)
     throw std::invalid_argument("its frame " + std::to_string(i.frame) + " is not 0–999");
+  // Where each item may stand (the engine's steps): nothing an event says indexes outside a leaf.
+  const int maxRow = static_cast<int>(model::kMaxRows);
+  const auto at = [&](int rowLo, int rowHi, int colLo, int colHi) {
+    if (i.row < rowLo || i.row > rowHi || i.col < colLo || i.col > colHi)
+      throw std::invalid_argument(std::string("its ") + toString(i.what) + " stands at row " + std::to_string(i.row) +
+                                  " col " + std::to_string(i.col) + ", where no " + toString(i.what) + " is taken");
+  };
+  switch (i.what) {
+    case What::Board: at(0, 0, 1, 3); break;
+    case What::BoardAgain: at(1, 999, 1, 3); break;
+    case What::Tip:
+    case What::EdgeThickness: at(0, 0, 0, 0); break;
+    case What::Marker:
+    case What::PointThickness: at(1, maxRow, 1, 7); break;
+    case What::MidribThickness:
+    case What::VeinOriginThickness: at(1, maxRow, 4, 4); break;
+    case What::Done: throw std::invalid_argument("it names no item");
+  }
   i.raw = raw;
   return i;
 }

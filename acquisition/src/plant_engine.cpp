@@ -28,8 +28,6 @@ constexpr NameTable<PlantWhat, 9> kPlantWhatNames{{{PlantWhat::Landmark, "landma
                                                    {PlantWhat::Done, "done"},
                                                    {PlantWhat::LandmarkAgain, "landmark_again"}}};
 
-constexpr std::size_t kMaxLeafTypeChars = 64;
-
 std::string num(int v) {
   return std::to_string(v);
 }

@@ -195,6 +195,7 @@ CapturedModel capturedModel(const db::EventStore& store, const m::PlantSurvey& s
 
 PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
                                const std::string& outDir) {
+  detail::noteStoreAsInput(store);
   if (outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
   const std::vector<std::string>& all = plantExportFormats();
   std::vector<std::string> chosen = formats.empty() ? all : formats;
@@ -301,17 +302,22 @@ std::vector<PlantSurveyEntry> plantSurveys(const db::EventStore& store, const st
       e.verified = false;
     }
     if (e.verified) {
-      const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info.settingsJson);
-      if (setup.date) e.date = m::toIso(*setup.date);
-      const m::PlantMarkers taken = PlantCaptureSession::replay(setup, store.events(info.id)).captured(info.plant);
-      e.nodes = static_cast<int>(taken.nodes.size());
-      for (const m::PlantNode& n : taken.nodes) {
-        if (std::holds_alternative<m::MarkerSet>(n.leaf))
-          ++e.full;
-        else if (std::holds_alternative<m::QuickLeaf>(n.leaf))
-          ++e.quick;
-        else
-          ++e.noLeaf;
+      try {
+        const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info.settingsJson);
+        if (setup.date) e.date = m::toIso(*setup.date);
+        const m::PlantMarkers taken = PlantCaptureSession::replay(setup, store.events(info.id)).captured(info.plant);
+        e.nodes = static_cast<int>(taken.nodes.size());
+        for (const m::PlantNode& n : taken.nodes) {
+          if (std::holds_alternative<m::MarkerSet>(n.leaf))
+            ++e.full;
+          else if (std::holds_alternative<m::QuickLeaf>(n.leaf))
+            ++e.quick;
+          else
+            ++e.noLeaf;
+        }
+      } catch (const std::exception& x) {
+        e.problem = x.what();
+        e.nodes = e.full = e.quick = e.noLeaf = 0;
       }
     }
     out.push_back(std::move(e));

@@ -108,7 +108,7 @@ PlantCommand parsePlantCommand(const std::string& line) {
       throw std::invalid_argument(std::string(e.what()) + " (leaf N full|quick|none [state] [type])");
     }
     if (in >> extra) throw std::invalid_argument("'" + extra + "' is one word too many: leaf N KIND [STATE] [TYPE]");
-    if (type.size() > 64) throw std::invalid_argument("a leaf's type is at most 64 characters");
+    if (type.size() > kMaxLeafTypeChars) throw std::invalid_argument("a leaf's type is at most 64 characters");
     c.choice.type = type;
   } else {
     throw std::invalid_argument(

@@ -10,6 +10,7 @@
 #include "chain_check.hpp"
 #include "item_json.hpp"
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/db/event_rules.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/io/survey_export.hpp"
@@ -110,6 +111,16 @@ PlantDecision acceptedItem(const json& p, const std::string& raw) {
   return d;
 }
 
+// Whether an undo's, retake's or correction's payload carries the item it names: the same
+// what, row and col (lab schema 10 holds the same on the server).
+bool sameItem(const json& p, const PlantDecision& named) {
+  try {
+    return keyOf(acceptedItem(p, "")) == keyOf(named);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 json choiceJson(int node, const LeafChoice& c) {
   json j{{"node", node}, {"kind", m::toString(c.kind)}, {"state", m::toString(c.state)}};
   if (!c.type.empty()) j["type"] = c.type;  // absent when not said (sessions before it read the same)
@@ -152,6 +163,8 @@ std::string PlantCaptureSession::setupToJson(const PlantSessionSetup& s) {
 }
 
 PlantSessionSetup PlantCaptureSession::setupFromJson(const std::string& text) {
+  if (const auto problem = db::settingsProblem(text))
+    throw SessionError("the plant session's settings do not read: " + *problem);
   PlantSessionSetup s;
   try {
     const json j = json::parse(text);
@@ -204,6 +217,7 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
       throw SessionError("event " + std::to_string(e.seq) + " (" + e.kind + ") does not fit the plant: " + why);
     };
     try {
+      if (const auto problem = db::eventProblem(e.kind, e.payloadJson, e.raw)) fail(*problem);
       const json p = json::parse(e.payloadJson);
       PlantDecision d;
       if (e.kind == "accepted") {
@@ -217,6 +231,7 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
         if (it == accepted.end()) fail("it corrects event " + std::to_string(named) + ", which put no item in");
         const auto at = held.find(keyOf(it->second));
         if (at == held.end() || at->second != named) fail("it corrects an item that is no longer there");
+        if (!sameItem(p, it->second)) fail("it names event " + std::to_string(named) + " but carries another item");
         PlantDecision fixed = acceptedItem(p.at("corrected"), e.raw);
         if (keyOf(fixed) != keyOf(it->second)) fail("the corrected item is not the one it names");
         const std::string flag = "corrected: " + p.at("reason").get<std::string>();
@@ -237,8 +252,11 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
         const auto it = accepted.find(p.at("seq").get<std::int64_t>());
         if (it == accepted.end())
           fail("it undoes event " + std::to_string(p.at("seq").get<std::int64_t>()) + ", which accepted nothing");
+        const auto at = held.find(keyOf(it->second));
+        if (at == held.end() || at->second != it->first) fail("it undoes an item that is no longer there");
+        if (!sameItem(p, it->second)) fail("it names event " + std::to_string(it->first) + " but carries another item");
         d = it->second;
-        held.erase(keyOf(d));
+        held.erase(at);
         if (d.kind == PlantDecision::Kind::Leaf)
           d.leaf.kind = Decision::Kind::Undone;
         else
@@ -250,6 +268,7 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
           fail("it retakes event " + std::to_string(p.at("seq").get<std::int64_t>()) + ", which put no item in");
         const auto at = held.find(keyOf(it->second));
         if (at == held.end() || at->second != it->first) fail("it retakes an item that is no longer there");
+        if (!sameItem(p, it->second)) fail("it names event " + std::to_string(it->first) + " but carries another item");
         held.erase(at);
         d = it->second;
         if (d.kind == PlantDecision::Kind::Leaf)
@@ -274,6 +293,9 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
         d.node = p.at("node").get<int>();
         d.choice = {m::leafKindFromString(p.at("kind").get<std::string>()),
                     m::leafStateFromString(p.at("state").get<std::string>()), p.value("type", std::string())};
+        if (d.choice.type.size() > kMaxLeafTypeChars)
+          fail("its leaf type is " + std::to_string(d.choice.type.size()) + " characters: a leaf type is at most " +
+               std::to_string(kMaxLeafTypeChars));
       } else if (e.kind == "node_placed" || e.kind == "placement_undone") {
         d.kind = e.kind == "node_placed" ? PlantDecision::Kind::NodePlaced : PlantDecision::Kind::PlacementUndone;
         d.node = p.at("node").get<int>();
@@ -287,6 +309,15 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
         d.kind = *step;
         d.node = p.at("relocation").get<int>();
         if (d.node < 1 || d.node > 999) fail("it names relocation " + std::to_string(d.node));
+        if (d.kind == PlantDecision::Kind::RelocationFitted && engine.relocating() == d.node) {
+          // The fit is worked out again from the landmarks: it must be one the capture would
+          // take (rigid, within tolerance) and the one the technician was shown.
+          const RelocationFit fit = engine.fitOf(d.node);
+          if (fit.refusal) fail("the move's fit is not one a capture takes: " + *fit.refusal);
+          if (p.contains("rms_mm") && std::abs(p.at("rms_mm").get<double>() - fit.rmsMm) > 1e-6)
+            fail("it states a fit of " + std::to_string(p.at("rms_mm").get<double>()) +
+                 " mm RMS, but its landmarks give " + std::to_string(fit.rmsMm) + " mm");
+        }
       } else if (const auto k = valueIn(kEvents, e.kind); k && e.kind != "rejected") {
         d.kind = *k;  // the ends and their reopenings
       } else {
@@ -296,6 +327,8 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
                                                         d.place.parent < 1 || d.place.parent >= d.node))
         fail("it places node " + std::to_string(d.node) + " on node " + std::to_string(d.place.parent) +
              ", which is not a node before it");
+      if (d.kind == PlantDecision::Kind::NodePlaced && d.place.relation == '+' && !engine.hasBranches())
+        fail("it starts a branch at node " + std::to_string(d.node) + ", but the plant's protocol has no branch");
       engine.apply(d);
     } catch (const json::exception& x) {
       fail(x.what());
@@ -610,7 +643,8 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
   detail::requireCorrectable(store, id, info->status, c.reason, c.who);
   const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
   std::map<std::string, std::int64_t> held;
-  PlantEngine engine = PlantCaptureSession::replay(setup, store.events(id), &held);
+  const std::vector<db::Event> logged = store.events(id);
+  PlantEngine engine = PlantCaptureSession::replay(setup, logged, &held);
 
   const bool stylus = c.node > 0 ? acquisition::isStylusItem(c.leafWhat) : isStylusItem(c.what);
   if (stylus) {
@@ -757,6 +791,8 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
     throw std::invalid_argument(std::string("the corrected plant would not hold together (") + e.what() +
                                 "): check the position, nothing was written");
   }
+  // Written only if nobody added to the session since it was replayed here.
+  if (!events.empty() && !logged.empty()) events.front().follows = logged.back().seq;
   (void)store.ensureOperator(c.who, "curator");
   return store.appendAll(id, events);
 }

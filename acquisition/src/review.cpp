@@ -14,9 +14,11 @@
 #include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/preview.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/io/csv_text.hpp"
 #include "leafdig/model/io/mesh_export.hpp"
 #include "leafdig/model/io/model_json.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/limits.hpp"
 #include "leafdig/version.hpp"
 #include "rigid_map.hpp"
 
@@ -68,12 +70,7 @@ void keepLeafItems(db::Projected& items, const std::string& prefix) {
   strip(items.thickness);
 }
 
-std::string csvText(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
+using model::csvText;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -111,6 +108,13 @@ ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std:
   r.replayedEvents = static_cast<std::int64_t>(events.size());
   r.engine = CaptureSession::replay(r.settings, events, &r.seqs);
   return r;
+}
+
+void requireReplays(const db::SessionInfo& info, const std::vector<db::Event>& events) {
+  if (info.kind == "plant")
+    (void)PlantCaptureSession::replay(PlantCaptureSession::setupFromJson(info.settingsJson), events);
+  else
+    (void)CaptureSession::replay(CaptureSession::settingsFromJson(info.settingsJson), events);
 }
 
 std::vector<ReviewFlag> reviewFlags(const std::vector<Item>& items, double madLimit) {
@@ -233,7 +237,10 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
     if (!c.positionMm || c.valueMm)
       throw std::invalid_argument("a marker is corrected with a position (x, y, z in mm)");
     for (double v : *c.positionMm)
-      if (!std::isfinite(v)) throw std::invalid_argument("the corrected position must be finite numbers in mm");
+      if (!std::isfinite(v) || std::abs(v) > model::kMaxCoordinateMm)
+        throw std::invalid_argument("the corrected position must be finite numbers in mm within ±" +
+                                    std::to_string(static_cast<int>(model::kMaxCoordinateMm)) +
+                                    " mm of the transmitter");
     fixed.positionMm = *c.positionMm;
     // A corrected point is given in the first transmitter position's frame (as the review shows
     // it); a board point taken again stays in its own.
@@ -280,6 +287,8 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
       }
     }
   }
+  // Written only if nobody added to the session since it was replayed here.
+  events.front().follows = r.totalEvents;
   (void)store.ensureOperator(c.who, "curator");
   return store.appendAll(id, events);
 }
@@ -289,8 +298,9 @@ std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& s
   const db::SessionInfo info = infoOrThrow(store, id);
   if (status != "approved" && status != "rejected")
     throw std::invalid_argument("a review approves or rejects, not '" + status + "'");
-  if (who.empty()) throw std::invalid_argument("a curator signs every review: give a name (--who)");
-  if (status == "rejected" && why.empty()) throw std::invalid_argument("say what is wrong when rejecting (--why)");
+  const auto blank = [](const std::string& t) { return t.find_first_not_of(" \t\r\n") == std::string::npos; };
+  if (blank(who)) throw std::invalid_argument("a curator signs every review: give the curator's name");
+  if (status == "rejected" && blank(why)) throw std::invalid_argument("say what is wrong when rejecting (--why)");
   if (info.status == "approved" || info.status == "rejected")
     throw std::invalid_argument("session " + std::to_string(id) + " is already " + info.status);
   if (info.status != "complete")
@@ -360,6 +370,7 @@ LeafSummary summarize(const ReviewedSession& r) {
 }
 
 ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportRequest& request) {
+  detail::noteStoreAsInput(store);
   if (request.outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
   if (request.frame != "leaf" && request.frame != "digitizer")
     throw std::invalid_argument("unknown frame '" + request.frame + "': use leaf or digitizer");

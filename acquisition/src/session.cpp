@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +11,7 @@
 
 #include "chain_check.hpp"
 #include "item_json.hpp"
+#include "leafdig/db/event_rules.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/names/name_table.hpp"
 
@@ -122,8 +125,9 @@ std::string CaptureSession::settingsToJson(const Settings& s) {
   return j.dump();
 }
 
-Settings CaptureSession::settingsFromJson(const std::string& text) {
-  const json j = json::parse(text);
+namespace {
+
+Settings settingsFromParsed(const json& j) {
   const json& e = j.contains("engine") ? j.at("engine") : j;
   Settings s;
   s.mode = model::thicknessModeFromString(e.value("mode", std::string("standard")));
@@ -144,6 +148,20 @@ Settings CaptureSession::settingsFromJson(const std::string& text) {
   s.boardMinMm = e.value("board_min_mm", s.boardMinMm);
   s.relocationToleranceMm = e.value("relocation_tolerance_mm", s.relocationToleranceMm);
   return s;
+}
+
+}  // namespace
+
+Settings CaptureSession::settingsFromJson(const std::string& text) {
+  // Settings are text from a file or a server: checked as every event is (db::settingsProblem),
+  // and any shape leafdig does not write is named, never an internal error.
+  if (const auto problem = db::settingsProblem(text))
+    throw SessionError("the session's settings cannot be read: " + *problem);
+  try {
+    return settingsFromParsed(json::parse(text));
+  } catch (const json::exception& e) {
+    throw SessionError(std::string("the session's settings cannot be read: ") + e.what());
+  }
 }
 
 std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup) {
@@ -212,6 +230,7 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
   map.clear();
   for (const db::Event& e : events) {
     try {
+      if (const auto problem = db::eventProblem(e.kind, e.payloadJson, e.raw)) throw SessionError(*problem);
       Decision d;
       const json p = json::parse(e.payloadJson);
       if (e.kind == "corrected") {
@@ -236,6 +255,15 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
         d.relocation = p.at("relocation").get<int>();
         if (d.relocation < 1 || d.relocation > 999)
           throw SessionError("it names relocation " + std::to_string(d.relocation));
+        if (d.kind == Decision::Kind::RelocationFitted && engine.relocating() == d.relocation) {
+          // Worked out again from the board points: one a capture takes, and the one shown.
+          const Decision fit = engine.fitOf(d.relocation);
+          if (fit.kind != Decision::Kind::RelocationFitted)
+            throw SessionError("the move's fit is not one a capture takes: " + fit.reason);
+          if (p.contains("rms_mm") && std::abs(p.at("rms_mm").get<double>() - fit.fitRmsMm) > 1e-6)
+            throw SessionError("it states a fit of " + std::to_string(p.at("rms_mm").get<double>()) +
+                               " mm RMS, but its board points give " + std::to_string(fit.fitRmsMm) + " mm");
+        }
       } else {
         const auto kind = valueIn(kDecisionEvents, e.kind);
         // Rejections, pauses, device and status events change no item.
@@ -245,6 +273,10 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
           case Decision::Kind::Accepted:
           case Decision::Kind::RetakeCancelled:
             d.item = itemFrom(p, e.raw);
+            // A frame names a move of the transmitter the session holds (under way or fitted).
+            if (d.item.frame > std::max(engine.relocating(), engine.transmitterPositions() - 1))
+              throw SessionError("its frame " + std::to_string(d.item.frame) +
+                                 " names a move of the transmitter the session does not hold");
             map[keyOf(d.item)] = e.seq;
             break;
           case Decision::Kind::Undone:

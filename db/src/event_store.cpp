@@ -13,6 +13,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "leafdig/db/event_rules.hpp"
+
 namespace leafdig::db {
 
 std::string sha256Hex(const std::string& data) {
@@ -38,6 +40,20 @@ std::string eventHash(const std::string& prev, std::int64_t session, std::int64_
 
 std::string genesisHash(std::int64_t stationSessionId, const std::string& createdUtc, const std::string& settingsJson) {
   return sha256Hex("leafdig session " + std::to_string(stationSessionId) + " " + createdUtc + " " + settingsJson);
+}
+
+std::string genesisHash(const std::string& station, const std::string& kind, std::int64_t stationSessionId,
+                        const std::string& createdUtc, const std::string& settingsJson) {
+  // Each field with its length: no station or kind text can be made to read as another split.
+  const auto field = [](const std::string& v) { return std::to_string(v.size()) + ":" + v + "\n"; };
+  return sha256Hex("leafdig session/2\n" + field(station) + field(kind) + field(std::to_string(stationSessionId)) +
+                   field(createdUtc) + field(settingsJson));
+}
+
+std::string genesisOf(const SessionInfo& s) {
+  const std::int64_t id = s.stationSessionId > 0 ? s.stationSessionId : s.id;
+  return s.genesisForm >= 2 ? genesisHash(s.station, s.kind, id, s.createdUtc, s.settingsJson)
+                            : genesisHash(id, s.createdUtc, s.settingsJson);
 }
 
 ChainReport verifyChain(std::int64_t stationSessionId, const std::string& genesis, std::int64_t headSeq,
@@ -205,6 +221,7 @@ EventInput changeOf(const Event& e) {
   in.payloadJson = e.payloadJson;
   in.raw = e.raw;
   in.monoNs = e.monoNs;
+  if (const auto problem = eventProblem(e.kind, e.payloadJson, e.raw)) unreadable(e, *problem);
   const bool carriesItem = e.kind == "accepted" || e.kind == "retake_cancelled";
   const bool retracts = e.kind == "undone" || e.kind == "retake";
   if (!carriesItem && !retracts && e.kind != "corrected" && e.kind != "status") return in;

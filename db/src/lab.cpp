@@ -37,7 +37,11 @@ std::string percentEncoded(const std::string& text) {
 
 }  // namespace
 
-std::string redactUrl(const std::string& url) {
+namespace {
+
+// The URL as libpq reads it, each secret (password, sslpassword) replaced by `secret`, or left
+// out when `secret` is null.
+std::string renderUrl(const std::string& url, const char* secret) {
   const bool asUrl = isServerUrl(url);
   if (!asUrl && url.find('=') == std::string::npos) return url;  // a file's path
   const auto parsed = pg::parseConnection(url);
@@ -60,25 +64,42 @@ std::string redactUrl(const std::string& url) {
   };
   if (!asUrl) {
     std::string out;
-    for (const auto& [key, value] : *parsed)
-      out += (out.empty() ? "" : " ") + key + "=" + (pg::isSecretOption(key) ? std::string("***") : value);
+    for (const auto& [key, value] : *parsed) {
+      if (pg::isSecretOption(key) && !secret) continue;
+      out += (out.empty() ? "" : " ") + key + "=" + (pg::isSecretOption(key) ? std::string(secret) : value);
+    }
     return out;
   }
   const auto user = take("user");
-  const bool password = take("password").has_value();
+  const bool password = take("password").has_value() && secret;
   const auto host = take("host");
   const auto port = take("port");
   const auto dbname = take("dbname");
   std::string out = url.substr(0, url.find("://") + 3);
-  if (user || password) out += percentEncoded(user.value_or("")) + (password ? ":***" : "") + "@";
+  if (user || password) out += percentEncoded(user.value_or("")) + (password ? std::string(":") + secret : "") + "@";
   if (host) out += host->find(':') != std::string::npos ? "[" + *host + "]" : percentEncoded(*host);
   if (port) out += ":" + percentEncoded(*port);
   if (dbname) out += "/" + percentEncoded(*dbname);
   std::string query;
-  for (const auto& [key, value] : o)
+  for (const auto& [key, value] : o) {
+    if (pg::isSecretOption(key) && !secret) continue;
     query += (query.empty() ? "?" : "&") + key + "=" +
-             (pg::isSecretOption(key) ? std::string("***") : percentEncoded(value));
+             (pg::isSecretOption(key) ? std::string(secret) : percentEncoded(value));
+  }
   return out + query;
+}
+
+}  // namespace
+
+std::string redactUrl(const std::string& url) {
+  return renderUrl(url, "***");
+}
+
+std::optional<std::string> urlWithoutSecrets(const std::string& url) {
+  const bool asUrl = isServerUrl(url);
+  if (!asUrl && url.find('=') == std::string::npos) return url;
+  if (!pg::parseConnection(url)) return std::nullopt;
+  return renderUrl(url, nullptr);
 }
 
 // ---- schema and roles ---------------------------------------------------------------------
@@ -118,6 +139,30 @@ void takeInitLock(pg::Connection& c, double seconds) {
                    remedy);
 }
 
+// init's migration to `version` gave up waiting for a lock: who holds the leafdig tables (the
+// oldest open transaction of another connection on them), and what the administrator may do.
+StoreError lockedOut(pg::Connection& c, double seconds, int version) {
+  const auto holder = c.exec(
+      "SELECT a.pid, coalesce(a.usename::text, '?'), coalesce(a.state, '?'), "
+      "coalesce(pg_catalog.to_char(a.xact_start, 'YYYY-MM-DD HH24:MI:SS'), '?') "
+      "FROM pg_catalog.pg_locks l JOIN pg_catalog.pg_class r ON r.oid = l.relation "
+      "JOIN pg_catalog.pg_namespace n ON n.oid = r.relnamespace "
+      "JOIN pg_catalog.pg_stat_activity a ON a.pid = l.pid "
+      "WHERE n.nspname = 'leafdig' AND l.granted AND l.pid <> pg_catalog.pg_backend_pid() "
+      "ORDER BY a.xact_start LIMIT 1");
+  std::string who = "another connection", remedy = "end it, then run init again; nothing was changed";
+  if (holder.rows() == 1) {
+    who = "connection " + holder.text(0, 0) + " (login " + holder.text(0, 1) + ", " + holder.text(0, 2) + " since " +
+          holder.text(0, 3) + " UTC)";
+    remedy = "ask " + holder.text(0, 1) + " to end that transaction, or end it as the administrator (SELECT " +
+             "pg_terminate_backend(" + holder.text(0, 0) + ")); then run init again — nothing was changed";
+  }
+  return StoreError(StoreErrorKind::Busy,
+                    "server init waited " + std::to_string(static_cast<int>(seconds)) + " s to upgrade " + c.where() +
+                        " to schema " + std::to_string(version) + ": " + who + " holds the leafdig tables",
+                    remedy);
+}
+
 }  // namespace
 
 ServerInit initServer(const std::string& url, double lockWaitSeconds) {
@@ -147,10 +192,20 @@ ServerInit initServer(const std::string& url, double lockWaitSeconds) {
                        "the lab server " + c.where() + " has schema version " + std::to_string(out.fromVersion) +
                            "; this leafdig knows up to " + std::to_string(kLabSchemaVersion),
                        "install a newer leafdig; the server was not changed");
+    // A migration waits at most --lock-wait for the tables it changes: a reader's transaction
+    // left open would otherwise hold the upgrade, and every push behind it, for ever.
+    (void)c.exec("SELECT pg_catalog.set_config('lock_timeout', $1, false)",
+                 {std::to_string(static_cast<long long>(lockWaitSeconds * 1000)) + "ms"});
     for (int v = out.fromVersion; v < kLabSchemaVersion; ++v) {
       c.begin();
       try {
-        c.execScript(detail::kLabMigrations[static_cast<std::size_t>(v)]);
+        try {
+          c.execScript(detail::kLabMigrations[static_cast<std::size_t>(v)]);
+        } catch (const pg::Error& e) {
+          if (e.sqlState() != "55P03") throw;  // lock_not_available
+          c.rollback();
+          throw lockedOut(c, lockWaitSeconds, v + 1);
+        }
         (void)c.exec(
             "INSERT INTO leafdig.meta(key, value) VALUES ('schema_version', $1) "
             "ON CONFLICT (key) DO UPDATE SET value = EXCLUDED.value",
@@ -162,6 +217,30 @@ ServerInit initServer(const std::string& url, double lockWaitSeconds) {
       }
     }
     out.toVersion = kLabSchemaVersion;
+    // Only the lab's logins reach this database: PUBLIC may neither connect nor make temporary
+    // tables here (a login of another lab on the same cluster is a member of the same group
+    // roles). The logins this lab already knows keep CONNECT; add-user grants it to each new one.
+    const std::string database = c.quoteIdentifier(c.exec("SELECT pg_catalog.current_database()").text(0, 0));
+    if (c.exec("SELECT pg_catalog.has_database_privilege('public', pg_catalog.current_database(), 'CONNECT') "
+               "OR pg_catalog.has_database_privilege('public', pg_catalog.current_database(), 'TEMPORARY')")
+            .text(0, 0) == "t") {
+      const auto known = c.exec(
+          "SELECT DISTINCT u.rolname FROM pg_catalog.pg_auth_members m "
+          "JOIN pg_catalog.pg_roles g ON g.oid = m.roleid JOIN pg_catalog.pg_roles u ON u.oid = m.member "
+          "WHERE g.rolname IN ('leafdig_technicians', 'leafdig_curators', 'leafdig_readers') AND u.rolcanlogin "
+          "AND (u.rolname IN (SELECT login FROM leafdig.station_logins) "
+          "OR u.rolname IN (SELECT written_by FROM leafdig.events) OR u.rolname IN (SELECT pushed_by FROM "
+          "leafdig.sessions))");
+      for (int i = 0; i < known.rows(); ++i)
+        (void)c.exec("GRANT CONNECT ON DATABASE " + database + " TO " + c.quoteIdentifier(known.text(i, 0)));
+      (void)c.exec("GRANT CONNECT ON DATABASE " + database + " TO CURRENT_USER");
+      (void)c.exec("REVOKE CONNECT, TEMPORARY ON DATABASE " + database + " FROM PUBLIC");
+      if (c.exec("SELECT pg_catalog.has_database_privilege('public', pg_catalog.current_database(), 'CONNECT')")
+              .text(0, 0) == "t")
+        out.notes.push_back("every login of the cluster may still connect to " + database +
+                            ": this login does not own it — as its owner run REVOKE CONNECT, TEMPORARY ON DATABASE " +
+                            database + " FROM PUBLIC; then run init again");
+    }
   } catch (...) {
     (void)c.exec(std::string("SELECT pg_catalog.pg_advisory_unlock(") + kInitLock + ")");
     throw;
@@ -208,6 +287,21 @@ AddedUser addUser(const std::string& url, const std::string& login, LabRole role
     if (!exists && !password)
       throw StoreError(StoreErrorKind::Input, "there is no login '" + login + "' on " + c.where(),
                        "give --password-file to create it, or name an existing login");
+    if (exists) {
+      // One login, one role: a technician that were a curator too would review its own captures.
+      for (const LabRole other : {LabRole::Technician, LabRole::Curator, LabRole::Reader}) {
+        if (other == role) continue;
+        const std::string otherGroup = std::string("leafdig_") + toString(other) + "s";
+        if (c.exec("SELECT 1 FROM pg_catalog.pg_auth_members m JOIN pg_catalog.pg_roles g ON g.oid = m.roleid "
+                   "JOIN pg_catalog.pg_roles u ON u.oid = m.member WHERE g.rolname = $1 AND u.rolname = $2",
+                   {otherGroup, login})
+                .rows() > 0)
+          throw StoreError(StoreErrorKind::Input,
+                           "the login '" + login + "' is already a " + toString(other) + " on " + c.where() +
+                               ": one login holds one role, so nobody reviews their own capture",
+                           std::string("give the ") + toString(role) + " a login of its own (--login another name)");
+      }
+    }
     if (password) {
       // The verifier is computed here: the password itself never reaches the server's logs.
       const std::string verifier = c.quoteLiteral(c.encryptPassword(*password, login));
@@ -215,6 +309,15 @@ AddedUser addUser(const std::string& url, const std::string& login, LabRole role
       out.created = !exists;
     }
     (void)c.exec("GRANT " + c.quoteIdentifier(group) + " TO " + ident);
+    // This lab's login: it may connect here (PUBLIC may not, since schema 10's init), with a
+    // bounded number of connections, and a transaction or statement it leaves running ends.
+    const std::string database = c.quoteIdentifier(c.exec("SELECT pg_catalog.current_database()").text(0, 0));
+    (void)c.exec("GRANT CONNECT ON DATABASE " + database + " TO " + ident);
+    (void)c.exec("ALTER ROLE " + ident + " CONNECTION LIMIT " + std::to_string(kLoginConnectionLimit));
+    (void)c.exec("ALTER ROLE " + ident + " IN DATABASE " + database +
+                 " SET idle_in_transaction_session_timeout = " + c.quoteLiteral(kIdleInTransactionTimeout));
+    (void)c.exec("ALTER ROLE " + ident + " IN DATABASE " + database +
+                 " SET statement_timeout = " + c.quoteLiteral(kStatementTimeout));
     if (role == LabRole::Technician)
       (void)c.exec(
           "INSERT INTO leafdig.station_logins(login, station) VALUES ($1, $2) "
@@ -233,11 +336,12 @@ AddedUser addUser(const std::string& url, const std::string& login, LabRole role
 namespace {
 
 // The session columns; a server of schema 2 (before plant sessions) holds leaf sessions only.
-std::string sessionColumns(int schemaVersion) {
+std::string sessionColumns(int schemaVersion, bool genesisForms) {
   return std::string(
              "SELECT id, station_session_id, project, plant, leaf_position, operator, station, status, mode, "
              "capture_order, settings_json, created_utc, head_seq, head_hash, leaf_type, measured_area_mm2, ") +
-         (schemaVersion >= 3 ? "kind" : "'leaf'") + " FROM leafdig.sessions ";
+         (schemaVersion >= 3 ? "kind" : "'leaf'") + (genesisForms ? ", genesis_form" : ", 1") +
+         " FROM leafdig.sessions ";
 }
 
 SessionInfo sessionAt(const pg::Result& r, int i) {
@@ -259,6 +363,7 @@ SessionInfo sessionAt(const pg::Result& r, int i) {
   s.leafType = r.text(i, 14);
   if (!r.isNull(i, 15)) s.measuredAreaMm2 = r.number(i, 15);
   s.kind = r.text(i, 16);
+  s.genesisForm = static_cast<int>(r.int64(i, 17));
   return s;
 }
 
@@ -273,6 +378,12 @@ LabStore::LabStore(const std::string& url) : conn_(std::make_unique<pg::Connecti
   const auto v = conn_->exec("SELECT value FROM leafdig.meta WHERE key = 'schema_version'");
   if (v.rows() == 0) throw notLeafdig();
   schemaVersion_ = std::stoi(v.text(0, 0));
+  login_ = conn_->exec("SELECT session_user").text(0, 0);
+  genesisForms_ = conn_
+                      ->exec(
+                          "SELECT 1 FROM information_schema.columns WHERE table_schema = 'leafdig' AND table_name = "
+                          "'sessions' AND column_name = 'genesis_form'")
+                      .rows() > 0;
   if (schemaVersion_ > kLabSchemaVersion)
     throw StoreError(StoreErrorKind::TooNew,
                      "the lab server " + conn_->where() + " has schema version " + v.text(0, 0) +
@@ -287,7 +398,7 @@ std::string LabStore::describe() const {
 }
 
 std::vector<SessionInfo> LabStore::sessions() const {
-  const auto r = conn_->exec(sessionColumns(schemaVersion_) + "ORDER BY id");
+  const auto r = conn_->exec(sessionColumns(schemaVersion_, genesisForms_) + "ORDER BY id");
   std::vector<SessionInfo> out;
   out.reserve(static_cast<std::size_t>(r.rows()));
   for (int i = 0; i < r.rows(); ++i) out.push_back(sessionAt(r, i));
@@ -295,7 +406,7 @@ std::vector<SessionInfo> LabStore::sessions() const {
 }
 
 std::optional<SessionInfo> LabStore::session(std::int64_t id) const {
-  const auto r = conn_->exec(sessionColumns(schemaVersion_) + "WHERE id = $1", {std::to_string(id)});
+  const auto r = conn_->exec(sessionColumns(schemaVersion_, genesisForms_) + "WHERE id = $1", {std::to_string(id)});
   if (r.rows() == 0) return std::nullopt;
   return sessionAt(r, 0);
 }
@@ -321,7 +432,16 @@ ChainReport LabStore::verify(std::int64_t session) const {
     return r;
   }
   const auto g = conn_->exec("SELECT genesis_hash FROM leafdig.sessions WHERE id = $1", {std::to_string(session)});
-  return verifyChain(s->stationSessionId, g.text(0, 0), s->headSeq, s->headHash, events(session));
+  ChainReport r = verifyChain(s->stationSessionId, g.text(0, 0), s->headSeq, s->headHash, events(session));
+  r.genesisForm = s->genesisForm;
+  if (r.ok && genesisOf(*s) != g.text(0, 0)) {
+    r.ok = false;
+    r.firstBadSeq = 0;
+    r.problem =
+        "its station, kind, creation time or settings were changed after it was written (its genesis hash "
+        "differs)";
+  }
+  return r;
 }
 
 std::int64_t LabStore::append(std::int64_t session, const EventInput& in) {
@@ -347,6 +467,12 @@ std::int64_t LabStore::appendAll(std::int64_t session, const std::vector<EventIn
                        "'leafdig sessions list --db …' shows the sessions this login may see");
     std::int64_t seq = h.int64(0, 2);
     std::string hash = h.text(0, 3);
+    if (!events.empty() && events.front().follows && *events.front().follows != seq)
+      throw StoreError(StoreErrorKind::Conflict,
+                       "session " + std::to_string(session) + " on " + conn_->where() + " moved on to event " +
+                           std::to_string(seq) + " while this change was worked out from event " +
+                           std::to_string(*events.front().follows) + " (another curator at the same time?)",
+                       "nothing was written; look at the session again (sessions show) and run the command again");
     try {
       if (events.size() > 1) conn_->begin();
       for (const EventInput& in : events) {

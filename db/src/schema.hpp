@@ -6,7 +6,7 @@
 
 namespace leafdig::db::detail {
 
-inline constexpr std::array<const char*, 2> kMigrations = {
+inline constexpr std::array<const char*, 3> kMigrations = {
     // ---- 1: the entities of docs/schema.md ----------------------------------------------------
     R"SQL(
 CREATE TABLE operators (
@@ -133,6 +133,14 @@ DROP TABLE sessions;
 ALTER TABLE sessions_2 RENAME TO sessions;
 CREATE INDEX sessions_by_leaf ON sessions(leaf_id);
 CREATE INDEX sessions_by_plant ON sessions(plant_id);
+)SQL",
+    // ---- 3: the station in the chain (issue 47) -------------------------------------------------
+    // A session's genesis hash now covers its station and kind (form 2, docs/schema.md, "The event
+    // log"): a copy of another station's file with its station column edited no longer verifies.
+    // Sessions written before keep form 1 (their genesis covers id, time and settings only) and
+    // still verify; `sessions verify` and `show` say which form a session has.
+    R"SQL(
+ALTER TABLE sessions ADD COLUMN genesis_form INTEGER NOT NULL DEFAULT 1 CHECK (genesis_form IN (1, 2));
 )SQL",
 };
 

@@ -259,7 +259,19 @@ std::string Store::checkPages() const {
 
 Store::Store(const std::string& path, bool readOnly) : impl_(std::make_unique<Impl>()), path_(path) {
   std::error_code ec;
-  const bool exists = fs::exists(path, ec) && fs::file_size(path, ec) > 0;
+  // A named pipe would block the open for ever, /dev/zero read as a database: only a regular
+  // file (or a new name) is a station's file.
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw StoreError(StoreErrorKind::Input,
+                     path + " is not a regular file (" +
+                         (fs::is_directory(status) ? "a folder"
+                          : fs::is_fifo(status)    ? "a named pipe"
+                                                   : "a device") +
+                         ")",
+                     "give the path of a leafdig database, or a new file name to start one; nothing was opened");
+  const auto size = fs::exists(status) ? fs::file_size(path, ec) : 0;
+  const bool exists = !ec && size > 0 && size != static_cast<std::uintmax_t>(-1);
   OperationClock clock(impl_->budget);
   try {
     if (exists) {
@@ -461,9 +473,9 @@ std::int64_t Store::insertSession(std::int64_t leafId, std::int64_t plantId, std
     // A leaf session's plant is its leaf's; a plant session has no leaf.
     SQLite::Statement ins(*impl_->db,
                           "INSERT INTO sessions(kind, plant_id, leaf_id, operator_id, station, mode, capture_order, "
-                          "settings_json, created_utc, genesis_hash, head_hash) VALUES (CASE WHEN ?1 IS NULL THEN "
-                          "'plant' ELSE 'leaf' END, coalesce((SELECT plant_id FROM leaves WHERE id = ?1), ?8), ?1, ?2, "
-                          "?3, ?4, ?5, ?6, ?7, '', '')");
+                          "settings_json, created_utc, genesis_hash, head_hash, genesis_form) VALUES (CASE WHEN ?1 IS "
+                          "NULL THEN 'plant' ELSE 'leaf' END, coalesce((SELECT plant_id FROM leaves WHERE id = ?1), "
+                          "?8), ?1, ?2, ?3, ?4, ?5, ?6, ?7, '', '', 2)");
     if (leafId > 0)
       ins.bind(1, leafId);
     else
@@ -480,7 +492,7 @@ std::int64_t Store::insertSession(std::int64_t leafId, std::int64_t plantId, std
       ins.bind(8);
     ins.exec();
     const std::int64_t id = impl_->db->getLastInsertRowid();
-    const std::string genesis = genesisHash(id, created, settingsJson);
+    const std::string genesis = genesisHash(station, leafId > 0 ? "leaf" : "plant", id, created, settingsJson);
     SQLite::Statement up(*impl_->db, "UPDATE sessions SET genesis_hash=?1, head_hash=?1 WHERE id=?2");
     up.bind(1, genesis);
     up.bind(2, id);
@@ -582,6 +594,12 @@ std::int64_t Store::appendAll(std::int64_t session, const std::vector<EventInput
   try {
     SQLite::Transaction tx(*impl_->db, SQLite::TransactionBehavior::IMMEDIATE);
     Head head = headOf(*impl_->db, session, path_);
+    if (!events.empty() && events.front().follows && *events.front().follows != head.seq)
+      throw StoreError(StoreErrorKind::Conflict,
+                       "session " + std::to_string(session) + " in " + path_ + " moved on to event " +
+                           std::to_string(head.seq) + " while this change was worked out from event " +
+                           std::to_string(*events.front().follows) + " (another correction at the same time?)",
+                       "nothing was written; look at the session again (sessions show) and run the command again");
     for (const EventInput& ev : events) {
       Event e;
       e.session = session;
@@ -709,13 +727,20 @@ namespace {
 constexpr const char* kSessionSelect =
     "SELECT s.id, coalesce(s.leaf_id, 0), pr.name, pl.name, coalesce(l.position, 0), o.name, s.station, s.status, "
     "s.mode, s.capture_order, s.settings_json, s.created_utc, s.head_seq, s.head_hash, coalesce(l.type, ''), "
-    "l.measured_area_mm2, s.kind FROM sessions s LEFT JOIN leaves l ON l.id = s.leaf_id "
+    "l.measured_area_mm2, s.kind, s.genesis_form FROM sessions s LEFT JOIN leaves l ON l.id = s.leaf_id "
+    "JOIN plants pl ON pl.id = s.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = "
+    "s.operator_id ";
+// Schema 2, read as it is: every session's genesis is of form 1.
+constexpr const char* kSessionSelect2 =
+    "SELECT s.id, coalesce(s.leaf_id, 0), pr.name, pl.name, coalesce(l.position, 0), o.name, s.station, s.status, "
+    "s.mode, s.capture_order, s.settings_json, s.created_utc, s.head_seq, s.head_hash, coalesce(l.type, ''), "
+    "l.measured_area_mm2, s.kind, 1 FROM sessions s LEFT JOIN leaves l ON l.id = s.leaf_id "
     "JOIN plants pl ON pl.id = s.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = "
     "s.operator_id ";
 // A file of schema 1 read as it is (a reader does not upgrade): every session is a leaf's.
 constexpr const char* kSessionSelect1 =
     "SELECT s.id, s.leaf_id, pr.name, pl.name, l.position, o.name, s.station, s.status, s.mode, s.capture_order, "
-    "s.settings_json, s.created_utc, s.head_seq, s.head_hash, l.type, l.measured_area_mm2, 'leaf' FROM sessions s "
+    "s.settings_json, s.created_utc, s.head_seq, s.head_hash, l.type, l.measured_area_mm2, 'leaf', 1 FROM sessions s "
     "JOIN leaves l ON l.id = s.leaf_id "
     "JOIN plants pl ON pl.id = l.plant_id JOIN projects pr ON pr.id = pl.project_id JOIN operators o ON o.id = "
     "s.operator_id ";
@@ -739,15 +764,18 @@ SessionInfo readSession(SQLite::Statement& q) {
   s.leafType = q.getColumn(14).getString();
   if (!q.getColumn(15).isNull()) s.measuredAreaMm2 = q.getColumn(15).getDouble();
   s.kind = q.getColumn(16).getString();
+  s.genesisForm = q.getColumn(17).getInt();
   return s;
+}
+const char* sessionSelect(int version) {
+  return version >= 3 ? kSessionSelect : version == 2 ? kSessionSelect2 : kSessionSelect1;
 }
 }  // namespace
 
 std::optional<SessionInfo> Store::session(std::int64_t id) const {
   OperationClock clock(impl_->budget);
   try {
-    SQLite::Statement q(*impl_->db,
-                        std::string(impl_->version >= 2 ? kSessionSelect : kSessionSelect1) + "WHERE s.id=?1");
+    SQLite::Statement q(*impl_->db, std::string(sessionSelect(impl_->version)) + "WHERE s.id=?1");
     q.bind(1, id);
     if (q.executeStep()) return readSession(q);
   } catch (const SQLite::Exception& e) {
@@ -760,8 +788,7 @@ std::vector<SessionInfo> Store::sessions() const {
   OperationClock clock(impl_->budget);
   std::vector<SessionInfo> out;
   try {
-    SQLite::Statement q(*impl_->db,
-                        std::string(impl_->version >= 2 ? kSessionSelect : kSessionSelect1) + "ORDER BY s.id");
+    SQLite::Statement q(*impl_->db, std::string(sessionSelect(impl_->version)) + "ORDER BY s.id");
     while (q.executeStep()) out.push_back(readSession(q));
   } catch (const SQLite::Exception& e) {
     rethrow(e, path_, "cannot read sessions from");
@@ -774,7 +801,11 @@ ChainReport Store::verify(std::int64_t session) const {
   std::string genesis;
   std::int64_t headSeq = 0;
   std::string headHash, status;
+  // One snapshot for the row, the events and the tables: another process committing between
+  // two of these reads (a curator's correction at the same time) is not a changed file.
+  std::optional<SQLite::Transaction> snapshot;
   try {
+    snapshot.emplace(*impl_->db);
     SQLite::Statement q(*impl_->db, "SELECT genesis_hash, head_seq, head_hash, status FROM sessions WHERE id=?1");
     q.bind(1, session);
     if (!q.executeStep()) {
@@ -793,6 +824,18 @@ ChainReport Store::verify(std::int64_t session) const {
   const std::vector<Event> log = events(session);
   ChainReport r = verifyChain(session, genesis, headSeq, headHash, log);
   if (!r.ok) return r;
+  // The genesis must be what the session's row says it was made of: its station, kind,
+  // creation time and settings (form 2), or the last two (form 1, written before schema 3).
+  if (const auto info = this->session(session)) {
+    r.genesisForm = info->genesisForm;
+    if (genesisOf(*info) != genesis) {
+      r.ok = false;
+      r.firstBadSeq = 0;
+      r.problem = std::string("its ") + (info->genesisForm >= 2 ? "station, kind, " : "") +
+                  "creation time or settings were changed after it was written (its genesis hash differs)";
+      return r;
+    }
+  }
   // The tables read by other tools (and by the CSV export) must be what the events say.
   if (const auto problem = projectionProblem(log, markers(session), thickness(session), status)) {
     r.ok = false;

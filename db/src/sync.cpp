@@ -1,8 +1,10 @@
 // Push and pull between a station's file and the lab server (docs/lab.md, "Sync").
 #include <algorithm>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 
+#include "leafdig/db/event_rules.hpp"
 #include "leafdig/db/lab.hpp"
 #include "pg.hpp"
 
@@ -28,10 +30,6 @@ std::map<std::int64_t, ServerHead> serverHeads(pg::Connection& c, const std::str
   return out;
 }
 
-std::string genesisOf(const SessionInfo& s) {
-  return genesisHash(s.id, s.createdUtc, s.settingsJson);
-}
-
 // A session's text that the server cannot hold as it is (not UTF-8, or a NUL byte).
 std::optional<std::string> untransportable(const SessionInfo& s, const std::vector<Event>& events) {
   const std::pair<const char*, const std::string*> fields[] = {
@@ -54,13 +52,16 @@ int serverSchema(pg::Connection& c) {
 }
 
 void insertSession(pg::Connection& c, const SessionInfo& s) {
-  // A server before plant sessions has no `kind` (and takes only leaf sessions: push checks).
+  // A server before plant sessions has no `kind` (and takes only leaf sessions: push checks);
+  // one before schema 10 no `genesis_form` (and takes only form 1: push checks).
   const bool plant = s.kind == "plant";
+  const bool form2 = s.genesisForm >= 2;
   (void)c.exec(
       std::string("INSERT INTO leafdig.sessions(station, station_session_id, project, plant, leaf_position, leaf_type, "
                   "measured_area_mm2, operator, mode, capture_order, settings_json, created_utc, genesis_hash") +
-          (plant ? ", kind) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, 'plant')"
-                 : ") VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13)"),
+          (plant ? ", kind" : "") + (form2 ? ", genesis_form" : "") +
+          ") VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13" + (plant ? ", 'plant'" : "") +
+          (form2 ? ", 2" : "") + ")",
       {s.station, std::to_string(s.id), s.project, s.plant, std::to_string(s.leafPosition), s.leafType,
        s.measuredAreaMm2 ? std::optional<std::string>(std::to_string(*s.measuredAreaMm2)) : std::nullopt,
        s.operatorName, s.mode, s.order, s.settingsJson, s.createdUtc, genesisOf(s)});
@@ -112,10 +113,13 @@ void insertEvents(pg::Connection& c, std::int64_t serverId, const std::string& s
 // plant sessions at all before schema 3, a plant's retakes before 4, its branches before 5, its
 // moved transmitter before 6, a leaf's moved transmitter before 7; nothing when the server
 // takes it all.
-std::optional<std::string> beyondServer(const SessionInfo& s, int schema, Store& local) {
+std::optional<std::string> beyondServer(const SessionInfo& s, int schema, bool genesisForms, Store& local) {
+  const std::string server = " and the lab server (schema " + std::to_string(schema) + ") does not take ";
+  // A genesis that covers the station (station schema 3) needs a server that knows it (10).
+  if (s.genesisForm >= 2 && !genesisForms)
+    return "is a session whose chain covers its station" + server + "such sessions yet";
   if (schema >= 7) return std::nullopt;
   const bool plant = s.kind == "plant";
-  const std::string server = " and the lab server (schema " + std::to_string(schema) + ") does not take ";
   if (plant && schema < 3) return "is a plant session" + server + "plant sessions yet";
   struct Since {
     bool plant;
@@ -150,6 +154,11 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
   }
   pg::Connection c(url);
   const int schema = serverSchema(c);
+  // Whether the server knows a genesis that covers the station (lab schema 10).
+  const bool genesisForms = c.exec(
+                                 "SELECT 1 FROM information_schema.columns WHERE table_schema = 'leafdig' AND "
+                                 "table_name = 'sessions' AND column_name = 'genesis_form'")
+                                .rows() > 0;
   std::map<std::string, std::map<std::int64_t, ServerHead>> heads;  // by station
   const auto problem = [&](const SessionInfo& s, const std::string& what, const std::string& remedy) {
     report.problems.push_back({s.station, s.id, what, remedy});
@@ -166,7 +175,7 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
       continue;
     }
     // What a server of an older schema cannot take yet stays on this station, whole, named.
-    if (const auto missing = beyondServer(s, schema, local)) {
+    if (const auto missing = beyondServer(s, schema, genesisForms, local)) {
       problem(s, *missing + "; it stays on this station, whole",
               "the lab's administrator runs 'leafdig server init --url …' with this leafdig (it upgrades the server), "
               "then push again");
@@ -258,6 +267,53 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
   return report;
 }
 
+namespace {
+
+// What a pull may bring (docs/lab.md, "Sync"): a curator's review of a capture the station
+// completed — corrections, then at most one decision (approved or rejected), nothing after it —
+// each event one leafdig writes, and the session as a whole still replaying. A server that
+// sends anything else (an undo, a new point, a status that reopens) is refused in words and
+// nothing of the session is taken: the station's own capture is never rewritten from outside.
+void checkPulled(Store& local, const SessionInfo& s, const std::vector<Event>& events, const SyncOptions& options) {
+  const auto refuse = [&](const Event& e, const std::string& why) {
+    throw StoreError(StoreErrorKind::Conflict,
+                     "the server sends event " + std::to_string(e.seq) + " (" + e.kind.substr(0, 40) + ") of session " +
+                         label(s) + ", which " + why,
+                     "nothing of the session was taken in; a pull brings only a curator's corrections and decision "
+                     "of a completed capture — ask the lab's administrator to check the server (docs/lab.md, "
+                     "\"Sync\")");
+  };
+  std::string state = s.status;
+  for (const Event& e : events) {
+    if (const auto problem = eventProblem(e.kind, e.payloadJson, e.raw)) refuse(e, "leafdig cannot read: " + *problem);
+    std::string status;
+    if (e.kind == "status") {
+      try {
+        status = nlohmann::json::parse(e.payloadJson).at("status").get<std::string>();
+      } catch (const std::exception&) {
+      }
+    }
+    const bool review = e.kind == "corrected" || status == "approved" || status == "rejected";
+    if (!review) refuse(e, "is not a curator's correction or decision");
+    if (state != "complete")
+      refuse(e, "reviews a session that is " + state + " at the station: only a complete capture is reviewed");
+    if (!status.empty()) state = status;
+  }
+  if (options.replays) {
+    std::vector<Event> all = local.events(s.id);
+    all.insert(all.end(), events.begin(), events.end());
+    try {
+      options.replays(s, all);
+    } catch (const StoreError&) {
+      throw;
+    } catch (const std::exception& x) {
+      refuse(events.front(), std::string("with the events after it does not replay: ") + x.what());
+    }
+  }
+}
+
+}  // namespace
+
 PullReport pull(Store& local, const std::string& url, const SyncOptions& options) {
   PullReport report;
   std::vector<SessionInfo> sessions = local.sessions();
@@ -284,6 +340,7 @@ PullReport pull(Store& local, const std::string& url, const SyncOptions& options
             "the server holds another session " + label(s) + ": two stations use the id '" + s.station + "'",
             "give each station its own id (--station)");
       const std::vector<Event> events = pg::readEvents(c, head.id, s.headSeq + 1, s.id);
+      checkPulled(local, s, events, options);
       local.import(s.id, events);
       ++report.sessionsUpdated;
       report.eventsTaken += static_cast<std::int64_t>(events.size());

@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <sstream>
 
 #include "leafdig/model/errors.hpp"
@@ -20,17 +22,54 @@ namespace {
   throw IoError(what + " " + path.string() + ": " + std::strerror(error));
 }
 
+// The inputs of this process, by device and inode, with the path each was read as.
+struct Inputs {
+  std::mutex lock;
+  std::map<std::pair<dev_t, ino_t>, std::string> files;
+};
+Inputs& inputs() {
+  static Inputs* const all = new Inputs;  // never destroyed: writers may run during exit
+  return *all;
+}
+
 }  // namespace
 
+void noteInput(const std::filesystem::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return;
+  Inputs& in = inputs();
+  const std::lock_guard<std::mutex> hold(in.lock);
+  in.files.emplace(std::make_pair(st.st_dev, st.st_ino), path.string());
+}
+
 void writeFileAtomically(const std::filesystem::path& path, std::string_view bytes) {
+  struct stat target {};
+  if (::stat(path.c_str(), &target) == 0) {
+    if (!S_ISREG(target.st_mode))
+      throw InputError(path.string() + " is not a regular file (" +
+                       (S_ISDIR(target.st_mode)    ? "a folder"
+                        : S_ISFIFO(target.st_mode) ? "a named pipe"
+                                                   : "a device") +
+                       "): leafdig writes only files, and replaces none of these; give the path of a file");
+    Inputs& in = inputs();
+    const std::lock_guard<std::mutex> hold(in.lock);
+    const auto read = in.files.find({target.st_dev, target.st_ino});
+    if (read != in.files.end())
+      throw InputError(path.string() + " is " + (read->second == path.string() ? "" : read->second + ", ") +
+                       "a file this command reads: writing it would destroy its input; give another output path "
+                       "(nothing was written)");
+  }
   std::filesystem::path dir = path.parent_path();
   if (dir.empty()) dir = ".";
-  // Appended piecewise: GCC 12 at -O3 raises a false -Wrestrict on "." + std::string.
+  // Appended piecewise: GCC 12 at -O3 raises a false -Wrestrict on "." + std::string. mkostemp
+  // fills the X's at random and creates the file with O_EXCL (never through a planted link).
   std::string tempName(1, '.');
-  tempName.append(path.filename().string()).append(".tmp.").append(std::to_string(::getpid()));
-  const std::filesystem::path temp = dir / tempName;
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) fail("cannot create", temp, errno);
+  tempName.append(path.filename().string()).append(".tmp.XXXXXX");
+  std::string temp = (dir / tempName).string();
+  const int fd = ::mkostemp(temp.data(), O_CLOEXEC);
+  if (fd < 0) fail("cannot create a temporary file beside", path, errno);
+  // mkostemp makes it 0600; an export is readable by others as before.
+  (void)::fchmod(fd, 0644);
   std::size_t written = 0;
   while (written < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
@@ -66,6 +105,7 @@ std::string readFile(const std::filesystem::path& path, std::uintmax_t maxBytes)
   // would block), and a file larger than any real one is refused before it is read.
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) fail("cannot open", path, errno);
+  if (S_ISREG(st.st_mode)) noteInput(path);
   if (!S_ISREG(st.st_mode))
     throw InputError(path.string() + " is not a regular file (" +
                      (S_ISDIR(st.st_mode)    ? "a folder"

@@ -17,7 +17,6 @@ without the GIL, so threads building different leaves run at once. A ``Leaf``, `
 ``Markers`` may be read from several threads; a ``Store`` is used by one thread at a time.
 """
 
-import builtins as _builtins
 import errno as _errno
 import json as _json
 import os as _os
@@ -272,10 +271,9 @@ def _plan_text(plan):
         return _json.dumps(plan), "the plan given", _os.getcwd()
     path = _os.fspath(plan)
     try:
-        with _builtins.open(path, "rb") as f:
-            text = f.read().decode("utf-8")
-    except OSError as e:
-        raise OSError("cannot read the plan %s: %s" % (path, e.strerror)) from None
+        # Read by the C++ core: a device (/dev/zero), a FIFO or a file beyond leafdig's size
+        # bound is refused by name before anything is read, as every reader of leafdig does.
+        text = _core.read_file(path).decode("utf-8")
     except UnicodeDecodeError:
         raise InputError("the plan %s is not UTF-8 text: save it as UTF-8 JSON" % path) from None
     return text, path, _os.path.dirname(_os.path.abspath(path))

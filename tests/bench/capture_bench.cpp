@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "latency_counters.hpp"
@@ -24,6 +25,7 @@
 #include "leafdig/devices/links/reference.hpp"
 #include "leafdig/devices/pose.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/plant/plant_protocol.hpp"
 #include "leafdig/model/study/synthetic_plant.hpp"
 
 namespace {
@@ -282,6 +284,45 @@ void BM_Replay(benchmark::State& state) {
   state.counters["events"] = static_cast<double>(events.size());
 }
 BENCHMARK(BM_Replay)->Unit(benchmark::kMicrosecond);
+
+// A plant of N nodes replayed from its events (issue 47, 21: it grew with N², 37 s at 4 000
+// nodes): three landmarks, the collar, then per node its point, its stem reading and "no leaf".
+// The time per event must not grow with N.
+void BM_PlantReplay(benchmark::State& state) {
+  const int nodes = static_cast<int>(state.range(0));
+  std::vector<leafdig::db::Event> events;
+  const auto add = [&](const std::string& kind, const nlohmann::json& payload) {
+    leafdig::db::Event e;
+    e.seq = static_cast<std::int64_t>(events.size()) + 1;
+    e.kind = kind;
+    e.payloadJson = payload.dump();
+    events.push_back(std::move(e));
+  };
+  const auto point = [&](const char* what, int row, int col, double x, double y, double z) {
+    add("accepted", {{"what", what},
+                     {"row", row > 0 ? nlohmann::json(row) : nlohmann::json(nullptr)},
+                     {"col", col > 0 ? nlohmann::json(col) : nlohmann::json(nullptr)},
+                     {"position_mm", {x, y, z}}});
+  };
+  for (int k = 1; k <= 3; ++k) point("landmark", k, 0, 100 * std::cos(2.0944 * k), 100 * std::sin(2.0944 * k), 20);
+  add("landmarks_ended", nlohmann::json::object());
+  point("collar", 0, 0, 0, 0, 0);
+  add("accepted", {{"what", "collar_diameter"}, {"row", nullptr}, {"col", nullptr}, {"value_mm", 14.0}});
+  for (int n = 1; n <= nodes; ++n) {
+    point("point", n, 1, 0.01 * n, 0, 2.0 * n);
+    add("accepted", {{"what", "reading"}, {"row", n}, {"col", 1}, {"value_mm", 10.0}});
+    add("leaf_chosen", {{"node", n}, {"kind", "none"}, {"state", "alive"}});
+  }
+  acq::PlantSessionSetup setup;
+  setup.protocol = leafdig::model::defaultPlantProtocol();
+  for (auto _ : state) {
+    const acq::PlantEngine e = acq::PlantCaptureSession::replay(setup, events);
+    benchmark::DoNotOptimize(e.items().size());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(events.size()));
+  state.counters["events"] = static_cast<double>(events.size());
+}
+BENCHMARK(BM_PlantReplay)->Arg(250)->Arg(500)->Arg(1000)->Unit(benchmark::kMillisecond);
 
 // Reading a session from the file and replaying it: what `sessions resume` does.
 void BM_ReadAndReplay(benchmark::State& state) {

@@ -158,14 +158,14 @@ TEST_F(Cli, writeFailureExitsOneAndLeavesNoTemporaryFile) {
   const Result r = leafdig("model build " + quote(sample("lower-leaf-n10.markers.json")) + " -o " + quote(out));
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_NE(r.err.find("no-such-folder"), std::string::npos) << r.err;
-  // A failure once the temporary file is written: the destination is a folder. The OBJ
+  // A destination that is a folder is refused by name (exit 2: it is never replaced). The OBJ
   // before it in the same command is written; nothing else is left behind.
   const fs::path into = dir_ / "into";
   fs::create_directories(into / "leaf.glb");
   const Result again = leafdig("model build " + quote(sample("lower-leaf-n10.markers.json")) + " -o " +
                                quote(into / "leaf.obj") + " -o " + quote(into / "leaf.glb"));
-  EXPECT_EQ(again.exitCode, 1);
-  EXPECT_NE(again.err.find("leaf.glb"), std::string::npos) << again.err;
+  EXPECT_EQ(again.exitCode, 2);
+  EXPECT_NE(again.err.find("leaf.glb is not a regular file (a folder)"), std::string::npos) << again.err;
   std::set<std::string> left;
   for (const auto& e : fs::directory_iterator(into)) left.insert(e.path().filename().string());
   EXPECT_EQ(left, (std::set<std::string>{"leaf.glb", "leaf.obj"})) << "a temporary file was left behind";

@@ -107,6 +107,18 @@ TEST_F(Hostile, DegenerateLeavesAreRefusedOrWarnedAboutAndNoIntervalIsNegative) 
     j["tip"] = json::array({0.0, 0.0, 0.0});
   });
   expectRefused("model build " + quote(line) + out(), {"the markers lie on one line"});
+  // Every row strung along a curved midrib (issue 47, 24): no width, no area — refused, not an
+  // interval whose high end lies below its low one.
+  const fs::path strung = leaf("strung.json", [](json& j) {
+    int k = 0;
+    for (auto& row : j["rows"])
+      for (auto& p : row["points"]) {
+        const double t = 4.0 * ++k;
+        p = json::array({t, 0.002 * t * t, 0.0});
+      }
+    j["tip"] = json::array({-20.0, 0.8, 0.0});
+  });
+  expectRefused("model build " + quote(strung) + out(), {"the rows have no width"});
   // A row taken the wrong way across the leaf: built, with a warning that names it.
   const fs::path crossed = leaf("crossed.json", [](json& j) {
     auto& points = j["rows"][4]["points"];
@@ -130,6 +142,51 @@ TEST_F(Hostile, DegenerateLeavesAreRefusedOrWarnedAboutAndNoIntervalIsNegative) 
                 {"the outline crosses itself"});
 }
 
+// Ids with line breaks and NUL bytes (issue 47, 22): the PLY and OBJ headers and the MTG's
+// first line stay one line each — a reader finds no extra header line and no extra geometry.
+TEST_F(Hostile, AnIdWithLineBreaksCannotAddLinesToAnExportsHeader) {
+  const fs::path p = plan("id.plant.json", [](json& j) { j["id"] = std::string("P\nend_header\nf 1 2 3\0x", 22); });
+  const Result r = leafdig("plant build " + quote(p) + " -o " + quote(dir_ / "p.obj") + " -o " + quote(dir_ / "p.ply") +
+                           " -o " + quote(dir_ / "p.mtg") + " --resolution preview");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string obj = slurp(dir_ / "p.obj");
+  EXPECT_EQ(obj.find("\nf 1 2 3"), std::string::npos) << obj.substr(0, 300);
+  const std::string ply = slurp(dir_ / "p.ply");
+  // One line "end_header" (the id's own is escaped inside its comment line: \x0aend_header).
+  EXPECT_EQ(ply.find("\nend_header\n"), ply.rfind("\nend_header\n")) << ply.substr(0, 400);
+  EXPECT_NE(ply.find("leaf P\\x0aend_header\\x0af 1 2 3\\x00x\n"), std::string::npos) << ply.substr(0, 400);
+  const Result assimp = run("assimp info " + quote(dir_ / "p.ply"));
+  EXPECT_EQ(assimp.exitCode, 0) << assimp.out << assimp.err;
+  const std::string mtg = slurp(dir_ / "p.mtg");
+  EXPECT_EQ(mtg.substr(0, mtg.find('\n')).find('\0'), std::string::npos);
+  EXPECT_EQ(mtg.find("\nend_header"), std::string::npos);
+}
+
+// A simulation slower than a tenth of real time would never end (issue 47, 21): refused up
+// front, in words, before any session is made.
+// A leaf's plant given as a number is named, not read as no plant (issue 47, 23).
+TEST_F(Hostile, ALeafsIdsOfTheWrongTypeAreNamed) {
+  expectRefused("model build " + quote(leaf("plant12.json", [](json& j) { j["leaf"]["plant"] = 12; })) + out(),
+                {"leaf.plant", "must be text"});
+  expectRefused("model build " + quote(leaf("pos.json", [](json& j) { j["leaf"]["position"] = 2.5; })) + out(),
+                {"leaf.position", "must be a whole number"});
+}
+
+// A seed is what was typed (issue 47, 23): -1 or 2^64 are refused, not turned into 2^64 - 1.
+TEST_F(Hostile, ASeedOutsideWhatASeedHoldsIsRefused) {
+  for (const std::string seed : {"-1", "18446744073709551616", "1e3", "x"})
+    expectRefused("capture --simulate --seed " + seed + " --db " + quote(dir_ / "s.sqlite"),
+                  {"a seed is a whole number"});
+  expectRefused("plant capture --simulate --seed -1 --db " + quote(dir_ / "s.sqlite"), {"a seed is a whole number"});
+}
+
+TEST_F(Hostile, ASimulationSpeedThatWouldNeverEndIsRefusedUpFront) {
+  for (const std::string command : {"capture --simulate", "plant capture --simulate", "demo --out"}) {
+    const std::string args = command == "demo --out" ? command + " " + quote(dir_ / "demo") : command;
+    expectRefused(args + " --speed 1e-300 --db " + quote(dir_ / "s.sqlite"), {"between 0.1"});
+  }
+}
+
 TEST_F(Hostile, PlantNumbersBeyondAPlantAndTimesThatAreNotAreNamed) {
   const std::string o = " -o " + quote(dir_ / "p.glb");
   expectRefused("plant build " + quote(plan("h.plant.json", [](json& p) { p["stem"]["height"] = 1e300; })) + o,
@@ -144,6 +201,9 @@ TEST_F(Hostile, PlantNumbersBeyondAPlantAndTimesThatAreNotAreNamed) {
                 {"has not emerged yet"});
   const fs::path good = plan("good.plant.json", [](json&) {});
   expectRefused("plant build " + quote(good) + o + " --time nan", {"not a finite number"});
+  // A step so small the count of states overflows (issue 47, 22): refused, not zero states.
+  expectRefused("plant grow " + quote(good) + " --times 0:60:1e-300 -o " + quote(dir_ / "g-{t}.glb"),
+                {"more than 10 000 states"});
   expectRefused("plant build " + quote(good) + o + " --time -1e6", {"has not emerged yet", "Choose a later time"});
   // A leaf's own growth far in the future leaves it out, not the plant.
   const Result later =

@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 #include <thread>
+#include <tuple>
 
 #include "../support/strict_formats.hpp"
 #include "cli_support.hpp"
@@ -655,6 +656,28 @@ TEST_F(PlantCli, APlantProtocolIsCheckedAndItsStepsListedInTheOrderTheCaptureAsk
             std::string::npos)
       << bad.err;
   EXPECT_EQ(leafdig("plant protocol " + quote(dir_ / "missing.json")).exitCode, 2);
+  // What `plant capture` cannot follow, `plant protocol` does not pass (issue 47, 23): the same
+  // check, the same words.
+  for (const auto& [name, text, words] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"order3.json", R"({"format": "leafdig.plant-protocol/1", "species": "x", "entities": [
+               {"name": "internode", "class": "I", "repeat": true, "points": ["node"]},
+               {"name": "branch", "class": "B", "parent": "internode", "relation": "+", "order": 2, "repeat": true,
+                "points": ["node"]},
+               {"name": "twig", "class": "T", "parent": "branch", "relation": "+", "order": 3, "repeat": true,
+                "points": ["node"]}]})",
+            "an axis of order 3"},
+           {"two-branches.json", R"({"format": "leafdig.plant-protocol/1", "species": "x", "entities": [
+               {"name": "internode", "class": "I", "repeat": true, "points": ["node"]},
+               {"name": "b1", "class": "B", "parent": "internode", "relation": "+", "order": 2, "repeat": true,
+                "points": ["node"]},
+               {"name": "b2", "class": "C", "parent": "internode", "relation": "+", "order": 2, "repeat": true,
+                "points": ["node"]}]})",
+            "two branch"}}) {
+    const Result r = leafdig("plant protocol " + quote(write(name, text)));
+    EXPECT_EQ(r.exitCode, 2) << name << ": " << r.out << r.err;
+    EXPECT_NE(r.err.find(words), std::string::npos) << name << ": " << r.err;
+    EXPECT_NE(r.err.find("plant capture cannot follow it"), std::string::npos) << name << ": " << r.err;
+  }
 }
 
 TEST_F(PlantCli, APlantDigitizedThroughTheSimulatedDevicesIsStoredVerifiedAndExportedAsItsFileMeasures) {

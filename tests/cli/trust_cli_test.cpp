@@ -5,6 +5,10 @@
 // Also: passwords in every form libpq reads never reach the terminal, and names with
 // control characters are shown escaped.
 #include <sqlite3.h>
+#include <sys/stat.h>
+
+#include <cmath>
+#include <thread>
 
 #include "../support/station_sessions.hpp"
 #include "cli_support.hpp"
@@ -61,6 +65,56 @@ class TrustCli : public Cli {
     }
     EXPECT_EQ(slurp(file), before) << "the file was changed";
     EXPECT_FALSE(fs::exists(dir_ / "out" / "session-1.glb"));
+  }
+
+  // A plant session as a station writes it (station_sessions.hpp's events, under the shipped
+  // tobacco protocol so that it replays), cut after its first `keep` events (all: -1), then
+  // `extra` appended. Returns the file.
+  fs::path plantFile(const std::string& name, long keep = -1, const std::vector<leafdig::db::EventInput>& extra = {}) {
+    std::vector<leafdig::db::Event> events;
+    {
+      leafdig::db::Store s((dir_ / ("whole-" + name)).string());
+      events = s.events(leafdig::test::capturePlantSession(s, "bench-a", "P-07", "tobacco-2026", "ana", false));
+    }
+    json settings{{"kind", "plant"}, {"engine", {{"still_mm", 0.5}}}};
+    settings["protocol"] =
+        json::parse(slurp(std::string(LEAFDIG_SOURCE_DIR) + "/data/protocols/tobacco.plant-protocol.json"));
+    const fs::path f = dir_ / name;
+    leafdig::db::Store s(f.string());
+    const auto id = s.createPlantSession(s.ensurePlant(s.ensureProject("tobacco-2026"), "P-07"),
+                                         s.ensureOperator("ana"), "bench-a", "standard", "sequential", settings.dump());
+    const std::size_t n = keep < 0 ? events.size() : static_cast<std::size_t>(keep);
+    for (std::size_t i = 0; i < n && i < events.size(); ++i) {
+      leafdig::db::Event e = events[i];
+      // The helper's landmarks lie on one line; around a pot's rim they make the plant's frame.
+      json p = json::parse(e.payloadJson);
+      if (e.kind == "accepted" && p.value("what", "") == "landmark") {
+        const double a = 2.0944 * p.at("row").get<int>();
+        p["position_mm"] = {100 * std::cos(a), 100 * std::sin(a), 20.0};
+        e.payloadJson = p.dump();
+      }
+      (void)s.append(id, leafdig::db::changeOf(e));
+    }
+    for (const auto& e : extra) (void)s.append(id, e);
+    return f;
+  }
+
+  // A leaf session as a station writes it (station_sessions.hpp) with its margin reading, so
+  // that it builds and exports; complete.
+  fs::path leafFile(const std::string& name) {
+    const fs::path f = dir_ / name;
+    leafdig::db::Store s(f.string());
+    const auto id = leafdig::test::captureSession(s, "bench-a", 1, 3, "tobacco-2026", "P-07", "ana", false);
+    leafdig::db::EventInput edge;
+    edge.kind = "accepted";
+    edge.payloadJson = R"({"what":"edge_thickness","row":null,"col":null,"value_mm":0.25})";
+    edge.raw = "=HYPERLINK(\"http://x.example/\",\"open me\")\r";
+    edge.projection =
+        leafdig::db::changeOf(leafdig::db::Event{0, 0, "", 0, edge.kind, edge.payloadJson, edge.raw, "", ""})
+            .projection;
+    (void)s.append(id, edge);
+    (void)s.setStatus(id, "complete", "ana", "all steps captured");
+    return f;
   }
 
   fs::path original_;
@@ -185,6 +239,48 @@ TEST_F(TrustCli, ModelBuildRefusesToWriteOverItsOwnInput) {
   EXPECT_FALSE(fs::exists(dir_ / "m.json"));
 }
 
+// One output function for every writer (issue 47, 20): no command writes over a file it reads
+// — the same file by inode, through a symlink or a second name, the station's own database
+// among them — nor replaces what is not a regular file.
+TEST_F(TrustCli, NoCommandWritesOverItsInputOrADevice) {
+  const fs::path plant =
+      write("p.plant-markers.json", slurp(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/sample.plant-markers.json"));
+  const std::string before = slurp(plant);
+  fs::create_symlink(plant, dir_ / "link.mtg");
+  for (const std::string& args :
+       {"--mtg " + quote(plant), "--csv " + quote(plant), "--mtg " + quote(dir_ / "link.mtg")}) {
+    const Result r = leafdig("plant measure " + quote(plant) + " " + args);
+    EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("a file this command reads"), std::string::npos) << args << "\n" << r.err;
+  }
+  EXPECT_EQ(slurp(plant), before);
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.mtg"));
+  // A FIFO (or a device) is never replaced by an output.
+  ASSERT_EQ(::mkfifo((dir_ / "pipe.mtg").c_str(), 0600), 0);
+  const Result fifo = leafdig("plant measure " + quote(plant) + " --mtg " + quote(dir_ / "pipe.mtg"));
+  EXPECT_EQ(fifo.exitCode, 2) << fifo.err;
+  EXPECT_NE(fifo.err.find("is not a regular file"), std::string::npos) << fifo.err;
+  EXPECT_TRUE(fs::is_fifo(dir_ / "pipe.mtg"));
+  // `sessions export` into the folder of a station file named like one of its exports.
+  const fs::path out = dir_ / "exports";
+  fs::create_directories(out);
+  fs::copy_file(leafFile("exportable.sqlite"), out / "session-1.glb");
+  const std::string db = slurp(out / "session-1.glb");
+  const Result e =
+      leafdig("sessions export 1 --format glb --out " + quote(out) + " --db " + quote(out / "session-1.glb"));
+  EXPECT_EQ(e.exitCode, 2) << e.err;
+  EXPECT_NE(e.err.find("a file this command reads"), std::string::npos) << e.err;
+  EXPECT_EQ(slurp(out / "session-1.glb"), db);
+  // A station file that is a named pipe is refused at once, not waited on for ever.
+  ASSERT_EQ(::mkfifo((dir_ / "pipe.sqlite").c_str(), 0600), 0);
+  for (const std::string command : {"sessions list", "sessions verify --all", "plant surveys P-07"}) {
+    const Result r =
+        run("timeout -s KILL 60 " + quote(LEAFDIG_CLI) + " " + command + " --db " + quote(dir_ / "pipe.sqlite"));
+    EXPECT_EQ(r.exitCode, 2) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find("is not a regular file"), std::string::npos) << command << "\n" << r.err;
+  }
+}
+
 TEST_F(TrustCli, APasswordIsNeverPrintedHoweverItIsWritten) {
   for (const std::string& url :
        {std::string("postgresql://tech@127.0.0.1:1/leafdig?pass%77ord=SECRET"),
@@ -200,6 +296,278 @@ TEST_F(TrustCli, APasswordIsNeverPrintedHoweverItIsWritten) {
       EXPECT_FALSE(r.err.empty());
     }
   }
+}
+
+// A plant capture stopped early (issue 47, 17): a file holding only the first k events of a
+// plant session — before any node, between nodes, a node with its leaf chosen but not taken —
+// is shown and refused for export in words (exit 2, "holds no whole plant yet", the command
+// that goes on with it), never a crash.
+TEST_F(TrustCli, APlantCaptureStoppedEarlyIsShownAndNamedNeverACrash) {
+  {
+    const fs::path whole = plantFile("whole.sqlite");
+    const Result r = leafdig("sessions export 1 --format mtg --out " + quote(dir_ / "whole") + " --db " + quote(whole));
+    ASSERT_EQ(r.exitCode, 0) << "the uncut session must export: " << r.err;
+  }
+  for (const long k : {0L, 4L, 9L, 11L, 12L, 14L}) {
+    const fs::path cut = plantFile("cut-" + std::to_string(k) + ".sqlite", k);
+    const std::string db = " --db " + quote(cut);
+    const Result show = run("timeout -s KILL 60 " + quote(LEAFDIG_CLI) + " sessions show 1" + db);
+    EXPECT_EQ(show.exitCode, 0) << k << " events\n" << show.err;
+    // Before the first node there is no plant; after it, the plant as far as it was taken
+    // exports, or is named (a node whose leaf is chosen but not taken yet) — never a crash.
+    for (const std::string format : {"mtg", "csv", "json", "glb"}) {
+      const Result r = run("timeout -s KILL 60 " + quote(LEAFDIG_CLI) + " sessions export 1 --format " + format +
+                           " --out " + quote(dir_ / ("out-" + std::to_string(k))) + db);
+      if (k < 7 || r.exitCode != 0) {
+        EXPECT_EQ(r.exitCode, 2) << k << " events, " << format << "\n" << r.err;
+        EXPECT_NE(r.err.find("holds no whole plant yet"), std::string::npos) << k << " events\n" << r.err;
+        EXPECT_NE(r.err.find("plant capture --resume 1"), std::string::npos) << k << " events\n" << r.err;
+      }
+    }
+    const Result surveys = run("timeout -s KILL 60 " + quote(LEAFDIG_CLI) + " plant surveys P-07" + db);
+    EXPECT_EQ(surveys.exitCode, 0) << k << " events\n" << surveys.err;
+  }
+}
+
+// Text a spreadsheet would run (issue 47, 12): a reading's raw text starting with = + - @ is
+// neutralised in the exported CSV (a leading apostrophe), so it reaches the curator as text.
+TEST_F(TrustCli, ACsvCellThatLooksLikeAFormulaIsExportedAsText) {
+  const fs::path f = leafFile("formula.sqlite");
+  const Result r = leafdig("sessions export 1 --format csv --out " + quote(dir_ / "csv") + " --db " + quote(f));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string csv = slurp(dir_ / "csv" / "session-1.thickness.csv");
+  ASSERT_FALSE(csv.empty());
+  // Each line's cells, unquoted: none starts with = + - @ (the raw texts begin with '+').
+  int neutralised = 0;
+  std::istringstream lines(csv);
+  for (std::string line; std::getline(lines, line);) {
+    std::string cell;
+    bool quoted = false;
+    const auto check = [&] {
+      if (!cell.empty()) {
+        EXPECT_EQ(std::string("=+-@").find(cell.front()), std::string::npos) << line;
+        if (cell.front() == '\'') ++neutralised;
+      }
+      cell.clear();
+    };
+    for (char c : line) {
+      if (c == '"')
+        quoted = !quoted;
+      else if (c == ',' && !quoted)
+        check();
+      else
+        cell += c;
+    }
+    check();
+  }
+  EXPECT_GE(neutralised, 7);  // six readings '+…', the margin's '=HYPERLINK(…)'
+  EXPECT_NE(csv.find("'=HYPERLINK("), std::string::npos) << csv;
+}
+
+// A session's creation time is text from the file (issue 47, 11): `plant surveys` prints it
+// escaped like every other such text, so it cannot set the curator's terminal title.
+TEST_F(TrustCli, APlantSurveysDateCannotDriveTheTerminal) {
+  const fs::path f = dir_ / "dates.sqlite";
+  {
+    leafdig::db::Store s(f.string());
+    (void)leafdig::test::capturePlantSession(s, "bench-a");
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(f.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "UPDATE sessions SET created_utc = char(27) || ']0;pwned' || char(7) || '2026-06-12'",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  const Result r = leafdig("plant surveys P-07 --db " + quote(f));
+  EXPECT_EQ(r.out.find('\x1b'), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find('\x07'), std::string::npos) << r.out;
+}
+
+// Replay checks what every event says before it indexes anything (issue 47, 18): a leaf's
+// marker at column 8 or -1, a plant's branch under a protocol that has none — written with a
+// valid chain, as a station file edited by a program would be — are named by event, exit 2.
+TEST_F(TrustCli, AnEventThatPointsOutsideTheLeafOrThePlantIsNamedNotFollowed) {
+  const auto refused = [&](const fs::path& f, const std::string& words) {
+    for (const std::string& command :
+         {"sessions export 1 --out " + quote(dir_ / "x"), std::string("sessions show 1")}) {
+      const Result r = run("timeout -s KILL 60 " + quote(LEAFDIG_CLI) + " " + command + " --db " + quote(f));
+      EXPECT_EQ(r.exitCode, 2) << command << "\n" << r.err;
+      EXPECT_NE(r.err.find(words), std::string::npos) << command << "\n" << r.err;
+    }
+  };
+  for (const int col : {8, -1}) {
+    const fs::path f = dir_ / ("col" + std::to_string(col) + ".sqlite");
+    {
+      leafdig::db::Store s(f.string());
+      const auto id = leafdig::test::captureSession(s, "bench-a", 1, 3, "tobacco-2026", "P-07", "ana", false);
+      leafdig::db::EventInput e;
+      e.kind = "accepted";
+      e.payloadJson = json{{"what", "marker"}, {"row", 2}, {"col", col}, {"position_mm", {1, 2, 3}}}.dump();
+      (void)s.append(id, e);
+      (void)s.setStatus(id, "complete", "ana", "");
+    }
+    refused(f, "where no marker is taken");
+  }
+  leafdig::db::EventInput branch;
+  branch.kind = "node_placed";
+  branch.payloadJson = R"({"node":4,"parent":2,"relation":"+"})";
+  refused(plantFile("branch.sqlite", -1, {branch}), "the plant's protocol has no branch");
+}
+
+// A session's settings that are not JSON, or hold a number beyond a double (issue 47, 3), are
+// named — "settings cannot be read", exit 2 — never an internal error.
+TEST_F(TrustCli, SettingsThatDoNotReadAreNamedNotAnInternalError) {
+  for (const std::string& settings : {std::string("not json"), std::string(R"({"engine":{"still_mm":1e400}})"),
+                                      std::string(R"({"engine":{"still_mm":1e300}})")}) {
+    const fs::path f = dir_ / "settings.sqlite";
+    fs::remove(f);
+    {
+      leafdig::db::Store s(f.string());
+      const auto leaf = s.ensureLeaf(s.ensurePlant(s.ensureProject("p"), "P-1"), 1, "middle", std::nullopt);
+      (void)s.createSession(leaf, s.ensureOperator("ana"), "bench-a", "standard", "sequential", settings);
+    }
+    for (const std::string& command :
+         {std::string("sessions show 1"), "sessions export 1 --out " + quote(dir_ / "x")}) {
+      const Result r = leafdig(command + " --db " + quote(f));
+      EXPECT_EQ(r.exitCode, 2) << settings << ": " << command << "\n" << r.err;
+      EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("settings"), std::string::npos) << r.err;
+    }
+  }
+}
+
+// One station's session never hides another's surveys (issue 47, 10): a plant session that
+// does not read (settings without a protocol, as a technician could push them) is listed as
+// such, and the plant's other surveys still show.
+TEST_F(TrustCli, APlantSessionThatDoesNotReadHidesNoOtherSurvey) {
+  const fs::path f = plantFile("surveys.sqlite");
+  {
+    leafdig::db::Store s(f.string());
+    (void)s.createPlantSession(s.ensurePlant(s.ensureProject("tobacco-2026"), "P-07"), s.ensureOperator("eve"),
+                               "bench-b", "standard", "sequential", R"({"kind":"plant"})");
+  }
+  const Result r = leafdig("plant surveys P-07 --db " + quote(f));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("2 survey(s)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3 nodes"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("does not read"), std::string::npos) << r.out;
+  const json listed = json::parse(leafdig("plant surveys P-07 --json --db " + quote(f)).out);
+  ASSERT_EQ(listed.at("surveys").size(), 2u);
+}
+
+// Corrections at the same time (issue 47, 19): four curators correct the same item of a plant
+// at once; whichever land, each was worked out against the log it joins (a correction that
+// finds the session moved on writes nothing and says so), so the session still reads.
+TEST_F(TrustCli, CorrectionsAtTheSameTimeNeverBreakASession) {
+  leafdig::db::EventInput done;
+  done.kind = "status";
+  done.payloadJson = R"({"status":"complete","who":"ana","why":"all steps captured"})";
+  done.setsStatus = "complete";
+  for (int round = 0; round < 3; ++round) {
+    const fs::path f = plantFile("race-" + std::to_string(round) + ".sqlite", -1, {done});
+    std::vector<std::thread> curators;
+    std::vector<Result> results(4);
+    for (int k = 0; k < 4; ++k)
+      curators.emplace_back([&, k] {
+        // Each its own output files (the fixture's run() shares one pair).
+        const fs::path out = dir_ / ("out-" + std::to_string(k)), err = dir_ / ("err-" + std::to_string(k));
+        const int status =
+            std::system((quote(LEAFDIG_CLI) + " sessions correct 1 --what reading --row 2 --col 1 --value " +
+                         std::to_string(10 + k) + " --who c" + std::to_string(k) + " --why race --db " + quote(f) +
+                         " >" + quote(out) + " 2>" + quote(err))
+                            .c_str());
+        results[static_cast<std::size_t>(k)] = {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+      });
+    for (auto& t : curators) t.join();
+    int landed = 0;
+    for (const Result& r : results) {
+      if (r.exitCode == 0) {
+        ++landed;
+      } else {
+        EXPECT_NE(r.err.find("moved on"), std::string::npos) << r.exitCode << ": " << r.err << r.out;
+      }
+    }
+    EXPECT_GE(landed, 1);
+    const Result verify = leafdig("sessions verify 1 --db " + quote(f));
+    EXPECT_EQ(verify.exitCode, 0) << verify.out << verify.err;
+    const Result show = leafdig("sessions show 1 --db " + quote(f));
+    EXPECT_EQ(show.exitCode, 0) << show.err;
+    const Result exported = leafdig("sessions export 1 --format mtg --out " +
+                                    quote(dir_ / ("race" + std::to_string(round))) + " --db " + quote(f));
+    EXPECT_EQ(exported.exitCode, 0) << exported.err;
+  }
+}
+
+// A station file written before this leafdig (station schema 2: tests/data/legacy/) reads as
+// it did — every session verifies, shows and exports — and `sessions verify` says which
+// sessions were written before the station was in the chain (issue 47, 15).
+TEST_F(TrustCli, AFileWrittenBeforeTheStationWasInTheChainStillReadsAndSaysSo) {
+  const fs::path f = dir_ / "legacy.sqlite";
+  fs::copy_file(std::string(LEAFDIG_SOURCE_DIR) + "/tests/data/legacy/station-schema2.sqlite", f);
+  const Result verify = leafdig("sessions verify --all --db " + quote(f));
+  ASSERT_EQ(verify.exitCode, 0) << verify.out << verify.err;
+  EXPECT_NE(verify.out.find("chain OK (written before the station was in the chain"), std::string::npos) << verify.out;
+  for (const auto& s : json::parse(leafdig("sessions list --json --db " + quote(f)).out)) {
+    const std::string id = std::to_string(s.at("id").get<int>());
+    const Result show = leafdig("sessions show " + id + " --db " + quote(f));
+    EXPECT_EQ(show.exitCode, 0) << show.err;
+    const Result exported =
+        leafdig("sessions export " + id + " --out " + quote(dir_ / ("x" + id)) + " --db " + quote(f));
+    EXPECT_EQ(exported.exitCode, 0) << exported.err;
+  }
+}
+
+// A file whose chain was rewritten consistently (issue 47): what the events say must still be
+// what could be — a move of the transmitter whose fit is not rigid (the landmarks taken again
+// 100s of mm from where a rigid move puts them), a leaf type of 1 000 characters — named by
+// replay, never taken.
+TEST_F(TrustCli, AConsistentlyRewrittenFileStillCannotHoldWhatCannotBe) {
+  const auto event = [](const std::string& kind, const json& payload) {
+    leafdig::db::EventInput e;
+    e.kind = kind;
+    e.payloadJson = payload.dump();
+    e.projection = leafdig::db::changeOf(leafdig::db::Event{0, 0, "", 0, e.kind, e.payloadJson, "", "", ""}).projection;
+    return e;
+  };
+  std::vector<leafdig::db::EventInput> move{event("relocation", {{"relocation", 1}, {"step", "started"}})};
+  const double far[3][3] = {{0, 0, 0}, {500, 0, 0}, {0, 900, 0}};
+  for (int k = 1; k <= 3; ++k)
+    move.push_back(event("accepted", {{"what", "landmark_again"},
+                                      {"row", k},
+                                      {"col", 1},
+                                      {"position_mm", {far[k - 1][0], far[k - 1][1], far[k - 1][2]}},
+                                      {"frame", 1}}));
+  move.push_back(event("relocation", {{"relocation", 1}, {"step", "fitted"}, {"rms_mm", 0.3}, {"worst_mm", 0.4}}));
+  const fs::path moved = plantFile("nonrigid.sqlite", 9, move);
+  const std::vector<leafdig::db::EventInput> type{
+      event("leaf_chosen", {{"node", 1}, {"kind", "none"}, {"state", "alive"}, {"type", std::string(1000, 't')}})};
+  const fs::path typed = plantFile("type.sqlite", 8, type);
+  for (const auto& [f, words] : std::vector<std::pair<fs::path, std::string>>{
+           {moved, "the move's fit is not one a capture takes"}, {typed, "a leaf type is at most 64"}}) {
+    const Result r = leafdig("sessions export 1 --format mtg --out " + quote(dir_ / "x") + " --db " + quote(f));
+    EXPECT_EQ(r.exitCode, 2) << f << ": " << r.err;
+    EXPECT_NE(r.err.find(words), std::string::npos) << f << ": " << r.err;
+  }
+}
+
+// What a curator types is what is meant (issue 47, 23): column 0 is no column (it used to
+// correct column 1), and a reason or a name of only spaces is none.
+TEST_F(TrustCli, AColumnZeroOrABlankReasonOrNameIsRefused) {
+  const fs::path f = leafFile("blank.sqlite");
+  const std::string db = " --db " + quote(f);
+  const std::size_t events = leafdig::db::Store(f.string()).events(1).size();
+  for (const std::string& args :
+       {std::string("sessions correct 1 --what marker --row 1 --col 0 --position 1,2,3 --who kim --why x"),
+        std::string("sessions correct 1 --what marker --row 1 --col 1 --position 1,2,3 --who kim --why '   '"),
+        std::string("sessions correct 1 --what marker --row 1 --col 1 --position 1,2,3 --who '  ' --why x"),
+        std::string("sessions approve 1 --who '   '"), std::string("sessions reject 1 --who kim --why ' '")}) {
+    const Result r = leafdig(args + db);
+    EXPECT_EQ(r.exitCode, 2) << args << "\n" << r.err;
+  }
+  const Result list = leafdig("sessions list --json" + db);
+  EXPECT_EQ(json::parse(list.out).at(0).at("status"), "complete");
+  // Nothing was written: the session holds the events it held.
+  EXPECT_EQ(leafdig::db::Store(f.string()).events(1).size(), events);
 }
 
 TEST_F(TrustCli, NamesWithControlCharactersArePrintedEscaped) {

@@ -6,9 +6,11 @@
 #include "leafdig/db/lab.hpp"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -16,9 +18,12 @@
 #include <thread>
 #include <tuple>
 
+#include "../../db/src/lab_schema.hpp"
 #include "../support/cutting_proxy.hpp"
 #include "../support/pg_cluster_environment.hpp"
 #include "../support/station_sessions.hpp"
+#include "leafdig/acquisition/review.hpp"
+#include "leafdig/db/event_rules.hpp"
 #include "leafdig/db/store.hpp"
 
 namespace fs = std::filesystem;
@@ -157,12 +162,13 @@ TEST(LabText, StationIdsAndUtf8AreChecked) {
 
 TEST_F(Lab, InitCreatesTheSchemaAndTheThreeRolesAndAgainChangesNothing) {
   Sql sql(admin_);
-  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "9");
+  EXPECT_EQ(sql.value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"),
+            std::to_string(db::kLabSchemaVersion));
   for (const char* role : {"leafdig_technicians", "leafdig_curators", "leafdig_readers"})
     EXPECT_EQ(sql.value("SELECT rolcanlogin::text FROM pg_roles WHERE rolname = $1", {role}), "false") << role;
   const auto again = db::initServer(admin_);
-  EXPECT_EQ(again.fromVersion, 9);
-  EXPECT_EQ(again.toVersion, 9);
+  EXPECT_EQ(again.fromVersion, db::kLabSchemaVersion);
+  EXPECT_EQ(again.toVersion, db::kLabSchemaVersion);
   EXPECT_TRUE(again.rolesCreated.empty());
   // A database that does not keep UTF-8 is refused, named.
   sql.rows("CREATE DATABASE ascii_" + database_ +
@@ -429,7 +435,8 @@ TEST_F(Lab, ALeafSessionTakesAMoveOfTheTransmitterAndItsBoardPointsAgainBySql) {
   // Through leafdig, a correction and the points it moves go in one transaction: one the
   // server refuses (here a marker "corrected" into another row) leaves none of them in.
   const std::string marker = Sql(admin_).value(
-      "SELECT seq FROM leafdig.events WHERE session_id = $1 AND payload_json::jsonb ->> 'what' = 'marker'",
+      "SELECT seq FROM leafdig.events WHERE session_id = $1 AND payload_json::jsonb ->> 'what' = 'marker' "
+      "AND payload_json::jsonb ->> 'row' = '3' AND payload_json::jsonb ->> 'col' = '1' AND kind = 'accepted'",
       {leaf.serverId});
   // The board point is now held by the curator's correction, the session's last event.
   const std::string head = Sql(admin_).value("SELECT head_seq FROM leafdig.sessions WHERE id = $1", {leaf.serverId});
@@ -1002,6 +1009,14 @@ TEST_F(Lab, ATemporaryPgRolesTableMakesNoTechnicianAnAdministrator) {
   db::Store station(file("a.sqlite"));
   const std::string tech = login(db::LabRole::Technician, "bench-a");
   const Pushed s = pushOne(station, "bench-a", tech);
+  {
+    // Since schema 10's init a lab login makes no temporary table at all (TEMPORARY revoked
+    // from PUBLIC)...
+    const std::string refused = Sql(tech).error("CREATE TEMP TABLE pg_roles (rolname name, rolsuper boolean)");
+    EXPECT_NE(refused.find("permission denied"), std::string::npos) << refused;
+  }
+  // ... and should an administrator grant it, the functions still read the real catalogs.
+  (void)Sql(admin_).rows("GRANT TEMPORARY ON DATABASE " + database_ + " TO " + Sql(tech).value("SELECT session_user"));
   Sql asTech(tech);
   ASSERT_EQ(asTech.error("CREATE TEMP TABLE pg_roles (rolname name, rolsuper boolean)"), "");
   ASSERT_EQ(asTech.error("INSERT INTO pg_roles VALUES (current_user, true)"), "");
@@ -1140,6 +1155,366 @@ TEST_F(Lab, OnlyWhatLeafdigWritesIsTakenSoNoSessionIsLeftUnreadable) {
   EXPECT_TRUE(reader.verify(std::stoll(s.serverId)).ok);
   EXPECT_FALSE(reader.markers(std::stoll(s.serverId)).empty());
   EXPECT_TRUE(db::pull(station, tech).problems.empty());
+}
+
+// One definition of a valid event (issue 47): every case of tests/data/event_cases.json is
+// decided alike by the server (plain SQL as the role that would write it) and by the
+// station's reader (db::eventProblem, then the replay of the whole session). A case the
+// server takes and the station refuses fails here, as does one the server takes wrongly.
+TEST_F(Lab, TheServerAndTheStationDecideEveryEventCaseAlike) {
+  std::ifstream in(std::string(LEAFDIG_SOURCE_DIR) + "/tests/data/event_cases.json");
+  ASSERT_TRUE(in) << "tests/data/event_cases.json";
+  const nlohmann::json table = nlohmann::json::parse(in);
+  const std::string curator = login(db::LabRole::Curator);
+  const std::string curatorLogin = Sql(curator).value("SELECT session_user");
+  const std::string other = Sql(admin_).value("SELECT session_user");
+  int n = 0;
+  for (const auto& c : table.at("cases")) {
+    const std::string name = c.at("name").get<std::string>();
+    const bool complete = c.at("state") == "complete";
+    // Each case on a station of its own (a session's id is its station's).
+    const std::string stationName = "case-" + std::to_string(++n);
+    const std::string tech = login(db::LabRole::Technician, stationName);
+    db::Store station(file(stationName + ".sqlite"));
+    const Pushed s = pushOne(station, stationName, tech, complete);
+    // The seqs the payloads name, read from the station's own projections and events.
+    std::string marker, undone, midrib;
+    for (const auto& m : station.markers(s.stationId))
+      if (m.what == "marker" && m.row == 1 && m.col == 1) marker = std::to_string(m.seq);
+    for (const auto& t : station.thickness(s.stationId))
+      if (t.what == "midrib_thickness" && t.row == 1) midrib = std::to_string(t.seq);
+    for (const auto& e : station.events(s.stationId))
+      if (e.kind == "undone") undone = std::to_string(nlohmann::json::parse(e.payloadJson).at("seq").get<int>());
+    ASSERT_FALSE(marker.empty() || undone.empty() || midrib.empty());
+    const std::string writer = complete ? curatorLogin : Sql(tech).value("SELECT session_user");
+    const auto fill = [&](std::string t) {
+      for (const auto& [token, value] :
+           std::vector<std::pair<std::string, std::string>>{{"$MARKER", marker},
+                                                            {"$UNDONE", undone},
+                                                            {"$MIDRIB", midrib},
+                                                            {"$LOGIN", writer},
+                                                            {"$OTHER", other},
+                                                            {"$BIG", std::string(70000, 'x')}})
+        for (std::size_t at = t.find(token); at != std::string::npos; at = t.find(token, at + value.size()))
+          t.replace(at, token.size(), value);
+      return t;
+    };
+    // The station's verdict: the reader's rules for each new event, then the replay of all.
+    std::vector<db::Event> events = station.events(s.stationId);
+    std::vector<std::pair<std::string, std::string>> added;
+    for (const auto& b : c.value("before", nlohmann::json::array()))
+      added.emplace_back(b.at("kind").get<std::string>(), fill(b.at("payload").get<std::string>()));
+    added.emplace_back(c.at("kind").get<std::string>(), fill(c.at("payload").get<std::string>()));
+    std::string stationWords;
+    for (const auto& [kind, payload] : added) {
+      db::Event e;
+      e.session = s.stationId;
+      e.seq = events.back().seq + 1;
+      e.kind = kind;
+      e.payloadJson = payload;
+      if (const auto problem = db::eventProblem(kind, payload, "")) stationWords = *problem;
+      events.push_back(e);
+    }
+    if (stationWords.empty()) {
+      try {
+        leafdig::acquisition::requireReplays(*station.session(s.stationId), events);
+      } catch (const std::exception& e) {
+        stationWords = e.what();
+      }
+    }
+    // The server's verdict, through plain SQL as the login that would write it.
+    std::string serverWords;
+    for (std::size_t k = 0; k < added.size(); ++k) {
+      serverWords = appendBySql(Sql(complete ? curator : tech), s, stationName, added[k].first, added[k].second);
+      if (k + 1 < added.size()) {
+        ASSERT_EQ(serverWords, "") << name << ": its 'before' event was refused";
+      }
+    }
+    const bool valid = c.at("valid").get<bool>();
+    EXPECT_EQ(serverWords.empty(), valid) << name << " — the server says: " << serverWords;
+    if (valid || !c.value("server_only", false)) {
+      EXPECT_EQ(stationWords.empty(), valid) << name << " — the station says: " << stationWords;
+    }
+    // Whatever the server took, the station pulls and reads: no session is left unreadable.
+    if (serverWords.empty()) {
+      db::SyncOptions options;
+      options.replays = leafdig::acquisition::requireReplays;
+      const auto pulled = db::pull(station, tech, options);
+      if (complete) {
+        EXPECT_TRUE(pulled.problems.empty()) << name << ": " << pulled.problems.front().problem;
+        EXPECT_TRUE(station.verify(s.stationId).ok) << name;
+      }
+    }
+  }
+}
+
+// A tampered server (issue 47, 14): its owner disables the triggers and appends, with valid
+// hashes, an undo of a marker, a new point and a status that reopens the completed capture.
+// `sync pull` takes none of it — only a curator's review of a completed capture comes back —
+// and says so in words; the station's file is unchanged and still verifies.
+TEST_F(Lab, ATamperedServerCannotRewriteOrReopenACompletedCaptureThroughPull) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech, /*complete=*/true);
+  const auto before = fileEvents(station);
+  const std::string marker = std::to_string(station.markers(s.stationId).front().seq);
+  const auto m = station.markers(s.stationId).front();
+  const std::string item = R"({"what":"marker","row":)" + std::to_string(*m.row) + R"(,"col":)" +
+                           std::to_string(*m.col) + R"(,"position_mm":[1,2,3])";
+  const std::vector<std::pair<std::string, std::string>> forged{
+      {"undone", item + R"(,"seq":)" + marker + "}"},
+      {"accepted", R"({"what":"marker","row":9,"col":1,"position_mm":[500,500,500]})"},
+      {"status", R"({"status":"open","who":"ana","why":"reopened"})"},
+  };
+  for (const auto& [kind, payload] : forged) {
+    Sql owner(admin_);
+    (void)owner.rows("ALTER TABLE leafdig.events DISABLE TRIGGER USER");
+    EXPECT_EQ(appendBySql(owner, s, "bench-a", kind, payload), "") << kind;
+    // The head follows, as the triggers would have moved it.
+    (void)owner.rows(
+        "UPDATE leafdig.sessions x SET head_seq = e.seq, head_hash = e.hash FROM leafdig.events e "
+        "WHERE x.id = $1 AND e.session_id = x.id AND e.seq = (SELECT max(seq) FROM leafdig.events WHERE session_id = "
+        "x.id)",
+        {s.serverId});
+    (void)owner.rows("ALTER TABLE leafdig.events ENABLE TRIGGER USER");
+    db::SyncOptions options;
+    options.replays = leafdig::acquisition::requireReplays;
+    const auto pulled = db::pull(station, tech, options);
+    ASSERT_EQ(pulled.problems.size(), 1u) << kind;
+    EXPECT_EQ(pulled.eventsTaken, 0) << kind;
+    EXPECT_NE(pulled.problems.front().problem.find("is not a curator's correction or decision"), std::string::npos)
+        << pulled.problems.front().problem;
+    EXPECT_NE(pulled.problems.front().remedy.find("nothing of the session was taken in"), std::string::npos);
+    EXPECT_EQ(fileEvents(station), before) << kind;
+    EXPECT_EQ(station.session(s.stationId)->status, "complete");
+    EXPECT_TRUE(station.verify(s.stationId).ok);
+    // Remove the forged event again (the owner may), so the next forgery stands alone.
+    (void)owner.rows("ALTER TABLE leafdig.events DISABLE TRIGGER USER");
+    (void)owner.rows("DELETE FROM leafdig.events WHERE session_id = $1 AND seq > $2",
+                     {s.serverId, std::to_string(before.begin()->second.size())});
+    (void)owner.rows(
+        "UPDATE leafdig.sessions x SET head_seq = e.seq, head_hash = e.hash FROM leafdig.events e "
+        "WHERE x.id = $1 AND e.session_id = x.id AND e.seq = (SELECT max(seq) FROM leafdig.events WHERE session_id = "
+        "x.id)",
+        {s.serverId});
+    (void)owner.rows("ALTER TABLE leafdig.events ENABLE TRIGGER USER");
+  }
+  // A correction that names one item and carries another, forged past the triggers: refused
+  // by the station's replay, nothing taken.
+  const auto reading = station.thickness(s.stationId).front();
+  nlohmann::json bad{{"what", "marker"},   {"row", *m.row}, {"col", *m.col}, {"position_mm", {1, 2, 3}},
+                     {"seq", reading.seq}, {"reason", "r"}, {"who", "carla"}};
+  bad["corrected"] = {{"what", "marker"}, {"row", *m.row}, {"col", *m.col}, {"position_mm", {4, 5, 6}}};
+  Sql owner(admin_);
+  (void)owner.rows("ALTER TABLE leafdig.events DISABLE TRIGGER USER");
+  EXPECT_EQ(appendBySql(owner, s, "bench-a", "corrected", bad.dump()), "");
+  (void)owner.rows(
+      "UPDATE leafdig.sessions x SET head_seq = e.seq, head_hash = e.hash FROM leafdig.events e "
+      "WHERE x.id = $1 AND e.session_id = x.id AND e.seq = (SELECT max(seq) FROM leafdig.events WHERE session_id = "
+      "x.id)",
+      {s.serverId});
+  (void)owner.rows("ALTER TABLE leafdig.events ENABLE TRIGGER USER");
+  db::SyncOptions options;
+  options.replays = leafdig::acquisition::requireReplays;
+  const auto pulled = db::pull(station, tech, options);
+  ASSERT_EQ(pulled.problems.size(), 1u);
+  EXPECT_NE(pulled.problems.front().problem.find("does not replay"), std::string::npos)
+      << pulled.problems.front().problem;
+  EXPECT_EQ(fileEvents(station), before);
+}
+
+// A review is signed by the login that writes it (issue 47, 6 and 16): a curator cannot sign
+// as another login, and a login cannot be a curator and its station's technician at once.
+TEST_F(Lab, AReviewIsSignedByItsOwnLoginAndNobodyReviewsTheirOwnCapture) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech, /*complete=*/true);
+  const std::string carla = login(db::LabRole::Curator);
+  const std::string bob = login(db::LabRole::Curator);
+  const std::string bobLogin = Sql(bob).value("SELECT session_user");
+  const std::string carlaLogin = Sql(carla).value("SELECT session_user");
+  // carla signs as bob: refused by plain SQL and through LabStore; as herself or a display name: taken.
+  EXPECT_NE(
+      appendBySql(Sql(carla), s, "bench-a", "status", R"({"status":"approved","who":")" + bobLogin + R"(","why":""})")
+          .find("a review is signed by the login that writes it"),
+      std::string::npos);
+  EXPECT_THROW((void)db::LabStore(carla).setStatus(std::stoll(s.serverId), "approved", bobLogin, ""), db::StoreError);
+  EXPECT_EQ(statusOf(s), "complete");
+  // add-user will not make one login two roles; the server refuses a technician's review
+  // even if an administrator grants the group by hand.
+  const std::string techLogin = Sql(tech).value("SELECT session_user");
+  try {
+    (void)db::addUser(admin_, techLogin, db::LabRole::Curator, "", std::nullopt);
+    ADD_FAILURE() << "a technician was made a curator too";
+  } catch (const db::StoreError& e) {
+    EXPECT_NE(std::string(e.what()).find("is already a technician"), std::string::npos) << e.what();
+  }
+  (void)Sql(admin_).rows("GRANT leafdig_curators TO " + techLogin);
+  EXPECT_NE(
+      appendBySql(Sql(tech), s, "bench-a", "status", R"({"status":"approved","who":")" + techLogin + R"(","why":""})")
+          .find("nobody reviews their own capture"),
+      std::string::npos);
+  EXPECT_EQ(appendBySql(Sql(carla), s, "bench-a", "status",
+                        R"({"status":"approved","who":")" + carlaLogin + R"(","why":"ok"})"),
+            "");
+  EXPECT_EQ(Sql(admin_).value("SELECT written_by FROM leafdig.events WHERE session_id = $1 AND kind = 'status' "
+                              "ORDER BY seq DESC LIMIT 1",
+                              {s.serverId}),
+            carlaLogin);
+}
+
+// Roles and limits (issue 47, 7 and 9): a lab's login connects to its own lab's database only
+// (the group roles are the cluster's), each login has a connection limit and timeouts, and an
+// upgrade that a reader's open transaction blocks gives up in words naming that reader.
+TEST_F(Lab, ALoginReachesItsOwnLabOnlyWithinLimitsAndAnUpgradeNamesWhatBlocksIt) {
+  const std::string curatorA = login(db::LabRole::Curator);
+  const std::string labB = clusterOf().createDatabase();
+  (void)db::initServer(clusterOf().adminUrl(labB));
+  const std::string curatorLogin = Sql(curatorA).value("SELECT session_user");
+  const std::string inB = clusterOf().url(curatorLogin, "pw \"" + curatorLogin + "\" 's", labB);
+  try {
+    Sql reach(inB);
+    ADD_FAILURE() << "a curator of lab A connected to lab B";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("permission denied for database"), std::string::npos) << e.what();
+  }
+  const auto limits = Sql(admin_).rows("SELECT rolconnlimit::text FROM pg_roles WHERE rolname = $1", {curatorLogin});
+  EXPECT_EQ(limits.at(0).at(0), std::to_string(db::kLoginConnectionLimit));
+  Sql asCurator(curatorA);
+  EXPECT_EQ(asCurator.value("SHOW idle_in_transaction_session_timeout"), "1min");
+  EXPECT_EQ(asCurator.value("SHOW statement_timeout"), "5min");
+  // A reader's transaction left open on the schema: the upgrade gives up after --lock-wait.
+  const std::string reader = login(db::LabRole::Reader);
+  const std::string readerLogin = Sql(reader).value("SELECT session_user");
+  Sql open(reader);
+  (void)open.rows("BEGIN");
+  (void)open.rows("SELECT count(*) FROM leafdig.sessions");
+  (void)Sql(admin_).value("UPDATE leafdig.meta SET value = '9' WHERE key = 'schema_version' RETURNING value");
+  try {
+    (void)db::initServer(admin_, 1.0);
+    ADD_FAILURE() << "init did not wait for the reader";
+  } catch (const db::StoreError& e) {
+    EXPECT_NE(std::string(e.what()).find("login " + readerLogin), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("holds the leafdig tables"), std::string::npos) << e.what();
+    EXPECT_NE(e.remedy().find("pg_terminate_backend"), std::string::npos) << e.remedy();
+  }
+  EXPECT_EQ(Sql(admin_).value("SELECT value FROM leafdig.meta WHERE key = 'schema_version'"), "9");
+  (void)open.rows("COMMIT");
+  EXPECT_EQ(db::initServer(admin_, 5.0).toVersion, db::kLabSchemaVersion);
+}
+
+// Nothing already captured becomes unreadable (issue 47): a station file written by the
+// leafdig before this change (station schema 2, every genesis of form 1: tests/data/legacy/)
+// pushed to a lab server at schema 9 as released, which `server init` then upgrades to 10.
+// Its sessions still verify, show and take a curator's decision under the new rules; the
+// station file upgrades when opened for writing, and a session captured after that (form 2,
+// its station in its genesis) goes to the same server.
+TEST_F(Lab, SessionsWrittenBeforeTheUpgradeStillReadOnTheServerAndTheStation) {
+  const std::string old = clusterOf().createDatabase();
+  const std::string oldAdmin = clusterOf().adminUrl(old);
+  {
+    Sql a(oldAdmin);
+    std::string all = "BEGIN;\n";
+    for (int v = 0; v < 9; ++v) all += db::detail::kLabMigrations[static_cast<std::size_t>(v)];
+    all += "INSERT INTO leafdig.meta(key, value) VALUES ('schema_version', '9'); COMMIT;";
+    a.script(all);
+  }
+  const std::string name = "legacy_tech_" + old;
+  (void)db::addUser(oldAdmin, name, db::LabRole::Technician, "legacy-bench", "pw");
+  const std::string tech = clusterOf().url(name, "pw", old);
+  fs::copy_file(std::string(LEAFDIG_SOURCE_DIR) + "/tests/data/legacy/station-schema2.sqlite", file("legacy.sqlite"));
+  db::Store station(file("legacy.sqlite"));
+  const auto sessions = station.sessions();
+  ASSERT_GE(sessions.size(), 2u);
+  for (const auto& s : sessions) {
+    EXPECT_EQ(s.genesisForm, 1) << s.id;
+    EXPECT_TRUE(station.verify(s.id).ok) << s.id << ": " << station.verify(s.id).problem;
+  }
+  const auto pushed = db::push(station, tech);
+  ASSERT_TRUE(pushed.problems.empty()) << pushed.problems.front().problem;
+  // The upgrade; then the server's copy reads, verifies and takes a decision.
+  EXPECT_EQ(db::initServer(oldAdmin).toVersion, db::kLabSchemaVersion);
+  const std::string curatorName = "legacy_curator_" + old;
+  (void)db::addUser(oldAdmin, curatorName, db::LabRole::Curator, "", "pw");
+  db::LabStore curator(clusterOf().url(curatorName, "pw", old));
+  std::int64_t decided = 0;
+  for (const auto& s : curator.sessions()) {
+    EXPECT_EQ(s.genesisForm, 1);
+    EXPECT_TRUE(curator.verify(s.id).ok) << curator.verify(s.id).problem;
+    EXPECT_FALSE(curator.events(s.id).empty());
+    if (s.status == "complete" && decided == 0) {
+      (void)curator.setStatus(s.id, "approved", curatorName, "read after the upgrade");
+      decided = s.stationSessionId;
+    }
+  }
+  ASSERT_NE(decided, 0);
+  db::SyncOptions options;
+  options.replays = leafdig::acquisition::requireReplays;
+  const auto pulled = db::pull(station, tech, options);
+  EXPECT_TRUE(pulled.problems.empty()) << pulled.problems.front().problem;
+  EXPECT_EQ(station.session(decided)->status, "approved");
+  // A session captured now is of form 2 and goes to the upgraded server whole.
+  const auto fresh = captureSession(station, "legacy-bench", 9);
+  EXPECT_EQ(station.session(fresh)->genesisForm, 2);
+  EXPECT_TRUE(station.verify(fresh).ok);
+  EXPECT_TRUE(db::push(station, tech).problems.empty());
+  bool found = false;
+  for (const auto& s : curator.sessions())
+    if (s.stationSessionId == fresh) {
+      found = true;
+      EXPECT_EQ(s.genesisForm, 2);
+      EXPECT_TRUE(curator.verify(s.id).ok);
+    }
+  EXPECT_TRUE(found);
+}
+
+// The station is in a new session's chain (issue 47, 15): a copy of another station's file
+// with its station edited no longer verifies, at the station or on the server.
+TEST_F(Lab, AStationIdEditedIntoACopyOfAnotherStationsFileIsRefused) {
+  const fs::path path = file("a.sqlite");
+  {
+    db::Store a(path.string());
+    (void)captureSession(a, "bench-a", 1);
+  }
+  {
+    // The copy, edited as a technician of bench-b would with sqlite3.
+    db::Store probe(path.string());
+    ASSERT_TRUE(probe.verify(1).ok);
+  }
+  const fs::path copy = file("copy.sqlite");
+  fs::copy_file(path, copy);
+  {
+    sqlite3* h = nullptr;
+    ASSERT_EQ(sqlite3_open(copy.c_str(), &h), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(h, "UPDATE sessions SET station = 'bench-b'", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(h);
+  }
+  db::Store edited(copy.string());
+  const auto report = edited.verify(1);
+  EXPECT_FALSE(report.ok);
+  EXPECT_NE(report.problem.find("its station, kind, creation time or settings were changed"), std::string::npos)
+      << report.problem;
+  // Pushed by bench-b's technician: the session's genesis (worked out for bench-b) is not the
+  // one its first event follows, so the server takes none of its events.
+  const std::string techB = login(db::LabRole::Technician, "bench-b");
+  const auto pushed = db::push(edited, techB);
+  ASSERT_EQ(pushed.problems.size(), 1u);
+  EXPECT_NE(pushed.problems.front().problem.find("event 1 does not follow"), std::string::npos)
+      << pushed.problems.front().problem;
+  EXPECT_EQ(Sql(admin_).value("SELECT count(*) FROM leafdig.events e JOIN leafdig.sessions s ON s.id = e.session_id "
+                              "WHERE s.station = 'bench-b'"),
+            "0");
+  // And a session row whose genesis was kept as it was (byte-identical, as a copy has it)
+  // is refused by the server's own recomputation.
+  Sql asB(techB);
+  const auto info = *edited.session(1);
+  const std::string refused = asB.error(
+      "INSERT INTO leafdig.sessions(station, station_session_id, project, plant, leaf_position, operator, mode, "
+      "capture_order, settings_json, created_utc, genesis_hash, genesis_form) VALUES ('bench-b', 1, $1, $2, 1, $3, "
+      "$4, $5, $6, $7, $8, 2)",
+      {info.project, info.plant, info.operatorName, info.mode, info.order, info.settingsJson, info.createdUtc,
+       db::genesisOf(*db::Store(path.string()).session(1))});
+  EXPECT_NE(refused.find("does not hash to its genesis hash"), std::string::npos) << refused;
 }
 
 TEST_F(Lab, InitWaitsForItsLockAndThenNamesWhoHoldsIt) {

@@ -140,11 +140,12 @@ TEST(Files, failedWriteNamesThePathAndLeavesNothing) {
   fs::remove_all(dir);
 }
 
-// A failure after the temporary file exists: the rename onto a folder of that name fails.
-TEST(Files, aFailedRenameRemovesTheTemporaryFile) {
+// A folder where the file should go: refused before anything is written (issue 47: a target
+// that is not a regular file is never replaced), and no temporary file is left.
+TEST(Files, aFolderAsTheTargetIsRefusedAndNoTemporaryFileIsLeft) {
   const fs::path dir = freshDir("rename");
   fs::create_directories(dir / "leaf.glb");  // a folder where the file should go
-  EXPECT_THROW(writeFileAtomically(dir / "leaf.glb", std::string(100000, 'x')), IoError);
+  EXPECT_THROW(writeFileAtomically(dir / "leaf.glb", std::string(100000, 'x')), InputError);
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(dir)) left.push_back(e.path().filename().string());
   EXPECT_EQ(left, std::vector<std::string>{"leaf.glb"});  // only the folder: no temporary file

@@ -415,3 +415,22 @@ def test_the_lab_servers_roles_hold_through_python(lab, station):
     assert reader.sessions(id=leaf_id)[0]["status"] == "approved"
     # The password never shows in what the store says of itself.
     assert "s3cret" not in repr(reader)
+
+
+def test_hostile_inputs_are_refused_by_the_cores_own_checks(tmp_path):
+    """Issue 47, 21 and 22: a plan that is a device or a FIFO is refused by the C++ reader's
+    checks (not read until memory runs out, not waited on), and a light that is not a
+    direction is refused instead of leaving the leaf unlit."""
+    with pytest.raises(ValueError, match="not a regular file"):
+        leafdig.build_plant("/dev/zero")
+    fifo = tmp_path / "plan.fifo"
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match="a named pipe"):
+        leafdig.build_plant(str(fifo))
+    for light in [(float("nan"), 0.0, 1.0), (0.0, 0.0, 0.0)]:
+        with pytest.raises(ValueError, match="light"):
+            leafdig.build_leaf(str(SAMPLES[0]), light=light)
+    # A light of 1e200 is a direction like any other: the leaf is lit as by (1, 0, 0).
+    far = leafdig.build_leaf(str(SAMPLES[0]), light=(1e200, 0.0, 0.0))
+    near = leafdig.build_leaf(str(SAMPLES[0]), light=(1.0, 0.0, 0.0))
+    assert far.metrics == near.metrics

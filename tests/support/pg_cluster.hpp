@@ -99,6 +99,14 @@ class Sql {
     const auto r = rows(sql, params);
     return r.empty() || r[0].empty() ? "" : r[0][0];
   }
+  // Several statements without parameters (a migration's text); throws with the server's message.
+  void script(const std::string& sql) {
+    PGresult* r = PQexec(c_, sql.c_str());
+    const auto st = PQresultStatus(r);
+    const std::string why = PQresultErrorMessage(r);
+    PQclear(r);
+    if (st != PGRES_TUPLES_OK && st != PGRES_COMMAND_OK) throw std::runtime_error(why);
+  }
   // The error text of a statement expected to fail ("" if it succeeded).
   std::string error(const std::string& sql, const std::vector<std::string>& params = {}) {
     try {

@@ -308,9 +308,10 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   id = run.sessionId();
   if (onStart) onStart(id);
   if (!quiet && !o.json)
-    std::cout << "leafdig capture · session " << id << " · " << run.setup().project << " / " << run.setup().plant
-              << " / leaf " << run.setup().leafPosition << " · " << m::toString(run.setup().settings.mode)
-              << " mode\n  digitizer " << run.devices().spec(acq::DeviceSet::Role::Digitizer) << " · caliper "
+    std::cout << "leafdig capture · session " << id << " · " << terminalText(run.setup().project) << " / "
+              << terminalText(run.setup().plant) << " / leaf " << run.setup().leafPosition << " · "
+              << m::toString(run.setup().settings.mode) << " mode\n  digitizer "
+              << run.devices().spec(acq::DeviceSet::Role::Digitizer) << " · caliper "
               << run.devices().spec(acq::DeviceSet::Role::Caliper)
               << "\n  keys (then Enter): u undo · e end rows · r WHAT ROW POINT retake · p pause · resume · "
                  "abandon [why] · q quit\n";
@@ -466,7 +467,7 @@ int runList(const db::EventStore& store, const CaptureOptions& o) {
               << std::setw(14) << terminalText(s.operatorName) << std::setw(8) << s.headSeq
               << terminalText(s.createdUtc) << "\n";
   }
-  if (sessions.empty()) std::cout << "(no sessions in " << store.describe() << ")\n";
+  if (sessions.empty()) std::cout << "(no sessions in " << terminalText(store.describe()) << ")\n";
   return 0;
 }
 
@@ -665,12 +666,16 @@ int runVerify(const db::EventStore& store, const CaptureOptions& o) {
                    {"chain_ok", c.ok},
                    {"events", c.events},
                    {"first_bad_seq", c.firstBadSeq ? json(*c.firstBadSeq) : json(nullptr)},
-                   {"problem", c.problem}});
+                   {"problem", c.problem},
+                   {"genesis_form", c.genesisForm}});
     else
       std::cout << "session " << id << ": " << c.events << " events, "
                 << (c.ok ? "chain OK"
                          : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " +
                                terminalText(c.problem))
+                << (c.ok && c.genesisForm < 2
+                        ? " (written before the station was in the chain: its station id is not covered)"
+                        : "")
                 << "\n";
   }
   // Every page of a station's file as well (opening for capture checks only what capture
@@ -690,16 +695,27 @@ int runVerify(const db::EventStore& store, const CaptureOptions& o) {
   return ok ? 0 : 1;
 }
 
-int runReview(db::EventStore& store, const CaptureOptions& o, const std::string& status) {
+// Who signs a review: in a station's file, --who; on the lab server, --who or else the login
+// (the server keeps the writing login beside it, and refuses a --who that names another login:
+// lab schema 10).
+std::string signer(const db::EventStore& store, const std::string& who) {
+  if (!who.empty()) return who;
+  if (const auto login = store.login()) return *login;
+  throw std::invalid_argument("a curator signs every review of a station's file: give --who NAME");
+}
+
+int runReview(db::EventStore& store, CaptureOptions o, const std::string& status) {
+  o.who = signer(store, o.who);
   const auto seq = acq::review(store, o.id, status, o.who, o.why);
   if (o.json)
     std::cout << json{{"session", o.id}, {"status", status}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
   else
-    std::cout << "session " << o.id << " " << status << " by " << o.who << " (event " << seq << ")\n";
+    std::cout << "session " << o.id << " " << status << " by " << terminalText(o.who) << " (event " << seq << ")\n";
   return 0;
 }
 
-int runCorrect(db::EventStore& store, const CaptureOptions& o) {
+int runCorrect(db::EventStore& store, CaptureOptions o) {
+  o.who = signer(store, o.who);
   acq::Correction c;
   acq::setCorrectionItem(c, o.what, o.node);  // --what and --node
   c.row = o.row;
@@ -715,7 +731,8 @@ int runCorrect(db::EventStore& store, const CaptureOptions& o) {
   if (o.json)
     std::cout << json{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
   else
-    std::cout << "session " << o.id << ": " << o.what << " corrected by " << o.who << " (event " << seq << ")\n";
+    std::cout << "session " << o.id << ": " << terminalText(o.what) << " corrected by " << terminalText(o.who)
+              << " (event " << seq << ")\n";
   return 0;
 }
 
@@ -728,8 +745,8 @@ int runExport(db::EventStore& store, const CaptureOptions& o) {
     } else {
       std::cout << "plant session " << o.id << ": " << p.survey.nodes.size() << " nodes, " << p.survey.leaves.size()
                 << " leaves\n";
-      for (const auto& f : p.written) std::cout << "  wrote " << f << "\n";
-      for (const auto& n : p.notes) std::cout << "  note: " << n << "\n";
+      for (const auto& f : p.written) std::cout << "  wrote " << terminalText(f) << "\n";
+      for (const auto& n : p.notes) std::cout << "  note: " << terminalText(n) << "\n";
     }
     return 0;
   }
@@ -747,7 +764,7 @@ int runExport(db::EventStore& store, const CaptureOptions& o) {
   } else {
     std::cout << "session " << o.id << ": " << r.rows << " rows, blade area " << std::fixed << std::setprecision(0)
               << r.metrics.blade.areaMm2 << " mm^2\n";
-    for (const auto& p : r.written) std::cout << "  wrote " << p << "\n";
+    for (const auto& p : r.written) std::cout << "  wrote " << terminalText(p) << "\n";
   }
   return 0;
 }
@@ -818,6 +835,7 @@ int runDemo(const CaptureOptions& o) {
     const std::string spec = kDemoSynthLeaves[static_cast<std::size_t>(k) % std::size(kDemoSynthLeaves)];
     leaves.push_back({"synthetic " + spec, "", spec});
   }
+  if (o.speed) acq::checkSimulationSpeed(*o.speed);  // before anything is made
   const std::string out = o.out.empty() ? "out/demo" : o.out;
   std::filesystem::create_directories(out);
   CaptureOptions c = o;
@@ -881,7 +899,8 @@ int runDemo(const CaptureOptions& o) {
            << (summary.metrics.areaConstraint ? (inside ? ", holds the known area" : ", misses the known area") : "");
       std::cout << line.str() << "\n";
     }
-    for (const auto& w : summary.metrics.warnings) std::cout << "    warning (" << w.name << "): " << w.message << "\n";
+    for (const auto& w : summary.metrics.warnings)
+      std::cout << "    warning (" << w.name << "): " << terminalText(w.message) << "\n";
     const db::ChainReport chain = store.verify(id);
     std::cout << "    hash chain: " << (chain.ok ? "OK" : "BROKEN") << " (" << chain.events << " events)\n";
   }
@@ -907,7 +926,7 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
     c->add_option("--faults", o.faults,
                   "Digitizer faults, e.g. garbage=0.01,unplug=0.002:0.5 (see 'leafdig sim --help')");
     c->add_option("--caliper-faults", o.caliperFaults, "Caliper faults, same syntax");
-    c->add_option("--seed", o.seed, "Seed of the simulation (noise, mistakes, faults)");
+    c->add_option("--seed", o.seed, "Seed of the simulation (noise, mistakes, faults)")->check(seedText());
     c->add_option("--speed", o.speed, "Time scale of the simulated operator and devices (e.g. 10)");
     c->add_flag("--no-mistakes", o.noMistakes, "The virtual operator makes no deliberate mistakes");
     c->add_option("--give-up-after", o.giveUpAfterS,
@@ -974,20 +993,23 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
                    "point, reading, quick_point (a board point or landmark after a move of the transmitter moves the "
                    "points of that move with it)")
       ->required();
+  // 1-based when given (issue 47: --col 0 used to correct column 1); left out where none applies.
   corr->add_option("--row", o.row,
-                   "Row (1-based; where it applies; board_again: the move); a plant's landmark or node number");
+                   "Row (1-based; where it applies; board_again: the move); a plant's landmark or node number")
+      ->check(CLI::Range(1, 100000));
   corr->add_option("--col", o.col,
                    "Column (1-based; where it applies; board: the board point); a plant item's part "
-                   "(landmark_again: the move)");
+                   "(landmark_again: the move)")
+      ->check(CLI::Range(1, 100000));
   corr->add_option("--node", o.node, "A plant session: the node whose full leaf holds the item");
   corr->add_option("--position", o.position, "Corrected marker position x,y,z in mm")->delimiter(',')->expected(3);
   corr->add_option("--value", o.value, "Corrected thickness (a plant: stem diameter) in mm");
-  corr->add_option("--who", o.who, "Curator's name")->required();
+  corr->add_option("--who", o.who, "Curator's name (a station's file; on the lab server the login signs)");
   corr->add_option("--why", o.why, "Reason")->required();
   verify->add_option("id", o.id, "Session id (default: all)");
   verify->add_flag("--all", o.all, "Every session");
   for (CLI::App* c : {approve, reject}) {
-    c->add_option("--who", o.who, "Curator's name")->required();
+    c->add_option("--who", o.who, "Curator's name (a station's file; on the lab server the login signs)");
     c->add_option("--why", o.why, "Reason (required to reject)");
   }
   exp->add_option("--out", o.out, "Directory to write into")->required();
@@ -1009,7 +1031,7 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   demo->add_option("--out", o.out, "Directory for the database and exports (default out/demo)");
   demo->add_option("--samples", o.samples, "Directory of *.markers.json leaves (default: data/samples)");
   demo->add_option("--speed", o.speed, "Time scale (default 8)");
-  demo->add_option("--seed", o.seed, "Seed");
+  demo->add_option("--seed", o.seed, "Seed")->check(seedText());
   demo->add_option("--give-up-after", o.giveUpAfterS,
                    "Stop, in words, a capture that gets nowhere for this many seconds (default 180)")
       ->check(CLI::Range(1.0, 86400.0));

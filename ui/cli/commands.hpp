@@ -36,6 +36,19 @@ class CommandTable {
   std::vector<Entry> entries_;
 };
 
+// A seed as typed: a whole number from 0 to 18446744073709551615 (2^64 - 1). CLI11 alone would
+// turn -1 or 2^64 into 2^64 - 1 without a word.
+inline CLI::Validator seedText() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const bool digits =
+            !text.empty() && text.size() <= 20 && text.find_first_not_of("0123456789") == std::string::npos;
+        if (digits && (text.size() < 20 || text <= "18446744073709551615")) return {};
+        return "a seed is a whole number from 0 to 18446744073709551615, not " + text;
+      },
+      "SEED");
+}
+
 // Registers every command of leafdig on `app` and `table`. The options the commands parse
 // into live in `app` (CLI11 keeps them alive for the parse and the run).
 void addAllCommands(CLI::App& app, CommandTable& table);

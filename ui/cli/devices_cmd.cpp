@@ -384,7 +384,7 @@ void declareDevicesCommands(CLI::App& app, DevicesOptions& o) {
   sim->add_option("--press-every", o.pressEvery, "Calipers: press DATA every S seconds");
   sim->add_option("--seconds", o.simSeconds, "Stop after S seconds (default: run until Ctrl-C)");
   sim->add_option("--sigma", o.sigma, "Stylus noise per axis, mm (default 0.3)");
-  sim->add_option("--seed", o.seed, "Random seed");
+  sim->add_option("--seed", o.seed, "Random seed")->check(seedText());
 
   CLI::App* doctor = app.add_subcommand("doctor", "Check libraries, ports, permissions and the udev rule");
   doctor->add_flag("--json", o.json, "Machine-readable output");

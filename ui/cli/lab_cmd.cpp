@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/db/lab.hpp"
 #include "terminal_text.hpp"
 
@@ -121,6 +122,7 @@ int runPull(const LabOptions& o) {
   if (!o.station.empty()) options.station = o.station;
   if (!o.json)
     options.progress = [](const std::string& line) { std::cout << "  " << terminalText(line) << "\n" << std::flush; };
+  options.replays = acquisition::requireReplays;
   const db::PullReport r = db::pull(local, o.url, options);
   if (o.json)
     std::cout << json{{"from", db::redactUrl(o.url)},
@@ -143,7 +145,8 @@ int runInit(const LabOptions& o) {
     std::cout << json{{"url", db::redactUrl(o.url)},
                       {"from_version", r.fromVersion},
                       {"to_version", r.toVersion},
-                      {"roles_created", r.rolesCreated}}
+                      {"roles_created", r.rolesCreated},
+                      {"notes", r.notes}}
                      .dump()
               << "\n";
   } else {
@@ -153,6 +156,7 @@ int runInit(const LabOptions& o) {
                       : "version " + std::to_string(r.fromVersion) + " -> " + std::to_string(r.toVersion))
               << "\n";
     for (const auto& role : r.rolesCreated) std::cout << "  created group role " << role << "\n";
+    for (const auto& note : r.notes) std::cout << "  note: " << terminalText(note) << "\n";
     std::cout << "next: leafdig server add-user --url URL --login NAME --role technician|curator|reader\n";
   }
   return 0;

@@ -114,7 +114,8 @@ std::pair<CLI::App*, CLI::App*> declareMeshCommands(CLI::App& app, MeshCommandOp
   compare->add_option("b", o.b, "Second mesh (.obj .ply .stl .glb)")->required();
   compare->add_option("--samples", o.samples, "Area-weighted sample points per side, besides every vertex")
       ->check(CLI::Range(1000, 50'000'000));
-  compare->add_option("--seed", o.seed, "Seed of the sample points (the same seed gives the same answer)");
+  compare->add_option("--seed", o.seed, "Seed of the sample points (the same seed gives the same answer)")
+      ->check(seedText());
   compare->add_flag("--json", o.json, "Print the result as JSON");
   CLI::App* study = mesh->add_subcommand(
       "study", "Mesh one leaf (or a plant) uniform, seed, adaptive and by meshoptimizer at the same error");

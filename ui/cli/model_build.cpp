@@ -75,12 +75,14 @@ Eigen::Vector3d parseLight(const std::string& text) {
   char comma1 = 0;
   char comma2 = 0;
   in >> d.x() >> comma1 >> d.y() >> comma2 >> d.z();
-  if (!in || comma1 != ',' || comma2 != ',' || !in.eof() || !d.allFinite() || d.norm() == 0.0) {
+  if (!in || comma1 != ',' || comma2 != ',' || !in.eof() || !d.allFinite() || d.cwiseAbs().maxCoeff() == 0.0) {
     throw m::InputError("--light \"" + text +
                         "\": expected three numbers x,y,z, not all zero, "
                         "e.g. --light 0,0,1");
   }
-  return d;
+  // Only its direction counts: scaled so its largest component is 1 (1e200,0,0 would
+  // overflow a norm and leave no light at all).
+  return d / d.cwiseAbs().maxCoeff();
 }
 
 namespace {

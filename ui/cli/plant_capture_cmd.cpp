@@ -21,6 +21,7 @@
 
 #include "capture_cmd.hpp"
 #include "commands.hpp"
+#include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/device_set.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/plant_run.hpp"
@@ -248,7 +249,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   if (!o.caliper.empty()) (void)acq::parseCaliperSpec(o.caliper);
   if (real && o.plant.empty())
     throw std::invalid_argument("name the plant you digitize: --plant ID (e.g. --plant tobacco-p12)");
-  if (!(o.speed > 0 && o.speed <= 50)) throw std::invalid_argument("the simulation speed must be in (0, 50]");
+  acq::checkSimulationSpeed(o.speed);
   checkRelocationTolerance(o.relocationToleranceMm, o.resume != 0);
   if (o.relocateSourceAfter > 0 && !o.simulate)
     throw std::invalid_argument(
@@ -393,15 +394,19 @@ int runSurveys(const SurveysOptions& o) {
                       {"created", e.createdUtc},
                       {"events", e.events},
                       {"verified", e.verified},
+                      {"problem", e.problem.empty() ? json(nullptr) : json(e.problem)},
                       {"nodes", e.nodes},
                       {"leaves", {{"full", e.full}, {"quick", e.quick}, {"none", e.noLeaf}}}});
     std::cout << json{{"plant", o.plant}, {"surveys", list}}.dump() << "\n";
     return 0;
   }
-  std::cout << "plant " << terminalText(o.plant) << ": " << surveys.size() << " survey(s) in " << path << "\n";
+  std::cout << "plant " << terminalText(o.plant) << ": " << surveys.size() << " survey(s) in " << terminalText(path)
+            << "\n";
   for (const acq::PlantSurveyEntry& e : surveys) {
-    std::cout << "  " << e.date << "  session " << e.session << "  " << e.status;
-    if (e.verified)
+    std::cout << "  " << terminalText(e.date) << "  session " << e.session << "  " << terminalText(e.status);
+    if (e.verified && !e.problem.empty())
+      std::cout << "  does not read: " << terminalText(e.problem);
+    else if (e.verified)
       std::cout << "  " << e.nodes << " nodes (" << e.full << " full, " << e.quick << " quick, " << e.noLeaf
                 << " without a leaf)";
     else
@@ -488,7 +493,7 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   capture->add_option("--date", o->date, "The survey's day, YYYY-MM-DD (default: the plant-markers file's)");
   capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")
       ->capture_default_str();
-  capture->add_option("--seed", o->seed, "Simulation seed")->capture_default_str();
+  capture->add_option("--seed", o->seed, "Simulation seed")->check(seedText())->capture_default_str();
   capture->add_option("--relocation-tolerance", o->relocationToleranceMm,
                       "A move of the transmitter is refused when its fit's RMS residual is above this, in mm "
                       "(0.1–10; default 1.5): set when a capture begins");

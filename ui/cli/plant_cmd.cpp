@@ -64,8 +64,11 @@ std::vector<double> parseTimes(const std::string& text) {
   if (!in || c1 != ':' || c2 != ':' || !in.eof() || !(step > 0) || b < a || !std::isfinite(a) || !std::isfinite(b))
     throw m::InputError("--times \"" + text + "\": expected start:end:step with end ≥ start and step > 0, e.g. 0:60:5");
   std::vector<double> times;
-  const auto n = static_cast<long>(std::floor((b - a) / step + 1e-9));
-  if (n > 10000) throw m::InputError("--times \"" + text + "\" gives more than 10 000 states; use a larger step");
+  // Counted as a double first: 60 / 1e-300 states would overflow a long (and then write none).
+  const double count = std::floor((b - a) / step + 1e-9);
+  if (!(count <= 10000))
+    throw m::InputError("--times \"" + text + "\" gives more than 10 000 states; use a larger step");
+  const auto n = static_cast<long>(count);
   for (long i = 0; i <= n; ++i) times.push_back(a + static_cast<double>(i) * step);
   return times;
 }

@@ -16,6 +16,7 @@
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
 #include "plant_cmd.hpp"
+#include "terminal_text.hpp"
 
 namespace leafdig::cli {
 
@@ -52,9 +53,9 @@ std::string fixed(double v, int digits) {
 }
 
 void printSurvey(const m::PlantSurvey& s, const std::string& input) {
-  std::cout << input << ": plant " << (s.plant.empty() ? "(no id)" : s.plant) << ", " << s.nodes.size() << " node(s), "
-            << s.leaves.size() << " leaf record(s); landmarks flat within " << fixed(s.frame.flatnessMm, 2)
-            << " mm RMS\n";
+  std::cout << terminalText(input) << ": plant " << (s.plant.empty() ? "(no id)" : terminalText(s.plant)) << ", "
+            << s.nodes.size() << " node(s), " << s.leaves.size() << " leaf record(s); landmarks flat within "
+            << fixed(s.frame.flatnessMm, 2) << " mm RMS\n";
   std::cout << "  collar: stem " << fixed(s.collarDiameterMm, 1) << " mm\n";
   for (const m::SurveyedNode& n : s.nodes) {
     std::cout << "  node " << n.index;

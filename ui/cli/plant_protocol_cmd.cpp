@@ -3,9 +3,12 @@
 // protocol (docs/plants.md, "The plant protocol file").
 #include <iostream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "commands.hpp"
+#include "leafdig/acquisition/plant_engine.hpp"
+#include "leafdig/model/errors.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
 #include "plant_cmd.hpp"
 
@@ -22,6 +25,14 @@ struct ProtocolOptions {
 
 int runProtocol(const ProtocolOptions& o) {
   const m::PlantProtocol protocol = o.input.empty() ? m::defaultPlantProtocol() : m::readPlantProtocolFile(o.input);
+  // The check is the capture's own: a protocol `plant capture` cannot follow (no stem, an axis
+  // of order 3, two branches, …) is refused here in the same words, not passed.
+  try {
+    (void)acquisition::PlantEngine(protocol);
+  } catch (const std::invalid_argument& e) {
+    throw m::InputError((o.input.empty() ? std::string("the built-in protocol") : o.input) + ": " + e.what() +
+                        " — plant capture cannot follow it");
+  }
   if (o.json) {
     std::cout << m::plantProtocolToJson(protocol) << "\n";
     return 0;

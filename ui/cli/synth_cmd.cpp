@@ -167,7 +167,7 @@ void declareSynthCommands(CLI::App& app, SynthOptions& o) {
       "leaf", "A 3-D leaf with a known area: markers by the protocol (with noise), the truth, the true surface");
   addSynthChoice(*leaf, o.choice, "");
   leaf->add_option("--noise", o.noiseMm, "Gaussian noise per marker coordinate, σ in mm (default 0)");
-  leaf->add_option("--seed", o.seed, "Seed of the noise (default 1)");
+  leaf->add_option("--seed", o.seed, "Seed of the noise (default 1)")->check(seedText());
   leaf->add_option("--id", o.choice.id, "Leaf id (default SYN-<shape>-<seed>)");
   leaf->add_option("--plant", o.choice.plant, "Plant id (default P-synth)");
   leaf->add_option("--markers", o.markers, "Write the markers here (leafdig.markers/1)")->required();

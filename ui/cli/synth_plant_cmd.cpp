@@ -74,7 +74,7 @@ void addSynthPlantCommand(CLI::App& synth, CommandTable& table) {
   plant->add_option("--rows", o->spec.leafRows, "Marker rows of a full leaf (default 10)")->check(CLI::Range(2, 60));
   plant->add_option("--noise", o->spec.noiseMm, "Gaussian noise per stylus coordinate, σ in mm (default 0.3)")
       ->check(CLI::Range(0.0, 10.0));
-  plant->add_option("--seed", o->spec.seed, "Seed of the pose and the noise (default 1)");
+  plant->add_option("--seed", o->spec.seed, "Seed of the pose and the noise (default 1)")->check(seedText());
   plant->add_option("--pose", o->pose, "The transmitter: random (default) or plant (the plant's own frame)")
       ->check(CLI::IsMember({"random", "plant"}));
   plant->add_option("--date", o->date, "The survey's day, YYYY-MM-DD (written in the file)");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/version.hpp"
 #include "plant_view.hpp"
@@ -111,8 +112,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (!(o.speed > 0 && o.speed <= 50)) {
-    std::fprintf(stderr, "leafdig-station: --speed must be in (0, 50]\n");
+  if (!(o.speed >= leafdig::acquisition::kMinSimulationSpeed && o.speed <= leafdig::acquisition::kMaxSimulationSpeed)) {
+    std::fprintf(stderr, "leafdig-station: --speed must be between 0.1 and 50\n");
     return 2;
   }
   {

@@ -218,6 +218,8 @@ void ReviewView::refreshSessions() {
   all_.clear();
   try {
     if (!store_ && !dbPath_.empty()) store_ = db::openEventStore(dbPath_, false);
+    // On the lab server a review is signed by the login that writes it (lab schema 10).
+    if (const auto login = store_ ? store_->login() : std::nullopt) curator_->setText(QString::fromStdString(*login));
     if (store_) all_ = store_->sessions();
     // Plant sessions are reviewed as plants (docs/plants.md); this view reviews leaves.
     all_.erase(std::remove_if(all_.begin(), all_.end(), [](const db::SessionInfo& s) { return s.kind != "leaf"; }),

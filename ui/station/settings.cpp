@@ -1,6 +1,7 @@
 #include "settings.hpp"
 
 #include <QDir>
+#include <QFile>
 #include <QFileInfo>
 #include <QFont>
 #include <QPalette>
@@ -10,6 +11,7 @@
 #include <QStyleFactory>
 #include <algorithm>
 
+#include "leafdig/db/lab.hpp"
 #include "leafdig/names/name_table.hpp"
 
 namespace leafdig::station {
@@ -109,8 +111,17 @@ StationSettings StationSettings::load(const QString& file, QStringList* problems
   s.exportDir = q.value("export/dir", QDir::homePath() + "/leafdig-exports").toString();
   s.labUrl = q.value("lab/url", QString()).toString().trimmed();
   if (!s.labUrl.isEmpty() && !s.labUrl.startsWith("postgresql://") && !s.labUrl.startsWith("postgres://")) {
-    note(QObject::tr("lab/url = %1 is not a postgresql:// URL; no lab server").arg(s.labUrl));
+    note(QObject::tr("lab/url = %1 is not a postgresql:// URL; no lab server")
+             .arg(QString::fromStdString(db::redactUrl(s.labUrl.toStdString()))));
     s.labUrl.clear();
+  }
+  if (!s.labUrl.isEmpty()) {
+    const QString bare = labUrlWithoutPassword(s.labUrl);
+    if (bare != s.labUrl)
+      note(
+          QObject::tr("lab/url holds a password, which the station never stores: it is not used (put it in "
+                      "~/.pgpass, mode 0600 — docs/lab.md)"));
+    s.labUrl = bare;
   }
   s.labSyncMinutes = static_cast<int>(number("lab/sync_minutes", s.labSyncMinutes, 0, 1440));
   return s;
@@ -134,9 +145,17 @@ void StationSettings::save(const QString& file) const {
   q.setValue("capture/min_thickness_mm", engine.minThicknessMm);
   q.setValue("capture/max_thickness_mm", engine.maxThicknessMm);
   q.setValue("export/dir", exportDir);
-  q.setValue("lab/url", labUrl);
+  q.setValue("lab/url", labUrlWithoutPassword(labUrl));
   q.setValue("lab/sync_minutes", labSyncMinutes);
   q.sync();
+  // Only its owner reads the station's settings (they name the lab server and its login).
+  QFile::setPermissions(file, QFileDevice::ReadOwner | QFileDevice::WriteOwner);
+}
+
+QString labUrlWithoutPassword(const QString& url) {
+  if (url.isEmpty()) return url;
+  const auto bare = db::urlWithoutSecrets(url.toStdString());
+  return bare ? QString::fromStdString(*bare) : QString();  // unreadable: it may hold one, so not kept
 }
 
 QString StationSettings::number(double mm, int decimalsMm) const {

@@ -45,6 +45,9 @@ struct StationSettings {
 };
 
 [[nodiscard]] QString defaultSettingsFile();
+// A lab URL as the station keeps it: without a password or sslpassword (those live in
+// ~/.pgpass); empty when libpq cannot read it (it may hold one).
+[[nodiscard]] QString labUrlWithoutPassword(const QString& url);
 // Palette, font size and style for the theme; call before and after windows exist.
 void applyTheme(QApplication& app, const StationSettings& s);
 

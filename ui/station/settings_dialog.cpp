@@ -3,6 +3,7 @@
 #include <QDialogButtonBox>
 #include <QFormLayout>
 #include <QGroupBox>
+#include <QMessageBox>
 #include <QVBoxLayout>
 
 namespace leafdig::station {
@@ -77,7 +78,20 @@ SettingsDialog::SettingsDialog(const StationSettings& s, QWidget* parent) : QDia
   lf->addRow(tr("Sync every"), labMinutes_);
 
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
-  connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::accepted, this, [this] {
+    // The station never stores a password: a URL with one is refused here, in words.
+    const QString url = labUrl_->text().trimmed();
+    if (!url.isEmpty() && labUrlWithoutPassword(url) != url) {
+      labUrl_->setStyleSheet("border: 2px solid #c0392b;");
+      labUrl_->setToolTip(
+          tr("This URL holds a password (or libpq cannot read it). The station never stores one: "
+             "give postgresql://LOGIN@HOST/DATABASE and put the password in ~/.pgpass "
+             "(HOST:5432:DATABASE:LOGIN:PASSWORD, mode 0600)."));
+      QMessageBox::warning(this, tr("Lab server"), labUrl_->toolTip());
+      return;
+    }
+    accept();
+  });
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
   auto* outer = new QVBoxLayout(this);
   outer->addWidget(display);
@@ -102,7 +116,7 @@ StationSettings SettingsDialog::result() const {
   s.engine.relocationToleranceMm = relocation_->value();
   s.engine.minThicknessMm = minT_->value();
   s.engine.maxThicknessMm = std::max(maxT_->value(), minT_->value() * 2);
-  s.labUrl = labUrl_->text().trimmed();
+  s.labUrl = labUrlWithoutPassword(labUrl_->text().trimmed());
   s.labSyncMinutes = labMinutes_->value();
   return s;
 }

@@ -18,6 +18,7 @@
 #include <fstream>
 
 #include "export_dialog.hpp"
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/devices/transports/registry.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
@@ -206,7 +207,9 @@ void StationWindow::syncWithLab() {
         pushed = db::push(local, url);
       }
       db::Store local(path);
-      const db::PullReport pulled = db::pull(local, url);
+      db::SyncOptions options;
+      options.replays = acq::requireReplays;
+      const db::PullReport pulled = db::pull(local, url, options);
       text = tr("Lab: sent %1 event(s) of %2 session(s), took in %3 decision event(s)")
                  .arg(pushed.eventsSent)
                  .arg(pushed.sessionsSeen)

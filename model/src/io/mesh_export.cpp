@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <sstream>
 
@@ -30,6 +31,24 @@ Eigen::Vector3d toGltfAxes(const Eigen::Vector3d& p) {
 }
 
 namespace {
+
+// Text from a plan, a leaf or a plant id on one line of a file's header (an OBJ or PLY comment,
+// an OBJ object name, the STL header): a line break would start a line of its own that a
+// reader takes as geometry, so control characters become \xNN.
+std::string oneLine(const std::string& text) {
+  std::string out;
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
 
 std::string frameDescription(const ExportHeader& h) {
   if (h.frame == "plant") return "plant frame: origin at the stem base, +Z up the stem axis";
@@ -59,7 +78,7 @@ void appendTriple(std::string& out, const char* tag, const Eigen::Vector3d& p, i
 }
 
 std::string encodeObj(const LeafMesh& mesh, const ExportHeader& h) {
-  std::string out = "# " + h.generator + (h.leafId.empty() ? "" : " leaf " + h.leafId) + "\n" +
+  std::string out = "# " + h.generator + (h.leafId.empty() ? "" : " leaf " + oneLine(h.leafId)) + "\n" +
                     "# units: mm\n# up: +Z\n# " + frameDescription(h) + "\n";
   if (std::any_of(mesh.organs.begin(), mesh.organs.end(), [](const Organ& o) { return o.kind == OrganKind::Vein; })) {
     out += "# vein radii are caliper thickness / 2\n";
@@ -72,7 +91,7 @@ std::string encodeObj(const LeafMesh& mesh, const ExportHeader& h) {
   out.reserve(out.size() + 64 * vertices + 48 * triangles);  // one allocation for the whole file
   std::size_t base = 1;
   for (const Organ& o : mesh.organs) {
-    out += "o " + o.name + "\n";
+    out += "o " + oneLine(o.name) + "\n";
     for (const auto& p : o.mesh.positions) appendTriple(out, "v", p, 4);
     for (const auto& n : o.mesh.normals) appendTriple(out, "vn", n, 6);
     for (const auto& t : o.mesh.triangles) {
@@ -116,10 +135,10 @@ std::string encodePly(const LeafMesh& mesh, const ExportHeader& h) {
   }
   std::ostringstream head;
   head << "ply\nformat binary_little_endian 1.0\n"
-       << "comment " << h.generator << (h.leafId.empty() ? "" : " leaf " + h.leafId) << "\n"
+       << "comment " << h.generator << (h.leafId.empty() ? "" : " leaf " + oneLine(h.leafId)) << "\n"
        << "comment units mm, up +Z, " << frameDescription(h) << "\n";
   for (std::size_t i = 0; i < mesh.organs.size(); ++i) {
-    head << "comment organ_id " << i << " " << mesh.organs[i].name << "\n";
+    head << "comment organ_id " << i << " " << oneLine(mesh.organs[i].name) << "\n";
   }
   head << "element vertex " << vertices << "\n"
        << "property float x\nproperty float y\nproperty float z\n"
@@ -148,7 +167,7 @@ std::string encodePly(const LeafMesh& mesh, const ExportHeader& h) {
 }
 
 std::string encodeStl(const LeafMesh& mesh, const ExportHeader& h) {
-  std::string header = h.generator + " leaf " + h.leafId + " units=mm up=+Z frame=" + h.frame;
+  std::string header = h.generator + " leaf " + oneLine(h.leafId) + " units=mm up=+Z frame=" + h.frame;
   header.resize(80, ' ');
   // An STL header must not start with "solid" (readers would take it for ASCII STL).
   std::string out = header;

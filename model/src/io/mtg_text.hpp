@@ -25,8 +25,10 @@ inline std::string mtgReal(double v) {
 inline std::string mtgAlpha(const std::string& s) {
   std::string out;
   for (char c : s) {
-    const bool bad = std::string_view("+</[](),=^").find(c) != std::string_view::npos ||
-                     std::isspace(static_cast<unsigned char>(c)) != 0;
+    // Control characters too (a NUL or a line break would end the line a reader splits on).
+    const auto u = static_cast<unsigned char>(c);
+    const bool bad = std::string_view("+</[](),=^").find(c) != std::string_view::npos || std::isspace(u) != 0 ||
+                     u < 0x20 || u == 0x7f;
     out += bad ? '_' : c;
   }
   return out.empty() ? "unnamed" : out;

@@ -10,6 +10,7 @@
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/io/csv_text.hpp"
 #include "leafdig/model/io/model_json.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
 #include "parallel.hpp"
@@ -28,13 +29,6 @@ using detail::mtgAlpha;
 // Fixed notation with three decimals (the MTG's and the CSV's numbers).
 std::string fixed3(double v) {
   return detail::mtgReal(v);
-}
-
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
 }
 
 const LeafLight* lightOf(const PlantMetrics& m, int rank) {
@@ -238,7 +232,7 @@ std::string encodePlantCsv(const Plant& plant, const PlantMetrics& metrics) {
   out << "plant,organ,rank,leaf_id,source,insertion_height_mm,azimuth_deg,inclination_deg,roll_deg,scale,bend_deg,"
          "length_mm,width_mm,area_mm2,silhouette_mm2,star,base_x_mm,base_y_mm,base_z_mm,tip_x_mm,tip_y_mm,tip_z_mm,"
          "blade_area_low95_mm2,blade_area_high95_mm2\n";
-  const std::string id = csvField(plant.id);
+  const std::string id = csvText(plant.id);
   if (plant.stem) {
     const Eigen::Vector3d apex = stemPointAt(plant, 1.0).center;
     out << id << ",stem,0,,,0.000,,,,,," << fixed3(plant.stemHeightMm) << "," << fixed3(plant.stemBaseDiameterMm)
@@ -246,7 +240,7 @@ std::string encodePlantCsv(const Plant& plant, const PlantMetrics& metrics) {
   }
   for (const PlacedLeaf& l : plant.leaves) {
     const LeafLight* light = lightOf(metrics, l.rank);
-    out << id << ",leaf," << l.rank << "," << csvField(l.model.markers.leaf.id) << "," << csvField(l.source) << ","
+    out << id << ",leaf," << l.rank << "," << csvText(l.model.markers.leaf.id) << "," << csvText(l.source) << ","
         << fixed3(l.insertionHeightMm) << "," << fixed3(l.azimuthDeg) << "," << fixed3(l.inclinationDeg) << ","
         << fixed3(l.rollDeg) << "," << detail::formatNumber(l.scale) << "," << fixed3(l.bendDeg) << ","
         << fixed3(l.lengthMm) << "," << fixed3(l.widthMm) << "," << fixed3(light ? light->areaMm2 : 0.0) << ","

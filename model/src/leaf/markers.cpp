@@ -245,6 +245,29 @@ void validateMarkerGeometry(const MarkerSet& markers) {
           "the markers lie on one line: a leaf's rows run across its midrib and give it breadth. Re-digitize the "
           "rows (7 points each, right to left across the leaf)");
     }
+    // Rows with no width: every marker on the midrib's own (curved) line, each row's points
+    // strung along it instead of across it — a blade of no area, whose interval would be empty.
+    // A row has width when its points reach across the midrib's direction (from the row above
+    // to it) by at least a tenth of their spread; a leaf none of whose rows does is refused.
+    bool anyAcross = false;
+    Eigen::Vector3d above = markers.tipMm;
+    for (const MarkerRow& row : markers.rows) {
+      const Eigen::Vector3d mid = row.pointsMm[kMidribColumn];
+      const Eigen::Vector3d along = (mid - above).norm() > 0 ? (mid - above).normalized() : Eigen::Vector3d::UnitX();
+      double across = 0.0, spread = 0.0;
+      for (const Eigen::Vector3d& p : row.pointsMm) {
+        const Eigen::Vector3d d = p - mid;
+        across = std::max(across, (d - d.dot(along) * along).norm());
+        spread = std::max(spread, d.norm());
+      }
+      anyAcross = anyAcross || across > 0.1 * spread;
+      above = mid;
+    }
+    if (!anyAcross) {
+      throw InputError(
+          "the rows have no width: every marker lies on the midrib's line, so the blade has no area. Each row "
+          "runs across the leaf, right edge to left edge through the midrib: re-digitize the rows");
+    }
   }
   auto checkPair = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const std::string& nameA,
                       const std::string& nameB, const char* along) {

@@ -48,10 +48,18 @@ MarkerSet parseMarkersJson(std::string_view text, const std::string& source) {
   MarkerSet m;
   if (const auto it = doc.find("leaf"); it != doc.end() && it->is_object()) {
     const json& leaf = *it;
-    if (auto v = leaf.find("id"); v != leaf.end() && v->is_string()) m.leaf.id = *v;
-    if (auto v = leaf.find("plant"); v != leaf.end() && v->is_string()) m.leaf.plant = *v;
-    if (auto v = leaf.find("type"); v != leaf.end() && v->is_string()) m.leaf.type = *v;
-    if (auto v = leaf.find("position"); v != leaf.end() && v->is_number_integer()) {
+    // Present means of its type: "plant": 12 is named, not read as no plant (issue 47, 23).
+    const auto text = [&](const char* key, std::string& into) {
+      const auto v = leaf.find(key);
+      if (v == leaf.end() || v->is_null()) return;
+      if (!v->is_string()) reader.fail(std::string("leaf.") + key, "must be text (in quotes), found " + v->dump());
+      into = *v;
+    };
+    text("id", m.leaf.id);
+    text("plant", m.leaf.plant);
+    text("type", m.leaf.type);
+    if (auto v = leaf.find("position"); v != leaf.end() && !v->is_null()) {
+      if (!v->is_number_integer()) reader.fail("leaf.position", "must be a whole number, found " + v->dump());
       m.leaf.position = v->get<int>();
     }
     m.leaf.measuredAreaMm2 = reader.optionalNumber(leaf, "measured_area_mm2", "leaf", 1.0);

@@ -241,6 +241,7 @@ LeafScan scanLeaf(const std::filesystem::path& path, const ScanOptions& options)
     }
   }
   cv::Mat image;
+  noteInput(path);  // read by OpenCV, not readFile: named so no output replaces it
   try {
     image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
   } catch (const cv::Exception& e) {

@@ -157,6 +157,13 @@ AreaUncertainty areaUncertainty(const MarkerSet& markers, const AreaUncertaintyO
   addMarginTerm(markers, u);
   u.low95Mm2 = std::max(0.0, u.noiseLowMm2 - u.marginLowMm2);  // an area is never negative
   u.high95Mm2 = u.noiseHighMm2 + std::max(u.interpolationMm2, u.systematicMm2) + u.marginHighMm2;
+  // An interval holds its value, ends in order: a blade so thin that the draws' bias exceeds
+  // it (the reflected bootstrap's ends can then cross) is widened to hold the captured area.
+  u.low95Mm2 = std::min(u.low95Mm2, std::max(0.0, u.areaMm2));
+  u.high95Mm2 = std::max(u.high95Mm2, u.areaMm2);
+  if (!(0.0 <= u.low95Mm2 && u.low95Mm2 <= u.areaMm2 && u.areaMm2 <= u.high95Mm2))
+    throw InputError("the leaf's area interval cannot be made (area " + std::to_string(u.areaMm2) +
+                     " mm²): check the markers");
   return u;
 }
 

@@ -32,6 +32,8 @@ std::string at(int node) {
 }  // namespace
 
 PlantSurvey surveyPlant(const PlantMarkers& p) {
+  // The plant frame's axis runs from the collar to the first node: no node, no plant yet.
+  if (p.nodes.empty()) throw InputError("it has no node yet: the plant frame needs the collar and the first node");
   PlantSurvey s;
   s.plant = p.plant;
   s.date = p.date;

@@ -162,6 +162,11 @@ TEST(StationWindow, TheBannerStepListAndFeedbackFollowTheSession) {
   fs::remove_all(dir);
 }
 
+std::string slurpText(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 fs::path freshDir(const std::string& tag) {
   const fs::path dir = fs::temp_directory_path() / ("leafdig-station-" + tag + "-" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -250,6 +255,39 @@ TEST(StationSettings, SaveLoadRoundTripsAndBadValuesAreNamedAndReplaced) {
   EXPECT_EQ(r.shortcuts.at(leafdig::station::Action::Pause), QKeySequence(Qt::Key_F9));
   EXPECT_EQ(r.engine.stillWindowNs, 300'000'000);
   EXPECT_DOUBLE_EQ(r.engine.relocationToleranceMm, 2.5);
+  fs::remove_all(dir);
+}
+
+// The lab URL's password is never stored (issue 47, 13): saving strips it, the file is the
+// owner's alone (0600), a file that holds one from before is read without it and says so.
+TEST(StationSettings, TheLabPasswordIsNeverStoredAndTheFileIsTheOwnersAlone) {
+  const fs::path dir = freshDir("settings-secret");
+  const QString file = QString::fromStdString((dir / "s.ini").string());
+  leafdig::station::StationSettings s;
+  s.labUrl = "postgresql://greenhouse2:s3cret@lab.example:5432/leafdig?sslmode=verify-full";
+  s.save(file);
+  const std::string text = slurpText(dir / "s.ini");
+  EXPECT_EQ(text.find("s3cret"), std::string::npos) << text;
+  EXPECT_NE(text.find("greenhouse2@lab.example"), std::string::npos) << text;
+  EXPECT_EQ(fs::status(dir / "s.ini").permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write);
+  for (const char* url :
+       {"postgresql://tech@lab.example/leafdig?password=s3cret", "postgresql://tech:s3cret@lab.example/leafdig"}) {
+    {
+      QSettings q(file, QSettings::IniFormat);
+      q.setValue("lab/url", url);
+    }
+    QStringList problems;
+    const auto back = leafdig::station::StationSettings::load(file, &problems);
+    EXPECT_EQ(back.labUrl.toStdString().find("s3cret"), std::string::npos) << back.labUrl.toStdString();
+    EXPECT_NE(back.labUrl.toStdString().find("tech@lab.example"), std::string::npos) << back.labUrl.toStdString();
+    ASSERT_EQ(problems.size(), 1);
+    EXPECT_NE(problems.front().toStdString().find("~/.pgpass"), std::string::npos);
+  }
+  // The dialog hands back a URL without the password.
+  leafdig::station::StationSettings withSecret;
+  withSecret.labUrl = "postgresql://tech:s3cret@lab.example/leafdig";
+  leafdig::station::SettingsDialog d(withSecret);
+  EXPECT_EQ(d.result().labUrl.toStdString().find("s3cret"), std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -551,6 +589,13 @@ TEST(StationWindow, SyncsWithTheLabServerOfItsSettingsAndShowsTheCuratorsDecisio
   d.result().save(ini);
   EXPECT_EQ(leafdig::station::StationSettings::load(ini).labSyncMinutes, 15);
 
+  // The station keeps no password (issue 47): it comes from libpq's environment, as from
+  // ~/.pgpass at a real station.
+  EXPECT_EQ(slurpText(dir / "station.ini").find("pw-t"), std::string::npos);
+  qputenv("PGPASSWORD", "pw-t");
+  struct Unset {
+    ~Unset() { qunsetenv("PGPASSWORD"); }
+  } unset;
   leafdig::station::StationOptions options;
   options.audio = audio();
   options.db = file;

@@ -26,6 +26,11 @@
 
 namespace leafdig::acquisition {
 
+// A simulation's speed (1 = real time): from a tenth of real time to fifty times it. Throws
+// std::invalid_argument in words otherwise (the leaf's and the plant's captures, the station).
+inline constexpr double kMinSimulationSpeed = 0.1, kMaxSimulationSpeed = 50.0;
+void checkSimulationSpeed(double speed);
+
 struct RunRequest {
   std::string db;           // SQLite file; empty: the station's default file
   std::int64_t resume = 0;  // an open session to continue; 0: a new one from `setup`

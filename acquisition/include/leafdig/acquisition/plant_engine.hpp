@@ -98,6 +98,9 @@ struct LeafChoice {
 
 // Where a node hangs, when the technician placed it (a NodePlaced decision): it follows
 // `parent` on its axis ('<': back on the stem after a branch) or starts a branch from it ('+').
+// A leaf's organ-library type, as the technician says it: a short word.
+inline constexpr std::size_t kMaxLeafTypeChars = 64;
+
 struct NodePlace {
   int parent = 0;
   char relation = '<';
@@ -198,6 +201,8 @@ class PlantEngine {
   [[nodiscard]] int nodes() const;  // nodes with their first point taken
   [[nodiscard]] bool complete() const { return step().what == PlantWhat::Done; }
   [[nodiscard]] const model::PlantProtocol& protocol() const { return protocol_; }
+  // Whether the protocol has a branch (an axis of order 2): a '+' placement needs one.
+  [[nodiscard]] bool hasBranches() const { return axisIndex_[1] >= 0; }
   [[nodiscard]] const Settings& leafSettings() const { return settings_; }
   // What was captured, in the digitizer's frame, as a plant-markers document holds it: every
   // node with all its points and readings, each leaf as chosen (a full leaf once complete).

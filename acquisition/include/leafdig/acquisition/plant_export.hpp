@@ -90,6 +90,9 @@ struct PlantSurveyEntry {
   int full = 0, quick = 0, noLeaf = 0;  // leaves by kind, as far as taken
   std::int64_t events = 0;
   bool verified = false;  // its chain recomputes; an unverified session's counts are left at 0
+  // Why a session whose chain verifies does not read (its settings, an event): the others are
+  // still listed — one station's session never hides another's surveys.
+  std::string problem;
 };
 // Every survey of `plant` in the store, oldest day first (then by session).
 [[nodiscard]] std::vector<PlantSurveyEntry> plantSurveys(const db::EventStore& store, const std::string& plant);

@@ -74,6 +74,12 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
 std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& status, const std::string& who,
                     const std::string& why);
 
+// Throws SessionError naming the first event that does not replay when `events` are taken as
+// the whole of session `info` (a leaf's or a plant's replay). `leafdig sync pull` and the
+// station's sync pass it as db::SyncOptions::replays, so a pull never leaves the station's
+// own file holding a session it cannot read.
+void requireReplays(const db::SessionInfo& info, const std::vector<db::Event>& events);
+
 struct ExportRequest {
   std::vector<std::string> formats;   // glb obj ply stl model markers csv; empty: all
   std::string frame = "leaf";         // or "digitizer"

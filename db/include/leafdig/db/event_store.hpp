@@ -63,6 +63,10 @@ struct EventInput {
   std::optional<Projection> projection;
   std::optional<std::int64_t> retracts;   // seq whose projection rows this event removes (undo)
   std::optional<std::string> setsStatus;  // the session's new status, in the same transaction
+  // The session's last event when this one was worked out (a curator's correction replays the
+  // session first): written only if the session still ends there, else StoreError(Conflict)
+  // and nothing is written — two corrections at once never both land on one item.
+  std::optional<std::int64_t> follows;
 };
 
 struct Event {
@@ -85,6 +89,9 @@ struct SessionInfo {
   std::string leafType;                   // "" when not given
   std::string kind = "leaf";              // "leaf", or "plant": a whole plant (no leaf; position 0)
   std::optional<double> measuredAreaMm2;  // leaf area meter or image, when entered
+  // What its genesis hash covers: 2, its station and kind besides its id, creation time and
+  // settings (sessions written since station schema 3 / lab schema 10); 1, the latter only.
+  int genesisForm = 1;
 };
 
 struct MarkerRow {
@@ -106,6 +113,7 @@ struct ChainReport {
   std::int64_t events = 0;
   std::optional<std::int64_t> firstBadSeq;
   std::string problem;  // empty when ok
+  int genesisForm = 2;  // 1: a session written before its station was in its chain (SessionInfo)
 };
 
 // A store of sessions: reading, the chain check, and the events a curator adds (status,
@@ -140,6 +148,9 @@ class EventStore {
   virtual std::int64_t ensureOperator(const std::string& name, const std::string& role) = 0;
   // A file written from a session; 0 when this store does not record it (a read-only login).
   virtual std::int64_t recordExport(std::int64_t session, const std::string& path, const std::string& format) = 0;
+  // The login this store writes as (the lab server's session user), or nothing (a station's
+  // file has no logins). A review written through a login is signed by it (lab schema 10).
+  [[nodiscard]] virtual std::optional<std::string> login() const { return std::nullopt; }
 };
 
 // SHA-256 of `data` as 64 lower-case hex digits (OpenSSL).
@@ -151,6 +162,12 @@ class EventStore {
                                     const std::string& payload, const std::string& raw);
 [[nodiscard]] std::string genesisHash(std::int64_t stationSessionId, const std::string& createdUtc,
                                       const std::string& settingsJson);
+// Form 2 (docs/schema.md): the station and the session's kind are in it too.
+[[nodiscard]] std::string genesisHash(const std::string& station, const std::string& kind,
+                                      std::int64_t stationSessionId, const std::string& createdUtc,
+                                      const std::string& settingsJson);
+// A session's genesis as its form says (SessionInfo::genesisForm).
+[[nodiscard]] std::string genesisOf(const SessionInfo& session);
 // Checks `events` (1, 2, … in order) against the genesis and the recorded head.
 [[nodiscard]] ChainReport verifyChain(std::int64_t stationSessionId, const std::string& genesis, std::int64_t headSeq,
                                       const std::string& headHash, const std::vector<Event>& events);

@@ -30,6 +30,9 @@ class Connection;
 // URL leafdig prints or stores. A URL libpq cannot read is not shown at all (it may hold a
 // password); a file's path comes back as it is.
 [[nodiscard]] std::string redactUrl(const std::string& url);
+// The URL as libpq reads it without its password and sslpassword (a station stores no
+// password: it lives in ~/.pgpass); nothing when libpq cannot read it.
+[[nodiscard]] std::optional<std::string> urlWithoutSecrets(const std::string& url);
 
 // Creates the schema (or migrates it to this leafdig's version) and the three group roles
 // leafdig_technicians, leafdig_curators and leafdig_readers. Run by the lab's administrator
@@ -37,9 +40,16 @@ class Connection;
 struct ServerInit {
   int fromVersion = 0, toVersion = 0;
   std::vector<std::string> rolesCreated;
+  // What init could not do itself and the database's owner should (docs/lab.md, "Limits").
+  std::vector<std::string> notes;
 };
+// Each login added by add-user: at most this many connections at once, a transaction left idle
+// ended after a minute, a statement stopped after five (docs/lab.md, "Limits").
+inline constexpr int kLoginConnectionLimit = 8;
+inline constexpr const char* kIdleInTransactionTimeout = "60s";
+inline constexpr const char* kStatementTimeout = "300s";
 ServerInit initServer(const std::string& url, double lockWaitSeconds = 30);
-inline constexpr int kLabSchemaVersion = 9;
+inline constexpr int kLabSchemaVersion = 10;
 
 enum class LabRole { Technician, Curator, Reader };
 [[nodiscard]] const char* toString(LabRole role);
@@ -76,10 +86,13 @@ class LabStore final : public EventStore {
   std::int64_t appendAll(std::int64_t session, const std::vector<EventInput>& events) override;
   std::int64_t ensureOperator(const std::string& name, const std::string& role) override;
   std::int64_t recordExport(std::int64_t session, const std::string& path, const std::string& format) override;
+  [[nodiscard]] std::optional<std::string> login() const override { return login_; }
 
  private:
   std::unique_ptr<pg::Connection> conn_;
   int schemaVersion_ = 0;
+  std::string login_;
+  bool genesisForms_ = false;  // the server knows a genesis that covers the station (lab schema 10)
 };
 
 // Opens a station's SQLite file, or the lab server for a postgresql:// URL.
@@ -89,6 +102,10 @@ struct SyncOptions {
   std::optional<std::string> station;  // only this station's sessions (default: every one in the file)
   std::size_t eventsPerTransaction = 2000;
   std::function<void(const std::string&)> progress;  // one line per session that moved
+  // Pull: given a session and every event it would hold once the pulled ones are in, throws
+  // (any exception, with words) when they do not replay; the session is then refused whole.
+  // The CLI and the station pass acquisition::requireReplays.
+  std::function<void(const SessionInfo&, const std::vector<Event>&)> replays;
 };
 // One session that could not be sent or taken in, and why (the server's or our words).
 struct SyncProblem {

@@ -17,7 +17,7 @@
 
 namespace leafdig::db {
 
-inline constexpr int kSchemaVersion = 2;                    // 2: plant sessions
+inline constexpr int kSchemaVersion = 3;                    // 2: plant sessions; 3: the station in the chain
 inline constexpr std::int32_t kApplicationId = 0x4C454146;  // "LEAF"
 
 class Store final : public EventStore {
