@@ -152,9 +152,14 @@ int PlantEngine::mainLast() const {
 }
 
 const PlantItem* PlantEngine::find(PlantWhat w, int index, int part) const {
-  for (const PlantItem& i : items_)
-    if (i.what == w && i.index == index && i.part == part) return &i;
-  return nullptr;
+  if (!foundValid_) {
+    found_.clear();
+    for (std::size_t k = 0; k < items_.size(); ++k)
+      found_.emplace(std::make_tuple(static_cast<int>(items_[k].what), items_[k].index, items_[k].part), k);
+    foundValid_ = true;
+  }
+  const auto it = found_.find({static_cast<int>(w), index, part});
+  return it == found_.end() ? nullptr : &items_[it->second];
 }
 
 int PlantEngine::landmarks() const {
@@ -756,6 +761,7 @@ PlantDecision PlantEngine::retakeLeaf(int node, What what, int row, int col) {
 
 void PlantEngine::eraseItem(std::size_t index) {
   items_.erase(items_.begin() + static_cast<std::ptrdiff_t>(index));
+  foundValid_ = false;
   // The plant's item actions are in the order of items_: the index-th of them goes with it.
   std::size_t k = 0;
   for (auto it = actions_.begin(); it != actions_.end(); ++it)
@@ -789,6 +795,7 @@ void PlantEngine::apply(const PlantDecision& d) {
   switch (d.kind) {
     case PlantDecision::Kind::Accepted:
       items_.push_back(d.item);
+      foundValid_ = false;
       actions_.push_back({Action::Kind::Item, 0, {}, false, std::nullopt});
       if (retake_ && retake_->what == d.item.what && retake_->index == d.item.index && retake_->part == d.item.part)
         retake_.reset();
@@ -805,6 +812,7 @@ void PlantEngine::apply(const PlantDecision& d) {
     case PlantDecision::Kind::RetakeCancelled:
       if (retake_) {
         items_.push_back(d.item);
+        foundValid_ = false;
         actions_.push_back({Action::Kind::Item, 0, {}, false, std::nullopt});
         retake_.reset();
       }
@@ -812,6 +820,7 @@ void PlantEngine::apply(const PlantDecision& d) {
     case PlantDecision::Kind::Undone:
       if (!actions_.empty() && actions_.back().kind == Action::Kind::Item && !items_.empty()) {
         items_.pop_back();
+        foundValid_ = false;
         actions_.pop_back();
       }
       break;

@@ -17,6 +17,7 @@
 #include <random>
 
 #include "latency_counters.hpp"
+#include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/plant_preview.hpp"
 #include "leafdig/acquisition/plant_session.hpp"
 #include "leafdig/acquisition/review.hpp"
@@ -288,8 +289,7 @@ BENCHMARK(BM_Replay)->Unit(benchmark::kMicrosecond);
 // A plant of N nodes replayed from its events (issue 47, 21: it grew with N², 37 s at 4 000
 // nodes): three landmarks, the collar, then per node its point, its stem reading and "no leaf".
 // The time per event must not grow with N.
-void BM_PlantReplay(benchmark::State& state) {
-  const int nodes = static_cast<int>(state.range(0));
+std::vector<leafdig::db::Event> plantEvents(int nodes) {
   std::vector<leafdig::db::Event> events;
   const auto add = [&](const std::string& kind, const nlohmann::json& payload) {
     leafdig::db::Event e;
@@ -313,6 +313,11 @@ void BM_PlantReplay(benchmark::State& state) {
     add("accepted", {{"what", "reading"}, {"row", n}, {"col", 1}, {"value_mm", 10.0}});
     add("leaf_chosen", {{"node", n}, {"kind", "none"}, {"state", "alive"}});
   }
+  return events;
+}
+
+void BM_PlantReplay(benchmark::State& state) {
+  const std::vector<leafdig::db::Event> events = plantEvents(static_cast<int>(state.range(0)));
   acq::PlantSessionSetup setup;
   setup.protocol = leafdig::model::defaultPlantProtocol();
   for (auto _ : state) {
@@ -323,6 +328,36 @@ void BM_PlantReplay(benchmark::State& state) {
   state.counters["events"] = static_cast<double>(events.size());
 }
 BENCHMARK(BM_PlantReplay)->Arg(250)->Arg(500)->Arg(1000)->Unit(benchmark::kMillisecond);
+
+// The same plant read from a station's file as `sessions show` and `export` read it: the
+// chain checked, the events replayed and the plant surveyed.
+void BM_PlantSurveyFromFile(benchmark::State& state) {
+  const int nodes = static_cast<int>(state.range(0));
+  const fs::path path = scratch("plant-" + std::to_string(nodes) + ".sqlite");
+  fs::remove(path);
+  leafdig::db::Store store(path.string());
+  nlohmann::json settings{{"kind", "plant"}, {"engine", nlohmann::json::object()}};
+  settings["protocol"] =
+      nlohmann::json::parse(leafdig::model::plantProtocolToJson(leafdig::model::defaultPlantProtocol()));
+  const auto id =
+      store.createPlantSession(store.ensurePlant(store.ensureProject("bench"), "P-big"), store.ensureOperator("bench"),
+                               "bench", "standard", "sequential", settings.dump());
+  std::vector<leafdig::db::EventInput> inputs;
+  for (const auto& e : plantEvents(nodes)) inputs.push_back(leafdig::db::changeOf(e));
+  (void)store.appendAll(id, inputs);
+  for (auto _ : state) {
+    const acq::CapturedSurvey s = acq::capturedSurvey(store, id);
+    benchmark::DoNotOptimize(s.survey.nodes.size());
+  }
+  state.counters["events"] = static_cast<double>(inputs.size());
+}
+BENCHMARK(BM_PlantSurveyFromFile)
+    ->Arg(250)
+    ->Arg(500)
+    ->Arg(1000)
+    ->Arg(2000)
+    ->Iterations(2)
+    ->Unit(benchmark::kMillisecond);
 
 // Reading a session from the file and replaying it: what `sessions resume` does.
 void BM_ReadAndReplay(benchmark::State& state) {

@@ -172,6 +172,16 @@ TEST_F(Hostile, ALeafsIdsOfTheWrongTypeAreNamed) {
                 {"leaf.position", "must be a whole number"});
 }
 
+// A synthetic plant too tall for a digitizer is refused up front (issue 47, 22): it used to be
+// written, and then refused by the same leafdig's `plant measure`. The tallest it writes reads.
+TEST_F(Hostile, ASyntheticPlantItsOwnMeasureWouldRefuseIsNotWritten) {
+  const fs::path m = dir_ / "m.json", t = dir_ / "t.json";
+  expectRefused("synth plant --nodes 55 --markers " + quote(m) + " --truth " + quote(t), {"give at most 45 nodes"});
+  ASSERT_EQ(leafdig("synth plant --nodes 45 --markers " + quote(m) + " --truth " + quote(t)).exitCode, 0);
+  const Result r = leafdig("plant measure " + quote(m));
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+}
+
 // A seed is what was typed (issue 47, 23): -1 or 2^64 are refused, not turned into 2^64 - 1.
 TEST_F(Hostile, ASeedOutsideWhatASeedHoldsIsRefused) {
   for (const std::string seed : {"-1", "18446744073709551616", "1e3", "x"})

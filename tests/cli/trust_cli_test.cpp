@@ -261,6 +261,29 @@ TEST_F(TrustCli, NoCommandWritesOverItsInputOrADevice) {
   EXPECT_EQ(fifo.exitCode, 2) << fifo.err;
   EXPECT_NE(fifo.err.find("is not a regular file"), std::string::npos) << fifo.err;
   EXPECT_TRUE(fs::is_fifo(dir_ / "pipe.mtg"));
+  // A plan built onto itself, a leaf whose markers file is named like the CARIBU export's
+  // optical file beside it, two outputs of one command on one path.
+  std::string planText = slurp(std::string(LEAFDIG_SOURCE_DIR) + "/data/plants/tobacco-p07.plant.json");
+  for (std::size_t at; (at = planText.find("../samples/")) != std::string::npos;)
+    planText.replace(at, 11, std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/");
+  const fs::path plan = write("p.plant.json", planText);
+  const std::string planBefore = slurp(plan);
+  const Result onPlan = leafdig("plant build " + quote(plan) + " -o " + quote(plan));
+  EXPECT_EQ(onPlan.exitCode, 2) << onPlan.err;
+  EXPECT_NE(onPlan.err.find("a file this command reads"), std::string::npos) << onPlan.err;
+  EXPECT_EQ(slurp(plan), planBefore);
+  const fs::path opt =
+      write("leaf.opt", slurp(std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json"));
+  const std::string optBefore = slurp(opt);
+  const Result onOpt = leafdig("model build " + quote(opt) + " -o " + quote(dir_ / "leaf.can"));
+  EXPECT_EQ(onOpt.exitCode, 2) << onOpt.err;
+  EXPECT_NE(onOpt.err.find("a file this command reads"), std::string::npos) << onOpt.err;
+  EXPECT_EQ(slurp(opt), optBefore);
+  const Result twice =
+      leafdig("synth plant --markers " + quote(dir_ / "same.json") + " --truth " + quote(dir_ / "." / "same.json"));
+  EXPECT_EQ(twice.exitCode, 2) << twice.err;
+  EXPECT_NE(twice.err.find("name the same file"), std::string::npos) << twice.err;
+  EXPECT_FALSE(fs::exists(dir_ / "same.json"));
   // `sessions export` into the folder of a station file named like one of its exports.
   const fs::path out = dir_ / "exports";
   fs::create_directories(out);
@@ -408,6 +431,18 @@ TEST_F(TrustCli, AnEventThatPointsOutsideTheLeafOrThePlantIsNamedNotFollowed) {
     }
     refused(f, "where no marker is taken");
   }
+  // A point taken "after move 3" of a transmitter that never moved.
+  const fs::path framed = dir_ / "frame.sqlite";
+  {
+    leafdig::db::Store s(framed.string());
+    const auto id = leafdig::test::captureSession(s, "bench-a", 1, 3, "tobacco-2026", "P-07", "ana", false);
+    leafdig::db::EventInput e;
+    e.kind = "accepted";
+    e.payloadJson = json{{"what", "marker"}, {"row", 4}, {"col", 1}, {"position_mm", {1, 2, 3}}, {"frame", 3}}.dump();
+    (void)s.append(id, e);
+    (void)s.setStatus(id, "complete", "ana", "");
+  }
+  refused(framed, "names a move of the transmitter the session does not hold");
   leafdig::db::EventInput branch;
   branch.kind = "node_placed";
   branch.payloadJson = R"({"node":4,"parent":2,"relation":"+"})";

@@ -1,5 +1,6 @@
 // `leafdig synth plant`: a ground-truth plant digitized in place (leafdig.plant-markers/1 in
 // a transmitter's frame, with noise) and its truth (docs/plants.md, "Synthetic plants").
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -31,6 +32,17 @@ int runSynthPlant(const SynthPlantOptions& o) {
   if (!o.date.empty()) {
     spec.date = m::parseSurveyDate(o.date);
     if (!spec.date) throw m::InputError("--date \"" + o.date + "\" is not a day: give it as YYYY-MM-DD");
+  }
+  // Two outputs, two files: the markers written over the truth would leave neither (issue 47).
+  {
+    std::error_code ec;
+    const bool same =
+        std::filesystem::exists(o.markers, ec) && std::filesystem::exists(o.truth, ec)
+            ? std::filesystem::equivalent(o.markers, o.truth, ec)
+            : std::filesystem::weakly_canonical(o.markers, ec) == std::filesystem::weakly_canonical(o.truth, ec);
+    if (same)
+      throw m::InputError("--markers and --truth name the same file (" + o.markers +
+                          "): give each its own path; nothing was written");
   }
   const m::SyntheticPlant plant = m::synthesizePlant(spec);
   // Both files or neither: the truth first, then the markers.

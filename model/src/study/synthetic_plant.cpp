@@ -7,6 +7,7 @@
 #include "draws.hpp"
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/limits.hpp"
 #include "leafdig/model/plant/plant_frame.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
 
@@ -50,6 +51,19 @@ Eigen::Vector3d stemAt(double z) {
 
 SyntheticPlant synthesizePlant(const SyntheticPlantSpec& spec) {
   if (spec.nodes < 2 || spec.nodes > 60) throw InputError("--nodes must be 2 to 60");
+  // Every point must stay where a digitizer measures (within kMaxCoordinateMm of the
+  // transmitter, which stands up to 700 mm off the plant's base) with its leaves (≤ 600 mm off
+  // the stem): a plant its own `plant measure` would refuse is not written (issue 47, 22).
+  const auto heightOf = [](int nodes) { return 55.0 * nodes + 3.0 * nodes * (nodes + 1); };
+  if (heightOf(spec.nodes) + 1300.0 > kMaxCoordinateMm) {
+    int most = 2;
+    while (heightOf(most + 1) + 1300.0 <= kMaxCoordinateMm) ++most;
+    throw InputError("--nodes " + std::to_string(spec.nodes) + " makes a plant " +
+                     std::to_string(static_cast<int>(heightOf(spec.nodes) / 10.0) / 100.0).substr(0, 5) +
+                     " m tall, beyond what a digitizer measures from its transmitter (" +
+                     std::to_string(static_cast<int>(kMaxCoordinateMm / 1000.0)) + " m): give at most " +
+                     std::to_string(most) + " nodes");
+  }
   if (spec.fullEvery < 1) throw InputError("--full-every must be 1 or more");
   if (spec.leafRows < 2 || spec.leafRows > 60) throw InputError("--rows must be 2 to 60");
   if (!(spec.noiseMm >= 0.0 && spec.noiseMm <= 10.0)) throw InputError("--noise must be 0 to 10 mm");

@@ -49,6 +49,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "leafdig/acquisition/engine.hpp"
@@ -267,6 +268,10 @@ class PlantEngine {
   RelocationSettings relocation_;
   Settings settings_;
   std::vector<PlantItem> items_;
+  // find()'s index: the first item of each (what, index, part) in items_, made again after
+  // items_ changes (a plant of N nodes is read in O(N), not O(N²): issue 47).
+  mutable std::map<std::tuple<int, int, int>, std::size_t> found_;
+  mutable bool foundValid_ = false;
   std::map<int, Engine> leaves_;
   std::map<int, LeafChoice> choices_;
   std::vector<Action> actions_;
