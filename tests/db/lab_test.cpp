@@ -1266,17 +1266,20 @@ TEST_F(Lab, ATamperedServerCannotRewriteOrReopenACompletedCaptureThroughPull) {
       {"accepted", R"({"what":"marker","row":9,"col":1,"position_mm":[500,500,500]})"},
       {"status", R"({"status":"open","who":"ana","why":"reopened"})"},
   };
-  for (const auto& [kind, payload] : forged) {
+  // The owner, past the triggers: `change`, then the session's head moved as the triggers would.
+  const auto asTamperingOwner = [&](const std::function<void(Sql&)>& change) {
     Sql owner(admin_);
     (void)owner.rows("ALTER TABLE leafdig.events DISABLE TRIGGER USER");
-    EXPECT_EQ(appendBySql(owner, s, "bench-a", kind, payload), "") << kind;
-    // The head follows, as the triggers would have moved it.
+    change(owner);
     (void)owner.rows(
         "UPDATE leafdig.sessions x SET head_seq = e.seq, head_hash = e.hash FROM leafdig.events e "
         "WHERE x.id = $1 AND e.session_id = x.id AND e.seq = (SELECT max(seq) FROM leafdig.events WHERE session_id = "
         "x.id)",
         {s.serverId});
     (void)owner.rows("ALTER TABLE leafdig.events ENABLE TRIGGER USER");
+  };
+  for (const auto& [kind, payload] : forged) {
+    asTamperingOwner([&](Sql& owner) { EXPECT_EQ(appendBySql(owner, s, "bench-a", kind, payload), "") << kind; });
     db::SyncOptions options;
     options.replays = leafdig::acquisition::requireReplays;
     const auto pulled = db::pull(station, tech, options);
@@ -1289,15 +1292,10 @@ TEST_F(Lab, ATamperedServerCannotRewriteOrReopenACompletedCaptureThroughPull) {
     EXPECT_EQ(station.session(s.stationId)->status, "complete");
     EXPECT_TRUE(station.verify(s.stationId).ok);
     // Remove the forged event again (the owner may), so the next forgery stands alone.
-    (void)owner.rows("ALTER TABLE leafdig.events DISABLE TRIGGER USER");
-    (void)owner.rows("DELETE FROM leafdig.events WHERE session_id = $1 AND seq > $2",
-                     {s.serverId, std::to_string(before.begin()->second.size())});
-    (void)owner.rows(
-        "UPDATE leafdig.sessions x SET head_seq = e.seq, head_hash = e.hash FROM leafdig.events e "
-        "WHERE x.id = $1 AND e.session_id = x.id AND e.seq = (SELECT max(seq) FROM leafdig.events WHERE session_id = "
-        "x.id)",
-        {s.serverId});
-    (void)owner.rows("ALTER TABLE leafdig.events ENABLE TRIGGER USER");
+    asTamperingOwner([&](Sql& owner) {
+      (void)owner.rows("DELETE FROM leafdig.events WHERE session_id = $1 AND seq > $2",
+                       {s.serverId, std::to_string(before.begin()->second.size())});
+    });
   }
   // A correction that names one item and carries another, forged past the triggers: refused
   // by the station's replay, nothing taken.
@@ -1305,15 +1303,7 @@ TEST_F(Lab, ATamperedServerCannotRewriteOrReopenACompletedCaptureThroughPull) {
   nlohmann::json bad{{"what", "marker"},   {"row", *m.row}, {"col", *m.col}, {"position_mm", {1, 2, 3}},
                      {"seq", reading.seq}, {"reason", "r"}, {"who", "carla"}};
   bad["corrected"] = {{"what", "marker"}, {"row", *m.row}, {"col", *m.col}, {"position_mm", {4, 5, 6}}};
-  Sql owner(admin_);
-  (void)owner.rows("ALTER TABLE leafdig.events DISABLE TRIGGER USER");
-  EXPECT_EQ(appendBySql(owner, s, "bench-a", "corrected", bad.dump()), "");
-  (void)owner.rows(
-      "UPDATE leafdig.sessions x SET head_seq = e.seq, head_hash = e.hash FROM leafdig.events e "
-      "WHERE x.id = $1 AND e.session_id = x.id AND e.seq = (SELECT max(seq) FROM leafdig.events WHERE session_id = "
-      "x.id)",
-      {s.serverId});
-  (void)owner.rows("ALTER TABLE leafdig.events ENABLE TRIGGER USER");
+  asTamperingOwner([&](Sql& owner) { EXPECT_EQ(appendBySql(owner, s, "bench-a", "corrected", bad.dump()), ""); });
   db::SyncOptions options;
   options.replays = leafdig::acquisition::requireReplays;
   const auto pulled = db::pull(station, tech, options);
