@@ -434,3 +434,27 @@ def test_hostile_inputs_are_refused_by_the_cores_own_checks(tmp_path):
     far = leafdig.build_leaf(str(SAMPLES[0]), light=(1e200, 0.0, 0.0))
     near = leafdig.build_leaf(str(SAMPLES[0]), light=(1.0, 0.0, 0.0))
     assert far.metrics == near.metrics
+
+
+def test_a_plant_stopped_before_its_first_node_is_named_not_a_crash(tmp_path):
+    """Issue 47, 17: a plant capture interrupted during its landmarks (Ctrl-C) is kept; reading
+    it as a plant from Python says it holds no whole plant yet and how to go on — it used to
+    crash the interpreter (the survey took the first node of none)."""
+    import signal
+    db = tmp_path / "stopped.sqlite"
+    capture = subprocess.Popen([CLI, "plant", "capture", "--simulate", "--speed", "1", "--db", str(db)],
+                               stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            listed = cli("sessions", "list", "--json", "--db", db, check=False) if db.exists() else None
+            if listed is not None and listed.returncode == 0 and json.loads(listed.stdout or "[]"):
+                break
+            time.sleep(0.2)
+        time.sleep(1.0)  # a landmark or two at real speed: node 1 is many presses away
+    finally:
+        capture.send_signal(signal.SIGINT)
+        capture.wait(timeout=60)
+    store = leafdig.open(str(db))
+    with pytest.raises(Exception, match="holds no whole plant yet"):
+        store.plant(1)
