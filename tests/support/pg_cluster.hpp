@@ -67,7 +67,11 @@ inline int freeLocalPort() {
 class Sql {
  public:
   explicit Sql(const std::string& url) : c_(PQconnectdb(url.c_str())) {
-    if (PQstatus(c_) != CONNECTION_OK) throw std::runtime_error(std::string("test connection: ") + PQerrorMessage(c_));
+    if (PQstatus(c_) != CONNECTION_OK) {
+      const std::string why = std::string("test connection: ") + PQerrorMessage(c_);
+      PQfinish(c_);  // a refused connection is still libpq's to free
+      throw std::runtime_error(why);
+    }
   }
   Sql(const Sql&) = delete;
   Sql& operator=(const Sql&) = delete;
