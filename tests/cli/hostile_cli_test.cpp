@@ -182,6 +182,18 @@ TEST_F(Hostile, ASyntheticPlantItsOwnMeasureWouldRefuseIsNotWritten) {
   EXPECT_EQ(r.exitCode, 0) << r.err;
 }
 
+// A simulated plant its protocol cannot take is refused before a session is made (issue 47, 23):
+// it used to run until the virtual technician gave up, exit 1 "report it", a session left open.
+TEST_F(Hostile, ASimulatedPlantItsProtocolCannotTakeIsRefusedUpFront) {
+  const std::string data = std::string(LEAFDIG_SOURCE_DIR) + "/data/";
+  expectRefused("plant capture --simulate --speed 50 --protocol " +
+                    quote(data + "protocols/maize.plant-protocol.json") + " --db " + quote(dir_ / "s.sqlite"),
+                {"has a full leaf, which the protocol (maize) does not take"});
+  expectRefused("plant capture --simulate --speed 50 --plant-markers " +
+                    quote(data + "plants/branched.plant-markers.json") + " --db " + quote(dir_ / "s.sqlite"),
+                {"starts a branch, but the protocol has no branch"});
+}
+
 // A seed is what was typed (issue 47, 23): -1 or 2^64 are refused, not turned into 2^64 - 1.
 TEST_F(Hostile, ASeedOutsideWhatASeedHoldsIsRefused) {
   for (const std::string seed : {"-1", "18446744073709551616", "1e3", "x"})

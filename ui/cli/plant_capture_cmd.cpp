@@ -7,6 +7,7 @@
 // --json` does.
 #include "plant_capture_cmd.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,11 +19,13 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <variant>
 
 #include "capture_cmd.hpp"
 #include "commands.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/device_set.hpp"
+#include "leafdig/acquisition/plant_engine.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/plant_run.hpp"
 #include "leafdig/acquisition/plant_simulation.hpp"
@@ -278,6 +281,50 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     setup.station = o.station;
     if (o.relocationToleranceMm) setup.settings.relocationToleranceMm = *o.relocationToleranceMm;
     if (!o.protocol.empty()) setup.protocol = m::readPlantProtocolFile(o.protocol);
+    // A simulated plant the protocol cannot take (a full leaf under a protocol of quick leaves, a
+    // branch without a branch axis) is refused here, before a session is made — the virtual
+    // technician would otherwise press in vain until it gave up (issue 47, 23).
+    if (setup.simulatedPlant) {
+      // The protocol itself first, in the words the capture refuses it with.
+      try {
+        (void)acq::PlantEngine(setup.protocol, setup.settings);
+      } catch (const std::invalid_argument& e) {
+        throw acq::SessionError(e.what());
+      }
+      const auto leafOf = [&](bool onBranch) -> const m::ProtocolLeaf* {
+        for (const m::ProtocolEntity& e : setup.protocol.entities)
+          if (e.leaf) {
+            for (const m::ProtocolEntity& axis : setup.protocol.entities)
+              if (!axis.leaf && axis.name == e.parent && (axis.order == 2) == onBranch) return &*e.leaf;
+          }
+        return nullptr;
+      };
+      const bool branches = std::any_of(setup.protocol.entities.begin(), setup.protocol.entities.end(),
+                                        [](const m::ProtocolEntity& e) { return !e.leaf && e.order == 2; });
+      std::vector<bool> onBranch;
+      for (std::size_t k = 0; k < setup.simulatedPlant->nodes.size(); ++k) {
+        const m::PlantNode& n = setup.simulatedPlant->nodes[k];
+        // Its axis: a branch it starts, the axis of the node it follows, else the node before's.
+        const auto axisOf = [&](int node) {
+          return node >= 1 && static_cast<std::size_t>(node) <= onBranch.size() &&
+                 onBranch[static_cast<std::size_t>(node - 1)];
+        };
+        onBranch.push_back(n.branchesFrom.has_value() || (n.after ? axisOf(*n.after) : axisOf(static_cast<int>(k))));
+        if (n.branchesFrom && !branches)
+          throw std::invalid_argument("the simulated plant's node " + std::to_string(k + 1) +
+                                      " starts a branch, but the protocol has no branch: simulate it with a "
+                                      "protocol that has one (data/protocols/branched.plant-protocol.json)");
+        const m::LeafKind kind = std::holds_alternative<m::MarkerSet>(n.leaf)   ? m::LeafKind::Full
+                                 : std::holds_alternative<m::QuickLeaf>(n.leaf) ? m::LeafKind::Quick
+                                                                                : m::LeafKind::None;
+        if (kind == m::LeafKind::None) continue;
+        const m::ProtocolLeaf* leaf = leafOf(onBranch.back());
+        if (!leaf || !leaf->allows(kind))
+          throw std::invalid_argument("the simulated plant's node " + std::to_string(k + 1) + " has a " +
+                                      m::toString(kind) + " leaf, which the protocol (" + setup.protocol.species +
+                                      ") does not take: give a protocol that takes it, or another --plant-markers");
+      }
+    }
     if (!o.date.empty()) {
       setup.date = m::parseSurveyDate(o.date);
       if (!setup.date) throw std::invalid_argument("--date " + o.date + ": give the survey's day as YYYY-MM-DD");
