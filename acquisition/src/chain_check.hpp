@@ -36,14 +36,18 @@ inline void noteStoreAsInput(const db::EventStore& store) {
 // What a curator's correction of session `id` needs before anything is read (a leaf's and a
 // plant's alike): a complete session (approved and rejected are final, open is still being
 // captured), a reason, a name, and a chain that verifies. std::invalid_argument / SessionError.
+// Text of only white space (a reason, a curator's name) is none.
+inline bool isBlank(const std::string& text) {
+  return text.find_first_not_of(" \t\r\n") == std::string::npos;
+}
+
 inline void requireCorrectable(const db::EventStore& store, std::int64_t id, const std::string& status,
                                const std::string& reason, const std::string& who) {
   if (status != "complete")
     throw std::invalid_argument("session " + std::to_string(id) + " is " + status +
                                 ": only a complete session (awaiting review) can be corrected");
-  const auto blank = [](const std::string& t) { return t.find_first_not_of(" \t\r\n") == std::string::npos; };
-  if (blank(reason)) throw std::invalid_argument("a correction needs a reason: say what was wrong");
-  if (blank(who)) throw std::invalid_argument("a correction needs the curator's name");
+  if (isBlank(reason)) throw std::invalid_argument("a correction needs a reason: say what was wrong");
+  if (isBlank(who)) throw std::invalid_argument("a correction needs the curator's name");
   requireChain(store, id, "corrected");
 }
 

@@ -298,9 +298,9 @@ std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& s
   const db::SessionInfo info = infoOrThrow(store, id);
   if (status != "approved" && status != "rejected")
     throw std::invalid_argument("a review approves or rejects, not '" + status + "'");
-  const auto blank = [](const std::string& t) { return t.find_first_not_of(" \t\r\n") == std::string::npos; };
-  if (blank(who)) throw std::invalid_argument("a curator signs every review: give the curator's name");
-  if (status == "rejected" && blank(why)) throw std::invalid_argument("say what is wrong when rejecting (--why)");
+  if (detail::isBlank(who)) throw std::invalid_argument("a curator signs every review: give the curator's name");
+  if (status == "rejected" && detail::isBlank(why))
+    throw std::invalid_argument("say what is wrong when rejecting (--why)");
   if (info.status == "approved" || info.status == "rejected")
     throw std::invalid_argument("session " + std::to_string(id) + " is already " + info.status);
   if (info.status != "complete")

@@ -379,11 +379,7 @@ LabStore::LabStore(const std::string& url) : conn_(std::make_unique<pg::Connecti
   if (v.rows() == 0) throw notLeafdig();
   schemaVersion_ = std::stoi(v.text(0, 0));
   login_ = conn_->exec("SELECT session_user").text(0, 0);
-  genesisForms_ = conn_
-                      ->exec(
-                          "SELECT 1 FROM information_schema.columns WHERE table_schema = 'leafdig' AND table_name = "
-                          "'sessions' AND column_name = 'genesis_form'")
-                      .rows() > 0;
+  genesisForms_ = pg::hasGenesisForms(*conn_);
   if (schemaVersion_ > kLabSchemaVersion)
     throw StoreError(StoreErrorKind::TooNew,
                      "the lab server " + conn_->where() + " has schema version " + v.text(0, 0) +

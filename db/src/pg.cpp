@@ -186,4 +186,11 @@ std::string Connection::encryptPassword(const std::string& password, const std::
   return out;
 }
 
+bool hasGenesisForms(Connection& c) {
+  return c.exec(
+              "SELECT 1 FROM information_schema.columns WHERE table_schema = 'leafdig' AND table_name = 'sessions' "
+              "AND column_name = 'genesis_form'")
+             .rows() > 0;
+}
+
 }  // namespace leafdig::db::pg

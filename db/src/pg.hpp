@@ -101,4 +101,9 @@ class Connection {
 // (the server's id for LabStore, the file's for a pull).
 std::vector<Event> readEvents(Connection& c, std::int64_t serverSession, std::int64_t fromSeq, std::int64_t asSession);
 
+// Whether the server's sessions carry `genesis_form` (lab schema 10: a genesis that covers the
+// station). Asked of the table, not the recorded version, which tests set back to simulate
+// older servers.
+bool hasGenesisForms(Connection& c);
+
 }  // namespace leafdig::db::pg

@@ -155,10 +155,7 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
   pg::Connection c(url);
   const int schema = serverSchema(c);
   // Whether the server knows a genesis that covers the station (lab schema 10).
-  const bool genesisForms = c.exec(
-                                 "SELECT 1 FROM information_schema.columns WHERE table_schema = 'leafdig' AND "
-                                 "table_name = 'sessions' AND column_name = 'genesis_form'")
-                                .rows() > 0;
+  const bool genesisForms = pg::hasGenesisForms(c);
   std::map<std::string, std::map<std::int64_t, ServerHead>> heads;  // by station
   const auto problem = [&](const SessionInfo& s, const std::string& what, const std::string& remedy) {
     report.problems.push_back({s.station, s.id, what, remedy});
