@@ -286,8 +286,9 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     // technician would otherwise press in vain until it gave up (issue 47, 23).
     if (setup.simulatedPlant) {
       // The protocol itself first, in the words the capture refuses it with.
+      std::optional<acq::PlantEngine> engine;
       try {
-        (void)acq::PlantEngine(setup.protocol, setup.settings);
+        engine.emplace(setup.protocol, setup.settings);
       } catch (const std::invalid_argument& e) {
         throw acq::SessionError(e.what());
       }
@@ -299,18 +300,12 @@ int runPlantCapture(const PlantCaptureOptions& o) {
           }
         return nullptr;
       };
-      const bool branches = std::any_of(setup.protocol.entities.begin(), setup.protocol.entities.end(),
-                                        [](const m::ProtocolEntity& e) { return !e.leaf && e.order == 2; });
-      std::vector<bool> onBranch;
+      // Each node's axis as the plant's own topology gives it (model::plantTopology).
+      const std::vector<m::NodeLink> links = m::plantTopology(setup.simulatedPlant->nodes, "the simulated plant");
       for (std::size_t k = 0; k < setup.simulatedPlant->nodes.size(); ++k) {
         const m::PlantNode& n = setup.simulatedPlant->nodes[k];
-        // Its axis: a branch it starts, the axis of the node it follows, else the node before's.
-        const auto axisOf = [&](int node) {
-          return node >= 1 && static_cast<std::size_t>(node) <= onBranch.size() &&
-                 onBranch[static_cast<std::size_t>(node - 1)];
-        };
-        onBranch.push_back(n.branchesFrom.has_value() || (n.after ? axisOf(*n.after) : axisOf(static_cast<int>(k))));
-        if (n.branchesFrom && !branches)
+        const bool onBranch = links[k].order == 2;
+        if (n.branchesFrom && !engine->hasBranches())
           throw std::invalid_argument("the simulated plant's node " + std::to_string(k + 1) +
                                       " starts a branch, but the protocol has no branch: simulate it with a "
                                       "protocol that has one (data/protocols/branched.plant-protocol.json)");
@@ -318,7 +313,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
                                  : std::holds_alternative<m::QuickLeaf>(n.leaf) ? m::LeafKind::Quick
                                                                                 : m::LeafKind::None;
         if (kind == m::LeafKind::None) continue;
-        const m::ProtocolLeaf* leaf = leafOf(onBranch.back());
+        const m::ProtocolLeaf* leaf = leafOf(onBranch);
         if (!leaf || !leaf->allows(kind))
           throw std::invalid_argument("the simulated plant's node " + std::to_string(k + 1) + " has a " +
                                       m::toString(kind) + " leaf, which the protocol (" + setup.protocol.species +
