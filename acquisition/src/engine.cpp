@@ -1,6 +1,7 @@
 #include "leafdig/acquisition/engine.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -52,13 +53,16 @@ const Item* findItem(const std::vector<Item>& items, What w, int row, int col) {
 }
 
 int completeRows(const std::vector<Item>& items) {
-  const auto markersIn = [&](int row) {
-    int n = 0;
-    for (const Item& i : items) n += i.what == What::Marker && i.row == row;
-    return n;
+  // A row is complete when each of its seven columns holds a marker (not any seven markers).
+  const auto complete = [&](int row) {
+    std::array<bool, 7> held{};
+    for (const Item& i : items)
+      if (i.what == What::Marker && i.row == row && i.col >= 1 && i.col <= 7)
+        held[static_cast<std::size_t>(i.col - 1)] = true;
+    return std::all_of(held.begin(), held.end(), [](bool h) { return h; });
   };
   int r = 0;
-  while (markersIn(r + 1) == 7) ++r;
+  while (complete(r + 1)) ++r;
   return r;
 }
 

@@ -277,6 +277,10 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
             if (d.item.frame > std::max(engine.relocating(), engine.transmitterPositions() - 1))
               throw SessionError("its frame " + std::to_string(d.item.frame) +
                                  " names a move of the transmitter the session does not hold");
+            // One item per place: a second one there is not a capture's (a retake takes the first out).
+            if (const auto held = map.find(keyOf(d.item)); held != map.end())
+              throw SessionError("it puts in an item where event " + std::to_string(held->second) +
+                                 " put one that is still there");
             map[keyOf(d.item)] = e.seq;
             break;
           case Decision::Kind::Undone:
