@@ -636,7 +636,9 @@ PlantFeedback PlantCaptureSession::deviceStatus(const std::string& device, const
   return f;
 }
 
-std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& c) {
+std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& given) {
+  PlantCorrection c = given;
+  c.who = store.signature(given.who);  // through a login: the login that writes it
   const auto info = store.session(id);
   if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());
   if (info->kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");

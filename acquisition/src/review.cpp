@@ -201,7 +201,9 @@ db::EventInput correctionEvent(const Item& old, const Item& fixed, std::int64_t 
 
 }  // namespace
 
-std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c) {
+std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& given) {
+  Correction c = given;
+  c.who = store.signature(given.who);  // through a login: the login that writes it
   const db::SessionInfo info = infoOrThrow(store, id);
   if (info.kind == "plant") {
     if (!c.plantWhat && c.node <= 0)
@@ -293,8 +295,9 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c
   return store.appendAll(id, events);
 }
 
-std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& status, const std::string& who,
+std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& status, const std::string& given,
                     const std::string& why) {
+  const std::string who = store.signature(given);  // through a login: the login that writes it
   const db::SessionInfo info = infoOrThrow(store, id);
   if (status != "approved" && status != "rejected")
     throw std::invalid_argument("a review approves or rejects, not '" + status + "'");

@@ -166,6 +166,16 @@ std::optional<std::size_t> badTextByte(const std::string& s) {
   return std::nullopt;
 }
 
+std::string EventStore::signature(const std::string& who) const {
+  const auto writer = login();
+  if (!writer) return who;
+  const bool blank = std::all_of(who.begin(), who.end(), [](unsigned char c) { return std::isspace(c) != 0; });
+  const std::string tail = " (" + *writer + ")";
+  if (blank || who == *writer) return *writer;
+  if (who.size() > tail.size() && who.compare(who.size() - tail.size(), tail.size(), tail) == 0) return who;
+  return who + tail;
+}
+
 std::int64_t EventStore::setStatus(std::int64_t session, const std::string& status, const std::string& who,
                                    const std::string& why) {
   static const char* const kAllowed[] = {"open", "complete", "approved", "rejected", "abandoned"};
@@ -174,7 +184,7 @@ std::int64_t EventStore::setStatus(std::int64_t session, const std::string& stat
                      "use open, complete, approved, rejected or abandoned");
   EventInput ev;
   ev.kind = "status";
-  ev.payloadJson = nlohmann::json{{"status", status}, {"who", who}, {"why", why}}.dump();
+  ev.payloadJson = nlohmann::json{{"status", status}, {"who", signature(who)}, {"why", why}}.dump();
   ev.setsStatus = status;  // the event and the session's status change together
   return append(session, ev);
 }

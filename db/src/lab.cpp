@@ -165,6 +165,44 @@ StoreError lockedOut(pg::Connection& c, double seconds, int version) {
 
 }  // namespace
 
+namespace {
+
+// The statistics PostgreSQL keeps of each table (rows inserted, live, scanned…) tell a login
+// how much every station pushed, through rows row-level security hides (issue 47, 8). The
+// pg_stat views and their functions are this database's own catalog objects, so taking them
+// from PUBLIC here touches no other database; only their owner, the cluster's superuser, may.
+// The lab's administrator keeps them (a superuser, or pg_read_all_stats granted by hand).
+void hideTableStatistics(pg::Connection& c, ServerInit& out) {
+  const auto open = c.exec(
+      "SELECT 'TABLE ' || k.oid::pg_catalog.regclass::text FROM pg_catalog.pg_class k "
+      "JOIN pg_catalog.pg_namespace n ON n.oid = k.relnamespace "
+      "WHERE n.nspname = 'pg_catalog' AND k.relkind = 'v' "
+      "AND k.relname ~ '^pg_stat(io)?_(all|user|sys|xact_all|xact_user|xact_sys)_(tables|indexes|sequences)$' "
+      "AND pg_catalog.has_table_privilege('public', k.oid, 'SELECT') "
+      "UNION ALL SELECT 'FUNCTION ' || p.oid::pg_catalog.regprocedure::text FROM pg_catalog.pg_proc p "
+      "JOIN pg_catalog.pg_namespace n ON n.oid = p.pronamespace "
+      "WHERE n.nspname = 'pg_catalog' AND p.pronargs = 1 AND p.proargtypes[0] = 'pg_catalog.oid'::pg_catalog.regtype "
+      "AND p.proname ~ '^pg_stat_get_(xact_)?(numscans|lastscan|tuples_[a-z_]+|live_tuples|dead_tuples|"
+      "mod_since_analyze|ins_since_vacuum|blocks_(fetched|hit)|last_[a-z_]+_time|[a-z]*vacuum_count|"
+      "[a-z]*analyze_count)$' "
+      "AND pg_catalog.has_function_privilege('public', p.oid, 'EXECUTE') ORDER BY 1");
+  if (open.rows() == 0) return;
+  if (c.exec("SELECT rolsuper FROM pg_catalog.pg_roles WHERE rolname = current_user").text(0, 0) != "t") {
+    out.notes.push_back(
+        "every login may still read how many rows each station pushed (pg_stat_user_tables and its "
+        "functions): only the cluster's superuser may take them from PUBLIC — run init again as one "
+        "(docs/lab.md, \"What a role can still learn\")");
+    return;
+  }
+  for (int i = 0; i < open.rows(); ++i) {
+    const std::string object = open.text(i, 0);
+    (void)c.exec("REVOKE " + std::string(object.rfind("TABLE ", 0) == 0 ? "SELECT" : "EXECUTE") + " ON " + object +
+                 " FROM PUBLIC");
+  }
+}
+
+}  // namespace
+
 ServerInit initServer(const std::string& url, double lockWaitSeconds) {
   pg::Connection c(url);
   ServerInit out;
@@ -241,6 +279,7 @@ ServerInit initServer(const std::string& url, double lockWaitSeconds) {
                             ": this login does not own it — as its owner run REVOKE CONNECT, TEMPORARY ON DATABASE " +
                             database + " FROM PUBLIC; then run init again");
     }
+    hideTableStatistics(c, out);
   } catch (...) {
     (void)c.exec(std::string("SELECT pg_catalog.pg_advisory_unlock(") + kInitLock + ")");
     throw;

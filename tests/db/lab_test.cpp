@@ -97,6 +97,9 @@ class Lab : public ::testing::Test {
                               {stationName, std::to_string(id)}),
             id};
   }
+  // "carla (LOGIN)": how leafdig signs a review written through the curator login at `url`
+  // (lab schema 11: a review names the login that writes it).
+  static std::string carlaAt(const std::string& url) { return "carla (" + Sql(url).value("SELECT session_user") + ")"; }
   // Appends one event to a server session through plain SQL as the login of `sql`, chained
   // exactly right (the server's own head and hash): "" when the server takes it, else its words.
   std::string appendBySql(Sql&& sql, const Pushed& s, const std::string& station, const std::string& kind,
@@ -282,7 +285,9 @@ TEST_F(Lab, APlantSessionGoesToTheServerWholeAndACuratorsDecisionComesBack) {
   EXPECT_NE(appendBySql(Sql(login(db::LabRole::Curator)), s, "bench-a", "corrected", notAnItem.dump())
                 .find("lacks the corrected item"),
             std::string::npos);
-  EXPECT_EQ(appendBySql(Sql(login(db::LabRole::Curator)), s, "bench-a", "corrected", fix.dump()), "");
+  const std::string curator = login(db::LabRole::Curator);
+  fix["who"] = carlaAt(curator);
+  EXPECT_EQ(appendBySql(Sql(curator), s, "bench-a", "corrected", fix.dump()), "");
   int landmarks1 = 0;
   for (const db::MarkerRow& m : reader.markers(serverId))
     if (m.what == "landmark" && m.row == 1) {
@@ -291,9 +296,10 @@ TEST_F(Lab, APlantSessionGoesToTheServerWholeAndACuratorsDecisionComesBack) {
     }
   EXPECT_EQ(landmarks1, 1);
   // A curator's approval by plain SQL comes back to the station.
-  EXPECT_EQ(appendBySql(Sql(login(db::LabRole::Curator)), s, "bench-a", "status",
-                        R"({"status":"approved","who":"carla","why":"a whole plant"})"),
-            "");
+  EXPECT_EQ(
+      appendBySql(Sql(curator), s, "bench-a", "status",
+                  nlohmann::json{{"status", "approved"}, {"who", carlaAt(curator)}, {"why", "a whole plant"}}.dump()),
+      "");
   const auto pulled = db::pull(station, tech);
   EXPECT_TRUE(pulled.problems.empty());
   EXPECT_EQ(pulled.eventsTaken, 2);
@@ -429,7 +435,9 @@ TEST_F(Lab, ALeafSessionTakesAMoveOfTheTransmitterAndItsBoardPointsAgainBySql) {
     EXPECT_NE(appendBySql(Sql(login(db::LabRole::Curator)), leaf, "bench-a", "corrected", bad.dump()), "")
         << key << " " << value;
   }
-  EXPECT_EQ(appendBySql(Sql(login(db::LabRole::Curator)), leaf, "bench-a", "corrected", fix.dump()), "");
+  const std::string carla = login(db::LabRole::Curator);
+  fix["who"] = carlaAt(carla);
+  EXPECT_EQ(appendBySql(Sql(carla), leaf, "bench-a", "corrected", fix.dump()), "");
   db::LabStore reader(login(db::LabRole::Reader));
   EXPECT_TRUE(reader.verify(std::stoll(leaf.serverId)).ok);
   // Through leafdig, a correction and the points it moves go in one transaction: one the
@@ -445,7 +453,7 @@ TEST_F(Lab, ALeafSessionTakesAMoveOfTheTransmitterAndItsBoardPointsAgainBySql) {
     old["seq"] = std::stoll(seq);
     old["corrected"] = std::move(fixed);
     old["reason"] = "refit";
-    old["who"] = "carla";
+    old["who"] = curator.signature("carla");
     db::EventInput e;
     e.kind = "corrected";
     e.payloadJson = old.dump();
@@ -977,7 +985,7 @@ TEST_F(Lab, ACuratorsCorrectionIsTheCuratorsAloneAndNoTechnicianUndoesIt) {
                          {"position_mm", {tip.positionMm[0], tip.positionMm[1], tip.positionMm[2]}}};
   payload["corrected"] = {{"what", "tip"}, {"row", nullptr}, {"col", nullptr}, {"position_mm", {1.5, 2.5, 3.5}}};
   payload["reason"] = "slipped";
-  payload["who"] = "carla";
+  payload["who"] = curator.signature("carla");
   db::EventInput corrected;
   corrected.kind = "corrected";
   corrected.payloadJson = payload.dump();
@@ -1328,7 +1336,24 @@ TEST_F(Lab, AReviewIsSignedByItsOwnLoginAndNobodyReviewsTheirOwnCapture) {
       appendBySql(Sql(carla), s, "bench-a", "status", R"({"status":"approved","who":")" + bobLogin + R"(","why":""})")
           .find("a review is signed by the login that writes it"),
       std::string::npos);
-  EXPECT_THROW((void)db::LabStore(carla).setStatus(std::stoll(s.serverId), "approved", bobLogin, ""), db::StoreError);
+  // Through leafdig, bob's login given as a name is carla's signature: "bob (carla)".
+  EXPECT_EQ(db::LabStore(carla).signature(bobLogin), bobLogin + " (" + carlaLogin + ")");
+  // A display name alone hides the login (schema 11): refused by plain SQL; leafdig signs it
+  // "NAME (login)", which a login cannot forge for another ("carla (bob)" written by carla).
+  EXPECT_NE(appendBySql(Sql(carla), s, "bench-a", "status", R"({"status":"approved","who":"Dr Carla","why":""})")
+                .find("a review is signed by the login that writes it (\"" + carlaLogin + "\", or \"NAME (" +
+                      carlaLogin + ")\")"),
+            std::string::npos);
+  EXPECT_NE(
+      appendBySql(Sql(carla), s, "bench-a", "status",
+                  nlohmann::json{{"status", "approved"}, {"who", "Dr Bob (" + bobLogin + ")"}, {"why", ""}}.dump())
+          .find("a review is signed by the login that writes it"),
+      std::string::npos);
+  db::LabStore asCarla(carla);
+  EXPECT_EQ(asCarla.signature("Dr Carla"), "Dr Carla (" + carlaLogin + ")");
+  EXPECT_EQ(asCarla.signature("  "), carlaLogin);
+  EXPECT_EQ(asCarla.signature(carlaLogin), carlaLogin);
+  EXPECT_EQ(asCarla.signature("Dr Carla (" + carlaLogin + ")"), "Dr Carla (" + carlaLogin + ")");
   EXPECT_EQ(statusOf(s), "complete");
   // add-user will not make one login two roles; the server refuses a technician's review
   // even if an administrator grants the group by hand.
@@ -1351,6 +1376,30 @@ TEST_F(Lab, AReviewIsSignedByItsOwnLoginAndNobodyReviewsTheirOwnCapture) {
                               "ORDER BY seq DESC LIMIT 1",
                               {s.serverId}),
             carlaLogin);
+}
+
+// What statistics tell (issue 47, 8): a technician no longer reads how many rows every station
+// pushed through pg_stat_user_tables or its functions (init as the cluster's superuser takes
+// them from PUBLIC in this database only); the administrator still does.
+TEST_F(Lab, ATechnicianReadsNoTableStatisticsOfOtherStations) {
+  db::Store a(file("a.sqlite"));
+  db::Store b(file("b.sqlite"));
+  const std::string techA = login(db::LabRole::Technician, "bench-a");
+  const std::string techB = login(db::LabRole::Technician, "bench-b");
+  (void)pushOne(a, "bench-a", techA, /*complete=*/true);
+  (void)pushOne(b, "bench-b", techB, /*complete=*/true);
+  Sql tech(techA);
+  for (const char* query : {"SELECT n_tup_ins FROM pg_stat_user_tables WHERE relname = 'events'",
+                            "SELECT n_tup_ins FROM pg_stat_xact_all_tables WHERE relname = 'events'",
+                            "SELECT heap_blks_read FROM pg_statio_user_tables WHERE relname = 'events'",
+                            "SELECT pg_stat_get_live_tuples('leafdig.events'::regclass)",
+                            "SELECT pg_stat_get_tuples_inserted('leafdig.sessions'::regclass)"})
+    EXPECT_NE(tech.error(query).find("permission denied"), std::string::npos) << query;
+  // The lab's own rows stay the technician's to read; the administrator reads the statistics.
+  EXPECT_EQ(tech.value("SELECT count(DISTINCT station) FROM leafdig.sessions"), "1");
+  EXPECT_NO_THROW((void)Sql(admin_).rows("SELECT n_tup_ins FROM pg_stat_user_tables"));
+  // Run again, init finds nothing left to take.
+  EXPECT_TRUE(db::initServer(admin_).notes.empty());
 }
 
 // Roles and limits (issue 47, 7 and 9): a lab's login connects to its own lab's database only
@@ -1537,9 +1586,9 @@ TEST_F(Lab, ACuratorsDecisionsComeBackToTheStationThatCapturedTheSession) {
   // A correction of the row-2 midrib reading, then the approval.
   const auto oldReading = station.thickness(id)[2];
   ASSERT_EQ(oldReading.what, "midrib_thickness");
-  nlohmann::json payload{
-      {"what", oldReading.what}, {"row", *oldReading.row}, {"col", *oldReading.col}, {"value_mm", oldReading.valueMm},
-      {"seq", oldReading.seq},   {"reason", "slipped"},    {"who", "carla"}};
+  nlohmann::json payload{{"what", oldReading.what},          {"row", *oldReading.row}, {"col", *oldReading.col},
+                         {"value_mm", oldReading.valueMm},   {"seq", oldReading.seq},  {"reason", "slipped"},
+                         {"who", curator.signature("carla")}};
   payload["corrected"] = {
       {"what", oldReading.what}, {"row", *oldReading.row}, {"col", *oldReading.col}, {"value_mm", 1.25}};
   db::EventInput corrected;

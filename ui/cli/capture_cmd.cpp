@@ -695,13 +695,12 @@ int runVerify(const db::EventStore& store, const CaptureOptions& o) {
   return ok ? 0 : 1;
 }
 
-// Who signs a review: in a station's file, --who; on the lab server, --who or else the login
-// (the server keeps the writing login beside it, and refuses a --who that names another login:
-// lab schema 10).
+// Who signs a review: in a station's file, --who; on the lab server, the login, or "--who
+// (login)" (EventStore::signature; the server refuses any other signature: lab schema 11).
 std::string signer(const db::EventStore& store, const std::string& who) {
-  if (!who.empty()) return who;
-  if (const auto login = store.login()) return *login;
-  throw std::invalid_argument("a curator signs every review of a station's file: give --who NAME");
+  if (!store.login() && who.find_first_not_of(" \t\r\n\v\f") == std::string::npos)
+    throw std::invalid_argument("a curator signs every review of a station's file: give --who NAME");
+  return store.signature(who);
 }
 
 int runReview(db::EventStore& store, CaptureOptions o, const std::string& status) {
@@ -1004,12 +1003,13 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
   corr->add_option("--node", o.node, "A plant session: the node whose full leaf holds the item");
   corr->add_option("--position", o.position, "Corrected marker position x,y,z in mm")->delimiter(',')->expected(3);
   corr->add_option("--value", o.value, "Corrected thickness (a plant: stem diameter) in mm");
-  corr->add_option("--who", o.who, "Curator's name (a station's file; on the lab server the login signs)");
+  corr->add_option("--who", o.who,
+                   "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
   corr->add_option("--why", o.why, "Reason")->required();
   verify->add_option("id", o.id, "Session id (default: all)");
   verify->add_flag("--all", o.all, "Every session");
   for (CLI::App* c : {approve, reject}) {
-    c->add_option("--who", o.who, "Curator's name (a station's file; on the lab server the login signs)");
+    c->add_option("--who", o.who, "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
     c->add_option("--why", o.why, "Reason (required to reject)");
   }
   exp->add_option("--out", o.out, "Directory to write into")->required();

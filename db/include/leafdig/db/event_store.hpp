@@ -151,6 +151,11 @@ class EventStore {
   // The login this store writes as (the lab server's session user), or nothing (a station's
   // file has no logins). A review written through a login is signed by it (lab schema 10).
   [[nodiscard]] virtual std::optional<std::string> login() const { return std::nullopt; }
+  // The name a review written through this store carries (lab schema 11): in a station's file,
+  // `who` as given; through a login, the login itself or "NAME (login)" — `who` blank or the
+  // login gives the login, another name gets the login added — so whoever reads the decision,
+  // on the server or in a station's file after a pull, sees the login that wrote it.
+  [[nodiscard]] std::string signature(const std::string& who) const;
 };
 
 // SHA-256 of `data` as 64 lower-case hex digits (OpenSSL).

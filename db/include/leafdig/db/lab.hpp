@@ -49,7 +49,7 @@ inline constexpr int kLoginConnectionLimit = 8;
 inline constexpr const char* kIdleInTransactionTimeout = "60s";
 inline constexpr const char* kStatementTimeout = "300s";
 ServerInit initServer(const std::string& url, double lockWaitSeconds = 30);
-inline constexpr int kLabSchemaVersion = 10;
+inline constexpr int kLabSchemaVersion = 11;
 
 enum class LabRole { Technician, Curator, Reader };
 [[nodiscard]] const char* toString(LabRole role);
