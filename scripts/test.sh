@@ -30,6 +30,7 @@ seedCosts() {
 passDone "set-up and the ci build"
 "$root/.ci/check-layering.sh" "$root"
 "$root/.ci/check-architecture.sh" "$root"
+"$root/.ci/check-docs.sh" "$root"
 "$root/.ci/check-format.sh" "$root"
 # The whole suite runs once, under ASan+UBSan (every test: units, CLI, exports through their
 # real readers, the station under Xvfb, the demo). The plain build then runs what is about
