@@ -9,9 +9,12 @@
 #include <sqlite3.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -148,6 +151,44 @@ TEST(LabUrl, PasswordsAreRedactedInEveryForm) {
     const std::string shown = db::redactUrl(url);
     EXPECT_EQ(shown.find("SECRET"), std::string::npos) << url << " -> " << shown;
     EXPECT_EQ(shown.find("CRET"), std::string::npos) << url << " -> " << shown;
+  }
+}
+
+// Every released migration stays as it was released (db/migrations/lab/, embedded at build
+// time): a lab server upgraded by one leafdig and another must hold the same schema. A new
+// version is a new file, and its hash goes here when it is released.
+TEST(LabMigrations, EveryReleasedMigrationIsUnchanged) {
+  const std::vector<std::string> released{
+      "6732c03006cf76eeef446962de4c72462b9744e596e747a9146c5e45aacbfa13",  // 0001
+      "8ecc4126b26bcdea5050aaaea3717d3ea46f3375c2a1bf7aaa274de56e6344eb",  // 0002
+      "b86b59cb0e04ffccc1a3347a4845e30625738111bdc2737460b20831068235db",  // 0003
+      "92bf22dc341920c87dfe488dcf303d5d2bdc84196c2c6f49317f6ef0aff6cc0c",  // 0004
+      "d0016ff24b30843276ecfbd7d4bcf48ea8d8c00cd437dd5a3e91c875496d39ee",  // 0005
+      "51f3af3dc06479d64c8ddf9100615fc1297f9ec014f8b6f359ca13988ac34f47",  // 0006
+      "ac32df003fa1d414bed3515b9ff0656e888b450c9c86404ae139c50f1641dec1",  // 0007
+      "0786312ab8763a21144a2b93bcd4671359c5dcebef05ffad89ecbd7c992fba2c",  // 0008
+      "b934f01484b148b2ec6c320f671659304fcf8bedc35216d3d02bc14b660fc0d7",  // 0009
+      "ae225bd13bad4804c897e4430538e49163ed29f1eac68a23bd5971f38e09aba3",  // 0010
+      "37a101574c88b9e474dc1ecc36aacadb7c472b4db1d9a24285046226b9ea4129",  // 0011
+  };
+  ASSERT_EQ(db::detail::kLabMigrations.size(), static_cast<std::size_t>(db::kLabSchemaVersion));
+  ASSERT_GE(db::detail::kLabMigrations.size(), released.size());
+  for (std::size_t v = 0; v < released.size(); ++v)
+    EXPECT_EQ(db::sha256Hex(db::detail::kLabMigrations[v]), released[v])
+        << "migration " << v + 1 << " was edited after it was released: undo the edit and add the next file";
+  // The files in the source tree are the ones embedded, numbered without a gap.
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(fs::path(LEAFDIG_SOURCE_DIR) / "db/migrations/lab"))
+    files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_EQ(files.size(), db::detail::kLabMigrations.size());
+  for (std::size_t v = 0; v < files.size(); ++v) {
+    char number[8];
+    std::snprintf(number, sizeof number, "%04zu_", v + 1);
+    EXPECT_EQ(files[v].filename().string().rfind(number, 0), 0u) << files[v];
+    std::ifstream in(files[v], std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text, db::detail::kLabMigrations[v]) << files[v];
   }
 }
 
