@@ -68,7 +68,6 @@ int completeRows(const std::vector<Item>& items) {
 
 namespace {
 
-constexpr NameTable<Order, 2> kOrderNames{{{Order::Sequential, "sequential"}, {Order::Interleaved, "interleaved"}}};
 constexpr NameTable<What, 9> kWhatNames{{{What::Board, "board"},
                                          {What::Tip, "tip"},
                                          {What::Marker, "marker"},

@@ -288,17 +288,12 @@ ServerInit initServer(const std::string& url, double lockWaitSeconds) {
   return out;
 }
 
-namespace {
-constexpr NameTable<LabRole, 3> kLabRoles{
-    {{LabRole::Technician, "technician"}, {LabRole::Curator, "curator"}, {LabRole::Reader, "reader"}}};
-}  // namespace
-
 const char* toString(LabRole role) {
-  return nameIn(kLabRoles, role);
+  return nameIn(kLabRoleNames, role);
 }
 
 LabRole labRoleFromString(const std::string& text) {
-  return parseName(kLabRoles, text, "role");
+  return parseName(kLabRoleNames, text, "role");
 }
 
 AddedUser addUser(const std::string& url, const std::string& login, LabRole role, const std::string& station,

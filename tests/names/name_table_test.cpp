@@ -40,6 +40,10 @@ TEST(NameTable, AnUnknownWordIsRefusedOneWayNamingWhatAndTheChoices) {
   } catch (const leafdig::UnknownName& e) {
     EXPECT_STREQ(e.what(), "unknown serration \"wavy\": use none, round, sharp, straight or acuminate");
   }
+  // The choices a list offers are the table's words, in its order.
+  EXPECT_EQ(leafdig::wordsIn(kColours), (std::vector<std::string>{"red", "green", "blue"}));
+  EXPECT_EQ(leafdig::wordsIn(leafdig::model::kSerrationNames),
+            (std::vector<std::string>{"none", "round", "sharp", "straight", "acuminate"}));
 }
 
 }  // namespace

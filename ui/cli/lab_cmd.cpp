@@ -196,7 +196,7 @@ void declareLabCommands(CLI::App& app, LabOptions& o) {
   add->add_option("--login", o.login, "The login role (created when --password-file is given)")->required();
   add->add_option("--role", o.role, "technician, curator or reader")
       ->required()
-      ->check(CLI::IsMember({"technician", "curator", "reader"}));
+      ->check(CLI::IsMember(wordsIn(db::kLabRoleNames)));
   add->add_option("--station", o.station, "A technician's station id (required for technicians only)");
   add->add_option("--password-file", o.passwordFile, "File whose first line is the new login's password");
 

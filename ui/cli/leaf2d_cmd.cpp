@@ -41,7 +41,7 @@ void declareLeaf2dCommands(CLI::App& app, Leaf2dCommandOptions& o) {
   build->add_option("input", o.input, "Outline file or scan image")->required();
   scanOptions(build);
   build->add_option("--curl", o.curl, "Margin curl: parabola (default), sine, auto (most light), none")
-      ->check(CLI::IsMember({"parabola", "sine", "auto", "none"}));
+      ->check(CLI::IsMember(wordsIn(model::kCurlKindNames)));
   build->add_option("--amplitude", o.amplitudeMm, "Curl amplitude A, mm (default 10 % of the leaf's width)");
   build->add_option("--light", o.light, "Light direction x,y,z in the leaf frame (default 0,0,1)");
   build->add_option("--rows", o.rows, "Cross-sections from tip to base for the bicubic B-spline (default 30)");

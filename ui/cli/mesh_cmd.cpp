@@ -24,7 +24,7 @@ void addMeshChoice(CLI::App& c, MeshChoice& choice) {
   c.add_option("--mesh", choice.method,
                "Mesh method: uniform (the --resolution grid, default), seed (patent CN101650836: "
                "--min-length, --max-angle, --ring) or adaptive (--max-error)")
-      ->check(CLI::IsMember({"uniform", "seed", "adaptive"}));
+      ->check(CLI::IsMember(wordsIn(model::kMeshMethodNames)));
   c.add_option("--min-length", choice.minLengthMm, "Seed mode: division length M along skeletons, mm (default 2)");
   c.add_option("--max-angle", choice.maxAngleDeg,
                "Seed mode: merge segments while their angle exceeds this, degrees, 180 = straight (default 170)");

@@ -38,7 +38,7 @@ void declareModelBuild(CLI::App& model, ModelBuildOptions& o) {
                     "(repeat for several)");
   build->add_option("--model-json", o.modelJsonPath, "Write the leafdig.model/1 document here");
   build->add_option("--blade", o.blade, "Blade surface: interp (default), approx, bezier, nurbs")
-      ->check(CLI::IsMember({"interp", "approx", "bezier", "nurbs"}));
+      ->check(CLI::IsMember(wordsIn(model::kBladeKindNames)));
   build
       ->add_option("--resolution", o.resolution,
                    "Mesh resolution preset: paper (the seed's Table 1 counts), preview, export "

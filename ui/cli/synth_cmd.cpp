@@ -27,16 +27,16 @@ namespace m = leafdig::model;
 
 void addSynthChoice(CLI::App& c, SynthChoice& s, const std::string& p) {
   c.add_option("--" + p + "shape", s.shape, "Leaf shape: oblong, elliptic, ovate, obovate or tobacco (default)")
-      ->check(CLI::IsMember({"oblong", "elliptic", "ovate", "obovate", "tobacco"}));
+      ->check(CLI::IsMember(wordsIn(model::kLeafShapeNames)));
   c.add_option("--" + p + "length", s.lengthMm, "Base-to-tip length, mm (default 500)");
   c.add_option("--" + p + "width", s.widthMm, "Width of the base rectangle, mm (default: length / the shape's aspect)");
   c.add_option("--" + p + "symmetry", s.symmetry, "S in (-0.45, 0.45): > 0 widest below the middle (ovate)");
   c.add_option("--" + p + "serration", s.serration, "Margin teeth: none (default), round, sharp, straight, acuminate")
-      ->check(CLI::IsMember({"none", "round", "sharp", "straight", "acuminate"}));
+      ->check(CLI::IsMember(wordsIn(model::kSerrationNames)));
   c.add_option("--" + p + "tooth-depth", s.toothDepthMm, "Tooth depth D, mm (default 1.5 % of the width)");
   c.add_option("--" + p + "teeth", s.teeth, "Teeth per side (default 20)");
   c.add_option("--" + p + "tooth-direction", s.toothDirection, "horizontal (default) or normal to the margin")
-      ->check(CLI::IsMember({"horizontal", "normal"}));
+      ->check(CLI::IsMember(wordsIn(model::kToothDirectionNames)));
   c.add_option("--" + p + "width-term", s.widthTerms,
                "Sine-sum width deformation a,k[,phase]: the half-width times 1 + a sin(k φ + phase) (repeat)");
   c.add_option("--" + p + "asymmetry", s.asymmetry, "The left half narrower by this fraction (0..0.5)");

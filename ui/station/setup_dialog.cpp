@@ -98,11 +98,11 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   type_ = new QLineEdit(QString::fromStdString(d.leafType));
   type_->setPlaceholderText(tr("e.g. lower, middle, upper (optional)"));
   mode_ = new QComboBox;
-  for (const char* m : {"standard", "full", "small"}) mode_->addItem(m);
+  for (const auto& m : wordsIn(model::kThicknessModeNames)) mode_->addItem(QString::fromStdString(m));
   mode_->setCurrentText(model::toString(d.settings.mode));
   mode_->setToolTip(tr("standard: midrib and vein origin per row; full: all 7 points; small: midrib only"));
   order_ = new QComboBox;
-  for (const char* o : {"sequential", "interleaved"}) order_->addItem(o);
+  for (const auto& o : wordsIn(acq::kOrderNames)) order_->addItem(QString::fromStdString(o));
   order_->setCurrentText(acq::toString(d.settings.order));
   area_ = new QLineEdit;
   area_->setPlaceholderText(tr("cm² from a leaf area meter (optional)"));
@@ -113,8 +113,8 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   // The margin, for the area interval: teeth the markers cannot see between them.
   serration_ = new QComboBox;
   serration_->addItem(tr("not declared"), QString());
-  for (const char* word : {"none", "round", "sharp", "straight", "acuminate"})
-    serration_->addItem(QString::fromLatin1(word), QString::fromLatin1(word));
+  for (const auto& word : wordsIn(model::kSerrationNames))
+    serration_->addItem(QString::fromStdString(word), QString::fromStdString(word));
   if (d.serration)
     serration_->setCurrentIndex(serration_->findData(QString::fromLatin1(model::toString(*d.serration))));
   serration_->setToolTip(

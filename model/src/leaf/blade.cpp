@@ -10,19 +10,12 @@
 
 namespace leafdig::model {
 
-namespace {
-constexpr NameTable<BladeKind, 4> kBladeKinds{{{BladeKind::Interp, "interp"},
-                                               {BladeKind::Approx, "approx"},
-                                               {BladeKind::Bezier, "bezier"},
-                                               {BladeKind::Nurbs, "nurbs"}}};
-}  // namespace
-
 const char* toString(BladeKind kind) {
-  return nameIn(kBladeKinds, kind);
+  return nameIn(kBladeKindNames, kind);
 }
 
 BladeKind bladeKindFromString(const std::string& word) {
-  return parseName(kBladeKinds, word, "blade kind");
+  return parseName(kBladeKindNames, word, "blade kind");
 }
 
 namespace {

@@ -45,20 +45,12 @@ void requirePositive(const std::optional<double>& value, const std::string& wher
 
 }  // namespace
 
-namespace {
-constexpr NameTable<Serration, 5> kSerrations{{{Serration::None, "none"},
-                                               {Serration::Round, "round"},
-                                               {Serration::Sharp, "sharp"},
-                                               {Serration::Straight, "straight"},
-                                               {Serration::Acuminate, "acuminate"}}};
-}  // namespace
-
 const char* toString(Serration serration) {
-  return nameIn(kSerrations, serration);
+  return nameIn(kSerrationNames, serration);
 }
 
 Serration serrationFromString(const std::string& word) {
-  return parseName(kSerrations, word, "serration");
+  return parseName(kSerrationNames, word, "serration");
 }
 
 // Tooth profile in units of D at θ = n φ (docs/synthetic-leaves.md).
@@ -88,17 +80,12 @@ ToothSpread toothSpread(Serration s) {
   return out;
 }
 
-namespace {
-constexpr NameTable<ThicknessMode, 3> kThicknessModes{
-    {{ThicknessMode::Standard, "standard"}, {ThicknessMode::Full, "full"}, {ThicknessMode::Small, "small"}}};
-}  // namespace
-
 const char* toString(ThicknessMode mode) {
-  return nameIn(kThicknessModes, mode);
+  return nameIn(kThicknessModeNames, mode);
 }
 
 ThicknessMode thicknessModeFromString(const std::string& word) {
-  return parseName(kThicknessModes, word, "thickness mode");
+  return parseName(kThicknessModeNames, word, "thickness mode");
 }
 
 ThicknessMode inferThicknessMode(const MarkerSet& markers) {

@@ -11,17 +11,12 @@
 
 namespace leafdig::model {
 
-namespace {
-constexpr NameTable<CurlKind, 4> kCurlKinds{
-    {{CurlKind::Parabola, "parabola"}, {CurlKind::Sine, "sine"}, {CurlKind::Auto, "auto"}, {CurlKind::None, "none"}}};
-}  // namespace
-
 const char* toString(CurlKind kind) {
-  return nameIn(kCurlKinds, kind);
+  return nameIn(kCurlKindNames, kind);
 }
 
 CurlKind curlKindFromString(const std::string& word) {
-  return parseName(kCurlKinds, word, "curl");
+  return parseName(kCurlKindNames, word, "curl");
 }
 
 std::array<double, 5> curlFeatureHeights(CurlKind kind) {

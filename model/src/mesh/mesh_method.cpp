@@ -12,17 +12,12 @@
 
 namespace leafdig::model {
 
-namespace {
-constexpr NameTable<MeshMethod, 3> kMeshMethods{
-    {{MeshMethod::Uniform, "uniform"}, {MeshMethod::Seed, "seed"}, {MeshMethod::Adaptive, "adaptive"}}};
-}  // namespace
-
 const char* toString(MeshMethod method) {
-  return nameIn(kMeshMethods, method);
+  return nameIn(kMeshMethodNames, method);
 }
 
 MeshMethod meshMethodFromString(const std::string& word) {
-  return parseName(kMeshMethods, word, "mesh method");
+  return parseName(kMeshMethodNames, word, "mesh method");
 }
 
 std::string describe(const MeshOptions& o) {

@@ -78,30 +78,20 @@ struct SurfaceFrame {
 
 }  // namespace
 
-namespace {
-constexpr NameTable<LeafShape, 5> kLeafShapes{{{LeafShape::Oblong, "oblong"},
-                                               {LeafShape::Elliptic, "elliptic"},
-                                               {LeafShape::Ovate, "ovate"},
-                                               {LeafShape::Obovate, "obovate"},
-                                               {LeafShape::Tobacco, "tobacco"}}};
-constexpr NameTable<ToothDirection, 2> kToothDirections{
-    {{ToothDirection::Horizontal, "horizontal"}, {ToothDirection::Normal, "normal"}}};
-}  // namespace
-
 const char* toString(LeafShape shape) {
-  return nameIn(kLeafShapes, shape);
+  return nameIn(kLeafShapeNames, shape);
 }
 
 const char* toString(ToothDirection direction) {
-  return nameIn(kToothDirections, direction);
+  return nameIn(kToothDirectionNames, direction);
 }
 
 LeafShape leafShapeFromString(const std::string& word) {
-  return parseName(kLeafShapes, word, "leaf shape");
+  return parseName(kLeafShapeNames, word, "leaf shape");
 }
 
 ToothDirection toothDirectionFromString(const std::string& word) {
-  return parseName(kToothDirections, word, "tooth direction");
+  return parseName(kToothDirectionNames, word, "tooth direction");
 }
 
 double aspectRatio(LeafShape shape) {

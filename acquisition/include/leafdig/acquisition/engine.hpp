@@ -15,6 +15,7 @@
 
 #include "leafdig/devices/sample.hpp"
 #include "leafdig/model/leaf/thickness_mode.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::acquisition {
 
@@ -28,6 +29,10 @@ inline constexpr int kMarkersPerRow = 7;
 // The thickness mode is the model's (one enum from the capture to the model file).
 using Mode = model::ThicknessMode;
 enum class Order { Sequential, Interleaved };
+// Its words in files, options and messages (the CLI's choices and the station's lists too).
+inline constexpr NameTable<Order, 2> kOrderNames{
+    {{Order::Sequential, "sequential"}, {Order::Interleaved, "interleaved"}}};
+
 [[nodiscard]] const char* toString(Order o);
 [[nodiscard]] Order orderFromString(const std::string& s);  // throws UnknownName
 

@@ -16,6 +16,7 @@
 
 #include "leafdig/db/event_store.hpp"
 #include "leafdig/db/store.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::db {
 
@@ -52,6 +53,10 @@ ServerInit initServer(const std::string& url, double lockWaitSeconds = 30);
 inline constexpr int kLabSchemaVersion = 11;
 
 enum class LabRole { Technician, Curator, Reader };
+// Its words in files, options and messages (the CLI's choices and the station's lists too).
+inline constexpr NameTable<LabRole, 3> kLabRoleNames{
+    {{LabRole::Technician, "technician"}, {LabRole::Curator, "curator"}, {LabRole::Reader, "reader"}}};
+
 [[nodiscard]] const char* toString(LabRole role);
 [[nodiscard]] LabRole labRoleFromString(const std::string& text);  // throws UnknownName
 // Puts a login in its group; a technician is bound to exactly one station. An existing

@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 namespace leafdig {
 
@@ -45,6 +46,15 @@ template <class E, std::size_t N>
     if (i > 0) out += i + 1 == N ? " or " : ", ";
     out += table[i].second;
   }
+  return out;
+}
+
+// The table's words in its order, for a list of choices (the CLI's IsMember, a combo box).
+template <class E, std::size_t N>
+[[nodiscard]] std::vector<std::string> wordsIn(const NameTable<E, N>& table) {
+  std::vector<std::string> out;
+  out.reserve(N);
+  for (const auto& entry : table) out.emplace_back(entry.second);
   return out;
 }
 

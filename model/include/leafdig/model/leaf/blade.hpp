@@ -7,10 +7,16 @@
 
 #include "leafdig/model/leaf/markers.hpp"
 #include "leafdig/model/spline/bspline.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
 enum class BladeKind { Interp, Approx, Bezier, Nurbs };
+// Its words in files, options and messages (the CLI's choices and the station's lists too).
+inline constexpr NameTable<BladeKind, 4> kBladeKindNames{{{BladeKind::Interp, "interp"},
+                                                          {BladeKind::Approx, "approx"},
+                                                          {BladeKind::Bezier, "bezier"},
+                                                          {BladeKind::Nurbs, "nurbs"}}};
 
 [[nodiscard]] const char* toString(BladeKind kind);
 // Throws InputError naming the accepted words.

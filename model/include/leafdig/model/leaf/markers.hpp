@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "leafdig/model/leaf/thickness_mode.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
@@ -27,6 +28,13 @@ struct MarkerRow {
 // acuminate. A technician declares the leaf's (set-up dialog, markers file), the synthetic
 // leaves are made with one.
 enum class Serration { None, Round, Sharp, Straight, Acuminate };
+// Its words in files, options and messages (the CLI's choices and the station's lists too).
+inline constexpr NameTable<Serration, 5> kSerrationNames{{{Serration::None, "none"},
+                                                          {Serration::Round, "round"},
+                                                          {Serration::Sharp, "sharp"},
+                                                          {Serration::Straight, "straight"},
+                                                          {Serration::Acuminate, "acuminate"}}};
+
 [[nodiscard]] const char* toString(Serration serration);
 // Throws InputError naming the accepted words.
 [[nodiscard]] Serration serrationFromString(const std::string& word);

@@ -15,6 +15,7 @@
 #include "leafdig/model/mesh/laplacian_deform.hpp"
 #include "leafdig/model/mesh/mesh.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
@@ -59,6 +60,10 @@ struct Outline2d {
 [[nodiscard]] std::pair<Eigen::Vector2d, Eigen::Vector2d> findBaseAndTip(const Outline2d& outline);
 
 enum class CurlKind { None, Parabola, Sine, Auto };
+// Its words in files, options and messages (the CLI's choices and the station's lists too).
+inline constexpr NameTable<CurlKind, 4> kCurlKindNames{
+    {{CurlKind::Parabola, "parabola"}, {CurlKind::Sine, "sine"}, {CurlKind::Auto, "auto"}, {CurlKind::None, "none"}}};
+
 [[nodiscard]] const char* toString(CurlKind kind);
 // Throws InputError naming the accepted words.
 [[nodiscard]] CurlKind curlKindFromString(const std::string& word);

@@ -7,10 +7,14 @@
 #include <vector>
 
 #include "leafdig/model/mesh/mesh.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
 enum class MeshMethod { Uniform, Seed, Adaptive };
+// Its words in files, options and messages (the CLI's choices and the station's lists too).
+inline constexpr NameTable<MeshMethod, 3> kMeshMethodNames{
+    {{MeshMethod::Uniform, "uniform"}, {MeshMethod::Seed, "seed"}, {MeshMethod::Adaptive, "adaptive"}}};
 
 [[nodiscard]] const char* toString(MeshMethod method);
 // Throws InputError naming the accepted words.

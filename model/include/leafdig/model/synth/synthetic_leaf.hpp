@@ -22,13 +22,24 @@
 
 #include "leafdig/model/leaf/markers.hpp"
 #include "leafdig/model/mesh/mesh.hpp"
+#include "leafdig/names/name_table.hpp"
 
 namespace leafdig::model {
 
 enum class LeafShape { Oblong, Elliptic, Ovate, Obovate, Tobacco };
+// Its words in files, options and messages (the CLI's choices and the station's lists too).
+inline constexpr NameTable<LeafShape, 5> kLeafShapeNames{{{LeafShape::Oblong, "oblong"},
+                                                          {LeafShape::Elliptic, "elliptic"},
+                                                          {LeafShape::Ovate, "ovate"},
+                                                          {LeafShape::Obovate, "obovate"},
+                                                          {LeafShape::Tobacco, "tobacco"}}};
+
 // Serration (none, round, sharp, straight, acuminate) and its profile: markers.hpp.
 // Teeth pushed out horizontally (the seed's T_y = 0) or along the margin's outward normal.
 enum class ToothDirection { Horizontal, Normal };
+// Its words in files, options and messages (the CLI's choices and the station's lists too).
+inline constexpr NameTable<ToothDirection, 2> kToothDirectionNames{
+    {{ToothDirection::Horizontal, "horizontal"}, {ToothDirection::Normal, "normal"}}};
 
 [[nodiscard]] const char* toString(LeafShape shape);
 [[nodiscard]] const char* toString(ToothDirection direction);
