@@ -8,8 +8,10 @@
 # plant digitized where it stands, node by node, exported as an MTG, a CSV and its survey.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-"$root/scripts/setup.sh" release
-leafdig="$root/build/release/ui/cli/leafdig"
+# Only what the main job needs is installed and built (preset `main`: leafdig and
+# leafdig-station; the tests, benchmarks and the Python module are the test command's).
+"$root/scripts/setup.sh" main
+leafdig="$root/build/main/ui/cli/leafdig"
 out="$root/out"
 mkdir -p "$out/demo"
 # A fresh demo database each run (the previous one is kept as demo.sqlite.previous).
@@ -19,8 +21,8 @@ if [ -e "$out/demo/demo.sqlite" ]; then
 fi
 # With a display, the Qt station with simulated devices (close the window to go on);
 # without one, the same capture headless.
-if [ -n "${DISPLAY:-}" ] && [ -x "$root/build/release/ui/station/leafdig-station" ]; then
-  "$root/build/release/ui/station/leafdig-station" --simulate --speed 2 --db "$out/demo/station.sqlite" || true
+if [ -n "${DISPLAY:-}" ] && [ -x "$root/build/main/ui/station/leafdig-station" ]; then
+  "$root/build/main/ui/station/leafdig-station" --simulate --speed 2 --db "$out/demo/station.sqlite" || true
 fi
 "$leafdig" demo --out "$out/demo" --samples "$root/data/samples"
 echo

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what leafdig needs on Debian 12 (only what is missing), then configures and
-# builds one preset. Usage: scripts/setup.sh [PRESET]   (default: release)
+# builds one preset. Usage: scripts/setup.sh [PRESET]   (default: release; `main`: only what the
+# main job needs)
 #
 # Debian packages: build tools (cmake, ninja-build, g++, ccache), libraries (libeigen3-dev,
 # nlohmann-json3-dev, libcli11-dev, libtinygltf-dev, libgtest-dev, libgmock-dev,
@@ -22,20 +23,27 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 preset=${1:-release}
 
+# The main job (preset `main`: leafdig and leafdig-station) needs only these: build tools, the
+# libraries its programs link, Qt for the station.
 packages=(cmake ninja-build g++ ccache pkg-config libeigen3-dev nlohmann-json3-dev libcli11-dev
-          libtinygltf-dev libgtest-dev libgmock-dev libbenchmark-dev libsqlite3-dev assimp-utils
-          libserialport-dev libhidapi-dev libusb-1.0-0-dev clang libclang-rt-14-dev
-          libsqlitecpp-dev libssl-dev clang-format-14 libcgal-dev libmeshoptimizer-dev libassimp-dev libopencv-dev
-          libpq-dev postgresql openssl
-          qt6-base-dev libqt6opengl6-dev qt6-multimedia-dev qt6-charts-dev libgl-dev libgl1-mesa-dri xvfb xauth
-          fonts-dejavu-core python3 dpkg-dev desktop-file-utils file
-          pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib)
+          libtinygltf-dev libsqlite3-dev libserialport-dev libhidapi-dev libusb-1.0-0-dev
+          libsqlitecpp-dev libssl-dev libcgal-dev libmeshoptimizer-dev libassimp-dev libopencv-dev libpq-dev
+          qt6-base-dev libqt6opengl6-dev qt6-multimedia-dev qt6-charts-dev libgl-dev libgl1-mesa-dri)
+# Every other preset builds the tests, benchmarks, fuzzers or the Python module, and the tests
+# run checkers, a PostgreSQL server, Xvfb and the Debian package's tools.
+if [ "$preset" != main ]; then
+  packages+=(libgtest-dev libgmock-dev libbenchmark-dev assimp-utils clang libclang-rt-14-dev clang-format-14
+             postgresql openssl xvfb xauth fonts-dejavu-core python3 dpkg-dev desktop-file-utils file
+             pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-# Node.js may come from Debian (nodejs + npm) or already be on the machine.
-if ! command -v node >/dev/null || ! command -v npm >/dev/null; then missing+=(nodejs npm); fi
+# Node.js may come from Debian (nodejs + npm) or already be on the machine (the tests' checkers).
+if [ "$preset" != main ] && { ! command -v node >/dev/null || ! command -v npm >/dev/null; }; then
+  missing+=(nodejs npm)
+fi
 if ((${#missing[@]})); then
   echo "setup: installing ${missing[*]}"
   sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
@@ -43,7 +51,8 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-if [ ! -d "$root/tests/tools/node_modules/gltf-validator" ] || [ ! -d "$root/tests/tools/node_modules/ajv" ]; then
+if [ "$preset" != main ] &&
+   { [ ! -d "$root/tests/tools/node_modules/gltf-validator" ] || [ ! -d "$root/tests/tools/node_modules/ajv" ]; }; then
   echo "setup: installing the Khronos glTF validator and Ajv (npm)"
   (cd "$root/tests/tools" && npm ci --no-audit --no-fund --loglevel=error)
 fi
