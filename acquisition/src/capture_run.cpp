@@ -16,6 +16,15 @@ std::string defaultLeafFile() {
 
 }  // namespace
 
+void checkPotTurn(double degrees, bool simulated, bool referenceReceiver, const std::string& carrier) {
+  if (degrees != 0.0 && !(simulated && referenceReceiver))
+    throw std::invalid_argument("--pot-turn turns the simulated " + carrier +
+                                " with the reference receiver on it: it goes with --simulate --reference-receiver "
+                                "(without one, a turning " +
+                                carrier + " moves the " + (carrier == "pot" ? "plant" : "leaf") + " under the stylus)");
+  if (!(std::abs(degrees) <= 360.0)) throw std::invalid_argument("--pot-turn must be between -360 and 360 degrees");
+}
+
 void checkSimulationSpeed(double speed) {
   // Slower than a tenth of real time a simulated capture would take hours (1e-300: for ever).
   if (!(speed >= kMinSimulationSpeed && speed <= kMaxSimulationSpeed))

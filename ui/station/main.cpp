@@ -89,10 +89,11 @@ int main(int argc, char** argv) {
   o.markers = p.value(markers).toStdString();
   o.referenceReceiver = p.isSet(referenceReceiver);
   o.potTurnDeg = p.value(potTurn).toDouble();
-  if ((o.potTurnDeg != 0 && !o.referenceReceiver) || !(std::abs(o.potTurnDeg) <= 360.0)) {
-    std::fprintf(stderr,
-                 "leafdig-station: --pot-turn DEG (-360…360) turns the simulated pot with the reference receiver on "
-                 "it: add --reference-receiver\n");
+  try {
+    // The station's simulation is the one with --simulate; a turn needs its reference receiver.
+    leafdig::acquisition::checkPotTurn(o.potTurnDeg, true, o.referenceReceiver, "pot");
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "leafdig-station: %s\n", e.what());
     return 2;
   }
   o.setup.project = "default";

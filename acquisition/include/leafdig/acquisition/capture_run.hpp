@@ -30,6 +30,11 @@ namespace leafdig::acquisition {
 // std::invalid_argument in words otherwise (the leaf's and the plant's captures, the station).
 inline constexpr double kMinSimulationSpeed = 0.1, kMaxSimulationSpeed = 50.0;
 void checkSimulationSpeed(double speed);
+// A turn of the simulated pot or board (--pot-turn, -360…360°) under the reference receiver it
+// carries: only in a simulation with the reference receiver (without one, a turning pot moves
+// the plant under the stylus). `carrier` is what turns ("pot", "board"). Throws
+// std::invalid_argument in words (the leaf's and the plant's captures, the station).
+void checkPotTurn(double degrees, bool simulated, bool referenceReceiver, const std::string& carrier);
 
 struct RunRequest {
   std::string db;           // SQLite file; empty: the station's default file
