@@ -24,6 +24,7 @@
 #include "leafdig/acquisition/plant_export.hpp"
 #include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
+#include "leafdig/db/history.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
@@ -586,6 +587,14 @@ PYBIND11_MODULE(_leafdig, mod) {
       .def("markers", &sessionMarkers, py::arg("id"))
       .def("events", &sessionEvents, py::arg("id"))
       .def("plant_survey_json", &plantSurveyJson, py::arg("id"))
+      .def(
+          "history_json",
+          [](const Store& s, std::int64_t id) {
+            py::gil_scoped_release free;
+            requireVerified(s, id, "");
+            return db::reviewHistoryJson(db::reviewHistory(s.store->events(id)));
+          },
+          py::arg("id"))
       .def(
           "plant",
           [](const Store& s, std::int64_t id, const std::array<double, 3>& light) {

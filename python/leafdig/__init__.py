@@ -200,8 +200,17 @@ class Store:
         approved leaves — the model ``sessions export`` writes (GLB, CARIBU, plant-model JSON)."""
         return Plant(self._core.plant(int(id), tuple(float(x) for x in light)))
 
-    def approve(self, id, who):
-        return self._core.review(int(id), "approved", who, "")
+    def history(self, id):
+        """Every curator's decision and correction of the session, in the order they were
+        written (its chain verified first): dicts with seq, utc, action ("approved",
+        "rejected" or "corrected"), who (on the lab server "NAME (login)" or the login) and
+        why; a correction also what, row, col, from and to (``{"position_mm": [x, y, z]}`` or
+        ``{"value_mm": v}``) and, for a point, moved_mm — what ``leafdig sessions show`` lists."""
+        return _json.loads(self._core.history_json(int(id)))
+
+    def approve(self, id, who, why=""):
+        """Approves a complete session, saying why if you will (a curator's decision)."""
+        return self._core.review(int(id), "approved", who, why)
 
     def reject(self, id, who, why):
         return self._core.review(int(id), "rejected", who, why)

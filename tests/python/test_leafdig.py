@@ -385,7 +385,19 @@ def test_a_curator_corrects_a_leaf_and_a_plant_from_python(station, tmp_path):
         store.correct(2, "landmark", node=full, row=1, position=(1.0, 2.0, 3.0), who="kim", why="x")
     assert len(cli_json("sessions", "show", 2, "--db", copy)["corrections"]) == 2
     # Approved is final: no correction after it.
-    store.approve(1, who="kim")
+    store.approve(1, who="kim", why="checked against the photos")
+    # Who decided what, and what each correction changed (issue 49): the CLI's own history.
+    history = store.history(1)
+    assert [h["action"] for h in history] == ["corrected", "approved"]
+    assert history[0]["what"] == "marker" and (history[0]["row"], history[0]["col"]) == (2, 3)
+    assert np.allclose(history[0]["from"]["position_mm"], before[1][2])
+    assert np.allclose(history[0]["to"]["position_mm"], moved)
+    assert history[0]["moved_mm"] == pytest.approx(float(np.linalg.norm([0.5, -0.25, 0.0])))
+    assert history[0]["who"] == "kim" and history[0]["why"] == "the stylus slipped"
+    assert history[1]["who"] == "kim" and history[1]["why"] == "checked against the photos"
+    assert history == cli_json("sessions", "show", 1, "--db", copy)["history"]
+    assert [h["action"] for h in store.history(2)] == ["corrected", "corrected"]
+    assert store.history(2)[0]["to"] == {"value_mm": 9.5}
     with pytest.raises(leafdig.InputError, match="approved"):
         store.correct(1, "marker", row=2, col=3, position=before[1][2], who="kim", why="back")
 

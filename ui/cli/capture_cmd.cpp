@@ -17,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include "capture_console.hpp"
 #include "commands.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/plant_export.hpp"
@@ -35,6 +36,7 @@
 #include "leafdig/model/synth/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
 #include "plant_capture_cmd.hpp"
+#include "sessions_cmd.hpp"
 #include "signals.hpp"
 #include "stdin_commands.hpp"
 #include "synth_cmd.hpp"
@@ -47,58 +49,10 @@ namespace acq = leafdig::acquisition;
 namespace m = leafdig::model;
 using nlohmann::json;
 
-std::string dbPath(const CaptureOptions& o) {
-  return o.db.empty() ? db::Store::defaultPath() : o.db;
-}
-
 std::string samplesDir(const std::string& given) {
   if (!given.empty()) return given;
   const std::string found = leafdig::samplesDir();
   return found.empty() ? "data/samples" : found;
-}
-
-json nullable(int v) {
-  return v > 0 ? json(v) : json(nullptr);
-}
-
-json stepJson(const acq::Step& s, const std::string& prompt) {
-  return {{"what", acq::toString(s.what)}, {"row", nullable(s.row)}, {"col", nullable(s.col)}, {"prompt", prompt}};
-}
-
-std::string describe(const acq::Item& i) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(1);
-  if (i.what == acq::What::Tip)
-    s << "tip";
-  else if (i.what == acq::What::Board)
-    s << "board point " << i.col;
-  else if (i.what == acq::What::BoardAgain)
-    s << "board point " << i.col << " again (transmitter position " << i.row + 1 << ")";
-  else if (i.what == acq::What::Marker)
-    s << "row " << i.row << " point " << i.col;
-  else if (i.what == acq::What::EdgeThickness)
-    s << "margin thickness";
-  else
-    s << "row " << i.row << " " << acq::toString(i.what)
-      << (i.what == acq::What::PointThickness ? " at point " + std::to_string(i.col) : "");
-  if (acq::isStylusItem(i.what))
-    s << " (" << i.positionMm[0] << ", " << i.positionMm[1] << ", " << i.positionMm[2] << ") mm";
-  else
-    s << std::setprecision(3) << " " << i.valueMm << " mm";
-  if (!i.flag.empty()) s << " [" << i.flag << "]";
-  return s.str();
-}
-
-// `sessions show`'s lines for a moved transmitter: each position after the first with its
-// points and its fit (`worst` names the landmark — a plant's, or a leaf's board point).
-void printTransmitterPositions(const json& positions, const char* landmark, const char* worst) {
-  for (const json& t : positions)
-    if (t.at("position").get<int>() > 1)
-      std::cout << "  transmitter moved: position " << t.at("position").get<int>() << ", " << t.at("points").get<int>()
-                << " points, fitted RMS " << std::fixed << std::setprecision(2) << t.at("rms_mm").get<double>()
-                << " mm (worst " << t.at("worst_mm").get<double>() << " mm at " << landmark << " "
-                << t.at(worst).get<int>() << ")\n"
-                << std::defaultfloat;
 }
 
 // The JSON-lines contract of the README: one object per committed change.
@@ -199,7 +153,7 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
         "'leafdig sync push --db FILE --to " +
         db::redactUrl(o.db) + "'");
   acq::RunRequest r;
-  r.db = dbPath(o);
+  r.db = stationDbPath(o.db);
   r.resume = resumeId.value_or(0);
   acq::SessionSetup& s = r.setup;
   s.project = o.project;
@@ -361,62 +315,13 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
 
 }  // namespace
 
-GiveUpWatch::GiveUpWatch(double seconds) : seconds_(seconds), lastProgress_(std::chrono::steady_clock::now()) {}
-
-void GiveUpWatch::progressed() {
-  std::lock_guard lock(mutex_);
-  lastProgress_ = std::chrono::steady_clock::now();
-  refusedSince_ = 0;
-}
-
-void GiveUpWatch::refused(const std::string& reason) {
-  std::lock_guard lock(mutex_);
-  lastRefusal_ = reason;
-  ++refusedSince_;
-}
-
-void GiveUpWatch::at(const std::string& prompt, bool paused) {
-  std::lock_guard lock(mutex_);
-  if (paused != paused_) lastProgress_ = std::chrono::steady_clock::now();  // a pause is no lack of progress
-  paused_ = paused;
-  where_ = prompt;
-}
-
-std::string GiveUpWatch::overdue(const std::string& capture, std::int64_t id, const std::string& db) const {
-  std::lock_guard lock(mutex_);
-  if (paused_ || std::chrono::steady_clock::now() - lastProgress_ <= std::chrono::duration<double>(seconds_)) return {};
-  std::ostringstream why;
-  why << std::fixed << std::setprecision(0) << "leafdig: the simulated technician got nowhere for " << seconds_ << " s "
-      << (where_.empty() ? "before its first input was taken" : "at '" + where_ + "'") << " (" << refusedSince_
-      << " inputs refused since the last accepted one"
-      << (lastRefusal_.empty() ? "" : "; the last: '" + lastRefusal_ + "'") << "): the " << capture
-      << " was stopped and kept. This is a fault of the simulation or of the station: report it with 'leafdig "
-         "sessions show "
-      << id << " --db " << db << "'\n";
-  return why.str();
-}
-
-void checkRelocationTolerance(const std::optional<double>& mm, bool resuming) {
-  if (!mm) return;
-  if (!(*mm >= 0.1 && *mm <= 10.0))
-    throw std::invalid_argument("--relocation-tolerance must be a residual in mm, 0.1 to 10 (default 1.5)");
-  if (resuming)
-    throw std::invalid_argument(
-        "--relocation-tolerance is set when a capture begins: a resumed session keeps its own (leave it out)");
-}
-
 namespace {
 
 int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
   if (!o.simulate && !resumeId && (o.digitizer.empty() || o.caliper.empty()))
     throw std::invalid_argument(
         "capture needs --digitizer KIND:PORT and --caliper KIND:PORT (or --simulate): see 'leafdig devices list'");
-  if (o.potTurnDeg != 0.0 && !(o.simulate && o.referenceReceiver))
-    throw std::invalid_argument(
-        "--pot-turn turns the simulated board with the reference receiver on it: it goes with --simulate "
-        "--reference-receiver (without one, a turning board moves the leaf under the stylus)");
-  if (!(std::abs(o.potTurnDeg) <= 360.0))
-    throw std::invalid_argument("--pot-turn must be between -360 and 360 degrees");
+  acq::checkPotTurn(o.potTurnDeg, o.simulate, o.referenceReceiver, "board");
   if (o.relocateSourceAfter != 0 && !o.simulate)
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
@@ -429,343 +334,6 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
     if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
   });
   return r.exitCode;
-}
-
-// ---- sessions ---------------------------------------------------------------------------------
-int runList(const db::EventStore& store, const CaptureOptions& o) {
-  const auto sessions = store.sessions();
-  if (o.json) {
-    json a = json::array();
-    for (const auto& s : sessions)
-      a.push_back({{"id", s.id},
-                   {"station", s.station},
-                   {"station_session_id", s.stationSessionId},
-                   {"project", s.project},
-                   {"plant", s.plant},
-                   {"kind", s.kind},
-                   {"leaf_position", s.leafPosition},
-                   {"leaf_type", s.leafType},
-                   {"status", s.status},
-                   {"operator", s.operatorName},
-                   {"mode", s.mode},
-                   {"created_utc", s.createdUtc},
-                   {"events", s.headSeq}});
-    std::cout << a.dump() << "\n";
-    return 0;
-  }
-  // On the lab server each session also carries its station and the id it has there.
-  const bool server = db::isServerUrl(o.db);
-  std::cout << std::left << std::setw(6) << "id" << (server ? "station:id            " : "") << std::setw(10)
-            << "status" << std::setw(28) << "leaf" << std::setw(14) << "operator" << std::setw(8) << "events"
-            << "created (UTC)\n";
-  for (const auto& s : sessions) {
-    std::cout << std::setw(6) << s.id;
-    if (server) std::cout << std::setw(22) << terminalText(s.station + ":" + std::to_string(s.stationSessionId));
-    std::cout << std::setw(10) << terminalText(s.status) << std::setw(28)
-              << terminalText(s.project + "/" + s.plant + "/" +
-                              (s.kind == "leaf" ? std::to_string(s.leafPosition) : std::string("(plant)")))
-              << std::setw(14) << terminalText(s.operatorName) << std::setw(8) << s.headSeq
-              << terminalText(s.createdUtc) << "\n";
-  }
-  if (sessions.empty()) std::cout << "(no sessions in " << terminalText(store.describe()) << ")\n";
-  return 0;
-}
-
-// A plant session shown: its step, every point and reading as the events say (in the
-// digitizer's frame), each node's leaf as chosen, and the curators' corrections.
-int runShowPlant(const db::EventStore& store, const CaptureOptions& o, const db::SessionInfo& info) {
-  const db::ChainReport chain = store.verify(o.id);
-  const std::vector<db::Event> events = store.events(o.id);
-  const acq::PlantSessionSetup setup = acq::PlantCaptureSession::setupFromJson(info.settingsJson);
-  const acq::PlantEngine engine = acq::PlantCaptureSession::replay(setup, events);
-  const db::Projected projected = db::project(events);
-  const auto maybe = [](const std::optional<int>& v) { return v ? json(*v) : json(nullptr); };
-  json points = json::array(), readings = json::array(), leaves = json::array(), corrections = json::array();
-  // Which transmitter position each of the plant's own points was taken from (issue 29): its
-  // event says (no `frame`: the first). Once the transmitter moved, a full leaf's markers and
-  // the points a correction placed again say it too.
-  const bool moved = engine.toFirst().size() > 1;
-  std::map<std::int64_t, int> frames;
-  for (const db::Event& e : events)
-    if (e.kind == "accepted" || (moved && (e.kind == "corrected" || e.kind == "retake_cancelled"))) {
-      const json p = json::parse(e.payloadJson, nullptr, false);
-      if (p.is_discarded() || !p.is_object()) continue;
-      const json& item = e.kind == "corrected" ? p.value("corrected", json()) : p;
-      if (!item.is_object() || !item.contains("what") || !item.at("what").is_string() ||
-          (!moved && item.at("what").get<std::string>().rfind("node", 0) == 0))
-        continue;
-      frames[e.seq] = item.contains("frame") && item.at("frame").is_number_integer() ? item.at("frame").get<int>() : 0;
-    }
-  for (const auto& mk : projected.markers) {
-    json point{{"what", mk.what},
-               {"row", maybe(mk.row)},
-               {"col", maybe(mk.col)},
-               {"position_mm", {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]}}};
-    if (const auto it = frames.find(mk.seq); it != frames.end()) point["transmitter_position"] = it->second + 1;
-    points.push_back(point);
-  }
-  const json transmitter = json::parse(acq::transmitterPositionsJson(acq::transmitterPositions(engine)));
-  for (const auto& t : projected.thickness)
-    readings.push_back({{"what", t.what}, {"row", maybe(t.row)}, {"col", maybe(t.col)}, {"value_mm", t.valueMm}});
-  for (int node = 1; node <= engine.nodes(); ++node) {
-    const acq::LeafChoice c = engine.choiceFor(node);
-    json l{{"node", node}, {"kind", model::toString(c.kind)}, {"state", model::toString(c.state)}};
-    if (!c.type.empty()) l["type"] = c.type;
-    if (const acq::Engine* e = engine.leaf(node)) l["complete"] = e->complete();
-    leaves.push_back(l);
-  }
-  for (const db::Event& e : events)
-    if (e.kind == "corrected") {
-      const json p = json::parse(e.payloadJson, nullptr, false);
-      if (p.is_discarded()) continue;
-      const auto text = [&p](const char* key) {
-        return p.contains(key) && p.at(key).is_string() ? p.at(key).get<std::string>() : std::string();
-      };
-      corrections.push_back({{"seq", e.seq},
-                             {"corrects", p.value("seq", json(nullptr))},
-                             {"what", text("what")},
-                             {"row", p.value("row", json(nullptr))},
-                             {"col", p.value("col", json(nullptr))},
-                             {"who", text("who")},
-                             {"reason", text("reason")}});
-    }
-  const acq::PlantStep st = engine.step();
-  if (o.json) {
-    std::cout << json{{"id", o.id},
-                      {"kind", "plant"},
-                      {"station", info.station},
-                      {"station_session_id", info.stationSessionId},
-                      {"status", info.status},
-                      {"step",
-                       {{"what", acq::toString(st.what)},
-                        {"index", st.index},
-                        {"part", st.part},
-                        {"prompt", engine.prompt()}}},
-                      {"nodes", engine.nodes()},
-                      {"points", points},
-                      {"readings", readings},
-                      {"leaves", leaves},
-                      {"corrections", corrections},
-                      {"transmitter_positions", transmitter},
-                      {"relocating", engine.relocating() > 0},
-                      {"events", chain.events},
-                      {"chain_ok", chain.ok},
-                      {"problem", chain.problem},
-                      {"project", info.project},
-                      {"plant", info.plant},
-                      {"operator", info.operatorName},
-                      {"date", setup.date ? json(model::toIso(*setup.date)) : json(nullptr)}}
-                     .dump()
-              << "\n";
-    return 0;
-  }
-  std::cout << "session " << o.id << " · plant " << terminalText(info.project + "/" + info.plant) << " · "
-            << terminalText(info.status) << " · operator " << terminalText(info.operatorName) << "\n"
-            << "  step: " << engine.prompt() << "\n  " << engine.nodes() << " nodes, " << points.size() << " points, "
-            << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
-            << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
-  printTransmitterPositions(transmitter, "landmark", "worst_landmark");
-  for (const json& c : corrections)
-    std::cout << "  corrected (event " << c.at("seq").dump() << "): " << terminalText(c.at("what").get<std::string>())
-              << " row " << c.at("row").dump() << " by " << terminalText(c.at("who").get<std::string>()) << ": "
-              << terminalText(c.at("reason").get<std::string>()) << "\n";
-  return 0;
-}
-
-int runShow(const db::EventStore& store, const CaptureOptions& o) {
-  if (const auto info = store.session(o.id); info && info->kind == "plant") return runShowPlant(store, o, *info);
-  const acq::ReviewedSession r = acq::openForReview(store, o.id);
-  const db::ChainReport chain = store.verify(o.id);
-  // What the events say (a table edited behind them shows as chain_ok false, with the problem).
-  const db::Projected projected = db::project(store.events(o.id));
-  json tip = nullptr;
-  json markers = json::array(), board = json::array(), boardAgain = json::array(), thickness = json::array();
-  // A leaf taken across a move of the transmitter: each position, its points and its fit;
-  // each marker's position (only once it was moved).
-  const int positions = r.engine.transmitterPositions();
-  const json transmitter =
-      positions > 1 ? json::parse(acq::leafTransmitterPositionsJson(r.engine, false)) : json::array();
-  for (const auto& mk : projected.markers) {
-    const json pos = {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]};
-    if (mk.what == "tip") {
-      tip = pos;
-    } else if (mk.what == "board") {
-      board.push_back({{"col", mk.col.value_or(0)}, {"position_mm", pos}});
-    } else if (mk.what == "board_again") {
-      boardAgain.push_back({{"relocation", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}});
-    } else {
-      json m{{"row", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}};
-      if (positions > 1)
-        if (const acq::Item* i =
-                acq::findItem(r.engine.items(), acq::What::Marker, mk.row.value_or(0), mk.col.value_or(0)))
-          m["transmitter_position"] = i->frame + 1;
-      markers.push_back(m);
-    }
-  }
-  for (const auto& t : projected.thickness)
-    thickness.push_back({{"what", t.what},
-                         {"row", t.row ? json(*t.row) : json(nullptr)},
-                         {"col", t.col ? json(*t.col) : json(nullptr)},
-                         {"value_mm", t.valueMm}});
-  if (o.json) {
-    json j{{"id", o.id},
-           {"station", r.info.station},
-           {"station_session_id", r.info.stationSessionId},
-           {"status", r.info.status},
-           {"step", stepJson(r.engine.step(), r.engine.prompt())},
-           {"tip", tip},
-           {"markers", markers},
-           {"thickness", thickness},
-           {"events", chain.events},
-           {"chain_ok", chain.ok},
-           {"problem", chain.problem},
-           {"project", r.info.project},
-           {"plant", r.info.plant},
-           {"leaf_position", r.info.leafPosition},
-           {"leaf_type", r.info.leafType},
-           {"operator", r.info.operatorName},
-           {"mode", r.info.mode},
-           {"order", r.info.order}};
-    if (!board.empty()) j["board"] = board;
-    if (!boardAgain.empty()) j["board_again"] = boardAgain;
-    if (positions > 1) j["transmitter_positions"] = transmitter;
-    std::cout << j.dump() << "\n";
-    return 0;
-  }
-  std::cout << "session " << o.id << " · " << terminalText(r.info.status) << " · "
-            << terminalText(r.info.project + "/" + r.info.plant) << "/leaf " << r.info.leafPosition << " · "
-            << terminalText(r.info.mode) << " · operator " << terminalText(r.info.operatorName) << "\n"
-            << "  step: " << r.engine.prompt() << "\n  " << markers.size() << " markers"
-            << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
-            << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem))
-            << "\n";
-  printTransmitterPositions(transmitter, "board point", "worst_point");
-  return 0;
-}
-
-int runVerify(const db::EventStore& store, const CaptureOptions& o) {
-  std::vector<std::int64_t> ids;
-  const bool all = o.all || o.id == 0;
-  if (all)
-    for (const auto& s : store.sessions()) ids.push_back(s.id);
-  else
-    ids.push_back(o.id);
-  bool ok = true;
-  json a = json::array();
-  for (const auto id : ids) {
-    db::ChainReport c;
-    try {
-      c = store.verify(id);
-    } catch (const db::StoreError& e) {  // a damaged page under this session's events
-      c.ok = false;
-      c.problem = e.what();
-    }
-    ok = ok && c.ok;
-    if (o.json)
-      a.push_back({{"session", id},
-                   {"chain_ok", c.ok},
-                   {"events", c.events},
-                   {"first_bad_seq", c.firstBadSeq ? json(*c.firstBadSeq) : json(nullptr)},
-                   {"problem", c.problem},
-                   {"genesis_form", c.genesisForm}});
-    else
-      std::cout << "session " << id << ": " << c.events << " events, "
-                << (c.ok ? "chain OK"
-                         : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " +
-                               terminalText(c.problem))
-                << (c.ok && c.genesisForm < 2
-                        ? " (written before the station was in the chain: its station id is not covered)"
-                        : "")
-                << "\n";
-  }
-  // Every page of a station's file as well (opening for capture checks only what capture
-  // touches); the lab server checks its own pages.
-  const auto* file = dynamic_cast<const db::Store*>(&store);
-  if (all && file) {
-    const std::string pages = file->checkPages();
-    if (pages != "ok") {
-      ok = false;
-      std::cerr << "leafdig: " << file->path() << " has damaged pages (" << pages
-                << "): restore it from a backup; the file was not modified\n";
-    } else if (!o.json) {
-      std::cout << "pages: every page of " << file->path() << " checked, OK\n";
-    }
-  }
-  if (o.json) std::cout << a.dump() << "\n";
-  return ok ? 0 : 1;
-}
-
-// Who signs a review: in a station's file, --who; on the lab server, the login, or "--who
-// (login)" (EventStore::signature; the server refuses any other signature: lab schema 11).
-std::string signer(const db::EventStore& store, const std::string& who) {
-  if (!store.login() && who.find_first_not_of(" \t\r\n\v\f") == std::string::npos)
-    throw std::invalid_argument("a curator signs every review of a station's file: give --who NAME");
-  return store.signature(who);
-}
-
-int runReview(db::EventStore& store, CaptureOptions o, const std::string& status) {
-  o.who = signer(store, o.who);
-  const auto seq = acq::review(store, o.id, status, o.who, o.why);
-  if (o.json)
-    std::cout << json{{"session", o.id}, {"status", status}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
-  else
-    std::cout << "session " << o.id << " " << status << " by " << terminalText(o.who) << " (event " << seq << ")\n";
-  return 0;
-}
-
-int runCorrect(db::EventStore& store, CaptureOptions o) {
-  o.who = signer(store, o.who);
-  acq::Correction c;
-  acq::setCorrectionItem(c, o.what, o.node);  // --what and --node
-  c.row = o.row;
-  c.col = o.col;
-  c.reason = o.why;
-  c.who = o.who;
-  if (!o.position.empty()) {
-    if (o.position.size() != 3) throw std::invalid_argument("--position takes x,y,z in mm");
-    c.positionMm = acq::Vec3{o.position[0], o.position[1], o.position[2]};
-  }
-  if (o.value) c.valueMm = *o.value;
-  const auto seq = acq::correct(store, o.id, c);
-  if (o.json)
-    std::cout << json{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
-  else
-    std::cout << "session " << o.id << ": " << terminalText(o.what) << " corrected by " << terminalText(o.who)
-              << " (event " << seq << ")\n";
-  return 0;
-}
-
-int runExport(db::EventStore& store, const CaptureOptions& o) {
-  if (const auto info = store.session(o.id); info && info->kind == "plant" && o.node == 0) {
-    const acq::PlantExport p = acq::exportPlantSession(store, o.id, o.formats, o.out);
-    if (o.json) {
-      std::cout << json{{"session", o.id}, {"kind", "plant"}, {"outputs", p.written}, {"notes", p.notes}}.dump()
-                << "\n";
-    } else {
-      std::cout << "plant session " << o.id << ": " << p.survey.nodes.size() << " nodes, " << p.survey.leaves.size()
-                << " leaves\n";
-      for (const auto& f : p.written) std::cout << "  wrote " << terminalText(f) << "\n";
-      for (const auto& n : p.notes) std::cout << "  note: " << terminalText(n) << "\n";
-    }
-    return 0;
-  }
-  acq::ExportRequest request;
-  request.formats = o.formats;
-  request.frame = o.frame;
-  request.blade = o.blade;
-  request.outDir = o.out;
-  if (o.node != 0) request.node = o.node;
-  const acq::ExportResult r = acq::exportSession(store, o.id, request);
-  if (o.json) {
-    std::cout
-        << json{{"session", o.id}, {"outputs", r.written}, {"metrics", json::parse(m::metricsToJson(r.metrics))}}.dump()
-        << "\n";
-  } else {
-    std::cout << "session " << o.id << ": " << r.rows << " rows, blade area " << std::fixed << std::setprecision(0)
-              << r.metrics.blade.areaMm2 << " mm^2\n";
-    for (const auto& p : r.written) std::cout << "  wrote " << terminalText(p) << "\n";
-  }
-  return 0;
 }
 
 // ---- demo -------------------------------------------------------------------------------------
@@ -874,10 +442,10 @@ int runDemo(const CaptureOptions& o) {
               << " items, " << rejected << " inputs rejected (" << r.stats.doubleTaps << " double press, "
               << r.stats.outOfOrder << " out of order, " << r.stats.bounces << " caliper bounce), "
               << r.stats.wrongPointsUndone << " slip undone with the stylus\n";
-    CaptureOptions e = c;
+    SessionsOptions e;
+    e.db = c.db;
     e.id = id;
     e.out = out;
-    e.json = false;
     if (const int rc = runExport(store, e); rc != 0) return rc;
     // The captured leaf's area against what is known of the leaf: the exact area of a
     // synthetic leaf, the leaf-area-meter reading of a sample.
@@ -907,8 +475,7 @@ int runDemo(const CaptureOptions& o) {
   std::cout << "\nDone. Inspect with: leafdig sessions list --db " << c.db << "\n";
   return 0;
 }
-
-void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
+void declareCaptureCommands(CLI::App& app, CommandTable& table, CaptureOptions& o) {
   const auto addCaptureOptions = [&o](CLI::App* c) {
     c->add_option("--db", o.db, "SQLite file (default: the station's, under $XDG_DATA_HOME/leafdig)");
     c->add_flag("--json", o.json, "One JSON object per line, each after it is committed (README: the contract)");
@@ -948,12 +515,12 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
       ->add_option("--serration", o.serration,
                    "The leaf's margin: none (entire), round, sharp, straight or acuminate teeth; the area interval "
                    "accounts for teeth the markers cannot see (default: not declared, and the interval says so)")
-      ->check(CLI::IsMember({"none", "round", "sharp", "straight", "acuminate"}));
+      ->check(CLI::IsMember(wordsIn(model::kSerrationNames)));
   capture->add_option("--tooth-depth", o.toothDepthMm, "Depth of the teeth in mm (default: 1.5 % of the leaf's width)");
   capture->add_option("--mode", o.mode, "standard (default), full or small")
-      ->check(CLI::IsMember({"standard", "full", "small"}));
+      ->check(CLI::IsMember(wordsIn(model::kThicknessModeNames)));
   capture->add_option("--order", o.order, "sequential (default: all points, then thicknesses) or interleaved")
-      ->check(CLI::IsMember({"sequential", "interleaved"}));
+      ->check(CLI::IsMember(wordsIn(acquisition::kOrderNames)));
   capture->add_option("--operator", o.operatorName, "Who captures");
   capture->add_flag("--board", o.board, "Start with a 3-point board frame (origin, +X, +Y)");
   capture->add_flag("--reference-receiver", o.referenceReceiver,
@@ -969,61 +536,10 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
                       "Simulation: after N accepted points the transmitter moves to a new random pose (seeded) and the "
                       "virtual technician takes the board's three points again (implies --board)");
 
-  CLI::App* sessions = app.add_subcommand("sessions", "List, inspect, verify, resume, review and export sessions");
-  sessions->require_subcommand(1);
-  CLI::App* list = sessions->add_subcommand("list", "All sessions in the database");
-  CLI::App* show = sessions->add_subcommand("show", "One session: step, markers, readings, chain");
-  CLI::App* verify = sessions->add_subcommand("verify", "Recompute the hash chain of a session (or all)");
-  CLI::App* resume = sessions->add_subcommand("resume", "Continue an open session at its exact step");
-  CLI::App* approve = sessions->add_subcommand("approve", "Curator: approve a complete session");
-  CLI::App* reject = sessions->add_subcommand("reject", "Curator: reject a session, saying why");
-  CLI::App* corr = sessions->add_subcommand("correct", "Curator: correct one marker or reading, saying why");
-  CLI::App* exp = sessions->add_subcommand("export", "Export a session's leaf: meshes, model, markers, CSV");
-  for (CLI::App* c : {list, show, verify, approve, reject, corr, exp}) {
-    c->add_option("--db", o.db,
-                  "SQLite file (default: the station's), or the lab server's postgresql:// URL (docs/lab.md)");
-    c->add_flag("--json", o.json, "JSON output");
-  }
+  // `sessions resume` goes on with a capture: the capture's options (sessions_cmd.cpp declares the rest).
+  CLI::App* resume = addSessionsCommands(app, table);
   addCaptureOptions(resume);
-  for (CLI::App* c : {show, resume, approve, reject, corr, exp}) c->add_option("id", o.id, "Session id")->required();
-  corr->add_option("--what", o.what,
-                   "A leaf's board, board_again, tip, marker, midrib_thickness, vein_origin_thickness, "
-                   "point_thickness, edge_thickness; a plant's landmark, landmark_again, collar, collar_diameter, "
-                   "point, reading, quick_point (a board point or landmark after a move of the transmitter moves the "
-                   "points of that move with it)")
-      ->required();
-  // 1-based when given (issue 47: --col 0 used to correct column 1); left out where none applies.
-  corr->add_option("--row", o.row,
-                   "Row (1-based; where it applies; board_again: the move); a plant's landmark or node number")
-      ->check(CLI::Range(1, 100000));
-  corr->add_option("--col", o.col,
-                   "Column (1-based; where it applies; board: the board point); a plant item's part "
-                   "(landmark_again: the move)")
-      ->check(CLI::Range(1, 100000));
-  corr->add_option("--node", o.node, "A plant session: the node whose full leaf holds the item");
-  corr->add_option("--position", o.position, "Corrected marker position x,y,z in mm")->delimiter(',')->expected(3);
-  corr->add_option("--value", o.value, "Corrected thickness (a plant: stem diameter) in mm");
-  corr->add_option("--who", o.who,
-                   "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
-  corr->add_option("--why", o.why, "Reason")->required();
-  verify->add_option("id", o.id, "Session id (default: all)");
-  verify->add_flag("--all", o.all, "Every session");
-  for (CLI::App* c : {approve, reject}) {
-    c->add_option("--who", o.who, "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
-    c->add_option("--why", o.why, "Reason (required to reject)");
-  }
-  exp->add_option("--out", o.out, "Directory to write into")->required();
-  exp->add_option("--format", o.formats,
-                  "glb, obj, ply, stl, model, markers, csv (default: all); a plant session: mtg, csv, markers, json, "
-                  "glb, obj, ply, stl, can, model, plan")
-      ->delimiter(',');
-  exp->add_option("--node", o.node,
-                  "A plant session's full leaf alone, the one at this node (the leaf's formats: glb, obj, ply, stl, "
-                  "model, markers, csv)")
-      ->check(CLI::Range(1, 9999));
-  exp->add_option("--frame", o.frame, "leaf (default) or digitizer")->check(CLI::IsMember({"leaf", "digitizer"}));
-  exp->add_option("--blade", o.blade, "interp (default), approx, bezier, nurbs")
-      ->check(CLI::IsMember({"interp", "approx", "bezier", "nurbs"}));
+  resume->add_option("id", o.id, "Session id")->required();
 
   CLI::App* demo = app.add_subcommand(
       "demo", "A virtual technician captures the sample leaves over simulated devices; exports and a summary");
@@ -1042,21 +558,11 @@ void declareCaptureCommands(CLI::App& app, CaptureOptions& o) {
                    "This station's id, stored with every session (default: settings, host name)");
 }
 
-// Runs a `sessions` command on the store of --db (read-only unless it writes).
-template <class Run>
-int withStore(const CaptureOptions& o, bool writes, Run run) {
-  if (!db::isServerUrl(o.db) && !std::filesystem::exists(dbPath(o)))
-    throw std::invalid_argument("no database at " + db::redactUrl(dbPath(o)) +
-                                ": give --db FILE (capture creates one), or the lab server as postgresql://…");
-  const std::unique_ptr<db::EventStore> store = db::openEventStore(dbPath(o), !writes);
-  return run(*store, o);
-}
-
 }  // namespace
 
 void addCaptureCommands(CLI::App& app, CommandTable& table) {
   auto o = std::make_shared<CaptureOptions>();
-  declareCaptureCommands(app, *o);
+  declareCaptureCommands(app, table, *o);
   table.add(app.get_subcommand("capture"), [o] { return runCapture(*o, std::nullopt); });
   CLI::App* demo = app.get_subcommand("demo");
   table.add(demo, [o, demo] {
@@ -1064,22 +570,7 @@ void addCaptureCommands(CLI::App& app, CommandTable& table) {
     if (demo->count("--speed") == 0) d.speed = 8.0;
     return runDemo(d);
   });
-  CLI::App* s = app.get_subcommand("sessions");
-  table.add(s->get_subcommand("resume"), [o] { return runCapture(*o, o->id); });
-  table.add(s->get_subcommand("list"), [o] { return withStore(*o, false, runList); });
-  table.add(s->get_subcommand("show"), [o] { return withStore(*o, false, runShow); });
-  table.add(s->get_subcommand("verify"), [o] { return withStore(*o, false, runVerify); });
-  table.add(s->get_subcommand("approve"), [o] {
-    return withStore(*o, true,
-                     [](db::EventStore& store, const CaptureOptions& c) { return runReview(store, c, "approved"); });
-  });
-  table.add(s->get_subcommand("reject"), [o] {
-    return withStore(*o, true,
-                     [](db::EventStore& store, const CaptureOptions& c) { return runReview(store, c, "rejected"); });
-  });
-  table.add(s->get_subcommand("correct"), [o] { return withStore(*o, true, runCorrect); });
-  table.add(
-      s->get_subcommand("export"), [o] { return withStore(*o, true, runExport); }, "cannot export: ");
+  table.add(app.get_subcommand("sessions")->get_subcommand("resume"), [o] { return runCapture(*o, o->id); });
 }
 
 }  // namespace leafdig::cli

@@ -1,10 +1,8 @@
-// leafdig capture, leafdig sessions list|show|verify|resume|approve|reject|correct|export, leafdig demo.
+// leafdig capture, leafdig sessions resume, leafdig demo (the other `sessions` commands: sessions_cmd).
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <cstdint>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,7 +10,7 @@
 namespace leafdig::cli {
 
 struct CaptureOptions {
-  std::string db;       // a station's SQLite file, or (sessions list/show/…) a postgresql:// URL
+  std::string db;       // a station's SQLite file
   std::string station;  // --station: this station's id (default: settings file, else host name)
   bool json = false;
   // capture
@@ -35,49 +33,15 @@ struct CaptureOptions {
   std::uint64_t seed = 1;
   std::optional<double> speed;  // not given: 1 for a new capture, a resumed one's own, 8 for the demo
   double giveUpAfterS = 180;    // a simulated technician that gets nowhere this long is stopped
-  // sessions
+  // sessions resume
   std::int64_t id = 0;
-  bool all = false;
-  std::string who, why, out;
-  std::vector<std::string> formats;
-  int node = 0;  // sessions export --node: a plant session's full leaf alone
-  std::string frame = "leaf", blade = "interp";
-  // sessions correct
-  std::string what;
-  int row = 0, col = 0;
-  std::vector<double> position;
-  std::optional<double> value;
   // demo
-  std::string samples;
+  std::string out, samples;
   int synthLeaves = 2;
 };
 
-// How far a simulated capture got, for --give-up-after: anything the station took (but a device
-// message) is progress, a refusal is not, and a pause is no lack of it. Thread-safe: the
-// capture's thread tells it, a watcher asks it.
-class GiveUpWatch {
- public:
-  explicit GiveUpWatch(double seconds);
-  void progressed();
-  void refused(const std::string& reason);
-  void at(const std::string& prompt, bool paused);  // the station's state now
-  // The words to print once the technician got nowhere for the limit; empty before.
-  [[nodiscard]] std::string overdue(const std::string& capture, std::int64_t id, const std::string& db) const;
-
- private:
-  double seconds_;
-  mutable std::mutex mutex_;
-  std::chrono::steady_clock::time_point lastProgress_;
-  std::string where_, lastRefusal_;
-  int refusedSince_ = 0;
-  bool paused_ = false;
-};
-
 class CommandTable;
-// --relocation-tolerance (leaf and plant capture): 0.1–10 mm, given when a capture begins (a
-// resumed one keeps its session's). Throws std::invalid_argument in words.
-void checkRelocationTolerance(const std::optional<double>& mm, bool resuming);
-// Registers `capture`, `demo` and `sessions list|show|verify|resume|approve|reject|correct|export`.
+// Registers `capture`, `demo` and `sessions` (sessions_cmd.hpp) with `sessions resume`.
 void addCaptureCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

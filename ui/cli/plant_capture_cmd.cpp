@@ -21,7 +21,7 @@
 #include <thread>
 #include <variant>
 
-#include "capture_cmd.hpp"
+#include "capture_console.hpp"
 #include "commands.hpp"
 #include "leafdig/acquisition/capture_run.hpp"
 #include "leafdig/acquisition/device_set.hpp"
@@ -260,12 +260,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
         "'move' when you move the transmitter)");
   // A resumed simulation goes on as it was begun (with or without the reference receiver):
   // checked against the session below.
-  if (o.potTurnDeg != 0.0 && o.resume == 0 && !(o.simulate && o.referenceReceiver))
-    throw std::invalid_argument(
-        "--pot-turn turns the simulated pot with the reference receiver on it: it goes with --simulate "
-        "--reference-receiver (without one, a turning pot moves the plant under the stylus)");
-  if (!(std::abs(o.potTurnDeg) <= 360.0))
-    throw std::invalid_argument("--pot-turn must be between -360 and 360 degrees");
+  acq::checkPotTurn(o.potTurnDeg, o.simulate || o.resume != 0, o.referenceReceiver || o.resume != 0, "pot");
   if (!(o.stylusNoiseMm >= 0.0 && o.stylusNoiseMm <= 20.0))
     throw std::invalid_argument("the stylus noise must be between 0 and 20 mm");
   std::int64_t id = o.resume;

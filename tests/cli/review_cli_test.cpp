@@ -1,0 +1,142 @@
+// The curator's record through the command line (issue 49): every decision and correction of a
+// session — who, when, why, and for a correction the item with its value before and after and
+// how far a point moved — in `sessions show` (text and --json) and the last decision in
+// `sessions list --json`; `sessions list`'s filters. On a copy of the leaf and the plant of
+// tests/data/legacy/ (complete captures).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+
+namespace {
+
+using nlohmann::json;
+
+class ReviewCli : public Cli {
+ protected:
+  void SetUp() override {
+    Cli::SetUp();
+    file_ = dir_ / "station.sqlite";
+    fs::copy_file(std::string(LEAFDIG_SOURCE_DIR) + "/tests/data/legacy/station-schema2.sqlite", file_);
+  }
+  std::string db() const { return " --db " + quote(file_); }
+  json showJson(int id) {
+    const Result r = leafdig("sessions show " + std::to_string(id) + " --json" + db());
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return json::parse(r.out);
+  }
+  std::vector<int> listed(const std::string& filters) {
+    const Result r = leafdig("sessions list --json" + filters + db());
+    EXPECT_EQ(r.exitCode, 0) << filters << "\n" << r.err;
+    std::vector<int> ids;
+    for (const json& s : json::parse(r.out)) ids.push_back(s.at("id").get<int>());
+    return ids;
+  }
+  fs::path file_;
+};
+
+TEST_F(ReviewCli, EveryDecisionAndCorrectionIsShownWithWhoWhenWhyAndWhatItChanged) {
+  const json leaf = showJson(1);
+  EXPECT_TRUE(leaf.at("history").empty());
+  const json& marker = leaf.at("markers").at(5);
+  const int row = marker.at("row"), col = marker.at("col");
+  const std::vector<double> from = marker.at("position_mm");
+  const std::string to =
+      std::to_string(from[0]) + "," + std::to_string(from[1] + 3.0) + "," + std::to_string(from[2] + 4.0);  // 5 mm away
+  ASSERT_EQ(leafdig("sessions correct 1 --what marker --row " + std::to_string(row) + " --col " + std::to_string(col) +
+                    " --position " + to + " --who carla --why 'the stylus slipped'" + db())
+                .exitCode,
+            0);
+  ASSERT_EQ(
+      leafdig("sessions correct 1 --what midrib_thickness --row 1 --col 4 --value 1.25 --who carla --why misread" +
+              db())
+          .exitCode,
+      0);
+  ASSERT_EQ(leafdig("sessions approve 1 --who carla --why 'checked against the photos'" + db()).exitCode, 0);
+
+  const json history = showJson(1).at("history");
+  ASSERT_EQ(history.size(), 3u) << history.dump();
+  EXPECT_EQ(history[0].at("action"), "corrected");
+  EXPECT_EQ(history[0].at("what"), "marker");
+  EXPECT_EQ(history[0].at("row"), row);
+  EXPECT_EQ(history[0].at("col"), col);
+  EXPECT_EQ(history[0].at("from").at("position_mm").get<std::vector<double>>(), from);
+  EXPECT_NEAR(history[0].at("moved_mm").get<double>(), 5.0, 1e-5);
+  EXPECT_EQ(history[0].at("who"), "carla");
+  EXPECT_EQ(history[0].at("why"), "the stylus slipped");
+  EXPECT_EQ(history[1].at("to"), (json{{"value_mm", 1.25}}));
+  EXPECT_TRUE(history[1].at("from").contains("value_mm"));
+  EXPECT_FALSE(history[1].contains("moved_mm"));
+  EXPECT_EQ(history[2].at("action"), "approved");
+  EXPECT_EQ(history[2].at("why"), "checked against the photos");
+  EXPECT_EQ(history[2].at("utc").get<std::string>().size(), 24u);  // 2026-11-28T10:00:00.000Z
+  EXPECT_LT(history[0].at("seq").get<int>(), history[2].at("seq").get<int>());
+
+  const Result text = leafdig("sessions show 1" + db());
+  ASSERT_EQ(text.exitCode, 0) << text.err;
+  EXPECT_NE(text.out.find("  corrected marker row " + std::to_string(row) + " col " + std::to_string(col) + ": ("),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("mm, moved 5.0 mm, by carla at "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(" → 1.250 mm, by carla at "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("  approved by carla at " + history[2].at("utc").get<std::string>()), std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find(": checked against the photos\n"), std::string::npos) << text.out;
+
+  // The plant: a correction of its own item, then a rejection; the list shows each last decision.
+  ASSERT_EQ(
+      leafdig("sessions correct 2 --what collar_diameter --value 9.5 --who dana --why re-measured" + db()).exitCode, 0);
+  ASSERT_EQ(leafdig("sessions reject 2 --who dana --why 'node 3 was skipped'" + db()).exitCode, 0);
+  const json plant = showJson(2).at("history");
+  ASSERT_EQ(plant.size(), 2u) << plant.dump();
+  EXPECT_EQ(plant[0].at("what"), "collar_diameter");
+  EXPECT_EQ(plant[0].at("to"), (json{{"value_mm", 9.5}}));
+  EXPECT_EQ(plant[1].at("action"), "rejected");
+  const Result plantText = leafdig("sessions show 2" + db());
+  EXPECT_NE(plantText.out.find("  rejected by dana at "), std::string::npos) << plantText.out;
+  EXPECT_NE(plantText.out.find("  corrected collar_diameter: "), std::string::npos) << plantText.out;
+
+  const json list = json::parse(leafdig("sessions list --json" + db()).out);
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].at("decision").at("action"), "approved");
+  EXPECT_EQ(list[0].at("decision").at("who"), "carla");
+  EXPECT_EQ(list[0].at("decision").at("why"), "checked against the photos");
+  EXPECT_EQ(list[1].at("decision").at("action"), "rejected");
+}
+
+TEST_F(ReviewCli, SessionsAreListedByStatusKindPlantStationAndDay) {
+  const json all = json::parse(leafdig("sessions list --json" + db()).out);
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_TRUE(all[0].at("decision").is_null());
+  const std::string leafPlant = all[0].at("plant");
+  const std::string station = all[0].at("station");
+  const std::string day = all[0].at("created_utc").get<std::string>().substr(0, 10);
+  EXPECT_EQ(listed(""), (std::vector<int>{1, 2}));
+  EXPECT_EQ(listed(" --kind plant"), (std::vector<int>{2}));
+  EXPECT_EQ(listed(" --kind leaf"), (std::vector<int>{1}));
+  EXPECT_EQ(listed(" --status complete"), (std::vector<int>{1, 2}));
+  EXPECT_EQ(listed(" --status approved"), (std::vector<int>{}));
+  EXPECT_EQ(listed(" --plant " + quote(leafPlant) + " --kind leaf"), (std::vector<int>{1}));
+  EXPECT_EQ(listed(" --station " + quote(station)), (std::vector<int>{1, 2}));
+  EXPECT_EQ(listed(" --station elsewhere"), (std::vector<int>{}));
+  EXPECT_EQ(listed(" --since " + day), (std::vector<int>{1, 2}));
+  EXPECT_EQ(listed(" --since 2099-01-01"), (std::vector<int>{}));
+  ASSERT_EQ(leafdig("sessions approve 1 --who carla" + db()).exitCode, 0);
+  EXPECT_EQ(listed(" --status approved"), (std::vector<int>{1}));
+  const Result none = leafdig("sessions list --since 2099-01-01" + db());
+  EXPECT_EQ(none.exitCode, 0);
+  EXPECT_NE(none.out.find("(no sessions that match in "), std::string::npos) << none.out;
+  // Bad filters are refused in words, exit 2.
+  for (const char* bad : {" --since yesterday", " --status done", " --kind tree"}) {
+    const Result r = leafdig(std::string("sessions list") + bad + db());
+    EXPECT_EQ(r.exitCode, 2) << bad;
+    EXPECT_FALSE(r.err.empty()) << bad;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,52 @@
+// The console the capture commands share — a leaf's (`capture`, `sessions resume`, `demo`), a
+// plant's (`plant capture`) and `sessions` that shows what they captured: the words for an
+// item and a step, where a station's file is by default, the simulated technician's give-up
+// watch, and the relocation tolerance's check.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "leafdig/acquisition/engine.hpp"
+
+namespace leafdig::cli {
+
+// --db as given, or the station's default file.
+[[nodiscard]] std::string stationDbPath(const std::string& db);
+// A 1-based row or column, or null where none applies.
+[[nodiscard]] nlohmann::json nullable(int v);
+// A step as the JSON-lines contract says it: what, row, col, prompt.
+[[nodiscard]] nlohmann::json stepJson(const acquisition::Step& s, const std::string& prompt);
+// An item in words: "row 3 point 2 (1.0, 2.0, 3.0) mm [flag]", "row 2 midrib_thickness 0.412 mm".
+[[nodiscard]] std::string describe(const acquisition::Item& i);
+
+// How far a simulated capture got, for --give-up-after: anything the station took (but a device
+// message) is progress, a refusal is not, and a pause is no lack of it. Thread-safe: the
+// capture's thread tells it, a watcher asks it.
+class GiveUpWatch {
+ public:
+  explicit GiveUpWatch(double seconds);
+  void progressed();
+  void refused(const std::string& reason);
+  void at(const std::string& prompt, bool paused);  // the station's state now
+  // The words to print once the technician got nowhere for the limit; empty before.
+  [[nodiscard]] std::string overdue(const std::string& capture, std::int64_t id, const std::string& db) const;
+
+ private:
+  double seconds_;
+  mutable std::mutex mutex_;
+  std::chrono::steady_clock::time_point lastProgress_;
+  std::string where_, lastRefusal_;
+  int refusedSince_ = 0;
+  bool paused_ = false;
+};
+
+// --relocation-tolerance (leaf and plant capture): 0.1–10 mm, given when a capture begins (a
+// resumed one keeps its session's). Throws std::invalid_argument in words.
+void checkRelocationTolerance(const std::optional<double>& mm, bool resuming);
+
+}  // namespace leafdig::cli

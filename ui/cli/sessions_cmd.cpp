@@ -1,0 +1,558 @@
+#include "sessions_cmd.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include "capture_console.hpp"
+#include "commands.hpp"
+#include "leafdig/acquisition/capture_run.hpp"
+#include "leafdig/acquisition/plant_export.hpp"
+#include "leafdig/acquisition/plant_session.hpp"
+#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/session.hpp"
+#include "leafdig/db/history.hpp"
+#include "leafdig/db/lab.hpp"
+#include "leafdig/db/store.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/io/mesh_export.hpp"
+#include "leafdig/model/io/model_json.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/limits.hpp"
+#include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
+#include "leafdig/version.hpp"
+#include "terminal_text.hpp"
+
+namespace leafdig::cli {
+namespace {
+
+namespace acq = leafdig::acquisition;
+namespace m = leafdig::model;
+using nlohmann::json;
+
+// `sessions show`'s lines for a moved transmitter: each position after the first with its
+// points and its fit (`worst` names the landmark — a plant's, or a leaf's board point).
+void printTransmitterPositions(const json& positions, const char* landmark, const char* worst) {
+  for (const json& t : positions)
+    if (t.at("position").get<int>() > 1)
+      std::cout << "  transmitter moved: position " << t.at("position").get<int>() << ", " << t.at("points").get<int>()
+                << " points, fitted RMS " << std::fixed << std::setprecision(2) << t.at("rms_mm").get<double>()
+                << " mm (worst " << t.at("worst_mm").get<double>() << " mm at " << landmark << " "
+                << t.at(worst).get<int>() << ")\n"
+                << std::defaultfloat;
+}
+
+// The history as `sessions show --json` and `sessions list --json` give it (db/history.hpp).
+json historyJson(const std::vector<db::ReviewEntry>& history) {
+  return json::parse(db::reviewHistoryJson(history));
+}
+
+// Each decision and correction on a line: who, when, why; a correction's item, its value before
+// and after and how far a point moved.
+void printHistory(const std::vector<db::ReviewEntry>& history) {
+  const auto point = [](const std::array<double, 3>& p) {
+    std::ostringstream t;
+    t << std::fixed << std::setprecision(1) << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+    return t.str();
+  };
+  for (const auto& r : history) {
+    std::ostringstream line;
+    line << "  " << r.action;
+    if (r.action == "corrected") {
+      line << " " << terminalText(r.what);
+      if (r.row) line << " row " << *r.row;
+      if (r.col) line << " col " << *r.col;
+      line << ": ";
+      if (r.fromMm && r.toMm) {
+        line << point(*r.fromMm) << " → " << point(*r.toMm) << " mm, moved " << std::fixed << std::setprecision(1)
+             << *r.movedMm() << " mm";
+      } else if (r.fromValueMm && r.toValueMm) {
+        line << std::fixed << std::setprecision(3) << *r.fromValueMm << " → " << *r.toValueMm << " mm";
+      }
+      line << ",";
+    }
+    line << " by " << terminalText(r.who) << " at " << terminalText(r.utc) << " (event " << r.seq << ")";
+    if (!r.why.empty()) line << ": " << terminalText(r.why);
+    std::cout << line.str() << "\n";
+  }
+}
+
+// `sessions list`'s filters: every one given must hold.
+bool listed(const db::SessionInfo& s, const SessionsOptions& o) {
+  if (!o.status.empty() && s.status != o.status) return false;
+  if (!o.kind.empty() && s.kind != o.kind) return false;
+  if (!o.plant.empty() && s.plant != o.plant) return false;
+  if (!o.station.empty() && s.station != o.station) return false;
+  // created_utc is ISO 8601 (2026-11-28T10:00:00.000Z): a day compares as text.
+  if (!o.since.empty() && s.createdUtc.substr(0, o.since.size()) < o.since) return false;
+  return true;
+}
+
+int runList(const db::EventStore& store, const SessionsOptions& o) {
+  std::vector<db::SessionInfo> sessions;
+  for (auto& s : store.sessions())
+    if (listed(s, o)) sessions.push_back(std::move(s));
+  if (o.json) {
+    json a = json::array();
+    for (const auto& s : sessions)
+      a.push_back({{"id", s.id},
+                   {"station", s.station},
+                   {"station_session_id", s.stationSessionId},
+                   {"project", s.project},
+                   {"plant", s.plant},
+                   {"kind", s.kind},
+                   {"leaf_position", s.leafPosition},
+                   {"leaf_type", s.leafType},
+                   {"status", s.status},
+                   {"operator", s.operatorName},
+                   {"mode", s.mode},
+                   {"created_utc", s.createdUtc},
+                   {"events", s.headSeq},
+                   {"decision", [&] {
+                      const auto d = db::lastDecision(db::reviewHistory(store.events(s.id)));
+                      return d ? json::parse(db::reviewEntryJson(*d)) : json(nullptr);
+                    }()}});
+    std::cout << a.dump() << "\n";
+    return 0;
+  }
+  // On the lab server each session also carries its station and the id it has there.
+  const bool server = db::isServerUrl(o.db);
+  std::cout << std::left << std::setw(6) << "id" << (server ? "station:id            " : "") << std::setw(10)
+            << "status" << std::setw(28) << "leaf" << std::setw(14) << "operator" << std::setw(8) << "events"
+            << "created (UTC)\n";
+  for (const auto& s : sessions) {
+    std::cout << std::setw(6) << s.id;
+    if (server) std::cout << std::setw(22) << terminalText(s.station + ":" + std::to_string(s.stationSessionId));
+    std::cout << std::setw(10) << terminalText(s.status) << std::setw(28)
+              << terminalText(s.project + "/" + s.plant + "/" +
+                              (s.kind == "leaf" ? std::to_string(s.leafPosition) : std::string("(plant)")))
+              << std::setw(14) << terminalText(s.operatorName) << std::setw(8) << s.headSeq
+              << terminalText(s.createdUtc) << "\n";
+  }
+  if (sessions.empty())
+    std::cout << "(no sessions"
+              << (o.status.empty() && o.kind.empty() && o.plant.empty() && o.station.empty() && o.since.empty()
+                      ? ""
+                      : " that match")
+              << " in " << terminalText(store.describe()) << ")\n";
+  return 0;
+}
+
+// A plant session shown: its step, every point and reading as the events say (in the
+// digitizer's frame), each node's leaf as chosen, and the curators' corrections.
+int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db::SessionInfo& info) {
+  const db::ChainReport chain = store.verify(o.id);
+  const std::vector<db::Event> events = store.events(o.id);
+  const acq::PlantSessionSetup setup = acq::PlantCaptureSession::setupFromJson(info.settingsJson);
+  const acq::PlantEngine engine = acq::PlantCaptureSession::replay(setup, events);
+  const db::Projected projected = db::project(events);
+  const auto maybe = [](const std::optional<int>& v) { return v ? json(*v) : json(nullptr); };
+  json points = json::array(), readings = json::array(), leaves = json::array(), corrections = json::array();
+  // Which transmitter position each of the plant's own points was taken from (issue 29): its
+  // event says (no `frame`: the first). Once the transmitter moved, a full leaf's markers and
+  // the points a correction placed again say it too.
+  const bool moved = engine.toFirst().size() > 1;
+  std::map<std::int64_t, int> frames;
+  for (const db::Event& e : events)
+    if (e.kind == "accepted" || (moved && (e.kind == "corrected" || e.kind == "retake_cancelled"))) {
+      const json p = json::parse(e.payloadJson, nullptr, false);
+      if (p.is_discarded() || !p.is_object()) continue;
+      const json& item = e.kind == "corrected" ? p.value("corrected", json()) : p;
+      if (!item.is_object() || !item.contains("what") || !item.at("what").is_string() ||
+          (!moved && item.at("what").get<std::string>().rfind("node", 0) == 0))
+        continue;
+      frames[e.seq] = item.contains("frame") && item.at("frame").is_number_integer() ? item.at("frame").get<int>() : 0;
+    }
+  for (const auto& mk : projected.markers) {
+    json point{{"what", mk.what},
+               {"row", maybe(mk.row)},
+               {"col", maybe(mk.col)},
+               {"position_mm", {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]}}};
+    if (const auto it = frames.find(mk.seq); it != frames.end()) point["transmitter_position"] = it->second + 1;
+    points.push_back(point);
+  }
+  const json transmitter = json::parse(acq::transmitterPositionsJson(acq::transmitterPositions(engine)));
+  for (const auto& t : projected.thickness)
+    readings.push_back({{"what", t.what}, {"row", maybe(t.row)}, {"col", maybe(t.col)}, {"value_mm", t.valueMm}});
+  for (int node = 1; node <= engine.nodes(); ++node) {
+    const acq::LeafChoice c = engine.choiceFor(node);
+    json l{{"node", node}, {"kind", model::toString(c.kind)}, {"state", model::toString(c.state)}};
+    if (!c.type.empty()) l["type"] = c.type;
+    if (const acq::Engine* e = engine.leaf(node)) l["complete"] = e->complete();
+    leaves.push_back(l);
+  }
+  for (const db::Event& e : events)
+    if (e.kind == "corrected") {
+      const json p = json::parse(e.payloadJson, nullptr, false);
+      if (p.is_discarded()) continue;
+      const auto text = [&p](const char* key) {
+        return p.contains(key) && p.at(key).is_string() ? p.at(key).get<std::string>() : std::string();
+      };
+      corrections.push_back({{"seq", e.seq},
+                             {"corrects", p.value("seq", json(nullptr))},
+                             {"what", text("what")},
+                             {"row", p.value("row", json(nullptr))},
+                             {"col", p.value("col", json(nullptr))},
+                             {"who", text("who")},
+                             {"reason", text("reason")}});
+    }
+  const std::vector<db::ReviewEntry> history = db::reviewHistory(events);
+  const acq::PlantStep st = engine.step();
+  if (o.json) {
+    std::cout << json{{"id", o.id},
+                      {"kind", "plant"},
+                      {"station", info.station},
+                      {"station_session_id", info.stationSessionId},
+                      {"status", info.status},
+                      {"step",
+                       {{"what", acq::toString(st.what)},
+                        {"index", st.index},
+                        {"part", st.part},
+                        {"prompt", engine.prompt()}}},
+                      {"nodes", engine.nodes()},
+                      {"points", points},
+                      {"readings", readings},
+                      {"leaves", leaves},
+                      {"corrections", corrections},
+                      {"history", historyJson(history)},
+                      {"transmitter_positions", transmitter},
+                      {"relocating", engine.relocating() > 0},
+                      {"events", chain.events},
+                      {"chain_ok", chain.ok},
+                      {"problem", chain.problem},
+                      {"project", info.project},
+                      {"plant", info.plant},
+                      {"operator", info.operatorName},
+                      {"date", setup.date ? json(model::toIso(*setup.date)) : json(nullptr)}}
+                     .dump()
+              << "\n";
+    return 0;
+  }
+  std::cout << "session " << o.id << " · plant " << terminalText(info.project + "/" + info.plant) << " · "
+            << terminalText(info.status) << " · operator " << terminalText(info.operatorName) << "\n"
+            << "  step: " << engine.prompt() << "\n  " << engine.nodes() << " nodes, " << points.size() << " points, "
+            << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
+            << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
+  printTransmitterPositions(transmitter, "landmark", "worst_landmark");
+  printHistory(history);
+  return 0;
+}
+
+int runShow(const db::EventStore& store, const SessionsOptions& o) {
+  if (const auto info = store.session(o.id); info && info->kind == "plant") return runShowPlant(store, o, *info);
+  const acq::ReviewedSession r = acq::openForReview(store, o.id);
+  const db::ChainReport chain = store.verify(o.id);
+  // What the events say (a table edited behind them shows as chain_ok false, with the problem).
+  const std::vector<db::Event> events = store.events(o.id);
+  const db::Projected projected = db::project(events);
+  const std::vector<db::ReviewEntry> history = db::reviewHistory(events);
+  json tip = nullptr;
+  json markers = json::array(), board = json::array(), boardAgain = json::array(), thickness = json::array();
+  // A leaf taken across a move of the transmitter: each position, its points and its fit;
+  // each marker's position (only once it was moved).
+  const int positions = r.engine.transmitterPositions();
+  const json transmitter =
+      positions > 1 ? json::parse(acq::leafTransmitterPositionsJson(r.engine, false)) : json::array();
+  for (const auto& mk : projected.markers) {
+    const json pos = {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]};
+    if (mk.what == "tip") {
+      tip = pos;
+    } else if (mk.what == "board") {
+      board.push_back({{"col", mk.col.value_or(0)}, {"position_mm", pos}});
+    } else if (mk.what == "board_again") {
+      boardAgain.push_back({{"relocation", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}});
+    } else {
+      json m{{"row", mk.row.value_or(0)}, {"col", mk.col.value_or(0)}, {"position_mm", pos}};
+      if (positions > 1)
+        if (const acq::Item* i =
+                acq::findItem(r.engine.items(), acq::What::Marker, mk.row.value_or(0), mk.col.value_or(0)))
+          m["transmitter_position"] = i->frame + 1;
+      markers.push_back(m);
+    }
+  }
+  for (const auto& t : projected.thickness)
+    thickness.push_back({{"what", t.what},
+                         {"row", t.row ? json(*t.row) : json(nullptr)},
+                         {"col", t.col ? json(*t.col) : json(nullptr)},
+                         {"value_mm", t.valueMm}});
+  if (o.json) {
+    json j{{"id", o.id},
+           {"station", r.info.station},
+           {"station_session_id", r.info.stationSessionId},
+           {"status", r.info.status},
+           {"step", stepJson(r.engine.step(), r.engine.prompt())},
+           {"tip", tip},
+           {"markers", markers},
+           {"thickness", thickness},
+           {"events", chain.events},
+           {"chain_ok", chain.ok},
+           {"problem", chain.problem},
+           {"project", r.info.project},
+           {"plant", r.info.plant},
+           {"leaf_position", r.info.leafPosition},
+           {"leaf_type", r.info.leafType},
+           {"operator", r.info.operatorName},
+           {"mode", r.info.mode},
+           {"order", r.info.order}};
+    if (!board.empty()) j["board"] = board;
+    if (!boardAgain.empty()) j["board_again"] = boardAgain;
+    if (positions > 1) j["transmitter_positions"] = transmitter;
+    j["history"] = historyJson(history);
+    std::cout << j.dump() << "\n";
+    return 0;
+  }
+  std::cout << "session " << o.id << " · " << terminalText(r.info.status) << " · "
+            << terminalText(r.info.project + "/" + r.info.plant) << "/leaf " << r.info.leafPosition << " · "
+            << terminalText(r.info.mode) << " · operator " << terminalText(r.info.operatorName) << "\n"
+            << "  step: " << r.engine.prompt() << "\n  " << markers.size() << " markers"
+            << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
+            << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem))
+            << "\n";
+  printTransmitterPositions(transmitter, "board point", "worst_point");
+  printHistory(history);
+  return 0;
+}
+
+int runVerify(const db::EventStore& store, const SessionsOptions& o) {
+  std::vector<std::int64_t> ids;
+  const bool all = o.all || o.id == 0;
+  if (all)
+    for (const auto& s : store.sessions()) ids.push_back(s.id);
+  else
+    ids.push_back(o.id);
+  bool ok = true;
+  json a = json::array();
+  for (const auto id : ids) {
+    db::ChainReport c;
+    try {
+      c = store.verify(id);
+    } catch (const db::StoreError& e) {  // a damaged page under this session's events
+      c.ok = false;
+      c.problem = e.what();
+    }
+    ok = ok && c.ok;
+    if (o.json)
+      a.push_back({{"session", id},
+                   {"chain_ok", c.ok},
+                   {"events", c.events},
+                   {"first_bad_seq", c.firstBadSeq ? json(*c.firstBadSeq) : json(nullptr)},
+                   {"problem", c.problem},
+                   {"genesis_form", c.genesisForm}});
+    else
+      std::cout << "session " << id << ": " << c.events << " events, "
+                << (c.ok ? "chain OK"
+                         : "CHAIN BROKEN at event " + std::to_string(c.firstBadSeq.value_or(0)) + ": " +
+                               terminalText(c.problem))
+                << (c.ok && c.genesisForm < 2
+                        ? " (written before the station was in the chain: its station id is not covered)"
+                        : "")
+                << "\n";
+  }
+  // Every page of a station's file as well (opening for capture checks only what capture
+  // touches); the lab server checks its own pages.
+  const auto* file = dynamic_cast<const db::Store*>(&store);
+  if (all && file) {
+    const std::string pages = file->checkPages();
+    if (pages != "ok") {
+      ok = false;
+      std::cerr << "leafdig: " << file->path() << " has damaged pages (" << pages
+                << "): restore it from a backup; the file was not modified\n";
+    } else if (!o.json) {
+      std::cout << "pages: every page of " << file->path() << " checked, OK\n";
+    }
+  }
+  if (o.json) std::cout << a.dump() << "\n";
+  return ok ? 0 : 1;
+}
+
+// Who signs a review: in a station's file, --who; on the lab server, the login, or "--who
+// (login)" (EventStore::signature; the server refuses any other signature: lab schema 11).
+std::string signer(const db::EventStore& store, const std::string& who) {
+  if (!store.login() && who.find_first_not_of(" \t\r\n\v\f") == std::string::npos)
+    throw std::invalid_argument("a curator signs every review of a station's file: give --who NAME");
+  return store.signature(who);
+}
+
+int runReview(db::EventStore& store, SessionsOptions o, const std::string& status) {
+  o.who = signer(store, o.who);
+  const auto seq = acq::review(store, o.id, status, o.who, o.why);
+  if (o.json)
+    std::cout << json{{"session", o.id}, {"status", status}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
+  else
+    std::cout << "session " << o.id << " " << status << " by " << terminalText(o.who) << " (event " << seq << ")\n";
+  return 0;
+}
+
+int runCorrect(db::EventStore& store, SessionsOptions o) {
+  o.who = signer(store, o.who);
+  acq::Correction c;
+  acq::setCorrectionItem(c, o.what, o.node);  // --what and --node
+  c.row = o.row;
+  c.col = o.col;
+  c.reason = o.why;
+  c.who = o.who;
+  if (!o.position.empty()) {
+    if (o.position.size() != 3) throw std::invalid_argument("--position takes x,y,z in mm");
+    c.positionMm = acq::Vec3{o.position[0], o.position[1], o.position[2]};
+  }
+  if (o.value) c.valueMm = *o.value;
+  const auto seq = acq::correct(store, o.id, c);
+  if (o.json)
+    std::cout << json{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
+  else
+    std::cout << "session " << o.id << ": " << terminalText(o.what) << " corrected by " << terminalText(o.who)
+              << " (event " << seq << ")\n";
+  return 0;
+}
+
+}  // namespace
+
+int runExport(db::EventStore& store, const SessionsOptions& o) {
+  if (const auto info = store.session(o.id); info && info->kind == "plant" && o.node == 0) {
+    const acq::PlantExport p = acq::exportPlantSession(store, o.id, o.formats, o.out);
+    if (o.json) {
+      std::cout << json{{"session", o.id}, {"kind", "plant"}, {"outputs", p.written}, {"notes", p.notes}}.dump()
+                << "\n";
+    } else {
+      std::cout << "plant session " << o.id << ": " << p.survey.nodes.size() << " nodes, " << p.survey.leaves.size()
+                << " leaves\n";
+      for (const auto& f : p.written) std::cout << "  wrote " << terminalText(f) << "\n";
+      for (const auto& n : p.notes) std::cout << "  note: " << terminalText(n) << "\n";
+    }
+    return 0;
+  }
+  acq::ExportRequest request;
+  request.formats = o.formats;
+  request.frame = o.frame;
+  request.blade = o.blade;
+  request.outDir = o.out;
+  if (o.node != 0) request.node = o.node;
+  const acq::ExportResult r = acq::exportSession(store, o.id, request);
+  if (o.json) {
+    std::cout
+        << json{{"session", o.id}, {"outputs", r.written}, {"metrics", json::parse(m::metricsToJson(r.metrics))}}.dump()
+        << "\n";
+  } else {
+    std::cout << "session " << o.id << ": " << r.rows << " rows, blade area " << std::fixed << std::setprecision(0)
+              << r.metrics.blade.areaMm2 << " mm^2\n";
+    for (const auto& p : r.written) std::cout << "  wrote " << terminalText(p) << "\n";
+  }
+  return 0;
+}
+
+namespace {
+
+// Runs a `sessions` command on the store of --db (read-only unless it writes).
+template <class Run>
+int withStore(const SessionsOptions& o, bool writes, Run run) {
+  const std::string path = stationDbPath(o.db);
+  if (!db::isServerUrl(o.db) && !std::filesystem::exists(path))
+    throw std::invalid_argument("no database at " + db::redactUrl(path) +
+                                ": give --db FILE (capture creates one), or the lab server as postgresql://…");
+  const std::unique_ptr<db::EventStore> store = db::openEventStore(path, !writes);
+  return run(*store, o);
+}
+
+}  // namespace
+
+CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<SessionsOptions>();
+  CLI::App* sessions = app.add_subcommand("sessions", "List, inspect, verify, resume, review and export sessions");
+  sessions->require_subcommand(1);
+  CLI::App* list = sessions->add_subcommand("list", "All sessions in the database");
+  CLI::App* show = sessions->add_subcommand("show", "One session: step, markers, readings, chain");
+  CLI::App* verify = sessions->add_subcommand("verify", "Recompute the hash chain of a session (or all)");
+  CLI::App* resume = sessions->add_subcommand("resume", "Continue an open session at its exact step");
+  CLI::App* approve = sessions->add_subcommand("approve", "Curator: approve a complete session");
+  CLI::App* reject = sessions->add_subcommand("reject", "Curator: reject a session, saying why");
+  CLI::App* corr = sessions->add_subcommand("correct", "Curator: correct one marker or reading, saying why");
+  CLI::App* exp = sessions->add_subcommand("export", "Export a session's leaf: meshes, model, markers, CSV");
+  for (CLI::App* c : {list, show, verify, approve, reject, corr, exp}) {
+    c->add_option("--db", o->db,
+                  "SQLite file (default: the station's), or the lab server's postgresql:// URL (docs/lab.md)");
+    c->add_flag("--json", o->json, "JSON output");
+  }
+  for (CLI::App* c : {show, approve, reject, corr, exp}) c->add_option("id", o->id, "Session id")->required();
+  list->add_option("--status", o->status, "Only sessions of this status")
+      ->check(CLI::IsMember({"open", "complete", "approved", "rejected", "abandoned"}));
+  list->add_option("--kind", o->kind, "Only leaves or only plants")->check(CLI::IsMember({"leaf", "plant"}));
+  list->add_option("--plant", o->plant, "Only this plant's sessions");
+  list->add_option("--station", o->station, "Only the sessions this station captured");
+  list->add_option("--since", o->since, "Only sessions created on this day (YYYY-MM-DD, UTC) or later")
+      ->check([](const std::string& day) {
+        return std::regex_match(day, std::regex(R"(\d{4}-\d{2}-\d{2})")) ? std::string()
+                                                                         : std::string("give a day as YYYY-MM-DD");
+      });
+  corr->add_option("--what", o->what,
+                   "A leaf's board, board_again, tip, marker, midrib_thickness, vein_origin_thickness, "
+                   "point_thickness, edge_thickness; a plant's landmark, landmark_again, collar, collar_diameter, "
+                   "point, reading, quick_point (a board point or landmark after a move of the transmitter moves the "
+                   "points of that move with it)")
+      ->required();
+  // 1-based when given (issue 47: --col 0 used to correct column 1); left out where none applies.
+  corr->add_option("--row", o->row,
+                   "Row (1-based; where it applies; board_again: the move); a plant's landmark or node number")
+      ->check(CLI::Range(1, 100000));
+  corr->add_option("--col", o->col,
+                   "Column (1-based; where it applies; board: the board point); a plant item's part "
+                   "(landmark_again: the move)")
+      ->check(CLI::Range(1, 100000));
+  corr->add_option("--node", o->node, "A plant session: the node whose full leaf holds the item");
+  corr->add_option("--position", o->position, "Corrected marker position x,y,z in mm")->delimiter(',')->expected(3);
+  corr->add_option("--value", o->value, "Corrected thickness (a plant: stem diameter) in mm");
+  corr->add_option("--who", o->who,
+                   "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
+  corr->add_option("--why", o->why, "Reason")->required();
+  verify->add_option("id", o->id, "Session id (default: all)");
+  verify->add_flag("--all", o->all, "Every session");
+  for (CLI::App* c : {approve, reject}) {
+    c->add_option("--who", o->who,
+                  "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
+    c->add_option("--why", o->why, "Reason (required to reject)");
+  }
+  exp->add_option("--out", o->out, "Directory to write into")->required();
+  exp->add_option("--format", o->formats,
+                  "glb, obj, ply, stl, model, markers, csv (default: all); a plant session: mtg, csv, markers, json, "
+                  "glb, obj, ply, stl, can, model, plan")
+      ->delimiter(',');
+  exp->add_option("--node", o->node,
+                  "A plant session's full leaf alone, the one at this node (the leaf's formats: glb, obj, ply, stl, "
+                  "model, markers, csv)")
+      ->check(CLI::Range(1, 9999));
+  exp->add_option("--frame", o->frame, "leaf (default) or digitizer")->check(CLI::IsMember({"leaf", "digitizer"}));
+  exp->add_option("--blade", o->blade, "interp (default), approx, bezier, nurbs")
+      ->check(CLI::IsMember(wordsIn(model::kBladeKindNames)));
+  table.add(list, [o] { return withStore(*o, false, runList); });
+  table.add(show, [o] { return withStore(*o, false, runShow); });
+  table.add(verify, [o] { return withStore(*o, false, runVerify); });
+  table.add(approve, [o] {
+    return withStore(*o, true,
+                     [](db::EventStore& store, const SessionsOptions& c) { return runReview(store, c, "approved"); });
+  });
+  table.add(reject, [o] {
+    return withStore(*o, true,
+                     [](db::EventStore& store, const SessionsOptions& c) { return runReview(store, c, "rejected"); });
+  });
+  table.add(corr, [o] { return withStore(*o, true, runCorrect); });
+  table.add(
+      exp, [o] { return withStore(*o, true, runExport); }, "cannot export: ");
+  return resume;
+}
+
+}  // namespace leafdig::cli

@@ -1,0 +1,42 @@
+// leafdig sessions list|show|verify|approve|reject|correct|export: what was captured, on a
+// station's file or the lab server, for technicians and curators (`sessions resume` is a
+// capture's: capture_cmd).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "leafdig/db/event_store.hpp"
+
+namespace leafdig::cli {
+
+struct SessionsOptions {
+  std::string db;  // a station's SQLite file, or a postgresql:// URL
+  bool json = false;
+  std::int64_t id = 0;
+  bool all = false;                                 // verify
+  std::string status, kind, plant, station, since;  // list: its filters
+  std::string who, why;                             // approve, reject, correct
+  std::string out;                                  // export
+  std::vector<std::string> formats;
+  int node = 0;  // export --node: a plant session's full leaf alone; correct: its node
+  std::string frame = "leaf", blade = "interp";
+  // correct
+  std::string what;
+  int row = 0, col = 0;
+  std::vector<double> position;
+  std::optional<double> value;
+};
+
+// `sessions export` (and the demo's exports): the session's files into o.out.
+int runExport(db::EventStore& store, const SessionsOptions& o);
+
+class CommandTable;
+// Registers `sessions` and its commands but `resume`, which it returns for the capture's
+// commands to declare and run (capture_cmd.cpp).
+CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table);
+
+}  // namespace leafdig::cli
