@@ -57,7 +57,17 @@ TEST_F(ReviewCli, EveryDecisionAndCorrectionIsShownWithWhoWhenWhyAndWhatItChange
               db())
           .exitCode,
       0);
+  // Files of a session nobody approved say so (stderr; --json gives the status).
+  const Result early = leafdig("sessions export 1 --format csv --out " + quote(dir_ / "early") + db());
+  ASSERT_EQ(early.exitCode, 0) << early.err;
+  EXPECT_NE(early.err.find("warning: session 1 is complete, not approved by a curator"), std::string::npos)
+      << early.err;
+  const Result earlyJson = leafdig("sessions export 1 --json --format csv --out " + quote(dir_ / "early") + db());
+  EXPECT_EQ(json::parse(earlyJson.out).at("status"), "complete");
   ASSERT_EQ(leafdig("sessions approve 1 --who carla --why 'checked against the photos'" + db()).exitCode, 0);
+  const Result late = leafdig("sessions export 1 --format csv --out " + quote(dir_ / "late") + db());
+  ASSERT_EQ(late.exitCode, 0) << late.err;
+  EXPECT_EQ(late.err.find("warning"), std::string::npos) << late.err;
 
   const json history = showJson(1).at("history");
   ASSERT_EQ(history.size(), 3u) << history.dump();
@@ -92,6 +102,9 @@ TEST_F(ReviewCli, EveryDecisionAndCorrectionIsShownWithWhoWhenWhyAndWhatItChange
   ASSERT_EQ(
       leafdig("sessions correct 2 --what collar_diameter --value 9.5 --who dana --why re-measured" + db()).exitCode, 0);
   ASSERT_EQ(leafdig("sessions reject 2 --who dana --why 'node 3 was skipped'" + db()).exitCode, 0);
+  const Result rejected = leafdig("sessions export 2 --format csv --out " + quote(dir_ / "plant") + db());
+  ASSERT_EQ(rejected.exitCode, 0) << rejected.err;
+  EXPECT_NE(rejected.err.find("warning: session 2 is rejected, not approved"), std::string::npos) << rejected.err;
   const json plant = showJson(2).at("history");
   ASSERT_EQ(plant.size(), 2u) << plant.dump();
   EXPECT_EQ(plant[0].at("what"), "collar_diameter");

@@ -446,6 +446,7 @@ int runDemo(const CaptureOptions& o) {
     e.db = c.db;
     e.id = id;
     e.out = out;
+    e.warnUnapproved = false;  // the demo's own simulated captures
     if (const int rc = runExport(store, e); rc != 0) return rc;
     // The captured leaf's area against what is known of the leaf: the exact area of a
     // synthetic leaf, the leaf-area-meter reading of a sample.

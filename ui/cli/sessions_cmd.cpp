@@ -424,10 +424,23 @@ int runCorrect(db::EventStore& store, SessionsOptions o) {
 }  // namespace
 
 int runExport(db::EventStore& store, const SessionsOptions& o) {
-  if (const auto info = store.session(o.id); info && info->kind == "plant" && o.node == 0) {
+  const auto info = store.session(o.id);
+  // Files of a session no curator approved say so where the person exporting sees it (issue 49).
+  const auto warnIfUnapproved = [&] {
+    if (!info || info->status == "approved" || !o.warnUnapproved) return;
+    std::cerr << "leafdig: warning: session " << o.id << " is " << terminalText(info->status)
+              << ", not approved by a curator: its numbers are as captured, unchecked (leafdig sessions show " << o.id
+              << ")\n";
+  };
+  if (info && info->kind == "plant" && o.node == 0) {
     const acq::PlantExport p = acq::exportPlantSession(store, o.id, o.formats, o.out);
     if (o.json) {
-      std::cout << json{{"session", o.id}, {"kind", "plant"}, {"outputs", p.written}, {"notes", p.notes}}.dump()
+      std::cout << json{{"session", o.id},
+                        {"kind", "plant"},
+                        {"status", info->status},
+                        {"outputs", p.written},
+                        {"notes", p.notes}}
+                       .dump()
                 << "\n";
     } else {
       std::cout << "plant session " << o.id << ": " << p.survey.nodes.size() << " nodes, " << p.survey.leaves.size()
@@ -435,6 +448,7 @@ int runExport(db::EventStore& store, const SessionsOptions& o) {
       for (const auto& f : p.written) std::cout << "  wrote " << terminalText(f) << "\n";
       for (const auto& n : p.notes) std::cout << "  note: " << terminalText(n) << "\n";
     }
+    warnIfUnapproved();
     return 0;
   }
   acq::ExportRequest request;
@@ -445,14 +459,18 @@ int runExport(db::EventStore& store, const SessionsOptions& o) {
   if (o.node != 0) request.node = o.node;
   const acq::ExportResult r = acq::exportSession(store, o.id, request);
   if (o.json) {
-    std::cout
-        << json{{"session", o.id}, {"outputs", r.written}, {"metrics", json::parse(m::metricsToJson(r.metrics))}}.dump()
-        << "\n";
+    std::cout << json{{"session", o.id},
+                      {"status", info ? json(info->status) : json(nullptr)},
+                      {"outputs", r.written},
+                      {"metrics", json::parse(m::metricsToJson(r.metrics))}}
+                     .dump()
+              << "\n";
   } else {
     std::cout << "session " << o.id << ": " << r.rows << " rows, blade area " << std::fixed << std::setprecision(0)
               << r.metrics.blade.areaMm2 << " mm^2\n";
     for (const auto& p : r.written) std::cout << "  wrote " << terminalText(p) << "\n";
   }
+  warnIfUnapproved();
   return 0;
 }
 
