@@ -617,8 +617,9 @@ PYBIND11_MODULE(_leafdig, mod) {
           "correct",
           [](Store& s, std::int64_t id, const std::string& what, int row, int col, int node,
              const std::optional<std::array<double, 3>>& position, const std::optional<double>& value,
-             const std::string& who, const std::string& why) {
+             const std::string& who, const std::string& why, bool confirm) {
             acq::Correction c;
+            if (!confirm) c.confirmAboveMm = acq::kConfirmMoveAboveMm;
             try {
               acq::setCorrectionItem(c, what, node);
             } catch (const std::invalid_argument& e) {
@@ -638,7 +639,7 @@ PYBIND11_MODULE(_leafdig, mod) {
             }
           },
           py::arg("id"), py::arg("what"), py::arg("row"), py::arg("col"), py::arg("node"), py::arg("position"),
-          py::arg("value"), py::arg("who"), py::arg("why"));
+          py::arg("value"), py::arg("who"), py::arg("why"), py::arg("confirm") = false);
   mod.def("open_store", &openStore, py::arg("path_or_url"), py::arg("writable") = false);
 
   mod.def(

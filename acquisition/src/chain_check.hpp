@@ -2,10 +2,15 @@
 // capture into it share it, so the words are the same everywhere).
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/acquisition/session.hpp"
 #include "leafdig/db/event_store.hpp"
 #include "leafdig/db/store.hpp"
@@ -49,6 +54,21 @@ inline void requireCorrectable(const db::EventStore& store, std::int64_t id, con
   if (isBlank(reason)) throw std::invalid_argument("a correction needs a reason: say what was wrong");
   if (isBlank(who)) throw std::invalid_argument("a correction needs the curator's name");
   requireChain(store, id, "corrected");
+}
+
+// A corrected point that would move further than `limitMm` from where it was (both in the frame
+// `sessions show` gives) is refused until the curator confirms the move (issue 49).
+inline void requireConfirmedMove(const std::array<double, 3>& from, const std::array<double, 3>& to, double limitMm,
+                                 const std::string& item) {
+  double s = 0;
+  for (std::size_t i = 0; i < 3; ++i) s += (to[i] - from[i]) * (to[i] - from[i]);
+  const double d = std::sqrt(s);
+  if (d <= limitMm) return;
+  std::ostringstream t;
+  t << std::fixed << std::setprecision(1) << "the " << item << " would move " << d << " mm, more than the " << limitMm
+    << " mm a correction moves unconfirmed: check the position (x, y, z in mm, as sessions show gives it), then "
+       "confirm the move (--confirm); nothing was written";
+  throw UnconfirmedMove(t.str(), d);
 }
 
 }  // namespace leafdig::acquisition::detail

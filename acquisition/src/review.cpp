@@ -220,6 +220,7 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& g
     p.valueMm = c.valueMm;
     p.reason = c.reason;
     p.who = c.who;
+    p.confirmAboveMm = c.confirmAboveMm;
     return correctPlantSession(store, id, p);
   }
   if (c.plantWhat || c.node > 0)
@@ -247,6 +248,10 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& g
     // A corrected point is given in the first transmitter position's frame (as the review shows
     // it); a board point taken again stays in its own.
     if (c.what != What::BoardAgain) fixed.frame = 0;
+    const Vec3 shown = old->frame > 0 && c.what != What::BoardAgain
+                           ? detail::placed(r.engine.positionToFirst(old->frame), old->positionMm)
+                           : old->positionMm;
+    detail::requireConfirmedMove(shown, fixed.positionMm, c.confirmAboveMm, toString(c.what));
   } else {
     if (!c.valueMm || c.positionMm) throw std::invalid_argument("a thickness is corrected with a value in mm");
     if (!(*c.valueMm >= r.settings.minThicknessMm && *c.valueMm <= r.settings.maxThicknessMm)) {

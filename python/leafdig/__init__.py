@@ -215,21 +215,22 @@ class Store:
     def reject(self, id, who, why):
         return self._core.review(int(id), "rejected", who, why)
 
-    def correct(self, id, what, *, who, why, row=0, col=0, node=0, position=None, value=None):
+    def correct(self, id, what, *, who, why, row=0, col=0, node=0, position=None, value=None, confirm=False):
         """Corrects one item of a complete session, saying why, as ``leafdig sessions correct``
         does (a ``corrected`` event; the curator's role on the lab server). ``what`` is a
         leaf's item (``tip``, ``marker``, ``midrib_thickness``, ``vein_origin_thickness``,
         ``point_thickness``, ``edge_thickness``) or a plant's (``landmark``, ``collar``,
         ``collar_diameter``, ``point``, ``reading``, ``quick_point``); ``row``/``col`` number it
         as the CLI's ``--row``/``--col``; ``node`` names a plant's full leaf. A point takes
-        ``position=(x, y, z)`` in mm, a reading ``value`` in mm. Returns the event's number;
-        refusals raise ``InputError`` (the item, the value, no reason) or ``StoreError``."""
+        ``position=(x, y, z)`` in mm, a reading ``value`` in mm; a point that would move more
+        than 20 mm needs ``confirm=True`` (``InputError`` says how far). Returns the event's
+        number; refusals raise ``InputError`` (the item, the value, no reason) or ``StoreError``."""
         if position is not None:
             position = tuple(float(v) for v in position)
             if len(position) != 3:
                 raise InputError("position takes (x, y, z) in mm")
         return self._core.correct(int(id), str(what), int(row), int(col), int(node), position,
-                                  None if value is None else float(value), who, why)
+                                  None if value is None else float(value), who, why, bool(confirm))
 
     def __repr__(self):
         return "<leafdig.Store %s>" % self._core.where

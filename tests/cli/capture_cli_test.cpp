@@ -542,7 +542,7 @@ TEST_F(CaptureCli, ALeafTakenAcrossAMoveOfTheTransmitterIsTheSameLeaf) {
   const Result broken =
       leafdig("sessions correct 1 --what board_again --row 1 --col 2 --position " +
               std::to_string(again[0].get<double>() + 30) + "," + std::to_string(again[1].get<double>()) + "," +
-              std::to_string(again[2].get<double>()) + " --who carla --why test --db " + quote(db));
+              std::to_string(again[2].get<double>()) + " --who carla --why test --confirm --db " + quote(db));
   EXPECT_EQ(broken.exitCode, 2);
   EXPECT_NE(broken.err.find("move 1 no longer fits"), std::string::npos) << broken.err;
   EXPECT_EQ(show(db, 1).at("events"), after.at("events"));

@@ -122,6 +122,36 @@ TEST_F(ReviewCli, EveryDecisionAndCorrectionIsShownWithWhoWhenWhyAndWhatItChange
   EXPECT_EQ(list[1].at("decision").at("action"), "rejected");
 }
 
+// A correction that would move a point further than 20 mm (a typo, another point) is refused
+// in words saying how far, until the curator confirms it; nothing is written before.
+TEST_F(ReviewCli, AFarMoveIsShownAndNeedsConfirming) {
+  const json tip = showJson(1).at("tip");
+  const std::string far = std::to_string(tip[0].get<double>() + 612.0) + "," + std::to_string(tip[1].get<double>()) +
+                          "," + std::to_string(tip[2].get<double>());
+  const int events = showJson(1).at("events");
+  const Result refused = leafdig("sessions correct 1 --what tip --position " + far + " --who carla --why typo" + db());
+  EXPECT_EQ(refused.exitCode, 2);
+  EXPECT_NE(refused.err.find("the tip would move 612.0 mm, more than the 20.0 mm a correction moves unconfirmed"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_EQ(showJson(1).at("events"), events);
+  // A lower limit of one's own, and a confirmed move; the output says how far the point went.
+  const std::string near = std::to_string(tip[0].get<double>() + 6.0) + "," + std::to_string(tip[1].get<double>()) +
+                           "," + std::to_string(tip[2].get<double>());
+  EXPECT_EQ(
+      leafdig("sessions correct 1 --what tip --position " + near + " --confirm-above 5 --who carla --why x" + db())
+          .exitCode,
+      2);
+  const Result moved =
+      leafdig("sessions correct 1 --what tip --position " + near + " --who carla --why slipped" + db());
+  ASSERT_EQ(moved.exitCode, 0) << moved.err;
+  EXPECT_NE(moved.out.find(", moved 6.0 mm"), std::string::npos) << moved.out;
+  const Result confirmed =
+      leafdig("sessions correct 1 --what tip --position " + far + " --confirm --json --who carla --why typo" + db());
+  ASSERT_EQ(confirmed.exitCode, 0) << confirmed.err;
+  EXPECT_NEAR(json::parse(confirmed.out).at("moved_mm").get<double>(), 606.0, 1e-4);
+}
+
 TEST_F(ReviewCli, SessionsAreListedByStatusKindPlantStationAndDay) {
   const json all = json::parse(leafdig("sessions list --json" + db()).out);
   ASSERT_EQ(all.size(), 2u);

@@ -380,7 +380,10 @@ def test_a_curator_corrects_a_leaf_and_a_plant_from_python(station, tmp_path):
     plant = cli_json("sessions", "show", 2, "--db", copy)
     full = next(l["node"] for l in plant["leaves"] if l["kind"] == "full")
     store.correct(2, "collar_diameter", value=9.5, who="kim", why="re-measured")
-    store.correct(2, "marker", node=full, row=1, col=1, position=(1.0, 2.0, 3.0), who="kim", why="slipped")
+    with pytest.raises(leafdig.InputError, match=r"would move \d+\.\d mm, more than the 20\.0 mm"):
+        store.correct(2, "marker", node=full, row=1, col=1, position=(1.0, 2.0, 3.0), who="kim", why="slipped")
+    store.correct(2, "marker", node=full, row=1, col=1, position=(1.0, 2.0, 3.0), who="kim", why="slipped",
+                  confirm=True)
     with pytest.raises(leafdig.InputError, match="is a full leaf"):
         store.correct(2, "landmark", node=full, row=1, position=(1.0, 2.0, 3.0), who="kim", why="x")
     assert len(cli_json("sessions", "show", 2, "--db", copy)["corrections"]) == 2

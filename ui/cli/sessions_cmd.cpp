@@ -10,6 +10,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -412,12 +413,27 @@ int runCorrect(db::EventStore& store, SessionsOptions o) {
     c.positionMm = acq::Vec3{o.position[0], o.position[1], o.position[2]};
   }
   if (o.value) c.valueMm = *o.value;
+  c.confirmAboveMm = o.confirm ? std::numeric_limits<double>::infinity() : o.confirmAboveMm;
+  const std::int64_t head = store.session(o.id) ? store.session(o.id)->headSeq : 0;
   const auto seq = acq::correct(store, o.id, c);
-  if (o.json)
-    std::cout << json{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}}.dump() << "\n";
-  else
+  // What the correction changed, as the history says it: the first event it wrote is the item's
+  // (the others, points a refitted move placed again).
+  std::optional<db::ReviewEntry> done;
+  for (const auto& r : db::reviewHistory(store.events(o.id, head + 1)))
+    if (r.action == "corrected" && !done) done = r;
+  if (o.json) {
+    json j{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}};
+    if (done)
+      if (const auto moved = done->movedMm()) j["moved_mm"] = *moved;
+    std::cout << j.dump() << "\n";
+  } else {
     std::cout << "session " << o.id << ": " << terminalText(o.what) << " corrected by " << terminalText(o.who)
-              << " (event " << seq << ")\n";
+              << " (event " << seq << ")";
+    if (done)
+      if (const auto moved = done->movedMm())
+        std::cout << ", moved " << std::fixed << std::setprecision(1) << *moved << " mm" << std::defaultfloat;
+    std::cout << "\n";
+  }
   return 0;
 }
 
@@ -537,6 +553,10 @@ CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
   corr->add_option("--who", o->who,
                    "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
   corr->add_option("--why", o->why, "Reason")->required();
+  corr->add_flag("--confirm", o->confirm, "The point is to move further than --confirm-above: it is meant");
+  corr->add_option("--confirm-above", o->confirmAboveMm,
+                   "A point that would move further than this many mm needs --confirm (default 20)")
+      ->check(CLI::Range(0.0, 100000.0));
   verify->add_option("id", o->id, "Session id (default: all)");
   verify->add_flag("--all", o->all, "Every session");
   for (CLI::App* c : {approve, reject}) {

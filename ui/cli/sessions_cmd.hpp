@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "leafdig/acquisition/review.hpp"
 #include "leafdig/db/event_store.hpp"
 
 namespace leafdig::cli {
@@ -30,6 +31,8 @@ struct SessionsOptions {
   int row = 0, col = 0;
   std::vector<double> position;
   std::optional<double> value;
+  bool confirm = false;                                      // a move above confirmAboveMm is meant
+  double confirmAboveMm = acquisition::kConfirmMoveAboveMm;  // mm
 };
 
 // `sessions export` (and the demo's exports): the session's files into o.out.

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -144,6 +145,7 @@ struct PlantCorrection {
   std::optional<Vec3> positionMm;  // stylus items
   std::optional<double> valueMm;   // caliper items
   std::string reason, who;
+  double confirmAboveMm = std::numeric_limits<double>::infinity();  // as Correction's (review.hpp)
 };
 std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& c);
 

@@ -7,8 +7,10 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -45,6 +47,20 @@ struct ReviewFlag {
 // point) over the leaf, and midrib readings that grow towards the tip.
 [[nodiscard]] std::vector<ReviewFlag> reviewFlags(const std::vector<Item>& items, double madLimit = 3.5);
 
+// A correction that would move a point further than its limit is refused until the curator
+// confirms the move (issue 49): a typo in one coordinate moves a point centimetres, the wrong
+// point metres. The CLI and Python use kConfirmMoveAboveMm unless told (--confirm-above,
+// --confirm); the words say how far the point would go.
+inline constexpr double kConfirmMoveAboveMm = 20.0;
+class UnconfirmedMove : public std::invalid_argument {
+ public:
+  UnconfirmedMove(const std::string& words, double moveMm) : std::invalid_argument(words), moveMm_(moveMm) {}
+  [[nodiscard]] double moveMm() const noexcept { return moveMm_; }
+
+ private:
+  double moveMm_;
+};
+
 struct Correction {
   What what = What::Marker;
   int row = 0, col = 0;
@@ -55,6 +71,9 @@ struct Correction {
   // row = landmark or node number, col = part) or, with `node`, that node's full leaf's (`what`).
   std::optional<PlantWhat> plantWhat;
   int node = 0;
+  // A point moved further than this (mm, in the frame `sessions show` gives) is refused with
+  // UnconfirmedMove; infinity: any move (the curator confirmed it).
+  double confirmAboveMm = std::numeric_limits<double>::infinity();
 };
 // The item a curator names in words (the CLI's --what, Python's `what`): a leaf's (tip, marker,
 // midrib_thickness, …) or a plant's (landmark, collar, point, reading, …), set in `c`
