@@ -23,6 +23,7 @@
 #include "compact_chart.hpp"
 #include "correction_dialog.hpp"
 #include "export_dialog.hpp"
+#include "leafdig/db/history.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/model/errors.hpp"
 
@@ -87,6 +88,11 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
   filters->addWidget(new QLabel(tr("Curator")));
   filters->addWidget(curator_);
   outer->addLayout(filters);
+
+  // Plant sessions are reviewed in the Plant tab: say how many there are, and where.
+  plantNote_ = new QLabel;
+  plantNote_->setVisible(false);
+  outer->addWidget(plantNote_);
 
   auto* split = new QSplitter(Qt::Vertical, this);
   sessions_ = new QTableWidget(0, 9, split);
@@ -166,9 +172,10 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
       selectItem(*i);
   });
   auto* actions = new QHBoxLayout;
-  auto* correctB = new QPushButton(tr("Correct…"));
-  auto* approveB = new QPushButton(tr("Approve"));
-  auto* rejectB = new QPushButton(tr("Reject…"));
+  auto* correctB = correctB_ = new QPushButton(tr("Correct…"));
+  auto* approveB = approveB_ = new QPushButton(tr("Approve"));
+  auto* rejectB = rejectB_ = new QPushButton(tr("Reject…"));
+  for (auto* b : {correctB, approveB, rejectB}) b->setEnabled(false);  // until a complete session is open
   auto* exportB = new QPushButton(tr("Export…"));
   connect(correctB, &QPushButton::clicked, this, &ReviewView::correctSelected);
   connect(approveB, &QPushButton::clicked, this, [this] { (void)approve(curator_->text()); });
@@ -221,9 +228,18 @@ void ReviewView::refreshSessions() {
     // On the lab server a review is signed by the login that writes it (lab schema 10).
     if (const auto login = store_ ? store_->login() : std::nullopt) curator_->setText(QString::fromStdString(*login));
     if (store_) all_ = store_->sessions();
-    // Plant sessions are reviewed as plants (docs/plants.md); this view reviews leaves.
+    // Plant sessions are reviewed as plants (docs/plants.md); this view reviews leaves and says
+    // where the plants are.
+    const auto plants =
+        std::count_if(all_.begin(), all_.end(), [](const db::SessionInfo& s) { return s.kind != "leaf"; });
     all_.erase(std::remove_if(all_.begin(), all_.end(), [](const db::SessionInfo& s) { return s.kind != "leaf"; }),
                all_.end());
+    plantNote_->setText(
+        plants == 0 ? QString()
+        : plants == 1
+            ? tr("1 plant session in this database: review it in the Plant tab.")
+            : tr("%1 plant sessions in this database: review them in the Plant tab.").arg(static_cast<int>(plants)));
+    plantNote_->setVisible(plants > 0);
   } catch (const std::exception& e) {
     banner_->setText(tr("REVIEW · cannot open %1: %2")
                          .arg(QString::fromStdString(db::redactUrl(dbPath_)), QString::fromStdString(e.what())));
@@ -438,6 +454,34 @@ void ReviewView::fill() {
   } catch (const std::exception& e) {
     metrics_->setText(tr("No metrics yet: %1").arg(QString::fromStdString(e.what())));
   }
+  // Who decided what (issue 49): every decision and correction, under the metrics.
+  const auto history = db::reviewHistory(store_->events(r.info.id));
+  if (!history.empty()) {
+    QString text = metrics_->text() + "\n\n" + tr("Review:");
+    for (const auto& h : history) {
+      QString line = QString::fromStdString(h.action);
+      if (h.action == "corrected") {
+        line += " " + QString::fromStdString(h.what);
+        if (h.row) line += tr(" row %1").arg(*h.row);
+        if (h.col) line += tr(" point %1").arg(*h.col);
+        if (const auto moved = h.movedMm()) line += tr(", moved %1 mm").arg(*moved, 0, 'f', 1);
+        if (h.fromValueMm && h.toValueMm)
+          line += tr(": %1 → %2 mm").arg(*h.fromValueMm, 0, 'f', 3).arg(*h.toValueMm, 0, 'f', 3);
+      }
+      line += tr(" by %1 at %2").arg(QString::fromStdString(h.who), QString::fromStdString(h.utc));
+      if (!h.why.empty()) line += ": " + QString::fromStdString(h.why);
+      text += "\n" + line;
+    }
+    metrics_->setText(text);
+  }
+  const bool decidable = decisionsEnabled();
+  for (auto* b : {correctB_, approveB_, rejectB_}) {
+    b->setEnabled(decidable);
+    b->setToolTip(decidable ? QString()
+                  : partial ? tr("the replay shows an earlier state: move the slider to the end")
+                            : tr("only a complete session is corrected, approved or rejected; this one is %1")
+                                  .arg(QString::fromStdString(r.info.status)));
+  }
   acq::Snapshot snap;
   snap.session = r.info.id;
   snap.items = items;
@@ -547,6 +591,10 @@ QString ReviewView::correct(const acq::Correction& c) {
   (void)openSession(id);
   if (const auto* i = acq::findItem(current_->engine.items(), c.what, c.row, c.col)) selectItem(*i);
   return {};
+}
+
+bool ReviewView::decisionsEnabled() const {
+  return current_ && current_->info.status == "complete" && current_->replayedEvents >= current_->totalEvents;
 }
 
 QString ReviewView::approve(const QString& who) {

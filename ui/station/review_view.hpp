@@ -23,6 +23,7 @@
 #include "settings.hpp"
 
 class QChartView;
+class QPushButton;
 
 namespace leafdig::station {
 
@@ -57,6 +58,10 @@ class ReviewView : public QWidget {
   [[nodiscard]] QLineEdit* curator() const { return curator_; }
   [[nodiscard]] QSlider* replaySlider() const { return slider_; }
   [[nodiscard]] const std::optional<acquisition::ReviewedSession>& current() const { return current_; }
+  // Correct, Approve and Reject: enabled only for a complete session shown whole (issue 49).
+  [[nodiscard]] bool decisionsEnabled() const;
+  // What this view leaves to the Plant tab ("2 plant sessions: review them in the Plant tab").
+  [[nodiscard]] QString plantNote() const { return plantNote_->text(); }
 
  private:
   // Approve or reject the open session (`status`), reporting `failed` in the banner.
@@ -74,7 +79,8 @@ class ReviewView : public QWidget {
   std::vector<db::SessionInfo> all_;
   std::pair<std::int64_t, std::int64_t> chainOf_{0, -1};  // (session, head seq) chain_ is for
   db::ChainReport chain_;
-  QLabel *banner_, *metrics_, *replayLabel_;
+  QLabel *banner_, *metrics_, *replayLabel_, *plantNote_;
+  QPushButton *correctB_ = nullptr, *approveB_ = nullptr, *rejectB_ = nullptr;
   QComboBox *project_, *plant_, *status_, *operator_;
   QLineEdit *date_, *curator_;
   QTableWidget *sessions_, *markers_;

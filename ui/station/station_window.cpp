@@ -62,6 +62,9 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   tabs_->addTab(review_, tr("Review"));
   plant_ = new PlantView(tabs_);
   plant_->setDatabase(dbPath());
+  // A curator reviews a station's file without starting a capture (issue 49): the Review tab
+  // opens it at once when it is there (the lab server is opened by reviewLabServer).
+  if (!db::isServerUrl(dbPath()) && std::filesystem::exists(dbPath())) review_->setDatabase(dbPath());
   tabs_->addTab(plant_, tr("Plant"));
   connect(tabs_, &QTabWidget::currentChanged, this, [this](int index) {
     if (tabs_->widget(index) == plant_) plant_->refreshLibrary();  // leaves approved since

@@ -449,7 +449,13 @@ TEST(ReviewView, ACuratorBrowsesSelectsCorrectsReplaysAndApproves) {
   EXPECT_FALSE(v.correct(c).isEmpty());
   EXPECT_TRUE(v.bannerText().contains("reason")) << v.bannerText().toStdString();
   c.reason = "caliper jaws on the vein, not beside it";
+  EXPECT_TRUE(v.decisionsEnabled());  // a complete session, shown whole
   EXPECT_TRUE(v.correct(c).isEmpty());
+  // Who corrected what is shown with the metrics (issue 49).
+  EXPECT_TRUE(v.metricsText().contains("Review:")) << v.metricsText().toStdString();
+  EXPECT_TRUE(v.metricsText().contains("corrected vein_origin_thickness row 2 point 4: "))
+      << v.metricsText().toStdString();
+  EXPECT_TRUE(v.metricsText().contains("→ 0.900 mm by curator at ")) << v.metricsText().toStdString();
   bool flagged = false;
   for (int r = 0; r < v.markersTable()->rowCount(); ++r)
     flagged = flagged || v.markersTable()->item(r, 5)->text().startsWith("corrected: caliper jaws");
@@ -458,16 +464,42 @@ TEST(ReviewView, ACuratorBrowsesSelectsCorrectsReplaysAndApproves) {
   // Step-by-step replay through the same engine.
   v.replayTo(5);
   EXPECT_TRUE(v.bannerText().contains("replay at event 5")) << v.bannerText().toStdString();
+  EXPECT_FALSE(v.decisionsEnabled());  // an earlier state is not what a curator decides on
   EXPECT_LT(v.markersTable()->rowCount(), 6);
   v.replaySlider()->setValue(v.replaySlider()->maximum());
   EXPECT_EQ(v.markersTable()->rowCount(), 1 + 21 + 6 + 1);
   // Approve needs a name; then the session is approved and final.
   EXPECT_FALSE(v.approve("").isEmpty());
+  EXPECT_TRUE(v.decisionsEnabled());
   EXPECT_TRUE(v.approve("curator").isEmpty());
   EXPECT_TRUE(v.bannerText().contains("approved")) << v.bannerText().toStdString();
+  EXPECT_FALSE(v.decisionsEnabled());  // approved is final: Correct, Approve and Reject are off
+  EXPECT_TRUE(v.metricsText().contains("approved by curator at ")) << v.metricsText().toStdString();
   EXPECT_FALSE(v.reject("curator", "late").isEmpty());
   EXPECT_FALSE(v.openSession(open + 50));
   EXPECT_TRUE(v.bannerText().contains("no session")) << v.bannerText().toStdString();
+  fs::remove_all(dir);
+}
+
+// A curator reviews a station's file without starting a capture (issue 49): the window opens
+// its Review tab on the file at once; the plant sessions in it are named, with where to review
+// them.
+TEST(StationWindow, TheReviewTabOpensTheFileWithoutACaptureAndPointsToThePlants) {
+  const fs::path dir = freshDir("review-at-start");
+  const fs::path file = dir / "s.sqlite";
+  fs::copy_file(fs::path(LEAFDIG_SOURCE_DIR) / "tests/data/legacy/station-schema2.sqlite", file);
+  leafdig::station::StationOptions options;
+  options.audio = audio();
+  options.db = file.string();
+  options.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::station::StationWindow w(options);
+  ASSERT_EQ(w.review()->sessionsTable()->rowCount(), 1);  // the leaf; the plant is the Plant tab's
+  EXPECT_EQ(w.review()->sessionsTable()->item(0, 4)->text(), "complete");
+  EXPECT_TRUE(w.review()->plantNote().contains("1 plant session")) << w.review()->plantNote().toStdString();
+  EXPECT_TRUE(w.review()->plantNote().contains("Plant tab")) << w.review()->plantNote().toStdString();
+  EXPECT_FALSE(w.review()->decisionsEnabled());  // nothing open yet
+  ASSERT_TRUE(w.review()->openSession(1));
+  EXPECT_TRUE(w.review()->decisionsEnabled());
   fs::remove_all(dir);
 }
 
