@@ -107,7 +107,13 @@ void PreviewSurface::initializeGL() {
         owner_, [o = owner_] { o->showUnavailable(); }, Qt::QueuedConnection);
     return;
   }
-  initializeOpenGLFunctions();
+  // A context without OpenGL 3.3 core functions (an old driver, Qt's offscreen platform) has
+  // none to call: the same as no context, not a crash.
+  if (!initializeOpenGLFunctions()) {
+    QMetaObject::invokeMethod(
+        owner_, [o = owner_] { o->showUnavailable(); }, Qt::QueuedConnection);
+    return;
+  }
   program_.addShaderFromSourceCode(QOpenGLShader::Vertex, kVertex);
   program_.addShaderFromSourceCode(QOpenGLShader::Fragment, kFragment);
   program_.link();

@@ -493,6 +493,7 @@ TEST(StationWindow, TheReviewTabOpensTheFileWithoutACaptureAndPointsToThePlants)
   options.db = file.string();
   options.settingsFile = QString::fromStdString((dir / "station.ini").string());
   leafdig::station::StationWindow w(options);
+  w.tabs()->setCurrentWidget(w.review());
   ASSERT_EQ(w.review()->sessionsTable()->rowCount(), 1);  // the leaf; the plant is the Plant tab's
   EXPECT_EQ(w.review()->sessionsTable()->item(0, 4)->text(), "complete");
   EXPECT_TRUE(w.review()->plantNote().contains("1 plant session")) << w.review()->plantNote().toStdString();
@@ -500,6 +501,23 @@ TEST(StationWindow, TheReviewTabOpensTheFileWithoutACaptureAndPointsToThePlants)
   EXPECT_FALSE(w.review()->decisionsEnabled());  // nothing open yet
   ASSERT_TRUE(w.review()->openSession(1));
   EXPECT_TRUE(w.review()->decisionsEnabled());
+  // For a person to look at: LEAFDIG_TEST_SCREENSHOTS=DIR saves the tab after a correction and
+  // an approval.
+  if (const char* shots = std::getenv("LEAFDIG_TEST_SCREENSHOTS")) {
+    acq::Correction c;
+    c.what = acq::What::MidribThickness;
+    c.row = 2;
+    c.col = 4;
+    c.valueMm = 1.25;
+    c.who = "carla";
+    c.reason = "misread";
+    EXPECT_TRUE(w.review()->correct(c).isEmpty());
+    EXPECT_TRUE(w.review()->approve("carla").isEmpty());
+    w.resize(1366, 768);
+    w.show();
+    QCoreApplication::processEvents();
+    EXPECT_TRUE(w.grab().save(QString::fromStdString((fs::path(shots) / "review-tab.png").string())));
+  }
   fs::remove_all(dir);
 }
 
