@@ -636,15 +636,6 @@ PlantFeedback PlantCaptureSession::deviceStatus(const std::string& device, const
   return f;
 }
 
-namespace {
-// A point taken from transmitter position `frame` (0: the first) in the first position's frame.
-Vec3 toFirstOf(const PlantEngine& engine, int frame, const Vec3& p) {
-  if (frame <= 0 || frame >= static_cast<int>(engine.toFirst().size())) return p;
-  const Eigen::Vector3d q = engine.toFirst()[static_cast<std::size_t>(frame)] * Eigen::Vector3d(p[0], p[1], p[2]);
-  return {q.x(), q.y(), q.z()};
-}
-}  // namespace
-
 std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& given) {
   PlantCorrection c = given;
   c.who = store.signature(given.who);  // through a login: the login that writes it
@@ -713,8 +704,8 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
     if (c.positionMm) {
       fixed.positionMm = *c.positionMm;
       fixed.frame = 0;  // a corrected point is given in the first transmitter position's frame
-      const Vec3 shown = found->frame > 0 ? toFirstOf(before, found->frame, found->positionMm) : found->positionMm;
-      detail::requireConfirmedMove(shown, fixed.positionMm, c.confirmAboveMm,
+      // Held in the first frame already (as sessions show gives it): the move is between the two.
+      detail::requireConfirmedMove(found->positionMm, fixed.positionMm, c.confirmAboveMm,
                                    "node " + std::to_string(c.node) + " leaf's " + toString(c.leafWhat));
     }
     if (c.valueMm) fixed.valueMm = *c.valueMm;
@@ -743,10 +734,7 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
       // A corrected point is given in the first transmitter position's frame; a landmark taken
       // again stays in its own.
       if (fixed.what != PlantWhat::LandmarkAgain) fixed.frame = 0;
-      const Vec3 shown = found->frame > 0 && fixed.what != PlantWhat::LandmarkAgain
-                             ? toFirstOf(before, found->frame, found->positionMm)
-                             : found->positionMm;
-      detail::requireConfirmedMove(shown, fixed.positionMm, c.confirmAboveMm, toString(c.what));
+      detail::requireConfirmedMove(found->positionMm, fixed.positionMm, c.confirmAboveMm, toString(c.what));
     }
     if (c.valueMm) fixed.valueMm = *c.valueMm;
     fixed.raw = "corrected by " + c.who;

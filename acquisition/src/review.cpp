@@ -248,10 +248,9 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& g
     // A corrected point is given in the first transmitter position's frame (as the review shows
     // it); a board point taken again stays in its own.
     if (c.what != What::BoardAgain) fixed.frame = 0;
-    const Vec3 shown = old->frame > 0 && c.what != What::BoardAgain
-                           ? detail::placed(r.engine.positionToFirst(old->frame), old->positionMm)
-                           : old->positionMm;
-    detail::requireConfirmedMove(shown, fixed.positionMm, c.confirmAboveMm, toString(c.what));
+    // An item is held where sessions show gives it (the engine places a point taken after a move
+    // into the first frame as it takes it), so the move is between the two positions as they are.
+    detail::requireConfirmedMove(old->positionMm, fixed.positionMm, c.confirmAboveMm, toString(c.what));
   } else {
     if (!c.valueMm || c.positionMm) throw std::invalid_argument("a thickness is corrected with a value in mm");
     if (!(*c.valueMm >= r.settings.minThicknessMm && *c.valueMm <= r.settings.maxThicknessMm)) {

@@ -102,14 +102,10 @@ PreviewSurface::~PreviewSurface() {
 void PreviewSurface::initializeGL() {
   // Qt calls this even when it could not create a context (no OpenGL on this display): the
   // station goes on without the 3D view and says so.
-  if (!context() || !context()->isValid() || QOpenGLContext::currentContext() != context()) {
-    QMetaObject::invokeMethod(
-        owner_, [o = owner_] { o->showUnavailable(); }, Qt::QueuedConnection);
-    return;
-  }
   // A context without OpenGL 3.3 core functions (an old driver, Qt's offscreen platform) has
   // none to call: the same as no context, not a crash.
-  if (!initializeOpenGLFunctions()) {
+  if (!context() || !context()->isValid() || QOpenGLContext::currentContext() != context() ||
+      !initializeOpenGLFunctions()) {
     QMetaObject::invokeMethod(
         owner_, [o = owner_] { o->showUnavailable(); }, Qt::QueuedConnection);
     return;
