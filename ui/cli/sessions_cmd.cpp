@@ -414,7 +414,8 @@ int runCorrect(db::EventStore& store, SessionsOptions o) {
   }
   if (o.value) c.valueMm = *o.value;
   c.confirmAboveMm = o.confirm ? std::numeric_limits<double>::infinity() : o.confirmAboveMm;
-  const std::int64_t head = store.session(o.id) ? store.session(o.id)->headSeq : 0;
+  const auto info = store.session(o.id);
+  const std::int64_t head = info ? info->headSeq : 0;
   const auto seq = acq::correct(store, o.id, c);
   // What the correction changed, as the history says it: the first event it wrote is the item's
   // (the others, points a refitted move placed again).

@@ -153,6 +153,7 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
   chart_->setRenderHint(QPainter::Antialiasing);
   chart_->setMinimumHeight(240);
   metrics_ = new QLabel;
+  metrics_->setTextFormat(Qt::PlainText);  // it shows curators' reasons from the file or the server
   metrics_->setWordWrap(true);
   metrics_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
   metrics_->setTextInteractionFlags(Qt::TextSelectableByMouse);

@@ -448,7 +448,7 @@ TEST(ReviewView, ACuratorBrowsesSelectsCorrectsReplaysAndApproves) {
   c.who = "curator";
   EXPECT_FALSE(v.correct(c).isEmpty());
   EXPECT_TRUE(v.bannerText().contains("reason")) << v.bannerText().toStdString();
-  c.reason = "caliper jaws on the vein, not beside it";
+  c.reason = "caliper jaws on the vein, not <b>beside</b> it";
   EXPECT_TRUE(v.decisionsEnabled());  // a complete session, shown whole
   EXPECT_TRUE(v.correct(c).isEmpty());
   // Who corrected what is shown with the metrics (issue 49).
@@ -456,6 +456,11 @@ TEST(ReviewView, ACuratorBrowsesSelectsCorrectsReplaysAndApproves) {
   EXPECT_TRUE(v.metricsText().contains("corrected vein_origin_thickness row 2 point 4: "))
       << v.metricsText().toStdString();
   EXPECT_TRUE(v.metricsText().contains("→ 0.900 mm by curator at ")) << v.metricsText().toStdString();
+  // A reason from the file is shown as the text it is, never as markup.
+  bool plain = false;
+  for (const QLabel* l : v.findChildren<QLabel*>())
+    if (l->text() == v.metricsText()) plain = l->textFormat() == Qt::PlainText;
+  EXPECT_TRUE(plain);
   bool flagged = false;
   for (int r = 0; r < v.markersTable()->rowCount(); ++r)
     flagged = flagged || v.markersTable()->item(r, 5)->text().startsWith("corrected: caliper jaws");
