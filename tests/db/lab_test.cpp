@@ -183,7 +183,7 @@ TEST(LabMigrations, EveryReleasedMigrationIsUnchanged) {
   std::sort(files.begin(), files.end());
   ASSERT_EQ(files.size(), db::detail::kLabMigrations.size());
   for (std::size_t v = 0; v < files.size(); ++v) {
-    char number[8];
+    char number[24];  // room for any size_t: GCC 12 -Wformat-truncation counts 20 digits
     std::snprintf(number, sizeof number, "%04zu_", v + 1);
     EXPECT_EQ(files[v].filename().string().rfind(number, 0), 0u) << files[v];
     std::ifstream in(files[v], std::ios::binary);
