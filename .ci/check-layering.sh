@@ -95,5 +95,16 @@ roomCheck model plant synth leaf2d io study
 roomCheck model io study
 roomCheck model study io
 rootCheck model "errors, limits, files, image headers, JSON text" spline leaf mesh metrics synth leaf2d plant io study
-[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, pybind11 only in python/leafdig_module.cpp, dependencies point one way, devices/ and model/ rooms in their directions"
+
+# 7. Rooms inside acquisition/ (acquisition/README.md): protocol, then session, then review; live
+#    after session, sim after live, run after sim; review never uses live, sim or run, and they
+#    never use review. The root holds nothing.
+roomCheck acquisition protocol session review live sim run
+roomCheck acquisition session review live sim run
+roomCheck acquisition review live sim run
+roomCheck acquisition live review sim run
+roomCheck acquisition sim review run
+roomCheck acquisition run review
+rootCheck acquisition "nothing" protocol session review live sim run
+[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, pybind11 only in python/leafdig_module.cpp, dependencies point one way, devices/, model/ and acquisition/ rooms in their directions"
 exit $fail

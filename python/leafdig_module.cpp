@@ -21,9 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "leafdig/acquisition/plant_export.hpp"
-#include "leafdig/acquisition/review.hpp"
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/plant_export.hpp"
+#include "leafdig/acquisition/review/review.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/db/history.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/db/store.hpp"

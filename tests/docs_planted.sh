@@ -21,8 +21,8 @@ expect() {  # what must be named, what it breaks
   elif ! grep -qF "$1" "$work/out"; then echo "caught but not named: $2:"; cat "$work/out"; failures=1
   else echo "caught: $2"; fi
 }
-fresh; printf '// new\n' >"$work/tree/acquisition/src/jig_protocol.cpp"
-expect "acquisition/src/jig_protocol.cpp" "a source file its README does not name"
+fresh; printf '// new\n' >"$work/tree/acquisition/src/protocol/jig_protocol.cpp"
+expect "acquisition/src/protocol/jig_protocol.cpp" "a source file its README does not name"
 fresh; printf '// new\n' >"$work/tree/ui/station/jig_view.hpp"
 expect "ui/station/jig_view.hpp" "a station file ui/README.md does not name"
 fresh; printf '\nThe engine decides in `Engine::decide`.\n' >>"$work/tree/docs/architecture.md"

@@ -1,6 +1,6 @@
 // CaptureRun: the one capture lifecycle the command line and the station drive. Simulated
 // devices over real ptys, a real store; also run under ThreadSanitizer.
-#include "leafdig/acquisition/capture_run.hpp"
+#include "leafdig/acquisition/run/capture_run.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

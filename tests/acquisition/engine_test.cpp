@@ -1,6 +1,6 @@
 // The protocol engine driven as a technician drives it: still stylus, press, release;
 // caliper readings; undo; the end-of-rows long press. Then replay of what was decided.
-#include "leafdig/acquisition/engine.hpp"
+#include "leafdig/acquisition/protocol/engine.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // with the stem diameter and each node's leaf (full through the leaf protocol, quick, none),
 // the long presses that end the landmarks and the plant, undo across the plant and its leaves,
 // refusals in words; then replay of what was decided.
-#include "leafdig/acquisition/plant_engine.hpp"
+#include "leafdig/acquisition/protocol/plant_engine.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,8 +16,8 @@
 #include <string>
 #include <variant>
 
-#include "leafdig/acquisition/plant_preview.hpp"
-#include "leafdig/acquisition/truth.hpp"
+#include "leafdig/acquisition/session/plant_preview.hpp"
+#include "leafdig/acquisition/sim/truth.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"

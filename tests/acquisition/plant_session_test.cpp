@@ -1,7 +1,7 @@
 // Plant capture sessions on a real station file: every decision committed before it is
 // reported, the chain verifies, a session reopened at any event goes on at the exact step,
 // a full store loses nothing, and plant and leaf sessions are not taken for one another.
-#include "leafdig/acquisition/plant_session.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,11 +14,12 @@
 #include <tuple>
 #include <vector>
 
-#include "leafdig/acquisition/plant_run.hpp"
-#include "leafdig/acquisition/point_rules.hpp"
-#include "leafdig/acquisition/review.hpp"
-#include "leafdig/acquisition/session.hpp"
-#include "leafdig/acquisition/truth.hpp"
+#include "leafdig/acquisition/live/plant_loop.hpp"
+#include "leafdig/acquisition/protocol/point_rules.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/review.hpp"
+#include "leafdig/acquisition/session/session.hpp"
+#include "leafdig/acquisition/sim/truth.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
 

@@ -1,6 +1,6 @@
 // Each rule a stylus point must pass, alone: what it refuses, in which words, and what it lets
 // through. (engine_test.cpp drives them together through Engine::onStylus.)
-#include "leafdig/acquisition/point_rules.hpp"
+#include "leafdig/acquisition/protocol/point_rules.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Moving the transmitter: the rigid fit of landmarks taken again (Kabsch), checked against
 // Eigen's umeyama, and every refusal naming what to do.
-#include "leafdig/acquisition/relocation.hpp"
+#include "leafdig/acquisition/protocol/relocation.hpp"
 
 #include <gtest/gtest.h>
 

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "leafdig/acquisition/plant_session.hpp"
-#include "leafdig/acquisition/preview.hpp"
-#include "leafdig/acquisition/review.hpp"
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/review/review.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
+#include "leafdig/acquisition/session/preview.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/leaf/leaf_model.hpp"

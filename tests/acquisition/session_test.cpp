@@ -1,7 +1,7 @@
 // Capture sessions on a real SQLite file: commit before acknowledge, replay on reopen,
 // undo / retake / pause / abandon, the store refusing writes (page quota = full disk), a
 // reader beside the writer, the board frame and the live preview.
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -17,9 +17,11 @@
 #include <set>
 #include <thread>
 
-#include "leafdig/acquisition/capture_loop.hpp"
-#include "leafdig/acquisition/preview.hpp"
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/live/capture_loop.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/leaf_export.hpp"
+#include "leafdig/acquisition/review/review.hpp"
+#include "leafdig/acquisition/session/preview.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;

@@ -9,9 +9,9 @@
 #include <functional>
 #include <thread>
 
-#include "leafdig/acquisition/capture_loop.hpp"
-#include "leafdig/acquisition/device_set.hpp"
-#include "leafdig/acquisition/simulation.hpp"
+#include "leafdig/acquisition/live/capture_loop.hpp"
+#include "leafdig/acquisition/live/device_set.hpp"
+#include "leafdig/acquisition/sim/simulation.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 
 namespace acq = leafdig::acquisition;

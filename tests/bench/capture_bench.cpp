@@ -17,12 +17,13 @@
 #include <random>
 
 #include "latency_counters.hpp"
-#include "leafdig/acquisition/plant_export.hpp"
-#include "leafdig/acquisition/plant_preview.hpp"
-#include "leafdig/acquisition/plant_session.hpp"
-#include "leafdig/acquisition/review.hpp"
-#include "leafdig/acquisition/session.hpp"
-#include "leafdig/acquisition/truth.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/plant_export.hpp"
+#include "leafdig/acquisition/review/review.hpp"
+#include "leafdig/acquisition/session/plant_preview.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
+#include "leafdig/acquisition/sim/truth.hpp"
 #include "leafdig/devices/links/reference.hpp"
 #include "leafdig/devices/pose.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
@@ -183,7 +184,7 @@ BENCHMARK(BM_ReferenceFramePerSample)->Unit(benchmark::kMicrosecond);
 // LEAFDIG_BENCH_PLANT_NODES nodes (default 20; every third leaf and the largest in full, 10 rows
 // each, the others quick) taken through a PlantCaptureSession on a real SQLite file, every
 // stylus press and caliper reading timed from its last sample to the decision committed
-// (fsync) and the plant's preview rebuilt from the engine (acquisition/plant_preview.hpp's
+// (fsync) and the plant's preview rebuilt from the engine (acquisition/session/plant_preview.hpp's
 // PlantPreviewer, as the station's preview thread keeps one). `preview_` counters: the rebuild alone.
 void BM_PlantPressToPreview(benchmark::State& state) {
   namespace m = leafdig::model;

@@ -9,7 +9,7 @@
 #include <system_error>
 
 #include "failure.hpp"
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/db/event_store.hpp"
 #include "leafdig/devices/errors.hpp"
 #include "leafdig/model/errors.hpp"

@@ -25,7 +25,7 @@
 #include "../support/cutting_proxy.hpp"
 #include "../support/pg_cluster_environment.hpp"
 #include "../support/station_sessions.hpp"
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/event_rules.hpp"
 #include "leafdig/db/store.hpp"
 

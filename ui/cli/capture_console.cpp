@@ -4,7 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "leafdig/acquisition/point_rules.hpp"
+#include "leafdig/acquisition/protocol/point_rules.hpp"
 #include "leafdig/db/store.hpp"
 
 namespace leafdig::cli {

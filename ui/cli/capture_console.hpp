@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-#include "leafdig/acquisition/engine.hpp"
+#include "leafdig/acquisition/protocol/engine.hpp"
 
 namespace leafdig::cli {
 

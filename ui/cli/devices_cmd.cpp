@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "commands.hpp"
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/db/event_store.hpp"
 #include "leafdig/devices/links/links.hpp"
 #include "leafdig/devices/sim/sim.hpp"

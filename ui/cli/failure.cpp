@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/db/event_store.hpp"
 #include "leafdig/devices/errors.hpp"
 #include "leafdig/model/errors.hpp"

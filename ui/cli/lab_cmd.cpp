@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/lab.hpp"
 #include "terminal_text.hpp"
 

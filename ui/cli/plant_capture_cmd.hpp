@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <functional>
 
-#include "leafdig/acquisition/plant_simulation.hpp"
+#include "leafdig/acquisition/sim/plant_simulation.hpp"
 
 namespace leafdig::cli {
 

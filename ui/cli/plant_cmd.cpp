@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "leafdig/acquisition/plant_engine.hpp"
+#include "leafdig/acquisition/protocol/plant_engine.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
 #include "plant_cmd.hpp"

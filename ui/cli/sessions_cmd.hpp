@@ -9,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/event_store.hpp"
 
 namespace leafdig::cli {

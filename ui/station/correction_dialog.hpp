@@ -7,7 +7,8 @@
 #include <optional>
 #include <vector>
 
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 
 class QWidget;
 

@@ -10,7 +10,8 @@
 #include <functional>
 #include <map>
 
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/leaf_export.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 #include "mesh_choice.hpp"
 #include "settings.hpp"
 

@@ -6,7 +6,7 @@
 
 #include <QWidget>
 
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 
 namespace leafdig::station {
 

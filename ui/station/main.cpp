@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "leafdig/acquisition/capture_run.hpp"
+#include "leafdig/acquisition/run/capture_run.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/version.hpp"
 #include "plant_view.hpp"

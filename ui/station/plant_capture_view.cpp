@@ -13,9 +13,9 @@
 #include <exception>
 #include <set>
 
-#include "leafdig/acquisition/device_set.hpp"
-#include "leafdig/acquisition/plant_simulation.hpp"
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/live/device_set.hpp"
+#include "leafdig/acquisition/review/review.hpp"
+#include "leafdig/acquisition/sim/plant_simulation.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "preview_widget.hpp"

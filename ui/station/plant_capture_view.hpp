@@ -7,7 +7,7 @@
 // Threads: the capture (the session and its store, the simulated devices and the virtual
 // technician) runs on a thread of its own; every committed decision hands a copy of the plant's
 // engine to the GUI thread (the tree and the prompt, at once) and to a preview thread, which
-// builds the plant's preview (acquisition/plant_preview.hpp) from the newest state only and
+// builds the plant's preview (acquisition/session/plant_preview.hpp) from the newest state only and
 // hands it to the GUI thread. Each hand-over is a one-slot mailbox under a std::mutex, which the
 // GUI thread looks into at 60 Hz (a timer, not a cross-thread Qt call): a burst of decisions is
 // shown once, and nothing waits for the drawing.
@@ -25,10 +25,10 @@
 #include <string>
 #include <thread>
 
-#include "leafdig/acquisition/plant_preview.hpp"
-#include "leafdig/acquisition/plant_run.hpp"
-#include "leafdig/acquisition/plant_session.hpp"
-#include "leafdig/acquisition/simulation.hpp"
+#include "leafdig/acquisition/live/plant_loop.hpp"
+#include "leafdig/acquisition/session/plant_preview.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
+#include "leafdig/acquisition/sim/simulation.hpp"
 
 class QComboBox;
 class QLabel;

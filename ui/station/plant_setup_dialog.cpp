@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <set>
 
-#include "leafdig/acquisition/device_set.hpp"
+#include "leafdig/acquisition/live/device_set.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
 #include "setup_dialog.hpp"
 

@@ -12,7 +12,7 @@
 #include <optional>
 #include <vector>
 
-#include "leafdig/acquisition/plant_session.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
 #include "leafdig/devices/transports/registry.hpp"
 
 namespace leafdig::station {

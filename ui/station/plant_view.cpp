@@ -28,9 +28,10 @@
 
 #include "compact_chart.hpp"
 #include "correction_dialog.hpp"
-#include "leafdig/acquisition/plant_export.hpp"
-#include "leafdig/acquisition/plant_session.hpp"
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/plant_export.hpp"
+#include "leafdig/acquisition/review/review.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"

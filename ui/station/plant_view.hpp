@@ -12,7 +12,8 @@
 #include <memory>
 #include <optional>
 
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/plant/plant.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"

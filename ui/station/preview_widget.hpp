@@ -23,7 +23,7 @@
 #include <optional>
 #include <vector>
 
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 #include "view_framing.hpp"
 
 namespace leafdig::station {

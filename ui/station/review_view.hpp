@@ -18,7 +18,8 @@
 #include <optional>
 #include <utility>
 
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 #include "preview_widget.hpp"
 #include "settings.hpp"
 

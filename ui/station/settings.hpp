@@ -9,7 +9,7 @@
 #include <QString>
 #include <map>
 
-#include "leafdig/acquisition/engine.hpp"
+#include "leafdig/acquisition/protocol/engine.hpp"
 
 namespace leafdig::station {
 

@@ -10,7 +10,7 @@
 #include <QVBoxLayout>
 #include <set>
 
-#include "leafdig/acquisition/device_set.hpp"
+#include "leafdig/acquisition/live/device_set.hpp"
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
 
 namespace leafdig::station {

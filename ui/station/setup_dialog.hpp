@@ -13,7 +13,7 @@
 #include <QSpinBox>
 #include <optional>
 
-#include "leafdig/acquisition/session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/devices/transports/registry.hpp"
 
 namespace leafdig::station {

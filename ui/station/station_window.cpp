@@ -18,7 +18,7 @@
 #include <fstream>
 
 #include "export_dialog.hpp"
-#include "leafdig/acquisition/review.hpp"
+#include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/devices/transports/registry.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"

@@ -20,8 +20,8 @@
 #include <thread>
 
 #include "leaf_schematic.hpp"
-#include "leafdig/acquisition/capture_run.hpp"
-#include "leafdig/acquisition/plant_session.hpp"
+#include "leafdig/acquisition/run/capture_run.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
 #include "preview_widget.hpp"
 #include "settings.hpp"
 #include "sounds.hpp"

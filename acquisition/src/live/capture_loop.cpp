@@ -1,0 +1,274 @@
+#include "leafdig/acquisition/live/capture_loop.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace leafdig::acquisition {
+
+Step parseLeafItemWords(std::istream& in, const std::string& command) {
+  std::string what;
+  in >> what;
+  if (what.empty())
+    throw std::invalid_argument(command + " what? e.g. '" + command + " marker 3 5', '" + command + " tip', '" +
+                                command + " midrib_thickness 2'");
+  Step st;
+  st.what = whatFromString(what);
+  if (st.what == What::Marker || st.what == What::PointThickness) {
+    if (!(in >> st.row >> st.col))
+      throw std::invalid_argument(command + " " + what + " needs a row and a point: e.g. '" + command + " " + what +
+                                  " 3 5'");
+  } else if (st.what == What::MidribThickness || st.what == What::VeinOriginThickness) {
+    if (!(in >> st.row))
+      throw std::invalid_argument(command + " " + what + " needs a row: e.g. '" + command + " " + what + " 2'");
+    st.col = 4;
+  } else if (st.what == What::Board) {
+    if (!(in >> st.col)) throw std::invalid_argument(command + " board needs the point (1, 2 or 3)");
+  }
+  return st;
+}
+
+void readMoveWords(std::istream& in) {
+  std::string what;
+  if (in >> what && what != "transmitter")
+    throw std::invalid_argument("'move' takes no words but 'transmitter' (got '" + what + "')");
+}
+
+Command parseCommand(const std::string& line) {
+  std::istringstream in(line);
+  std::string word;
+  in >> word;
+  Command c;
+  if (word == "undo" || word == "u")
+    c.kind = Command::Kind::Undo;
+  else if (word == "end" || word == "e")
+    c.kind = Command::Kind::EndRows;
+  else if (word == "pause" || word == "p")
+    c.kind = Command::Kind::Pause;
+  else if (word == "resume")
+    c.kind = Command::Kind::Resume;
+  else if (word == "quit" || word == "q")
+    c.kind = Command::Kind::Quit;
+  else if (word == "abandon")
+    c.kind = Command::Kind::Abandon;
+  else if (word == "move") {
+    c.kind = Command::Kind::MoveTransmitter;
+    readMoveWords(in);
+  } else if (word == "retake" || word == "r") {
+    c.kind = Command::Kind::Retake;
+    const Step st = parseLeafItemWords(in, "retake");
+    c.what = st.what;
+    c.row = st.row;
+    c.col = st.col;
+  } else {
+    throw std::invalid_argument(
+        "unknown command '" + word +
+        "': use undo, end, retake WHAT [ROW [POINT]], move (the transmitter), pause, resume, abandon [why], "
+        "quit");
+  }
+  std::getline(in >> std::ws, c.text);
+  return c;
+}
+
+CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale, PreviewDetail preview,
+                         PreviewBuilder builder)
+    : session_(session),
+      listener_(std::move(listener)),
+      timeScale_(timeScale > 0 ? timeScale : 1.0),
+      preview_(preview),
+      builder_(builder ? std::move(builder)
+                       : PreviewBuilder([](const std::vector<Item>& items, const Settings& settings) {
+                           return buildPreview(items, settings, {}, true);
+                         })),
+      t0_(Clock::now()) {}
+
+CaptureLoop::~CaptureLoop() {
+  stopWorker();
+}
+
+std::int64_t CaptureLoop::monoNs(Clock::time_point t) const {
+  return static_cast<std::int64_t>(
+      static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t - t0_).count()) * timeScale_);
+}
+
+void CaptureLoop::post(const devices::DeviceEvent& e) {
+  {
+    std::lock_guard lock(mutex_);
+    if (const auto* s = std::get_if<devices::StylusSample>(&e)) {
+      latestStylus_ = *s;
+      if (pedal_ && !s->button) {
+        devices::StylusSample pressed = *s;
+        pressed.button = true;
+        queue_.emplace_back(pressed);
+      } else {
+        queue_.emplace_back(e);
+      }
+    } else {
+      queue_.emplace_back(e);
+    }
+  }
+  cv_.notify_one();
+}
+
+std::optional<devices::StylusSample> CaptureLoop::latestStylus() const {
+  std::lock_guard lock(mutex_);
+  return latestStylus_;
+}
+
+void CaptureLoop::postStatus(const devices::DeviceStatus& s) {
+  {
+    std::lock_guard lock(mutex_);
+    queue_.emplace_back(s);
+  }
+  cv_.notify_one();
+}
+
+void CaptureLoop::command(const Command& c) {
+  {
+    std::lock_guard lock(mutex_);
+    queue_.emplace_back(c);
+  }
+  cv_.notify_one();
+}
+
+void CaptureLoop::stop() {
+  stop_ = true;
+  cv_.notify_one();
+}
+
+void CaptureLoop::deliver(const std::vector<Feedback>& feedback) {
+  for (const Feedback& f : feedback)
+    if (listener_.onFeedback) listener_.onFeedback(f);
+  if (!feedback.empty()) publish();
+}
+
+void CaptureLoop::publish() {
+  if (preview_ != PreviewDetail::Meshes) {
+    if (listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(preview_ == PreviewDetail::Model, false));
+    return;
+  }
+  Snapshot s = session_.snapshot(false);
+  PreviewJob job{s.version, s.items, session_.engine().settings()};
+  {
+    std::lock_guard lock(publishMutex_);
+    s.preview = latest_.preview;  // the newest built so far
+    s.previewVersion = latest_.previewVersion;
+    latest_ = s;
+    if (listener_.onSnapshot) listener_.onSnapshot(s);
+  }
+  {
+    std::lock_guard lock(jobMutex_);
+    job_ = std::move(job);
+  }
+  jobCv_.notify_one();
+}
+
+void CaptureLoop::buildPreviews() {
+  for (;;) {
+    PreviewJob job;
+    {
+      std::unique_lock lock(jobMutex_);
+      jobCv_.wait(lock, [&] { return job_.has_value() || workerStop_; });
+      if (!job_) return;  // stopping, and the newest request is built
+      job = std::move(*job_);
+      job_.reset();
+    }
+    std::shared_ptr<const Preview> built;
+    try {
+      built = std::make_shared<const Preview>(builder_(job.items, job.settings));
+    } catch (const std::exception& e) {
+      // buildPreview leaves out what it cannot build; this is memory or worse. Say so on the
+      // screen and keep capturing: the preview is never the record.
+      auto failed = std::make_shared<Preview>();
+      failed->notes.push_back(std::string("the preview could not be built: ") + e.what());
+      built = std::move(failed);
+    }
+    std::lock_guard lock(publishMutex_);
+    if (job.version < latest_.previewVersion) continue;
+    latest_.preview = built;
+    latest_.previewVersion = job.version;
+    if (listener_.onSnapshot) listener_.onSnapshot(latest_);
+  }
+}
+
+void CaptureLoop::stopWorker() {
+  if (!worker_.joinable()) return;
+  {
+    std::lock_guard lock(jobMutex_);
+    workerStop_ = true;
+  }
+  jobCv_.notify_one();
+  worker_.join();
+}
+
+void CaptureLoop::handle(const Item_& item, bool& quit) {
+  if (const auto* e = std::get_if<devices::DeviceEvent>(&item)) {
+    if (const auto* s = std::get_if<devices::StylusSample>(e)) {
+      // docs/schema.md: the stored record is text; binary bytes become \xNN. A press is timed by
+      // the device's clock where it has one (issue 26), else by when its bytes arrived.
+      StylusInput in{monoNs(s->deviceTime.value_or(s->t)), s->positionMm,  s->button, s->status,
+                     devices::printableRaw(s->raw, true),  s->streamBegins};
+      deliver(session_.onStylus(in));
+    } else if (const auto* r = std::get_if<devices::CaliperReading>(e)) {
+      deliver(session_.onCaliper({monoNs(r->t), r->valueMm, devices::printableRaw(r->raw, true)}));
+    }
+    return;
+  }
+  if (const auto* st = std::get_if<devices::DeviceStatus>(&item)) {
+    // One event per state change (not per message): enough to see an unplug and its end.
+    const std::string state = devices::toString(st->state);
+    auto& last = deviceStates_[st->device];
+    if (last == state) return;
+    last = state;
+    deliver(session_.deviceStatus(st->device, state, st->message + (st->remedy.empty() ? "" : " — " + st->remedy),
+                                  monoNs(Clock::now())));
+    return;
+  }
+  const Command& c = std::get<Command>(item);
+  const std::int64_t now = monoNs(Clock::now());
+  switch (c.kind) {
+    case Command::Kind::Undo: deliver(session_.undo(now)); break;
+    case Command::Kind::EndRows: deliver(session_.endRows(now)); break;
+    case Command::Kind::Retake: deliver(session_.retake(c.what, c.row, c.col, now)); break;
+    case Command::Kind::MoveTransmitter: deliver(session_.moveTransmitter(now)); break;
+    case Command::Kind::Pause: deliver(session_.pause(c.text.empty() ? "operator pause" : c.text, now)); break;
+    case Command::Kind::Resume: deliver(session_.resume(now)); break;
+    case Command::Kind::Abandon:
+      deliver(session_.abandon(c.text.empty() ? "abandoned by the operator" : c.text, now));
+      break;
+    case Command::Kind::Quit: quit = true; break;
+  }
+}
+
+Snapshot CaptureLoop::run() {
+  if (preview_ == PreviewDetail::Meshes && !worker_.joinable()) {
+    workerStop_ = false;
+    worker_ = std::thread([this] { buildPreviews(); });
+  }
+  publish();
+  bool quit = false;
+  auto lastRetry = Clock::now();
+  while (!quit && !stop_ && !session_.ended()) {
+    // The store refused a write (disk full, locked): try again every second; capture goes
+    // on by itself once space is back.
+    if (session_.storeBlocked() && Clock::now() - lastRetry >= std::chrono::seconds(1)) {
+      lastRetry = Clock::now();
+      deliver(session_.resume(monoNs(lastRetry)));
+    }
+    std::deque<Item_> batch;
+    {
+      std::unique_lock lock(mutex_);
+      cv_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !queue_.empty() || stop_; });
+      batch.swap(queue_);
+    }
+    for (const Item_& i : batch) {
+      handle(i, quit);
+      if (quit || session_.ended()) break;
+    }
+  }
+  if (preview_ != PreviewDetail::Meshes) return session_.snapshot(preview_ == PreviewDetail::Model, false);
+  stopWorker();  // builds the newest request first: latest_ has the preview of its version
+  std::lock_guard lock(publishMutex_);
+  return latest_;
+}
+
+}  // namespace leafdig::acquisition

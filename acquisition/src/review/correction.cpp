@@ -1,0 +1,372 @@
+#include "leafdig/acquisition/review/correction.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "leafdig/acquisition/review/review.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/io/survey_export.hpp"
+#include "leafdig/model/limits.hpp"
+#include "protocol/item_json.hpp"
+#include "protocol/plant_item_json.hpp"
+#include "protocol/rigid_map.hpp"
+#include "review_checks.hpp"
+
+namespace leafdig::acquisition {
+
+namespace {
+
+using detail::isBlank;
+using detail::itemJson;
+using detail::keyOf;
+using detail::leafWhat;
+using detail::plantItemJson;
+using detail::projectionOf;
+using detail::requireChain;
+using nlohmann::json;
+namespace m = leafdig::model;
+
+// What a curator's correction of session `id` needs before anything is read (a leaf's and a
+// plant's alike): a complete session (approved and rejected are final, open is still being
+// captured), a reason, a name, and a chain that verifies. std::invalid_argument / SessionError.
+void requireCorrectable(const db::EventStore& store, std::int64_t id, const std::string& status,
+                        const std::string& reason, const std::string& who) {
+  if (status != "complete")
+    throw std::invalid_argument("session " + std::to_string(id) + " is " + status +
+                                ": only a complete session (awaiting review) can be corrected");
+  if (isBlank(reason)) throw std::invalid_argument("a correction needs a reason: say what was wrong");
+  if (isBlank(who)) throw std::invalid_argument("a correction needs the curator's name");
+  requireChain(store, id, "corrected");
+}
+
+// A corrected point that would move further than `limitMm` from where it was (both in the frame
+// `sessions show` gives) is refused until the curator confirms the move (issue 49).
+void requireConfirmedMove(const std::array<double, 3>& from, const std::array<double, 3>& to, double limitMm,
+                          const std::string& item) {
+  double s = 0;
+  for (std::size_t i = 0; i < 3; ++i) s += (to[i] - from[i]) * (to[i] - from[i]);
+  const double d = std::sqrt(s);
+  if (d <= limitMm) return;
+  std::ostringstream t;
+  t << std::fixed << std::setprecision(1) << "the " << item << " would move " << d << " mm, more than the " << limitMm
+    << " mm a correction moves unconfirmed: check the position (x, y, z in mm, as sessions show gives it), then "
+       "confirm the move (--confirm); nothing was written";
+  throw UnconfirmedMove(t.str(), d);
+}
+
+}  // namespace
+
+void setCorrectionItem(Correction& c, const std::string& word, int node) {
+  c.node = node;
+  c.plantWhat.reset();
+  try {
+    c.what = whatFromString(word);
+    return;
+  } catch (const std::invalid_argument&) {
+  }
+  try {
+    c.plantWhat = plantWhatFromString(word);
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument(word +
+                                " is not an item: a leaf's board, board_again, tip, marker, midrib_thickness, "
+                                "vein_origin_thickness, point_thickness or edge_thickness; a plant's landmark, "
+                                "landmark_again, collar, collar_diameter, point, reading or quick_point");
+  }
+  if (node > 0)
+    throw std::invalid_argument("node " + std::to_string(node) +
+                                " is a full leaf: its items are tip, marker and the thicknesses, not " + word);
+}
+
+namespace {
+
+// A curator's correction of one item as stored: the old item, the event it replaces, the
+// corrected one, why and who.
+db::EventInput correctionEvent(const Item& old, const Item& fixed, std::int64_t seq, const std::string& reason,
+                               const std::string& who) {
+  json payload = detail::itemJson(old);
+  payload["seq"] = seq;
+  payload["corrected"] = detail::itemJson(fixed);
+  payload["reason"] = reason;
+  payload["who"] = who;
+  db::EventInput ev;
+  ev.kind = "corrected";
+  ev.payloadJson = payload.dump();
+  ev.raw = fixed.raw;
+  ev.projection = detail::projectionOf(fixed);
+  ev.retracts = seq;
+  return ev;
+}
+
+}  // namespace
+
+std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& given) {
+  Correction c = given;
+  c.who = store.signature(given.who);  // through a login: the login that writes it
+  const db::SessionInfo info = detail::infoOrThrow(store, id);
+  if (info.kind == "plant") {
+    if (!c.plantWhat && c.node <= 0)
+      throw std::invalid_argument("session " + std::to_string(id) +
+                                  " is a plant: name the plant's item (landmark, collar, collar_diameter, point, "
+                                  "reading, quick_point) or a full leaf's item with its node");
+    PlantCorrection p;
+    p.node = c.node;
+    p.leafWhat = c.what;
+    if (c.plantWhat) p.what = *c.plantWhat;
+    p.row = c.row;
+    p.col = c.col;
+    p.positionMm = c.positionMm;
+    p.valueMm = c.valueMm;
+    p.reason = c.reason;
+    p.who = c.who;
+    p.confirmAboveMm = c.confirmAboveMm;
+    return correctPlantSession(store, id, p);
+  }
+  if (c.plantWhat || c.node > 0)
+    throw std::invalid_argument("session " + std::to_string(id) +
+                                " captured one leaf: a plant's item or a node does not apply (--what tip, marker, "
+                                "or a thickness, with --row and --col)");
+  requireCorrectable(store, id, info.status, c.reason, c.who);
+  const ReviewedSession r = openForReview(store, id);
+  const Item* old = findItem(r.engine.items(), c.what, c.row, c.col);
+  if (!old)
+    throw std::invalid_argument(std::string("session ") + std::to_string(id) + " has no " + toString(c.what) +
+                                (c.row ? " at row " + std::to_string(c.row) : "") +
+                                (c.col ? " col " + std::to_string(c.col) : "") + " to correct");
+  Item fixed = *old;
+  fixed.flag.clear();
+  if (isStylusItem(c.what)) {
+    if (!c.positionMm || c.valueMm)
+      throw std::invalid_argument("a marker is corrected with a position (x, y, z in mm)");
+    for (double v : *c.positionMm)
+      if (!std::isfinite(v) || std::abs(v) > model::kMaxCoordinateMm)
+        throw std::invalid_argument("the corrected position must be finite numbers in mm within ±" +
+                                    std::to_string(static_cast<int>(model::kMaxCoordinateMm)) +
+                                    " mm of the transmitter");
+    fixed.positionMm = *c.positionMm;
+    // A corrected point is given in the first transmitter position's frame (as the review shows
+    // it); a board point taken again stays in its own.
+    if (c.what != What::BoardAgain) fixed.frame = 0;
+    // An item is held where sessions show gives it (the engine places a point taken after a move
+    // into the first frame as it takes it), so the move is between the two positions as they are.
+    requireConfirmedMove(old->positionMm, fixed.positionMm, c.confirmAboveMm, toString(c.what));
+  } else {
+    if (!c.valueMm || c.positionMm) throw std::invalid_argument("a thickness is corrected with a value in mm");
+    if (!(*c.valueMm >= r.settings.minThicknessMm && *c.valueMm <= r.settings.maxThicknessMm)) {
+      std::ostringstream t;
+      t << "a thickness of " << *c.valueMm << " mm is outside this session's range " << r.settings.minThicknessMm << "–"
+        << r.settings.maxThicknessMm << " mm: give the value in millimetres";
+      throw std::invalid_argument(t.str());
+    }
+    fixed.valueMm = *c.valueMm;
+  }
+  fixed.raw = "corrected by " + c.who;
+  std::vector<db::EventInput> events{correctionEvent(*old, fixed, r.seqs.at(detail::keyOf(*old)), c.reason, c.who)};
+  // A board point (as first taken, or taken again after a move) places every point taken after a
+  // move: each move is fitted again and its points moved with the new fit, each by its own
+  // correction, all written together or not at all.
+  if ((c.what == What::Board || c.what == What::BoardAgain) && r.engine.transmitterPositions() > 1) {
+    std::vector<Item> after = r.engine.items();
+    for (Item& i : after)
+      if (detail::keyOf(i) == detail::keyOf(fixed)) i = fixed;
+    const std::string because =
+        std::string("placed again by its move's new fit (") + toString(c.what) + " " + std::to_string(c.col) +
+        (c.what == What::BoardAgain ? " of move " + std::to_string(c.row) : "") + " corrected): " + c.reason;
+    for (int move = 1; move < r.engine.transmitterPositions(); ++move) {
+      if (c.what == What::BoardAgain && c.row != move) continue;
+      const BoardMoveFit was = fitBoardMove(r.engine.items(), move, r.settings.relocationToleranceMm);
+      const BoardMoveFit now = fitBoardMove(after, move, r.settings.relocationToleranceMm);
+      if (was.refusal || now.refusal)
+        throw std::invalid_argument("with this correction the transmitter's move " + std::to_string(move) +
+                                    " no longer fits (" + *(now.refusal ? now.refusal : was.refusal) +
+                                    "): check the position, nothing was written");
+      if (was.toFirst == now.toFirst) continue;  // a fit the correction leaves as it was: its points stay
+      for (const Item& i : r.engine.items()) {
+        if (!isStylusItem(i.what) || i.what == What::BoardAgain || i.frame != move) continue;
+        Item moved = i;
+        moved.flag.clear();
+        moved.raw = fixed.raw;
+        moved.positionMm =
+            detail::replaced(detail::isometryOf(was.toFirst), detail::isometryOf(now.toFirst), i.positionMm);
+        events.push_back(correctionEvent(i, moved, r.seqs.at(detail::keyOf(i)), because, c.who));
+      }
+    }
+  }
+  // Written only if nobody added to the session since it was replayed here.
+  events.front().follows = r.totalEvents;
+  (void)store.ensureOperator(c.who, "curator");
+  return store.appendAll(id, events);
+}
+
+std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& given) {
+  PlantCorrection c = given;
+  c.who = store.signature(given.who);  // through a login: the login that writes it
+  const auto info = store.session(id);
+  if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());
+  if (info->kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");
+  requireCorrectable(store, id, info->status, c.reason, c.who);
+  const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
+  std::map<std::string, std::int64_t> held;
+  const std::vector<db::Event> logged = store.events(id);
+  PlantEngine engine = PlantCaptureSession::replay(setup, logged, &held);
+
+  const bool stylus = c.node > 0 ? acquisition::isStylusItem(c.leafWhat) : isStylusItem(c.what);
+  if (stylus) {
+    if (!c.positionMm || c.valueMm) throw std::invalid_argument("a point is corrected with a position (x, y, z in mm)");
+    for (double v : *c.positionMm)
+      if (!std::isfinite(v) || std::abs(v) > m::kMaxCoordinateMm)
+        throw std::invalid_argument("the corrected position must be finite numbers in mm within ±" +
+                                    std::to_string(static_cast<int>(m::kMaxCoordinateMm)) + " mm of the transmitter");
+  } else if (!c.valueMm || c.positionMm) {
+    throw std::invalid_argument(std::string("a ") + (c.node > 0 ? "thickness" : "diameter") +
+                                " is corrected with a value in mm");
+  }
+  const double minMm = setup.settings.minThicknessMm;
+  const double maxMm = c.node > 0 ? setup.settings.maxThicknessMm : m::kMaxThicknessMm;
+  if (c.valueMm && !(*c.valueMm >= minMm && *c.valueMm <= maxMm)) {
+    char b[200];
+    std::snprintf(b, sizeof b, "a %s of %g mm is outside this session's range %g–%g mm: give the value in millimetres",
+                  c.node > 0 ? "thickness" : "diameter", *c.valueMm, minMm, maxMm);
+    throw std::invalid_argument(b);
+  }
+
+  // One correction as stored: the old item, the event it replaces, the corrected one, why, who.
+  std::vector<db::EventInput> events;
+  const auto correction = [&](json old, const json& fixed, const std::string& key, const std::string& why) {
+    const std::int64_t seq = held.at(key);
+    old["seq"] = seq;
+    old["corrected"] = fixed;
+    old["reason"] = why;
+    old["who"] = c.who;
+    db::EventInput ev;
+    ev.kind = "corrected";
+    ev.payloadJson = old.dump();
+    ev.raw = "corrected by " + c.who;
+    ev.projection = projectionOf(fixed.dump(), ev.raw);
+    ev.retracts = seq;
+    events.push_back(std::move(ev));
+  };
+  const PlantEngine before = engine;
+  bool refit = false;
+  int onlyMove = 0;  // a landmark taken again refits its own move; a landmark as first taken, every move
+  if (c.node > 0) {
+    const Engine* leaf = engine.leaf(c.node);
+    const Item* found = nullptr;
+    if (leaf)
+      for (const Item& i : leaf->items())
+        if (i.what == c.leafWhat && i.row == c.row && i.col == c.col) found = &i;
+    if (!found)
+      throw std::invalid_argument("plant session " + std::to_string(id) + " has no " + toString(c.leafWhat) +
+                                  (c.row ? " at row " + std::to_string(c.row) : "") +
+                                  (c.col ? " col " + std::to_string(c.col) : "") + " in node " +
+                                  std::to_string(c.node) + "'s leaf" + (leaf ? "" : " (that node has no full leaf)") +
+                                  " to correct");
+    Item fixed = *found;
+    fixed.flag.clear();
+    if (c.positionMm) {
+      fixed.positionMm = *c.positionMm;
+      fixed.frame = 0;  // a corrected point is given in the first transmitter position's frame
+      // Held in the first frame already (as sessions show gives it): the move is between the two.
+      requireConfirmedMove(found->positionMm, fixed.positionMm, c.confirmAboveMm,
+                           "node " + std::to_string(c.node) + " leaf's " + toString(c.leafWhat));
+    }
+    if (c.valueMm) fixed.valueMm = *c.valueMm;
+    fixed.raw = "corrected by " + c.who;
+    json old = itemJson(*found);
+    old["what"] = leafWhat(c.node, *found);
+    json fixedJson = itemJson(fixed);
+    fixedJson["what"] = leafWhat(c.node, fixed);
+    correction(old, fixedJson, keyOf(c.node, *found), c.reason);
+    fixed.flag = "corrected: " + c.reason;
+    (void)engine.correctLeaf(c.node, fixed);
+  } else {
+    // A part left out (0) names the first where the item has parts (a node's point, reading).
+    const PlantItem* found = nullptr;
+    for (const PlantItem& i : engine.items())
+      if (i.what == c.what && i.index == c.row && (i.part == c.col || (c.col == 0 && i.part == 1))) found = &i;
+    if (!found)
+      throw std::invalid_argument("plant session " + std::to_string(id) + " has no " + toString(c.what) +
+                                  (c.row ? " " + std::to_string(c.row) : "") +
+                                  (c.col ? " part " + std::to_string(c.col) : "") +
+                                  " to correct (landmarks by number, a node's point and reading by node)");
+    PlantItem fixed = *found;
+    fixed.flag.clear();
+    if (c.positionMm) {
+      fixed.positionMm = *c.positionMm;
+      // A corrected point is given in the first transmitter position's frame; a landmark taken
+      // again stays in its own.
+      if (fixed.what != PlantWhat::LandmarkAgain) fixed.frame = 0;
+      requireConfirmedMove(found->positionMm, fixed.positionMm, c.confirmAboveMm, toString(c.what));
+    }
+    if (c.valueMm) fixed.valueMm = *c.valueMm;
+    fixed.raw = "corrected by " + c.who;
+    correction(plantItemJson(*found), plantItemJson(fixed), keyOf(*found), c.reason);
+    refit = fixed.what == PlantWhat::Landmark || fixed.what == PlantWhat::LandmarkAgain;
+    if (fixed.what == PlantWhat::LandmarkAgain) onlyMove = fixed.part;
+    fixed.flag = "corrected: " + c.reason;
+    (void)engine.correct(fixed);
+  }
+  // A landmark places every point taken after a move: each move it takes part in is fitted
+  // again and the points taken from that position moved with the new fit, each by its own
+  // correction, all written together or not at all.
+  const int moves = static_cast<int>(before.toFirst().size()) - 1;
+  for (int move = 1; refit && move <= moves; ++move) {
+    if (onlyMove && move != onlyMove) continue;
+    const RelocationFit was = before.fitOf(move);
+    const RelocationFit now = engine.fitOf(move);
+    if (was.refusal || now.refusal)
+      throw std::invalid_argument("with this correction the transmitter's move " + std::to_string(move) +
+                                  " no longer fits (" + *(now.refusal ? now.refusal : was.refusal) +
+                                  "): check the position, nothing was written");
+    // A move that did not take the corrected landmark again fits as before: its points stay.
+    if (was.newToOld.matrix() == now.newToOld.matrix()) continue;
+    const std::string why = std::string("placed again by its move's new fit (") + toString(c.what) + " " +
+                            std::to_string(c.row) + (onlyMove ? " of move " + std::to_string(onlyMove) : "") +
+                            " corrected): " + c.reason;
+    for (const PlantItem& i : before.items()) {
+      if (!isStylusItem(i.what) || i.what == PlantWhat::LandmarkAgain || i.frame != move) continue;
+      PlantItem moved = i;
+      moved.flag.clear();
+      moved.raw = "corrected by " + c.who;
+      moved.positionMm = detail::replaced(was.newToOld, now.newToOld, i.positionMm);
+      correction(plantItemJson(i), plantItemJson(moved), keyOf(i), why);
+      moved.flag = "corrected: " + why;
+      (void)engine.correct(moved);
+    }
+    for (int node = 1; node <= before.nodes(); ++node) {
+      const Engine* leaf = before.leaf(node);
+      if (!leaf) continue;
+      for (const Item& i : leaf->items()) {
+        if (!acquisition::isStylusItem(i.what) || i.frame != move) continue;
+        Item moved = i;
+        moved.flag.clear();
+        moved.raw = "corrected by " + c.who;
+        moved.positionMm = detail::replaced(was.newToOld, now.newToOld, i.positionMm);
+        json old = itemJson(i);
+        old["what"] = leafWhat(node, i);
+        json movedJson = itemJson(moved);
+        movedJson["what"] = leafWhat(node, moved);
+        correction(old, movedJson, keyOf(node, i), why);
+        moved.flag = "corrected: " + why;
+        (void)engine.correctLeaf(node, moved);
+      }
+    }
+  }
+  // The corrected plant must still stand: a landmark moved onto the others' line leaves no frame.
+  try {
+    (void)m::surveyPlant(engine.captured(info->plant));
+  } catch (const m::InputError& e) {
+    throw std::invalid_argument(std::string("the corrected plant would not hold together (") + e.what() +
+                                "): check the position, nothing was written");
+  }
+  // Written only if nobody added to the session since it was replayed here.
+  if (!events.empty() && !logged.empty()) events.front().follows = logged.back().seq;
+  (void)store.ensureOperator(c.who, "curator");
+  return store.appendAll(id, events);
+}
+
+}  // namespace leafdig::acquisition

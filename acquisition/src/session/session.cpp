@@ -1,0 +1,628 @@
+#include "leafdig/acquisition/session/session.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "leafdig/db/event_rules.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/names/name_table.hpp"
+#include "protocol/item_json.hpp"
+
+namespace leafdig::acquisition {
+namespace {
+
+using detail::itemFrom;
+using detail::itemJson;
+using detail::keyOf;
+using detail::nullable;
+using detail::projectionOf;
+using nlohmann::json;
+using Key = detail::Key;
+
+}  // namespace
+
+namespace {
+
+// Feedback names are the JSON-lines contract's `event` values (README).
+constexpr NameTable<Feedback::Kind, 13> kFeedbackNames{{{Feedback::Kind::Accepted, "accepted"},
+                                                        {Feedback::Kind::Rejected, "rejected"},
+                                                        {Feedback::Kind::Undone, "undone"},
+                                                        {Feedback::Kind::RowsEnded, "rows_ended"},
+                                                        {Feedback::Kind::RowsReopened, "rows_reopened"},
+                                                        {Feedback::Kind::RetakeStarted, "retake"},
+                                                        {Feedback::Kind::RetakeCancelled, "retake_cancelled"},
+                                                        {Feedback::Kind::Paused, "paused"},
+                                                        {Feedback::Kind::Resumed, "resumed"},
+                                                        {Feedback::Kind::Complete, "complete"},
+                                                        {Feedback::Kind::Abandoned, "abandoned"},
+                                                        {Feedback::Kind::Device, "device"},
+                                                        {Feedback::Kind::Relocation, "relocation"}}};
+
+// The stored event kind of each engine decision (docs/schema.md); the same word is the
+// feedback announced once it is stored.
+constexpr NameTable<Decision::Kind, 7> kDecisionEvents{{{Decision::Kind::Accepted, "accepted"},
+                                                        {Decision::Kind::Rejected, "rejected"},
+                                                        {Decision::Kind::Undone, "undone"},
+                                                        {Decision::Kind::RowsEnded, "rows_ended"},
+                                                        {Decision::Kind::RowsReopened, "rows_reopened"},
+                                                        {Decision::Kind::RetakeStarted, "retake"},
+                                                        {Decision::Kind::RetakeCancelled, "retake_cancelled"}}};
+// A move of the transmitter is one event kind, `relocation`, with its step.
+constexpr NameTable<Decision::Kind, 4> kRelocationSteps{{{Decision::Kind::RelocationStarted, "started"},
+                                                         {Decision::Kind::RelocationFitted, "fitted"},
+                                                         {Decision::Kind::RelocationReopened, "reopened"},
+                                                         {Decision::Kind::RelocationCancelled, "cancelled"}}};
+bool isRelocation(Decision::Kind k) {
+  return std::any_of(kRelocationSteps.begin(), kRelocationSteps.end(), [k](const auto& n) { return n.first == k; });
+}
+
+}  // namespace
+
+const char* toString(Feedback::Kind k) {
+  return nameIn(kFeedbackNames, k);
+}
+
+std::string stationSettingsFile() {
+  const char* xdg = std::getenv("XDG_CONFIG_HOME");
+  const char* home = std::getenv("HOME");
+  const std::filesystem::path base =
+      (xdg && *xdg) ? std::filesystem::path(xdg) : std::filesystem::path(home ? home : ".") / ".config";
+  return (base / "leafdig" / "station.ini").string();
+}
+
+std::string thisStation() {
+  // [station] id = … in the station's settings file (the INI the Qt station writes too).
+  std::ifstream in(stationSettingsFile());
+  std::string line, section;
+  while (std::getline(in, line)) {
+    const auto trim = [](std::string t) {
+      const auto a = t.find_first_not_of(" \t\r");
+      const auto b = t.find_last_not_of(" \t\r");
+      return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+    };
+    line = trim(line);
+    if (line.size() > 2 && line.front() == '[' && line.back() == ']') {
+      section = line.substr(1, line.size() - 2);
+      continue;
+    }
+    const auto eq = line.find('=');
+    if (section == "station" && eq != std::string::npos && trim(line.substr(0, eq)) == "id") {
+      const std::string id = trim(line.substr(eq + 1));
+      if (!id.empty()) return id;
+    }
+  }
+  char host[256] = {};
+  return ::gethostname(host, sizeof host - 1) == 0 ? std::string(host) : std::string();
+}
+
+std::string CaptureSession::settingsToJson(const Settings& s) {
+  json j{{"mode", toString(s.mode)},
+         {"order", toString(s.order)},
+         {"double_tap_mm", s.doubleTapMm},
+         {"double_tap_ns", s.doubleTapNs},
+         {"still_tolerance_mm", s.stillToleranceMm},
+         {"still_window_ns", s.stillWindowNs},
+         {"long_press_ns", s.longPressNs},
+         {"undo_press_ns", s.undoPressNs},
+         {"min_thickness_mm", s.minThicknessMm},
+         {"max_thickness_mm", s.maxThicknessMm},
+         {"repeat_window_ns", s.repeatWindowNs},
+         {"spacing_tolerance", s.spacingTolerance},
+         {"midrib_tolerance_mm", s.midribToleranceMm},
+         {"min_rows", s.minRows},
+         {"board_frame", s.boardFrame},
+         {"board_min_mm", s.boardMinMm}};
+  // Written only when it is not the default, so that a session without it reads the same.
+  if (s.relocationToleranceMm != Settings{}.relocationToleranceMm)
+    j["relocation_tolerance_mm"] = s.relocationToleranceMm;
+  return j.dump();
+}
+
+namespace {
+
+Settings settingsFromParsed(const json& j) {
+  const json& e = j.contains("engine") ? j.at("engine") : j;
+  Settings s;
+  s.mode = model::thicknessModeFromString(e.value("mode", std::string("standard")));
+  s.order = orderFromString(e.value("order", std::string("sequential")));
+  s.doubleTapMm = e.value("double_tap_mm", s.doubleTapMm);
+  s.doubleTapNs = e.value("double_tap_ns", s.doubleTapNs);
+  s.stillToleranceMm = e.value("still_tolerance_mm", s.stillToleranceMm);
+  s.stillWindowNs = e.value("still_window_ns", s.stillWindowNs);
+  s.longPressNs = e.value("long_press_ns", s.longPressNs);
+  s.undoPressNs = e.value("undo_press_ns", s.undoPressNs);
+  s.minThicknessMm = e.value("min_thickness_mm", s.minThicknessMm);
+  s.maxThicknessMm = e.value("max_thickness_mm", s.maxThicknessMm);
+  s.repeatWindowNs = e.value("repeat_window_ns", s.repeatWindowNs);
+  s.spacingTolerance = e.value("spacing_tolerance", s.spacingTolerance);
+  s.midribToleranceMm = e.value("midrib_tolerance_mm", s.midribToleranceMm);
+  s.minRows = e.value("min_rows", s.minRows);
+  s.boardFrame = e.value("board_frame", s.boardFrame);
+  s.boardMinMm = e.value("board_min_mm", s.boardMinMm);
+  s.relocationToleranceMm = e.value("relocation_tolerance_mm", s.relocationToleranceMm);
+  return s;
+}
+
+}  // namespace
+
+Settings CaptureSession::settingsFromJson(const std::string& text) {
+  // Settings are text from a file or a server: checked as every event is (db::settingsProblem),
+  // and any shape leafdig does not write is named, never an internal error.
+  if (const auto problem = db::settingsProblem(text))
+    throw SessionError("the session's settings cannot be read: " + *problem);
+  try {
+    return settingsFromParsed(json::parse(text));
+  } catch (const json::exception& e) {
+    throw SessionError(std::string("the session's settings cannot be read: ") + e.what());
+  }
+}
+
+std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup) {
+  const std::int64_t project = store.ensureProject(setup.project);
+  const std::int64_t plant = store.ensurePlant(project, setup.plant);
+  const std::int64_t leaf = store.ensureLeaf(plant, setup.leafPosition, setup.leafType, setup.measuredAreaMm2);
+  const std::int64_t op = store.ensureOperator(setup.operatorName);
+  const auto device = [&](const std::string& spec) {
+    if (spec.empty()) return;
+    const auto colon = spec.find(':');
+    (void)store.ensureDevice(spec.substr(0, colon), colon == std::string::npos ? "" : spec.substr(colon + 1),
+                             setup.simulated ? "simulated" : "");
+  };
+  device(setup.digitizer);
+  device(setup.caliper);
+  json settings{{"engine", json::parse(settingsToJson(setup.settings))},
+                {"digitizer", setup.digitizer},
+                {"caliper", setup.caliper},
+                {"simulated", setup.simulated},
+                {"time_scale", setup.timeScale}};
+  if (setup.simulatedLeaf) settings["simulated_leaf"] = json::parse(model::markersToJson(*setup.simulatedLeaf));
+  if (const auto margin = leafMarginJson(setup)) settings["leaf_margin"] = *margin;
+  const std::string station = setup.station.empty() ? thisStation() : setup.station;
+  return store.createSession(leaf, op, station, toString(setup.settings.mode), toString(setup.settings.order),
+                             settings.dump());
+}
+
+std::optional<json> leafMarginJson(const SessionSetup& setup) {
+  if (!setup.serration && !setup.toothDepthMm && !setup.marginFromScan) return std::nullopt;
+  json j = json::object();
+  if (setup.serration) j["serration"] = model::toString(*setup.serration);
+  if (setup.toothDepthMm) j["tooth_depth_mm"] = *setup.toothDepthMm;
+  if (setup.marginFromScan) {
+    json samples = json::array();
+    for (const model::MarginSample& m : *setup.marginFromScan)
+      samples.push_back({{"spacing_mm", m.spacingMm}, {"outside_mm", m.outsideMm}, {"inside_mm", m.insideMm}});
+    j["from_scan"] = samples;
+  }
+  return j;
+}
+
+void readLeafMargin(const std::string& settingsJson, model::LeafInfo& leaf) {
+  try {
+    const json j = json::parse(settingsJson);
+    if (!j.contains("leaf_margin")) return;
+    const json& m = j.at("leaf_margin");
+    if (m.contains("serration")) leaf.serration = model::serrationFromString(m.at("serration").get<std::string>());
+    if (m.contains("tooth_depth_mm")) leaf.toothDepthMm = m.at("tooth_depth_mm").get<double>();
+    if (m.contains("from_scan")) {
+      model::MarginFromScan samples;
+      for (const json& x : m.at("from_scan"))
+        samples.push_back(
+            {x.at("spacing_mm").get<double>(), x.at("outside_mm").get<double>(), x.at("inside_mm").get<double>()});
+      leaf.marginFromScan = samples;
+    }
+  } catch (const std::exception& e) {
+    throw SessionError(std::string("the session's leaf margin cannot be read: ") + e.what());
+  }
+}
+
+Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Event>& events,
+                              std::map<Key, std::int64_t>* seqs) {
+  Engine engine(settings);
+  std::map<Key, std::int64_t> local;
+  auto& map = seqs ? *seqs : local;
+  map.clear();
+  for (const db::Event& e : events) {
+    try {
+      if (const auto problem = db::eventProblem(e.kind, e.payloadJson, e.raw)) throw SessionError(*problem);
+      Decision d;
+      const json p = json::parse(e.payloadJson);
+      if (e.kind == "corrected") {
+        // A curator's correction: the item is taken out and its corrected value put in.
+        Decision out;
+        out.kind = Decision::Kind::RetakeStarted;
+        out.item = itemFrom(p, e.raw);
+        const auto at = map.find(keyOf(out.item));
+        if (at == map.end() || at->second != p.at("seq").get<std::int64_t>())
+          throw SessionError("it corrects an item that is not there");
+        engine.apply(out);
+        map[keyOf(out.item)] = e.seq;
+        d.kind = Decision::Kind::Accepted;
+        d.item = itemFrom(p.at("corrected"), e.raw);
+        if (keyOf(d.item) != keyOf(out.item)) throw SessionError("the corrected item is not the one it names");
+        d.item.flag = "corrected: " + p.at("reason").get<std::string>();
+      } else if (e.kind == "relocation") {
+        const std::string step = p.at("step").get<std::string>();
+        const auto kind = valueIn(kRelocationSteps, step);
+        if (!kind) throw SessionError("its step is \"" + step + "\", not started, fitted, reopened or cancelled");
+        d.kind = *kind;
+        d.relocation = p.at("relocation").get<int>();
+        if (d.relocation < 1 || d.relocation > 999)
+          throw SessionError("it names relocation " + std::to_string(d.relocation));
+        if (d.kind == Decision::Kind::RelocationFitted && engine.relocating() == d.relocation) {
+          // Worked out again from the board points: one a capture takes, and the one shown.
+          const Decision fit = engine.fitOf(d.relocation);
+          if (fit.kind != Decision::Kind::RelocationFitted)
+            throw SessionError("the move's fit is not one a capture takes: " + fit.reason);
+          if (p.contains("rms_mm") && std::abs(p.at("rms_mm").get<double>() - fit.fitRmsMm) > 1e-6)
+            throw SessionError("it states a fit of " + std::to_string(p.at("rms_mm").get<double>()) +
+                               " mm RMS, but its board points give " + std::to_string(fit.fitRmsMm) + " mm");
+        }
+      } else {
+        const auto kind = valueIn(kDecisionEvents, e.kind);
+        // Rejections, pauses, device and status events change no item.
+        if (!kind || *kind == Decision::Kind::Rejected) continue;
+        d.kind = *kind;
+        switch (d.kind) {
+          case Decision::Kind::Accepted:
+          case Decision::Kind::RetakeCancelled:
+            d.item = itemFrom(p, e.raw);
+            // A frame names a move of the transmitter the session holds (under way or fitted).
+            if (d.item.frame > std::max(engine.relocating(), engine.transmitterPositions() - 1))
+              throw SessionError("its frame " + std::to_string(d.item.frame) +
+                                 " names a move of the transmitter the session does not hold");
+            // One item per place: a second one there is not a capture's (a retake takes the first out).
+            if (const auto held = map.find(keyOf(d.item)); held != map.end())
+              throw SessionError("it puts in an item where event " + std::to_string(held->second) +
+                                 " put one that is still there");
+            map[keyOf(d.item)] = e.seq;
+            break;
+          case Decision::Kind::Undone:
+          case Decision::Kind::RetakeStarted: {
+            d.item = itemFrom(p, e.raw);
+            const auto at = map.find(keyOf(d.item));
+            if (at == map.end() || at->second != p.at("seq").get<std::int64_t>())
+              throw SessionError("it takes out an item that is not there");
+            map.erase(at);
+            break;
+          }
+          default: break;  // rows ended or reopened
+        }
+      }
+      const std::size_t before = engine.items().size();
+      const int relocating = engine.relocating(), positions = engine.transmitterPositions();
+      engine.apply(d);
+      if (d.kind == Decision::Kind::Undone && engine.items().size() + 1 != before)
+        throw SessionError("nothing was undone");
+      if (isRelocation(d.kind) && relocating == engine.relocating() && positions == engine.transmitterPositions())
+        throw SessionError("the move of the transmitter does not follow from the events before it");
+    } catch (const SessionError& err) {
+      throw SessionError("event " + std::to_string(e.seq) + " (" + e.kind + ") does not replay: " + err.what());
+    } catch (const std::exception& err) {
+      throw SessionError("event " + std::to_string(e.seq) + " (" + e.kind + ") is malformed: " + err.what());
+    }
+  }
+  return engine;
+}
+
+CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store), id_(id) {
+  const auto info = store_.session(id);
+  if (!info)
+    throw SessionError("there is no session " + std::to_string(id) + " in " + store_.path() +
+                       ": 'leafdig sessions list' shows them");
+  if (info->kind != "leaf")
+    throw SessionError("session " + std::to_string(id) +
+                       " captures a whole plant, not one leaf: `leafdig plant capture --resume " + std::to_string(id) +
+                       "` goes on with it");
+  if (info->status != "open")
+    throw SessionError("session " + std::to_string(id) + " is " + info->status +
+                       ": only open sessions can be captured into (a curator reviews the others)");
+  setup_.project = info->project;
+  setup_.plant = info->plant;
+  setup_.leafPosition = info->leafPosition;
+  setup_.leafType = info->leafType;
+  setup_.measuredAreaMm2 = info->measuredAreaMm2;
+  setup_.operatorName = info->operatorName;
+  setup_.station = info->station;
+  try {
+    const json j = json::parse(info->settingsJson);
+    setup_.settings = settingsFromJson(info->settingsJson);
+    setup_.digitizer = j.value("digitizer", std::string());
+    setup_.caliper = j.value("caliper", std::string());
+    setup_.simulated = j.value("simulated", false);
+    setup_.timeScale = j.value("time_scale", 1.0);
+    if (j.contains("simulated_leaf"))
+      setup_.simulatedLeaf = model::parseMarkersJson(j.at("simulated_leaf").dump(), "session " + std::to_string(id));
+  } catch (const std::exception& e) {
+    throw SessionError("session " + std::to_string(id) + " has unreadable settings: " + e.what());
+  }
+  // The log captured into must be intact: its pages are read and its chain recomputed.
+  detail::requireChain(store_, id_, detail::kCapturedInto);
+  const std::vector<db::Event> events = store_.events(id_);
+  engine_ = replay(setup_.settings, events, &seqs_);
+  // An operator pause survives a restart: the session opens paused until resume().
+  for (const db::Event& e : events) {
+    if (e.kind == "paused") {
+      paused_ = true;
+      pauseReason_ = json::parse(e.payloadJson).value("reason", std::string());
+    }
+    if (e.kind == "resumed") paused_ = false;
+  }
+}
+
+void CaptureSession::rebuild() {
+  engine_ = replay(setup_.settings, store_.events(id_), &seqs_);
+  ++version_;
+}
+
+std::int64_t CaptureSession::seqOf(const Item& item) const {
+  const auto at = seqs_.find(keyOf(item));
+  return at == seqs_.end() ? 0 : at->second;
+}
+
+std::optional<std::int64_t> CaptureSession::append(const db::EventInput& ev, std::vector<Feedback>& out) {
+  try {
+    const std::int64_t seq = store_.append(id_, ev);
+    ++version_;
+    return seq;
+  } catch (const db::StoreError& e) {
+    // Not written, so not acknowledged: the engine goes back to what the store holds.
+    rebuild();
+    const bool again = storeBlocked_;
+    paused_ = true;
+    storeBlocked_ = true;
+    pauseReason_ = std::string(e.what()) + (e.remedy().empty() ? "" : ". " + e.remedy()) +
+                   ". The last input was not recorded; capture is paused and continues on resume";
+    if (again) return std::nullopt;  // already said
+    Feedback f;
+    f.kind = Feedback::Kind::Paused;
+    f.text = pauseReason_;
+    out.push_back(f);
+    return std::nullopt;
+  }
+}
+
+std::vector<Feedback> CaptureSession::commit(const Decision& d, std::int64_t monoNs, const std::string& raw) {
+  std::vector<Feedback> out;
+  if (d.kind == Decision::Kind::Ignored) return out;
+  db::EventInput ev;
+  ev.monoNs = monoNs;
+  const char* relocationStep = isRelocation(d.kind) ? nameIn(kRelocationSteps, d.kind) : nullptr;
+  ev.kind = relocationStep ? "relocation" : nameIn(kDecisionEvents, d.kind);
+  Feedback f;
+  f.kind = *valueIn(kFeedbackNames, ev.kind);
+  f.item = d.item;
+  switch (d.kind) {
+    case Decision::Kind::RelocationStarted:
+    case Decision::Kind::RelocationFitted:
+    case Decision::Kind::RelocationReopened:
+    case Decision::Kind::RelocationCancelled: {
+      json j{{"relocation", d.relocation}, {"step", std::string(relocationStep)}};
+      if (d.kind == Decision::Kind::RelocationFitted) {
+        j["rms_mm"] = d.fitRmsMm;  // what the technician was shown; replay fits again
+        j["worst_mm"] = d.fitWorstMm;
+      }
+      ev.payloadJson = j.dump();
+      f.text = relocationStep;
+      f.relocation = d.relocation;
+      f.fitRmsMm = d.fitRmsMm;
+      f.fitWorstMm = d.fitWorstMm;
+      f.fitWorstPoint = d.fitWorstPoint;
+      break;
+    }
+    case Decision::Kind::Rejected:
+      ev.payloadJson = json{{"reason", d.reason},
+                            {"step",
+                             {{"what", toString(engine_.step().what)},
+                              {"row", nullable(engine_.step().row)},
+                              {"col", nullable(engine_.step().col)}}}}
+                           .dump();
+      ev.raw = raw;
+      f.text = d.reason;
+      break;
+    case Decision::Kind::Accepted:
+    case Decision::Kind::RetakeCancelled:
+      ev.payloadJson = itemJson(d.item).dump();
+      ev.raw = d.item.raw;
+      ev.projection = projectionOf(d.item);
+      break;
+    case Decision::Kind::Undone:
+    case Decision::Kind::RetakeStarted: {
+      const std::int64_t old = seqOf(d.item);
+      json p = itemJson(d.item);
+      p["seq"] = old;
+      ev.payloadJson = p.dump();
+      ev.retracts = old;
+      f.undoneSeq = old;
+      break;
+    }
+    case Decision::Kind::RowsEnded:
+    case Decision::Kind::RowsReopened:
+    case Decision::Kind::Ignored: break;
+  }
+  const auto seq = append(ev, out);
+  if (!seq) return out;
+  f.seq = *seq;
+  if (f.kind == Feedback::Kind::Accepted || f.kind == Feedback::Kind::RetakeCancelled) seqs_[keyOf(d.item)] = *seq;
+  if (f.kind == Feedback::Kind::Undone || f.kind == Feedback::Kind::RetakeStarted) seqs_.erase(keyOf(d.item));
+  out.push_back(f);
+  closeIfComplete(monoNs, out);
+  return out;
+}
+
+std::optional<std::int64_t> CaptureSession::appendStatus(const std::string& status, const std::string& why,
+                                                         std::int64_t monoNs, std::vector<Feedback>& out) {
+  db::EventInput ev;
+  ev.kind = "status";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"status", status}, {"who", setup_.operatorName}, {"why", why}}.dump();
+  ev.setsStatus = status;  // the session row changes in the same transaction
+  const auto seq = append(ev, out);
+  if (seq) {
+    ended_ = true;
+    status_ = status;
+  }
+  return seq;
+}
+
+void CaptureSession::closeIfComplete(std::int64_t monoNs, std::vector<Feedback>& out) {
+  if (!engine_.complete() || ended_) return;
+  if (const auto seq = appendStatus("complete", "all steps captured", monoNs, out)) {
+    Feedback c;
+    c.kind = Feedback::Kind::Complete;
+    c.seq = *seq;
+    out.push_back(c);
+  }
+}
+
+std::vector<Feedback> CaptureSession::onStylus(const StylusInput& s) {
+  if (paused_ || ended_) return {};
+  const Decision d = engine_.onStylus(s);
+  return commit(d, s.tNs, s.raw);
+}
+
+std::vector<Feedback> CaptureSession::onCaliper(const CaliperInput& c) {
+  if (ended_) return {};
+  if (paused_) {
+    // The reading is kept in the log (raw device text), but changes nothing while paused.
+    std::vector<Feedback> out;
+    db::EventInput ev;
+    ev.kind = "ignored_reading";
+    ev.monoNs = c.tNs;
+    ev.raw = c.raw;
+    ev.payloadJson = json{{"value_mm", c.valueMm}, {"why", "capture paused"}}.dump();
+    (void)append(ev, out);
+    return out;
+  }
+  return commit(engine_.onCaliper(c), c.tNs, c.raw);
+}
+
+std::vector<Feedback> CaptureSession::undo(std::int64_t monoNs) {
+  if (paused_ || ended_) return {};
+  return commit(engine_.undo(), monoNs, {});
+}
+
+std::vector<Feedback> CaptureSession::endRows(std::int64_t monoNs) {
+  if (paused_ || ended_) return {};
+  return commit(engine_.endRows(), monoNs, {});
+}
+
+std::vector<Feedback> CaptureSession::moveTransmitter(std::int64_t monoNs) {
+  if (paused_ || ended_) return {};
+  return commit(engine_.moveTransmitter(), monoNs, {});
+}
+
+std::vector<Feedback> CaptureSession::retake(What what, int row, int col, std::int64_t monoNs) {
+  if (paused_ || ended_) return {};
+  return commit(engine_.retake(what, row, col), monoNs, {});
+}
+
+std::vector<Feedback> CaptureSession::pause(const std::string& reason, std::int64_t monoNs) {
+  std::vector<Feedback> out;
+  if (paused_ || ended_) return out;
+  db::EventInput ev;
+  ev.kind = "paused";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"reason", reason}}.dump();
+  if (const auto seq = append(ev, out)) {
+    paused_ = true;
+    pauseReason_ = reason;
+    Feedback f;
+    f.kind = Feedback::Kind::Paused;
+    f.seq = *seq;
+    f.text = reason;
+    out.push_back(f);
+  }
+  return out;
+}
+
+std::vector<Feedback> CaptureSession::resume(std::int64_t monoNs) {
+  std::vector<Feedback> out;
+  if (ended_) return out;
+  db::EventInput ev;
+  ev.kind = "resumed";
+  ev.monoNs = monoNs;
+  if (const auto seq = append(ev, out)) {
+    paused_ = false;
+    storeBlocked_ = false;
+    pauseReason_.clear();
+    Feedback f;
+    f.kind = Feedback::Kind::Resumed;
+    f.seq = *seq;
+    out.push_back(f);
+    // A leaf that was complete when its status could not be written is closed now.
+    closeIfComplete(monoNs, out);
+  }
+  return out;
+}
+
+std::vector<Feedback> CaptureSession::abandon(const std::string& why, std::int64_t monoNs) {
+  std::vector<Feedback> out;
+  if (ended_) return out;
+  if (const auto seq = appendStatus("abandoned", why, monoNs, out)) {
+    Feedback f;
+    f.kind = Feedback::Kind::Abandoned;
+    f.seq = *seq;
+    f.text = why;
+    out.push_back(f);
+  }
+  return out;
+}
+
+std::vector<Feedback> CaptureSession::deviceStatus(const std::string& device, const std::string& state,
+                                                   const std::string& message, std::int64_t monoNs) {
+  std::vector<Feedback> out;
+  db::EventInput ev;
+  ev.kind = "device";
+  ev.monoNs = monoNs;
+  ev.payloadJson = json{{"device", device}, {"state", state}, {"message", message}}.dump();
+  if (const auto seq = append(ev, out)) {
+    Feedback f;
+    f.kind = Feedback::Kind::Device;
+    f.seq = *seq;
+    f.text = device + ": " + message;
+    out.push_back(f);
+  }
+  return out;
+}
+
+Snapshot CaptureSession::snapshot(bool withPreview, bool withMeshes) const {
+  Snapshot s;
+  s.session = id_;
+  s.version = version_;
+  s.step = engine_.step();
+  s.prompt = paused_ ? "Paused: " + pauseReason_ : engine_.prompt();
+  s.plan = engine_.plan();
+  s.items = engine_.items();
+  s.completeRows = engine_.completeRows();
+  s.rowsEnded = engine_.rowsEnded();
+  s.complete = engine_.complete();
+  s.retaking = engine_.retaking();
+  s.paused = paused_;
+  s.pauseReason = pauseReason_;
+  s.status = status_;
+  if (withPreview) {
+    s.preview = std::make_shared<const Preview>(buildPreview(s.items, engine_.settings(), {}, withMeshes));
+    s.previewVersion = s.version;
+  }
+  return s;
+}
+
+namespace detail {
+
+void requireChain(const db::EventStore& store, std::int64_t id, const std::string& doing) {
+  const db::ChainReport chain = store.verify(id);
+  if (!chain.ok)
+    throw SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
+                       std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + "): it cannot be " +
+                       doing);
+}
+
+}  // namespace detail
+
+}  // namespace leafdig::acquisition
