@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "leafdig/acquisition/protocol/engine.hpp"
+#include "leafdig/acquisition/protocol/items.hpp"
 
 namespace leafdig::acquisition::rules {
 
