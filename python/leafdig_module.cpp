@@ -144,7 +144,7 @@ m::MeshOptions meshOptions(const std::string& resolution, const std::string& met
   return o;
 }
 
-// `model build`'s path (ui/cli/model_build.cpp), step for step: the same model, mesh and metrics.
+// `model build`'s path (ui/cli/model/model_build.cpp), step for step: the same model, mesh and metrics.
 Leaf buildLeaf(const m::MarkerSet& markers, const std::string& source, const std::string& blade,
                const std::string& resolution, const std::string& method, std::optional<double> maxError,
                const std::string& frame, const Eigen::Vector3d& light) {

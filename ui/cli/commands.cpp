@@ -3,15 +3,15 @@
 #include <exception>
 #include <ostream>
 
-#include "capture_cmd.hpp"
+#include "capture/capture_cmd.hpp"
 #include "devices_cmd.hpp"
 #include "failure.hpp"
 #include "lab_cmd.hpp"
-#include "leaf2d_cmd.hpp"
-#include "mesh_cmd.hpp"
-#include "model_build.hpp"
-#include "plant_cmd.hpp"
-#include "synth_cmd.hpp"
+#include "model/leaf2d_cmd.hpp"
+#include "model/mesh_cmd.hpp"
+#include "model/model_build.hpp"
+#include "model/synth_cmd.hpp"
+#include "plant/plant_cmd.hpp"
 
 namespace leafdig::cli {
 

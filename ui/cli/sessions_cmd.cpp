@@ -18,7 +18,7 @@
 #include <sstream>
 #include <thread>
 
-#include "capture_console.hpp"
+#include "capture/capture_console.hpp"
 #include "commands.hpp"
 #include "leafdig/acquisition/review/correction.hpp"
 #include "leafdig/acquisition/review/leaf_export.hpp"

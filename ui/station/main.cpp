@@ -9,7 +9,7 @@
 #include "leafdig/acquisition/run/capture_run.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/version.hpp"
-#include "plant_view.hpp"
+#include "plant/plant_view.hpp"
 #include "script_modes.hpp"
 #include "station_window.hpp"
 

@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <memory>
 
-#include "plant_capture_view.hpp"
-#include "plant_view.hpp"
-#include "review_view.hpp"
+#include "plant/plant_capture_view.hpp"
+#include "plant/plant_view.hpp"
+#include "review/review_view.hpp"
 
 namespace leafdig::station {
 

@@ -19,12 +19,12 @@
 #include <optional>
 #include <thread>
 
-#include "leaf_schematic.hpp"
+#include "capture/sounds.hpp"
 #include "leafdig/acquisition/run/capture_run.hpp"
 #include "leafdig/acquisition/session/plant_session.hpp"
-#include "preview_widget.hpp"
+#include "preview/leaf_schematic.hpp"
+#include "preview/preview_widget.hpp"
 #include "settings.hpp"
-#include "sounds.hpp"
 
 namespace leafdig::station {
 

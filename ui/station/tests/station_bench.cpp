@@ -34,7 +34,7 @@
 #include "latency_counters.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/mesh/mesh_method.hpp"
-#include "preview_widget.hpp"
+#include "preview/preview_widget.hpp"
 
 namespace {
 

@@ -44,8 +44,8 @@
 #include <thread>
 
 #include "../../../tests/support/pg_cluster.hpp"
-#include "correction_dialog.hpp"
-#include "export_dialog.hpp"
+#include "capture/setup_dialog.hpp"
+#include "dialogs/settings_dialog.hpp"
 #include "leafdig/acquisition/review/correction.hpp"
 #include "leafdig/acquisition/review/leaf_export.hpp"
 #include "leafdig/acquisition/review/plant_export.hpp"
@@ -60,13 +60,13 @@
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
-#include "mesh_choice.hpp"
-#include "plant_capture_view.hpp"
-#include "plant_setup_dialog.hpp"
-#include "plant_view.hpp"
-#include "review_view.hpp"
-#include "settings_dialog.hpp"
-#include "setup_dialog.hpp"
+#include "plant/plant_capture_view.hpp"
+#include "plant/plant_setup_dialog.hpp"
+#include "plant/plant_view.hpp"
+#include "preview/mesh_choice.hpp"
+#include "review/correction_dialog.hpp"
+#include "review/export_dialog.hpp"
+#include "review/review_view.hpp"
 #include "station_window.hpp"
 
 namespace acq = leafdig::acquisition;

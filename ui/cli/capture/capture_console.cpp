@@ -1,0 +1,95 @@
+#include "capture/capture_console.hpp"
+
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "leafdig/acquisition/protocol/point_rules.hpp"
+#include "leafdig/db/store.hpp"
+
+namespace leafdig::cli {
+
+namespace acq = leafdig::acquisition;
+using nlohmann::json;
+
+std::string stationDbPath(const std::string& db) {
+  return db.empty() ? db::Store::defaultPath() : db;
+}
+
+json nullable(int v) {
+  return v > 0 ? json(v) : json(nullptr);
+}
+
+json stepJson(const acq::Step& s, const std::string& prompt) {
+  return {{"what", acq::toString(s.what)}, {"row", nullable(s.row)}, {"col", nullable(s.col)}, {"prompt", prompt}};
+}
+
+std::string describe(const acq::Item& i) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1);
+  if (i.what == acq::What::Tip)
+    s << "tip";
+  else if (i.what == acq::What::Board)
+    s << "board point " << i.col;
+  else if (i.what == acq::What::BoardAgain)
+    s << "board point " << i.col << " again (transmitter position " << i.row + 1 << ")";
+  else if (i.what == acq::What::Marker)
+    s << "row " << i.row << " point " << i.col;
+  else if (i.what == acq::What::EdgeThickness)
+    s << "margin thickness";
+  else
+    s << "row " << i.row << " " << acq::toString(i.what)
+      << (i.what == acq::What::PointThickness ? " at point " + std::to_string(i.col) : "");
+  if (acq::isStylusItem(i.what))
+    s << " (" << i.positionMm[0] << ", " << i.positionMm[1] << ", " << i.positionMm[2] << ") mm";
+  else
+    s << std::setprecision(3) << " " << i.valueMm << " mm";
+  if (!i.flag.empty()) s << " [" << i.flag << "]";
+  return s.str();
+}
+
+GiveUpWatch::GiveUpWatch(double seconds) : seconds_(seconds), lastProgress_(std::chrono::steady_clock::now()) {}
+
+void GiveUpWatch::progressed() {
+  std::lock_guard lock(mutex_);
+  lastProgress_ = std::chrono::steady_clock::now();
+  refusedSince_ = 0;
+}
+
+void GiveUpWatch::refused(const std::string& reason) {
+  std::lock_guard lock(mutex_);
+  lastRefusal_ = reason;
+  ++refusedSince_;
+}
+
+void GiveUpWatch::at(const std::string& prompt, bool paused) {
+  std::lock_guard lock(mutex_);
+  if (paused != paused_) lastProgress_ = std::chrono::steady_clock::now();  // a pause is no lack of progress
+  paused_ = paused;
+  where_ = prompt;
+}
+
+std::string GiveUpWatch::overdue(const std::string& capture, std::int64_t id, const std::string& db) const {
+  std::lock_guard lock(mutex_);
+  if (paused_ || std::chrono::steady_clock::now() - lastProgress_ <= std::chrono::duration<double>(seconds_)) return {};
+  std::ostringstream why;
+  why << std::fixed << std::setprecision(0) << "leafdig: the simulated technician got nowhere for " << seconds_ << " s "
+      << (where_.empty() ? "before its first input was taken" : "at '" + where_ + "'") << " (" << refusedSince_
+      << " inputs refused since the last accepted one"
+      << (lastRefusal_.empty() ? "" : "; the last: '" + lastRefusal_ + "'") << "): the " << capture
+      << " was stopped and kept. This is a fault of the simulation or of the station: report it with 'leafdig "
+         "sessions show "
+      << id << " --db " << db << "'\n";
+  return why.str();
+}
+
+void checkRelocationTolerance(const std::optional<double>& mm, bool resuming) {
+  if (!mm) return;
+  if (!(*mm >= 0.1 && *mm <= 10.0))
+    throw std::invalid_argument("--relocation-tolerance must be a residual in mm, 0.1 to 10 (default 1.5)");
+  if (resuming)
+    throw std::invalid_argument(
+        "--relocation-tolerance is set when a capture begins: a resumed session keeps its own (leave it out)");
+}
+
+}  // namespace leafdig::cli
