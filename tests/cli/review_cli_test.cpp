@@ -4,10 +4,12 @@
 // `sessions list --json`; `sessions list`'s filters. On a copy of the leaf and the plant of
 // tests/data/legacy/ (complete captures).
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -180,6 +182,61 @@ TEST_F(ReviewCli, SessionsAreListedByStatusKindPlantStationAndDay) {
     EXPECT_EQ(r.exitCode, 2) << bad;
     EXPECT_FALSE(r.err.empty()) << bad;
   }
+}
+
+// A plant session's `sessions show` is the plant as surveyed (issue 49: it was three counting
+// lines): every node with its height, internode and stem diameter, every leaf with its kind,
+// angles, chord and area — the survey `plant measure` makes of the session's exported markers,
+// one definition.
+TEST_F(ReviewCli, APlantSessionIsShownAsItsSurvey) {
+  const json shown = showJson(2);
+  ASSERT_TRUE(shown.at("survey").is_object()) << shown.dump();
+  EXPECT_EQ(shown.at("survey_problem"), "");
+  const json& survey = shown.at("survey");
+  EXPECT_EQ(survey.at("nodes").size(), shown.at("nodes").get<std::size_t>());
+  ASSERT_EQ(leafdig("sessions export 2 --format markers --out " + quote(dir_ / "plant") + db()).exitCode, 0);
+  const Result measured = leafdig("plant measure --json " + quote(dir_ / "plant" / "session-2.plant-markers.json"));
+  ASSERT_EQ(measured.exitCode, 0) << measured.err;
+  EXPECT_EQ(survey, json::parse(measured.out));
+  int withArea = 0;
+  for (const json& leaf : survey.at("leaves"))
+    if (leaf.contains("area_mm2") && leaf.at("area_mm2").is_number()) ++withArea;
+  EXPECT_GT(withArea, 0) << survey.dump();
+
+  const Result text = leafdig("sessions show 2" + db());
+  ASSERT_EQ(text.exitCode, 0) << text.err;
+  EXPECT_NE(text.out.find("  survey: plant "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("  node 1: height "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(" mm^2"), std::string::npos) << text.out;
+}
+
+// A long project or plant name never runs into the next column (it used to: the leaf column was
+// 28 characters wide whatever it held, "plants/tobacco-p12-sucker/(plant)technician").
+TEST_F(ReviewCli, TheListsColumnsAreAsWideAsTheirLongestName) {
+  sqlite3* file = nullptr;
+  ASSERT_EQ(sqlite3_open(file_.c_str(), &file), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(file, "UPDATE projects SET name = 'tobacco-nitrogen-trial-2026-greenhouse-' || id", nullptr,
+                         nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(file);
+  const Result r = leafdig("sessions list" + db());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string header, line;
+  ASSERT_TRUE(std::getline(lines, header));
+  const std::size_t operatorAt = header.find("operator"), eventsAt = header.find("events");
+  ASSERT_NE(operatorAt, std::string::npos) << r.out;
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    ++rows;
+    ASSERT_GT(line.size(), eventsAt) << r.out;
+    EXPECT_NE(line.find("tobacco-nitrogen-trial-2026-greenhouse-"), std::string::npos) << line;
+    // The operator's name begins under its header, after at least two spaces.
+    EXPECT_EQ(line.substr(operatorAt - 2, 2), "  ") << r.out;
+    EXPECT_NE(line[operatorAt], ' ') << r.out;
+    EXPECT_NE(line[eventsAt], ' ') << r.out;
+  }
+  EXPECT_EQ(rows, 2) << r.out;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <exception>
@@ -37,8 +38,10 @@
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/limits.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/plant/plant_survey.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
+#include "plant/plant_cmd.hpp"
 #include "terminal_text.hpp"
 
 namespace leafdig::cli {
@@ -135,17 +138,31 @@ int runList(const db::EventStore& store, const SessionsOptions& o) {
   }
   // On the lab server each session also carries its station and the id it has there.
   const bool server = db::isServerUrl(o.db);
-  std::cout << std::left << std::setw(6) << "id" << (server ? "station:id            " : "") << std::setw(10)
-            << "status" << std::setw(28) << "leaf" << std::setw(14) << "operator" << std::setw(8) << "events"
-            << "created (UTC)\n";
-  for (const auto& s : sessions) {
-    std::cout << std::setw(6) << s.id;
-    if (server) std::cout << std::setw(22) << terminalText(s.station + ":" + std::to_string(s.stationSessionId));
-    std::cout << std::setw(10) << terminalText(s.status) << std::setw(28)
-              << terminalText(s.project + "/" + s.plant + "/" +
-                              (s.kind == "leaf" ? std::to_string(s.leafPosition) : std::string("(plant)")))
-              << std::setw(14) << terminalText(s.operatorName) << std::setw(8) << s.headSeq
-              << terminalText(s.createdUtc) << "\n";
+  // Columns as wide as their longest cell (a long project or plant name never runs into the
+  // operator's), counted in characters, not UTF-8 bytes.
+  std::vector<std::vector<std::string>> rows{
+      {"id", server ? "station:id" : "", "status", "leaf", "operator", "events", "created (UTC)"}};
+  for (const auto& s : sessions)
+    rows.push_back({std::to_string(s.id),
+                    server ? terminalText(s.station + ":" + std::to_string(s.stationSessionId)) : "",
+                    terminalText(s.status),
+                    terminalText(s.project + "/" + s.plant + "/" +
+                                 (s.kind == "leaf" ? std::to_string(s.leafPosition) : std::string("(plant)"))),
+                    terminalText(s.operatorName), std::to_string(s.headSeq), terminalText(s.createdUtc)});
+  const auto width = [](const std::string& t) {
+    return static_cast<std::size_t>(std::count_if(t.begin(), t.end(), [](char c) { return (c & 0xC0) != 0x80; }));
+  };
+  std::vector<std::size_t> widths(rows.front().size(), 0);
+  for (const auto& r : rows)
+    for (std::size_t c = 0; c < r.size(); ++c) widths[c] = std::max(widths[c], width(r[c]));
+  for (const auto& r : rows) {
+    std::string line;
+    for (std::size_t c = 0; c < r.size(); ++c) {
+      if (c == 1 && !server) continue;
+      line += r[c];
+      if (c + 1 < r.size()) line += std::string(widths[c] - width(r[c]) + 2, ' ');
+    }
+    std::cout << line << "\n";
   }
   if (sessions.empty())
     std::cout << "(no sessions"
@@ -216,6 +233,18 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
     }
   const std::vector<db::ReviewEntry> history = db::reviewHistory(events);
   const acq::PlantStep st = engine.step();
+  // The plant as surveyed (docs/plants.md, "The survey"): its nodes with heights, internodes and
+  // stem diameters, its leaves with angles, chords and areas — as soon as the landmarks and the
+  // collar give it a frame; until then, why not.
+  std::optional<model::PlantSurvey> survey;
+  std::string surveyProblem;
+  try {
+    survey = acq::capturedSurvey(store, o.id).survey;
+  } catch (const model::InputError& e) {
+    surveyProblem = e.what();
+  } catch (const acq::SessionError& e) {
+    surveyProblem = e.what();
+  }
   if (o.json) {
     std::cout << json{{"id", o.id},
                       {"kind", "plant"},
@@ -234,6 +263,8 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
                       {"corrections", corrections},
                       {"history", historyJson(history)},
                       {"transmitter_positions", transmitter},
+                      {"survey", survey ? json::parse(model::plantSurveyToJson(*survey)) : json(nullptr)},
+                      {"survey_problem", surveyProblem},
                       {"relocating", engine.relocating() > 0},
                       {"events", chain.events},
                       {"chain_ok", chain.ok},
@@ -252,6 +283,10 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
             << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
             << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
   printTransmitterPositions(transmitter, "landmark", "worst_landmark");
+  if (survey)
+    printSurvey(*survey, "  survey");
+  else
+    std::cout << "  survey: not yet (" << terminalText(surveyProblem) << ")\n";
   printHistory(history);
   return 0;
 }

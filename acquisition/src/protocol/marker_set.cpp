@@ -1,23 +1,16 @@
 #include "leafdig/acquisition/protocol/marker_set.hpp"
 
+#include "leafdig/acquisition/protocol/point_rules.hpp"
 #include "leafdig/model/errors.hpp"
 
 namespace leafdig::acquisition {
-namespace {
-
 namespace m = leafdig::model;
-
-Eigen::Vector3d vec(const Vec3& v) {
-  return {v[0], v[1], v[2]};
-}
-
-}  // namespace
 
 m::MarkerSet partialMarkerSet(const std::vector<Item>& items, const Settings& settings,
                               const ProvisionalThickness* provisional, bool& usedProvisional) {
   const Eigen::Isometry3d frame = boardFrame(items);
   m::MarkerSet set;
-  if (const Item* tip = findItem(items, What::Tip, 0, 0)) set.tipMm = frame * vec(tip->positionMm);
+  if (const Item* tip = findItem(items, What::Tip, 0, 0)) set.tipMm = frame * rules::toPoint(tip->positionMm);
   const int rows = completeRows(items);
   const auto value = [&](What w, int row, int col) -> std::optional<double> {
     if (const Item* i = findItem(items, w, row, col)) return i->valueMm;
@@ -26,7 +19,8 @@ m::MarkerSet partialMarkerSet(const std::vector<Item>& items, const Settings& se
   for (int r = 1; r <= rows; ++r) {
     m::MarkerRow row;
     for (int c = 1; c <= 7; ++c)
-      row.pointsMm[static_cast<std::size_t>(c - 1)] = frame * vec(findItem(items, What::Marker, r, c)->positionMm);
+      row.pointsMm[static_cast<std::size_t>(c - 1)] =
+          frame * rules::toPoint(findItem(items, What::Marker, r, c)->positionMm);
     row.midribThicknessMm = value(What::MidribThickness, r, 4);
     if (settings.mode == Mode::Standard) row.veinOriginThicknessMm = value(What::VeinOriginThickness, r, 4);
     if (settings.mode == Mode::Full)
@@ -69,9 +63,9 @@ Eigen::Isometry3d boardFrame(const std::vector<Item>& items) {
   const Item* y = findItem(items, What::Board, 0, 3);
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   if (!o || !x || !y) return t;
-  const Eigen::Vector3d origin = vec(o->positionMm);
-  const Eigen::Vector3d ex = (vec(x->positionMm) - origin).normalized();
-  Eigen::Vector3d ey = vec(y->positionMm) - origin;
+  const Eigen::Vector3d origin = rules::toPoint(o->positionMm);
+  const Eigen::Vector3d ex = (rules::toPoint(x->positionMm) - origin).normalized();
+  Eigen::Vector3d ey = rules::toPoint(y->positionMm) - origin;
   ey = (ey - ey.dot(ex) * ex).normalized();
   Eigen::Matrix3d r;
   r.row(0) = ex;

@@ -2,19 +2,12 @@
 
 #include <Eigen/Geometry>
 
+#include "leafdig/acquisition/protocol/point_rules.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/mesh/mesh_method.hpp"
 
 namespace leafdig::acquisition {
-namespace {
-
 namespace m = leafdig::model;
-
-Eigen::Vector3d vec(const Vec3& v) {
-  return {v[0], v[1], v[2]};
-}
-
-}  // namespace
 
 Preview buildPreview(const std::vector<Item>& items, const Settings& settings, const ProvisionalThickness& provisional,
                      bool meshes) {
@@ -39,7 +32,8 @@ Preview buildPreview(const std::vector<Item>& items, const Settings& settings, c
       for (std::size_t i = 0; i < set.rows.size(); ++i)
         balls.push_back({set.rows[i].pointsMm[m::kMidribColumn], t.rows[i].midribMm / 2});
       const auto measured = findItem(items, What::MidribThickness, next, 4);
-      balls.push_back({frame * vec(mid->positionMm), (measured ? measured->valueMm : provisional.midribMm) / 2});
+      balls.push_back(
+          {frame * rules::toPoint(mid->positionMm), (measured ? measured->valueMm : provisional.midribMm) / 2});
       usedProvisional = usedProvisional || !measured;
       m::Vein midrib{"midrib", m::BallBSplineCurve::interpolate(balls)};
       if (!p.model.veins.empty() && p.model.veins.front().name == "midrib")

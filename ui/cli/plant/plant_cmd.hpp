@@ -8,6 +8,10 @@
 
 #include "model/mesh_cmd.hpp"
 
+namespace leafdig::model {
+struct PlantSurvey;
+}
+
 namespace leafdig::cli {
 
 struct PlantOptions {
@@ -28,6 +32,10 @@ class CommandTable;
 void addPlantCommands(CLI::App& app, CommandTable& table);
 // `plant measure` under the `plant` command (plant_measure_cmd.cpp).
 void addPlantMeasureCommand(CLI::App& plant, CommandTable& table);
+// A plant's survey as `plant measure` prints it: "LABEL: plant …", the collar, each node (height,
+// internode, stem diameter, where a branch hangs), each leaf (kind, angles, chord, area with its
+// 95 % interval). `sessions show` of a plant session prints the same (plant_measure_cmd.cpp).
+void printSurvey(const model::PlantSurvey& survey, const std::string& label);
 // `plant capture` (plant_capture_cmd.cpp).
 void addPlantCaptureCommand(CLI::App& plant, CommandTable& table);
 // `leafdig plant surveys ID --db DB`: every dated survey of one plant (plant_capture_cmd.cpp).

@@ -52,8 +52,26 @@ std::string fixed(double v, int digits) {
   return out.str();
 }
 
-void printSurvey(const m::PlantSurvey& s, const std::string& input) {
-  std::cout << terminalText(input) << ": plant " << (s.plant.empty() ? "(no id)" : terminalText(s.plant)) << ", "
+int runMeasure(const MeasureOptions& o) {
+  const m::PlantMarkers markers = m::readPlantMarkersFile(o.input);
+  m::PlantSurvey survey = m::surveyPlant(markers);
+  if (!o.mtg.empty() || !o.csv.empty() || !o.date.empty()) survey.date = surveyDay(o, survey);
+  if (!o.mtg.empty()) m::writeFileAtomically(o.mtg, m::encodeSurveyMtg(survey, *survey.date));
+  if (!o.csv.empty()) m::writeFileAtomically(o.csv, m::encodeSurveyCsv(survey, *survey.date));
+  if (o.json) {
+    std::cout << m::plantSurveyToJson(survey) << "\n";
+  } else {
+    printSurvey(survey, o.input);
+    if (!o.mtg.empty()) std::cout << "wrote " << o.mtg << " (MTG, survey of " << m::toIso(*survey.date) << ")\n";
+    if (!o.csv.empty()) std::cout << "wrote " << o.csv << " (CSV, one row per entity)\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+void printSurvey(const m::PlantSurvey& s, const std::string& label) {
+  std::cout << terminalText(label) << ": plant " << (s.plant.empty() ? "(no id)" : terminalText(s.plant)) << ", "
             << s.nodes.size() << " node(s), " << s.leaves.size() << " leaf record(s); landmarks flat within "
             << fixed(s.frame.flatnessMm, 2) << " mm RMS\n";
   std::cout << "  collar: stem " << fixed(s.collarDiameterMm, 1) << " mm\n";
@@ -87,24 +105,6 @@ void printSurvey(const m::PlantSurvey& s, const std::string& input) {
     std::cout << "\n";
   }
 }
-
-int runMeasure(const MeasureOptions& o) {
-  const m::PlantMarkers markers = m::readPlantMarkersFile(o.input);
-  m::PlantSurvey survey = m::surveyPlant(markers);
-  if (!o.mtg.empty() || !o.csv.empty() || !o.date.empty()) survey.date = surveyDay(o, survey);
-  if (!o.mtg.empty()) m::writeFileAtomically(o.mtg, m::encodeSurveyMtg(survey, *survey.date));
-  if (!o.csv.empty()) m::writeFileAtomically(o.csv, m::encodeSurveyCsv(survey, *survey.date));
-  if (o.json) {
-    std::cout << m::plantSurveyToJson(survey) << "\n";
-  } else {
-    printSurvey(survey, o.input);
-    if (!o.mtg.empty()) std::cout << "wrote " << o.mtg << " (MTG, survey of " << m::toIso(*survey.date) << ")\n";
-    if (!o.csv.empty()) std::cout << "wrote " << o.csv << " (CSV, one row per entity)\n";
-  }
-  return 0;
-}
-
-}  // namespace
 
 void addPlantMeasureCommand(CLI::App& plant, CommandTable& table) {
   auto o = std::make_shared<MeasureOptions>();
