@@ -32,12 +32,23 @@ BatchResult exportBatch(const std::string& dbPath, const std::vector<std::int64_
     try {
       const auto r = acq::exportSession(store, id, request);
       out.written.insert(out.written.end(), r.written.begin(), r.written.end());
+      if (const auto info = store.session(id); info && info->status != "approved")
+        out.unapproved.emplace_back(id, info->status);
     } catch (const std::exception& e) {
       out.failed.emplace_back(id, e.what());  // the next session is still exported
     }
   }
   (void)progress(total, total, QObject::tr("done"));
   return out;
+}
+
+QString unapprovedWarning(const BatchResult& result) {
+  if (result.unapproved.empty()) return {};
+  QStringList sessions;
+  for (const auto& [id, status] : result.unapproved)
+    sessions << QObject::tr("session %1 (%2)").arg(id).arg(QString::fromStdString(status));
+  return QObject::tr("Not approved by a curator: %1 — their numbers are as captured, unchecked.")
+      .arg(sessions.join(", "));
 }
 
 ExportDialog::ExportDialog(StationSettings& settings, QWidget* parent) : QDialog(parent), settings_(settings) {
@@ -141,6 +152,12 @@ BatchResult ExportDialog::run(const std::string& dbPath) {
   if (result.cancelled) text += "\n" + tr("Cancelled: the remaining sessions were not exported.");
   for (const auto& [id, why] : result.failed)
     text += "\n" + tr("Session %1 not exported: %2").arg(id).arg(QString::fromStdString(why));
+  // Files of sessions no curator approved say so where the person exporting sees it, as the CLI
+  // does on stderr: a warning, not the information box.
+  if (const QString unchecked = unapprovedWarning(result); !unchecked.isEmpty()) {
+    QMessageBox::warning(parentWidget(), tr("Export"), text + "\n" + unchecked);
+    return result;
+  }
   QMessageBox::information(parentWidget(), tr("Export"), text);
   return result;
 }

@@ -20,8 +20,13 @@ namespace leafdig::station {
 struct BatchResult {
   std::vector<std::string> written;
   std::vector<std::pair<std::int64_t, std::string>> failed;  // session, why
+  // Exported, but no curator approved them (issue 49): session, its status.
+  std::vector<std::pair<std::int64_t, std::string>> unapproved;
   bool cancelled = false;
 };
+// The words the dialog adds for files of sessions no curator approved (empty when all were):
+// "Not approved by a curator: session 3 (complete), … — their numbers are as captured, unchecked."
+[[nodiscard]] QString unapprovedWarning(const BatchResult& result);
 // progress(done, total, what) returns false to cancel; the session being written finishes.
 BatchResult exportBatch(const std::string& dbPath, const std::vector<std::int64_t>& sessions,
                         const acquisition::ExportRequest& request,

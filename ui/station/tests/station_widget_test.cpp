@@ -713,6 +713,21 @@ TEST(ExportBatch, ExportsEachSessionReportsTheOnesThatCannotAndCancels) {
   EXPECT_EQ(result.failed[0].first, unfinished);
   EXPECT_EQ(calls, 3);
   for (const auto& p : result.written) EXPECT_TRUE(fs::exists(p)) << p;
+  // The complete session nobody approved is named (issue 49); once approved, it is not.
+  ASSERT_EQ(result.unapproved.size(), 1u);
+  EXPECT_EQ(result.unapproved[0], (std::pair<std::int64_t, std::string>{done, "complete"}));
+  EXPECT_EQ(leafdig::station::unapprovedWarning(result).toStdString(),
+            "Not approved by a curator: session " + std::to_string(done) +
+                " (complete) — their numbers are as captured, unchecked.");
+  {
+    leafdig::db::Store store(db);
+    (void)acq::review(store, done, "approved", "carla", "checked");
+  }
+  fs::remove_all(dir / "out");
+  const auto approved = leafdig::station::exportBatch(db, {done}, r, [](int, int, const QString&) { return true; });
+  EXPECT_EQ(approved.written.size(), 4u);
+  EXPECT_TRUE(approved.unapproved.empty());
+  EXPECT_TRUE(leafdig::station::unapprovedWarning(approved).isEmpty());
   fs::remove_all(dir / "out");
   const auto cancelled =
       leafdig::station::exportBatch(db, {done, unfinished}, r, [](int, int, const QString&) { return false; });
