@@ -173,6 +173,11 @@ class Store:
         unknown = [k for k in filters if k not in _SESSION_KEYS]
         if unknown:
             raise InputError("sessions() has no filter %r: filter by %s" % (unknown[0], ", ".join(sorted(_SESSION_KEYS))))
+        # A word a session never holds would silently match nothing (kind="leaves" gave []).
+        for key, words in _SESSION_WORDS.items():
+            if key in filters and filters[key] not in words:
+                raise InputError("sessions(%s=%r) matches no session: a session's %s is one of %s"
+                                 % (key, filters[key], key, ", ".join(words)))
         return [s for s in self._core.sessions() if all(s.get(k) == v for k, v in filters.items())]
 
     def markers(self, id):
@@ -236,6 +241,8 @@ class Store:
         return "<leafdig.Store %s>" % self._core.where
 
 
+_SESSION_WORDS = {"kind": ("leaf", "plant"),
+                  "status": ("open", "complete", "approved", "rejected", "abandoned")}
 _SESSION_KEYS = {"id", "kind", "project", "plant", "leaf", "type", "status", "operator", "station",
                  "station_session_id", "created", "events", "measured_area_mm2"}
 

@@ -162,6 +162,12 @@ def test_a_station_files_sessions_are_listed_and_built_as_the_station_does(stati
     assert len(survey["nodes"]) == 5
     with pytest.raises(leafdig.InputError, match="filter"):
         store.sessions(colour="green")
+    # A word no session holds is refused with the words there are, not an empty list.
+    with pytest.raises(leafdig.InputError, match="kind is one of leaf, plant"):
+        store.sessions(kind="leaves")
+    with pytest.raises(leafdig.InputError, match="status is one of open, complete"):
+        store.sessions(status="done")
+    assert store.sessions(kind="plant")[0]["id"] == 2
 
 
 def test_a_captured_plant_is_the_model_its_session_export_writes(station, tmp_path):
