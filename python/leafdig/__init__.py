@@ -115,7 +115,7 @@ class Plant:
     """A plant built from a leafdig.plant/1 plan (``build_plant``): ``metrics`` (``area_mm2``,
     ``silhouette_mm2``, ``star``, as ``leafdig plant build --json``), ``leaves`` (one dict per
     leaf, as that JSON's), ``mesh()``, ``mtg()`` (the MTG text), ``caribu_scene()``
-    (CARIBU's ``{label: [((x,y,z),(x,y,z),(x,y,z)), …]}`` in metres, labels as in our .can
+    (CARIBU's ``{label: [[(x,y,z),(x,y,z),(x,y,z)], …]}`` in metres, labels as in our .can
     file: optical species, plant, leaf rank, organ), ``export(path)``."""
 
     def __init__(self, core):
@@ -150,7 +150,11 @@ class Plant:
         return self._core.encode(".csv")
 
     def caribu_scene(self):
-        return self._core.caribu_scene()
+        """CARIBU's scene, ready for ``caribu.CaribuScene(scene=...)``: ``{label: [[(x, y, z),
+        (x, y, z), (x, y, z)], …]}`` in metres — each triangle a list of three point tuples, as
+        CARIBU's scene check requires (it refuses tuples of tuples: "Unrecognised scene
+        format")."""
+        return {label: [list(t) for t in triangles] for label, triangles in self._core.caribu_scene().items()}
 
     def export(self, path):
         return self._core.export(_os.fspath(path))

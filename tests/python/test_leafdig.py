@@ -233,7 +233,15 @@ def test_a_plant_is_the_one_plant_build_makes(tmp_path, monkeypatch):
     assert sum(len(t) for t in scene.values()) == len(lines)
     assert set(scene) == {int(l[2]) for l in lines}
     first = lines[0]
-    assert scene[int(first[2])][0] == tuple(tuple(float(x) for x in first[4 + 3 * k:7 + 3 * k]) for k in range(3))
+    assert scene[int(first[2])][0] == [tuple(float(x) for x in first[4 + 3 * k:7 + 3 * k]) for k in range(3)]
+    # As CARIBU's CaribuScene checks a dict scene (issue 51: tuples of tuples were refused with
+    # "Unrecognised scene format"): every value a list of triangles, each triangle a list of
+    # three 3-tuples of numbers.
+    for label, triangles in scene.items():
+        assert isinstance(label, int) and isinstance(triangles, list)
+        for t in triangles:
+            assert isinstance(t, list) and len(t) == 3
+            assert all(isinstance(p, tuple) and len(p) == 3 and all(isinstance(c, float) for c in p) for p in t)
     written = plant.export(tmp_path / "q.glb")
     assert Path(written[0]).stat().st_size > 1000
     with open(PLAN) as f:
