@@ -69,24 +69,34 @@ class Leaf:
 
     @property
     def metrics(self):
+        """The leaf's metrics: ``leafdig model build --json``'s ``metrics`` for the same markers
+        and options (blade and vein areas, the area's 95 % interval, projected and silhouette
+        areas, STAR, lengths; mm, mm²)."""
         if self._metrics is None:
             self._metrics = _json.loads(self._core.metrics_json())
         return self._metrics
 
     @property
     def model(self):
+        """The leafdig.model/1 document as a dict: veins as 4-D ball B-splines (x, y, z, radius),
+        the blade surface, the thickness rule's values (mm)."""
         return _json.loads(self._core.model_json())
 
     @property
     def markers(self):
+        """The ``Markers`` the leaf was built from, in the model's frame (mm)."""
         return self._core.markers
 
     @property
     def frame(self):
+        """The frame the leaf is given in: ``"leaf"`` (base at the origin, midrib on +Y) or
+        ``"digitizer"`` (as captured)."""
         return self._core.frame
 
     @property
     def vein_names(self):
+        """The veins' names, in the order ``vein(i, t)`` numbers them ("midrib", then the
+        laterals)."""
         return self._core.vein_names()
 
     def vein(self, index, t):
@@ -100,11 +110,16 @@ class Leaf:
         return self._core.blade([float(x) for x in _iter(u)], [float(x) for x in _iter(v)])
 
     def mesh(self):
+        """The leaf's triangle mesh (a ``Mesh``: vertices in mm, faces, organ labels), built once
+        and kept."""
         if self._mesh is None:
             self._mesh = Mesh(self._core.mesh())
         return self._mesh
 
     def export(self, path, light=(0.0, 0.0, 1.0)):
+        """Writes the file ``path``'s extension names (.glb .obj .ply .stl, .can .mtg .csv, .json
+        the model document; ``light`` is the direction the silhouette is taken along) and returns
+        the paths written."""
         return self._core.export(_os.fspath(path), tuple(float(x) for x in light))
 
     def __repr__(self):
@@ -124,29 +139,41 @@ class Plant:
 
     @property
     def metrics(self):
+        """The plant's metrics: ``area_mm2``, ``silhouette_mm2`` and ``star``, as ``leafdig plant
+        build --json``."""
         return self._core.metrics()
 
     @property
     def leaves(self):
+        """One dict per leaf (rank, insertion height, angles, area, …), as ``leafdig plant build
+        --json``'s ``leaves``."""
         return self._core.leaves()
 
     @property
     def id(self):
+        """The plant's id, from its plan."""
         return self._core.id
 
     @property
     def time(self):
+        """The growth time the plant was built at (``build_plant(plan, time=...)``, days), or None
+        when it was built without one."""
         return self._core.time
 
     def mesh(self):
+        """The plant's triangle mesh (a ``Mesh``: stem and leaves, mm), built once and kept."""
         if self._mesh is None:
             self._mesh = Mesh(self._core.mesh())
         return self._mesh
 
     def mtg(self):
+        """The plant as MTG text, as ``leafdig plant build -o p.mtg`` writes it (OpenAlea's reader
+        takes it)."""
         return self._core.encode(".mtg")
 
     def csv(self):
+        """The plant as CSV text, one row per MTG entity, as ``leafdig plant build -o p.csv``
+        writes it."""
         return self._core.encode(".csv")
 
     def caribu_scene(self):
@@ -157,6 +184,8 @@ class Plant:
         return {label: [list(t) for t in triangles] for label, triangles in self._core.caribu_scene().items()}
 
     def export(self, path):
+        """Writes the file ``path``'s extension names (.glb .obj .ply .stl .can .mtg .csv .json)
+        and returns the paths written."""
         return self._core.export(_os.fspath(path))
 
     def __repr__(self):
@@ -222,6 +251,7 @@ class Store:
         return self._core.review(int(id), "approved", who, why)
 
     def reject(self, id, who, why):
+        """Rejects a complete session, saying why (a curator's decision; a reason is required)."""
         return self._core.review(int(id), "rejected", who, why)
 
     def correct(self, id, what, *, who, why, row=0, col=0, node=0, position=None, value=None, confirm=False):

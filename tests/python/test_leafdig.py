@@ -487,3 +487,14 @@ def test_a_plant_stopped_before_its_first_node_is_named_not_a_crash(tmp_path):
     store = leafdig.open(str(db))
     with pytest.raises(Exception, match="holds no whole plant yet"):
         store.plant(1)
+
+
+def test_every_public_method_of_the_python_classes_says_what_it_does():
+    # Issue 51: most of Store, Leaf and Plant had no docstring; help() is a modeller's first stop.
+    for cls in (leafdig.Store, leafdig.Leaf, leafdig.Plant, leafdig.Mesh):
+        for name, member in vars(cls).items():
+            if name.startswith("_"):
+                continue
+            target = member.fget if isinstance(member, property) else member
+            if callable(target):
+                assert (target.__doc__ or "").strip(), "%s.%s has no docstring" % (cls.__name__, name)
