@@ -449,6 +449,33 @@ TEST_F(PlantSession, ACorrectedLandmarkTakenAgainPlacesEveryPointOfItsMoveAgain)
     EXPECT_NE(std::string(e.what()).find("move 1 no longer fits"), std::string::npos) << e.what();
   }
   EXPECT_EQ(store.events(id).size(), held);
+
+  // The 20 mm guard (issue 49) measures a point taken after the move where it is held — in the
+  // first position's frame, as sessions show gives it — not mapped through the move again: a
+  // 1 mm nudge is 1 mm and taken; 40 mm is refused with the distance, nothing written.
+  const acq::PlantItem* late = nullptr;
+  const acq::PlantEngine now = replayed();
+  for (const acq::PlantItem& i : now.items())
+    if (i.what == PlantWhat::Point && i.frame == 1) late = &i;
+  ASSERT_NE(late, nullptr) << "a node point pressed after the move";
+  acq::Correction nudge;
+  nudge.who = "curator-kim";
+  nudge.reason = "the stylus slid on the stem";
+  nudge.plantWhat = PlantWhat::Point;
+  nudge.row = late->index;
+  nudge.col = late->part;
+  nudge.confirmAboveMm = acq::kConfirmMoveAboveMm;
+  nudge.positionMm = acq::Vec3{late->positionMm[0], late->positionMm[1], late->positionMm[2] + 1.0};
+  (void)acq::correct(store, id, nudge);
+  EXPECT_EQ(store.events(id).size(), held + 1);
+  nudge.positionMm = acq::Vec3{late->positionMm[0] + 40.0, late->positionMm[1], late->positionMm[2]};
+  try {
+    (void)acq::correct(store, id, nudge);
+    FAIL() << "a 40 mm move of a point was taken unconfirmed";
+  } catch (const acq::UnconfirmedMove& e) {
+    EXPECT_NEAR(e.moveMm(), std::hypot(40.0, 1.0), 1e-6) << e.what();
+  }
+  EXPECT_EQ(store.events(id).size(), held + 1);
 }
 
 TEST_F(PlantSession, AReopenedSessionAsksForWhatTheClosedOneAskedFor) {
