@@ -166,6 +166,8 @@ void StationWindow::connectPreviewAndTimers() {
   });
   connect(&deviceTimer_, &QTimer::timeout, this, &StationWindow::refreshDevices);
   connect(&cursorTimer_, &QTimer::timeout, this, &StationWindow::refreshCursor);
+  connect(&mailboxTimer_, &QTimer::timeout, this, &StationWindow::takeSnapshot);
+  mailboxTimer_.start(5);
   deviceTimer_.start(100);
   cursorTimer_.start(33);  // the cursor follows the latest sample at ~30 Hz, never each one
 }

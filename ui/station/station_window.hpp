@@ -113,10 +113,13 @@ class StationWindow : public QMainWindow {
   void applySnapshot(const acquisition::Snapshot& s);
   void applyFeedback(const acquisition::Feedback& f);
   // Hands a snapshot to the window from any thread (the capture run's loop or its preview
-  // worker). It waits in one slot under a std::mutex; the GUI thread takes the newest and
-  // applies it, so a burst of snapshots is applied once and the hand-over is a lock both
-  // threads take, not Qt's event queue alone (whose lock ThreadSanitizer cannot see).
+  // worker). It waits in one slot under a std::mutex; the GUI thread takes the newest every
+  // 5 ms (takeSnapshot, the mailbox timer) and applies it, so a burst of snapshots is applied
+  // once and the hand-over is a lock both threads take, with no Qt call across threads (Qt's
+  // queue lock is one ThreadSanitizer cannot see: the functor the capture thread allocated for
+  // a queued call was reported when the GUI thread ran it).
   void postSnapshot(const acquisition::Snapshot& s);
+  void takeSnapshot();
   // Polls device status and the stylus position (10 Hz / 30 Hz timers call these).
   void refreshDevices();
   void refreshCursor();
@@ -159,6 +162,9 @@ class StationWindow : public QMainWindow {
   PlantCaptureView* plantCapture_ = nullptr;
   Sounds* sounds_ = nullptr;
   QTimer deviceTimer_, cursorTimer_, syncTimer_;
+  // Takes the newest snapshot from the mailbox every 5 ms on the GUI thread: no call crosses
+  // threads through Qt (ThreadSanitizer cannot see Qt's own queue lock; tests/tsan.supp).
+  QTimer mailboxTimer_;
   QAction* syncAction_ = nullptr;
   std::thread syncThread_;  // the last sync with the lab server (joined before the next)
   std::atomic<bool> syncing_{false};

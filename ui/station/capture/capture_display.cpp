@@ -241,24 +241,19 @@ void StationWindow::fillSteps(const acq::Snapshot& s) {
 }
 
 void StationWindow::postSnapshot(const acq::Snapshot& s) {
-  bool wake = false;
+  // The newest wins; the GUI thread's mailbox timer takes it (takeSnapshot), so nothing the
+  // capture thread allocates is read by the GUI thread without this lock between them.
+  const std::lock_guard lock(mailboxMutex_);
+  mailbox_ = s;
+}
+
+void StationWindow::takeSnapshot() {
+  std::optional<acq::Snapshot> s;
   {
     const std::lock_guard lock(mailboxMutex_);
-    wake = !mailbox_.has_value();  // a call is already queued when the slot is full
-    mailbox_ = s;
+    s.swap(mailbox_);
   }
-  if (!wake) return;
-  QMetaObject::invokeMethod(
-      this,
-      [this] {
-        std::optional<acq::Snapshot> s;
-        {
-          const std::lock_guard lock(mailboxMutex_);
-          s.swap(mailbox_);
-        }
-        if (s) applySnapshot(*s);
-      },
-      Qt::QueuedConnection);
+  if (s) applySnapshot(*s);
 }
 
 void StationWindow::applySnapshot(const acq::Snapshot& s) {
