@@ -2,8 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -46,11 +49,8 @@ void requireCorrectable(const db::EventStore& store, std::int64_t id, const std:
 
 // A corrected point that would move further than `limitMm` from where it was (both in the frame
 // `sessions show` gives) is refused until the curator confirms the move (issue 49).
-void requireConfirmedMove(const std::array<double, 3>& from, const std::array<double, 3>& to, double limitMm,
-                          const std::string& item) {
-  double s = 0;
-  for (std::size_t i = 0; i < 3; ++i) s += (to[i] - from[i]) * (to[i] - from[i]);
-  const double d = std::sqrt(s);
+void requireConfirmedMove(const Vec3& from, const Vec3& to, double limitMm, const std::string& item) {
+  const double d = distanceMm(from, to);
   if (d <= limitMm) return;
   std::ostringstream t;
   t << std::fixed << std::setprecision(1) << "the " << item << " would move " << d << " mm, more than the " << limitMm

@@ -2,12 +2,7 @@
 // leaf_export.cpp and plant_export.cpp share them, so the words are the same everywhere).
 #pragma once
 
-#include <array>
-#include <cmath>
 #include <cstdint>
-#include <iomanip>
-#include <sstream>
-#include <stdexcept>
 #include <string>
 
 #include "leafdig/acquisition/session/session.hpp"
