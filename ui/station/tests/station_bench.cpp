@@ -3,9 +3,10 @@
 //
 //  - PreviewFrame: one frame of the live 3D preview on screen (update → paintGL → swap) with
 //    a whole sample leaf meshed at the `export` resolution. Budget 16 ms.
-//  - SnapshotToScreen: a snapshot posted to the UI thread the way the capture loop posts it
-//    (a queued call) until the frame showing it has been swapped: upload + paint + swap.
-//    Budget: one frame (16.7 ms at 60 Hz).
+//  - SnapshotToScreen: a snapshot handed to the preview on the UI thread (a queued call) until
+//    the frame showing it has been swapped: upload + paint + swap. Budget: one frame (16.7 ms
+//    at 60 Hz). The station window itself now takes snapshots from its locked slot every 5 ms
+//    (StationWindow::takeSnapshot), which this does not include: up to 5 ms more.
 //  - StartUp: `leafdig-station --simulate --quit-after-first-frame` from spawn to its first
 //    preview frame on screen (the station prints the steady clock then). Budget 1 s.
 //
