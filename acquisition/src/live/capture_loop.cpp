@@ -73,66 +73,15 @@ CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double 
                          PreviewBuilder builder)
     : session_(session),
       listener_(std::move(listener)),
-      timeScale_(timeScale > 0 ? timeScale : 1.0),
       preview_(preview),
       builder_(builder ? std::move(builder)
                        : PreviewBuilder([](const std::vector<Item>& items, const Settings& settings) {
                            return buildPreview(items, settings, {}, true);
                          })),
-      t0_(Clock::now()) {}
+      inputs_(timeScale) {}
 
 CaptureLoop::~CaptureLoop() {
   stopWorker();
-}
-
-std::int64_t CaptureLoop::monoNs(Clock::time_point t) const {
-  return static_cast<std::int64_t>(
-      static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t - t0_).count()) * timeScale_);
-}
-
-void CaptureLoop::post(const devices::DeviceEvent& e) {
-  {
-    std::lock_guard lock(mutex_);
-    if (const auto* s = std::get_if<devices::StylusSample>(&e)) {
-      latestStylus_ = *s;
-      if (pedal_ && !s->button) {
-        devices::StylusSample pressed = *s;
-        pressed.button = true;
-        queue_.emplace_back(pressed);
-      } else {
-        queue_.emplace_back(e);
-      }
-    } else {
-      queue_.emplace_back(e);
-    }
-  }
-  cv_.notify_one();
-}
-
-std::optional<devices::StylusSample> CaptureLoop::latestStylus() const {
-  std::lock_guard lock(mutex_);
-  return latestStylus_;
-}
-
-void CaptureLoop::postStatus(const devices::DeviceStatus& s) {
-  {
-    std::lock_guard lock(mutex_);
-    queue_.emplace_back(s);
-  }
-  cv_.notify_one();
-}
-
-void CaptureLoop::command(const Command& c) {
-  {
-    std::lock_guard lock(mutex_);
-    queue_.emplace_back(c);
-  }
-  cv_.notify_one();
-}
-
-void CaptureLoop::stop() {
-  stop_ = true;
-  cv_.notify_one();
 }
 
 void CaptureLoop::deliver(const std::vector<Feedback>& feedback) {
@@ -202,29 +151,19 @@ void CaptureLoop::stopWorker() {
 
 void CaptureLoop::handle(const Item_& item, bool& quit) {
   if (const auto* e = std::get_if<devices::DeviceEvent>(&item)) {
-    if (const auto* s = std::get_if<devices::StylusSample>(e)) {
-      // docs/schema.md: the stored record is text; binary bytes become \xNN. A press is timed by
-      // the device's clock where it has one (issue 26), else by when its bytes arrived.
-      StylusInput in{monoNs(s->deviceTime.value_or(s->t)), s->positionMm,  s->button, s->status,
-                     devices::printableRaw(s->raw, true),  s->streamBegins};
-      deliver(session_.onStylus(in));
-    } else if (const auto* r = std::get_if<devices::CaliperReading>(e)) {
-      deliver(session_.onCaliper({monoNs(r->t), r->valueMm, devices::printableRaw(r->raw, true)}));
-    }
+    if (const auto* s = std::get_if<devices::StylusSample>(e))
+      deliver(session_.onStylus(inputs_.stylusInput(*s)));
+    else if (const auto* r = std::get_if<devices::CaliperReading>(e))
+      deliver(session_.onCaliper(inputs_.caliperInput(*r)));
     return;
   }
   if (const auto* st = std::get_if<devices::DeviceStatus>(&item)) {
-    // One event per state change (not per message): enough to see an unplug and its end.
-    const std::string state = devices::toString(st->state);
-    auto& last = deviceStates_[st->device];
-    if (last == state) return;
-    last = state;
-    deliver(session_.deviceStatus(st->device, state, st->message + (st->remedy.empty() ? "" : " — " + st->remedy),
-                                  monoNs(Clock::now())));
+    if (const auto state = inputs_.changedState(*st))
+      deliver(session_.deviceStatus(st->device, *state, detail::statusMessage(*st), inputs_.now()));
     return;
   }
   const Command& c = std::get<Command>(item);
-  const std::int64_t now = monoNs(Clock::now());
+  const std::int64_t now = inputs_.now();
   switch (c.kind) {
     case Command::Kind::Undo: deliver(session_.undo(now)); break;
     case Command::Kind::EndRows: deliver(session_.endRows(now)); break;
@@ -247,20 +186,14 @@ Snapshot CaptureLoop::run() {
   publish();
   bool quit = false;
   auto lastRetry = Clock::now();
-  while (!quit && !stop_ && !session_.ended()) {
+  while (!quit && !inputs_.stopped() && !session_.ended()) {
     // The store refused a write (disk full, locked): try again every second; capture goes
     // on by itself once space is back.
     if (session_.storeBlocked() && Clock::now() - lastRetry >= std::chrono::seconds(1)) {
       lastRetry = Clock::now();
       deliver(session_.resume(monoNs(lastRetry)));
     }
-    std::deque<Item_> batch;
-    {
-      std::unique_lock lock(mutex_);
-      cv_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !queue_.empty() || stop_; });
-      batch.swap(queue_);
-    }
-    for (const Item_& i : batch) {
+    for (const Item_& i : inputs_.take(std::chrono::milliseconds(100))) {
       handle(i, quit);
       if (quit || session_.ended()) break;
     }

@@ -66,10 +66,7 @@ dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
 
 DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop,
                      double digitizerRateHz)
-    : DeviceSet(digitizerSpec, caliperSpec,
-                dev::Driver::Callbacks{[&loop](const dev::DeviceEvent& e) { loop.post(e); },
-                                       [&loop](const dev::DeviceStatus& s) { loop.postStatus(s); }},
-                digitizerRateHz) {}
+    : DeviceSet(digitizerSpec, caliperSpec, loop.sinks(), digitizerRateHz) {}
 
 DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, dev::Driver::Callbacks sinks,
                      double digitizerRateHz)

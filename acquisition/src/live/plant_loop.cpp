@@ -124,58 +124,20 @@ PlantCommand parsePlantCommand(const std::string& line) {
 }
 
 PlantCaptureLoop::PlantCaptureLoop(db::Store& store, std::int64_t id, double timeScale)
-    : session_(store, id), timeScale_(timeScale) {}
-
-void PlantCaptureLoop::push(Input in) {
-  {
-    std::lock_guard lock(mutex_);
-    inputs_.push_back(std::move(in));
-  }
-  cv_.notify_all();
-}
-
-void PlantCaptureLoop::post(const dev::DeviceEvent& e) {
-  if (const auto* s = std::get_if<dev::StylusSample>(&e); s && pedal_ && !s->button) {
-    dev::StylusSample pressed = *s;
-    pressed.button = true;
-    push(pressed);
-    return;
-  }
-  push(e);
-}
-
-void PlantCaptureLoop::command(const PlantCommand& c) {
-  push(c);
-}
-
-void PlantCaptureLoop::stop() {
-  stop_ = true;
-  cv_.notify_all();
-}
-
-std::int64_t PlantCaptureLoop::monoNs(Clock::time_point t) const {
-  return static_cast<std::int64_t>(
-      static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t - t0_).count()) * timeScale_);
-}
+    : session_(store, id), inputs_(timeScale) {}
 
 PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
                                     const std::function<void(const PlantCaptureSession&)>& onChange) {
   PlantRunStats stats;
   if (onChange) onChange(session_);
   bool quit = false;
-  while (!session_.ended() && !stop_ && !quit) {
-    std::deque<Input> batch;
-    {
-      std::unique_lock lock(mutex_);
-      cv_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !inputs_.empty() || stop_.load(); });
-      batch.swap(inputs_);
-    }
-    for (const Input& in : batch) {
+  while (!session_.ended() && !inputs_.stopped() && !quit) {
+    for (const Input& in : inputs_.take(std::chrono::milliseconds(100))) {
       const bool isCommand = std::holds_alternative<PlantCommand>(in);
       bool released = false;  // the stylus button came up in this sample
       PlantFeedback f;
       if (const auto* c = std::get_if<PlantCommand>(&in)) {
-        const std::int64_t now = monoNs(Clock::now());
+        const std::int64_t now = inputs_.now();
         switch (c->kind) {
           case PlantCommand::Kind::Undo: f = session_.undo(now); break;
           case PlantCommand::Kind::End: f = session_.end(now); break;
@@ -192,21 +154,16 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
         }
         if (quit) break;
       } else if (const auto* st = std::get_if<dev::DeviceStatus>(&in)) {
-        // One event per state change (not per message or rate): enough to see an unplug and its end.
-        const std::string state = dev::toString(st->state);
-        std::string& last = deviceStates_[st->device];
-        if (last == state) continue;
-        last = state;
-        f = session_.deviceStatus(st->device, state, st->message + (st->remedy.empty() ? "" : " — " + st->remedy),
-                                  monoNs(Clock::now()));
+        const auto state = inputs_.changedState(*st);
+        if (!state) continue;
+        f = session_.deviceStatus(st->device, *state, detail::statusMessage(*st), inputs_.now());
         if (!f.storeRefused) continue;  // said by the devices' own callback; nothing for the technician
       } else if (const auto* s = std::get_if<dev::StylusSample>(&std::get<dev::DeviceEvent>(in))) {
         released = buttonDown_ && !s->button;
         buttonDown_ = s->button;
-        f = session_.onStylus({monoNs(s->deviceTime.value_or(s->t)), s->positionMm, s->button, s->status,
-                               dev::printableRaw(s->raw, true), s->streamBegins});
+        f = session_.onStylus(inputs_.stylusInput(*s));
       } else if (const auto* r = std::get_if<dev::CaliperReading>(&std::get<dev::DeviceEvent>(in))) {
-        f = session_.onCaliper({monoNs(r->t), r->valueMm, dev::printableRaw(r->raw, true)});
+        f = session_.onCaliper(inputs_.caliperInput(*r));
       }
       // Anything to tell: a decision, a refused write, a control (pause, resume, a move).
       if (f.decision.kind != PlantDecision::Kind::Ignored || f.storeRefused ||
@@ -225,14 +182,6 @@ PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
     }
   }
   return stats;
-}
-
-dev::Driver::Callbacks PlantCaptureLoop::sinks(std::function<void(const dev::DeviceStatus&)> onStatus) {
-  return {[this](const dev::DeviceEvent& e) { post(e); },
-          [this, status = std::move(onStatus)](const dev::DeviceStatus& s) {
-            push(s);
-            if (status) status(s);
-          }};
 }
 
 }  // namespace leafdig::acquisition

@@ -8,21 +8,16 @@
 // long.
 #pragma once
 
-#include <atomic>
-#include <chrono>
 #include <condition_variable>
-#include <deque>
 #include <functional>
 #include <istream>
-#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
-#include <variant>
 
+#include "leafdig/acquisition/live/input_queue.hpp"
 #include "leafdig/acquisition/session/session.hpp"
-#include "leafdig/devices/links/driver.hpp"
 
 namespace leafdig::acquisition {
 
@@ -64,7 +59,7 @@ using PreviewBuilder = std::function<Preview(const std::vector<Item>& items, con
 
 class CaptureLoop {
  public:
-  using Clock = std::chrono::steady_clock;
+  using Clock = InputQueue<Command>::Clock;
   // timeScale > 1 runs a simulated capture faster: the engine sees device time x timeScale.
   CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale = 1.0,
               PreviewDetail preview = PreviewDetail::Meshes, PreviewBuilder builder = {});
@@ -72,26 +67,29 @@ class CaptureLoop {
   CaptureLoop(const CaptureLoop&) = delete;
   CaptureLoop& operator=(const CaptureLoop&) = delete;
 
-  void post(const devices::DeviceEvent& e);
+  // The inputs (input_queue.hpp, shared with the plant's loop), from any thread.
+  void post(const devices::DeviceEvent& e) { inputs_.post(e); }
   // A foot pedal (or key) held down acts as the stylus button: stylus samples posted while
   // it is down carry button = true. Any thread.
-  void setPedal(bool down) { pedal_ = down; }
-  [[nodiscard]] bool pedal() const { return pedal_; }
-  void postStatus(const devices::DeviceStatus& s);
-  void command(const Command& c);
-  void stop();  // run() returns soon after
+  void setPedal(bool down) { inputs_.setPedal(down); }
+  [[nodiscard]] bool pedal() const { return inputs_.pedal(); }
+  void postStatus(const devices::DeviceStatus& s) { inputs_.postStatus(s); }
+  void command(const Command& c) { inputs_.command(c); }
+  void stop() { inputs_.stop(); }  // run() returns soon after
+  // What the devices deliver into (device_set.hpp's DeviceSet).
+  [[nodiscard]] devices::Driver::Callbacks sinks() { return inputs_.sinks(); }
 
   // Runs until the session is complete or abandoned, a Quit command, or stop(). Returns the
   // last snapshot, with the preview of its own version (the worker finishes it first).
   Snapshot run();
 
-  [[nodiscard]] std::int64_t monoNs(Clock::time_point t) const;
+  [[nodiscard]] std::int64_t monoNs(Clock::time_point t) const { return inputs_.monoNs(t); }
   // The latest stylus sample posted (any thread; a front end's cursor polls it at its own
   // frame rate instead of receiving every sample).
-  [[nodiscard]] std::optional<devices::StylusSample> latestStylus() const;
+  [[nodiscard]] std::optional<devices::StylusSample> latestStylus() const { return inputs_.latestStylus(); }
 
  private:
-  using Item_ = std::variant<devices::DeviceEvent, devices::DeviceStatus, Command>;
+  using Item_ = InputQueue<Command>::Input;
   void handle(const Item_& item, bool& quit);
   void deliver(const std::vector<Feedback>& feedback);
   void publish();        // a snapshot of the session to the listener (and a preview request)
@@ -106,17 +104,9 @@ class CaptureLoop {
 
   CaptureSession& session_;
   LoopListener listener_;
-  double timeScale_;
   PreviewDetail preview_;
   PreviewBuilder builder_;
-  Clock::time_point t0_;
-  mutable std::mutex mutex_;
-  std::condition_variable cv_;
-  std::deque<Item_> queue_;
-  std::optional<devices::StylusSample> latestStylus_;
-  std::atomic<bool> stop_{false};
-  std::atomic<bool> pedal_{false};
-  std::map<std::string, std::string> deviceStates_;
+  InputQueue<Command> inputs_;
   // The preview worker (PreviewDetail::Meshes).
   std::mutex publishMutex_;  // one onSnapshot at a time; guards latest_
   Snapshot latest_;          // the last snapshot delivered

@@ -10,18 +10,12 @@
 #pragma once
 
 #include <atomic>
-#include <chrono>
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <functional>
-#include <map>
-#include <mutex>
 #include <string>
-#include <variant>
 
+#include "leafdig/acquisition/live/input_queue.hpp"
 #include "leafdig/acquisition/session/plant_session.hpp"
-#include "leafdig/devices/links/driver.hpp"
 
 namespace leafdig::acquisition {
 
@@ -52,7 +46,7 @@ struct PlantRunStats {
 
 class PlantCaptureLoop {
  public:
-  using Clock = std::chrono::steady_clock;
+  using Clock = InputQueue<PlantCommand>::Clock;
   using Listener = std::function<void(const PlantFeedback&, const PlantCaptureSession&)>;
   // Opens plant session `id` (SessionError when it is not an open plant session). timeScale > 1
   // runs a simulated capture faster: the engine sees device time × timeScale.
@@ -60,18 +54,21 @@ class PlantCaptureLoop {
   PlantCaptureLoop(const PlantCaptureLoop&) = delete;
   PlantCaptureLoop& operator=(const PlantCaptureLoop&) = delete;
 
-  void post(const devices::DeviceEvent& e);
+  // The inputs (input_queue.hpp, shared with the leaf's loop), from any thread.
+  void post(const devices::DeviceEvent& e) { inputs_.post(e); }
   // A foot pedal (the station's Accept key) held down is the stylus button, as in a leaf
   // capture: every stylus sample while it is down is taken as pressed. From any thread.
-  void setPedal(bool down) { pedal_ = down; }
-  [[nodiscard]] bool pedal() const { return pedal_; }
-  void command(const PlantCommand& c);
+  void setPedal(bool down) { inputs_.setPedal(down); }
+  [[nodiscard]] bool pedal() const { return inputs_.pedal(); }
+  void command(const PlantCommand& c) { inputs_.command(c); }
+  // The latest stylus sample posted (a front end's cursor polls it).
+  [[nodiscard]] std::optional<devices::StylusSample> latestStylus() const { return inputs_.latestStylus(); }
   // How many commands run() has dealt with (each after its onChange): a caller that sent n
   // knows its last one is answered, or ignored, once this reaches n. From any thread.
   [[nodiscard]] std::uint64_t commandsTaken() const { return commandsTaken_; }
   // Likewise the stylus button's releases (a press is decided at its release).
   [[nodiscard]] std::uint64_t releasesTaken() const { return releasesTaken_; }
-  void stop();
+  void stop() { inputs_.stop(); }
 
   // Runs until the session ends (complete or abandoned), a Quit command, or stop(). After every
   // committed decision (or refusal): onFeedback, then onChange (what a technician reads next).
@@ -80,24 +77,17 @@ class PlantCaptureLoop {
   // What the devices deliver into (device_set.hpp's DeviceSet on the operator's ports): their
   // records posted here, their status changes to `onStatus` (on the drivers' threads) and into
   // the session's log (a `device` event per change of state, as a leaf capture keeps them).
-  [[nodiscard]] devices::Driver::Callbacks sinks(std::function<void(const devices::DeviceStatus&)> onStatus = {});
+  [[nodiscard]] devices::Driver::Callbacks sinks(std::function<void(const devices::DeviceStatus&)> onStatus = {}) {
+    return inputs_.sinks(std::move(onStatus));
+  }
 
  private:
-  using Input = std::variant<devices::DeviceEvent, devices::DeviceStatus, PlantCommand>;
-  [[nodiscard]] std::int64_t monoNs(Clock::time_point t) const;
-  void push(Input in);  // onto the queue, from any thread
+  using Input = InputQueue<PlantCommand>::Input;
 
   PlantCaptureSession session_;
-  double timeScale_;
-  Clock::time_point t0_ = Clock::now();
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  std::deque<Input> inputs_;
-  std::atomic<bool> stop_{false};
-  std::atomic<bool> pedal_{false};
+  InputQueue<PlantCommand> inputs_;
   std::atomic<std::uint64_t> commandsTaken_{0}, releasesTaken_{0};
-  bool buttonDown_ = false;                          // the last stylus sample's button (run's thread)
-  std::map<std::string, std::string> deviceStates_;  // the last state logged per device (run's thread)
+  bool buttonDown_ = false;  // the last stylus sample's button (run's thread)
 };
 
 }  // namespace leafdig::acquisition
