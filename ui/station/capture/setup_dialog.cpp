@@ -10,70 +10,17 @@
 #include <QVBoxLayout>
 #include <set>
 
-#include "leafdig/acquisition/live/device_set.hpp"
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
 
 namespace leafdig::station {
 namespace acq = leafdig::acquisition;
 
-namespace {
-
-QString hex4(std::uint16_t v) {
-  return QString("%1").arg(v, 4, 16, QChar('0'));
-}
-
-void fill(QComboBox* box, const std::vector<std::pair<QString, QString>>& choices, const QString& keep) {
-  box->clear();
-  for (const auto& [label, spec] : choices) box->addItem(label, spec);
-  const int at = box->findData(keep);
-  if (at >= 0)
-    box->setCurrentIndex(at);
-  else if (!keep.isEmpty())
-    box->setEditText(keep);
-}
-
-}  // namespace
-
-QString specOf(const QComboBox* box) {
-  const int at = box->findText(box->currentText());
-  return at >= 0 ? box->itemData(at).toString() : box->currentText().trimmed();
-}
-
-std::vector<std::pair<QString, QString>> digitizerChoices(const devices::Inventory& inv) {
-  std::vector<std::pair<QString, QString>> out{
-      {QObject::tr("Simulated FASTRAK (virtual technician)"), kSimulatedDigitizer}};
-  for (const auto& port : inv.serial) {
-    const QString path = QString::fromStdString(port.path);
-    const devices::Profile* profile = port.vid && port.pid ? devices::matchProfile(*port.vid, *port.pid) : nullptr;
-    const QString what = profile ? QString::fromLatin1(profile->name) : QString::fromStdString(port.description);
-    for (const char* kind : {"fastrak", "patriot", "liberty", "microscribe"})
-      out.emplace_back(QString("%1 on %2 (%3)").arg(QString::fromLatin1(kind), path, what),
-                       QString("%1:%2").arg(kind, path));
-  }
-  return out;
-}
-
-std::vector<std::pair<QString, QString>> caliperChoices(const devices::Inventory& inv) {
-  std::vector<std::pair<QString, QString>> out{
-      {QObject::tr("Simulated Sylvac (virtual technician)"), kSimulatedCaliper}};
-  for (const auto& h : inv.hid) {
-    const devices::Profile* profile = devices::matchProfile(h.vid, h.pid);
-    const QString what =
-        profile ? QString::fromLatin1(profile->name) : QString::fromStdString(h.manufacturer + " " + h.product);
-    out.emplace_back(QString("HID %1:%2 (%3)").arg(hex4(h.vid), hex4(h.pid), what.trimmed()),
-                     QString("hid:%1:%2").arg(hex4(h.vid), hex4(h.pid)));
-  }
-  for (const auto& port : inv.serial) {
-    const QString path = QString::fromStdString(port.path);
-    for (const char* kind : {"sylvac", "mitutoyo", "uwave"})
-      out.emplace_back(QString("%1 on %2").arg(QString::fromLatin1(kind), path), QString("%1:%2").arg(kind, path));
-  }
-  return out;
-}
-
 SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::SessionInfo>& known,
                          const devices::Inventory& inventory, QWidget* parent)
-    : QDialog(parent), engine_(d.settings) {
+    : QDialog(parent),
+      engine_(d.settings),
+      devices_(inventory, d.simulated ? kSimulatedDigitizer : QString::fromStdString(d.digitizer),
+               d.simulated ? kSimulatedCaliper : QString::fromStdString(d.caliper)) {
   setWindowTitle(tr("leafdig · new session"));
   auto* form = new QFormLayout;
   std::set<QString> projects, plants, operators;
@@ -82,16 +29,9 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
     plants.insert(QString::fromStdString(s.plant));
     operators.insert(QString::fromStdString(s.operatorName));
   }
-  const auto editable = [](const std::set<QString>& items, const std::string& current) {
-    auto* c = new QComboBox;
-    c->setEditable(true);
-    for (const auto& i : items) c->addItem(i);
-    c->setEditText(QString::fromStdString(current));
-    return c;
-  };
-  project_ = editable(projects, d.project);
-  plant_ = editable(plants, d.plant);
-  operator_ = editable(operators, d.operatorName);
+  project_ = knownNamesBox(projects, d.project);
+  plant_ = knownNamesBox(plants, d.plant);
+  operator_ = knownNamesBox(operators, d.operatorName);
   position_ = new QSpinBox;
   position_->setRange(1, 99);
   position_->setValue(d.leafPosition);
@@ -129,21 +69,6 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   marginFromScan_ = d.marginFromScan;
   board_ = new QCheckBox(tr("Start with 3 board points (origin, +X, +Y)"));
   board_->setChecked(d.settings.boardFrame);
-  digitizer_ = new QComboBox;
-  caliper_ = new QComboBox;
-  for (QComboBox* c : {digitizer_, caliper_}) {
-    c->setEditable(true);  // a spec can be typed: fastrak:/dev/ttyS0, hid:0fe7:4001
-    c->setMinimumContentsLength(34);
-  }
-  rescan(inventory);
-  fill(digitizer_, digitizerChoices(inventory),
-       d.simulated ? kSimulatedDigitizer : QString::fromStdString(d.digitizer));
-  fill(caliper_, caliperChoices(inventory), d.simulated ? kSimulatedCaliper : QString::fromStdString(d.caliper));
-  auto* rescanButton = new QPushButton(tr("Rescan devices"));
-  connect(rescanButton, &QPushButton::clicked, this, [this] { rescan(devices::takeInventory()); });
-  auto* devicesRow = new QHBoxLayout;
-  devicesRow->addWidget(new QLabel(tr("Ports come from the device registry; simulated devices need no hardware.")), 1);
-  devicesRow->addWidget(rescanButton);
 
   form->addRow(tr("Project"), project_);
   form->addRow(tr("Plant"), plant_);
@@ -176,18 +101,14 @@ SetupDialog::SetupDialog(const acq::SessionSetup& d, const std::vector<db::Sessi
   marginRow->addWidget(toothDepth_, 1);
   form->addRow(tr("Margin teeth"), marginRow);
   form->addRow(QString(), board_);
-  form->addRow(tr("Digitizer"), digitizer_);
-  form->addRow(tr("Caliper"), caliper_);
-  problem_ = new QLabel;
-  problem_->setStyleSheet("color:#b71c1c");
-  problem_->setWordWrap(true);
+  devices_.addRows(form);
+  problem_ = problemLine();
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
   buttons->button(QDialogButtonBox::Ok)->setText(tr("Start capture"));
   connect(buttons, &QDialogButtonBox::accepted, this, &SetupDialog::accept);
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
   auto* outer = new QVBoxLayout(this);
   outer->addLayout(form);
-  outer->addLayout(devicesRow);
   outer->addWidget(problem_);
   outer->addWidget(buttons);
 }
@@ -208,12 +129,6 @@ bool SetupDialog::areaFromScan(const QString& path, double dpi, QString* problem
     if (problem) *problem = tr("Scan: %1").arg(QString::fromStdString(e.what()));
     return false;
   }
-}
-
-void SetupDialog::rescan(const devices::Inventory& inventory) {
-  const QString d = specOf(digitizer_), c = specOf(caliper_);
-  fill(digitizer_, digitizerChoices(inventory), d);
-  fill(caliper_, caliperChoices(inventory), c);
 }
 
 std::optional<SetupChoice> SetupDialog::choice(QString* problem) const {
@@ -255,26 +170,12 @@ std::optional<SetupChoice> SetupDialog::choice(QString* problem) const {
   s.settings.mode = model::thicknessModeFromString(mode_->currentText().toStdString());
   s.settings.order = acq::orderFromString(order_->currentText().toStdString());
   s.settings.boardFrame = board_->isChecked();
-  const QString d = specOf(digitizer_), k = specOf(caliper_);
-  c.simulatedDigitizer = d == kSimulatedDigitizer;
-  c.simulatedCaliper = k == kSimulatedCaliper;
-  if (c.simulatedDigitizer != c.simulatedCaliper)
-    return fail(
-        tr("The simulated digitizer and caliper work together (a virtual technician uses both): choose both "
-           "or neither."));
-  s.simulated = c.simulatedDigitizer;
-  try {
-    if (!c.simulatedDigitizer) (void)acq::parseDigitizerSpec(d.toStdString());
-  } catch (const std::exception& e) {
-    return fail(tr("Digitizer: %1").arg(QString::fromStdString(e.what())));
-  }
-  try {
-    if (!c.simulatedCaliper) (void)acq::parseCaliperSpec(k.toStdString());
-  } catch (const std::exception& e) {
-    return fail(tr("Caliper: %1").arg(QString::fromStdString(e.what())));
-  }
-  s.digitizer = d.toStdString();
-  s.caliper = k.toStdString();
+  QString deviceProblem;
+  const auto chosen = devices_.chosen(&deviceProblem);
+  if (!chosen) return fail(deviceProblem);
+  c.simulatedDigitizer = c.simulatedCaliper = s.simulated = chosen->simulated;
+  s.digitizer = chosen->simulated ? kSimulatedDigitizer : chosen->digitizer;
+  s.caliper = chosen->simulated ? kSimulatedCaliper : chosen->caliper;
   return c;
 }
 

@@ -1,7 +1,6 @@
-// Session set-up: project, plant, leaf position and type, mode, order, operator, measured
-// leaf area (optional), board frame and the two devices. The device lists come from the
-// device registry (serial ports and HID devices plugged in now, matched against known
-// profiles) with the simulated devices listed like real ones; a spec can also be typed.
+// A leaf's set-up: project, plant, leaf position and type, mode, order, operator, measured
+// leaf area (optional), board frame and the two devices (dialogs/device_fields.hpp, as every
+// kind asks for them).
 #pragma once
 
 #include <QCheckBox>
@@ -13,24 +12,15 @@
 #include <QSpinBox>
 #include <optional>
 
+#include "dialogs/device_fields.hpp"
 #include "leafdig/acquisition/session/session.hpp"
-#include "leafdig/devices/transports/registry.hpp"
 
 namespace leafdig::station {
-
-inline constexpr const char* kSimulatedDigitizer = "simulated FASTRAK";
-inline constexpr const char* kSimulatedCaliper = "simulated Sylvac";
 
 struct SetupChoice {
   acquisition::SessionSetup setup;  // digitizer / caliper hold specs, or the simulated names
   bool simulatedDigitizer = false, simulatedCaliper = false;
 };
-
-// A device list's spec: a listed device's item data, or the text typed.
-[[nodiscard]] QString specOf(const QComboBox* box);
-// The device choices the registry offers: (label shown, spec). Simulated ones first.
-[[nodiscard]] std::vector<std::pair<QString, QString>> digitizerChoices(const devices::Inventory& inv);
-[[nodiscard]] std::vector<std::pair<QString, QString>> caliperChoices(const devices::Inventory& inv);
 
 class SetupDialog : public QDialog {
   Q_OBJECT
@@ -41,7 +31,7 @@ class SetupDialog : public QDialog {
               const devices::Inventory& inventory, QWidget* parent = nullptr);
   // Validated choice (call after exec() returned Accepted), or the problem in words.
   [[nodiscard]] std::optional<SetupChoice> choice(QString* problem = nullptr) const;
-  void rescan(const devices::Inventory& inventory);
+  void rescan(const devices::Inventory& inventory) { devices_.rescan(inventory); }
   // Fills the measured area (cm²) from a scan of the leaf at `dpi` (the blade's area with its
   // holes filled and the petiole set apart, as `leafdig leaf2d scan` reports it), and keeps
   // what its margin shows for the area interval; false and the problem in words when the scan
@@ -60,15 +50,16 @@ class SetupDialog : public QDialog {
   QComboBox* serration() const { return serration_; }
   QLineEdit* toothDepth() const { return toothDepth_; }
   QCheckBox* board() const { return board_; }
-  QComboBox* digitizer() const { return digitizer_; }
-  QComboBox* caliper() const { return caliper_; }
+  QComboBox* digitizer() const { return devices_.digitizer(); }
+  QComboBox* caliper() const { return devices_.caliper(); }
 
  public slots:
   void accept() override;
 
  private:
   acquisition::Settings engine_;
-  QComboBox *project_, *plant_, *mode_, *order_, *operator_, *digitizer_, *caliper_, *serration_;
+  QComboBox *project_, *plant_, *mode_, *order_, *operator_, *serration_;
+  DeviceFields devices_;
   QSpinBox* position_;
   QLineEdit *type_, *area_, *toothDepth_;
   std::optional<model::MarginFromScan> marginFromScan_;  // from "From a scan…"

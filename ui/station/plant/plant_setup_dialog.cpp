@@ -6,8 +6,6 @@
 #include <filesystem>
 #include <set>
 
-#include "capture/setup_dialog.hpp"
-#include "leafdig/acquisition/live/device_set.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
 
 namespace leafdig::station {
@@ -17,51 +15,35 @@ namespace m = leafdig::model;
 
 PlantSetupDialog::PlantSetupDialog(const acq::PlantSessionSetup& defaults, const std::vector<db::SessionInfo>& known,
                                    const devices::Inventory& inventory, const QString& sampleMarkers, QWidget* parent)
-    : QDialog(parent) {
+    : QDialog(parent), devices_(inventory, kSimulatedDigitizer, kSimulatedCaliper) {
   setWindowTitle(tr("New plant"));
   std::set<QString> plants, projects;
   for (const db::SessionInfo& s : known) {
     if (s.kind == "plant") plants.insert(QString::fromStdString(s.plant));
     projects.insert(QString::fromStdString(s.project));
   }
-  const auto combo = [](const std::set<QString>& values, const std::string& current) {
-    auto* c = new QComboBox;
-    c->setEditable(true);
-    for (const QString& v : values) c->addItem(v);
-    c->setCurrentText(QString::fromStdString(current));
-    return c;
-  };
-  plant_ = combo(plants, defaults.plant);
+  plant_ = knownNamesBox(plants, defaults.plant);
   plant_->setToolTip(tr("The plant's id; the same plant digitized again later is a new dated survey"));
-  project_ = combo(projects, defaults.project);
+  project_ = knownNamesBox(projects, defaults.project);
   operator_ = new QLineEdit(QString::fromStdString(defaults.operatorName));
   date_ = new QLineEdit;
   date_->setPlaceholderText(tr("YYYY-MM-DD (default: today)"));
   protocol_ = new QLineEdit;
   protocol_->setPlaceholderText(tr("leafdig.plant-protocol/1 file (default: tobacco, built in)"));
-  digitizer_ = new QComboBox;
-  caliper_ = new QComboBox;
-  for (const auto& [label, spec] : digitizerChoices(inventory)) digitizer_->addItem(label, spec);
-  for (const auto& [label, spec] : caliperChoices(inventory)) caliper_->addItem(label, spec);
-  digitizer_->setEditable(true);
-  caliper_->setEditable(true);
   markers_ = new QLineEdit(sampleMarkers);
   markers_->setToolTip(tr("The plant the virtual technician digitizes (simulated devices only)"));
   reference_ = new QCheckBox(tr("Receiver 2 is fixed to the pot (reference receiver): turn the pot freely"));
   reference_->setToolTip(
       tr("Every stylus point is taken in the frame of the receiver on the pot, so turning or nudging the pot "
          "changes nothing (docs/devices.md, \"A reference receiver\")"));
-  problem_ = new QLabel;
-  problem_->setStyleSheet("color: #b00020");
-  problem_->setWordWrap(true);
+  problem_ = problemLine();
   auto* form = new QFormLayout;
   form->addRow(tr("Plant"), plant_);
   form->addRow(tr("Project"), project_);
   form->addRow(tr("Operator"), operator_);
   form->addRow(tr("Survey day"), date_);
   form->addRow(tr("Protocol"), protocol_);
-  form->addRow(tr("Digitizer"), digitizer_);
-  form->addRow(tr("Caliper"), caliper_);
+  devices_.addRows(form);
   form->addRow(tr("Simulated plant"), markers_);
   form->addRow(tr("Reference"), reference_);
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
@@ -96,12 +78,13 @@ std::optional<PlantSetupChoice> PlantSetupDialog::choice(QString* problem) const
       return fail(QString::fromStdString(e.what()));
     }
   }
-  const bool simDigitizer = specOf(digitizer_) == kSimulatedDigitizer;
-  const bool simCaliper = specOf(caliper_) == kSimulatedCaliper;
-  if (simDigitizer != simCaliper)
-    return fail(tr("A plant is simulated whole: choose both simulated devices, or two real ones."));
-  c.simulated = simDigitizer;
   c.referenceReceiver = reference_->isChecked();
+  // A reference receiver on a real digitizer is its spec's option (unless the spec says which).
+  const bool saysReference = specOf(devices_.digitizer()).contains(",reference=");
+  QString deviceProblem;
+  const auto chosen = devices_.chosen(&deviceProblem, c.referenceReceiver && !saysReference ? ",reference=2" : "");
+  if (!chosen) return fail(deviceProblem);
+  c.simulated = chosen->simulated;
   if (c.simulated) {
     c.plantMarkers = markers_->text().trimmed().toStdString();
     if (c.plantMarkers.empty() || !std::filesystem::is_regular_file(c.plantMarkers))
@@ -109,16 +92,8 @@ std::optional<PlantSetupChoice> PlantSetupDialog::choice(QString* problem) const
                       .arg(QString::fromStdString(c.plantMarkers)));
     return c;
   }
-  c.setup.digitizer = specOf(digitizer_).toStdString();
-  c.setup.caliper = specOf(caliper_).toStdString();
-  if (c.referenceReceiver && c.setup.digitizer.find(",reference=") == std::string::npos)
-    c.setup.digitizer += ",reference=2";
-  try {
-    (void)acq::parseDigitizerSpec(c.setup.digitizer);
-    (void)acq::parseCaliperSpec(c.setup.caliper);
-  } catch (const std::exception& e) {
-    return fail(QString::fromStdString(e.what()));
-  }
+  c.setup.digitizer = chosen->digitizer;
+  c.setup.caliper = chosen->caliper;
   return c;
 }
 

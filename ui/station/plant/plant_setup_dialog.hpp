@@ -1,7 +1,8 @@
 // A plant's set-up (docs/plants.md, "The station's plant capture view"): the plant's id, project,
-// operator, the survey's day and protocol (optional), and the two devices — real ones from the
-// device registry, or the simulated pair with the plant the virtual technician digitizes (a
-// leafdig.plant-markers/1 file, the sample plant by default).
+// operator, the survey's day and protocol (optional), and the two devices
+// (dialogs/device_fields.hpp, as every kind asks for them) — real ones, or the simulated pair
+// with the plant the virtual technician digitizes (a leafdig.plant-markers/1 file, the sample
+// plant by default).
 #pragma once
 
 #include <QCheckBox>
@@ -12,8 +13,8 @@
 #include <optional>
 #include <vector>
 
+#include "dialogs/device_fields.hpp"
 #include "leafdig/acquisition/session/plant_session.hpp"
-#include "leafdig/devices/transports/registry.hpp"
 
 namespace leafdig::station {
 
@@ -40,8 +41,8 @@ class PlantSetupDialog : public QDialog {
   QLineEdit* operatorName() const { return operator_; }
   QLineEdit* date() const { return date_; }
   QLineEdit* protocol() const { return protocol_; }
-  QComboBox* digitizer() const { return digitizer_; }
-  QComboBox* caliper() const { return caliper_; }
+  QComboBox* digitizer() const { return devices_.digitizer(); }
+  QComboBox* caliper() const { return devices_.caliper(); }
   QLineEdit* plantMarkers() const { return markers_; }
   QCheckBox* referenceReceiver() const { return reference_; }
 
@@ -49,7 +50,8 @@ class PlantSetupDialog : public QDialog {
   void accept() override;
 
  private:
-  QComboBox *plant_, *project_, *digitizer_, *caliper_;
+  QComboBox *plant_, *project_;
+  DeviceFields devices_;
   QLineEdit *operator_, *date_, *protocol_, *markers_;
   QCheckBox* reference_;
   QLabel* problem_;

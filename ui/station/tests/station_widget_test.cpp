@@ -21,6 +21,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
+#include <QMessageBox>
 #include <QPushButton>
 #include <QScrollBar>
 #include <QSettings>
@@ -1877,7 +1878,8 @@ TEST(PlantSetupDialog, AChoiceIsValidatedAndNamesWhatIsMissing) {
   // One real device and one simulated: refused; two real ones typed: their specs.
   d.digitizer()->setCurrentText("fastrak:/dev/ttyUSB0");
   EXPECT_FALSE(d.choice(&problem));
-  EXPECT_TRUE(problem.contains("simulated whole")) << problem.toStdString();
+  EXPECT_TRUE(problem.contains("work together"))
+      << problem.toStdString() << " (the leaf's dialog's words: both ask for devices through dialogs/device_fields)";
   d.caliper()->setCurrentText("sylvac:/dev/ttyUSB1");
   c = d.choice(&problem);
   ASSERT_TRUE(c) << problem.toStdString();
@@ -1899,6 +1901,11 @@ TEST(PlantSetupDialog, AChoiceIsValidatedAndNamesWhatIsMissing) {
   d.digitizer()->setCurrentText("wand:/dev/ttyUSB0");
   EXPECT_FALSE(d.choice(&problem));
   EXPECT_TRUE(problem.contains("wand")) << problem.toStdString();
+  EXPECT_TRUE(problem.startsWith("Digitizer: ")) << problem.toStdString();
+  // The plant's devices are rescanned as the leaf's are (the shared device fields).
+  bool rescan = false;
+  for (const auto* b : d.findChildren<QPushButton*>()) rescan = rescan || b->text() == "Rescan devices";
+  EXPECT_TRUE(rescan) << "the plant's set-up offers 'Rescan devices' like the leaf's";
   d.protocol()->setText("/nonexistent.plant-protocol.json");
   d.digitizer()->setCurrentText("fastrak:/dev/ttyUSB0");
   EXPECT_FALSE(d.choice(&problem));
@@ -1948,3 +1955,4 @@ TEST(CorrectionDialog, TheChosenItemIsEditedWithItsReasonAndCancelGivesNothing) 
   EXPECT_FALSE(leafdig::station::askCorrection(nullptr, "Correct", choices, "diameter"));
   EXPECT_FALSE(leafdig::station::askCorrection(nullptr, "Correct", {}, "diameter"));  // nothing to offer
 }
+
