@@ -618,11 +618,19 @@ PYBIND11_MODULE(_leafdig, mod) {
           "correct",
           [](Store& s, std::int64_t id, const std::string& what, int row, int col, int node,
              const std::optional<std::array<double, 3>>& position, const std::optional<double>& value,
-             const std::string& who, const std::string& why, bool confirm) {
+             const std::string& who, const std::string& why, bool confirm, const std::string& frame) {
             acq::Correction c;
             if (!confirm) c.confirmAboveMm = acq::kConfirmMoveAboveMm;
             try {
               acq::setCorrectionItem(c, what, node);
+              // A plant's points in the plant frame unless told (as the CLI's --frame).
+              if (!frame.empty()) {
+                c.frame = acq::positionFrameFromString(frame);
+              } else if (position) {
+                py::gil_scoped_release free;
+                const auto info = s.store->session(id);
+                if (info && info->kind == "plant") c.frame = acq::PositionFrame::Plant;
+              }
             } catch (const std::invalid_argument& e) {
               throw m::InputError(e.what());
             }
@@ -640,7 +648,7 @@ PYBIND11_MODULE(_leafdig, mod) {
             }
           },
           py::arg("id"), py::arg("what"), py::arg("row"), py::arg("col"), py::arg("node"), py::arg("position"),
-          py::arg("value"), py::arg("who"), py::arg("why"), py::arg("confirm") = false);
+          py::arg("value"), py::arg("who"), py::arg("why"), py::arg("confirm") = false, py::arg("frame") = "");
   mod.def("open_store", &openStore, py::arg("path_or_url"), py::arg("writable") = false);
 
   mod.def(

@@ -254,7 +254,8 @@ class Store:
         """Rejects a complete session, saying why (a curator's decision; a reason is required)."""
         return self._core.review(int(id), "rejected", who, why)
 
-    def correct(self, id, what, *, who, why, row=0, col=0, node=0, position=None, value=None, confirm=False):
+    def correct(self, id, what, *, who, why, row=0, col=0, node=0, position=None, value=None, confirm=False,
+                frame=None):
         """Corrects one item of a complete session, saying why, as ``leafdig sessions correct``
         does (a ``corrected`` event; the curator's role on the lab server). ``what`` is a
         leaf's item (``tip``, ``marker``, ``midrib_thickness``, ``vein_origin_thickness``,
@@ -262,14 +263,19 @@ class Store:
         ``collar_diameter``, ``point``, ``reading``, ``quick_point``); ``row``/``col`` number it
         as the CLI's ``--row``/``--col``; ``node`` names a plant's full leaf. A point takes
         ``position=(x, y, z)`` in mm, a reading ``value`` in mm; a point that would move more
-        than 20 mm needs ``confirm=True`` (``InputError`` says how far). Returns the event's
+        than 20 mm needs ``confirm=True`` (``InputError`` says how far). ``frame`` is the
+        position's: ``"plant"`` (a plant session's default: as ``plant()``, the survey and every
+        export give points) or ``"digitizer"`` (a leaf session's only one). Returns the event's
         number; refusals raise ``InputError`` (the item, the value, no reason) or ``StoreError``."""
+        if frame is not None and frame not in ("plant", "digitizer"):
+            raise InputError("frame is 'plant' or 'digitizer' (got %r)" % (frame,))
         if position is not None:
             position = tuple(float(v) for v in position)
             if len(position) != 3:
                 raise InputError("position takes (x, y, z) in mm")
         return self._core.correct(int(id), str(what), int(row), int(col), int(node), position,
-                                  None if value is None else float(value), who, why, bool(confirm))
+                                  None if value is None else float(value), who, why, bool(confirm),
+                                  "" if frame is None else frame)
 
     def __repr__(self):
         return "<leafdig.Store %s>" % self._core.where

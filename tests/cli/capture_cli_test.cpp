@@ -219,17 +219,43 @@ TEST_F(CaptureCli, ASimulatedCaptureFollowsTheJsonLinesContractAndEveryLineIsInT
   EXPECT_FALSE(fs::exists(dir_ / "n"));
   // The leaf's numbers in one row: its area, interval, silhouette and STAR with the metrics.
   const json exported = json::parse(ex.out).at("metrics");
-  const std::string me = slurp(dir_ / "x" / "session-1.metrics.csv");
+  // Each CSV opens with where it came from (issue 49), as `#` lines before its header.
+  const auto data = [](const std::string& csv) {
+    std::size_t at = 0;
+    while (at < csv.size() && csv[at] == '#') at = csv.find('\n', at) + 1;
+    return csv.substr(at);
+  };
+  const std::string meFile = slurp(dir_ / "x" / "session-1.metrics.csv");
+  EXPECT_EQ(meFile.rfind("# session: 1\n# station: ", 0), 0U) << meFile.substr(0, 300);
+  EXPECT_NE(meFile.find("\n# status: approved\n# operator: "), std::string::npos) << meFile.substr(0, 300);
+  EXPECT_NE(meFile.find("\n# decision: approved\n# curator: bo\n# decided_utc: 20"), std::string::npos)
+      << meFile.substr(0, 300);
+  EXPECT_NE(meFile.find("\n# corrections: 1\n"), std::string::npos) << meFile.substr(0, 300);
+  // …and so do the model JSON, the OBJ's and PLY's comments and the GLB's asset.extras.
+  const json model = json::parse(slurp(dir_ / "x" / "session-1.model.json"));
+  EXPECT_EQ(model.at("provenance").at("curator"), "bo");
+  EXPECT_EQ(model.at("provenance").at("decision"), "approved");
+  EXPECT_EQ(model.at("provenance").at("session"), "1");
+  EXPECT_NE(slurp(dir_ / "x" / "session-1.obj").find("\n# provenance curator: bo\n"), std::string::npos);
+  EXPECT_NE(slurp(dir_ / "x" / "session-1.ply").find("\ncomment provenance curator: bo\n"), std::string::npos);
+  const std::string glb = slurp(dir_ / "x" / "session-1.glb");
+  const std::uint32_t jsonLength = static_cast<std::uint32_t>(static_cast<unsigned char>(glb[12])) |
+                                   static_cast<std::uint32_t>(static_cast<unsigned char>(glb[13])) << 8 |
+                                   static_cast<std::uint32_t>(static_cast<unsigned char>(glb[14])) << 16 |
+                                   static_cast<std::uint32_t>(static_cast<unsigned char>(glb[15])) << 24;
+  const json gltf = json::parse(glb.substr(20, jsonLength));
+  EXPECT_EQ(gltf.at("asset").at("extras").at("provenance").at("curator"), "bo") << gltf.at("asset").dump();
+  const std::string me = data(meFile);
   EXPECT_EQ(me.substr(0, me.find('\n')),
             "session,rows,blade_area_mm2,area_low95_mm2,area_high95_mm2,projected_area_mm2,silhouette_mm2,star,"
             "mesh_area_mm2,measured_area_mm2,margin");
   EXPECT_NE(me.find("\n1,10,"), std::string::npos) << me;
   EXPECT_GT(exported.at("star").get<double>(), 0.0);
   EXPECT_NE(me.find("not declared"), std::string::npos) << me;
-  const std::string csv = slurp(dir_ / "x" / "session-1.markers.csv");
+  const std::string csv = data(slurp(dir_ / "x" / "session-1.markers.csv"));
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 71);
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "session,seq,what,row,col,x_mm,y_mm,z_mm");
-  const std::string th = slurp(dir_ / "x" / "session-1.thickness.csv");
+  const std::string th = data(slurp(dir_ / "x" / "session-1.thickness.csv"));
   EXPECT_EQ(std::count(th.begin(), th.end(), '\n'), 1 + 21);
   // The exported marker set builds again with the geometry core; assimp opens the OBJ.
   EXPECT_EQ(leafdig("model build " + quote(dir_ / "x" / "session-1.markers.json")).exitCode, 0);

@@ -1343,8 +1343,9 @@ TEST_F(PlantCli, ACuratorCorrectsAPlantsPointAndAFullLeafsMarkerThroughSessionsC
   const json p4 = markersBefore.at("nodes").at(3).at("point");
   const std::string moved = std::to_string(p4[0].get<double>() + 3.0) + "," + std::to_string(p4[1].get<double>()) +
                             "," + std::to_string(p4[2].get<double>());
+  // The plant-markers file's points are the digitizer's: said so (a plant's default is the plant frame).
   const Result fixed = leafdig("sessions correct " + id + " --db " + quote(db) + " --what point --row 4 --position " +
-                               moved + " --who kim --why 'stylus off the node'");
+                               moved + " --frame digitizer --who kim --why 'stylus off the node'");
   ASSERT_EQ(fixed.exitCode, 0) << fixed.err;
   EXPECT_NE(fixed.out.find("point corrected by kim"), std::string::npos) << fixed.out;
   const Result leaf =
@@ -1372,6 +1373,40 @@ TEST_F(PlantCli, ACuratorCorrectsAPlantsPointAndAFullLeafsMarkerThroughSessionsC
       EXPECT_NEAR(p.at("position_mm")[0].get<double>(), p4[0].get<double>() + 3.0, 1e-5);
     }
   EXPECT_EQ(shown.at("leaves")[1].at("kind"), "full");
+  // Every point is shown in the plant frame too, where the survey has it.
+  for (const json& p : shown.at("points")) {
+    if (p.at("what") != "point" || p.at("row") != 4) continue;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(p.at("position_plant_mm")[k].get<double>(), n4a[k].get<double>(), 1e-6);
+    }
+  }
+  // By default a plant's point is corrected in the plant frame, as the survey reads: node 5's
+  // point 2 mm up there is 2 mm up in the survey, whatever the digitizer's axes.
+  const json n5 = after.at("nodes").at(4).at("point_mm");
+  const std::string up = std::to_string(n5[0].get<double>()) + "," + std::to_string(n5[1].get<double>()) + "," +
+                         std::to_string(n5[2].get<double>() + 2.0);
+  // First as a dry run: node 5 would stand 2 mm higher, nothing written.
+  const Result dry = leafdig("sessions correct " + id + " --db " + quote(db) + " --what point --row 5 --position " +
+                             up + " --dry-run --json --who kim --why 'pressed below the node'");
+  ASSERT_EQ(dry.exitCode, 0) << dry.err;
+  bool height = false;
+  const json dryEffect = json::parse(dry.out);
+  for (const json& ch : dryEffect.at("changes"))
+    if (ch.at("what") == "node 5 height_mm") {
+      height = true;
+      EXPECT_NEAR(ch.at("after").get<double>() - ch.at("before").get<double>(), 2.0, 1e-4);
+    }
+  EXPECT_TRUE(height) << dry.out;
+  EXPECT_EQ(json::parse(leafdig("sessions show " + id + " --json --db " + quote(db)).out).at("corrections").size(), 2U);
+  const Result inPlant = leafdig("sessions correct " + id + " --db " + quote(db) + " --what point --row 5 --position " +
+                                 up + " --who kim --why 'pressed below the node' --json");
+  ASSERT_EQ(inPlant.exitCode, 0) << inPlant.err;
+  EXPECT_EQ(json::parse(inPlant.out).at("frame"), "plant");
+  EXPECT_NEAR(json::parse(inPlant.out).at("moved_mm").get<double>(), 2.0, 1e-4);
+  const auto [upped, markersUpped] = survey("upped");
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(upped.at("nodes").at(4).at("point_mm")[k].get<double>(), n5[k].get<double>() + (k == 2 ? 2.0 : 0.0),
+                1e-4);
   // Refused, exit 2, named, nothing written.
   const std::int64_t events =
       json::parse(leafdig("sessions show " + id + " --json --db " + quote(db)).out).at("events");
@@ -1387,12 +1422,29 @@ TEST_F(PlantCli, ACuratorCorrectsAPlantsPointAndAFullLeafsMarkerThroughSessionsC
     EXPECT_NE(bad.err.find(words), std::string::npos) << args << ": " << bad.err;
   }
   EXPECT_EQ(json::parse(leafdig("sessions show " + id + " --json --db " + quote(db)).out).at("events"), events);
-  ASSERT_EQ(leafdig("sessions approve " + id + " --db " + quote(db) + " --who kim").exitCode, 0);
+  ASSERT_EQ(leafdig("sessions approve " + id + " --db " + quote(db) + " --who kim --why 'against the photos'").exitCode,
+            0);
   EXPECT_EQ(leafdig("sessions correct " + id + " --db " + quote(db) +
                     " --what reading --row 2 --value 9 --who kim "
                     "--why late")
                 .exitCode,
             2);
+  // Every file of the approved plant says where it came from (issue 49): the MTG's and the
+  // CSV's `#` lines (the strict MTG reader still takes it), the survey's JSON.
+  ASSERT_EQ(leafdig("sessions export " + id + " --db " + quote(db) + " --out " + quote(dir_ / "approved") +
+                    " --format mtg,csv,json")
+                .exitCode,
+            0);
+  const std::string base = (dir_ / "approved" / ("session-" + id)).string();
+  const std::string mtg = slurp(base + ".mtg");
+  EXPECT_EQ(mtg.rfind("# session: " + id + "\n", 0), 0U) << mtg.substr(0, 300);
+  EXPECT_NE(mtg.find("\n# decision: approved\n# curator: kim\n"), std::string::npos) << mtg.substr(0, 300);
+  EXPECT_NE(mtg.find("\n# corrections: 3\n"), std::string::npos) << mtg.substr(0, 300);
+  EXPECT_NO_THROW((void)leafdig::test::readMtgStrictly(mtg));
+  EXPECT_NE(slurp(base + ".plant.csv").find("\n# status: approved\n"), std::string::npos);
+  const json provenance = json::parse(slurp(base + ".survey.json")).at("provenance");
+  EXPECT_EQ(provenance.at("curator"), "kim");
+  EXPECT_EQ(provenance.at("session"), id);
 }
 
 TEST_F(PlantCli, RepeatSurveysOfOnePlantAreListedByTheirDay) {

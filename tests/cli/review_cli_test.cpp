@@ -137,6 +137,36 @@ TEST_F(ReviewCli, AFarMoveIsShownAndNeedsConfirming) {
             std::string::npos)
       << refused.err;
   EXPECT_EQ(showJson(1).at("events"), events);
+  // A dry run shows the move and what it does to the leaf, and writes nothing.
+  const Result dry =
+      leafdig("sessions correct 1 --what tip --position " + far + " --dry-run --json --who carla --why typo" + db());
+  ASSERT_EQ(dry.exitCode, 0) << dry.err;
+  const json effect = json::parse(dry.out);
+  EXPECT_EQ(effect.at("dry_run"), true);
+  EXPECT_NEAR(effect.at("moved_mm").get<double>(), 612.0, 1e-4);
+  EXPECT_EQ(effect.at("needs_confirm"), true);
+  bool area = false;
+  for (const json& ch : effect.at("changes"))
+    if (ch.at("what") == "blade area_mm2") {
+      area = true;
+      EXPECT_GT(ch.at("after").get<double>(), ch.at("before").get<double>() * 1.05) << "the tip pulled 612 mm out";
+    }
+  EXPECT_TRUE(area) << dry.out;
+  const Result dryText =
+      leafdig("sessions correct 1 --what tip --position " + far + " --dry-run --who carla --why typo" + db());
+  EXPECT_NE(dryText.out.find("would be corrected, moving 612.0 mm; nothing written (--dry-run)"), std::string::npos)
+      << dryText.out;
+  EXPECT_NE(dryText.out.find("  blade area_mm2: "), std::string::npos) << dryText.out;
+  EXPECT_NE(dryText.out.find("writing it needs --confirm"), std::string::npos) << dryText.out;
+  EXPECT_EQ(showJson(1).at("events"), events);
+  // A leaf's points are the digitizer's: the plant frame is refused, in words.
+  const Result plantFrame =
+      leafdig("sessions correct 1 --what tip --position 1,2,3 --frame plant --who carla --why x" + db());
+  EXPECT_EQ(plantFrame.exitCode, 2);
+  EXPECT_NE(plantFrame.err.find("captured one leaf: its points are corrected in the digitizer's frame"),
+            std::string::npos)
+      << plantFrame.err;
+  EXPECT_EQ(showJson(1).at("events"), events);
   // A lower limit of one's own, and a confirmed move; the output says how far the point went.
   const std::string near = std::to_string(tip[0].get<double>() + 6.0) + "," + std::to_string(tip[1].get<double>()) +
                            "," + std::to_string(tip[2].get<double>());

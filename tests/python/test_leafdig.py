@@ -398,6 +398,11 @@ def test_a_curator_corrects_a_leaf_and_a_plant_from_python(station, tmp_path):
         store.correct(2, "marker", node=full, row=1, col=1, position=(1.0, 2.0, 3.0), who="kim", why="slipped")
     store.correct(2, "marker", node=full, row=1, col=1, position=(1.0, 2.0, 3.0), who="kim", why="slipped",
                   confirm=True)
+    with pytest.raises(leafdig.InputError, match="frame is 'plant' or 'digitizer'"):
+        store.correct(2, "marker", node=full, row=1, col=1, position=(1.0, 2.0, 3.0), who="kim", why="x",
+                      frame="leaf")
+    with pytest.raises(leafdig.InputError, match="captured one leaf: its points are corrected in the digitizer"):
+        store.correct(1, "tip", position=(1.0, 2.0, 3.0), who="kim", why="x", frame="plant", confirm=True)
     with pytest.raises(leafdig.InputError, match="is a full leaf"):
         store.correct(2, "landmark", node=full, row=1, position=(1.0, 2.0, 3.0), who="kim", why="x")
     assert len(cli_json("sessions", "show", 2, "--db", copy)["corrections"]) == 2

@@ -201,12 +201,37 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
         continue;
       frames[e.seq] = item.contains("frame") && item.at("frame").is_number_integer() ? item.at("frame").get<int>() : 0;
     }
+  // The plant as surveyed (docs/plants.md, "The survey"): its nodes with heights, internodes and
+  // stem diameters, its leaves with angles, chords and areas — as soon as the landmarks and the
+  // collar give it a frame; until then, why not.
+  std::optional<model::PlantSurvey> survey;
+  std::string surveyProblem;
+  try {
+    survey = acq::capturedSurvey(store, o.id).survey;
+  } catch (const model::InputError& e) {
+    surveyProblem = e.what();
+  } catch (const acq::SessionError& e) {
+    surveyProblem = e.what();
+  }
   for (const auto& mk : projected.markers) {
     json point{{"what", mk.what},
                {"row", maybe(mk.row)},
                {"col", maybe(mk.col)},
                {"position_mm", {mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]}}};
-    if (const auto it = frames.find(mk.seq); it != frames.end()) point["transmitter_position"] = it->second + 1;
+    int position = 0;
+    if (const auto it = frames.find(mk.seq); it != frames.end()) {
+      point["transmitter_position"] = it->second + 1;
+      position = it->second;
+    }
+    // The same point in the plant frame, as exports give it and `sessions correct` takes it by
+    // default (a landmark taken again after a move is held in its own position's frame).
+    if (survey) {
+      Eigen::Vector3d p(mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]);
+      if (mk.what == "landmark_again" && position > 0 && position < static_cast<int>(engine.toFirst().size()))
+        p = engine.toFirst()[static_cast<std::size_t>(position)] * p;
+      const Eigen::Vector3d q = survey->frame.point(p);
+      point["position_plant_mm"] = {q.x(), q.y(), q.z()};
+    }
     points.push_back(point);
   }
   const json transmitter = json::parse(acq::transmitterPositionsJson(acq::transmitterPositions(engine)));
@@ -236,18 +261,6 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
     }
   const std::vector<db::ReviewEntry> history = db::reviewHistory(events);
   const acq::PlantStep st = engine.step();
-  // The plant as surveyed (docs/plants.md, "The survey"): its nodes with heights, internodes and
-  // stem diameters, its leaves with angles, chords and areas — as soon as the landmarks and the
-  // collar give it a frame; until then, why not.
-  std::optional<model::PlantSurvey> survey;
-  std::string surveyProblem;
-  try {
-    survey = acq::capturedSurvey(store, o.id).survey;
-  } catch (const model::InputError& e) {
-    surveyProblem = e.what();
-  } catch (const acq::SessionError& e) {
-    surveyProblem = e.what();
-  }
   if (o.json) {
     std::cout << json{{"id", o.id},
                       {"kind", "plant"},
@@ -454,6 +467,48 @@ int runCorrect(db::EventStore& store, SessionsOptions o) {
   if (o.value) c.valueMm = *o.value;
   c.confirmAboveMm = o.confirm ? std::numeric_limits<double>::infinity() : o.confirmAboveMm;
   const auto info = store.session(o.id);
+  // A plant's points are read in the plant frame (exports, the survey): corrected in it too unless
+  // told; a leaf's are the digitizer's.
+  c.frame = !o.positionFrame.empty()        ? acq::positionFrameFromString(o.positionFrame)
+            : info && info->kind == "plant" ? acq::PositionFrame::Plant
+                                            : acq::PositionFrame::Digitizer;
+  // What it changes, worked out before anything is written (any move: the guard is said below).
+  acq::Correction unguarded = c;
+  unguarded.confirmAboveMm = std::numeric_limits<double>::infinity();
+  const acq::CorrectionEffect effect = acq::previewCorrection(store, o.id, unguarded);
+  const bool needsConfirm = effect.movedMm && *effect.movedMm > c.confirmAboveMm;
+  const auto changesJson = [&effect] {
+    json a = json::array();
+    for (const auto& ch : effect.changes) a.push_back({{"what", ch.what}, {"before", ch.before}, {"after", ch.after}});
+    return a;
+  };
+  const auto printChanges = [&effect] {
+    for (const auto& ch : effect.changes) {
+      std::cout << "  " << ch.what << ": " << std::fixed << std::setprecision(1) << ch.before << " → " << ch.after;
+      if (ch.before != 0) std::cout << " (" << std::showpos << 100.0 * (ch.after - ch.before) / ch.before << " %)";
+      std::cout << std::noshowpos << std::defaultfloat << "\n";
+    }
+  };
+  if (o.dryRun) {
+    if (o.json) {
+      json j{{"session", o.id},          {"dry_run", true},         {"what", o.what},
+             {"changes", changesJson()}, {"events", effect.events}, {"needs_confirm", needsConfirm}};
+      if (effect.movedMm) j["moved_mm"] = *effect.movedMm;
+      if (c.positionMm) j["frame"] = acq::toString(c.frame);
+      std::cout << j.dump() << "\n";
+    } else {
+      std::cout << "session " << o.id << ": " << terminalText(o.what) << " would be corrected";
+      if (effect.movedMm)
+        std::cout << ", moving " << std::fixed << std::setprecision(1) << *effect.movedMm << " mm" << std::defaultfloat;
+      if (effect.events > 1) std::cout << " (" << effect.events - 1 << " more points placed again by a refitted move)";
+      std::cout << "; nothing written (--dry-run)\n";
+      printChanges();
+      if (needsConfirm)
+        std::cout << "  more than the " << std::fixed << std::setprecision(1) << c.confirmAboveMm << std::defaultfloat
+                  << " mm a correction moves unconfirmed: writing it needs --confirm\n";
+    }
+    return 0;
+  }
   const std::int64_t head = info ? info->headSeq : 0;
   const auto seq = acq::correct(store, o.id, c);
   // What the correction changed, as the history says it: the first event it wrote is the item's
@@ -462,7 +517,8 @@ int runCorrect(db::EventStore& store, SessionsOptions o) {
   for (const auto& r : db::reviewHistory(store.events(o.id, head + 1)))
     if (r.action == "corrected" && !done) done = r;
   if (o.json) {
-    json j{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}};
+    json j{{"session", o.id}, {"corrected", o.what}, {"seq", seq}, {"who", o.who}, {"changes", changesJson()}};
+    if (c.positionMm) j["frame"] = acq::toString(c.frame);
     if (done)
       if (const auto moved = done->movedMm()) j["moved_mm"] = *moved;
     std::cout << j.dump() << "\n";
@@ -472,7 +528,9 @@ int runCorrect(db::EventStore& store, SessionsOptions o) {
     if (done)
       if (const auto moved = done->movedMm())
         std::cout << ", moved " << std::fixed << std::setprecision(1) << *moved << " mm" << std::defaultfloat;
+    if (c.positionMm && c.frame == acq::PositionFrame::Plant) std::cout << " (position given in the plant frame)";
     std::cout << "\n";
+    printChanges();
   }
   return 0;
 }
@@ -597,6 +655,13 @@ CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
                    "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
   corr->add_option("--why", o->why, "Reason")->required();
   corr->add_flag("--confirm", o->confirm, "The point is to move further than --confirm-above: it is meant");
+  corr->add_flag("--dry-run", o->dryRun,
+                 "Show what the correction would change (the point's move, areas, heights, lengths) and write "
+                 "nothing");
+  corr->add_option("--frame", o->positionFrame,
+                   "The frame of --position: plant (a plant session's default: as exports and the survey give it) "
+                   "or digitizer (a leaf session's only frame)")
+      ->check(CLI::IsMember({"plant", "digitizer"}));
   corr->add_option("--confirm-above", o->confirmAboveMm,
                    "A point that would move further than this many mm needs --confirm (default 20)")
       ->check(CLI::Range(0.0, 100000.0));

@@ -33,7 +33,9 @@ struct SessionsOptions {
   std::vector<double> position;
   std::optional<double> value;
   bool confirm = false;                                      // a move above confirmAboveMm is meant
+  bool dryRun = false;                                       // correct: show the effect, write nothing
   double confirmAboveMm = acquisition::kConfirmMoveAboveMm;  // mm
+  std::string positionFrame;  // correct: "plant" or "digitizer" (empty: plant for a plant session)
 };
 
 // `sessions export` (and the demo's exports): the session's files into o.out.

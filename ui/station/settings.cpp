@@ -124,6 +124,7 @@ StationSettings StationSettings::load(const QString& file, QStringList* problems
     s.labUrl = bare;
   }
   s.labSyncMinutes = static_cast<int>(number("lab/sync_minutes", s.labSyncMinutes, 0, 1440));
+  s.confirmMoveAboveMm = number("review/confirm_move_above_mm", s.confirmMoveAboveMm, 0.1, 10000.0);
   return s;
 }
 
@@ -147,6 +148,7 @@ void StationSettings::save(const QString& file) const {
   q.setValue("export/dir", exportDir);
   q.setValue("lab/url", labUrlWithoutPassword(labUrl));
   q.setValue("lab/sync_minutes", labSyncMinutes);
+  q.setValue("review/confirm_move_above_mm", confirmMoveAboveMm);
   q.sync();
   // Only its owner reads the station's settings (they name the lab server and its login).
   QFile::setPermissions(file, QFileDevice::ReadOwner | QFileDevice::WriteOwner);

@@ -10,6 +10,7 @@
 #include <map>
 
 #include "leafdig/acquisition/protocol/engine.hpp"
+#include "leafdig/acquisition/review/correction.hpp"
 
 namespace leafdig::station {
 
@@ -32,6 +33,9 @@ struct StationSettings {
   // `labSyncMinutes` the station pushes its sessions and pulls decisions (0: only by hand).
   QString labUrl;
   int labSyncMinutes = 0;
+  // A curator's correction that would move a point further than this (mm) is asked about with a
+  // warning before it is written (the CLI's --confirm-above; every correction shows its effect).
+  double confirmMoveAboveMm = acquisition::kConfirmMoveAboveMm;
 
   StationSettings();
   // Reads from the INI file (missing keys keep their defaults; out-of-range values are

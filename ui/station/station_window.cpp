@@ -237,6 +237,7 @@ void StationWindow::applySettings(const StationSettings& s) {
   sounds_->setVolume(s.volume);
   if (auto* app = qobject_cast<QApplication*>(QApplication::instance())) applyTheme(*app, s);
   review_->setSettings(s);
+  plant_->setConfirmMoveAboveMm(s.confirmMoveAboveMm);
   buildShortcuts();
   syncAction_->setEnabled(!s.labUrl.isEmpty() && !syncing_);
   if (!s.labUrl.isEmpty() && s.labSyncMinutes > 0)

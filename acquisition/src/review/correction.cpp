@@ -1,5 +1,6 @@
 #include "leafdig/acquisition/review/correction.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -12,6 +13,7 @@
 
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/acquisition/session/plant_session.hpp"
+#include "leafdig/db/history.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/io/survey_export.hpp"
 #include "leafdig/model/limits.hpp"
@@ -102,11 +104,44 @@ db::EventInput correctionEvent(const Item& old, const Item& fixed, std::int64_t 
   return ev;
 }
 
+// A position given in the plant frame, in the digitizer's first frame: through the plant frame the
+// session's points make now (std::invalid_argument when they make none yet).
+Vec3 fromPlantFrame(const PlantEngine& engine, const std::string& plant, const Vec3& p) {
+  m::PlantFrame frame;
+  try {
+    frame = m::surveyPlant(engine.captured(plant)).frame;
+  } catch (const m::InputError& e) {
+    throw std::invalid_argument(std::string("a position in the plant frame needs the plant's frame, which this "
+                                            "session's points do not make (") +
+                                e.what() + "): give it in the digitizer's frame (--frame digitizer)");
+  }
+  const Eigen::Vector3d d = frame.fromDigitizer.inverse() * Eigen::Vector3d(p[0], p[1], p[2]);
+  return Vec3{d.x(), d.y(), d.z()};
+}
+
 }  // namespace
 
-std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& given) {
+const char* toString(PositionFrame f) {
+  return f == PositionFrame::Plant ? "plant" : "digitizer";
+}
+
+PositionFrame positionFrameFromString(const std::string& s) {
+  if (s == "plant") return PositionFrame::Plant;
+  if (s == "digitizer") return PositionFrame::Digitizer;
+  throw std::invalid_argument("unknown frame '" + s +
+                              "': a position is in the plant frame or the digitizer's (plant, digitizer)");
+}
+
+namespace {
+
+std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, std::int64_t id, PlantCorrection c);
+
+// The events a correction writes (every check made, nothing written): the corrected item's, then
+// the points a refitted move places again. `who` is the signature they carry.
+std::vector<db::EventInput> correctionEvents(const db::EventStore& store, std::int64_t id, const Correction& given,
+                                             std::string& who) {
   Correction c = given;
-  c.who = store.signature(given.who);  // through a login: the login that writes it
+  c.who = who = store.signature(given.who);  // through a login: the login that writes it
   const db::SessionInfo info = detail::infoOrThrow(store, id);
   if (info.kind == "plant") {
     if (!c.plantWhat && c.node <= 0)
@@ -124,8 +159,13 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& g
     p.reason = c.reason;
     p.who = c.who;
     p.confirmAboveMm = c.confirmAboveMm;
-    return correctPlantSession(store, id, p);
+    p.frame = c.frame;
+    return plantCorrectionEvents(store, id, p);
   }
+  if (c.frame == PositionFrame::Plant)
+    throw std::invalid_argument("session " + std::to_string(id) +
+                                " captured one leaf: its points are corrected in the digitizer's frame, as sessions "
+                                "show gives them (--frame digitizer)");
   if (c.plantWhat || c.node > 0)
     throw std::invalid_argument("session " + std::to_string(id) +
                                 " captured one leaf: a plant's item or a node does not apply (--what tip, marker, "
@@ -198,13 +238,10 @@ std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& g
   }
   // Written only if nobody added to the session since it was replayed here.
   events.front().follows = r.totalEvents;
-  (void)store.ensureOperator(c.who, "curator");
-  return store.appendAll(id, events);
+  return events;
 }
 
-std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& given) {
-  PlantCorrection c = given;
-  c.who = store.signature(given.who);  // through a login: the login that writes it
+std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, std::int64_t id, PlantCorrection c) {
   const auto info = store.session(id);
   if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());
   if (info->kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");
@@ -213,6 +250,20 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
   std::map<std::string, std::int64_t> held;
   const std::vector<db::Event> logged = store.events(id);
   PlantEngine engine = PlantCaptureSession::replay(setup, logged, &held);
+  if (c.positionMm && c.frame == PositionFrame::Plant) {
+    for (double v : *c.positionMm)
+      if (!std::isfinite(v) || std::abs(v) > m::kMaxCoordinateMm)
+        throw std::invalid_argument("the corrected position must be finite numbers in mm within ±" +
+                                    std::to_string(static_cast<int>(m::kMaxCoordinateMm)) + " mm");
+    c.positionMm = fromPlantFrame(engine, info->plant, *c.positionMm);
+    // A landmark taken again after a move is held in its own transmitter position's frame.
+    if (c.node <= 0 && c.what == PlantWhat::LandmarkAgain && c.col >= 1 &&
+        c.col < static_cast<int>(engine.toFirst().size())) {
+      const Eigen::Vector3d own = engine.toFirst()[static_cast<std::size_t>(c.col)].inverse() *
+                                  Eigen::Vector3d((*c.positionMm)[0], (*c.positionMm)[1], (*c.positionMm)[2]);
+      c.positionMm = Vec3{own.x(), own.y(), own.z()};
+    }
+  }
 
   const bool stylus = c.node > 0 ? acquisition::isStylusItem(c.leafWhat) : isStylusItem(c.what);
   if (stylus) {
@@ -365,8 +416,106 @@ std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const P
   }
   // Written only if nobody added to the session since it was replayed here.
   if (!events.empty() && !logged.empty()) events.front().follows = logged.back().seq;
+  return events;
+}
+
+// The session's events with `planned` after them, as the store would hold them once written.
+std::vector<db::Event> withPlanned(std::vector<db::Event> logged, const std::vector<db::EventInput>& planned) {
+  std::int64_t seq = logged.empty() ? 0 : logged.back().seq;
+  for (const db::EventInput& in : planned) {
+    db::Event e;
+    e.seq = ++seq;
+    e.kind = in.kind;
+    e.payloadJson = in.payloadJson;
+    e.raw = in.raw;
+    e.monoNs = in.monoNs;
+    logged.push_back(std::move(e));
+  }
+  return logged;
+}
+
+void change(CorrectionEffect& effect, std::string what, double before, double after) {
+  if (std::abs(after - before) > 1e-9 * std::max(1.0, std::abs(before)))
+    effect.changes.push_back({std::move(what), before, after});
+}
+
+// A leaf's area (blade, projected) from its items; nothing when the items make no leaf.
+std::optional<model::LeafMetrics> leafMetricsOf(const ReviewedSession& r) {
+  try {
+    return summarize(r).metrics;
+  } catch (const model::InputError&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c) {
+  std::string who;
+  const std::vector<db::EventInput> events = correctionEvents(store, id, c, who);
+  (void)store.ensureOperator(who, "curator");
+  return store.appendAll(id, events);
+}
+
+std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& given) {
+  PlantCorrection c = given;
+  c.who = store.signature(given.who);  // through a login: the login that writes it
+  const std::vector<db::EventInput> events = plantCorrectionEvents(store, id, c);
   (void)store.ensureOperator(c.who, "curator");
   return store.appendAll(id, events);
+}
+
+CorrectionEffect previewCorrection(const db::EventStore& store, std::int64_t id, const Correction& c) {
+  std::string who;
+  const std::vector<db::EventInput> planned = correctionEvents(store, id, c, who);
+  CorrectionEffect effect;
+  effect.events = static_cast<int>(planned.size());
+  const std::vector<db::Event> logged = store.events(id);
+  const std::vector<db::Event> after = withPlanned(logged, planned);
+  // The corrected item's own move: the first correction planned (the others are points a
+  // refitted move places again).
+  const std::int64_t head = logged.empty() ? 0 : logged.back().seq;
+  for (const db::ReviewEntry& r : db::reviewHistory(after))
+    if (r.seq > head && r.action == "corrected") {
+      effect.movedMm = r.movedMm();
+      break;
+    }
+  const db::SessionInfo info = detail::infoOrThrow(store, id);
+  if (info.kind == "plant") {
+    const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info.settingsJson);
+    const auto surveyOf = [&](const std::vector<db::Event>& events) -> std::optional<m::PlantSurvey> {
+      try {
+        return m::surveyPlant(PlantCaptureSession::replay(setup, events).captured(info.plant));
+      } catch (const m::InputError&) {
+        return std::nullopt;
+      }
+    };
+    const auto was = surveyOf(logged), now = surveyOf(after);
+    if (!was || !now) return effect;
+    for (std::size_t n = 0; n < was->nodes.size() && n < now->nodes.size(); ++n)
+      change(effect, "node " + std::to_string(was->nodes[n].index) + " height_mm", was->nodes[n].heightMm,
+             now->nodes[n].heightMm);
+    double totalWas = 0, totalNow = 0;
+    for (std::size_t l = 0; l < was->leaves.size() && l < now->leaves.size(); ++l) {
+      const m::SurveyedLeaf &a = was->leaves[l], &b = now->leaves[l];
+      const std::string leaf = "leaf " + std::to_string(a.node);
+      if (a.pose && b.pose) change(effect, leaf + " length_mm", a.pose->lengthMm, b.pose->lengthMm);
+      if (a.areaMm2 && b.areaMm2) change(effect, leaf + " area_mm2", *a.areaMm2, *b.areaMm2);
+      totalWas += a.areaMm2.value_or(0);
+      totalNow += b.areaMm2.value_or(0);
+    }
+    change(effect, "leaf area total_mm2", totalWas, totalNow);
+    return effect;
+  }
+  ReviewedSession r = openForReview(store, id);
+  const auto was = leafMetricsOf(r);
+  r.engine = CaptureSession::replay(r.settings, after);
+  const auto now = leafMetricsOf(r);
+  if (was && now) {
+    change(effect, "blade area_mm2", was->blade.areaMm2, now->blade.areaMm2);
+    change(effect, "projected area_mm2", was->blade.projectedAreaMm2, now->blade.projectedAreaMm2);
+  }
+  return effect;
 }
 
 }  // namespace leafdig::acquisition

@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "leafdig/acquisition/review/plant_export.hpp"
+#include "leafdig/acquisition/review/provenance.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/acquisition/session/preview.hpp"
 #include "leafdig/model/files.hpp"
@@ -101,21 +102,22 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   if (reviewed) widenForMoves(reviewed->engine, leaf, result.metrics);
   model::addSilhouette(result.metrics, mesh);
   result.rows = set.rows.size();
-  const model::ExportHeader header{info.id, request.frame, std::string("leafdig ") + kVersion};
+  // Which session, station, status, operator and curator: in every file's header or metadata.
+  const model::Provenance provenance = sessionProvenance(store, infoOrThrow(store, id));
+  const std::string comments = provenanceComments(provenance);
+  const model::ExportHeader header{info.id, request.frame, std::string("leafdig ") + kVersion, provenance};
   std::vector<std::pair<std::string, std::string>> files;  // path, bytes
   for (const std::string& f : formats) {
     if (f == "glb" || f == "obj" || f == "ply" || f == "stl") {
       files.emplace_back(base + "." + f, model::encodeMesh(mesh, model::meshFormatForPath(base + "." + f), header));
     } else if (f == "model") {
-      std::string text = model::modelToJson(leaf, request.frame, result.metrics);
-      if (reviewed && reviewed->engine.transmitterPositions() > 1) {
-        // Taken across a move of the transmitter: which points came from which position, and
-        // each move's fit (a leaf taken from one position: the file as it always was).
-        json doc = json::parse(text);
+      json doc = json::parse(model::modelToJson(leaf, request.frame, result.metrics));
+      // Taken across a move of the transmitter: which points came from which position, and
+      // each move's fit.
+      if (reviewed && reviewed->engine.transmitterPositions() > 1)
         doc["transmitter_positions"] = json::parse(leafTransmitterPositionsJson(reviewed->engine, true));
-        text = doc.dump(1) + "\n";
-      }
-      files.emplace_back(base + ".model.json", text);
+      doc["provenance"] = json::parse(provenanceJson(provenance));
+      files.emplace_back(base + ".model.json", doc.dump(1) + "\n");
     } else if (f == "markers") {
       files.emplace_back(base + ".markers.json", model::markersToJson(set));
     } else if (f == "csv") {
@@ -123,12 +125,12 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
       db::Projected items = db::project(store.events(id));
       if (!itemPrefix.empty()) keepLeafItems(items, itemPrefix);
       std::ostringstream mk, th;
-      mk << std::setprecision(17) << "session,seq,what,row,col,x_mm,y_mm,z_mm\n";
+      mk << comments << std::setprecision(17) << "session,seq,what,row,col,x_mm,y_mm,z_mm\n";
       for (const auto& x : items.markers)
         mk << id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
            << (x.col ? std::to_string(*x.col) : "") << "," << x.positionMm[0] << "," << x.positionMm[1] << ","
            << x.positionMm[2] << "\n";
-      th << std::setprecision(17) << "session,seq,what,row,col,thickness_mm,raw\n";
+      th << comments << std::setprecision(17) << "session,seq,what,row,col,thickness_mm,raw\n";
       for (const auto& x : items.thickness)
         th << id << "," << x.seq << "," << x.what << "," << (x.row ? std::to_string(*x.row) : "") << ","
            << (x.col ? std::to_string(*x.col) : "") << "," << x.valueMm << "," << csvText(x.raw) << "\n";
@@ -137,7 +139,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
       // The leaf's numbers in one row (a spreadsheet of many sessions: concatenate these).
       const model::LeafMetrics& lm = result.metrics;
       std::ostringstream me;
-      me << std::setprecision(17);
+      me << comments << std::setprecision(17);
       const auto cell = [&me](std::optional<double> v) {
         if (v) me << *v;
         me << ",";

@@ -10,6 +10,7 @@
 #include <utility>
 #include <variant>
 
+#include "leafdig/acquisition/review/provenance.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/acquisition/session/plant_session.hpp"
 #include "leafdig/model/errors.hpp"
@@ -163,11 +164,12 @@ std::string transmitterPositionsJson(const std::vector<TransmitterPosition>& pos
 
 namespace {
 
-// The survey's JSON, and once the transmitter was moved its positions and each node's.
-std::string surveyJson(const CapturedSurvey& captured) {
-  const std::string plain = m::plantSurveyToJson(captured.survey) + "\n";
-  if (captured.transmitter.size() < 2) return plain;  // as before moving the transmitter existed
-  json doc = json::parse(plain);
+// The survey's JSON with where it came from, and once the transmitter was moved its positions
+// and each node's.
+std::string surveyJson(const CapturedSurvey& captured, const m::Provenance& provenance) {
+  json doc = json::parse(m::plantSurveyToJson(captured.survey));
+  doc["provenance"] = json::parse(provenanceJson(provenance));
+  if (captured.transmitter.size() < 2) return doc.dump(2) + "\n";
   doc["transmitter_positions"] = json::parse(transmitterPositionsJson(captured.transmitter));
   for (json& n : doc.at("nodes")) {
     const auto it = captured.nodePosition.find(n.at("node").get<int>());
@@ -206,6 +208,9 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
                                   "model or plan");
   const CapturedSurvey captured = capturedSurvey(store, id);
   const m::PlantMarkers& plant = captured.markers;
+  // Which session, station, status, operator and curator: in every file's header or metadata.
+  const m::Provenance provenance = sessionProvenance(store, detail::infoOrThrow(store, id));
+  const std::string comments = provenanceComments(provenance);
   PlantExport out;
   out.survey = captured.survey;
   // Every format by default: a branched plant's plan is left out (a plan holds one stem), said.
@@ -218,10 +223,10 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
   const std::string base = outDir + "/" + name;
   std::vector<m::EncodedFile> files;
   for (const std::string& f : chosen) {
-    if (f == "mtg") files.push_back({base + ".mtg", m::encodeSurveyMtg(out.survey, day)});
-    if (f == "csv") files.push_back({base + ".plant.csv", m::encodeSurveyCsv(out.survey, day)});
+    if (f == "mtg") files.push_back({base + ".mtg", comments + m::encodeSurveyMtg(out.survey, day)});
+    if (f == "csv") files.push_back({base + ".plant.csv", comments + m::encodeSurveyCsv(out.survey, day)});
     if (f == "markers") files.push_back({base + ".plant-markers.json", m::plantMarkersToJson(plant)});
-    if (f == "json") files.push_back({base + ".survey.json", surveyJson(captured)});
+    if (f == "json") files.push_back({base + ".survey.json", surveyJson(captured, provenance)});
   }
 
   // The plant as a model: only when a model's format is asked for (it meshes every leaf).
@@ -249,7 +254,7 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
       std::future<std::string> glbBytes;
       if (glb)
         glbBytes = std::async(std::launch::async,
-                              [&] { return m::encodeSurveyGlb(out.survey, day, mesh, options.generator); });
+                              [&] { return m::encodeSurveyGlb(out.survey, day, mesh, options.generator, provenance); });
       std::vector<m::EncodedFile> encoded;
       if (!others.empty()) encoded = m::encodePlantFiles(others, model, mesh, metrics, options);
       if (glb) files.push_back({*glb, glbBytes.get()});

@@ -67,10 +67,18 @@ struct Start {
   tinygltf::Model model;
   int vein = -1, blade = -1;
 };
-Start startModel(const std::string& generator) {
+Start startModel(const std::string& generator, const Provenance& provenance = {}) {
   Start s;
   s.model.asset.version = "2.0";
   s.model.asset.generator = generator;
+  if (!provenance.empty()) {
+    // Where the file came from (a stored session's), in the asset's extras as glTF allows.
+    tinygltf::Value::Object from;
+    for (const auto& [key, value] : provenance) from[key] = tinygltf::Value(value);
+    tinygltf::Value::Object extras;
+    extras["provenance"] = tinygltf::Value(from);
+    s.model.asset.extras = tinygltf::Value(extras);
+  }
   s.model.buffers.emplace_back();
   s.vein = addMaterial(s.model, "vein", {0.78, 0.82, 0.55, 1.0}, false);
   s.blade = addMaterial(s.model, "blade", {0.36, 0.58, 0.24, 1.0}, true);
@@ -141,7 +149,7 @@ std::string finishGlb(tinygltf::Model& model, tinygltf::Node root, const char* s
 }  // namespace
 
 std::string encodeGlb(const LeafMesh& mesh, const ExportHeader& header) {
-  Start start = startModel(header.generator);
+  Start start = startModel(header.generator, header.provenance);
   tinygltf::Model& model = start.model;
   const int veinMaterial = start.vein, bladeMaterial = start.blade;
 
@@ -229,8 +237,8 @@ std::string stemOwner(const std::string& name) {
 }  // namespace
 
 std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, const LeafMesh& mesh,
-                            const std::string& generator) {
-  Start start = startModel(generator);
+                            const std::string& generator, const Provenance& provenance) {
+  Start start = startModel(generator, provenance);
   tinygltf::Model& model = start.model;
   const int veinMaterial = start.vein, bladeMaterial = start.blade;
   const int stemMaterial = addMaterial(model, "stem", {0.86, 0.80, 0.55, 1.0}, false);

@@ -80,6 +80,7 @@ void appendTriple(std::string& out, const char* tag, const Eigen::Vector3d& p, i
 std::string encodeObj(const LeafMesh& mesh, const ExportHeader& h) {
   std::string out = "# " + h.generator + (h.leafId.empty() ? "" : " leaf " + oneLine(h.leafId)) + "\n" +
                     "# units: mm\n# up: +Z\n# " + frameDescription(h) + "\n";
+  for (const auto& [key, value] : h.provenance) out += "# provenance " + oneLine(key) + ": " + oneLine(value) + "\n";
   if (std::any_of(mesh.organs.begin(), mesh.organs.end(), [](const Organ& o) { return o.kind == OrganKind::Vein; })) {
     out += "# vein radii are caliper thickness / 2\n";
   }
@@ -137,6 +138,8 @@ std::string encodePly(const LeafMesh& mesh, const ExportHeader& h) {
   head << "ply\nformat binary_little_endian 1.0\n"
        << "comment " << h.generator << (h.leafId.empty() ? "" : " leaf " + oneLine(h.leafId)) << "\n"
        << "comment units mm, up +Z, " << frameDescription(h) << "\n";
+  for (const auto& [key, value] : h.provenance)
+    head << "comment provenance " << oneLine(key) << ": " << oneLine(value) << "\n";
   for (std::size_t i = 0; i < mesh.organs.size(); ++i) {
     head << "comment organ_id " << i << " " << oneLine(mesh.organs[i].name) << "\n";
   }

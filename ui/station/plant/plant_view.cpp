@@ -618,6 +618,17 @@ void PlantView::correctDialog() {
   if (!asked) return;
   acquisition::Correction c = *asked;
   c.who = curator_->text().toStdString();
+  // The effect shown before anything is written; the curator writes it or not.
+  try {
+    const auto store = db::openEventStore(db_, false);
+    if (!confirmCorrection(this, acquisition::previewCorrection(*store, capturedSession_, c), confirmMoveAboveMm_)) {
+      status_->setText(tr("The correction was not written."));
+      return;
+    }
+  } catch (const std::exception& e) {
+    status_->setText(QString::fromStdString(e.what()));
+    return;
+  }
   const QString error = correctCaptured(c);
   status_->setText(error.isEmpty() ? tr("Corrected; the plant is shown as corrected.") : error);
 }

@@ -41,6 +41,8 @@ class PlantView : public QWidget {
   // The station's database: its approved leaves are listed (all ticked) for "From approved
   // leaves".
   void setDatabase(const std::string& path);
+  // A correction moving a point further than this asks with a warning (the station's setting).
+  void setConfirmMoveAboveMm(double mm) { confirmMoveAboveMm_ = mm; }
   void refreshLibrary();
   [[nodiscard]] QListWidget* libraryList() const { return libraryList_; }
   // Each returns an error text to show (empty when the plant was built).
@@ -125,6 +127,7 @@ class PlantView : public QWidget {
   QWidget* reviewRow_;
   QLineEdit* curator_;
   QPushButton *approve_, *reject_, *correct_;
+  double confirmMoveAboveMm_ = acquisition::kConfirmMoveAboveMm;
   void correctDialog();
   std::vector<model::LibraryLeaf> approved_;  // as listed
   bool rebuildPending_ = false;

@@ -6,6 +6,8 @@
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QLineEdit>
+#include <QMessageBox>
+#include <QPushButton>
 
 namespace leafdig::station {
 
@@ -55,6 +57,46 @@ std::optional<acquisition::Correction> askCorrection(QWidget* parent, const QStr
     c.valueMm = boxes[3]->value();
   c.reason = reason->text().toStdString();
   return c;
+}
+
+QString effectText(const acquisition::CorrectionEffect& effect, double confirmAboveMm) {
+  QStringList lines;
+  if (effect.movedMm) {
+    const QString move = QObject::tr("The point moves %1 mm.").arg(*effect.movedMm, 0, 'f', 1);
+    lines << (*effect.movedMm > confirmAboveMm
+                  ? QObject::tr("%1 That is more than the %2 mm a correction moves unconfirmed: check the position.")
+                        .arg(move)
+                        .arg(confirmAboveMm, 0, 'f', 1)
+                  : move);
+  }
+  if (effect.events > 1)
+    lines << QObject::tr("%1 more points are placed again by the refitted move of the transmitter.")
+                 .arg(effect.events - 1);
+  for (const auto& ch : effect.changes) {
+    QString line = QObject::tr("%1: %2 → %3")
+                       .arg(QString::fromStdString(ch.what))
+                       .arg(ch.before, 0, 'f', 1)
+                       .arg(ch.after, 0, 'f', 1);
+    if (ch.before != 0)
+      line += QString(" (%1%2 %)")
+                  .arg(ch.after >= ch.before ? "+" : "")
+                  .arg(100.0 * (ch.after - ch.before) / ch.before, 0, 'f', 1);
+    lines << line;
+  }
+  if (lines.isEmpty()) lines << QObject::tr("No measure changes.");
+  return lines.join("\n");
+}
+
+bool confirmCorrection(QWidget* parent, const acquisition::CorrectionEffect& effect, double confirmAboveMm) {
+  const bool far = effect.movedMm && *effect.movedMm > confirmAboveMm;
+  QMessageBox box(far ? QMessageBox::Warning : QMessageBox::Question, QObject::tr("Write this correction?"),
+                  effectText(effect, confirmAboveMm), QMessageBox::NoButton, parent);
+  box.setObjectName("confirmCorrection");
+  auto* write = box.addButton(QObject::tr("Write the correction"), QMessageBox::AcceptRole);
+  QPushButton* cancel = box.addButton(QMessageBox::Cancel);
+  box.setDefaultButton(far ? cancel : write);
+  box.exec();
+  return box.clickedButton() == write;
 }
 
 }  // namespace leafdig::station

@@ -26,4 +26,13 @@ struct CorrectionChoice {
                                                                    const std::vector<CorrectionChoice>& choices,
                                                                    const QString& valueName);
 
+// A correction's effect in words, as the curator confirms it (acquisition::previewCorrection):
+// how far the point moves (first, as a warning, when further than `confirmAboveMm`), then each
+// measure that changes, before → after with the change in per cent.
+[[nodiscard]] QString effectText(const acquisition::CorrectionEffect& effect, double confirmAboveMm);
+// Asks the curator whether to write the correction, showing its effect (modal; a move further
+// than `confirmAboveMm` asks with a warning). True: write it.
+[[nodiscard]] bool confirmCorrection(QWidget* parent, const acquisition::CorrectionEffect& effect,
+                                     double confirmAboveMm);
+
 }  // namespace leafdig::station

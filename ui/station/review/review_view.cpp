@@ -577,6 +577,16 @@ void ReviewView::correctSelected() {
   if (!asked) return;
   acq::Correction c = *asked;
   c.who = curator_->text().toStdString();
+  // The effect shown before anything is written; the curator writes it or not.
+  try {
+    if (!confirmCorrection(this, acq::previewCorrection(*store_, current_->info.id, c), settings_.confirmMoveAboveMm)) {
+      banner_->setText(tr("REVIEW · the correction was not written"));
+      return;
+    }
+  } catch (const std::exception& e) {
+    banner_->setText(tr("REVIEW · not corrected: %1").arg(QString::fromStdString(e.what())));
+    return;
+  }
   (void)correct(c);
 }
 

@@ -1956,3 +1956,33 @@ TEST(CorrectionDialog, TheChosenItemIsEditedWithItsReasonAndCancelGivesNothing) 
   EXPECT_FALSE(leafdig::station::askCorrection(nullptr, "Correct", {}, "diameter"));  // nothing to offer
 }
 
+// Before a correction is written the station shows its effect (issue 49): the move, a warning
+// above the station's limit, each measure before → after; the curator writes it or cancels.
+TEST(CorrectionDialog, TheEffectIsShownAndTheCuratorWritesItOrNot) {
+  acq::CorrectionEffect far;
+  far.movedMm = 612.0;
+  far.events = 1;
+  far.changes.push_back({"blade area_mm2", 77656.0, 107010.0});
+  const QString text = leafdig::station::effectText(far, 20.0);
+  EXPECT_TRUE(text.contains("The point moves 612.0 mm. That is more than the 20.0 mm")) << text.toStdString();
+  EXPECT_TRUE(text.contains("blade area_mm2: 77656.0 → 107010.0 (+37.8 %)")) << text.toStdString();
+  acq::CorrectionEffect near = far;
+  near.movedMm = 6.0;
+  EXPECT_FALSE(leafdig::station::effectText(near, 20.0).contains("more than")) << "no warning under the limit";
+  const auto answer = [](const QString& button, bool* warned) {
+    QTimer::singleShot(0, [button, warned] {
+      auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+      ASSERT_NE(box, nullptr);
+      *warned = box->icon() == QMessageBox::Warning;
+      for (QAbstractButton* b : box->buttons())
+        if (b->text().contains(button)) b->click();
+    });
+  };
+  bool warned = false;
+  answer("Write", &warned);
+  EXPECT_TRUE(leafdig::station::confirmCorrection(nullptr, far, 20.0));
+  EXPECT_TRUE(warned) << "a far move asks with a warning";
+  answer("Cancel", &warned);
+  EXPECT_FALSE(leafdig::station::confirmCorrection(nullptr, near, 20.0));
+  EXPECT_FALSE(warned);
+}

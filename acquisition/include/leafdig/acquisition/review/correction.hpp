@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "leafdig/acquisition/protocol/plant_engine.hpp"
 #include "leafdig/db/event_store.hpp"
@@ -30,6 +31,15 @@ class UnconfirmedMove : public std::invalid_argument {
   double moveMm_;
 };
 
+// The frame a corrected position is given in. A leaf's points are the digitizer's (its leaf frame
+// comes from the board the points themselves make). A plant's can be given in the plant frame, as
+// every export, the survey and `sessions show --json`'s `position_plant_mm` give them: the
+// position is taken into the digitizer's frame through the plant frame as the session stands
+// before the correction (a landmark corrected in the plant frame moves the frame with it after).
+enum class PositionFrame { Digitizer, Plant };
+[[nodiscard]] const char* toString(PositionFrame f);                        // "digitizer", "plant"
+[[nodiscard]] PositionFrame positionFrameFromString(const std::string& s);  // std::invalid_argument naming both
+
 struct Correction {
   What what = What::Marker;
   int row = 0, col = 0;
@@ -43,6 +53,7 @@ struct Correction {
   // A point moved further than this (mm, in the frame `sessions show` gives) is refused with
   // UnconfirmedMove; infinity: any move (the curator confirmed it).
   double confirmAboveMm = std::numeric_limits<double>::infinity();
+  PositionFrame frame = PositionFrame::Digitizer;  // of positionMm (Plant: plant sessions only)
 };
 // The item a curator names in words (the CLI's --what, Python's `what`): a leaf's (tip, marker,
 // midrib_thickness, …) or a plant's (landmark, collar, point, reading, …), set in `c`
@@ -75,7 +86,24 @@ struct PlantCorrection {
   std::optional<double> valueMm;   // caliper items
   std::string reason, who;
   double confirmAboveMm = std::numeric_limits<double>::infinity();  // as Correction's (review.hpp)
+  PositionFrame frame = PositionFrame::Digitizer;                   // of positionMm
 };
 std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& c);
+
+// What a correction would change, worked out with every check correct() makes and nothing
+// written (issue 49: the curator sees the effect before it is written — the CLI's --dry-run, the
+// station's question): the corrected point's move and the measures that change, before → after.
+// A leaf: its blade and projected areas. A plant: each node's height, each leaf's length and
+// area, and the plant's total leaf area. Measures the session cannot make yet are left out.
+struct CorrectionEffect {
+  struct Change {
+    std::string what;  // "blade area_mm2", "node 4 height_mm", "leaf 3 area_mm2", "leaf area total_mm2"
+    double before = 0, after = 0;
+  };
+  std::optional<double> movedMm;  // the corrected point's move (none for a reading)
+  std::vector<Change> changes;    // only what changes
+  int events = 0;                 // corrections written: the item's, and the points a refitted move places again
+};
+[[nodiscard]] CorrectionEffect previewCorrection(const db::EventStore& store, std::int64_t id, const Correction& c);
 
 }  // namespace leafdig::acquisition

@@ -4,6 +4,8 @@
 // file's header); glTF in metres with the frame's +Z mapped to glTF's +Y (up).
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "leafdig/model/mesh/mesh.hpp"
 
@@ -14,10 +16,17 @@ enum class MeshFormat { Glb, Obj, Ply, Stl };
 // From the file extension (.glb .obj .ply .stl, any case). Throws InputError otherwise.
 [[nodiscard]] MeshFormat meshFormatForPath(const std::filesystem::path& path);
 
+// A file's provenance (a stored session's: session, station, status, operator, curator, …), as
+// (key, value) in order; empty for files made from a file. OBJ: `# provenance KEY: VALUE`
+// comment lines; PLY: `comment provenance KEY: VALUE`; GLB: `asset.extras.provenance`; STL's
+// 80-byte header has no room for it.
+using Provenance = std::vector<std::pair<std::string, std::string>>;
+
 struct ExportHeader {
   std::string leafId;     // may be empty
   std::string frame;      // "digitizer", "leaf", "plant" or "leaf2d" (a 2-D leaf: origin at its base)
   std::string generator;  // "leafdig 0.1.0"
+  Provenance provenance{};
 };
 
 // OBJ: one `o` group per organ, vertex normals, a header comment with unit, frame, up axis.

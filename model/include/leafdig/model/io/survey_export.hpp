@@ -51,7 +51,8 @@ struct SurveyEntity {
 // to node k (`plant/stem/I<k>`) a child of `I<k>`.
 // Every node's transform is the identity: the geometry is in the plant frame (glTF +Y up).
 // Implemented beside the other glTF writers (tinygltf stays in one translation unit).
+// `provenance`: a stored session's, in `asset.extras.provenance` (ExportHeader's).
 [[nodiscard]] std::string encodeSurveyGlb(const PlantSurvey& survey, const SurveyDate& date, const LeafMesh& mesh,
-                                          const std::string& generator);
+                                          const std::string& generator, const Provenance& provenance = {});
 
 }  // namespace leafdig::model
