@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/review/correction.hpp"
+#include "leafdig/acquisition/review/leaf_export.hpp"
 #include "leafdig/acquisition/review/plant_export.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/acquisition/session/session.hpp"
@@ -382,10 +383,16 @@ void requireVerified(const Store& s, std::int64_t id, const std::string& refused
                             std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + ")" + refused);
 }
 
-// A leaf session's markers, as `sessions export --format markers` writes them (verified first).
-Markers sessionMarkers(const Store& s, std::int64_t id) {
+// A leaf session's markers, as `sessions export --format markers` writes them (verified first);
+// with `node` > 0, a plant session's full leaf at that node, as `sessions export --node` does.
+Markers sessionMarkers(const Store& s, std::int64_t id, int node) {
   py::gil_scoped_release free;
   requireVerified(s, id, ": its markers are not given");
+  try {
+    if (node > 0) return {acq::plantLeafMarkers(*s.store, id, node)};
+  } catch (const std::invalid_argument& e) {
+    throw m::InputError(e.what());
+  }
   return {acq::sessionMarkers(acq::openForReview(*s.store, id))};
 }
 
@@ -585,7 +592,7 @@ PYBIND11_MODULE(_leafdig, mod) {
 
   py::class_<Store>(mod, "Store")
       .def("sessions", &sessions)
-      .def("markers", &sessionMarkers, py::arg("id"))
+      .def("markers", &sessionMarkers, py::arg("id"), py::arg("node") = 0)
       .def("events", &sessionEvents, py::arg("id"))
       .def("plant_survey_json", &plantSurveyJson, py::arg("id"))
       .def(

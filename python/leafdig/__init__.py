@@ -213,13 +213,18 @@ class Store:
                                  % (key, filters[key], key, ", ".join(words)))
         return [s for s in self._core.sessions() if all(s.get(k) == v for k, v in filters.items())]
 
-    def markers(self, id):
-        """A leaf session's markers (its chain verified first)."""
-        return self._core.markers(int(id))
+    def markers(self, id, node=None):
+        """A leaf session's markers (its chain verified first); with ``node``, a plant
+        session's full leaf at that node (1 at the base), as ``sessions export --node`` writes
+        it. ``InputError`` names the nodes that have a full leaf."""
+        if node is not None and (isinstance(node, bool) or int(node) < 1):
+            raise InputError("node is a plant's node number, 1 at the base (got %r)" % (node,))
+        return self._core.markers(int(id), 0 if node is None else int(node))
 
-    def leaf(self, id, **options):
-        """A leaf session built as ``build_leaf`` builds markers (the same options)."""
-        return build_leaf(self.markers(id), **options)
+    def leaf(self, id, node=None, **options):
+        """A leaf session — or, with ``node``, a plant session's full leaf at that node — built
+        as ``build_leaf`` builds markers (the same options)."""
+        return build_leaf(self.markers(id, node=node), **options)
 
     def events(self, id):
         """The session's log, verified: dicts with seq, utc, mono_ns, kind, payload (a dict), raw, hash."""

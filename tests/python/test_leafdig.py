@@ -179,6 +179,20 @@ def test_a_captured_plant_is_the_model_its_session_export_writes(station, tmp_pa
     assert sum(len(t) for t in plant.caribu_scene().values()) == len(lines)
     with pytest.raises(leafdig.StoreError, match="one leaf"):
         leafdig.open(station).plant(1)
+    # A full leaf of the captured plant is a Leaf like a leaf session's: the markers
+    # `sessions export --node` writes, built the same.
+    store = leafdig.open(station)
+    full = next(l["node"] for l in cli_json("sessions", "show", 2, "--db", station)["leaves"] if l["kind"] == "full")
+    cli("sessions", "export", 2, "--db", station, "--out", tmp_path, "--node", full, "--format", "markers")
+    exported = leafdig.read_markers(tmp_path / ("session-2.node-%d.markers.json" % full))
+    assert np.array_equal(store.markers(2, node=full).rows, exported.rows)
+    assert store.leaf(2, node=full).metrics == cli_json("model", "build", tmp_path / (
+        "session-2.node-%d.markers.json" % full))["metrics"]
+    quick = next(l["node"] for l in cli_json("sessions", "show", 2, "--db", station)["leaves"] if l["kind"] != "full")
+    with pytest.raises(leafdig.InputError, match="its full leaves are at node %d" % full):
+        store.leaf(2, node=quick)
+    with pytest.raises(leafdig.InputError, match="node is a plant's node number"):
+        store.leaf(2, node=0)
 
 
 def test_a_doctored_station_file_is_not_trusted(station, tmp_path):

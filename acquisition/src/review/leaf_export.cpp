@@ -25,11 +25,24 @@ using detail::requireChain;
 using model::csvText;
 using nlohmann::json;
 
-// A plant session's full leaf at `node`, as markers with its leaf's names (the plant, the node).
+// Only the items of one leaf of a plant session, with their words as a leaf's ("node3.marker" → "marker").
+void keepLeafItems(db::Projected& items, const std::string& prefix) {
+  const auto strip = [&](auto& rows) {
+    rows.erase(std::remove_if(rows.begin(), rows.end(), [&](const auto& x) { return x.what.rfind(prefix, 0) != 0; }),
+               rows.end());
+    for (auto& x : rows) x.what = x.what.substr(prefix.size());
+  };
+  strip(items.markers);
+  strip(items.thickness);
+}
+
+}  // namespace
+
 model::MarkerSet plantLeafMarkers(const db::EventStore& store, std::int64_t id, int node) {
   if (infoOrThrow(store, id).kind != "plant")
-    throw SessionError("session " + std::to_string(id) +
-                       " captured one leaf: --node names a full leaf of a plant session; leave it out");
+    throw SessionError(
+        "session " + std::to_string(id) +
+        " captured one leaf: --node names a full leaf of a plant session (node= in Python); leave it out");
   const CapturedSurvey captured = capturedSurvey(store, id);
   std::string full;  // the nodes that have one, for the message
   for (std::size_t k = 0; k < captured.markers.nodes.size(); ++k)
@@ -47,19 +60,6 @@ model::MarkerSet plantLeafMarkers(const db::EventStore& store, std::int64_t id, 
   set.leaf.position = node;
   return set;
 }
-
-// Only the items of one leaf of a plant session, with their words as a leaf's ("node3.marker" → "marker").
-void keepLeafItems(db::Projected& items, const std::string& prefix) {
-  const auto strip = [&](auto& rows) {
-    rows.erase(std::remove_if(rows.begin(), rows.end(), [&](const auto& x) { return x.what.rfind(prefix, 0) != 0; }),
-               rows.end());
-    for (auto& x : rows) x.what = x.what.substr(prefix.size());
-  };
-  strip(items.markers);
-  strip(items.thickness);
-}
-
-}  // namespace
 
 const std::vector<std::string>& exportFormats() {
   static const std::vector<std::string> formats{"glb", "obj", "ply", "stl", "model", "markers", "csv"};

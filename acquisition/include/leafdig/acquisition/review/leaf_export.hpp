@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "leafdig/db/event_store.hpp"
+#include "leafdig/model/leaf/markers.hpp"
 #include "leafdig/model/mesh/mesh_method.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
 
@@ -38,6 +39,12 @@ struct ExportResult {
 // exported: SessionError), writes each file atomically and records it in `exports`. Throws std::invalid_argument
 // (unknown format, no directory) and model::InputError (the capture is not a whole leaf).
 ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportRequest& request);
+// A plant session's full leaf at `node` (1 at the base), as markers named after the plant and
+// the node, in the digitizer's frame as the plant's survey has them (its session verified and
+// replayed first): what `sessions export --node` writes and Python's `Store.leaf(id, node=)`
+// builds. SessionError for a leaf's session or one that does not verify; std::invalid_argument
+// naming the nodes that have a full leaf otherwise.
+[[nodiscard]] model::MarkerSet plantLeafMarkers(const db::EventStore& store, std::int64_t id, int node);
 // The format names exportSession knows, in order.
 [[nodiscard]] const std::vector<std::string>& exportFormats();
 
