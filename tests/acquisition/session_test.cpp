@@ -623,6 +623,33 @@ TEST_F(Session, ACuratorsCorrectionIsAnEventThatReplaysAndReplacesTheProjection)
   (void)acq::correct(store, id, t);
   EXPECT_DOUBLE_EQ(
       acq::findItem(acq::openForReview(store, id).engine.items(), acq::What::MidribThickness, 1, 4)->valueMm, 2.54);
+  // The effect a curator saw is the one written, worked out at the event it names; another
+  // curator's write since then refuses the write (the store's "moved on"), nothing written.
+  t.valueMm = 2.6;
+  const acq::CorrectionEffect seen = acq::previewCorrection(store, id, t);
+  EXPECT_EQ(seen.head, store.session(id)->headSeq);
+  EXPECT_EQ(seen.events, 1);
+  acq::Correction other = t;
+  other.who = "second curator";
+  other.valueMm = 2.7;
+  acq::CorrectionEffect written;
+  const auto otherSeq = acq::correct(store, id, other, &written);
+  EXPECT_EQ(written.head, seen.head);
+  EXPECT_EQ(written.events, 1);
+  t.seenHead = seen.head;
+  try {
+    (void)acq::correct(store, id, t);
+    ADD_FAILURE() << "a correction confirmed before another curator's write was written";
+  } catch (const leafdig::db::StoreError& e) {
+    EXPECT_EQ(e.kind(), leafdig::db::StoreErrorKind::Conflict);
+    EXPECT_NE(std::string(e.what()).find("moved on"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(store.session(id)->headSeq, otherSeq);
+  EXPECT_DOUBLE_EQ(
+      acq::findItem(acq::openForReview(store, id).engine.items(), acq::What::MidribThickness, 1, 4)->valueMm, 2.7);
+  t.seenHead.reset();
+  t.valueMm = 2.54;
+  (void)acq::correct(store, id, t);
   // Approved sessions are final.
   EXPECT_THROW((void)acq::review(store, id, "rejected", "curator", ""), std::invalid_argument);  // no reason
   (void)acq::review(store, id, "approved", "curator", "");

@@ -475,14 +475,11 @@ int runCorrect(db::EventStore& store, SessionsOptions o) {
   // What it changes, worked out before anything is written (any move: the guard is said below).
   acq::Correction unguarded = c;
   unguarded.confirmAboveMm = std::numeric_limits<double>::infinity();
-  // Another curator writing between the preview's two reads makes its planned events not fit:
-  // the write then says the session moved on, in the store's words (a dry run says it now).
+  // A dry run says what the correction would change; the write works it out from the same single
+  // read of the session it writes against (another curator's write in between: the store's
+  // "moved on", nothing written).
   acq::CorrectionEffect effect;
-  try {
-    effect = acq::previewCorrection(store, o.id, unguarded);
-  } catch (const acq::SessionError&) {
-    if (o.dryRun) throw;
-  }
+  if (o.dryRun) effect = acq::previewCorrection(store, o.id, unguarded);
   const bool needsConfirm = effect.movedMm && *effect.movedMm > c.confirmAboveMm;
   const auto changesJson = [&effect] {
     json a = json::array();
@@ -517,7 +514,7 @@ int runCorrect(db::EventStore& store, SessionsOptions o) {
     return 0;
   }
   const std::int64_t head = info ? info->headSeq : 0;
-  const auto seq = acq::correct(store, o.id, c);
+  const auto seq = acq::correct(store, o.id, c, &effect);
   // What the correction changed, as the history says it: the first event it wrote is the item's
   // (the others, points a refitted move placed again).
   std::optional<db::ReviewEntry> done;

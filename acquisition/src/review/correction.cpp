@@ -134,34 +134,49 @@ PositionFrame positionFrameFromString(const std::string& s) {
 
 namespace {
 
-std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, std::int64_t id, PlantCorrection c);
+std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, const db::SessionInfo& info,
+                                                  const std::vector<db::Event>& logged, Correction c);
 
-// The events a correction writes (every check made, nothing written): the corrected item's, then
-// the points a refitted move places again. `who` is the signature they carry.
-std::vector<db::EventInput> correctionEvents(const db::EventStore& store, std::int64_t id, const Correction& given,
-                                             std::string& who) {
+// A correction as planned: the session's row and every event it held, read once, and the events
+// the correction writes, worked out against those very events (every check made, nothing
+// written): the corrected item's, then the points a refitted move places again. `who` is the
+// signature they carry.
+struct Plan {
+  db::SessionInfo info;
+  std::vector<db::Event> logged;
+  std::vector<db::EventInput> events;
+  std::string who;
+};
+
+std::vector<db::EventInput> leafCorrectionEvents(const db::EventStore& store, const Plan& p, const Correction& c);
+
+Plan planCorrection(const db::EventStore& store, std::int64_t id, const Correction& given) {
+  Plan plan;
   Correction c = given;
-  c.who = who = store.signature(given.who);  // through a login: the login that writes it
-  const db::SessionInfo info = detail::infoOrThrow(store, id);
+  c.who = plan.who = store.signature(given.who);  // through a login: the login that writes it
+  plan.info = detail::infoOrThrow(store, id);
+  plan.logged = store.events(id);
+  const db::SessionInfo& info = plan.info;
   if (info.kind == "plant") {
     if (!c.plantWhat && c.node <= 0)
       throw std::invalid_argument("session " + std::to_string(id) +
                                   " is a plant: name the plant's item (landmark, collar, collar_diameter, point, "
                                   "reading, quick_point) or a full leaf's item with its node");
-    PlantCorrection p;
-    p.node = c.node;
-    p.leafWhat = c.what;
-    if (c.plantWhat) p.what = *c.plantWhat;
-    p.row = c.row;
-    p.col = c.col;
-    p.positionMm = c.positionMm;
-    p.valueMm = c.valueMm;
-    p.reason = c.reason;
-    p.who = c.who;
-    p.confirmAboveMm = c.confirmAboveMm;
-    p.frame = c.frame;
-    return plantCorrectionEvents(store, id, p);
+    plan.events = plantCorrectionEvents(store, info, plan.logged, c);
+  } else {
+    plan.events = leafCorrectionEvents(store, plan, c);
   }
+  // Written only if nobody added to the session since it was read here, or since the curator saw
+  // the effect (CorrectionEffect::head): else the store's conflict, and nothing written.
+  if (!plan.events.empty()) {
+    const std::int64_t head = plan.logged.empty() ? 0 : plan.logged.back().seq;
+    plan.events.front().follows = given.seenHead.value_or(head);
+  }
+  return plan;
+}
+
+std::vector<db::EventInput> leafCorrectionEvents(const db::EventStore& store, const Plan& plan, const Correction& c) {
+  const std::int64_t id = plan.info.id;
   if (c.frame == PositionFrame::Plant)
     throw std::invalid_argument("session " + std::to_string(id) +
                                 " captured one leaf: its points are corrected in the digitizer's frame, as sessions "
@@ -170,8 +185,8 @@ std::vector<db::EventInput> correctionEvents(const db::EventStore& store, std::i
     throw std::invalid_argument("session " + std::to_string(id) +
                                 " captured one leaf: a plant's item or a node does not apply (--what tip, marker, "
                                 "or a thickness, with --row and --col)");
-  requireCorrectable(store, id, info.status, c.reason, c.who);
-  const ReviewedSession r = openForReview(store, id);
+  requireCorrectable(store, id, plan.info.status, c.reason, c.who);
+  const ReviewedSession r = reviewedFrom(plan.info, plan.logged);
   const Item* old = findItem(r.engine.items(), c.what, c.row, c.col);
   if (!old)
     throw std::invalid_argument(std::string("session ") + std::to_string(id) + " has no " + toString(c.what) +
@@ -236,28 +251,27 @@ std::vector<db::EventInput> correctionEvents(const db::EventStore& store, std::i
       }
     }
   }
-  // Written only if nobody added to the session since it was replayed here.
-  events.front().follows = r.totalEvents;
   return events;
 }
 
-std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, std::int64_t id, PlantCorrection c) {
-  const auto info = store.session(id);
-  if (!info) throw SessionError("there is no session " + std::to_string(id) + " in " + store.describe());
-  if (info->kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");
-  requireCorrectable(store, id, info->status, c.reason, c.who);
-  const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
+std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, const db::SessionInfo& info,
+                                                  const std::vector<db::Event>& logged, Correction c) {
+  const What leafItem = c.what;                                       // node > 0: a full leaf's item
+  const PlantWhat plantItem = c.plantWhat.value_or(PlantWhat::Landmark);  // else the plant's own
+  const std::int64_t id = info.id;
+  if (info.kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");
+  requireCorrectable(store, id, info.status, c.reason, c.who);
+  const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info.settingsJson);
   std::map<std::string, std::int64_t> held;
-  const std::vector<db::Event> logged = store.events(id);
   PlantEngine engine = PlantCaptureSession::replay(setup, logged, &held);
   if (c.positionMm && c.frame == PositionFrame::Plant) {
     for (double v : *c.positionMm)
       if (!std::isfinite(v) || std::abs(v) > m::kMaxCoordinateMm)
         throw std::invalid_argument("the corrected position must be finite numbers in mm within ±" +
                                     std::to_string(static_cast<int>(m::kMaxCoordinateMm)) + " mm");
-    c.positionMm = fromPlantFrame(engine, info->plant, *c.positionMm);
+    c.positionMm = fromPlantFrame(engine, info.plant, *c.positionMm);
     // A landmark taken again after a move is held in its own transmitter position's frame.
-    if (c.node <= 0 && c.what == PlantWhat::LandmarkAgain && c.col >= 1 &&
+    if (c.node <= 0 && plantItem == PlantWhat::LandmarkAgain && c.col >= 1 &&
         c.col < static_cast<int>(engine.toFirst().size())) {
       const Eigen::Vector3d own = engine.toFirst()[static_cast<std::size_t>(c.col)].inverse() *
                                   Eigen::Vector3d((*c.positionMm)[0], (*c.positionMm)[1], (*c.positionMm)[2]);
@@ -265,7 +279,7 @@ std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, s
     }
   }
 
-  const bool stylus = c.node > 0 ? acquisition::isStylusItem(c.leafWhat) : isStylusItem(c.what);
+  const bool stylus = c.node > 0 ? acquisition::isStylusItem(leafItem) : isStylusItem(plantItem);
   if (stylus) {
     if (!c.positionMm || c.valueMm) throw std::invalid_argument("a point is corrected with a position (x, y, z in mm)");
     for (double v : *c.positionMm)
@@ -309,9 +323,9 @@ std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, s
     const Item* found = nullptr;
     if (leaf)
       for (const Item& i : leaf->items())
-        if (i.what == c.leafWhat && i.row == c.row && i.col == c.col) found = &i;
+        if (i.what == leafItem && i.row == c.row && i.col == c.col) found = &i;
     if (!found)
-      throw std::invalid_argument("plant session " + std::to_string(id) + " has no " + toString(c.leafWhat) +
+      throw std::invalid_argument("plant session " + std::to_string(id) + " has no " + toString(leafItem) +
                                   (c.row ? " at row " + std::to_string(c.row) : "") +
                                   (c.col ? " col " + std::to_string(c.col) : "") + " in node " +
                                   std::to_string(c.node) + "'s leaf" + (leaf ? "" : " (that node has no full leaf)") +
@@ -323,7 +337,7 @@ std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, s
       fixed.frame = 0;  // a corrected point is given in the first transmitter position's frame
       // Held in the first frame already (as sessions show gives it): the move is between the two.
       requireConfirmedMove(found->positionMm, fixed.positionMm, c.confirmAboveMm,
-                           "node " + std::to_string(c.node) + " leaf's " + toString(c.leafWhat));
+                           "node " + std::to_string(c.node) + " leaf's " + toString(leafItem));
     }
     if (c.valueMm) fixed.valueMm = *c.valueMm;
     fixed.raw = "corrected by " + c.who;
@@ -338,9 +352,9 @@ std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, s
     // A part left out (0) names the first where the item has parts (a node's point, reading).
     const PlantItem* found = nullptr;
     for (const PlantItem& i : engine.items())
-      if (i.what == c.what && i.index == c.row && (i.part == c.col || (c.col == 0 && i.part == 1))) found = &i;
+      if (i.what == plantItem && i.index == c.row && (i.part == c.col || (c.col == 0 && i.part == 1))) found = &i;
     if (!found)
-      throw std::invalid_argument("plant session " + std::to_string(id) + " has no " + toString(c.what) +
+      throw std::invalid_argument("plant session " + std::to_string(id) + " has no " + toString(plantItem) +
                                   (c.row ? " " + std::to_string(c.row) : "") +
                                   (c.col ? " part " + std::to_string(c.col) : "") +
                                   " to correct (landmarks by number, a node's point and reading by node)");
@@ -351,7 +365,7 @@ std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, s
       // A corrected point is given in the first transmitter position's frame; a landmark taken
       // again stays in its own.
       if (fixed.what != PlantWhat::LandmarkAgain) fixed.frame = 0;
-      requireConfirmedMove(found->positionMm, fixed.positionMm, c.confirmAboveMm, toString(c.what));
+      requireConfirmedMove(found->positionMm, fixed.positionMm, c.confirmAboveMm, toString(plantItem));
     }
     if (c.valueMm) fixed.valueMm = *c.valueMm;
     fixed.raw = "corrected by " + c.who;
@@ -375,7 +389,7 @@ std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, s
                                   "): check the position, nothing was written");
     // A move that did not take the corrected landmark again fits as before: its points stay.
     if (was.newToOld.matrix() == now.newToOld.matrix()) continue;
-    const std::string why = std::string("placed again by its move's new fit (") + toString(c.what) + " " +
+    const std::string why = std::string("placed again by its move's new fit (") + toString(plantItem) + " " +
                             std::to_string(c.row) + (onlyMove ? " of move " + std::to_string(onlyMove) : "") +
                             " corrected): " + c.reason;
     for (const PlantItem& i : before.items()) {
@@ -409,13 +423,11 @@ std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, s
   }
   // The corrected plant must still stand: a landmark moved onto the others' line leaves no frame.
   try {
-    (void)m::surveyPlant(engine.captured(info->plant));
+    (void)m::surveyPlant(engine.captured(info.plant));
   } catch (const m::InputError& e) {
     throw std::invalid_argument(std::string("the corrected plant would not hold together (") + e.what() +
                                 "): check the position, nothing was written");
   }
-  // Written only if nobody added to the session since it was replayed here.
-  if (!events.empty() && !logged.empty()) events.front().follows = logged.back().seq;
   return events;
 }
 
@@ -448,39 +460,22 @@ std::optional<model::LeafMetrics> leafMetricsOf(const ReviewedSession& r) {
   }
 }
 
-}  // namespace
 
-std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c) {
-  std::string who;
-  const std::vector<db::EventInput> events = correctionEvents(store, id, c, who);
-  (void)store.ensureOperator(who, "curator");
-  return store.appendAll(id, events);
-}
-
-std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& given) {
-  PlantCorrection c = given;
-  c.who = store.signature(given.who);  // through a login: the login that writes it
-  const std::vector<db::EventInput> events = plantCorrectionEvents(store, id, c);
-  (void)store.ensureOperator(c.who, "curator");
-  return store.appendAll(id, events);
-}
-
-CorrectionEffect previewCorrection(const db::EventStore& store, std::int64_t id, const Correction& c) {
-  std::string who;
-  const std::vector<db::EventInput> planned = correctionEvents(store, id, c, who);
+// What the planned events change, worked out from the events the plan read.
+CorrectionEffect effectOf(const Plan& plan) {
   CorrectionEffect effect;
-  effect.events = static_cast<int>(planned.size());
-  const std::vector<db::Event> logged = store.events(id);
-  const std::vector<db::Event> after = withPlanned(logged, planned);
+  effect.events = static_cast<int>(plan.events.size());
+  const std::vector<db::Event>& logged = plan.logged;
+  const std::vector<db::Event> after = withPlanned(logged, plan.events);
   // The corrected item's own move: the first correction planned (the others are points a
   // refitted move places again).
-  const std::int64_t head = logged.empty() ? 0 : logged.back().seq;
+  effect.head = logged.empty() ? 0 : logged.back().seq;
   for (const db::ReviewEntry& r : db::reviewHistory(after))
-    if (r.seq > head && r.action == "corrected") {
+    if (r.seq > effect.head && r.action == "corrected") {
       effect.movedMm = r.movedMm();
       break;
     }
-  const db::SessionInfo info = detail::infoOrThrow(store, id);
+  const db::SessionInfo& info = plan.info;
   if (info.kind == "plant") {
     const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info.settingsJson);
     const auto surveyOf = [&](const std::vector<db::Event>& events) -> std::optional<m::PlantSurvey> {
@@ -507,7 +502,7 @@ CorrectionEffect previewCorrection(const db::EventStore& store, std::int64_t id,
     change(effect, "leaf area total_mm2", totalWas, totalNow);
     return effect;
   }
-  ReviewedSession r = openForReview(store, id);
+  ReviewedSession r = reviewedFrom(info, logged);
   const auto was = leafMetricsOf(r);
   r.engine = CaptureSession::replay(r.settings, after);
   const auto now = leafMetricsOf(r);
@@ -516,6 +511,19 @@ CorrectionEffect previewCorrection(const db::EventStore& store, std::int64_t id,
     change(effect, "projected area_mm2", was->blade.projectedAreaMm2, now->blade.projectedAreaMm2);
   }
   return effect;
+}
+
+}  // namespace
+
+std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c, CorrectionEffect* effect) {
+  const Plan plan = planCorrection(store, id, c);
+  if (effect) *effect = effectOf(plan);
+  (void)store.ensureOperator(plan.who, "curator");
+  return store.appendAll(id, plan.events);
+}
+
+CorrectionEffect previewCorrection(const db::EventStore& store, std::int64_t id, const Correction& c) {
+  return effectOf(planCorrection(store, id, c));
 }
 
 }  // namespace leafdig::acquisition

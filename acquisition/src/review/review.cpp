@@ -49,14 +49,15 @@ model::LeafInfo leafInfoOf(const db::SessionInfo& info) {
 
 }  // namespace
 
-ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std::int64_t upToSeq) {
-  ReviewedSession r{detail::infoOrThrow(store, id), {}, Engine{}, {}, 0, 0};
+namespace {
+
+ReviewedSession replayed(db::SessionInfo info, std::vector<db::Event> events, std::int64_t upToSeq) {
+  ReviewedSession r{std::move(info), {}, Engine{}, {}, 0, 0};
   if (r.info.kind != "leaf")
-    throw SessionError("session " + std::to_string(id) +
-                       " captured a whole plant, not one leaf: `leafdig sessions export " + std::to_string(id) +
+    throw SessionError("session " + std::to_string(r.info.id) +
+                       " captured a whole plant, not one leaf: `leafdig sessions export " + std::to_string(r.info.id) +
                        "` writes its files (`--node K` one full leaf's)");
   r.settings = CaptureSession::settingsFromJson(r.info.settingsJson);
-  std::vector<db::Event> events = store.events(id);
   r.totalEvents = static_cast<std::int64_t>(events.size());
   if (upToSeq > 0) {
     events.erase(std::remove_if(events.begin(), events.end(), [&](const db::Event& e) { return e.seq > upToSeq; }),
@@ -65,6 +66,18 @@ ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std:
   r.replayedEvents = static_cast<std::int64_t>(events.size());
   r.engine = CaptureSession::replay(r.settings, events, &r.seqs);
   return r;
+}
+
+}  // namespace
+
+ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std::int64_t upToSeq) {
+  db::SessionInfo info = detail::infoOrThrow(store, id);
+  if (info.kind != "leaf") return replayed(std::move(info), {}, 0);  // the words a plant gets
+  return replayed(std::move(info), store.events(id), upToSeq);
+}
+
+ReviewedSession reviewedFrom(db::SessionInfo info, const std::vector<db::Event>& events) {
+  return replayed(std::move(info), events, 0);
 }
 
 void requireReplays(const db::SessionInfo& info, const std::vector<db::Event>& events) {

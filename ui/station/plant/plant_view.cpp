@@ -621,10 +621,12 @@ void PlantView::correctDialog() {
   // The effect shown before anything is written; the curator writes it or not.
   try {
     const auto store = db::openEventStore(db_, false);
-    if (!confirmCorrection(this, acquisition::previewCorrection(*store, capturedSession_, c), confirmMoveAboveMm_)) {
+    const acquisition::CorrectionEffect effect = acquisition::previewCorrection(*store, capturedSession_, c);
+    if (!confirmCorrection(this, effect, confirmMoveAboveMm_)) {
       status_->setText(tr("The correction was not written."));
       return;
     }
+    c.seenHead = effect.head;  // what the curator confirmed: refused if the session moved on since
   } catch (const std::exception& e) {
     status_->setText(QString::fromStdString(e.what()));
     return;

@@ -579,10 +579,12 @@ void ReviewView::correctSelected() {
   c.who = curator_->text().toStdString();
   // The effect shown before anything is written; the curator writes it or not.
   try {
-    if (!confirmCorrection(this, acq::previewCorrection(*store_, current_->info.id, c), settings_.confirmMoveAboveMm)) {
+    const acq::CorrectionEffect effect = acq::previewCorrection(*store_, current_->info.id, c);
+    if (!confirmCorrection(this, effect, settings_.confirmMoveAboveMm)) {
       banner_->setText(tr("REVIEW · the correction was not written"));
       return;
     }
+    c.seenHead = effect.head;  // what the curator confirmed: refused if the session moved on since
   } catch (const std::exception& e) {
     banner_->setText(tr("REVIEW · not corrected: %1").arg(QString::fromStdString(e.what())));
     return;

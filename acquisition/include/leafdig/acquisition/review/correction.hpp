@@ -54,6 +54,9 @@ struct Correction {
   // UnconfirmedMove; infinity: any move (the curator confirmed it).
   double confirmAboveMm = std::numeric_limits<double>::infinity();
   PositionFrame frame = PositionFrame::Digitizer;  // of positionMm (Plant: plant sessions only)
+  // The session's last event when the curator saw the correction's effect (CorrectionEffect::head):
+  // the write is refused if anything was added since. None: the last event as correct() reads it.
+  std::optional<std::int64_t> seenHead;
 };
 // The item a curator names in words (the CLI's --what, Python's `what`): a leaf's (tip, marker,
 // midrib_thickness, …) or a plant's (landmark, collar, point, reading, …), set in `c`
@@ -64,31 +67,19 @@ void setCorrectionItem(Correction& c, const std::string& word, int node = 0);
 // transaction). Only a complete session is corrected (approved and rejected ones are
 // final; open ones are still being captured). Throws std::invalid_argument naming what is
 // wrong (no reason, unknown item, value of the wrong kind or outside the settings' range)
-// and SessionError when the session's chain is broken. A plant session's item goes to
-// correctPlantSession (below).
-std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c);
-
-// A curator's correction of one item of a complete plant session, saying why (review.hpp's
-// correct() on a plant session): the plant's own item (`what`; row: the landmark's or node's
-// number; col: which part, 0 for the first) or, with `node`, node's full leaf's item (`leafWhat`,
-// row and col as a leaf's). Appends a `corrected` event naming the event that put the item in;
-// replay puts the corrected item where the old one stood, so every point measured in the plant
-// frame follows a corrected landmark. Throws std::invalid_argument naming what is wrong (no
-// reason, no such item, a value of the wrong kind or out of range, a correction that leaves no
-// plant frame: nothing written) and SessionError when the session is not a plant's or does not
-// verify.
-struct PlantCorrection {
-  int node = 0;
-  What leafWhat = What::Marker;
-  PlantWhat what = PlantWhat::Landmark;
-  int row = 0, col = 0;
-  std::optional<Vec3> positionMm;  // stylus items
-  std::optional<double> valueMm;   // caliper items
-  std::string reason, who;
-  double confirmAboveMm = std::numeric_limits<double>::infinity();  // as Correction's (review.hpp)
-  PositionFrame frame = PositionFrame::Digitizer;                   // of positionMm
-};
-std::int64_t correctPlantSession(db::EventStore& store, std::int64_t id, const PlantCorrection& c);
+// and SessionError when the session's chain is broken.
+//
+// A plant session's item: the plant's own (`plantWhat`; row: the landmark's or node's number;
+// col: which part, 0 for the first) or, with `node`, node's full leaf's item (`what`, row and col
+// as a leaf's). Replay puts the corrected item where the old one stood, so every point measured in
+// the plant frame follows a corrected landmark; a correction that leaves no plant frame is refused.
+//
+// The correction is planned against the session's events as read once, and written only if the
+// session still ends where it did (or at `seenHead`, the event the curator saw the effect at):
+// else db::StoreError(Conflict), "moved on", and nothing written. With `effect`, what it changed
+// (as previewCorrection says it) from the same plan.
+struct CorrectionEffect;
+std::int64_t correct(db::EventStore& store, std::int64_t id, const Correction& c, CorrectionEffect* effect = nullptr);
 
 // What a correction would change, worked out with every check correct() makes and nothing
 // written (issue 49: the curator sees the effect before it is written — the CLI's --dry-run, the
@@ -103,6 +94,7 @@ struct CorrectionEffect {
   std::optional<double> movedMm;  // the corrected point's move (none for a reading)
   std::vector<Change> changes;    // only what changes
   int events = 0;                 // corrections written: the item's, and the points a refitted move places again
+  std::int64_t head = 0;          // the session's last event the effect was worked out from (Correction::seenHead)
 };
 [[nodiscard]] CorrectionEffect previewCorrection(const db::EventStore& store, std::int64_t id, const Correction& c);
 

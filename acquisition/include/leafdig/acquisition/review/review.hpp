@@ -36,6 +36,9 @@ struct ReviewedSession {
 // Opens a session of any status. upToSeq > 0 replays only events 1..upToSeq (step-by-step
 // replay in review). Throws SessionError when it does not exist or does not replay.
 [[nodiscard]] ReviewedSession openForReview(const db::EventStore& store, std::int64_t id, std::int64_t upToSeq = 0);
+// The same from a leaf session's row and every event it holds, read once by the caller (a
+// correction plans and previews against the very events it read). SessionError as above.
+[[nodiscard]] ReviewedSession reviewedFrom(db::SessionInfo info, const std::vector<db::Event>& events);
 
 // One finding a curator should look at.
 struct ReviewFlag {

@@ -13,7 +13,7 @@
 // `retake` (the item and the seq of the event that put it in) / `retake_cancelled` (the item),
 // `rejected`, `status`, `paused` {"reason"} / `resumed`, `ignored_reading` (a reading while
 // paused), `device` {"device","state","message"}, and a curator's `corrected`
-// (correctPlantSession, review/correction.hpp).
+// (correct(), review/correction.hpp).
 //
 // Thread contract: one thread owns a PlantCaptureSession (and its Store).
 #pragma once
