@@ -256,7 +256,7 @@ std::vector<db::EventInput> leafCorrectionEvents(const db::EventStore& store, co
 
 std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, const db::SessionInfo& info,
                                                   const std::vector<db::Event>& logged, Correction c) {
-  const What leafItem = c.what;                                       // node > 0: a full leaf's item
+  const What leafItem = c.what;                                           // node > 0: a full leaf's item
   const PlantWhat plantItem = c.plantWhat.value_or(PlantWhat::Landmark);  // else the plant's own
   const std::int64_t id = info.id;
   if (info.kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");
@@ -459,7 +459,6 @@ std::optional<model::LeafMetrics> leafMetricsOf(const ReviewedSession& r) {
     return std::nullopt;
   }
 }
-
 
 // What the planned events change, worked out from the events the plan read.
 CorrectionEffect effectOf(const Plan& plan) {
