@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what leafdig needs on Debian 12 (only what is missing), then configures and
 # builds one preset. Usage: scripts/setup.sh [PRESET]   (default: release; `main`: only what the
-# main job needs)
+# main job needs). LEAFDIG_BUILD_TARGETS="a b …" builds only those targets of the preset.
 #
 # Debian packages: build tools (cmake, ninja-build, g++, ccache), libraries (libeigen3-dev,
 # nlohmann-json3-dev, libcli11-dev, libtinygltf-dev, libgtest-dev, libgmock-dev,
@@ -59,4 +59,9 @@ fi
 
 cd "$root"
 cmake --preset "$preset" >/dev/null
-cmake --build --preset "$preset" -j"$(nproc)"
+targets=()
+if [ -n "${LEAFDIG_BUILD_TARGETS:-}" ]; then
+  read -ra named <<<"$LEAFDIG_BUILD_TARGETS"
+  targets=(--target "${named[@]}")
+fi
+cmake --build --preset "$preset" -j"$(nproc)" "${targets[@]}"
