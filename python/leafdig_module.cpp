@@ -622,6 +622,17 @@ PYBIND11_MODULE(_leafdig, mod) {
           },
           py::arg("id"), py::arg("status"), py::arg("who"), py::arg("why") = "")
       .def(
+          "reopen",
+          [](Store& s, std::int64_t id, const std::string& who, const std::string& why) {
+            py::gil_scoped_release free;
+            try {
+              return acq::reopen(*s.store, id, who, why);
+            } catch (const std::invalid_argument& e) {
+              throw m::InputError(e.what());
+            }
+          },
+          py::arg("id"), py::arg("who"), py::arg("why"))
+      .def(
           "correct",
           [](Store& s, std::int64_t id, const std::string& what, int row, int col, int node,
              const std::optional<std::array<double, 3>>& position, const std::optional<double>& value,

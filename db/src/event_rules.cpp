@@ -102,7 +102,16 @@ std::optional<std::string> eventProblem(const std::string& kind, const std::stri
     if (extra.empty() && p.contains("corrected") && p.at("corrected").is_object())
       extra = unknownKeys(p.at("corrected"), itemKeys());
   } else if (kind == "status") {
-    extra = unknownKeys(p, {"status", "who", "why"});
+    extra = unknownKeys(p, {"status", "who", "why", "reopens"});
+    // A curator's reopening (docs/schema.md, "Event kinds"): back to complete, naming the
+    // decision it reopens, signed and with a reason.
+    const auto text = [&p](const char* key) { return p.contains(key) && p.at(key).is_string(); };
+    if (extra.empty() && p.contains("reopens") &&
+        !(text("status") && p.at("status") == "complete" && text("reopens") &&
+          (p.at("reopens") == "approved" || p.at("reopens") == "rejected") && text("who") && text("why") &&
+          p.at("why").get<std::string>().find_first_not_of(" \t\r\n") != std::string::npos))
+      return "a reopening sets the status complete, names the decision it reopens (approved or rejected) and says "
+             "who and why";
   }
   if (!extra.empty()) return "its payload has keys leafdig does not write (" + extra + ")";
   if (putsItem || takesItem || kind == "corrected") {

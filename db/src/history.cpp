@@ -55,7 +55,12 @@ std::vector<ReviewEntry> reviewHistory(const std::vector<Event>& events) {
     r.who = textAt(p, "who");
     if (e.kind == "status") {
       r.action = textAt(p, "status");
-      if (r.action != "approved" && r.action != "rejected") continue;  // a capture's own status
+      if (r.action == "complete" && p.contains("reopens")) {
+        r.action = "reopened";
+        r.reopens = textAt(p, "reopens");
+      } else if (r.action != "approved" && r.action != "rejected") {
+        continue;  // a capture's own status
+      }
       r.why = textAt(p, "why");
     } else {
       if (!p.contains("corrected") || !p.at("corrected").is_object()) continue;
@@ -79,6 +84,7 @@ namespace {
 
 json entryJson(const ReviewEntry& r) {
   json j{{"seq", r.seq}, {"utc", r.utc}, {"action", r.action}, {"who", r.who}, {"why", r.why}};
+  if (r.action == "reopened") j["reopens"] = r.reopens;
   if (r.action != "corrected") return j;
   j["what"] = r.what;
   j["row"] = r.row ? json(*r.row) : json(nullptr);
@@ -107,8 +113,10 @@ std::string reviewHistoryJson(const std::vector<ReviewEntry>& history) {
 }
 
 std::optional<ReviewEntry> lastDecision(const std::vector<ReviewEntry>& history) {
-  for (auto it = history.rbegin(); it != history.rend(); ++it)
+  for (auto it = history.rbegin(); it != history.rend(); ++it) {
+    if (it->action == "reopened") return std::nullopt;  // the decision before it no longer stands
     if (it->action == "approved" || it->action == "rejected") return *it;
+  }
   return std::nullopt;
 }
 

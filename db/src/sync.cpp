@@ -267,10 +267,11 @@ PushReport push(Store& local, const std::string& url, const SyncOptions& options
 namespace {
 
 // What a pull may bring (docs/lab.md, "Sync"): a curator's review of a capture the station
-// completed — corrections, then at most one decision (approved or rejected), nothing after it —
-// each event one leafdig writes, and the session as a whole still replaying. A server that
-// sends anything else (an undo, a new point, a status that reopens) is refused in words and
-// nothing of the session is taken: the station's own capture is never rewritten from outside.
+// completed — corrections, a decision (approved or rejected), and after a decision only a
+// curator's reopening of it, after which corrections and a decision again — each event one
+// leafdig writes, and the session as a whole still replaying. A server that sends anything else
+// (an undo, a new point, a capture's status) is refused in words and nothing of the session is
+// taken: the station's own capture is never rewritten from outside.
 void checkPulled(Store& local, const SessionInfo& s, const std::vector<Event>& events, const SyncOptions& options) {
   const auto refuse = [&](const Event& e, const std::string& why) {
     throw StoreError(StoreErrorKind::Conflict,
@@ -290,10 +291,22 @@ void checkPulled(Store& local, const SessionInfo& s, const std::vector<Event>& e
       } catch (const std::exception&) {
       }
     }
-    const bool review = e.kind == "corrected" || status == "approved" || status == "rejected";
-    if (!review) refuse(e, "is not a curator's correction or decision");
-    if (state != "complete")
+    // A reopening (eventProblem checked its shape) names the decision it reopens.
+    std::string reopens;
+    if (!status.empty()) {
+      const auto p = nlohmann::json::parse(e.payloadJson, nullptr, false);
+      if (p.is_object() && p.contains("reopens") && p.at("reopens").is_string())
+        reopens = p.at("reopens").get<std::string>();
+    }
+    const bool review = e.kind == "corrected" || status == "approved" || status == "rejected" || !reopens.empty();
+    if (!review) refuse(e, "is not a curator's correction, decision or reopening");
+    if (!reopens.empty()) {
+      if (state != reopens)
+        refuse(e, "reopens a session " + reopens + " that is " + state +
+                      " at the station: only an approved or rejected session is reopened");
+    } else if (state != "complete") {
       refuse(e, "reviews a session that is " + state + " at the station: only a complete capture is reviewed");
+    }
     if (!status.empty()) state = status;
   }
   if (options.replays) {

@@ -244,10 +244,11 @@ class Store:
         return Plant(self._core.plant(int(id), tuple(float(x) for x in light)))
 
     def history(self, id):
-        """Every curator's decision and correction of the session, in the order they were
-        written (its chain verified first): dicts with seq, utc, action ("approved",
-        "rejected" or "corrected"), who (on the lab server "NAME (login)" or the login) and
-        why; a correction also what, row, col, from and to (``{"position_mm": [x, y, z]}`` or
+        """Every curator's decision, reopening and correction of the session, in the order
+        they were written (its chain verified first): dicts with seq, utc, action
+        ("approved", "rejected", "reopened" — with reopens, the decision it reopened — or
+        "corrected"), who (on the lab server "NAME (login)" or the login) and why; a
+        correction also what, row, col, from and to (``{"position_mm": [x, y, z]}`` or
         ``{"value_mm": v}``) and, for a point, moved_mm — what ``leafdig sessions show`` lists."""
         return _json.loads(self._core.history_json(int(id)))
 
@@ -258,6 +259,13 @@ class Store:
     def reject(self, id, who, why):
         """Rejects a complete session, saying why (a curator's decision; a reason is required)."""
         return self._core.review(int(id), "rejected", who, why)
+
+    def reopen(self, id, who, why):
+        """Reopens an approved or rejected session, saying why (a curator's event, as
+        ``leafdig sessions reopen``): it is complete again, to be corrected and decided anew;
+        the history keeps the decision and the reopening. Returns the event's number; refusals
+        raise ``InputError`` (no reason, a session not decided) or ``StoreError``."""
+        return self._core.reopen(int(id), who, why)
 
     def correct(self, id, what, *, who, why, row=0, col=0, node=0, position=None, value=None, confirm=False,
                 frame=None):

@@ -124,6 +124,64 @@ TEST_F(ReviewCli, EveryDecisionAndCorrectionIsShownWithWhoWhenWhyAndWhatItChange
   EXPECT_EQ(list[1].at("decision").at("action"), "rejected");
 }
 
+// A decision can be reopened by a curator with a reason (issue 49): the session is complete
+// again, corrections and a new decision follow, the history keeps all of it in order, and what
+// may not be reopened is refused in words, nothing written.
+TEST_F(ReviewCli, ACuratorReopensADecisionWithAReasonAndDecidesAgain) {
+  // Only a decided session is reopened, and never without a reason.
+  const Result early = leafdig("sessions reopen 1 --who carla --why 'too early'" + db());
+  EXPECT_NE(early.exitCode, 0);
+  EXPECT_NE(early.err.find("session 1 is complete: only an approved or rejected session is reopened"),
+            std::string::npos)
+      << early.err;
+  ASSERT_EQ(leafdig("sessions approve 1 --who carla --why 'looked fine'" + db()).exitCode, 0);
+  const Result noWhy = leafdig("sessions reopen 1 --who dana" + db());
+  EXPECT_NE(noWhy.exitCode, 0);
+  EXPECT_NE(noWhy.err.find("--why"), std::string::npos) << noWhy.err;
+  const Result blankWhy = leafdig("sessions reopen 1 --who dana --why '  '" + db());
+  EXPECT_NE(blankWhy.exitCode, 0);
+  EXPECT_NE(blankWhy.err.find("say why the session is reopened"), std::string::npos) << blankWhy.err;
+  EXPECT_EQ(showJson(1).at("history").size(), 1u);  // nothing written by the refusals
+  EXPECT_EQ(showJson(1).at("status"), "approved");
+  // Approved sessions take no correction until reopened.
+  const std::string correction =
+      "sessions correct 1 --what midrib_thickness --row 1 --col 4 --value 1.25 --who dana --why misread" + db();
+  EXPECT_NE(leafdig(correction).exitCode, 0);
+
+  const Result reopened = leafdig("sessions reopen 1 --json --who dana --why 'the midrib of row 1 was misread'" + db());
+  ASSERT_EQ(reopened.exitCode, 0) << reopened.err;
+  const json r = json::parse(reopened.out);
+  EXPECT_EQ(r.at("status"), "complete");
+  EXPECT_EQ(r.at("reopens"), "approved");
+  EXPECT_EQ(showJson(1).at("status"), "complete");
+  // Complete again: no decision stands, the list says so; a second reopening is refused.
+  const json list = json::parse(leafdig("sessions list --json" + db()).out);
+  EXPECT_TRUE(list[0].at("decision").is_null()) << list[0].dump();
+  EXPECT_EQ(listed(" --status complete"), (std::vector<int>{1, 2}));
+  EXPECT_NE(leafdig("sessions reopen 1 --who dana --why again" + db()).exitCode, 0);
+  ASSERT_EQ(leafdig(correction).exitCode, 0);
+  ASSERT_EQ(leafdig("sessions reject 1 --who dana --why 'row 3 is missing its vein'" + db()).exitCode, 0);
+
+  const json history = showJson(1).at("history");
+  ASSERT_EQ(history.size(), 4u) << history.dump();
+  EXPECT_EQ(history[0].at("action"), "approved");
+  EXPECT_EQ(history[1].at("action"), "reopened");
+  EXPECT_EQ(history[1].at("reopens"), "approved");
+  EXPECT_EQ(history[1].at("who"), "dana");
+  EXPECT_EQ(history[1].at("why"), "the midrib of row 1 was misread");
+  EXPECT_EQ(history[2].at("action"), "corrected");
+  EXPECT_EQ(history[3].at("action"), "rejected");
+  const Result text = leafdig("sessions show 1" + db());
+  EXPECT_NE(text.out.find("  reopened (was approved) by dana at "), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(": the midrib of row 1 was misread\n"), std::string::npos) << text.out;
+  const json after = json::parse(leafdig("sessions list --json" + db()).out);
+  EXPECT_EQ(after[0].at("decision").at("action"), "rejected");
+  // A rejection is reopened the same way; the chain still verifies.
+  ASSERT_EQ(leafdig("sessions reopen 1 --who carla --why 'the vein was there after all'" + db()).exitCode, 0);
+  EXPECT_EQ(showJson(1).at("history").back().at("reopens"), "rejected");
+  EXPECT_EQ(leafdig("sessions verify 1" + db()).exitCode, 0);
+}
+
 // A correction that would move a point further than 20 mm (a typo, another point) is refused
 // in words saying how far, until the curator confirms it; nothing is written before.
 TEST_F(ReviewCli, AFarMoveIsShownAndNeedsConfirming) {

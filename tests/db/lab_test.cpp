@@ -27,6 +27,7 @@
 #include "../support/station_sessions.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/event_rules.hpp"
+#include "leafdig/db/history.hpp"
 #include "leafdig/db/store.hpp"
 
 namespace fs = std::filesystem;
@@ -170,6 +171,7 @@ TEST(LabMigrations, EveryReleasedMigrationIsUnchanged) {
       "b934f01484b148b2ec6c320f671659304fcf8bedc35216d3d02bc14b660fc0d7",  // 0009
       "ae225bd13bad4804c897e4430538e49163ed29f1eac68a23bd5971f38e09aba3",  // 0010
       "37a101574c88b9e474dc1ecc36aacadb7c472b4db1d9a24285046226b9ea4129",  // 0011
+      "2b78d0742ed093fc339db728c81a9c6f4a4fd99bd5f75dc999eac5c28c129c64",  // 0012
   };
   ASSERT_EQ(db::detail::kLabMigrations.size(), static_cast<std::size_t>(db::kLabSchemaVersion));
   ASSERT_GE(db::detail::kLabMigrations.size(), released.size());
@@ -983,6 +985,87 @@ TEST_F(Lab, AfterACuratorsDecisionNothingFollowsFromATechnicianNeitherBySqlNorBy
   EXPECT_EQ(db::LabStore(login(db::LabRole::Reader)).session(std::stoll(s.serverId))->status, "approved");
 }
 
+// A curator reopens a decision, saying why (issue 49): by plain SQL and through leafdig, only a
+// curator, only a decided session, only naming its decision; after it the session is complete
+// again — corrections and a new decision follow, a capture event does not — and the station
+// that captured it pulls the whole record.
+TEST_F(Lab, OnlyACuratorReopensADecisionAndTheStationPullsTheRecord) {
+  db::Store station(file("a.sqlite"));
+  const std::string tech = login(db::LabRole::Technician, "bench-a");
+  const Pushed s = pushOne(station, "bench-a", tech, /*complete=*/true);
+  const std::string carla = login(db::LabRole::Curator);
+  const std::string carlaLogin = Sql(carla).value("SELECT session_user");
+  const auto reopening = [&](const std::string& who, const std::string& why, const std::string& reopens) {
+    return nlohmann::json{{"status", "complete"}, {"who", who}, {"why", why}, {"reopens", reopens}}.dump();
+  };
+  // Nothing to reopen yet.
+  EXPECT_NE(appendBySql(Sql(carla), s, "bench-a", "status", reopening(carlaLogin, "x", "approved"))
+                .find("only an approved or rejected session is reopened"),
+            std::string::npos);
+  db::LabStore asCarla(carla);
+  const std::int64_t id = std::stoll(s.serverId);
+  (void)leafdig::acquisition::review(asCarla, id, "approved", "", "fine");
+  EXPECT_EQ(statusOf(s), "approved");
+  // The technician may not reopen, even its own capture; a reopening needs a reason and the
+  // decision it reopens.
+  const std::string techLogin = Sql(tech).value("SELECT session_user");
+  EXPECT_NE(appendBySql(Sql(tech), s, "bench-a", "status", reopening(techLogin, "more rows", "approved")), "");
+  EXPECT_NE(
+      appendBySql(Sql(carla), s, "bench-a", "status", reopening(carlaLogin, "", "approved")).find("says who and why"),
+      std::string::npos);
+  EXPECT_NE(appendBySql(Sql(carla), s, "bench-a", "status", reopening(carlaLogin, "x", "rejected"))
+                .find("only an approved or rejected session is reopened, naming its decision"),
+            std::string::npos);
+  EXPECT_EQ(statusOf(s), "approved");
+  // Taken from a curator by plain SQL: complete again; a capture event still may not follow.
+  EXPECT_EQ(appendBySql(Sql(carla), s, "bench-a", "status", reopening(carlaLogin, "leaf 3 misread", "approved")), "");
+  EXPECT_EQ(statusOf(s), "complete");
+  EXPECT_NE(appendBySql(Sql(tech), s, "bench-a", "paused", R"({"reason":"x"})").find("its capture is over"),
+            std::string::npos);
+  EXPECT_THROW((void)leafdig::acquisition::reopen(asCarla, id, "", "again"), std::invalid_argument);
+  // Through leafdig: reject, reopen, approve.
+  (void)leafdig::acquisition::review(asCarla, id, "rejected", "", "row 2 is short");
+  (void)leafdig::acquisition::reopen(asCarla, id, "Dr Carla", "row 2 was complete after all");
+  (void)leafdig::acquisition::review(asCarla, id, "approved", "", "checked twice");
+  EXPECT_EQ(statusOf(s), "approved");
+  // The station takes the whole record in, in order, and verifies.
+  db::SyncOptions options;
+  options.replays = leafdig::acquisition::requireReplays;
+  const auto pulled = db::pull(station, tech, options);
+  ASSERT_TRUE(pulled.problems.empty()) << pulled.problems.front().problem;
+  EXPECT_EQ(pulled.eventsTaken, 5);
+  EXPECT_EQ(station.session(s.stationId)->status, "approved");
+  EXPECT_TRUE(station.verify(s.stationId).ok);
+  const auto history = db::reviewHistory(station.events(s.stationId));
+  std::vector<std::string> actions;
+  for (const auto& h : history) actions.push_back(h.action);
+  EXPECT_EQ(actions, (std::vector<std::string>{"approved", "reopened", "rejected", "reopened", "approved"}));
+  EXPECT_EQ(history[3].reopens, "rejected");
+  EXPECT_EQ(history[3].who, "Dr Carla (" + carlaLogin + ")");
+  ASSERT_TRUE(db::lastDecision(history).has_value());
+  EXPECT_EQ(db::lastDecision(history)->why, "checked twice");
+  // A tampered server's reopening of a session the station holds complete is refused by the pull.
+  db::Store second(file("b.sqlite"));
+  const std::string tech2 = login(db::LabRole::Technician, "bench-b");
+  const Pushed t = pushOne(second, "bench-b", tech2, /*complete=*/true);
+  Sql owner(admin_);
+  (void)owner.rows("ALTER TABLE leafdig.events DISABLE TRIGGER USER");
+  EXPECT_EQ(appendBySql(owner, t, "bench-b", "status", reopening("carla", "forged", "approved")), "");
+  (void)owner.rows(
+      "UPDATE leafdig.sessions x SET head_seq = e.seq, head_hash = e.hash FROM leafdig.events e "
+      "WHERE x.id = $1 AND e.session_id = x.id AND e.seq = (SELECT max(seq) FROM leafdig.events WHERE session_id = "
+      "x.id)",
+      {t.serverId});
+  (void)owner.rows("ALTER TABLE leafdig.events ENABLE TRIGGER USER");
+  const auto forged = db::pull(second, tech2, options);
+  ASSERT_EQ(forged.problems.size(), 1u);
+  EXPECT_NE(forged.problems.front().problem.find("reopens a session approved that is complete at the station"),
+            std::string::npos)
+      << forged.problems.front().problem;
+  EXPECT_EQ(forged.eventsTaken, 0);
+  EXPECT_EQ(second.session(t.stationId)->status, "complete");
+}
+
 TEST_F(Lab, StatusesAreAClosedSetAndATechnicianOnlyEndsItsOwnCapture) {
   db::Store station(file("a.sqlite"));
   const std::string tech = login(db::LabRole::Technician, "bench-a");
@@ -1334,7 +1417,8 @@ TEST_F(Lab, ATamperedServerCannotRewriteOrReopenACompletedCaptureThroughPull) {
     const auto pulled = db::pull(station, tech, options);
     ASSERT_EQ(pulled.problems.size(), 1u) << kind;
     EXPECT_EQ(pulled.eventsTaken, 0) << kind;
-    EXPECT_NE(pulled.problems.front().problem.find("is not a curator's correction or decision"), std::string::npos)
+    EXPECT_NE(pulled.problems.front().problem.find("is not a curator's correction, decision or reopening"),
+              std::string::npos)
         << pulled.problems.front().problem;
     EXPECT_NE(pulled.problems.front().remedy.find("nothing of the session was taken in"), std::string::npos);
     EXPECT_EQ(fileEvents(station), before) << kind;

@@ -436,6 +436,19 @@ def test_a_curator_corrects_a_leaf_and_a_plant_from_python(station, tmp_path):
     assert store.history(2)[0]["to"] == {"value_mm": 9.5}
     with pytest.raises(leafdig.InputError, match="approved"):
         store.correct(1, "marker", row=2, col=3, position=before[1][2], who="kim", why="back")
+    # Until a curator reopens it, saying why: then the correction, and a decision again.
+    with pytest.raises(leafdig.InputError, match="say why the session is reopened"):
+        store.reopen(1, who="kim", why=" ")
+    with pytest.raises(leafdig.InputError, match="only an approved or rejected session is reopened"):
+        store.reopen(2, who="kim", why="not decided yet")
+    store.reopen(1, who="lee", why="the marker was right after all")
+    assert store.sessions(status="complete")[0]["id"] == 1
+    store.correct(1, "marker", row=2, col=3, position=before[1][2], who="lee", why="back")
+    store.reject(1, who="lee", why="row 2 disagrees with the photo")
+    history = store.history(1)
+    assert [h["action"] for h in history] == ["corrected", "approved", "reopened", "corrected", "rejected"]
+    assert history[2]["reopens"] == "approved" and history[2]["who"] == "lee"
+    assert history == cli_json("sessions", "show", 1, "--db", copy)["history"]
 
 
 def test_the_lab_servers_roles_hold_through_python(lab, station):

@@ -79,6 +79,7 @@ void printHistory(const std::vector<db::ReviewEntry>& history) {
   for (const auto& r : history) {
     std::ostringstream line;
     line << "  " << r.action;
+    if (r.action == "reopened") line << " (was " << terminalText(r.reopens) << ")";
     if (r.action == "corrected") {
       line << " " << terminalText(r.what);
       if (r.row) line << " row " << *r.row;
@@ -131,7 +132,7 @@ int runList(const db::EventStore& store, const SessionsOptions& o) {
                    {"events", s.headSeq},
                    {"decision", [&] {
                       // Only a decided session has a decision: the others' events are not read (a
-                      // lab server lists thousands). Reopening, when it comes, is a decision too.
+                      // lab server lists thousands). A reopened session is complete: no decision stands.
                       if (s.status != "approved" && s.status != "rejected") return json(nullptr);
                       const auto d = db::lastDecision(db::reviewHistory(store.events(s.id)));
                       return d ? json::parse(db::reviewEntryJson(*d)) : json(nullptr);
@@ -452,6 +453,21 @@ int runReview(db::EventStore& store, SessionsOptions o, const std::string& statu
   return 0;
 }
 
+int runReopen(db::EventStore& store, SessionsOptions o) {
+  o.who = signer(store, o.who);
+  const auto was = store.session(o.id);
+  const auto seq = acq::reopen(store, o.id, o.who, o.why);
+  const std::string reopened = was ? was->status : std::string();
+  if (o.json)
+    std::cout
+        << json{{"session", o.id}, {"status", "complete"}, {"reopens", reopened}, {"seq", seq}, {"who", o.who}}.dump()
+        << "\n";
+  else
+    std::cout << "session " << o.id << " reopened by " << terminalText(o.who) << " (event " << seq << "): it was "
+              << terminalText(reopened) << ", it is complete again — correct it, then approve or reject it\n";
+  return 0;
+}
+
 int runCorrect(db::EventStore& store, SessionsOptions o) {
   o.who = signer(store, o.who);
   acq::Correction c;
@@ -617,14 +633,16 @@ CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
   CLI::App* resume = sessions->add_subcommand("resume", "Continue an open session at its exact step");
   CLI::App* approve = sessions->add_subcommand("approve", "Curator: approve a complete session");
   CLI::App* reject = sessions->add_subcommand("reject", "Curator: reject a session, saying why");
+  CLI::App* reopen = sessions->add_subcommand(
+      "reopen", "Curator: reopen an approved or rejected session, saying why (it is complete again)");
   CLI::App* corr = sessions->add_subcommand("correct", "Curator: correct one marker or reading, saying why");
   CLI::App* exp = sessions->add_subcommand("export", "Export a session's leaf: meshes, model, markers, CSV");
-  for (CLI::App* c : {list, show, verify, approve, reject, corr, exp}) {
+  for (CLI::App* c : {list, show, verify, approve, reject, reopen, corr, exp}) {
     c->add_option("--db", o->db,
                   "SQLite file (default: the station's), or the lab server's postgresql:// URL (docs/lab.md)");
     c->add_flag("--json", o->json, "JSON output");
   }
-  for (CLI::App* c : {show, approve, reject, corr, exp}) c->add_option("id", o->id, "Session id")->required();
+  for (CLI::App* c : {show, approve, reject, reopen, corr, exp}) c->add_option("id", o->id, "Session id")->required();
   list->add_option("--status", o->status, "Only sessions of this status")
       ->check(CLI::IsMember({"open", "complete", "approved", "rejected", "abandoned"}));
   list->add_option("--kind", o->kind, "Only leaves or only plants")->check(CLI::IsMember({"leaf", "plant"}));
@@ -676,6 +694,9 @@ CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
                   "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
     c->add_option("--why", o->why, "Reason (required to reject)");
   }
+  reopen->add_option("--who", o->who,
+                     "Curator's name (on the lab server stored as \"NAME (login)\"; left out: the login)");
+  reopen->add_option("--why", o->why, "Why the decision no longer stands")->required();
   exp->add_option("--out", o->out, "Directory to write into")->required();
   exp->add_option("--format", o->formats,
                   "glb, obj, ply, stl, model, markers, csv (default: all); a plant session: mtg, csv, markers, json, "
@@ -699,6 +720,7 @@ CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
     return withStore(*o, true,
                      [](db::EventStore& store, const SessionsOptions& c) { return runReview(store, c, "rejected"); });
   });
+  table.add(reopen, [o] { return withStore(*o, true, runReopen); });
   table.add(corr, [o] { return withStore(*o, true, runCorrect); });
   table.add(
       exp, [o] { return withStore(*o, true, runExport); }, "cannot export: ");

@@ -1,4 +1,4 @@
-// leafdig sessions list|show|verify|approve|reject|correct|export: what was captured, on a
+// leafdig sessions list|show|verify|approve|reject|reopen|correct|export: what was captured, on a
 // station's file or the lab server, for technicians and curators (`sessions resume` is a
 // capture's: capture_cmd).
 #pragma once

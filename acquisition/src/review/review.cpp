@@ -147,6 +147,24 @@ std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& s
   return store.setStatus(id, status, who, why);
 }
 
+std::int64_t reopen(db::EventStore& store, std::int64_t id, const std::string& given, const std::string& why) {
+  const std::string who = store.signature(given);  // through a login: the login that writes it
+  const db::SessionInfo info = detail::infoOrThrow(store, id);
+  if (detail::isBlank(who)) throw std::invalid_argument("a curator signs every reopening: give the curator's name");
+  if (detail::isBlank(why)) throw std::invalid_argument("say why the session is reopened (--why)");
+  if (info.status != "approved" && info.status != "rejected")
+    throw std::invalid_argument("session " + std::to_string(id) + " is " + info.status +
+                                ": only an approved or rejected session is reopened");
+  requireChain(store, id, "reopened");
+  (void)store.ensureOperator(who, "curator");
+  db::EventInput ev;
+  ev.kind = "status";
+  ev.payloadJson = json{{"status", "complete"}, {"who", who}, {"why", why}, {"reopens", info.status}}.dump();
+  ev.setsStatus = "complete";
+  ev.follows = info.headSeq;  // the decision it reopens is still the last event
+  return store.appendAll(id, {ev});
+}
+
 model::MarkerSet sessionMarkers(const ReviewedSession& r) {
   return toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
 }

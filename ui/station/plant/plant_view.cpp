@@ -125,11 +125,13 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
   curator_->setPlaceholderText(tr("curator's name"));
   approve_ = new QPushButton(tr("Approve"));
   reject_ = new QPushButton(tr("Reject…"));
+  reopen_ = new QPushButton(tr("Reopen…"));
   correct_ = new QPushButton(tr("Correct…"));
   reviewLayout->addWidget(curator_, 1);
   reviewLayout->addWidget(correct_);
   reviewLayout->addWidget(approve_);
   reviewLayout->addWidget(reject_);
+  reviewLayout->addWidget(reopen_);
   reviewRow_->hide();
   form->addRow(reviewRow_);
   exportMesh_ = new MeshChoice;
@@ -166,6 +168,12 @@ PlantView::PlantView(QWidget* parent) : QWidget(parent) {
     const QString why =
         QInputDialog::getText(this, tr("Reject"), tr("What is wrong with this plant?"), QLineEdit::Normal, {}, &ok);
     if (ok) status_->setText(rejectCaptured(curator_->text(), why));
+  });
+  connect(reopen_, &QPushButton::clicked, this, [this] {
+    bool ok = false;
+    const QString why = QInputDialog::getText(this, tr("Reopen"), tr("Why does the decision no longer stand?"),
+                                              QLineEdit::Normal, {}, &ok);
+    if (ok) status_->setText(reopenCaptured(curator_->text(), why));
   });
   for (QSlider* s : {divergence_, jitter_, time_})
     connect(s, &QSlider::valueChanged, this, [this] { scheduleRebuild(); });
@@ -489,6 +497,11 @@ void PlantView::showReviewState() {
   approve_->setToolTip(
       open ? tr("Approve plant session %1").arg(capturedSession_)
            : tr("This plant session is %1: only a complete one is approved or rejected").arg(capturedStatus_));
+  const bool decided = capturedStatus_ == "approved" || capturedStatus_ == "rejected";
+  reopen_->setEnabled(decided);
+  reopen_->setToolTip(
+      decided ? tr("Make this %1 plant session complete again, to correct and decide anew").arg(capturedStatus_)
+              : tr("Only an approved or rejected session is reopened"));
 }
 
 QString PlantView::approveCaptured(const QString& who) {
@@ -499,11 +512,18 @@ QString PlantView::rejectCaptured(const QString& who, const QString& why) {
   return decide("rejected", who, why);
 }
 
+QString PlantView::reopenCaptured(const QString& who, const QString& why) {
+  return decide("reopened", who, why);
+}
+
 QString PlantView::decide(const char* status, const QString& who, const QString& why) {
   if (capturedSession_ == 0) return tr("Open a captured plant first: a plan is not reviewed.");
   try {
     const auto store = db::openEventStore(db_, false);
-    (void)acquisition::review(*store, capturedSession_, status, who.toStdString(), why.toStdString());
+    if (std::string(status) == "reopened")
+      (void)acquisition::reopen(*store, capturedSession_, who.toStdString(), why.toStdString());
+    else
+      (void)acquisition::review(*store, capturedSession_, status, who.toStdString(), why.toStdString());
     capturedStatus_ = QString::fromStdString(store->session(capturedSession_)->status);
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());

@@ -69,9 +69,12 @@ class PlantView : public QWidget {
   QString correctCaptured(const acquisition::Correction& c);
   [[nodiscard]] QPushButton* correctButton() const { return correct_; }
   QString rejectCaptured(const QString& who, const QString& why);
+  // Reopens the approved or rejected plant session, saying why: complete again (acquisition::reopen).
+  QString reopenCaptured(const QString& who, const QString& why);
   // The shown captured plant's session status ("complete", "approved", …; empty for a plan).
   [[nodiscard]] QString capturedStatus() const { return capturedStatus_; }
   [[nodiscard]] QPushButton* approveButton() const { return approve_; }
+  [[nodiscard]] QPushButton* reopenButton() const { return reopen_; }
   // A captured plant's divergences between successive leaves (counterclockwise, seen from
   // above), counted in 10° bins from 0° to 360°, drawn against the golden angle (137.5°);
   // empty and hidden for a planned plant.
@@ -126,7 +129,7 @@ class PlantView : public QWidget {
   QString capturedStatus_;
   QWidget* reviewRow_;
   QLineEdit* curator_;
-  QPushButton *approve_, *reject_, *correct_;
+  QPushButton *approve_, *reject_, *reopen_, *correct_;
   double confirmMoveAboveMm_ = acquisition::kConfirmMoveAboveMm;
   void correctDialog();
   std::vector<model::LibraryLeaf> approved_;  // as listed

@@ -176,7 +176,8 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
   auto* correctB = correctB_ = new QPushButton(tr("Correct…"));
   auto* approveB = approveB_ = new QPushButton(tr("Approve"));
   auto* rejectB = rejectB_ = new QPushButton(tr("Reject…"));
-  for (auto* b : {correctB, approveB, rejectB}) b->setEnabled(false);  // until a complete session is open
+  auto* reopenB = reopenB_ = new QPushButton(tr("Reopen…"));
+  for (auto* b : {correctB, approveB, rejectB, reopenB}) b->setEnabled(false);  // until a session is open
   auto* exportB = new QPushButton(tr("Export…"));
   connect(correctB, &QPushButton::clicked, this, &ReviewView::correctSelected);
   connect(approveB, &QPushButton::clicked, this, [this] { (void)approve(curator_->text()); });
@@ -186,6 +187,12 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
         QInputDialog::getText(this, tr("Reject"), tr("What is wrong with this session?"), QLineEdit::Normal, {}, &ok);
     if (ok) (void)reject(curator_->text(), why);
   });
+  connect(reopenB, &QPushButton::clicked, this, [this] {
+    bool ok = false;
+    const QString why = QInputDialog::getText(this, tr("Reopen"), tr("Why does the decision no longer stand?"),
+                                              QLineEdit::Normal, {}, &ok);
+    if (ok) (void)reopen(curator_->text(), why);
+  });
   connect(exportB, &QPushButton::clicked, this, [this] {
     std::vector<std::int64_t> ids;
     for (const auto& r : sessions_->selectionModel()->selectedRows())
@@ -194,7 +201,7 @@ ReviewView::ReviewView(const StationSettings& settings, QWidget* parent) : QWidg
     d.setSessions(ids);
     if (d.exec() == QDialog::Accepted) d.run(dbPath_);
   });
-  for (auto* b : {correctB, approveB, rejectB, exportB}) actions->addWidget(b);
+  for (auto* b : {correctB, approveB, rejectB, reopenB, exportB}) actions->addWidget(b);
   flags_->setMinimumHeight(40);
   rl->addWidget(chart_, 3);
   rl->addWidget(metricsScroll, 2);
@@ -461,6 +468,7 @@ void ReviewView::fill() {
     QString text = metrics_->text() + "\n\n" + tr("Review:");
     for (const auto& h : history) {
       QString line = QString::fromStdString(h.action);
+      if (h.action == "reopened") line += tr(" (was %1)").arg(QString::fromStdString(h.reopens));
       if (h.action == "corrected") {
         line += " " + QString::fromStdString(h.what);
         if (h.row) line += tr(" row %1").arg(*h.row);
@@ -483,6 +491,12 @@ void ReviewView::fill() {
                             : tr("only a complete session is corrected, approved or rejected; this one is %1")
                                   .arg(QString::fromStdString(r.info.status)));
   }
+  // A decision stands until a curator reopens it, saying why.
+  const bool reopenable = (r.info.status == "approved" || r.info.status == "rejected") && !partial;
+  reopenB_->setEnabled(reopenable);
+  reopenB_->setToolTip(reopenable ? tr("make this %1 session complete again, to correct and decide anew")
+                                        .arg(QString::fromStdString(r.info.status))
+                                  : tr("only an approved or rejected session is reopened"));
   acq::Snapshot snap;
   snap.session = r.info.id;
   snap.items = items;
@@ -610,12 +624,30 @@ bool ReviewView::decisionsEnabled() const {
   return current_ && current_->info.status == "complete" && current_->replayedEvents >= current_->totalEvents;
 }
 
+bool ReviewView::reopenEnabled() const {
+  return reopenB_->isEnabled();
+}
+
 QString ReviewView::approve(const QString& who) {
   return decide("approved", tr("not approved"), who, {});
 }
 
 QString ReviewView::reject(const QString& who, const QString& why) {
   return decide("rejected", tr("not rejected"), who, why);
+}
+
+QString ReviewView::reopen(const QString& who, const QString& why) {
+  if (!current_) return tr("no session open");
+  try {
+    (void)acq::reopen(*store_, current_->info.id, who.toStdString(), why.toStdString());
+  } catch (const std::exception& e) {
+    banner_->setText(tr("REVIEW · not reopened: %1").arg(QString::fromStdString(e.what())));
+    return QString::fromStdString(e.what());
+  }
+  const auto id = current_->info.id;
+  refreshSessions();
+  (void)openSession(id);
+  return {};
 }
 
 QString ReviewView::decide(const char* status, const QString& failed, const QString& who, const QString& why) {

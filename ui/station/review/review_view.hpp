@@ -47,6 +47,7 @@ class ReviewView : public QWidget {
   QString correct(const acquisition::Correction& c);
   QString approve(const QString& who);
   QString reject(const QString& who, const QString& why);
+  QString reopen(const QString& who, const QString& why);  // an approved or rejected session, complete again
 
   [[nodiscard]] QTableWidget* sessionsTable() const { return sessions_; }
   [[nodiscard]] QTableWidget* markersTable() const { return markers_; }
@@ -61,6 +62,7 @@ class ReviewView : public QWidget {
   [[nodiscard]] const std::optional<acquisition::ReviewedSession>& current() const { return current_; }
   // Correct, Approve and Reject: enabled only for a complete session shown whole (issue 49).
   [[nodiscard]] bool decisionsEnabled() const;
+  [[nodiscard]] bool reopenEnabled() const;  // Reopen…: an approved or rejected session shown whole
   // What this view leaves to the Plant tab ("2 plant sessions: review them in the Plant tab").
   [[nodiscard]] QString plantNote() const { return plantNote_->text(); }
 
@@ -81,7 +83,7 @@ class ReviewView : public QWidget {
   std::pair<std::int64_t, std::int64_t> chainOf_{0, -1};  // (session, head seq) chain_ is for
   db::ChainReport chain_;
   QLabel *banner_, *metrics_, *replayLabel_, *plantNote_;
-  QPushButton *correctB_ = nullptr, *approveB_ = nullptr, *rejectB_ = nullptr;
+  QPushButton *correctB_ = nullptr, *approveB_ = nullptr, *rejectB_ = nullptr, *reopenB_ = nullptr;
   QComboBox *project_, *plant_, *status_, *operator_;
   QLineEdit *date_, *curator_;
   QTableWidget *sessions_, *markers_;

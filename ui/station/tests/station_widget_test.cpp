@@ -481,9 +481,21 @@ TEST(ReviewView, ACuratorBrowsesSelectsCorrectsReplaysAndApproves) {
   EXPECT_TRUE(v.decisionsEnabled());
   EXPECT_TRUE(v.approve("curator").isEmpty());
   EXPECT_TRUE(v.bannerText().contains("approved")) << v.bannerText().toStdString();
-  EXPECT_FALSE(v.decisionsEnabled());  // approved is final: Correct, Approve and Reject are off
+  EXPECT_FALSE(v.decisionsEnabled());  // approved stands: Correct, Approve and Reject are off
   EXPECT_TRUE(v.metricsText().contains("approved by curator at ")) << v.metricsText().toStdString();
   EXPECT_FALSE(v.reject("curator", "late").isEmpty());
+  // Until a curator reopens it with a reason: complete again, decided anew.
+  EXPECT_TRUE(v.reopenEnabled());
+  EXPECT_FALSE(v.reopen("curator", "").isEmpty());
+  EXPECT_TRUE(v.bannerText().contains("say why the session is reopened")) << v.bannerText().toStdString();
+  EXPECT_TRUE(v.reopen("second curator", "the tip was misplaced").isEmpty());
+  EXPECT_TRUE(v.decisionsEnabled());
+  EXPECT_FALSE(v.reopenEnabled());
+  EXPECT_TRUE(v.metricsText().contains("reopened (was approved) by second curator at "))
+      << v.metricsText().toStdString();
+  EXPECT_TRUE(v.metricsText().contains(": the tip was misplaced")) << v.metricsText().toStdString();
+  EXPECT_TRUE(v.reject("second curator", "late").isEmpty());
+  EXPECT_TRUE(v.reopenEnabled());
   EXPECT_FALSE(v.openSession(open + 50));
   EXPECT_TRUE(v.bannerText().contains("no session")) << v.bannerText().toStdString();
   fs::remove_all(dir);
@@ -1509,6 +1521,14 @@ TEST(PlantCaptureView, APlantIsDigitizedInTheStationAndReviewedThere) {
   const auto events = store.events(v->sessionId());
   EXPECT_EQ(events.back().kind, "status");
   EXPECT_NE(events.back().payloadJson.find("\"cur\""), std::string::npos) << events.back().payloadJson;
+  // Reopened by a curator with a reason: complete again, decided anew.
+  EXPECT_TRUE(w.plantView()->reopenButton()->isEnabled());
+  EXPECT_TRUE(w.plantView()->reopenCaptured("cur2", "").contains("say why the session is reopened"));
+  EXPECT_EQ(w.plantView()->reopenCaptured("cur2", "node 2's leaf was skipped"), QString());
+  EXPECT_EQ(w.plantView()->capturedStatus(), "complete");
+  EXPECT_TRUE(w.plantView()->approveButton()->isEnabled());
+  EXPECT_FALSE(w.plantView()->reopenButton()->isEnabled());
+  EXPECT_EQ(store.session(v->sessionId())->status, "complete");
 }
 
 // A plant with a sucker digitized in the station by the branched protocol: the branch's nodes

@@ -1,4 +1,4 @@
-// A session's review history (issue 49): every curator's decision and correction in the order
+// A session's review history (issue 49): every curator's decision, reopening and correction in the order
 // they were written, with who, when, why and — for a correction — the item and its value
 // before and after. One projection of the events, the same for a station's file and the lab
 // server; `sessions show` and `sessions list --json`, Python's `Store.history` and the exports
@@ -18,8 +18,9 @@ namespace leafdig::db {
 struct ReviewEntry {
   std::int64_t seq = 0;
   std::string utc;
-  std::string action;  // "approved", "rejected" (decisions) or "corrected"
+  std::string action;  // "approved", "rejected" (decisions), "reopened" or "corrected"
   std::string who, why;
+  std::string reopens;  // a reopening's: the decision it reopened (approved, rejected)
   // A correction's item (its `what` as the events name it: "marker", "node3.marker",
   // "landmark", …) and its value before and after: a position or a reading.
   std::string what;
@@ -34,11 +35,12 @@ struct ReviewEntry {
 // read as one (they were checked when read: none should) are left out.
 [[nodiscard]] std::vector<ReviewEntry> reviewHistory(const std::vector<Event>& events);
 // As JSON (what `sessions show --json`, `sessions list --json` and Python give): an entry is
-// {"seq", "utc", "action", "who", "why"}, a correction's also {"what", "row", "col", "from",
-// "to"} (each {"position_mm": [x, y, z]} or {"value_mm": v}) and, for a point, "moved_mm".
+// {"seq", "utc", "action", "who", "why"}, a reopening's also {"reopens"}, a correction's also {"what", "row", "col",
+// "from", "to"} (each {"position_mm": [x, y, z]} or {"value_mm": v}) and, for a point, "moved_mm".
 [[nodiscard]] std::string reviewEntryJson(const ReviewEntry& entry);
 [[nodiscard]] std::string reviewHistoryJson(const std::vector<ReviewEntry>& history);
-// The last decision of a history (approved or rejected), or none.
+// The decision that stands at the end of a history (approved or rejected), or none: none when a
+// reopening came after the last one.
 [[nodiscard]] std::optional<ReviewEntry> lastDecision(const std::vector<ReviewEntry>& history);
 
 }  // namespace leafdig::db

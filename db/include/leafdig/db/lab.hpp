@@ -50,7 +50,7 @@ inline constexpr int kLoginConnectionLimit = 8;
 inline constexpr const char* kIdleInTransactionTimeout = "60s";
 inline constexpr const char* kStatementTimeout = "300s";
 ServerInit initServer(const std::string& url, double lockWaitSeconds = 30);
-inline constexpr int kLabSchemaVersion = 11;
+inline constexpr int kLabSchemaVersion = 12;
 
 enum class LabRole { Technician, Curator, Reader };
 // Its words in files, options and messages (the CLI's choices and the station's lists too).

@@ -55,6 +55,13 @@ struct ReviewFlag {
 // first. Returns the status event's seq.
 std::int64_t review(db::EventStore& store, std::int64_t id, const std::string& status, const std::string& who,
                     const std::string& why);
+// A curator reopens an approved or rejected session, saying why (a mistaken approval, a leaf
+// to measure again): a `status` event back to complete naming the decision it reopens, signed as
+// a review is. After it the session is complete again: corrections and a new decision may follow,
+// capture events may not; the history keeps the decision and the reopening. Throws
+// std::invalid_argument naming what is missing or why the session cannot be reopened, and
+// SessionError when its chain is broken. Returns the event's seq.
+std::int64_t reopen(db::EventStore& store, std::int64_t id, const std::string& who, const std::string& why);
 
 // Throws SessionError naming the first event that does not replay when `events` are taken as
 // the whole of session `info` (a leaf's or a plant's replay). `leafdig sync pull` and the
