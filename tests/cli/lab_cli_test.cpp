@@ -195,6 +195,17 @@ TEST_F(LabCli, AStationFileCannotOverturnADecisionOrFakeOneAndInitNamesWhoHoldsI
   const json after = json::parse(leafdig("sessions list --json --db " + quote(reader)).out);
   EXPECT_EQ(after[0].at("status"), "approved");
   EXPECT_EQ(after[1].at("status"), "open");
+  // Only a curator reopens the decision, saying why (issue 49): the technician's and the
+  // reader's logins are refused by the server (exit 2, its words), the curator's is taken.
+  for (const std::string& login : {tech, reader}) {
+    const Result refused = leafdig("sessions reopen " + serverId + " --why 'fix a point' --db " + quote(login));
+    EXPECT_EQ(refused.exitCode, 2) << refused.err;
+    EXPECT_EQ(json::parse(leafdig("sessions list --json --db " + quote(reader)).out)[0].at("status"), "approved");
+  }
+  const Result reopened = leafdig("sessions reopen " + serverId + " --why 'a point to fix' --db " + quote(curator));
+  ASSERT_EQ(reopened.exitCode, 0) << reopened.err;
+  EXPECT_EQ(json::parse(leafdig("sessions list --json --db " + quote(reader)).out)[0].at("status"), "complete");
+  ASSERT_EQ(leafdig("sessions approve " + serverId + " --who carla --db " + quote(curator)).exitCode, 0);
   // Init waits a moment for its lock, then says which login holds it.
   Sql holder(reader);
   (void)holder.value("SELECT pg_advisory_lock(4710468163)::text");
