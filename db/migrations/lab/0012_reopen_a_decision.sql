@@ -6,7 +6,7 @@
 -- not (docs/lab.md, "Review").
 
 -- What a reopening reopens (its "reopens"), or NULL for any other event.
-CREATE FUNCTION leafdig.reopened_decision(kind text, payload text) RETURNS text LANGUAGE plpgsql IMMUTABLE
+CREATE OR REPLACE FUNCTION leafdig.reopened_decision(kind text, payload text) RETURNS text LANGUAGE plpgsql IMMUTABLE
   SET search_path = pg_catalog, pg_temp AS $$
 DECLARE
   p jsonb;
