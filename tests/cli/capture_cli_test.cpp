@@ -481,6 +481,67 @@ TEST_F(CaptureCli, ALeafOnATurningBoardUnderAReferenceReceiverKeepsItsShape) {
   EXPECT_FALSE(fs::exists(dir_ / "other.sqlite"));
 }
 
+// A leaf captured through a bent field (issue 50, `--distortion`): every marker is reported
+// where the field puts it — here a field that moves every point 3 mm along x, 2 mm back along y
+// and 1 mm up — and a file that is not a field, or a field without --simulate, is refused in
+// words before anything is captured.
+TEST_F(CaptureCli, ALeafCapturedThroughADistortedFieldIsWhereTheFieldPutsIt) {
+  const fs::path field = dir_ / "uniform.field.json";
+  {
+    json d = json::array();
+    for (int i = 0; i < 8; ++i) d.push_back({3, -2, 1});
+    std::ofstream(field) << json{
+        {"format", "leafdig.field-distortion/1"},
+        {"units", "mm"},
+        {"frame", "transmitter"},
+        {"origin", {-1000, -1000, -1000}},
+        {"spacing_mm", 1000},
+        {"shape", {2, 2, 2}},
+        {"displacement_mm", d}}.dump();
+  }
+  const fs::path db = dir_ / "station.sqlite";
+  const std::string file = sample("lower-leaf-n10.markers.json");
+  const Result r = leafdig("capture --simulate --speed 12 --seed 4 --no-mistakes --json --distortion " + quote(field) +
+                           " --db " + quote(db) + " --markers " + quote(file) + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  ASSERT_EQ(leafdig("sessions export 1 --format markers --frame digitizer --out " + quote(dir_) + " --db " + quote(db))
+                .exitCode,
+            0);
+  const json got = json::parse(slurp(dir_ / "session-1.markers.json"));
+  const json want = json::parse(slurp(file));
+  ASSERT_EQ(got.at("rows").size(), want.at("rows").size());
+  std::array<double, 3> mean{0, 0, 0};
+  int n = 0;
+  for (std::size_t row = 0; row < want["rows"].size(); ++row)
+    for (std::size_t col = 0; col < want["rows"][row]["points"].size(); ++col, ++n)
+      for (std::size_t a = 0; a < 3; ++a)
+        mean[a] += got["rows"][row]["points"][col][a].get<double>() - want["rows"][row]["points"][col][a].get<double>();
+  ASSERT_GT(n, 60);
+  EXPECT_NEAR(mean[0] / n, 3.0, 0.2);
+  EXPECT_NEAR(mean[1] / n, -2.0, 0.2);
+  EXPECT_NEAR(mean[2] / n, 1.0, 0.2);
+  // The steel-bench preset is read as shipped; a file that is not a field is refused by name.
+  const Result bench = leafdig("capture --simulate --speed 12 --no-mistakes --distortion " +
+                               quote(fs::path(LEAFDIG_SOURCE_DIR) / "data/fields/steel-bench.field.json") + " --db " +
+                               quote(dir_ / "bench.sqlite") + " </dev/null");
+  EXPECT_EQ(bench.exitCode, 0) << bench.err;
+  const Result notAField = leafdig("capture --simulate --distortion " + quote(file) + " --db " +
+                                   quote(dir_ / "other.sqlite") + " </dev/null");
+  EXPECT_EQ(notAField.exitCode, 2);
+  EXPECT_NE(notAField.err.find("lower-leaf-n10.markers.json: "), std::string::npos) << notAField.err;
+  EXPECT_NE(notAField.err.find("leafdig field model steel-bench"), std::string::npos) << notAField.err;
+  const Result real = leafdig("capture --digitizer fastrak:/dev/null --caliper sylvac:/dev/null --distortion " +
+                              quote(field) + " --db " + quote(dir_ / "real.sqlite") + " </dev/null");
+  EXPECT_EQ(real.exitCode, 2);
+  EXPECT_NE(real.err.find("it goes with --simulate"), std::string::npos) << real.err;
+  EXPECT_FALSE(fs::exists(dir_ / "real.sqlite"));
+  // The device simulator takes it for a magnetic tracker only.
+  const Result arm =
+      leafdig("sim microscribe --seconds 1 --markers " + quote(file) + " --distortion " + quote(field) + " </dev/null");
+  EXPECT_EQ(arm.exitCode, 2);
+  EXPECT_NE(arm.err.find("bends a magnetic tracker's field"), std::string::npos) << arm.err;
+}
+
 // A leaf captured across a move of the transmitter (issue 29, `--relocate-source-after`): after
 // 12 points the simulated transmitter moves to a seeded random pose (up to 150 mm and 40°), the
 // virtual technician takes the board's three points again, and the fit takes every later point

@@ -27,6 +27,7 @@ for f in ./usr/bin/leafdig ./usr/bin/leafdig-station ./usr/lib/udev/rules.d/70-l
          ./usr/share/leafdig/schema/leafdig.markers-1.schema.json ./usr/share/doc/leafdig/README.md \
          ./usr/share/leafdig/protocols/tobacco.plant-protocol.json ./usr/share/leafdig/protocols/maize.plant-protocol.json \
          ./usr/share/leafdig/plants/sample.plant-markers.json ./usr/share/doc/leafdig/plants.md \
+         ./usr/share/leafdig/fields/steel-bench.field.json \
          ./usr/share/doc/leafdig/schema.md ./usr/lib/python3/dist-packages/leafdig/__init__.py \
          ./usr/lib/python3/dist-packages/leafdig/_leafdig.cpython-311-x86_64-linux-gnu.so; do
   grep -qx "$f" "$work/contents.txt" || fail "the package lacks $f"

@@ -1,8 +1,11 @@
 #include "devices_cmd.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -13,9 +16,11 @@
 #include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/db/event_store.hpp"
 #include "leafdig/devices/links/links.hpp"
+#include "leafdig/devices/sim/field_distortion.hpp"
 #include "leafdig/devices/sim/sim.hpp"
 #include "leafdig/devices/transports/registry.hpp"
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "signals.hpp"
 
@@ -271,12 +276,21 @@ int runSim(const DevicesOptions& o) {
   std::unique_ptr<dev::sim::Emulator> emu;
   auto caliper = std::make_shared<dev::sim::VirtualCaliper>(thickness, dev::sim::CaliperOptions{0.003, 0.001, o.seed});
   const dev::sim::VirtualStylus stylus(targets, so);
+  // The magnetic trackers through a distorted field (issue 50), when a file is given.
+  std::shared_ptr<const dev::sim::StylusMotion> sensor = std::make_shared<dev::sim::VirtualStylus>(stylus);
+  if (!o.distortion.empty()) {
+    if (o.simKind != "fastrak" && o.simKind != "patriot" && o.simKind != "liberty")
+      throw model::InputError("--distortion bends a magnetic tracker's field (fastrak, patriot, liberty), not a " +
+                              o.simKind + "'s");
+    sensor = std::make_shared<dev::sim::DistortedMotion>(
+        sensor, std::make_shared<const dev::sim::FieldDistortion>(dev::sim::readFieldDistortion(o.distortion)));
+  }
   if (o.simKind == "fastrak")
-    emu = dev::sim::makeFastrak(stylus, eo);
+    emu = dev::sim::makeFastrak(sensor, eo);
   else if (o.simKind == "patriot")
-    emu = dev::sim::makePatriot(stylus, eo);
+    emu = dev::sim::makePatriot(sensor, eo);
   else if (o.simKind == "liberty")
-    emu = dev::sim::makeLiberty(stylus, eo);
+    emu = dev::sim::makeLiberty(sensor, eo);
   else if (o.simKind == "microscribe")
     emu = dev::sim::makeMicroScribe(stylus, eo);
   else if (o.simKind == "sylvac")
@@ -351,6 +365,22 @@ int runDoctor(const DevicesOptions& o) {
   return 0;
 }
 
+// `field model steel-bench -o FILE`: the shipped preset is this command's output with its
+// defaults (data/fields/steel-bench.field.json; a test regenerates it byte for byte).
+int runFieldModel(const DevicesOptions& o) {
+  dev::sim::SteelBenchModel m;
+  m.belowMm = o.belowMm;
+  m.strength = o.strength;
+  const dev::sim::FieldDistortion f = dev::sim::steelBench(m);
+  model::writeFileAtomically(o.out, dev::sim::encodeFieldDistortion(f));
+  double worst = 0;
+  for (const auto& d : f.displacementMm) worst = std::max(worst, std::hypot(d[0], d[1], d[2]));
+  std::cerr << "leafdig: wrote " << o.out << ": " << o.fieldModel << " " << f.shape[0] << "×" << f.shape[1] << "×"
+            << f.shape[2] << " grid every " << f.spacingMm << " mm, the largest displacement " << std::fixed
+            << std::setprecision(1) << worst << " mm\n";
+  return 0;
+}
+
 void declareDevicesCommands(CLI::App& app, DevicesOptions& o) {
   CLI::App* devices = app.add_subcommand("devices", "List, test and listen to digitizers and calipers");
   devices->require_subcommand(1);
@@ -385,6 +415,22 @@ void declareDevicesCommands(CLI::App& app, DevicesOptions& o) {
   sim->add_option("--seconds", o.simSeconds, "Stop after S seconds (default: run until Ctrl-C)");
   sim->add_option("--sigma", o.sigma, "Stylus noise per axis, mm (default 0.3)");
   sim->add_option("--seed", o.seed, "Random seed")->check(seedText());
+  sim->add_option("--distortion", o.distortion,
+                  "A leafdig.field-distortion/1 file: the tracker's field bent as by metal nearby (fastrak, patriot, "
+                  "liberty; docs/devices.md, \"The field\")");
+
+  CLI::App* field = app.add_subcommand("field", "The digitizer's magnetic field: distortion files (docs/devices.md)");
+  field->require_subcommand(1);
+  CLI::App* fieldModel = field->add_subcommand(
+      "model", "Write a leafdig.field-distortion/1 file from a physical model (steel-bench: a steel plate below)");
+  fieldModel->add_option("model", o.fieldModel, "steel-bench")->required()->check(CLI::IsMember({"steel-bench"}));
+  fieldModel->add_option("-o,--out", o.out, "The file to write")->required();
+  fieldModel->add_option("--below-mm", o.belowMm, "The plate's depth under the transmitter, mm (default 250)")
+      ->check(CLI::Range(50.0, 2000.0));
+  fieldModel
+      ->add_option("--strength", o.strength,
+                   "The share of the coupling the plate takes back, 0–0.5 (default 0.08: a steel bench top)")
+      ->check(CLI::Range(0.0, 0.5));
 
   CLI::App* doctor = app.add_subcommand("doctor", "Check libraries, ports, permissions and the udev rule");
   doctor->add_flag("--json", o.json, "Machine-readable output");
@@ -400,6 +446,7 @@ void addDevicesCommands(CLI::App& app, CommandTable& table) {
   table.add(devices->get_subcommand("listen"), [o] { return runListen(*o); });
   table.add(app.get_subcommand("sim"), [o] { return runSim(*o); });
   table.add(app.get_subcommand("doctor"), [o] { return runDoctor(*o); });
+  table.add(app.get_subcommand("field")->get_subcommand("model"), [o] { return runFieldModel(*o); });
 }
 
 }  // namespace leafdig::cli

@@ -61,6 +61,11 @@ int main(int argc, char** argv) {
   const QCommandLineOption potTurn(
       "pot-turn", "With --reference-receiver: the simulated pot turns by DEG degrees as the plant is taken", "DEG",
       "0");
+  const QCommandLineOption distortion(
+      "distortion",
+      "With --simulate: the digitizer's field bent as by metal nearby, from a leafdig.field-distortion/1 file "
+      "(docs/devices.md, \"The field\")",
+      "FILE");
   const QCommandLineOption capturePlant(
       "capture-plant",
       "Digitize this plant (its id) where it stands with --digitizer and --caliper, in the plant capture view", "ID");
@@ -75,10 +80,10 @@ int main(int argc, char** argv) {
   const QCommandLineOption station(
       "station",
       "This station's id, stored with every session (default: [station] id= in the settings, or the host name)", "ID");
-  p.addOptions({simulate,       db,           speed,      seed,         markers,      digitizer,         caliper,
-                resume,         screenshot,   reviewShot, quit,         setupDialog,  settingsFile,      firstFrame,
-                plantPlan,      plantSession, plantShot,  plantMarkers, capturePlant, referenceReceiver, potTurn,
-                screenshotWhen, noAudio,      station,    plantProtocol});
+  p.addOptions({simulate,       db,           speed,      seed,          markers,      digitizer,         caliper,
+                resume,         screenshot,   reviewShot, quit,          setupDialog,  settingsFile,      firstFrame,
+                plantPlan,      plantSession, plantShot,  plantMarkers,  capturePlant, referenceReceiver, potTurn,
+                screenshotWhen, noAudio,      station,    plantProtocol, distortion});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -92,6 +97,12 @@ int main(int argc, char** argv) {
   try {
     // The station's simulation is the one with --simulate; a turn needs its reference receiver.
     leafdig::acquisition::checkPotTurn(o.potTurnDeg, true, o.referenceReceiver, "pot");
+    if (p.isSet(distortion)) {
+      if (!o.simulate)
+        throw std::invalid_argument("--distortion bends the simulated digitizer's field: add --simulate");
+      o.distortion = std::make_shared<const leafdig::devices::sim::FieldDistortion>(
+          leafdig::devices::sim::readFieldDistortion(p.value(distortion).toStdString()));
+    }
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "leafdig-station: %s\n", e.what());
     return 2;

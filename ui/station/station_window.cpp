@@ -454,6 +454,7 @@ bool StationWindow::start() {
     r.setup.simulated = options_.simulate;
     r.simulation.speed = options_.speed;
     r.simulation.seed = options_.seed;
+    r.simulation.distortion = options_.distortion;
     r.leafFile = options_.markers;
     acq::RunObserver observer;
     // Called on the capture thread: hand over to the UI thread.
@@ -510,6 +511,7 @@ bool StationWindow::startPlantCapture(const std::string& plantMarkers, const mod
   sim.mistakes = false;
   sim.referenceReceiver = options_.referenceReceiver;
   sim.potTurnDeg = options_.potTurnDeg;
+  sim.distortion = options_.distortion;
   const QString error = plantCapture_->startSimulated(dbPath(), plantMarkers, sim, options_.setup.operatorName,
                                                       options_.setup.station, 0, protocol);
   if (!error.isEmpty()) {

@@ -41,6 +41,8 @@ struct StationOptions {
   // A simulated plant: a reference receiver on the pot, which turns by potTurnDeg (issue 29).
   bool referenceReceiver = false;
   double potTurnDeg = 0;
+  // The simulated digitizer's field bent as by metal nearby (--distortion FILE; issue 50).
+  std::shared_ptr<const devices::sim::FieldDistortion> distortion;
   acquisition::SessionSetup setup;  // project, plant, …, devices (ignored when simulating)
   std::int64_t resume = 0;          // a session to continue; 0: a new one
   QString settingsFile;             // empty: defaultSettingsFile()

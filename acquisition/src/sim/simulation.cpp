@@ -158,11 +158,18 @@ Vec3 SimulatedRig::toStation(const Vec3& truthMm) const {
   return reference_ ? arr(receiver_.inverse() * vec(truthMm)) : truthMm;
 }
 
+Vec3 SimulatedRig::seen(const Vec3& truthMm) const {
+  const Vec3 at = toStation(truthMm);
+  if (!distortion_) return at;
+  const Vec3 d = distortion_->displacementAt(truthMm);  // the transmitter's first frame: the hand's
+  return {at[0] + d[0], at[1] + d[1], at[2] + d[2]};
+}
+
 Vec3 SimulatedRig::fromStation(const Vec3& stationMm) const {
   return reference_ ? arr(receiver_ * vec(stationMm)) : stationMm;
 }
 
-SimulatedRig::SimulatedRig(const SimulationOptions& o) : reference_(o.referenceReceiver) {
+SimulatedRig::SimulatedRig(const SimulationOptions& o) : reference_(o.referenceReceiver), distortion_(o.distortion) {
   sim::StylusOptions so;
   so.seed = o.seed;
   so.sigmaMm = o.stylusNoiseMm;
@@ -188,7 +195,12 @@ SimulatedRig::SimulatedRig(const SimulationOptions& o) : reference_(o.referenceR
     reference = referenceTransmitter_;
   }
   transmitter_ = std::make_shared<TransmitterMotion>(stylus);
-  digitizer_ = sim::makeFastrak(std::shared_ptr<const sim::StylusMotion>(transmitter_), d, reference);
+  std::shared_ptr<const sim::StylusMotion> sensor = transmitter_;
+  if (o.distortion) {  // both receivers sit in the transmitter's bent field
+    sensor = std::make_shared<sim::DistortedMotion>(sensor, o.distortion);
+    if (reference) reference = std::make_shared<sim::DistortedMotion>(reference, o.distortion);
+  }
+  digitizer_ = sim::makeFastrak(sensor, d, reference);
   sim::EmulatorOptions g;
   g.linkPath = o.linkDir + "/leafdig-sim-sylvac-" + tag;
   g.faults = sim::FaultPlan::parse(o.caliperFaults);
@@ -321,12 +333,12 @@ bool VirtualOperator::relocate(const Snapshot& s) {
 // A point is wrong more than 5 mm off its marker — or nearer another marker of its row than its
 // own: a press taken for another step (on a small leaf the markers are under 5 mm apart).
 bool VirtualOperator::wrongPoint(const Item& i) const {
-  const double own = distanceMm(i.positionMm, rig_.toStation(truth(i.what, i.row, i.col)));
+  const double own = distanceMm(i.positionMm, rig_.seen(truth(i.what, i.row, i.col)));
   if (own > 5.0) return true;
   if (i.what != What::Marker || i.row < 1 || i.row > static_cast<int>(leaf_.rows.size())) return false;
   const int points = static_cast<int>(leaf_.rows[static_cast<std::size_t>(i.row - 1)].pointsMm.size());
   for (int c = 1; c <= points; ++c)
-    if (c != i.col && distanceMm(i.positionMm, rig_.toStation(truth(What::Marker, i.row, c))) < own) return true;
+    if (c != i.col && distanceMm(i.positionMm, rig_.seen(truth(What::Marker, i.row, c))) < own) return true;
   return false;
 }
 

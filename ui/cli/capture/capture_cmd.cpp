@@ -197,6 +197,7 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   r.simulation.mistakes = !o.noMistakes;
   r.leafFile = o.markers;
   if (o.stylusNoiseMm) r.simulation.stylusNoiseMm = *o.stylusNoiseMm;
+  r.simulation.distortion = distortionOf(o.distortion);
   // The terminal draws no model: JSON lines need no preview at all, and the human terminal
   // only its "provisional thickness" note (the model, not its meshes). Building the preview's
   // meshes (two adaptive levels since issue 26, for the station's window) on the capture
@@ -322,6 +323,9 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
     throw std::invalid_argument(
         "capture needs --digitizer KIND:PORT and --caliper KIND:PORT (or --simulate): see 'leafdig devices list'");
   acq::checkPotTurn(o.potTurnDeg, o.simulate, o.referenceReceiver, "board");
+  if (!o.distortion.empty() && !o.simulate)
+    throw std::invalid_argument(
+        "--distortion bends the simulated digitizer's field: it goes with --simulate (a real field is what it is)");
   if (o.relocateSourceAfter != 0 && !o.simulate)
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
@@ -365,6 +369,7 @@ int demoPlant(const CaptureOptions& c, const std::string& samples, const std::st
   sim.speed = c.speed.value_or(8.0);
   sim.seed = seed + 100;
   sim.stylusNoiseMm = c.stylusNoiseMm.value_or(0.3);
+  sim.distortion = distortionOf(c.distortion);
   sim.mistakes = false;
   const auto t0 = std::chrono::steady_clock::now();
   const acq::PlantRunStats stats = simulatePlant(store, id, sim, {}, c.giveUpAfterS);
@@ -490,6 +495,7 @@ void declareCaptureCommands(CLI::App& app, CommandTable& table, CaptureOptions& 
                   "(keys: shape length width symmetry serration tooth-depth teeth tooth-direction droop cup twist "
                   "wave wavelength rows; docs/synthetic-leaves.md)");
     c->add_option("--stylus-noise", o.stylusNoiseMm, "Noise of the simulated stylus per axis, σ in mm (default 0.3)");
+    c->add_option("--distortion", o.distortion, kDistortionHelp);
     c->add_option("--faults", o.faults,
                   "Digitizer faults, e.g. garbage=0.01,unplug=0.002:0.5 (see 'leafdig sim --help')");
     c->add_option("--caliper-faults", o.caliperFaults, "Caliper faults, same syntax");
@@ -555,6 +561,7 @@ void declareCaptureCommands(CLI::App& app, CommandTable& table, CaptureOptions& 
   demo->add_option("--synth-leaves", o.synthLeaves,
                    "Synthetic leaves with a known area captured after the samples (default 2, up to 20)");
   demo->add_option("--stylus-noise", o.stylusNoiseMm, "Noise of the simulated stylus per axis, σ in mm (default 0.3)");
+  demo->add_option("--distortion", o.distortion, kDistortionHelp);
   demo->add_option("--station", o.station,
                    "This station's id, stored with every session (default: settings, host name)");
 }

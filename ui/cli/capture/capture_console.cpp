@@ -24,6 +24,11 @@ json stepJson(const acq::Step& s, const std::string& prompt) {
   return {{"what", acq::toString(s.what)}, {"row", nullable(s.row)}, {"col", nullable(s.col)}, {"prompt", prompt}};
 }
 
+std::shared_ptr<const devices::sim::FieldDistortion> distortionOf(const std::string& path) {
+  if (path.empty()) return nullptr;
+  return std::make_shared<const devices::sim::FieldDistortion>(devices::sim::readFieldDistortion(path));
+}
+
 std::string describe(const acq::Item& i) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(1);

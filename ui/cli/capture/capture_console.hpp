@@ -6,12 +6,14 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "leafdig/acquisition/protocol/engine.hpp"
+#include "leafdig/devices/sim/field_distortion.hpp"
 
 namespace leafdig::cli {
 
@@ -23,6 +25,13 @@ namespace leafdig::cli {
 [[nodiscard]] nlohmann::json stepJson(const acquisition::Step& s, const std::string& prompt);
 // An item in words: "row 3 point 2 (1.0, 2.0, 3.0) mm [flag]", "row 2 midrib_thickness 0.412 mm".
 [[nodiscard]] std::string describe(const acquisition::Item& i);
+
+// --distortion FILE of a simulated capture (issue 50): the field, read and checked; none when
+// no file is given. A bad file is refused in words (exit 2) before anything is captured.
+inline constexpr const char* kDistortionHelp =
+    "Simulation: the digitizer's field bent as by metal nearby, from a leafdig.field-distortion/1 file "
+    "(data/fields/steel-bench.field.json; docs/devices.md, \"The field\")";
+[[nodiscard]] std::shared_ptr<const devices::sim::FieldDistortion> distortionOf(const std::string& path);
 
 // How far a simulated capture got, for --give-up-after: anything the station took (but a device
 // message) is progress, a refusal is not, and a pause is no lack of it. Thread-safe: the

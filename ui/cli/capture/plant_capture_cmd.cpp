@@ -54,6 +54,7 @@ struct PlantCaptureOptions {
   std::string plantMarkers, protocol, db, project = "plants", operatorName = "technician", station, date;
   std::string digitizer, caliper, plant;  // real devices
   double stylusNoiseMm = 0.3, speed = 1.0;
+  std::string distortion;     // --distortion: the simulated field (issue 50)
   double giveUpAfterS = 180;  // simulation: a technician that gets nowhere this long is stopped
   int relocateSourceAfter = 0;
   std::optional<double> relocationToleranceMm;  // --relocation-tolerance: a new session's
@@ -254,6 +255,9 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     throw std::invalid_argument("name the plant you digitize: --plant ID (e.g. --plant tobacco-p12)");
   acq::checkSimulationSpeed(o.speed);
   checkRelocationTolerance(o.relocationToleranceMm, o.resume != 0);
+  if (!o.distortion.empty() && !o.simulate)
+    throw std::invalid_argument(
+        "--distortion bends the simulated digitizer's field: it goes with --simulate (a real field is what it is)");
   if (o.relocateSourceAfter > 0 && !o.simulate)
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
@@ -386,6 +390,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   sim.speed = o.speed;
   sim.seed = o.seed;
   sim.stylusNoiseMm = o.stylusNoiseMm;
+  sim.distortion = distortionOf(o.distortion);
   sim.relocateSourceAfter = o.relocateSourceAfter;
   sim.potTurnDeg = o.potTurnDeg;  // the reference receiver: as the session was begun
   sim.mistakes = false;
@@ -528,6 +533,7 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   capture->add_option("--operator", o->operatorName, "Who digitizes")->capture_default_str();
   capture->add_option("--station", o->station, "This station's id (default: the settings file's, else the host name)");
   capture->add_option("--date", o->date, "The survey's day, YYYY-MM-DD (default: the plant-markers file's)");
+  capture->add_option("--distortion", o->distortion, kDistortionHelp);
   capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")
       ->capture_default_str();
   capture->add_option("--seed", o->seed, "Simulation seed")->check(seedText())->capture_default_str();

@@ -835,6 +835,44 @@ TEST(StationWindow, SimulatedDevicesShowRateAndAgeAndGoOffLineFromTheirChip) {
   fs::remove_all(dir);
 }
 
+// Issue 50: the station's simulated digitizer reports through a bent field (`--distortion`):
+// here one that moves every point 3 mm along x, 2 mm back along y and 1 mm up, so the leaf's tip
+// is stored there and the virtual technician, judging by the screen, goes on to the first row.
+TEST(StationWindow, TheSimulatedDigitizerReportsThroughABentField) {
+  const fs::path dir = freshDir("field");
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.simulate = true;
+  o.speed = 20;
+  o.markers = std::string(LEAFDIG_SOURCE_DIR) + "/data/samples/lower-leaf-n10.markers.json";
+  o.setup.project = "p";
+  o.setup.plant = "pl";
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  leafdig::devices::sim::FieldDistortion field;
+  field.originMm = {-1000, -1000, -1000};
+  field.spacingMm = 1000;
+  field.shape = {2, 2, 2};
+  field.displacementMm.assign(8, {3, -2, 1});
+  o.distortion = std::make_shared<const leafdig::devices::sim::FieldDistortion>(field);
+  leafdig::station::StationWindow w(o);
+  ASSERT_TRUE(w.start()) << w.bannerText().toStdString();
+  const auto rowOneBegun = [&] {
+    const auto& s = w.lastSnapshot();
+    return s && s->items.size() >= 2;
+  };
+  for (int i = 0; i < 1500 && !rowOneBegun(); ++i) QTest::qWait(20);
+  ASSERT_TRUE(rowOneBegun()) << w.bannerText().toStdString();
+  const auto truth = leafdig::model::readMarkersFile(o.markers).tipMm;
+  const acq::Item& tip = w.lastSnapshot()->items.front();
+  ASSERT_EQ(tip.what, acq::What::Tip);
+  EXPECT_NEAR(tip.positionMm[0], truth.x() + 3, 1.0);
+  EXPECT_NEAR(tip.positionMm[1], truth.y() - 2, 1.0);
+  EXPECT_NEAR(tip.positionMm[2], truth.z() + 1, 1.0);
+  w.stopCapture();
+  fs::remove_all(dir);
+}
+
 // Issue 29: a technician moves the transmitter in a leaf's capture with the station's key
 // (Ctrl+M, in the settings' shortcuts): the steps list and the banner ask for the three board
 // points again, the virtual technician moves the simulated transmitter and takes them, the fit is

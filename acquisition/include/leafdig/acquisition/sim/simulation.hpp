@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "leafdig/acquisition/live/capture_loop.hpp"
+#include "leafdig/devices/sim/field_distortion.hpp"
 #include "leafdig/devices/sim/sim.hpp"
 #include "leafdig/model/leaf/markers.hpp"
 
@@ -40,6 +41,9 @@ struct SimulationOptions {
   bool referenceReceiver = false;
   double potTurnDeg = 0;
   Vec3 potCentreMm{};
+  // The transmitter's field bent as by metal nearby (issue 50): every receiver reports through
+  // it, in the transmitter's frame (none: a clean field).
+  std::shared_ptr<const devices::sim::FieldDistortion> distortion;
 };
 
 class TransmitterMotion;
@@ -72,6 +76,10 @@ class SimulatedRig {
   // pot before it turns): itself, or with a reference receiver that point in the receiver's
   // frame — fixed, however the pot turns. fromStation is the inverse (where to press).
   [[nodiscard]] Vec3 toStation(const Vec3& truthMm) const;
+  // Where the station sees a point the hand touches at `truthMm` (as toStation), through the
+  // bent field when there is one (SimulationOptions::distortion): what a technician sees on the
+  // screen and judges a press by — nobody can tell a field's bend from the leaf.
+  [[nodiscard]] Vec3 seen(const Vec3& truthMm) const;
   [[nodiscard]] Vec3 fromStation(const Vec3& stationMm) const;
 
  private:
@@ -79,6 +87,7 @@ class SimulatedRig {
   std::shared_ptr<TransmitterMotion> transmitter_, referenceTransmitter_;
   std::shared_ptr<PotTurn> pot_;
   bool reference_ = false;
+  std::shared_ptr<const devices::sim::FieldDistortion> distortion_;
   Eigen::Isometry3d receiver_ = Eigen::Isometry3d::Identity();  // the reference receiver before the pot turns
   std::shared_ptr<devices::sim::VirtualCaliper> caliper_;
   std::unique_ptr<devices::sim::Emulator> digitizer_, gauge_;
