@@ -9,8 +9,10 @@
 #include <sstream>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/field/jig.hpp"
 #include "leafdig/model/image_header.hpp"
 #include "leafdig/model/leaf/markers.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
@@ -44,6 +46,19 @@ void markers(const std::string& text) {
     require(row.midribMm > 0 && row.midribMm <= m::kMaxThicknessMm);
     for (double v : row.lateralMm) require(std::isfinite(v) && v <= m::kMaxThicknessMm);
   }
+}
+
+// A jig it takes has 4 to 1000 points with unique ids; fitted to itself it leaves nothing over.
+void jig(const std::string& text) {
+  const m::Jig j = m::parseJig(text, "fuzz");
+  require(j.points.size() >= 4 && j.points.size() <= 1000);
+  std::vector<Eigen::Vector3d> at;
+  for (const auto& p : j.points) {
+    checkPoint(p.pointMm);
+    at.push_back(p.pointMm);
+  }
+  const m::JigFit fit = m::fitJig(j, at);
+  require(std::isfinite(fit.rmsMm) && fit.rmsMm < 1e-6 * (1 + m::kMaxCoordinateMm));
 }
 
 void plan(const std::string& text) {
@@ -115,6 +130,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (kind == "outline_json") outline(text, true);
     if (kind == "outline_csv") outline(text, false);
     if (kind == "image_header") imageHeader(text);
+    if (kind == "jig") jig(text);
   } catch (const m::InputError&) {
     // refused in words: what a bad file should get
   }
