@@ -284,19 +284,16 @@ void checkPulled(Store& local, const SessionInfo& s, const std::vector<Event>& e
   std::string state = s.status;
   for (const Event& e : events) {
     if (const auto problem = eventProblem(e.kind, e.payloadJson, e.raw)) refuse(e, "leafdig cannot read: " + *problem);
-    std::string status;
+    // A status names its status; a reopening (eventProblem checked its shape) also the decision it
+    // reopens. The payload is read once.
+    std::string status, reopens;
     if (e.kind == "status") {
-      try {
-        status = nlohmann::json::parse(e.payloadJson).at("status").get<std::string>();
-      } catch (const std::exception&) {
-      }
-    }
-    // A reopening (eventProblem checked its shape) names the decision it reopens.
-    std::string reopens;
-    if (!status.empty()) {
       const auto p = nlohmann::json::parse(e.payloadJson, nullptr, false);
-      if (p.is_object() && p.contains("reopens") && p.at("reopens").is_string())
-        reopens = p.at("reopens").get<std::string>();
+      const auto text = [&p](const char* key) {
+        return p.is_object() && p.contains(key) && p.at(key).is_string() ? p.at(key).get<std::string>() : std::string();
+      };
+      status = text("status");
+      if (!status.empty()) reopens = text("reopens");
     }
     const bool review = e.kind == "corrected" || status == "approved" || status == "rejected" || !reopens.empty();
     if (!review) refuse(e, "is not a curator's correction, decision or reopening");

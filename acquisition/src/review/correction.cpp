@@ -258,8 +258,7 @@ std::vector<db::EventInput> plantCorrectionEvents(const db::EventStore& store, c
                                                   const std::vector<db::Event>& logged, Correction c) {
   const What leafItem = c.what;                                           // node > 0: a full leaf's item
   const PlantWhat plantItem = c.plantWhat.value_or(PlantWhat::Landmark);  // else the plant's own
-  const std::int64_t id = info.id;
-  if (info.kind != "plant") throw SessionError("session " + std::to_string(id) + " captured one leaf, not a plant");
+  const std::int64_t id = info.id;  // a plant's session: planCorrection dispatched on its kind
   requireCorrectable(store, id, info.status, c.reason, c.who);
   const PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info.settingsJson);
   std::map<std::string, std::int64_t> held;
