@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/field/correction.hpp"
 #include "leafdig/model/field/jig.hpp"
 #include "leafdig/model/image_header.hpp"
 #include "leafdig/model/leaf/markers.hpp"
@@ -59,6 +60,17 @@ void jig(const std::string& text) {
   }
   const m::JigFit fit = m::fitJig(j, at);
   require(std::isfinite(fit.rmsMm) && fit.rmsMm < 1e-6 * (1 + m::kMaxCoordinateMm));
+}
+
+// A field correction it takes (as a stored check holds it) moves any point by a finite amount,
+// and writes back to what reads the same.
+void correction(const std::string& text) {
+  const m::FieldCorrection c = m::parseCorrection(text, "fuzz");
+  require(c.degree >= 0 && c.degree <= m::kMaxCorrectionDegree);
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(5000, -5000, 5000)})
+    require(c.apply(p).allFinite());
+  const m::FieldCorrection back = m::parseCorrection(m::encodeCorrection(c), "again");
+  require(back.degree == c.degree && back.coefficients == c.coefficients);
 }
 
 void plan(const std::string& text) {
@@ -131,6 +143,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (kind == "outline_csv") outline(text, false);
     if (kind == "image_header") imageHeader(text);
     if (kind == "jig") jig(text);
+    if (kind == "correction") correction(text);
   } catch (const m::InputError&) {
     // refused in words: what a bad file should get
   }
