@@ -6,7 +6,7 @@
 
 namespace leafdig::db::detail {
 
-inline constexpr std::array<const char*, 3> kMigrations = {
+inline constexpr std::array<const char*, 4> kMigrations = {
     // ---- 1: the entities of docs/schema.md ----------------------------------------------------
     R"SQL(
 CREATE TABLE operators (
@@ -141,6 +141,27 @@ CREATE INDEX sessions_by_plant ON sessions(plant_id);
     // still verify; `sessions verify` and `show` say which form a session has.
     R"SQL(
 ALTER TABLE sessions ADD COLUMN genesis_form INTEGER NOT NULL DEFAULT 1 CHECK (genesis_form IN (1, 2));
+)SQL",
+    // ---- 4: the field the stylus lives in (issue 50) -------------------------------------------
+    // Each check of the digitizer's field against a jig, append-only and chained: a check's hash
+    // covers the one before it, its station, operator, device, time, verdict and record (the jig,
+    // every press, the fit, the correction chosen and its held-out error: docs/devices.md).
+    R"SQL(
+CREATE TABLE field_checks (
+  id           INTEGER PRIMARY KEY,
+  station      TEXT NOT NULL,
+  operator_id  INTEGER NOT NULL REFERENCES operators(id),
+  device_id    INTEGER NOT NULL REFERENCES devices(id),
+  created_utc  TEXT NOT NULL,
+  verdict      TEXT NOT NULL CHECK (verdict IN ('pass', 'correctable', 'fail')),
+  record_json  TEXT NOT NULL,
+  prev_hash    TEXT NOT NULL,
+  hash         TEXT NOT NULL
+);
+CREATE TRIGGER field_checks_no_update BEFORE UPDATE ON field_checks
+  BEGIN SELECT RAISE(ABORT, 'field checks are append-only: run a new check'); END;
+CREATE TRIGGER field_checks_no_delete BEFORE DELETE ON field_checks
+  BEGIN SELECT RAISE(ABORT, 'field checks are append-only: run a new check'); END;
 )SQL",
 };
 

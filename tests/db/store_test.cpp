@@ -233,6 +233,39 @@ TEST_F(StoreTest, EventsCannotBeEditedAndTamperingIsFound) {
   expectRefusedUnchanged(StoreErrorKind::Tampered, "the trigger 'events_no_update' is missing");
 }
 
+TEST_F(StoreTest, FieldChecksAreChainedAndAnEditedOneIsNamed) {
+  {
+    Store s(path_);
+    EXPECT_TRUE(s.fieldChecks().empty());
+    EXPECT_EQ(s.addFieldCheck({"bench-1", "ana", "fastrak", "/dev/ttyUSB0", "pass", R"({"rms_mm": 0.4})"}), 1);
+    EXPECT_EQ(s.addFieldCheck({"bench-1", "ben", "fastrak", "/dev/ttyUSB0", "fail", R"({"rms_mm": 3.1})"}), 2);
+    EXPECT_THROW(s.addFieldCheck({"bench-1", "ana", "fastrak", "/dev/ttyUSB0", "great", "{}"}), StoreError);
+    EXPECT_THROW(s.addFieldCheck({"bench-1", "ana", "fastrak", "/dev/ttyUSB0", "pass", "{rms"}), StoreError);
+    const auto checks = s.fieldChecks();
+    ASSERT_EQ(checks.size(), 2U);
+    EXPECT_EQ(checks[1].prevHash, checks[0].hash);
+    EXPECT_EQ(checks[1].operatorName, "ben");
+    EXPECT_EQ(checks[0].verdict, "pass");
+    EXPECT_EQ(checks[1].recordJson, R"({"rms_mm": 3.1})");
+  }
+  sql(path_, "UPDATE field_checks SET verdict='pass' WHERE id=2", false);  // the trigger refuses
+  sql(path_, "DELETE FROM field_checks WHERE id=1", false);
+  // Someone drops the trigger, turns the failed check into a pass and puts the trigger back.
+  sql(path_,
+      "DROP TRIGGER field_checks_no_update; UPDATE field_checks SET verdict='pass', record_json='{\"rms_mm\": 0.3}' "
+      "WHERE id=2; CREATE TRIGGER field_checks_no_update BEFORE UPDATE ON field_checks\n"
+      "  BEGIN SELECT RAISE(ABORT, 'field checks are append-only: run a new check'); END");
+  Store s(path_);
+  try {
+    (void)s.fieldChecks();
+    ADD_FAILURE() << "an edited field check was read";
+  } catch (const StoreError& e) {
+    EXPECT_EQ(e.kind(), StoreErrorKind::Tampered);
+    EXPECT_NE(std::string(e.what()).find("field check 2 is not what its contents hash to"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(StoreTest, TruncationIsFound) {
   std::int64_t id = 0;
   {

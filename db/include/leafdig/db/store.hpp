@@ -7,6 +7,7 @@
 // proceed without blocking each other.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -17,8 +18,25 @@
 
 namespace leafdig::db {
 
-inline constexpr int kSchemaVersion = 3;                    // 2: plant sessions; 3: the station in the chain
+inline constexpr int kSchemaVersion = 4;  // 2: plant sessions; 3: the station in the chain; 4: field checks
 inline constexpr std::int32_t kApplicationId = 0x4C454146;  // "LEAF"
+
+// A check of the digitizer's field against a jig (issue 50; docs/devices.md, "Checking the
+// field"): what the station did, kept append-only in the station file with a hash chain of its
+// own. The record is JSON the acquisition layer writes and checks when it reads it back.
+struct FieldCheckInput {
+  std::string station, operatorName, deviceKind, devicePort;
+  std::string verdict;  // "pass", "correctable" or "fail"
+  std::string recordJson;
+};
+struct FieldCheckRow {
+  std::int64_t id = 0;
+  std::string station, operatorName, deviceKind, devicePort, createdUtc, verdict, recordJson, prevHash, hash;
+};
+// The chain's hash of a check: each field with its length, after the previous check's hash.
+[[nodiscard]] std::string fieldCheckHash(const FieldCheckRow& row);
+// A field check's record is at most this long (a jig of 1000 points with every press fits).
+inline constexpr std::size_t kMaxFieldCheckRecordBytes = 4 << 20;
 
 class Store final : public EventStore {
  public:
@@ -78,6 +96,14 @@ class Store final : public EventStore {
   // for writing checks only what capture touches; this is the full check.
   [[nodiscard]] std::string checkPages() const;
   std::int64_t recordExport(std::int64_t session, const std::string& path, const std::string& format) override;
+  // Appends a field check (its device recorded as ensureDevice does, its operator as
+  // ensureOperator) after the newest, chained to it; returns its id. StoreError(Input) for a
+  // verdict or record that is not one (not JSON, too long).
+  std::int64_t addFieldCheck(const FieldCheckInput& check);
+  // Every field check, oldest first, each verified against the chain: StoreError(Tampered) naming
+  // the first one whose hash is not what its contents and the one before give (a file edited
+  // with sqlite3). A file from before field checks (schema 3, opened to read) has none.
+  [[nodiscard]] std::vector<FieldCheckRow> fieldChecks() const;
   // No statement of one operation (opening, a read, a verify) runs longer than this: past it,
   // the operation stops with StoreError(Tampered) instead of never returning. Default 60 s.
   static constexpr double kDefaultTimeLimitSeconds = 60;
