@@ -27,7 +27,7 @@ for f in ./usr/bin/leafdig ./usr/bin/leafdig-station ./usr/lib/udev/rules.d/70-l
          ./usr/share/leafdig/schema/leafdig.markers-1.schema.json ./usr/share/doc/leafdig/README.md \
          ./usr/share/leafdig/protocols/tobacco.plant-protocol.json ./usr/share/leafdig/protocols/maize.plant-protocol.json \
          ./usr/share/leafdig/plants/sample.plant-markers.json ./usr/share/doc/leafdig/plants.md \
-         ./usr/share/leafdig/fields/steel-bench.field.json \
+         ./usr/share/leafdig/fields/steel-bench.field.json ./usr/share/leafdig/fields/three-level.jig.json \
          ./usr/share/doc/leafdig/schema.md ./usr/lib/python3/dist-packages/leafdig/__init__.py \
          ./usr/lib/python3/dist-packages/leafdig/_leafdig.cpython-311-x86_64-linux-gnu.so; do
   grep -qx "$f" "$work/contents.txt" || fail "the package lacks $f"
@@ -52,6 +52,9 @@ done
 "$work/root/usr/bin/leafdig" plant measure "$work/root/usr/share/leafdig/plants/sample.plant-markers.json" \
   --mtg "$work/plant.mtg" >/dev/null || fail "the installed leafdig cannot measure the installed sample plant"
 [ -s "$work/plant.mtg" ] || fail "no MTG written"
+# The installed leafdig checks a simulated field against the installed jig (its default).
+"$work/root/usr/bin/leafdig" field check --simulate --speed 20 --json --db "$work/field.sqlite" </dev/null |
+  tail -1 | grep -q '"verdict":"pass"' || fail "the installed leafdig cannot check a field against its jig"
 QT_QPA_PLATFORM=offscreen "$work/root/usr/bin/leafdig-station" --version >/dev/null 2>&1 || fail "leafdig-station --version"
 # The installed Python module imports with the system Python and builds the installed sample.
 PYTHONPATH="$work/root/usr/lib/python3/dist-packages" /usr/bin/python3 -c "

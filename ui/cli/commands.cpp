@@ -6,6 +6,7 @@
 #include "capture/capture_cmd.hpp"
 #include "devices_cmd.hpp"
 #include "failure.hpp"
+#include "field_cmd.hpp"
 #include "lab_cmd.hpp"
 #include "model/leaf2d_cmd.hpp"
 #include "model/mesh_cmd.hpp"
@@ -50,6 +51,7 @@ void addAllCommands(CLI::App& app, CommandTable& table) {
   addSynthCommands(app, table);
   addLeaf2dCommands(app, table);
   addDevicesCommands(app, table);
+  addFieldCommands(app, table);
   addCaptureCommands(app, table);
   addLabCommands(app, table);
 }

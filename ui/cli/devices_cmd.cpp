@@ -365,22 +365,6 @@ int runDoctor(const DevicesOptions& o) {
   return 0;
 }
 
-// `field model steel-bench -o FILE`: the shipped preset is this command's output with its
-// defaults (data/fields/steel-bench.field.json; a test regenerates it byte for byte).
-int runFieldModel(const DevicesOptions& o) {
-  dev::sim::SteelBenchModel m;
-  m.belowMm = o.belowMm;
-  m.strength = o.strength;
-  const dev::sim::FieldDistortion f = dev::sim::steelBench(m);
-  model::writeFileAtomically(o.out, dev::sim::encodeFieldDistortion(f));
-  double worst = 0;
-  for (const auto& d : f.displacementMm) worst = std::max(worst, std::hypot(d[0], d[1], d[2]));
-  std::cerr << "leafdig: wrote " << o.out << ": " << o.fieldModel << " " << f.shape[0] << "×" << f.shape[1] << "×"
-            << f.shape[2] << " grid every " << f.spacingMm << " mm, the largest displacement " << std::fixed
-            << std::setprecision(1) << worst << " mm\n";
-  return 0;
-}
-
 void declareDevicesCommands(CLI::App& app, DevicesOptions& o) {
   CLI::App* devices = app.add_subcommand("devices", "List, test and listen to digitizers and calipers");
   devices->require_subcommand(1);
@@ -419,19 +403,6 @@ void declareDevicesCommands(CLI::App& app, DevicesOptions& o) {
                   "A leafdig.field-distortion/1 file: the tracker's field bent as by metal nearby (fastrak, patriot, "
                   "liberty; docs/devices.md, \"The field\")");
 
-  CLI::App* field = app.add_subcommand("field", "The digitizer's magnetic field: distortion files (docs/devices.md)");
-  field->require_subcommand(1);
-  CLI::App* fieldModel = field->add_subcommand(
-      "model", "Write a leafdig.field-distortion/1 file from a physical model (steel-bench: a steel plate below)");
-  fieldModel->add_option("model", o.fieldModel, "steel-bench")->required()->check(CLI::IsMember({"steel-bench"}));
-  fieldModel->add_option("-o,--out", o.out, "The file to write")->required();
-  fieldModel->add_option("--below-mm", o.belowMm, "The plate's depth under the transmitter, mm (default 250)")
-      ->check(CLI::Range(50.0, 2000.0));
-  fieldModel
-      ->add_option("--strength", o.strength,
-                   "The share of the coupling the plate takes back, 0–0.5 (default 0.08: a steel bench top)")
-      ->check(CLI::Range(0.0, 0.5));
-
   CLI::App* doctor = app.add_subcommand("doctor", "Check libraries, ports, permissions and the udev rule");
   doctor->add_flag("--json", o.json, "Machine-readable output");
 }
@@ -446,7 +417,6 @@ void addDevicesCommands(CLI::App& app, CommandTable& table) {
   table.add(devices->get_subcommand("listen"), [o] { return runListen(*o); });
   table.add(app.get_subcommand("sim"), [o] { return runSim(*o); });
   table.add(app.get_subcommand("doctor"), [o] { return runDoctor(*o); });
-  table.add(app.get_subcommand("field")->get_subcommand("model"), [o] { return runFieldModel(*o); });
 }
 
 }  // namespace leafdig::cli

@@ -16,9 +16,6 @@ struct DevicesOptions {
   // sim
   std::string simKind, markers, faults, link;
   std::string distortion;  // sim: a leafdig.field-distortion/1 file (issue 50)
-  // field model
-  std::string fieldModel, out;
-  double belowMm = 250, strength = 0.08;
   double rate = 0, pressEvery = 0, simSeconds = 0, sigma = 0.3;
   std::uint64_t seed = 1;
 };

@@ -1,0 +1,161 @@
+// The jig check as a technician drives it (issue 50): divots taken in order, a wrong divot refused
+// by name — unless pressed again, a field may bend that far — a long press taking the last one
+// back; and a stored check trusted only when its numbers are its presses': a record edited with
+// sqlite3, its chain hash recomputed as an insider would, is refused by name.
+#include "leafdig/acquisition/field/field_check.hpp"
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "leafdig/model/errors.hpp"
+
+namespace acq = leafdig::acquisition;
+namespace m = leafdig::model;
+namespace fs = std::filesystem;
+
+namespace {
+
+m::Jig jig() {
+  m::Jig j{"cube", {}};
+  int k = 0;
+  for (double z : {0.0, 100.0})
+    for (double y : {0.0, 200.0})
+      for (double x : {0.0, 300.0}) j.points.push_back({"D" + std::to_string(++k), Eigen::Vector3d(x, y, z)});
+  return j;
+}
+
+// A press at `at`: still samples for half a second, the button down for 0.3 s, then up.
+class Hand {
+ public:
+  acq::JigCapture::Decision press(acq::JigCapture& c, const Eigen::Vector3d& at, double heldS = 0.3) {
+    acq::JigCapture::Decision last;
+    const auto sample = [&](bool button) {
+      acq::StylusInput s;
+      s.tNs = t_;
+      s.positionMm = {at.x(), at.y(), at.z()};
+      s.button = button;
+      s.raw = "01 sample";
+      t_ += 10'000'000;
+      const auto d = c.onStylus(s);
+      if (d.kind != acq::JigCapture::Decision::Kind::Ignored) last = d;
+    };
+    for (int i = 0; i < 50; ++i) sample(false);
+    for (int i = 0; i < static_cast<int>(heldS * 100); ++i) sample(true);
+    sample(false);
+    t_ += 1'000'000'000;
+    return last;
+  }
+
+ private:
+  std::int64_t t_ = 1'000'000'000;
+};
+
+using Kind = acq::JigCapture::Decision::Kind;
+
+}  // namespace
+
+TEST(JigCapture, DivotsAreTakenInOrderAndAWrongOneIsRefusedByName) {
+  const m::Jig j = jig();
+  acq::JigCapture c(j);
+  Hand hand;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.rotate(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  pose.pretranslate(Eigen::Vector3d(-200, -400, 20));
+  EXPECT_EQ(c.prompt().substr(0, 26), "touch divot D1 (1 of 8) an");
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(hand.press(c, pose * j.points[i].pointMm).kind, Kind::Accepted);
+  // D4 asked for; the technician touches D8 (100 mm above it).
+  auto d = hand.press(c, pose * j.points[7].pointMm);
+  EXPECT_EQ(d.kind, Kind::Rejected);
+  EXPECT_NE(d.words.find("this is not divot D4: it is 100 mm from where D4 is on the jig (it is nearer D8)"),
+            std::string::npos)
+      << d.words;
+  EXPECT_EQ(c.next(), 3U);
+  // Touched again at the same place, it is taken: the technician is sure.
+  d = hand.press(c, pose * j.points[7].pointMm);
+  EXPECT_EQ(d.kind, Kind::Accepted) << d.words;
+  // It was wrong after all: a long press takes it back.
+  d = hand.press(c, Eigen::Vector3d(0, 0, 0), 3.2);
+  EXPECT_EQ(d.kind, Kind::Undone);
+  EXPECT_EQ(d.words, "D4 taken back");
+  for (std::size_t i = 3; i < j.points.size(); ++i)
+    EXPECT_EQ(hand.press(c, pose * j.points[i].pointMm).kind, Kind::Accepted) << i;
+  EXPECT_TRUE(c.done());
+  EXPECT_EQ(hand.press(c, pose * j.points[0].pointMm).kind, Kind::Rejected);
+  std::vector<acq::Vec3> points;
+  for (const auto& p : c.taken()) points.push_back(p.positionMm);
+  const acq::FieldCheckResult r = acq::checkField(j, points, 1.5);
+  EXPECT_LT(r.fit.rmsMm, 1e-6);
+  EXPECT_EQ(r.verdict, "pass");
+  acq::JigCapture empty(j);
+  EXPECT_EQ(empty.undo().words, "no divot is taken yet: nothing to undo");
+}
+
+TEST(FieldCheckRecord, AStoredCheckIsTrustedOnlyWhenItsNumbersAreItsPresses) {
+  const fs::path dir = fs::temp_directory_path() / ("leafdig-field-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string path = (dir / "station.sqlite").string();
+  const m::Jig j = jig();
+  std::vector<acq::JigPress> presses;
+  std::vector<acq::Vec3> points;
+  for (const auto& p : j.points) {
+    const Eigen::Vector3d at = p.pointMm + Eigen::Vector3d(0.002 * p.pointMm.x(), 0, -0.01 * p.pointMm.z());
+    presses.push_back({{at.x(), at.y(), at.z()}, "01 " + p.id, 0});
+    points.push_back(presses.back().positionMm);
+  }
+  const acq::FieldCheckResult r = acq::checkField(j, points, 0.2);
+  ASSERT_NE(r.verdict, "pass");
+  {
+    leafdig::db::Store store(path);
+    store.addFieldCheck({"bench", "ana", "fastrak", "/dev/ttyUSB0", r.verdict,
+                         acq::encodeFieldCheck(j, presses, r, "fastrak:/dev/ttyUSB0")});
+    const auto back = acq::fieldCalibrations(store);
+    ASSERT_EQ(back.size(), 1U);
+    EXPECT_EQ(back[0].result.verdict, r.verdict);
+    EXPECT_EQ(back[0].result.fit.rmsMm, r.fit.rmsMm);
+    EXPECT_EQ(back[0].presses[3].raw, "01 D4");
+  }
+  // An insider turns the verdict into a pass and the RMS into 0.1 mm, and recomputes the hash.
+  leafdig::db::FieldCheckRow row;
+  {
+    leafdig::db::Store store(path);
+    row = store.fieldChecks().at(0);
+  }
+  nlohmann::json doc = nlohmann::json::parse(row.recordJson);
+  doc["rms_mm"] = 0.1;
+  doc["verdict"] = "pass";
+  row.recordJson = doc.dump();
+  row.verdict = "pass";
+  row.hash = leafdig::db::fieldCheckHash(row);
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  ASSERT_EQ(sqlite3_exec(db, "DROP TRIGGER field_checks_no_update", nullptr, nullptr, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_prepare_v2(db, "UPDATE field_checks SET verdict=?1, record_json=?2, hash=?3 WHERE id=1", -1, &st,
+                               nullptr),
+            SQLITE_OK);
+  sqlite3_bind_text(st, 1, row.verdict.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_text(st, 2, row.recordJson.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_text(st, 3, row.hash.c_str(), -1, SQLITE_TRANSIENT);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_DONE);
+  sqlite3_finalize(st);
+  ASSERT_EQ(sqlite3_exec(db,
+                         "CREATE TRIGGER field_checks_no_update BEFORE UPDATE ON field_checks\n"
+                         "  BEGIN SELECT RAISE(ABORT, 'field checks are append-only: run a new check'); END",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  leafdig::db::Store store(path, true);
+  ASSERT_EQ(store.fieldChecks().size(), 1U) << "the chain verifies: the insider recomputed it";
+  try {
+    (void)acq::fieldCalibrations(store);
+    ADD_FAILURE() << "an edited check was trusted";
+  } catch (const m::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field check 1: its verdict is not what its presses give (" + r.verdict + ")"),
+              std::string::npos)
+        << e.what();
+  }
+  fs::remove_all(dir);
+}

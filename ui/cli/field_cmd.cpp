@@ -1,0 +1,272 @@
+#include "field_cmd.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "capture/capture_console.hpp"
+#include "capture/stdin_commands.hpp"
+#include "commands.hpp"
+#include "leafdig/acquisition/field/field_check_run.hpp"
+#include "leafdig/devices/sim/field_distortion.hpp"
+#include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/version.hpp"
+#include "signals.hpp"
+#include "terminal_text.hpp"
+
+namespace leafdig::cli {
+namespace {
+
+namespace acq = leafdig::acquisition;
+namespace dev = leafdig::devices;
+using nlohmann::json;
+
+struct FieldOptions {
+  // model
+  std::string fieldModel, out;
+  double belowMm = 250, strength = 0.08;
+  // check
+  std::string jig, db, operatorName = "technician", station, digitizer, distortion, jigPose = "-300,-500,0,0", map;
+  double toleranceMm = acq::kDefaultFieldToleranceMm, speed = 4;
+  std::uint64_t seed = 1;
+  bool simulate = false, json = false;
+  // show
+  std::int64_t id = 0;
+};
+
+// The shipped sample jig: beside the sample leaves (data/fields/ in the source tree or the package).
+std::string defaultJig() {
+  const std::string samples = samplesDir();
+  const std::string base = samples.empty() ? sourceDataDir() : std::filesystem::path(samples).parent_path().string();
+  return base + "/fields/three-level.jig.json";
+}
+
+// `field model steel-bench -o FILE`: the shipped preset is this command's output with its
+// defaults (data/fields/steel-bench.field.json; a test regenerates it byte for byte).
+int runFieldModel(const FieldOptions& o) {
+  dev::sim::SteelBenchModel m;
+  m.belowMm = o.belowMm;
+  m.strength = o.strength;
+  const dev::sim::FieldDistortion f = dev::sim::steelBench(m);
+  model::writeFileAtomically(o.out, dev::sim::encodeFieldDistortion(f));
+  double worst = 0;
+  for (const auto& d : f.displacementMm) worst = std::max(worst, std::hypot(d[0], d[1], d[2]));
+  std::cerr << "leafdig: wrote " << o.out << ": " << o.fieldModel << " " << f.shape[0] << "×" << f.shape[1] << "×"
+            << f.shape[2] << " grid every " << f.spacingMm << " mm, the largest displacement " << std::fixed
+            << std::setprecision(1) << worst << " mm\n";
+  return 0;
+}
+
+// The figure, written next to nothing else: `--map FILE.svg`.
+void writeMap(const acq::FieldCalibration& c, const std::string& path) {
+  const std::string title = "Field check " + std::to_string(c.id) + " · " + c.device + " · " + c.createdUtc;
+  model::writeFileAtomically(
+      path, model::fieldErrorMapSvg({&c.jig, &c.result.fit, c.result.toleranceMm, c.result.verdict, title}));
+}
+
+// Exit 0 when the field passes or a correction brings it within tolerance, 3 when it fails.
+int verdictCode(const acq::FieldCalibration& c) {
+  return c.result.verdict == "fail" ? 3 : 0;
+}
+
+void printCheck(const acq::FieldCalibration& c, const FieldOptions& o) {
+  if (o.json)
+    std::cout << acq::fieldCheckSummaryJson(c) << "\n";
+  else
+    std::cout << terminalText(acq::fieldCheckSummaryText(c), true);
+}
+
+int runFieldCheck(const FieldOptions& o) {
+  if (o.operatorName.empty())
+    throw model::InputError("--operator: a field check is signed by who makes it; give a name");
+  acq::FieldCheckRequest request;
+  request.db = stationDbPath(o.db);
+  request.station = o.station;
+  request.who = o.operatorName;
+  request.jig = model::readJigFile(o.jig.empty() ? defaultJig() : o.jig);
+  request.toleranceMm = o.toleranceMm;
+  request.digitizer = o.digitizer;
+  request.simulated = o.simulate;
+  if (!o.simulate && o.digitizer.empty())
+    throw model::InputError(
+        "a field check reads a digitizer: give --digitizer KIND:PORT (fastrak:/dev/ttyUSB0), "
+        "or --simulate");
+  if (!o.simulate && (!o.distortion.empty()))
+    throw model::InputError("--distortion bends a simulated field: it goes with --simulate");
+  if (o.simulate) {
+    request.simulation.speed = o.speed;
+    request.simulation.seed = o.seed;
+    request.simulation.mistakes = false;
+    request.simulation.distortion = distortionOf(o.distortion);
+    try {
+      request.jigPose = acq::parseJigPose(o.jigPose);
+    } catch (const std::invalid_argument& e) {
+      throw model::InputError(e.what());
+    }
+  }
+  const std::size_t jigSize = request.jig.points.size();
+  acq::FieldCheckListener listener;
+  const bool tty = ::isatty(1) != 0;
+  listener.onPrompt = [&](const std::string& prompt) {
+    if (o.json)
+      std::cout << json{{"event", "prompt"}, {"text", prompt}}.dump() << "\n" << std::flush;
+    else
+      std::cout << "  " << (tty ? "\033[1;7m ▶ " : "▶ ") << terminalText(prompt) << (tty ? " \033[0m" : "") << "\n"
+                << std::flush;
+  };
+  listener.onDecision = [&](const acq::JigCapture::Decision& d) {
+    using K = acq::JigCapture::Decision::Kind;
+    const char* kind = d.kind == K::Accepted ? "accepted" : d.kind == K::Undone ? "undone" : "rejected";
+    if (o.json)
+      std::cout << json{{"event", kind}, {"text", d.words}}.dump() << "\n" << std::flush;
+    else
+      std::cout << "    " << kind << ": " << terminalText(d.words) << "\n" << std::flush;
+  };
+  std::atomic<bool> finished{false};  // the digitizer stopping after the last divot is no news
+  listener.onStatus = [&](const dev::DeviceStatus& s) {
+    if (finished || s.state == dev::LinkState::Streaming || s.state == dev::LinkState::Connecting) return;
+    std::cerr << "leafdig: " << s.device << ": " << terminalText(s.message)
+              << (s.remedy.empty() ? "" : " — " + terminalText(s.remedy)) << "\n";
+  };
+  listener.onDecision = [&, told = listener.onDecision](const acq::JigCapture::Decision& d) {
+    told(d);
+    if (d.kind == acq::JigCapture::Decision::Kind::Accepted && d.index + 1 == jigSize) finished = true;
+  };
+  acq::FieldCheckRun run(std::move(request), listener);
+  if (!o.json)
+    std::cout << "leafdig field check · " << terminalText(run.store().path())
+              << "\n  keys (then Enter): u undo · q quit\n";
+  std::atomic<bool> done{false};
+  StdinCommands input([&](const std::string& line) {
+    if (line == "u" || line == "undo")
+      run.undo();
+    else if (line == "q" || line == "quit")
+      run.stop();
+    else
+      std::cerr << "leafdig: '" << terminalText(line) << "'? type u (undo the last divot) or q (quit)\n";
+  });
+  setCaptureRunning(true);
+  std::thread watcher([&] {
+    while (!done) {
+      if (interrupted()) run.stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+  std::optional<acq::FieldCalibration> result;
+  try {
+    result = run.run();
+  } catch (...) {
+    done = true;
+    watcher.join();
+    input.stop();
+    setCaptureRunning(false);
+    throw;
+  }
+  done = true;
+  watcher.join();
+  input.stop();
+  setCaptureRunning(false);
+  if (!result) {
+    std::cerr << "leafdig: the field check was stopped before every divot was taken: nothing was stored\n";
+    return interrupted() ? 130 : 1;
+  }
+  if (!o.map.empty()) writeMap(*result, o.map);
+  printCheck(*result, o);
+  return verdictCode(*result);
+}
+
+int runFieldList(const FieldOptions& o) {
+  const db::Store store(stationDbPath(o.db), true);
+  const auto checks = acq::fieldCalibrations(store);
+  if (o.json) {
+    json list = json::array();
+    for (const auto& c : checks) list.push_back(json::parse(acq::fieldCheckSummaryJson(c)));
+    std::cout << list.dump() << "\n";
+    return 0;
+  }
+  if (checks.empty())
+    std::cout << "no field check in " << terminalText(store.path()) << ": run 'leafdig field check'\n";
+  for (const auto& c : checks) {
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(2) << c.id << "  " << c.createdUtc << "  " << c.device << "  RMS "
+         << c.result.fit.rmsMm << " mm  max " << c.result.fit.maxMm << " mm  " << c.result.verdict << "  correction "
+         << c.result.correction.correction.name() << "  by " << c.operatorName;
+    std::cout << terminalText(line.str()) << "\n";
+  }
+  return 0;
+}
+
+int runFieldShow(const FieldOptions& o) {
+  const db::Store store(stationDbPath(o.db), true);
+  for (const auto& c : acq::fieldCalibrations(store)) {
+    if (c.id != o.id) continue;
+    if (!o.map.empty()) writeMap(c, o.map);
+    printCheck(c, o);
+    return 0;
+  }
+  throw model::InputError("no field check " + std::to_string(o.id) + " in " + store.path() +
+                          ": 'leafdig field list' shows them");
+}
+
+}  // namespace
+
+void addFieldCommands(CLI::App& app, CommandTable& table) {
+  auto o = std::make_shared<FieldOptions>();
+  CLI::App* field = app.add_subcommand("field",
+                                       "The digitizer's magnetic field: simulate it, check it against a jig "
+                                       "(docs/devices.md, \"The field\")");
+  field->require_subcommand(1);
+  CLI::App* fieldModel = field->add_subcommand(
+      "model", "Write a leafdig.field-distortion/1 file from a physical model (steel-bench: a steel plate below)");
+  fieldModel->add_option("model", o->fieldModel, "steel-bench")->required()->check(CLI::IsMember({"steel-bench"}));
+  fieldModel->add_option("-o,--out", o->out, "The file to write")->required();
+  fieldModel->add_option("--below-mm", o->belowMm, "The plate's depth under the transmitter, mm (default 250)")
+      ->check(CLI::Range(50.0, 2000.0));
+  fieldModel
+      ->add_option("--strength", o->strength,
+                   "The share of the coupling the plate takes back, 0–0.5 (default 0.08: a steel bench top)")
+      ->check(CLI::Range(0.0, 0.5));
+
+  CLI::App* check = field->add_subcommand(
+      "check", "Digitize a jig's divots in the order prompted: the field's error, a correction, a verdict");
+  check->add_option("--jig", o->jig, "A leafdig.jig/1 file (default: the shipped three-level.jig.json)");
+  check->add_option("--tolerance-mm", o->toleranceMm, "The RMS error a field may have, mm (default 1.5)")
+      ->check(CLI::Range(0.05, 100.0));
+  check->add_option("--db", o->db, "SQLite file (default: the station's, under $XDG_DATA_HOME/leafdig)");
+  check->add_option("--operator", o->operatorName, "Who checks");
+  check->add_option("--station", o->station, "This station's id (default: the settings file's, else the host name)");
+  check->add_option("--digitizer", o->digitizer, "KIND:PORT, e.g. fastrak:/dev/ttyUSB0 (patriot, liberty)");
+  check->add_flag("--simulate", o->simulate, "The simulated FASTRAK and a virtual technician touching the jig");
+  check->add_option("--distortion", o->distortion, kDistortionHelp);
+  check->add_option("--jig-pose", o->jigPose,
+                    "Simulation: where the jig lies, x,y,z,yaw_deg in the transmitter's frame (default -300,-500,0,0)");
+  check->add_option("--speed", o->speed, "Simulation: time scale (default 4)")->check(CLI::Range(0.1, 50.0));
+  check->add_option("--seed", o->seed, "Simulation: seed of the stylus noise")->check(seedText());
+  check->add_option("--map", o->map, "Write the error map, an SVG figure, to this file");
+  check->add_flag("--json", o->json, "JSON lines while digitizing; the result as one JSON object");
+
+  CLI::App* list = field->add_subcommand("list", "The station file's field checks, oldest first");
+  list->add_option("--db", o->db, "SQLite file (default: the station's)");
+  list->add_flag("--json", o->json, "Machine-readable output");
+  CLI::App* show = field->add_subcommand("show", "One field check: the field, the correction, the verdict");
+  show->add_option("id", o->id, "The check's number (field list)")->required()->check(CLI::PositiveNumber);
+  show->add_option("--db", o->db, "SQLite file (default: the station's)");
+  show->add_option("--map", o->map, "Write its error map, an SVG figure, to this file");
+  show->add_flag("--json", o->json, "Machine-readable output");
+
+  table.add(fieldModel, [o] { return runFieldModel(*o); });
+  table.add(
+      check, [o] { return runFieldCheck(*o); }, "cannot check the field: ");
+  table.add(list, [o] { return runFieldList(*o); });
+  table.add(show, [o] { return runFieldShow(*o); });
+}
+
+}  // namespace leafdig::cli
