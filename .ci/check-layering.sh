@@ -99,15 +99,15 @@ rootCheck model "errors, limits, files, image headers, JSON text" field spline l
 
 # 7. Rooms inside acquisition/ (acquisition/README.md): protocol, then session, then review; live
 #    after session, sim after live, run after sim; review never uses live, sim or run, and they
-#    never use review; field (the field check) uses protocol, session, live and sim, and nothing
-#    but run may use it. The root holds nothing.
-roomCheck acquisition protocol session review live sim run field
-roomCheck acquisition session review live sim run field
-roomCheck acquisition review live sim run field
-roomCheck acquisition live review sim run field
-roomCheck acquisition sim review run field
+#    never use review; field (the field check and what a capture applies of it) uses only
+#    protocol, and every room after it may use it. The root holds nothing.
+roomCheck acquisition protocol field session review live sim run
+roomCheck acquisition field session review live sim run
+roomCheck acquisition session review live sim run
+roomCheck acquisition review live sim run
+roomCheck acquisition live review sim run
+roomCheck acquisition sim review run
 roomCheck acquisition run review
-roomCheck acquisition field review run
 rootCheck acquisition "nothing" protocol session review live sim run field
 [ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, pybind11 only in python/leafdig_module.cpp, dependencies point one way, devices/, model/ and acquisition/ rooms in their directions"
 exit $fail

@@ -7,9 +7,11 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/model/errors.hpp"
 
 namespace acq = leafdig::acquisition;
@@ -157,5 +159,65 @@ TEST(FieldCheckRecord, AStoredCheckIsTrustedOnlyWhenItsNumbersAreItsPresses) {
               std::string::npos)
         << e.what();
   }
+  fs::remove_all(dir);
+}
+
+TEST(FieldApplied, ACaptureSaysWhichCheckCorrectsItOrThatTheFieldWasNotCheckedToday) {
+  const fs::path dir = fs::temp_directory_path() / ("leafdig-field-banner-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  leafdig::db::Store store((dir / "s.sqlite").string());
+  EXPECT_EQ(acq::fieldBanner(store, std::nullopt),
+            "field: not corrected, and no check of the field today (leafdig field check)");
+  EXPECT_THROW((void)acq::resolveFieldCalibration(store, "latest"), std::invalid_argument);
+  EXPECT_FALSE(acq::resolveFieldCalibration(store, "none"));
+  EXPECT_THROW((void)acq::resolveFieldCalibration(store, "two"), std::invalid_argument);
+  const m::Jig j = jig();
+  std::vector<acq::JigPress> presses;
+  std::vector<acq::Vec3> points;
+  for (const auto& p : j.points) {
+    const Eigen::Vector3d at = p.pointMm + Eigen::Vector3d(0.004 * p.pointMm.x(), 0, -0.02 * p.pointMm.z());
+    presses.push_back({{at.x(), at.y(), at.z()}, "01", 0});
+    points.push_back(presses.back().positionMm);
+  }
+  const acq::FieldCheckResult r = acq::checkField(j, points, 0.5);
+  ASSERT_EQ(r.verdict, "correctable");
+  store.addFieldCheck(
+      {"bench", "ana", "fastrak", "/dev/ttyUSB0", r.verdict, acq::encodeFieldCheck(j, presses, r, "x")});
+  EXPECT_NE(acq::fieldBanner(store, std::nullopt).find("field: not corrected (check 1, correctable, is 0 h old"),
+            std::string::npos)
+      << acq::fieldBanner(store, std::nullopt);
+  const auto applied = acq::resolveFieldCalibration(store, "latest");
+  ASSERT_TRUE(applied);
+  EXPECT_EQ(applied->id, 1);
+  EXPECT_EQ(applied->hash, store.fieldChecks().at(0).hash);
+  EXPECT_EQ(acq::fieldBanner(store, applied).substr(0, 34), "field: corrected by field check 1 ");
+  // Kept in a session's settings and read back the same; a bent value is refused by name.
+  nlohmann::json settings = {{"field_calibration", acq::fieldAppliedJson(*applied)}};
+  const auto back = acq::fieldAppliedFromSettings(settings.dump(), "session 9");
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->correction.name(), applied->correction.name());
+  const acq::Vec3 p{100, 50, 80};
+  EXPECT_EQ(back->apply(p), applied->apply(p));
+  settings["field_calibration"]["verdict"] = "fail";
+  EXPECT_THROW((void)acq::fieldAppliedFromSettings(settings.dump(), "session 9"), m::InputError);
+  // A failed check is never applied.
+  std::vector<acq::Vec3> far;
+  std::vector<acq::JigPress> farPresses;
+  for (const auto& q : points) {
+    far.push_back({q[0], q[1], q[2] + 5 * std::sin(q[0] / 37.0) + 3 * std::cos(q[1] / 23.0)});
+    farPresses.push_back({far.back(), "01", 0});
+  }
+  const acq::FieldCheckResult bad = acq::checkField(j, far, 0.01);
+  ASSERT_EQ(bad.verdict, "fail");
+  store.addFieldCheck(
+      {"bench", "ana", "fastrak", "/dev/ttyUSB0", bad.verdict, acq::encodeFieldCheck(j, farPresses, bad, "x")});
+  try {
+    (void)acq::resolveFieldCalibration(store, "latest");
+    ADD_FAILURE() << "a failed check was applied";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("field check 2 failed: the field is beyond correcting"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(acq::resolveFieldCalibration(store, "1")->id, 1);
   fs::remove_all(dir);
 }

@@ -3,6 +3,9 @@
 // as prompted; the verdict, the correction chosen by its error on divots it did not see, the error
 // map, the check stored and read back. A clean field passes, a field bent past correcting fails
 // with its own exit code, and what is wrong with the request is said before anything runs.
+#include <Eigen/Geometry>
+#include <cmath>
+
 #include "cli_support.hpp"
 
 namespace {
@@ -104,3 +107,101 @@ TEST_F(FieldCli, WhatIsWrongIsSaidBeforeAnythingRuns) {
 }
 
 }  // namespace
+
+namespace {
+
+// Every [x, y, z] of a document, in its order.
+void triples(const json& j, std::vector<Eigen::Vector3d>& out) {
+  if (j.is_array() && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number()) {
+    out.emplace_back(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+    return;
+  }
+  if (j.is_array() || j.is_object())
+    for (const auto& v : j) triples(v, out);
+}
+
+// The RMS distance of `got` from `truth` once the best rigid motion puts one on the other: the
+// shape's error, whatever frame a correction left the points in.
+double shapeRms(const std::vector<Eigen::Vector3d>& got, const std::vector<Eigen::Vector3d>& truth) {
+  EXPECT_EQ(got.size(), truth.size());
+  const auto n = static_cast<Eigen::Index>(std::min(got.size(), truth.size()));
+  Eigen::Matrix3Xd a(3, n), b(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    a.col(i) = got[static_cast<std::size_t>(i)];
+    b.col(i) = truth[static_cast<std::size_t>(i)];
+  }
+  const Eigen::Matrix4d t = Eigen::umeyama(a, b, false);
+  double sum = 0;
+  for (Eigen::Index i = 0; i < n; ++i)
+    sum += ((t.topLeftCorner<3, 3>() * a.col(i) + t.topRightCorner<3, 1>()) - b.col(i)).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(n));
+}
+
+}  // namespace
+
+TEST_F(FieldCli, ALeafAndAPlantCapturedThroughTheCheckedFieldAreCorrectedAgainstTheirTruth) {
+  const std::string run = " --simulate --speed 12 --seed 4 --no-mistakes --json" + db();
+  // Before any check, a capture that asks for the latest is refused in words, nothing captured.
+  Result r = leafdig("capture" + run + " --field-calibration latest --distortion " + bench() + " </dev/null");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("no field check in"), std::string::npos) << r.err;
+  ASSERT_EQ(leafdig("field check --simulate --speed 10 --json --distortion " + bench() + db() + " </dev/null").exitCode,
+            0);
+  // The same leaf three times: through the bent field corrected, uncorrected, and in a clean field.
+  ASSERT_EQ(leafdig("capture" + run + " --field-calibration latest --distortion " + bench() + " </dev/null").exitCode,
+            0);
+  ASSERT_EQ(leafdig("capture" + run + " --distortion " + bench() + " </dev/null").exitCode, 0);
+  ASSERT_EQ(leafdig("capture" + run + " </dev/null").exitCode, 0);
+  std::vector<Eigen::Vector3d> truth;
+  triples(json::parse(slurp(sample("lower-leaf-n10.markers.json")))["rows"], truth);
+  std::vector<double> rms;
+  for (int id = 1; id <= 3; ++id) {
+    ASSERT_EQ(leafdig("sessions export " + std::to_string(id) + " --format markers --frame digitizer --out " +
+                      quote(dir_) + db())
+                  .exitCode,
+              0);
+    std::vector<Eigen::Vector3d> got;
+    triples(json::parse(slurp(dir_ / ("session-" + std::to_string(id) + ".markers.json")))["rows"], got);
+    rms.push_back(shapeRms(got, truth));
+  }
+  std::cerr << "leaf shape RMS (mm): corrected " << rms[0] << ", uncorrected " << rms[1] << ", clean field " << rms[2]
+            << "\n";
+  // Corrected: within the clean field's error (1 mm RMS); uncorrected, the bend is plain.
+  EXPECT_LT(rms[0], 1.0) << rms[0];
+  EXPECT_LT(rms[2], 1.0) << rms[2];
+  EXPECT_GT(rms[1], 1.5 * rms[0]) << rms[1] << " vs " << rms[0];
+  // Which check applied: sessions show (text and JSON), and the interval widened by its held-out
+  // error (a session without one shows no field).
+  const json shown = json::parse(leafdig("sessions show 1 --json" + db()).out);
+  EXPECT_EQ(shown["field_calibration"]["id"], 1);
+  EXPECT_EQ(shown["field_calibration"]["correction"]["model"].get<std::string>().substr(0, 11), "polynomial-");
+  EXPECT_FALSE(json::parse(leafdig("sessions show 2 --json" + db()).out).contains("field_calibration"));
+  EXPECT_NE(leafdig("sessions show 1" + db()).out.find("field: field check 1 of "), std::string::npos);
+  ASSERT_EQ(leafdig("sessions export 1 --format csv --out " + quote(dir_) + db()).exitCode, 0);
+  EXPECT_NE(slurp(dir_ / "session-1.markers.csv").find("# field_calibration: field check 1 of "), std::string::npos);
+  // A resumed session keeps its check: the flag is refused.
+  r = leafdig("capture --resume 1 --field-calibration none" + db());
+  EXPECT_NE(r.exitCode, 0);
+  // The plant: the jig laid where the plant stands (check 2), then its every point through the
+  // field, corrected and not, against the simulated plant.
+  ASSERT_EQ(leafdig("field check --simulate --speed 10 --json --jig-pose 480,-100,-330,90 --distortion " + bench() +
+                    db() + " </dev/null")
+                .exitCode,
+            0);
+  const std::string plant = " --simulate --speed 12 --seed 3 --json --distortion " + bench() + db();
+  ASSERT_EQ(leafdig("plant capture" + plant + " --field-calibration 2 </dev/null").exitCode, 0);
+  ASSERT_EQ(leafdig("plant capture" + plant + " </dev/null").exitCode, 0);
+  std::vector<Eigen::Vector3d> plantTruth;
+  triples(json::parse(slurp(fs::path(LEAFDIG_SOURCE_DIR) / "data/plants/sample.plant-markers.json")), plantTruth);
+  std::vector<double> plantRms;
+  for (int id = 4; id <= 5; ++id) {
+    ASSERT_EQ(
+        leafdig("sessions export " + std::to_string(id) + " --format markers --out " + quote(dir_) + db()).exitCode, 0);
+    std::vector<Eigen::Vector3d> got;
+    triples(json::parse(slurp(dir_ / ("session-" + std::to_string(id) + ".plant-markers.json"))), got);
+    plantRms.push_back(shapeRms(got, plantTruth));
+  }
+  std::cerr << "plant shape RMS (mm): corrected " << plantRms[0] << ", uncorrected " << plantRms[1] << "\n";
+  EXPECT_LT(plantRms[0], plantRms[1]) << plantRms[0] << " vs " << plantRms[1];
+  EXPECT_NE(leafdig("sessions show 4" + db()).out.find("field: field check 2 of "), std::string::npos);
+}

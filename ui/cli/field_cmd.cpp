@@ -14,7 +14,7 @@
 #include "capture/capture_console.hpp"
 #include "capture/stdin_commands.hpp"
 #include "commands.hpp"
-#include "leafdig/acquisition/field/field_check_run.hpp"
+#include "leafdig/acquisition/run/field_check_run.hpp"
 #include "leafdig/devices/sim/field_distortion.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -34,7 +34,7 @@ struct FieldOptions {
   std::string fieldModel, out;
   double belowMm = 250, strength = 0.08;
   // check
-  std::string jig, db, operatorName = "technician", station, digitizer, distortion, jigPose = "-300,-500,0,0", map;
+  std::string jig, db, operatorName = "technician", station, digitizer, distortion, jigPose = "200,-620,0,90", map;
   double toleranceMm = acq::kDefaultFieldToleranceMm, speed = 4;
   std::uint64_t seed = 1;
   bool simulate = false, json = false;
@@ -247,7 +247,8 @@ void addFieldCommands(CLI::App& app, CommandTable& table) {
   check->add_flag("--simulate", o->simulate, "The simulated FASTRAK and a virtual technician touching the jig");
   check->add_option("--distortion", o->distortion, kDistortionHelp);
   check->add_option("--jig-pose", o->jigPose,
-                    "Simulation: where the jig lies, x,y,z,yaw_deg in the transmitter's frame (default -300,-500,0,0)");
+                    "Simulation: where the jig lies, x,y,z,yaw_deg in the transmitter's frame (default 200,-620,0,90: "
+                    "under a leaf as the simulations lay it)");
   check->add_option("--speed", o->speed, "Simulation: time scale (default 4)")->check(CLI::Range(0.1, 50.0));
   check->add_option("--seed", o->seed, "Simulation: seed of the stylus noise")->check(seedText());
   check->add_option("--map", o->map, "Write the error map, an SVG figure, to this file");

@@ -263,35 +263,32 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
   const std::vector<db::ReviewEntry> history = db::reviewHistory(events);
   const acq::PlantStep st = engine.step();
   if (o.json) {
-    std::cout << json{{"id", o.id},
-                      {"kind", "plant"},
-                      {"station", info.station},
-                      {"station_session_id", info.stationSessionId},
-                      {"status", info.status},
-                      {"step",
-                       {{"what", acq::toString(st.what)},
-                        {"index", st.index},
-                        {"part", st.part},
-                        {"prompt", engine.prompt()}}},
-                      {"nodes", engine.nodes()},
-                      {"points", points},
-                      {"readings", readings},
-                      {"leaves", leaves},
-                      {"corrections", corrections},
-                      {"history", historyJson(history)},
-                      {"transmitter_positions", transmitter},
-                      {"survey", survey ? json::parse(model::plantSurveyToJson(*survey)) : json(nullptr)},
-                      {"survey_problem", surveyProblem},
-                      {"relocating", engine.relocating() > 0},
-                      {"events", chain.events},
-                      {"chain_ok", chain.ok},
-                      {"problem", chain.problem},
-                      {"project", info.project},
-                      {"plant", info.plant},
-                      {"operator", info.operatorName},
-                      {"date", setup.date ? json(model::toIso(*setup.date)) : json(nullptr)}}
-                     .dump()
-              << "\n";
+    json out{{"id", o.id},
+             {"kind", "plant"},
+             {"station", info.station},
+             {"station_session_id", info.stationSessionId},
+             {"status", info.status},
+             {"step",
+              {{"what", acq::toString(st.what)}, {"index", st.index}, {"part", st.part}, {"prompt", engine.prompt()}}},
+             {"nodes", engine.nodes()},
+             {"points", points},
+             {"readings", readings},
+             {"leaves", leaves},
+             {"corrections", corrections},
+             {"history", historyJson(history)},
+             {"transmitter_positions", transmitter},
+             {"survey", survey ? json::parse(model::plantSurveyToJson(*survey)) : json(nullptr)},
+             {"survey_problem", surveyProblem},
+             {"relocating", engine.relocating() > 0},
+             {"events", chain.events},
+             {"chain_ok", chain.ok},
+             {"problem", chain.problem},
+             {"project", info.project},
+             {"plant", info.plant},
+             {"operator", info.operatorName},
+             {"date", setup.date ? json(model::toIso(*setup.date)) : json(nullptr)}};
+    if (setup.field) out["field_calibration"] = acq::fieldAppliedJson(*setup.field);
+    std::cout << out.dump() << "\n";
     return 0;
   }
   std::cout << "session " << o.id << " · plant " << terminalText(info.project + "/" + info.plant) << " · "
@@ -299,6 +296,7 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
             << "  step: " << engine.prompt() << "\n  " << engine.nodes() << " nodes, " << points.size() << " points, "
             << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
             << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
+  if (setup.field) std::cout << "  field: " << terminalText(setup.field->words()) << "\n";
   printTransmitterPositions(transmitter, "landmark", "worst_landmark");
   if (survey)
     printSurvey(*survey, "  survey");
@@ -367,6 +365,7 @@ int runShow(const db::EventStore& store, const SessionsOptions& o) {
     if (!board.empty()) j["board"] = board;
     if (!boardAgain.empty()) j["board_again"] = boardAgain;
     if (positions > 1) j["transmitter_positions"] = transmitter;
+    if (const auto field = acq::sessionField(r.info)) j["field_calibration"] = acq::fieldAppliedJson(*field);
     j["history"] = historyJson(history);
     std::cout << j.dump() << "\n";
     return 0;
@@ -378,6 +377,7 @@ int runShow(const db::EventStore& store, const SessionsOptions& o) {
             << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
             << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem))
             << "\n";
+  if (const auto field = acq::sessionField(r.info)) std::cout << "  field: " << terminalText(field->words()) << "\n";
   printTransmitterPositions(transmitter, "board point", "worst_point");
   printHistory(history);
   return 0;

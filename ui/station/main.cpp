@@ -66,6 +66,11 @@ int main(int argc, char** argv) {
       "With --simulate: the digitizer's field bent as by metal nearby, from a leafdig.field-distortion/1 file "
       "(docs/devices.md, \"The field\")",
       "FILE");
+  const QCommandLineOption fieldCalibration(
+      "field-calibration",
+      "The field check whose correction every stylus sample of a new capture goes through: a check's number "
+      "(leafdig field list), latest, or none (default; docs/devices.md, \"Checking the field\")",
+      "ID");
   const QCommandLineOption capturePlant(
       "capture-plant",
       "Digitize this plant (its id) where it stands with --digitizer and --caliper, in the plant capture view", "ID");
@@ -83,7 +88,7 @@ int main(int argc, char** argv) {
   p.addOptions({simulate,       db,           speed,      seed,          markers,      digitizer,         caliper,
                 resume,         screenshot,   reviewShot, quit,          setupDialog,  settingsFile,      firstFrame,
                 plantPlan,      plantSession, plantShot,  plantMarkers,  capturePlant, referenceReceiver, potTurn,
-                screenshotWhen, noAudio,      station,    plantProtocol, distortion});
+                screenshotWhen, noAudio,      station,    plantProtocol, distortion,   fieldCalibration});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -94,6 +99,7 @@ int main(int argc, char** argv) {
   o.markers = p.value(markers).toStdString();
   o.referenceReceiver = p.isSet(referenceReceiver);
   o.potTurnDeg = p.value(potTurn).toDouble();
+  o.fieldCalibration = p.value(fieldCalibration).toStdString();
   try {
     // The station's simulation is the one with --simulate; a turn needs its reference receiver.
     leafdig::acquisition::checkPotTurn(o.potTurnDeg, true, o.referenceReceiver, "pot");

@@ -455,6 +455,7 @@ bool StationWindow::start() {
     r.simulation.speed = options_.speed;
     r.simulation.seed = options_.seed;
     r.simulation.distortion = options_.distortion;
+    if (options_.resume == 0 && options_.fieldCalibration != "none") r.fieldCalibration = options_.fieldCalibration;
     r.leafFile = options_.markers;
     acq::RunObserver observer;
     // Called on the capture thread: hand over to the UI thread.
@@ -504,7 +505,7 @@ PlantCaptureView* StationWindow::plantCaptureTab() {
 
 bool StationWindow::startPlantCapture(const std::string& plantMarkers, const model::PlantProtocol& protocol) {
   if (!capturesIntoStationFile()) return false;
-  (void)plantCaptureTab();
+  plantCaptureTab()->setFieldCalibration(options_.fieldCalibration);
   acq::SimulationOptions sim;
   sim.speed = options_.speed;
   sim.seed = options_.seed;
@@ -525,6 +526,7 @@ bool StationWindow::startPlantCapture(const std::string& plantMarkers, const mod
 bool StationWindow::startPlantCaptureWithDevices(acq::PlantSessionSetup setup) {
   if (!capturesIntoStationFile()) return false;
   if (setup.station.empty()) setup.station = options_.setup.station;
+  plantCaptureTab()->setFieldCalibration(options_.fieldCalibration);
   const QString error = plantCaptureTab()->startWithDevices(dbPath(), setup);
   if (!error.isEmpty()) {
     banner_->setText(tr("Cannot start the plant capture: %1").arg(error));

@@ -43,6 +43,8 @@ struct StationOptions {
   double potTurnDeg = 0;
   // The simulated digitizer's field bent as by metal nearby (--distortion FILE; issue 50).
   std::shared_ptr<const devices::sim::FieldDistortion> distortion;
+  // A new capture's field check (--field-calibration: a check's number, latest or none; issue 50).
+  std::string fieldCalibration;
   acquisition::SessionSetup setup;  // project, plant, …, devices (ignored when simulating)
   std::int64_t resume = 0;          // a session to continue; 0: a new one
   QString settingsFile;             // empty: defaultSettingsFile()

@@ -99,7 +99,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   const model::LeafMesh mesh = model::meshLeaf(leaf, meshOptions);
   ExportResult result;
   result.metrics = model::computeLeafMetrics(leaf, Eigen::Vector3d(0, 0, 1), 5.0);
-  if (reviewed) widenForMoves(reviewed->engine, leaf, result.metrics);
+  if (reviewed) widenForCapture(*reviewed, leaf, result.metrics);
   model::addSilhouette(result.metrics, mesh);
   result.rows = set.rows.size();
   // Which session, station, status, operator and curator: in every file's header or metadata.

@@ -114,14 +114,16 @@ CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
   }
   // A full leaf taken across a move of the transmitter: its points before and after stand in
   // frames related by a fit with a residual, which the interval's draws add to the noise.
+  // A checked field's correction adds its error on divots it did not see to every full leaf's.
   for (m::SurveyedLeaf& leaf : out.survey.leaves) {
     const std::set<int> positions = engine.leafPositions(leaf.node);
-    if (positions.size() < 2 || !leaf.markers || !leaf.areaLow95Mm2) continue;
+    if ((positions.size() < 2 && !setup.field) || !leaf.markers || !leaf.areaLow95Mm2) continue;
     double rms = 0;
     for (int r : positions)
       if (r > 0) rms = std::max(rms, engine.fitOf(r).rmsMm);
     m::AreaUncertaintyOptions options;
     options.sigmaMm = std::hypot(options.sigmaMm, rms);
+    if (setup.field) options.sigmaMm = std::hypot(options.sigmaMm, setup.field->holdoutRmsMm);
     const m::AreaUncertainty u = m::areaUncertainty(*leaf.markers, options);
     leaf.areaLow95Mm2 = u.low95Mm2;
     leaf.areaHigh95Mm2 = u.high95Mm2;

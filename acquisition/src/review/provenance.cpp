@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/history.hpp"
 
 namespace leafdig::acquisition {
@@ -37,6 +38,9 @@ model::Provenance sessionProvenance(const db::EventStore& store, const db::Sessi
     p.emplace_back("decided_utc", printable(decision->utc));
   }
   p.emplace_back("corrections", std::to_string(corrections));
+  // The field check its stylus samples went through (issue 50), when there was one.
+  if (const std::optional<FieldApplied> field = sessionField(info))
+    p.emplace_back("field_calibration", printable(field->words()));
   return p;
 }
 

@@ -169,13 +169,24 @@ model::MarkerSet sessionMarkers(const ReviewedSession& r) {
   return toMarkerSet(r.engine.items(), r.settings, leafInfoOf(r.info));
 }
 
-void widenForMoves(const Engine& engine, const model::LeafModel& leaf, model::LeafMetrics& metrics) {
-  if (engine.transmitterPositions() < 2 || !metrics.areaInterval) return;
+std::optional<FieldApplied> sessionField(const db::SessionInfo& info) {
+  try {
+    return fieldAppliedFromSettings(info.settingsJson, "session " + std::to_string(info.id));
+  } catch (const model::InputError& e) {
+    throw SessionError(e.what());
+  }
+}
+
+void widenForCapture(const ReviewedSession& r, const model::LeafModel& leaf, model::LeafMetrics& metrics) {
+  const Engine& engine = r.engine;
+  const std::optional<FieldApplied> field = sessionField(r.info);
+  if ((engine.transmitterPositions() < 2 && !field) || !metrics.areaInterval) return;
   double rms = 0;
-  for (int r = 1; r < engine.transmitterPositions(); ++r) rms = std::max(rms, engine.fitOf(r).fitRmsMm);
+  for (int p = 1; p < engine.transmitterPositions(); ++p) rms = std::max(rms, engine.fitOf(p).fitRmsMm);
   model::AreaUncertaintyOptions options;
   options.blade = leaf.blade.kind;
   options.sigmaMm = std::hypot(options.sigmaMm, rms);
+  if (field) options.sigmaMm = std::hypot(options.sigmaMm, field->holdoutRmsMm);
   metrics.areaInterval = model::areaUncertainty(leaf.markers, options);
 }
 
@@ -205,7 +216,7 @@ LeafSummary summarize(const ReviewedSession& r) {
   const model::MarkerSet set = sessionMarkers(r);
   LeafSummary s{model::buildLeafModel(set, {}), {}};
   s.metrics = model::computeLeafMetrics(s.model, Eigen::Vector3d(0, 0, 1), 5.0);
-  widenForMoves(r.engine, s.model, s.metrics);
+  widenForCapture(r, s.model, s.metrics);
   // Silhouette and STAR of the mesh an export writes (model build's default resolution).
   model::addSilhouette(s.metrics, model::meshLeaf(s.model, model::MeshResolution::preset("export")));
   return s;

@@ -66,7 +66,12 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     }
   }
   if (request.speed) checkSimulationSpeed(*request.speed);
+  if (request.resume > 0 && !request.fieldCalibration.empty())
+    throw std::invalid_argument(
+        "a resumed session goes on through the field check it began with (sessions show "
+        "says which): leave out --field-calibration");
   store_ = std::make_unique<db::Store>(request.db.empty() ? db::Store::defaultPath() : request.db);
+  if (request.resume == 0) setup.field = resolveFieldCalibration(*store_, request.fieldCalibration);
   id_ = request.resume > 0 ? request.resume : CaptureSession::create(*store_, setup);
   session_ = std::make_unique<CaptureSession>(*store_, id_);
   setup_ = session_->setup();

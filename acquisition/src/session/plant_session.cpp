@@ -118,6 +118,7 @@ std::string PlantCaptureSession::setupToJson(const PlantSessionSetup& s) {
          {"simulated", s.simulated}};
   if (s.date) j["date"] = m::toIso(*s.date);
   if (s.simulatedPlant) j["simulated_plant"] = json::parse(m::plantMarkersToJson(*s.simulatedPlant));
+  if (s.field) j["field_calibration"] = fieldAppliedJson(*s.field);
   return j.dump();
 }
 
@@ -138,6 +139,7 @@ PlantSessionSetup PlantCaptureSession::setupFromJson(const std::string& text) {
     }
     if (j.contains("simulated_plant"))
       s.simulatedPlant = m::parsePlantMarkersJson(j.at("simulated_plant").dump(), "the session's simulated plant");
+    s.field = fieldAppliedFromSettings(text, "the plant session");
   } catch (const json::exception& e) {
     throw SessionError(std::string("the plant session's settings do not read: ") + e.what());
   } catch (const m::InputError& e) {
@@ -147,6 +149,7 @@ PlantSessionSetup PlantCaptureSession::setupFromJson(const std::string& text) {
 }
 
 std::int64_t PlantCaptureSession::create(db::Store& store, const PlantSessionSetup& setup) {
+  checkFieldWithDigitizer(setup.field, setup.digitizer);  // before anything is written
   // The engine refuses a protocol it cannot follow before anything is written.
   try {
     (void)PlantEngine(setup.protocol, setup.settings);
@@ -473,8 +476,11 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
 
 PlantFeedback PlantCaptureSession::onStylus(const StylusInput& s) {
   if (ended() || paused_) return {};
-  const PlantDecision d = engine_.onStylus(s);
-  return commit(d, s.tNs, s.raw);
+  if (!setup_.field) return commit(engine_.onStylus(s), s.tNs, s.raw);
+  // Through the checked field's correction; the raw record stays what the digitizer sent.
+  StylusInput corrected = s;
+  corrected.positionMm = setup_.field->apply(s.positionMm);
+  return commit(engine_.onStylus(corrected), s.tNs, s.raw);
 }
 
 PlantFeedback PlantCaptureSession::onCaliper(const CaliperInput& c) {

@@ -164,6 +164,7 @@ Settings CaptureSession::settingsFromJson(const std::string& text) {
 }
 
 std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup) {
+  checkFieldWithDigitizer(setup.field, setup.digitizer);  // before anything is written
   const std::int64_t project = store.ensureProject(setup.project);
   const std::int64_t plant = store.ensurePlant(project, setup.plant);
   const std::int64_t leaf = store.ensureLeaf(plant, setup.leafPosition, setup.leafType, setup.measuredAreaMm2);
@@ -183,9 +184,17 @@ std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup)
                 {"time_scale", setup.timeScale}};
   if (setup.simulatedLeaf) settings["simulated_leaf"] = json::parse(model::markersToJson(*setup.simulatedLeaf));
   if (const auto margin = leafMarginJson(setup)) settings["leaf_margin"] = *margin;
+  if (setup.field) settings["field_calibration"] = fieldAppliedJson(*setup.field);
   const std::string station = setup.station.empty() ? thisStation() : setup.station;
   return store.createSession(leaf, op, station, toString(setup.settings.mode), toString(setup.settings.order),
                              settings.dump());
+}
+
+void checkFieldWithDigitizer(const std::optional<FieldApplied>& field, const std::string& digitizerSpec) {
+  if (field && digitizerSpec.find(",reference=") != std::string::npos)
+    throw std::invalid_argument(
+        "a field correction applies in the transmitter's frame, and with a reference receiver the stylus is read in "
+        "the receiver's: capture with --field-calibration none, or without the reference receiver");
 }
 
 std::optional<json> leafMarginJson(const SessionSetup& setup) {
@@ -338,6 +347,7 @@ CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store
     setup_.timeScale = j.value("time_scale", 1.0);
     if (j.contains("simulated_leaf"))
       setup_.simulatedLeaf = model::parseMarkersJson(j.at("simulated_leaf").dump(), "session " + std::to_string(id));
+    setup_.field = fieldAppliedFromSettings(info->settingsJson, "session " + std::to_string(id));
   } catch (const std::exception& e) {
     throw SessionError("session " + std::to_string(id) + " has unreadable settings: " + e.what());
   }
@@ -482,8 +492,11 @@ void CaptureSession::closeIfComplete(std::int64_t monoNs, std::vector<Feedback>&
 
 std::vector<Feedback> CaptureSession::onStylus(const StylusInput& s) {
   if (paused_ || ended_) return {};
-  const Decision d = engine_.onStylus(s);
-  return commit(d, s.tNs, s.raw);
+  if (!setup_.field) return commit(engine_.onStylus(s), s.tNs, s.raw);
+  // Through the checked field's correction; the raw record stays what the digitizer sent.
+  StylusInput corrected = s;
+  corrected.positionMm = setup_.field->apply(s.positionMm);
+  return commit(engine_.onStylus(corrected), s.tNs, s.raw);
 }
 
 std::vector<Feedback> CaptureSession::onCaliper(const CaliperInput& c) {

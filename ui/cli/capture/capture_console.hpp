@@ -32,6 +32,10 @@ inline constexpr const char* kDistortionHelp =
     "Simulation: the digitizer's field bent as by metal nearby, from a leafdig.field-distortion/1 file "
     "(data/fields/steel-bench.field.json; docs/devices.md, \"The field\")";
 [[nodiscard]] std::shared_ptr<const devices::sim::FieldDistortion> distortionOf(const std::string& path);
+// --field-calibration of a new capture (issue 50; docs/devices.md, "Captures through a checked field").
+inline constexpr const char* kFieldCalibrationHelp =
+    "The field check whose correction every stylus sample goes through: a check's number (leafdig field list), "
+    "latest, or none (default)";
 
 // How far a simulated capture got, for --give-up-after: anything the station took (but a device
 // message) is progress, a refusal is not, and a pause is no lack of it. Thread-safe: the

@@ -54,8 +54,9 @@ struct PlantCaptureOptions {
   std::string plantMarkers, protocol, db, project = "plants", operatorName = "technician", station, date;
   std::string digitizer, caliper, plant;  // real devices
   double stylusNoiseMm = 0.3, speed = 1.0;
-  std::string distortion;     // --distortion: the simulated field (issue 50)
-  double giveUpAfterS = 180;  // simulation: a technician that gets nowhere this long is stopped
+  std::string distortion;        // --distortion: the simulated field (issue 50)
+  std::string fieldCalibration;  // --field-calibration ID|latest|none (issue 50)
+  double giveUpAfterS = 180;     // simulation: a technician that gets nowhere this long is stopped
   int relocateSourceAfter = 0;
   std::optional<double> relocationToleranceMm;  // --relocation-tolerance: a new session's
   bool referenceReceiver = false;
@@ -258,6 +259,10 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   if (!o.distortion.empty() && !o.simulate)
     throw std::invalid_argument(
         "--distortion bends the simulated digitizer's field: it goes with --simulate (a real field is what it is)");
+  if (o.resume != 0 && !o.fieldCalibration.empty() && o.fieldCalibration != "none")
+    throw std::invalid_argument(
+        "a resumed session goes on through the field check it began with (sessions show "
+        "says which): leave out --field-calibration");
   if (o.relocateSourceAfter > 0 && !o.simulate)
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
@@ -324,6 +329,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
       if (!setup.date) throw std::invalid_argument("--date " + o.date + ": give the survey's day as YYYY-MM-DD");
     }
     store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
+    setup.field = acq::resolveFieldCalibration(*store, o.fieldCalibration);
     id = acq::PlantCaptureSession::create(*store, setup);
   };
   if (real) {
@@ -371,6 +377,9 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     std::cout << "leafdig plant capture · plant session " << id << " · "
               << (withDevices ? "digitizer " + terminalText(digitizer) + " · caliper " + terminalText(caliper)
                               : std::string("simulated FASTRAK and caliper"))
+              << "\n  "
+              << terminalText(acq::fieldBanner(
+                     *store, acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson).field))
               << "\n";
   if (withDevices) {
     const acq::PlantRunStats stats = captureWithDevices(o, *store, id, digitizer, caliper);
@@ -534,6 +543,7 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   capture->add_option("--station", o->station, "This station's id (default: the settings file's, else the host name)");
   capture->add_option("--date", o->date, "The survey's day, YYYY-MM-DD (default: the plant-markers file's)");
   capture->add_option("--distortion", o->distortion, kDistortionHelp);
+  capture->add_option("--field-calibration", o->fieldCalibration, kFieldCalibrationHelp);
   capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")
       ->capture_default_str();
   capture->add_option("--seed", o->seed, "Simulation seed")->check(seedText())->capture_default_str();

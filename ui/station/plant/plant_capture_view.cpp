@@ -380,7 +380,9 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
     (void)acq::parseDigitizerSpec(setup.digitizer);  // nothing is written for a spec that does not parse
     (void)acq::parseCaliperSpec(setup.caliper);
     db::Store store(db);
-    session_ = acq::PlantCaptureSession::create(store, setup);
+    acq::PlantSessionSetup withField = setup;
+    withField.field = acq::resolveFieldCalibration(store, fieldCalibration_);
+    session_ = acq::PlantCaptureSession::create(store, withField);
     readSession(store);
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
@@ -452,6 +454,7 @@ QString PlantCaptureView::startSimulated(const std::string& db, const std::strin
       setup.project = "default";
       setup.operatorName = operatorName;
       setup.station = station;
+      setup.field = acq::resolveFieldCalibration(store, fieldCalibration_);
       session_ = acq::PlantCaptureSession::create(store, setup);
     } else {
       session_ = resume;

@@ -62,6 +62,8 @@ class PlantCaptureView : public QWidget {
   // a node's leaf). Returns what went wrong in words (empty: started; nothing written when a
   // spec does not parse).
   QString startWithDevices(const std::string& db, const acquisition::PlantSessionSetup& setup);
+  // The field check a new session's samples go through (a check's number, latest, or none/empty).
+  void setFieldCalibration(std::string which) { fieldCalibration_ = std::move(which); }
   // Stops the capture (an unfinished session stays open: `leafdig plant capture --resume`
   // or the station goes on with it). Idempotent.
   void stop();
@@ -147,6 +149,7 @@ class PlantCaptureView : public QWidget {
   QWidget* leafPane_;
 
   std::int64_t session_ = 0;
+  std::string fieldCalibration_;  // setFieldCalibration
   bool complete_ = false;
   std::optional<acquisition::PlantEngine> engine_;
   std::optional<acquisition::PlantPreview> shown_;

@@ -873,6 +873,54 @@ TEST(StationWindow, TheSimulatedDigitizerReportsThroughABentField) {
   fs::remove_all(dir);
 }
 
+// Issue 50: a capture at the station through a checked field (`--field-calibration`): refused in
+// words when the file holds no check, and with one, the session keeps the check it went through.
+TEST(StationWindow, ACaptureGoesThroughTheCheckedFieldItWasStartedWith) {
+  const fs::path dir = freshDir("field-check");
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.simulate = true;
+  o.speed = 20;
+  o.setup.project = "p";
+  o.setup.plant = "pl";
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  o.fieldCalibration = "latest";
+  {
+    leafdig::station::StationWindow w(o);
+    EXPECT_FALSE(w.start());
+    EXPECT_TRUE(w.bannerText().contains("no field check in")) << w.bannerText().toStdString();
+  }
+  // A check of a field that stretches x by 0.5 %: correctable, the correction affine.
+  leafdig::model::Jig jig{"cube", {}};
+  for (double z : {0.0, 100.0})
+    for (double y : {0.0, 200.0})
+      for (double x : {0.0, 150.0, 300.0})
+        jig.points.push_back({"D" + std::to_string(jig.points.size() + 1), {x, y, z}});
+  std::vector<acq::JigPress> presses;
+  std::vector<acq::Vec3> points;
+  for (const auto& p : jig.points) {
+    presses.push_back({{p.pointMm.x() * 1.005, p.pointMm.y(), p.pointMm.z() - 0.01 * p.pointMm.x()}, "01", 0});
+    points.push_back(presses.back().positionMm);
+  }
+  const acq::FieldCheckResult r = acq::checkField(jig, points, 0.2);
+  ASSERT_EQ(r.verdict, "correctable");
+  {
+    leafdig::db::Store store(o.db);
+    store.addFieldCheck({"st", "ana", "fastrak", "simulated", r.verdict, acq::encodeFieldCheck(jig, presses, r, "x")});
+  }
+  leafdig::station::StationWindow w(o);
+  ASSERT_TRUE(w.start()) << w.bannerText().toStdString();
+  const std::int64_t id = w.sessionId();
+  w.stopCapture();
+  leafdig::db::Store store(o.db, true);
+  const auto field = acq::fieldAppliedFromSettings(store.session(id)->settingsJson, "session");
+  ASSERT_TRUE(field);
+  EXPECT_EQ(field->id, 1);
+  EXPECT_EQ(field->correction.degree, r.correction.correction.degree);
+  fs::remove_all(dir);
+}
+
 // Issue 29: a technician moves the transmitter in a leaf's capture with the station's key
 // (Ctrl+M, in the settings' shortcuts): the steps list and the banner ask for the three board
 // points again, the virtual technician moves the simulated transmitter and takes them, the fit is

@@ -82,10 +82,13 @@ struct LeafSummary {
 };
 [[nodiscard]] LeafSummary summarize(const ReviewedSession& r);
 
-// A leaf taken across a move of the transmitter: its points before and after stand in frames
-// related by a fit with a residual, which the area interval's draws add to the digitizer's noise
-// (the largest move's RMS). summarize() and the exports apply it.
-void widenForMoves(const Engine& engine, const model::LeafModel& leaf, model::LeafMetrics& metrics);
+// What a capture adds to the digitizer's noise in the area interval's draws: a move of the
+// transmitter (the points before and after stand in frames related by a fit with a residual: the
+// largest move's RMS) and a checked field's correction (its RMS on divots it did not see), each
+// added in quadrature. summarize() and the exports apply it.
+void widenForCapture(const ReviewedSession& r, const model::LeafModel& leaf, model::LeafMetrics& metrics);
+// The field check a session's stylus samples went through, from its settings (none when none).
+[[nodiscard]] std::optional<FieldApplied> sessionField(const db::SessionInfo& info);
 
 // A leaf taken across a move of the transmitter (engine.transmitterPositions() > 1): each
 // position, the first included, with how many of the leaf's points were pressed from it and,

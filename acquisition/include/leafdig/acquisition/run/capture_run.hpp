@@ -19,6 +19,7 @@
 #include <string>
 #include <thread>
 
+#include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/live/capture_loop.hpp"
 #include "leafdig/acquisition/live/device_set.hpp"
 #include "leafdig/acquisition/session/session.hpp"
@@ -56,6 +57,8 @@ struct RunRequest {
   // What snapshots carry of the live preview: a view draws meshes (built off the capture
   // thread), a terminal prints from the model, scripts need none.
   PreviewDetail preview = PreviewDetail::Meshes;
+  // A new session's field check (field_applied.hpp): "" or "none", "latest", or a check's number.
+  std::string fieldCalibration;
 };
 
 struct RunObserver {

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/protocol/plant_engine.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
@@ -44,6 +45,8 @@ struct PlantSessionSetup {
   bool simulated = false;
   // Simulated sessions: the plant the virtual technician digitizes, kept with the session.
   std::optional<model::PlantMarkers> simulatedPlant;
+  // The field check whose correction every stylus sample goes through (field_applied.hpp).
+  std::optional<FieldApplied> field;
 };
 
 // What a front end announces, after it was committed (seq: the event's number; 0 for a

@@ -21,6 +21,7 @@
 #include <tuple>
 #include <vector>
 
+#include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/protocol/engine.hpp"
 #include "leafdig/acquisition/session/preview.hpp"
 #include "leafdig/db/store.hpp"
@@ -46,7 +47,13 @@ struct SessionSetup {
   // Simulated sessions: the leaf the virtual technician digitizes, kept with the session so
   // that a resumed simulation goes on with the same leaf.
   std::optional<model::MarkerSet> simulatedLeaf;
+  // The field check whose correction every stylus sample goes through (field_applied.hpp).
+  std::optional<FieldApplied> field;
 };
+// A field correction applies in the transmitter's frame: not with a reference receiver (whose
+// frame the stylus is read in). std::invalid_argument in words, for the leaf's and the plant's
+// setups.
+void checkFieldWithDigitizer(const std::optional<FieldApplied>& field, const std::string& digitizerSpec);
 
 // The leaf's margin as a session's settings keep it ("leaf_margin": {"serration",
 // "tooth_depth_mm", "from_scan": [{"spacing_mm", "outside_mm", "inside_mm"}…]}), absent when

@@ -1,4 +1,4 @@
-#include "leafdig/acquisition/field/field_check_run.hpp"
+#include "leafdig/acquisition/run/field_check_run.hpp"
 
 #include <atomic>
 #include <chrono>

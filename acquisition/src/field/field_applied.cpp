@@ -1,0 +1,144 @@
+#include "leafdig/acquisition/field/field_applied.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <stdexcept>
+
+#include "leafdig/model/errors.hpp"
+
+namespace leafdig::acquisition {
+
+namespace {
+using nlohmann::json;
+}
+
+Vec3 FieldApplied::apply(const Vec3& p) const {
+  const Eigen::Vector3d c = correction.apply({p[0], p[1], p[2]});
+  return {c.x(), c.y(), c.z()};
+}
+
+std::string FieldApplied::words() const {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.2f mm RMS", holdoutRmsMm);
+  return "field check " + std::to_string(id) + " of " + createdUtc + ": " + correction.name() + ", " + b +
+         " on divots it did not see";
+}
+
+std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, const std::string& which) {
+  if (which.empty() || which == "none") return std::nullopt;
+  std::int64_t id = 0;
+  if (which != "latest") {
+    if (which.size() > 12 || which.find_first_not_of("0123456789") != std::string::npos || std::stoll(which) < 1)
+      throw std::invalid_argument(
+          "--field-calibration is a check's number (leafdig field list), latest or none; got '" + which.substr(0, 40) +
+          "'");
+    id = std::stoll(which);
+  }
+  const std::vector<FieldCalibration> checks = fieldCalibrations(store);
+  const FieldCalibration* chosen = nullptr;
+  for (const FieldCalibration& c : checks)
+    if (id == 0 || c.id == id) chosen = &c;
+  if (!chosen)
+    throw std::invalid_argument(
+        id == 0 ? "no field check in " + store.path() +
+                      ": run 'leafdig field check' first, or capture with --field-calibration none"
+                : "no field check " + std::to_string(id) + " in " + store.path() + ": 'leafdig field list' shows them");
+  if (chosen->result.verdict == "fail")
+    throw std::invalid_argument("field check " + std::to_string(chosen->id) +
+                                " failed: the field is beyond correcting (move the metal away, check again), or "
+                                "capture with --field-calibration none");
+  FieldApplied f;
+  f.id = chosen->id;
+  for (const db::FieldCheckRow& row : store.fieldChecks())
+    if (row.id == chosen->id) f.hash = row.hash;
+  f.createdUtc = chosen->createdUtc;
+  f.verdict = chosen->result.verdict;
+  f.holdoutRmsMm = chosen->result.correction.holdoutRmsMm;
+  f.holdoutMaxMm = chosen->result.correction.holdoutMaxMm;
+  f.correction = chosen->result.correction.correction;
+  return f;
+}
+
+json fieldAppliedJson(const FieldApplied& f) {
+  return {{"id", f.id},
+          {"hash", f.hash},
+          {"created_utc", f.createdUtc},
+          {"verdict", f.verdict},
+          {"holdout_rms_mm", f.holdoutRmsMm},
+          {"holdout_max_mm", f.holdoutMaxMm},
+          {"correction", json::parse(model::encodeCorrection(f.correction))}};
+}
+
+std::optional<FieldApplied> fieldAppliedFromSettings(const std::string& settingsJson, const std::string& source) {
+  json settings;
+  try {
+    settings = json::parse(settingsJson);
+  } catch (const json::exception&) {
+    throw model::InputError(source + ": its settings are not JSON");
+  }
+  if (!settings.is_object() || !settings.contains("field_calibration")) return std::nullopt;
+  const json& j = settings["field_calibration"];
+  const auto fail = [&](const std::string& what) -> void {
+    throw model::InputError(source + ": field_calibration: " + what);
+  };
+  if (!j.is_object()) fail("is not an object");
+  FieldApplied f;
+  if (!j.value("id", json()).is_number_integer() || j["id"].get<std::int64_t>() < 1) fail("id is not a check's number");
+  f.id = j["id"].get<std::int64_t>();
+  for (const char* key : {"hash", "created_utc", "verdict"})
+    if (!j.value(key, json()).is_string() || j[key].get_ref<const std::string&>().size() > 100)
+      fail(std::string(key) + " is not text of at most 100 characters");
+  f.hash = j["hash"].get<std::string>();
+  f.createdUtc = j["created_utc"].get<std::string>();
+  f.verdict = j["verdict"].get<std::string>();
+  if (f.verdict != "pass" && f.verdict != "correctable") fail("verdict is not pass or correctable");
+  for (const char* key : {"holdout_rms_mm", "holdout_max_mm"})
+    if (!j.value(key, json()).is_number() || !(j[key].get<double>() >= 0 && j[key].get<double>() <= 100))
+      fail(std::string(key) + " is not a number of millimetres from 0 to 100");
+  f.holdoutRmsMm = j["holdout_rms_mm"].get<double>();
+  f.holdoutMaxMm = j["holdout_max_mm"].get<double>();
+  if (!j.contains("correction")) fail("the correction is missing");
+  f.correction = model::parseCorrection(j["correction"].dump(), source + ": field_calibration.correction");
+  return f;
+}
+
+std::string fieldBanner(const db::Store& store, const std::optional<FieldApplied>& applied) {
+  const auto age = [](const std::string& utc) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.0f h", fieldCheckAgeHours(utc));
+    return std::string(b);
+  };
+  if (applied) {
+    std::string words = "field: corrected by " + applied->words();
+    if (fieldCheckAgeHours(applied->createdUtc) > kFieldCheckMaxAgeHours)
+      words += "; the check is " + age(applied->createdUtc) + " old: check the field again (leafdig field check)";
+    return words;
+  }
+  std::vector<FieldCalibration> checks;
+  try {
+    checks = fieldCalibrations(store);
+  } catch (const std::exception& e) {
+    return std::string("field: not corrected; the file's field checks do not verify (") + e.what() + ")";
+  }
+  if (checks.empty() || fieldCheckAgeHours(checks.back().createdUtc) > kFieldCheckMaxAgeHours)
+    return "field: not corrected, and no check of the field today (leafdig field check)";
+  return "field: not corrected (check " + std::to_string(checks.back().id) + ", " + checks.back().result.verdict +
+         ", is " + age(checks.back().createdUtc) + " old: --field-calibration latest applies it)";
+}
+
+double fieldCheckAgeHours(const std::string& createdUtc) {
+  std::tm tm{};
+  int ms = 0;
+  if (std::sscanf(createdUtc.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d.%3dZ", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
+                  &tm.tm_min, &tm.tm_sec, &ms) < 6)
+    return 0;
+  tm.tm_year -= 1900;
+  tm.tm_mon -= 1;
+  const std::time_t made = timegm(&tm);
+  const std::time_t now = std::time(nullptr);
+  return std::difftime(now, made) / 3600.0;
+}
+
+}  // namespace leafdig::acquisition
