@@ -36,10 +36,17 @@ std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, cons
           "'");
     id = std::stoll(which);
   }
-  const std::vector<FieldCalibration> checks = fieldCalibrations(store);
-  const FieldCalibration* chosen = nullptr;
-  for (const FieldCalibration& c : checks)
-    if (id == 0 || c.id == id) chosen = &c;
+  // The rows read once (their chain verified), every check trusted as every reader trusts one.
+  const std::vector<db::FieldCheckRow> rows = store.fieldChecks();
+  const db::FieldCheckRow* row = nullptr;
+  std::optional<FieldCalibration> chosen;
+  for (const db::FieldCheckRow& r : rows) {
+    FieldCalibration c = readFieldCheck(r);
+    if (id == 0 || r.id == id) {
+      row = &r;
+      chosen = std::move(c);
+    }
+  }
   if (!chosen)
     throw std::invalid_argument(
         id == 0 ? "no field check in " + store.path() +
@@ -51,8 +58,7 @@ std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, cons
                                 "capture with --field-calibration none");
   FieldApplied f;
   f.id = chosen->id;
-  for (const db::FieldCheckRow& row : store.fieldChecks())
-    if (row.id == chosen->id) f.hash = row.hash;
+  f.hash = row->hash;
   f.createdUtc = chosen->createdUtc;
   f.verdict = chosen->result.verdict;
   f.holdoutRmsMm = chosen->result.correction.holdoutRmsMm;
