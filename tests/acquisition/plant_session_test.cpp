@@ -19,6 +19,7 @@
 #include "leafdig/acquisition/review/correction.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/acquisition/session/session.hpp"
+#include "leafdig/acquisition/session/session_log.hpp"
 #include "leafdig/acquisition/sim/truth.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
@@ -516,6 +517,73 @@ TEST_F(PlantSession, AFullStoreRefusesTheWriteAndTheEngineStaysWhereTheStoreIs) 
   EXPECT_TRUE(store.verify(id).ok);
 }
 
+// Both kinds open through one SessionLog: the same refusals in each kind's words, and an
+// operator's pause read back the same from either log.
+TEST_F(PlantSession, BothKindsOpenThroughOneLogWithTheSameRefusalsAndPause) {
+  db::Store store(path_);
+  const std::int64_t plantId = acq::PlantCaptureSession::create(store, setup_);
+  acq::SessionSetup leaf;
+  leaf.project = "tobacco-2026";
+  leaf.plant = plant_.plant;
+  leaf.station = "bench-1";
+  const std::int64_t leafId = acq::CaptureSession::create(store, leaf);
+  const auto refusal = [&](std::int64_t id, const acq::CaptureKind& kind) {
+    try {
+      acq::SessionLog log(store, id, kind);
+      return std::string();
+    } catch (const acq::SessionError& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_EQ(refusal(plantId, acq::kPlantCapture), "");
+  EXPECT_EQ(refusal(leafId, acq::kLeafCapture), "");
+  EXPECT_NE(refusal(99, acq::kPlantCapture)
+                .find("there is no session 99 in " + store.path() + ": 'leafdig sessions list' shows them"),
+            std::string::npos);
+  EXPECT_NE(refusal(leafId, acq::kPlantCapture).find("`leafdig sessions resume " + std::to_string(leafId) + "`"),
+            std::string::npos);
+  EXPECT_NE(
+      refusal(plantId, acq::kLeafCapture).find("`leafdig plant capture --resume " + std::to_string(plantId) + "`"),
+      std::string::npos);
+
+  // Paused, resumed, paused again: the log says the second reason; resumed: not paused.
+  {
+    acq::PlantCaptureSession plant(store, plantId);
+    (void)plant.pause("lunch");
+    (void)plant.resume();
+    (void)plant.pause("the caliper's battery");
+  }
+  acq::SessionLog plantLog(store, plantId, acq::kPlantCapture);
+  const acq::PauseState paused = acq::pauseIn(plantLog.events());
+  EXPECT_TRUE(paused.paused);
+  EXPECT_EQ(paused.reason, "the caliper's battery");
+  EXPECT_TRUE(acq::PlantCaptureSession(store, plantId).paused());
+  {
+    acq::CaptureSession leafSession(store, leafId);
+    (void)leafSession.pause("a phone call");
+  }
+  {
+    acq::CaptureSession leafSession(store, leafId);
+    EXPECT_TRUE(leafSession.paused());
+    EXPECT_EQ(leafSession.snapshot(false).pauseReason, "a phone call");
+    (void)leafSession.resume();
+  }
+  const acq::CaptureSession resumed(store, leafId);
+  EXPECT_FALSE(resumed.paused());
+  EXPECT_EQ(resumed.snapshot(false).pauseReason, "");
+
+  // Not open any more: refused in the kind's words, before the log is read.
+  {
+    acq::PlantCaptureSession plant(store, plantId);
+    (void)plant.abandon("the plant fell over");
+  }
+  EXPECT_NE(refusal(plantId, acq::kPlantCapture)
+                .find("plant session " + std::to_string(plantId) +
+                      " is abandoned: only open sessions can be captured into (a curator reviews the others)"),
+            std::string::npos)
+      << refusal(plantId, acq::kPlantCapture);
+}
+
 TEST_F(PlantSession, PlantAndLeafSessionsAreNotTakenForOneAnother) {
   db::Store store(path_);
   const std::int64_t plantId = acq::PlantCaptureSession::create(store, setup_);
@@ -535,7 +603,7 @@ TEST_F(PlantSession, PlantAndLeafSessionsAreNotTakenForOneAnother) {
     acq::PlantCaptureSession s(store, leafId);
     FAIL() << "a leaf session opened as a plant's";
   } catch (const acq::SessionError& e) {
-    EXPECT_NE(std::string(e.what()).find("captures one leaf, not a plant"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("captures one leaf, not a whole plant"), std::string::npos) << e.what();
   }
   // A protocol the engine cannot follow (a branch's branches) is refused before anything is written.
   setup_.protocol = m::parsePlantProtocolJson(

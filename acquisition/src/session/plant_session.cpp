@@ -156,17 +156,10 @@ std::int64_t PlantCaptureSession::create(db::Store& store, const PlantSessionSet
   } catch (const std::invalid_argument& e) {
     throw SessionError(e.what());
   }
-  const std::int64_t plant = store.ensurePlant(store.ensureProject(setup.project), setup.plant);
-  const std::int64_t op = store.ensureOperator(setup.operatorName);
-  for (const std::string& spec : {setup.digitizer, setup.caliper}) {
-    if (spec.empty()) continue;
-    const auto colon = spec.find(':');
-    (void)store.ensureDevice(spec.substr(0, colon), colon == std::string::npos ? "" : spec.substr(colon + 1),
-                             setup.simulated ? "simulated" : "");
-  }
-  const std::string station = setup.station.empty() ? thisStation() : setup.station;
-  return store.createPlantSession(plant, op, station, toString(setup.settings.mode), toString(setup.settings.order),
-                                  setupToJson(setup));
+  const SessionParties parties = ensureSessionParties(store, setup.project, setup.plant, setup.operatorName,
+                                                      setup.station, {setup.digitizer, setup.caliper}, setup.simulated);
+  return store.createPlantSession(parties.plant, parties.operatorId, parties.station, toString(setup.settings.mode),
+                                  toString(setup.settings.order), setupToJson(setup));
 }
 
 PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const std::vector<db::Event>& events,
@@ -306,51 +299,31 @@ PlantEngine PlantCaptureSession::replay(const PlantSessionSetup& setup, const st
 
 namespace {
 
-// The setup of a stored plant session that may go on: SessionError when it is not one.
-PlantSessionSetup openableSetup(db::Store& store, std::int64_t id) {
-  const auto info = store.session(id);
-  if (!info) throw SessionError("no session " + std::to_string(id) + " in " + store.path());
-  if (info->kind != "plant")
-    throw SessionError("session " + std::to_string(id) + " captures one leaf, not a plant: `leafdig sessions resume " +
-                       std::to_string(id) + "` goes on with it");
-  if (info->status != "open")
-    throw SessionError("plant session " + std::to_string(id) + " is " + info->status + ": only open sessions go on");
-  PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info->settingsJson);
-  setup.project = info->project;
-  setup.plant = info->plant;
-  setup.operatorName = info->operatorName;
-  setup.station = info->station;
+// The setup of an open plant session, from its row and settings.
+PlantSessionSetup setupOf(const db::SessionInfo& info) {
+  PlantSessionSetup setup = PlantCaptureSession::setupFromJson(info.settingsJson);
+  setup.project = info.project;
+  setup.plant = info.plant;
+  setup.operatorName = info.operatorName;
+  setup.station = info.station;
   return setup;
 }
 
 }  // namespace
 
 PlantCaptureSession::PlantCaptureSession(db::Store& store, std::int64_t id)
-    : store_(store), id_(id), setup_(openableSetup(store, id)), engine_(setup_.protocol, setup_.settings) {
-  detail::requireChain(store_, id, detail::kCapturedInto);
+    : log_(store, id, kPlantCapture), setup_(setupOf(log_.info())), engine_(setup_.protocol, setup_.settings) {
   rebuild();
 }
 
 void PlantCaptureSession::rebuild() {
-  const std::vector<db::Event> events = store_.events(id_);
+  const std::vector<db::Event> events = log_.events();
   engine_ = replay(setup_, events, &seqs_);
-  status_ = store_.session(id_)->status;
+  status_ = log_.status();
   // An operator's pause survives a restart: the session opens paused until resume().
-  paused_ = false;
-  pauseReason_.clear();
-  for (const db::Event& e : events) {
-    if (e.kind == "paused") {
-      paused_ = true;
-      const json p = json::parse(e.payloadJson, nullptr, false);
-      pauseReason_ = p.is_object() && p.contains("reason") && p.at("reason").is_string()
-                         ? p.at("reason").get<std::string>()
-                         : std::string();
-    }
-    if (e.kind == "resumed") {
-      paused_ = false;
-      pauseReason_.clear();
-    }
-  }
+  const PauseState pause = pauseIn(events);
+  paused_ = pause.paused;
+  pauseReason_ = pause.reason;
 }
 
 PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t monoNs, const std::string& raw) {
@@ -450,7 +423,7 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
       break;
   }
   try {
-    f.seq = store_.append(id_, ev);
+    f.seq = log_.append(ev);
   } catch (const db::StoreError& e) {
     f.storeRefused = std::string(e.what()) + ": " + e.remedy();
     if (d.kind != PlantDecision::Kind::Rejected) rebuild();  // the engine as the store has it
@@ -459,13 +432,8 @@ PlantFeedback PlantCaptureSession::commit(const PlantDecision& d, std::int64_t m
   if (ev.kind == "accepted" || ev.kind == "retake_cancelled") seqs_[key] = f.seq;
   if (ev.kind == "undone" || ev.kind == "retake") seqs_.erase(key);
   if (engine_.complete() && !ended()) {
-    db::EventInput done;
-    done.kind = "status";
-    done.monoNs = monoNs;
-    done.payloadJson = json{{"status", "complete"}, {"who", setup_.operatorName}, {"why", "all steps captured"}}.dump();
-    done.setsStatus = "complete";
     try {
-      f.completeSeq = store_.append(id_, done);
+      f.completeSeq = log_.append(statusEvent("complete", setup_.operatorName, "all steps captured", monoNs));
       status_ = "complete";
     } catch (const db::StoreError& e) {
       f.storeRefused = std::string(e.what()) + ": " + e.remedy();  // written on the next open
@@ -487,13 +455,8 @@ PlantFeedback PlantCaptureSession::onCaliper(const CaliperInput& c) {
   if (ended()) return {};
   if (paused_) {
     // The reading is kept in the log (the device's text), and changes nothing while paused.
-    db::EventInput ev;
-    ev.kind = "ignored_reading";
-    ev.monoNs = c.tNs;
-    ev.payloadJson = json{{"value_mm", c.valueMm}, {"why", "capture paused"}}.dump();
-    ev.raw = c.raw;
     try {
-      (void)store_.append(id_, ev);
+      (void)log_.append(ignoredReadingEvent(c));
     } catch (const db::StoreError&) {
       // A reading that changes nothing is not worth a refusal: the capture is paused anyway.
     }
@@ -541,18 +504,13 @@ PlantFeedback PlantCaptureSession::branch(int from, std::int64_t monoNs) {
 PlantFeedback PlantCaptureSession::abandon(const std::string& why, std::int64_t monoNs) {
   PlantFeedback f;
   if (ended()) return f;
-  db::EventInput ev;
-  ev.kind = "status";
-  ev.monoNs = monoNs;
-  ev.payloadJson = json{{"status", "abandoned"}, {"who", setup_.operatorName}, {"why", why}}.dump();
-  ev.setsStatus = "abandoned";
-  if (appendInto(ev, f)) status_ = "abandoned";
+  if (appendInto(statusEvent("abandoned", setup_.operatorName, why, monoNs), f)) status_ = "abandoned";
   return f;
 }
 
 bool PlantCaptureSession::appendInto(const db::EventInput& ev, PlantFeedback& f) {
   try {
-    f.seq = store_.append(id_, ev);
+    f.seq = log_.append(ev);
     return true;
   } catch (const db::StoreError& e) {
     f.storeRefused = std::string(e.what()) + ": " + e.remedy();
@@ -563,11 +521,7 @@ bool PlantCaptureSession::appendInto(const db::EventInput& ev, PlantFeedback& f)
 PlantFeedback PlantCaptureSession::pause(const std::string& reason, std::int64_t monoNs) {
   PlantFeedback f;
   if (ended() || paused_) return f;
-  db::EventInput ev;
-  ev.kind = "paused";
-  ev.monoNs = monoNs;
-  ev.payloadJson = json{{"reason", reason}}.dump();
-  if (!appendInto(ev, f)) return f;
+  if (!appendInto(pausedEvent(reason, monoNs), f)) return f;
   paused_ = true;
   pauseReason_ = reason;
   f.control = PlantFeedback::Control::Paused;
@@ -578,11 +532,7 @@ PlantFeedback PlantCaptureSession::pause(const std::string& reason, std::int64_t
 PlantFeedback PlantCaptureSession::resume(std::int64_t monoNs) {
   PlantFeedback f;
   if (ended() || !paused_) return f;
-  db::EventInput ev;
-  ev.kind = "resumed";
-  ev.monoNs = monoNs;
-  ev.payloadJson = "{}";
-  if (!appendInto(ev, f)) return f;
+  if (!appendInto(resumedEvent(monoNs), f)) return f;
   paused_ = false;
   pauseReason_.clear();
   f.control = PlantFeedback::Control::Resumed;
@@ -593,11 +543,7 @@ PlantFeedback PlantCaptureSession::deviceStatus(const std::string& device, const
                                                 const std::string& message, std::int64_t monoNs) {
   PlantFeedback f;
   if (ended()) return f;
-  db::EventInput ev;
-  ev.kind = "device";
-  ev.monoNs = monoNs;
-  ev.payloadJson = json{{"device", device}, {"state", state}, {"message", message}}.dump();
-  (void)appendInto(ev, f);
+  (void)appendInto(deviceEvent(device, state, message, monoNs), f);
   return f;
 }
 

@@ -1,12 +1,7 @@
 #include "leafdig/acquisition/session/session.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "leafdig/db/event_rules.hpp"
@@ -66,39 +61,6 @@ bool isRelocation(Decision::Kind k) {
 
 const char* toString(Feedback::Kind k) {
   return nameIn(kFeedbackNames, k);
-}
-
-std::string stationSettingsFile() {
-  const char* xdg = std::getenv("XDG_CONFIG_HOME");
-  const char* home = std::getenv("HOME");
-  const std::filesystem::path base =
-      (xdg && *xdg) ? std::filesystem::path(xdg) : std::filesystem::path(home ? home : ".") / ".config";
-  return (base / "leafdig" / "station.ini").string();
-}
-
-std::string thisStation() {
-  // [station] id = … in the station's settings file (the INI the Qt station writes too).
-  std::ifstream in(stationSettingsFile());
-  std::string line, section;
-  while (std::getline(in, line)) {
-    const auto trim = [](std::string t) {
-      const auto a = t.find_first_not_of(" \t\r");
-      const auto b = t.find_last_not_of(" \t\r");
-      return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
-    };
-    line = trim(line);
-    if (line.size() > 2 && line.front() == '[' && line.back() == ']') {
-      section = line.substr(1, line.size() - 2);
-      continue;
-    }
-    const auto eq = line.find('=');
-    if (section == "station" && eq != std::string::npos && trim(line.substr(0, eq)) == "id") {
-      const std::string id = trim(line.substr(eq + 1));
-      if (!id.empty()) return id;
-    }
-  }
-  char host[256] = {};
-  return ::gethostname(host, sizeof host - 1) == 0 ? std::string(host) : std::string();
 }
 
 std::string CaptureSession::settingsToJson(const Settings& s) {
@@ -165,18 +127,9 @@ Settings CaptureSession::settingsFromJson(const std::string& text) {
 
 std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup) {
   checkFieldWithDigitizer(setup.field, setup.digitizer);  // before anything is written
-  const std::int64_t project = store.ensureProject(setup.project);
-  const std::int64_t plant = store.ensurePlant(project, setup.plant);
-  const std::int64_t leaf = store.ensureLeaf(plant, setup.leafPosition, setup.leafType, setup.measuredAreaMm2);
-  const std::int64_t op = store.ensureOperator(setup.operatorName);
-  const auto device = [&](const std::string& spec) {
-    if (spec.empty()) return;
-    const auto colon = spec.find(':');
-    (void)store.ensureDevice(spec.substr(0, colon), colon == std::string::npos ? "" : spec.substr(colon + 1),
-                             setup.simulated ? "simulated" : "");
-  };
-  device(setup.digitizer);
-  device(setup.caliper);
+  const SessionParties parties = ensureSessionParties(store, setup.project, setup.plant, setup.operatorName,
+                                                      setup.station, {setup.digitizer, setup.caliper}, setup.simulated);
+  const std::int64_t leaf = store.ensureLeaf(parties.plant, setup.leafPosition, setup.leafType, setup.measuredAreaMm2);
   json settings{{"engine", json::parse(settingsToJson(setup.settings))},
                 {"digitizer", setup.digitizer},
                 {"caliper", setup.caliper},
@@ -185,9 +138,8 @@ std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup)
   if (setup.simulatedLeaf) settings["simulated_leaf"] = json::parse(model::markersToJson(*setup.simulatedLeaf));
   if (const auto margin = leafMarginJson(setup)) settings["leaf_margin"] = *margin;
   if (setup.field) settings["field_calibration"] = fieldAppliedJson(*setup.field);
-  const std::string station = setup.station.empty() ? thisStation() : setup.station;
-  return store.createSession(leaf, op, station, toString(setup.settings.mode), toString(setup.settings.order),
-                             settings.dump());
+  return store.createSession(leaf, parties.operatorId, parties.station, toString(setup.settings.mode),
+                             toString(setup.settings.order), settings.dump());
 }
 
 void checkFieldWithDigitizer(const std::optional<FieldApplied>& field, const std::string& digitizerSpec) {
@@ -319,54 +271,38 @@ Engine CaptureSession::replay(const Settings& settings, const std::vector<db::Ev
   return engine;
 }
 
-CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : store_(store), id_(id) {
-  const auto info = store_.session(id);
-  if (!info)
-    throw SessionError("there is no session " + std::to_string(id) + " in " + store_.path() +
-                       ": 'leafdig sessions list' shows them");
-  if (info->kind != "leaf")
-    throw SessionError("session " + std::to_string(id) +
-                       " captures a whole plant, not one leaf: `leafdig plant capture --resume " + std::to_string(id) +
-                       "` goes on with it");
-  if (info->status != "open")
-    throw SessionError("session " + std::to_string(id) + " is " + info->status +
-                       ": only open sessions can be captured into (a curator reviews the others)");
-  setup_.project = info->project;
-  setup_.plant = info->plant;
-  setup_.leafPosition = info->leafPosition;
-  setup_.leafType = info->leafType;
-  setup_.measuredAreaMm2 = info->measuredAreaMm2;
-  setup_.operatorName = info->operatorName;
-  setup_.station = info->station;
+CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : log_(store, id, kLeafCapture) {
+  const db::SessionInfo& info = log_.info();
+  setup_.project = info.project;
+  setup_.plant = info.plant;
+  setup_.leafPosition = info.leafPosition;
+  setup_.leafType = info.leafType;
+  setup_.measuredAreaMm2 = info.measuredAreaMm2;
+  setup_.operatorName = info.operatorName;
+  setup_.station = info.station;
   try {
-    const json j = json::parse(info->settingsJson);
-    setup_.settings = settingsFromJson(info->settingsJson);
+    const json j = json::parse(info.settingsJson);
+    setup_.settings = settingsFromJson(info.settingsJson);
     setup_.digitizer = j.value("digitizer", std::string());
     setup_.caliper = j.value("caliper", std::string());
     setup_.simulated = j.value("simulated", false);
     setup_.timeScale = j.value("time_scale", 1.0);
     if (j.contains("simulated_leaf"))
       setup_.simulatedLeaf = model::parseMarkersJson(j.at("simulated_leaf").dump(), "session " + std::to_string(id));
-    setup_.field = fieldAppliedFromSettings(info->settingsJson, "session " + std::to_string(id));
+    setup_.field = fieldAppliedFromSettings(info.settingsJson, "session " + std::to_string(id));
   } catch (const std::exception& e) {
     throw SessionError("session " + std::to_string(id) + " has unreadable settings: " + e.what());
   }
-  // The log captured into must be intact: its pages are read and its chain recomputed.
-  detail::requireChain(store_, id_, detail::kCapturedInto);
-  const std::vector<db::Event> events = store_.events(id_);
+  const std::vector<db::Event> events = log_.events();
   engine_ = replay(setup_.settings, events, &seqs_);
   // An operator pause survives a restart: the session opens paused until resume().
-  for (const db::Event& e : events) {
-    if (e.kind == "paused") {
-      paused_ = true;
-      pauseReason_ = json::parse(e.payloadJson).value("reason", std::string());
-    }
-    if (e.kind == "resumed") paused_ = false;
-  }
+  const PauseState pause = pauseIn(events);
+  paused_ = pause.paused;
+  pauseReason_ = pause.reason;
 }
 
 void CaptureSession::rebuild() {
-  engine_ = replay(setup_.settings, store_.events(id_), &seqs_);
+  engine_ = replay(setup_.settings, log_.events(), &seqs_);
   ++version_;
 }
 
@@ -377,7 +313,7 @@ std::int64_t CaptureSession::seqOf(const Item& item) const {
 
 std::optional<std::int64_t> CaptureSession::append(const db::EventInput& ev, std::vector<Feedback>& out) {
   try {
-    const std::int64_t seq = store_.append(id_, ev);
+    const std::int64_t seq = log_.append(ev);
     ++version_;
     return seq;
   } catch (const db::StoreError& e) {
@@ -467,12 +403,7 @@ std::vector<Feedback> CaptureSession::commit(const Decision& d, std::int64_t mon
 
 std::optional<std::int64_t> CaptureSession::appendStatus(const std::string& status, const std::string& why,
                                                          std::int64_t monoNs, std::vector<Feedback>& out) {
-  db::EventInput ev;
-  ev.kind = "status";
-  ev.monoNs = monoNs;
-  ev.payloadJson = json{{"status", status}, {"who", setup_.operatorName}, {"why", why}}.dump();
-  ev.setsStatus = status;  // the session row changes in the same transaction
-  const auto seq = append(ev, out);
+  const auto seq = append(statusEvent(status, setup_.operatorName, why, monoNs), out);
   if (seq) {
     ended_ = true;
     status_ = status;
@@ -504,12 +435,7 @@ std::vector<Feedback> CaptureSession::onCaliper(const CaliperInput& c) {
   if (paused_) {
     // The reading is kept in the log (raw device text), but changes nothing while paused.
     std::vector<Feedback> out;
-    db::EventInput ev;
-    ev.kind = "ignored_reading";
-    ev.monoNs = c.tNs;
-    ev.raw = c.raw;
-    ev.payloadJson = json{{"value_mm", c.valueMm}, {"why", "capture paused"}}.dump();
-    (void)append(ev, out);
+    (void)append(ignoredReadingEvent(c), out);
     return out;
   }
   return commit(engine_.onCaliper(c), c.tNs, c.raw);
@@ -538,11 +464,7 @@ std::vector<Feedback> CaptureSession::retake(What what, int row, int col, std::i
 std::vector<Feedback> CaptureSession::pause(const std::string& reason, std::int64_t monoNs) {
   std::vector<Feedback> out;
   if (paused_ || ended_) return out;
-  db::EventInput ev;
-  ev.kind = "paused";
-  ev.monoNs = monoNs;
-  ev.payloadJson = json{{"reason", reason}}.dump();
-  if (const auto seq = append(ev, out)) {
+  if (const auto seq = append(pausedEvent(reason, monoNs), out)) {
     paused_ = true;
     pauseReason_ = reason;
     Feedback f;
@@ -557,10 +479,7 @@ std::vector<Feedback> CaptureSession::pause(const std::string& reason, std::int6
 std::vector<Feedback> CaptureSession::resume(std::int64_t monoNs) {
   std::vector<Feedback> out;
   if (ended_) return out;
-  db::EventInput ev;
-  ev.kind = "resumed";
-  ev.monoNs = monoNs;
-  if (const auto seq = append(ev, out)) {
+  if (const auto seq = append(resumedEvent(monoNs), out)) {
     paused_ = false;
     storeBlocked_ = false;
     pauseReason_.clear();
@@ -590,11 +509,7 @@ std::vector<Feedback> CaptureSession::abandon(const std::string& why, std::int64
 std::vector<Feedback> CaptureSession::deviceStatus(const std::string& device, const std::string& state,
                                                    const std::string& message, std::int64_t monoNs) {
   std::vector<Feedback> out;
-  db::EventInput ev;
-  ev.kind = "device";
-  ev.monoNs = monoNs;
-  ev.payloadJson = json{{"device", device}, {"state", state}, {"message", message}}.dump();
-  if (const auto seq = append(ev, out)) {
+  if (const auto seq = append(deviceEvent(device, state, message, monoNs), out)) {
     Feedback f;
     f.kind = Feedback::Kind::Device;
     f.seq = *seq;
@@ -606,7 +521,7 @@ std::vector<Feedback> CaptureSession::deviceStatus(const std::string& device, co
 
 Snapshot CaptureSession::snapshot(bool withPreview, bool withMeshes) const {
   Snapshot s;
-  s.session = id_;
+  s.session = log_.id();
   s.version = version_;
   s.step = engine_.step();
   s.prompt = paused_ ? "Paused: " + pauseReason_ : engine_.prompt();
@@ -625,17 +540,5 @@ Snapshot CaptureSession::snapshot(bool withPreview, bool withMeshes) const {
   }
   return s;
 }
-
-namespace detail {
-
-void requireChain(const db::EventStore& store, std::int64_t id, const std::string& doing) {
-  const db::ChainReport chain = store.verify(id);
-  if (!chain.ok)
-    throw SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
-                       std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + "): it cannot be " +
-                       doing);
-}
-
-}  // namespace detail
 
 }  // namespace leafdig::acquisition

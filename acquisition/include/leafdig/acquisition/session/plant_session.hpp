@@ -27,6 +27,7 @@
 
 #include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/protocol/plant_engine.hpp"
+#include "leafdig/acquisition/session/session_log.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_protocol.hpp"
@@ -99,7 +100,7 @@ class PlantCaptureSession {
                              std::int64_t monoNs = 0);
   [[nodiscard]] const std::string& pauseReason() const { return pauseReason_; }
 
-  [[nodiscard]] std::int64_t id() const { return id_; }
+  [[nodiscard]] std::int64_t id() const { return log_.id(); }
   [[nodiscard]] const PlantEngine& engine() const { return engine_; }
   [[nodiscard]] const PlantSessionSetup& setup() const { return setup_; }
   [[nodiscard]] bool ended() const { return status_ != "open"; }
@@ -121,8 +122,7 @@ class PlantCaptureSession {
   bool appendInto(const db::EventInput& ev, PlantFeedback& f);
   void rebuild();
 
-  db::Store& store_;
-  std::int64_t id_ = 0;
+  SessionLog log_;
   PlantSessionSetup setup_;
   PlantEngine engine_;
   std::map<std::string, std::int64_t> seqs_;  // the event that accepted each current item

@@ -24,6 +24,7 @@
 #include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/protocol/engine.hpp"
 #include "leafdig/acquisition/session/preview.hpp"
+#include "leafdig/acquisition/session/session_log.hpp"
 #include "leafdig/db/store.hpp"
 
 namespace leafdig::acquisition {
@@ -105,30 +106,6 @@ struct Snapshot {
   std::uint64_t previewVersion = 0;        // the version `preview` was built for (≤ version)
 };
 
-// This station's id: the one a new session records (SessionSetup::station default) and
-// whose interrupted sessions a front end offers to resume. `[station] id = …` in the
-// settings file (stationSettingsFile()), else the host name; empty if neither is known.
-// `--station` on the command line overrides it (SessionSetup::station).
-[[nodiscard]] std::string thisStation();
-// $XDG_CONFIG_HOME/leafdig/station.ini (~/.config/leafdig/station.ini), shared with the Qt
-// station's settings.
-[[nodiscard]] std::string stationSettingsFile();
-
-class SessionError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-namespace detail {
-// The one check before a stored session is trusted: its chain recomputed (capture into it,
-// review, correction and export share it, so the words are the same everywhere). Throws
-// SessionError "session N fails 'sessions verify' (event K: what): it cannot be <doing>".
-void requireChain(const db::EventStore& store, std::int64_t id, const std::string& doing);
-// What a session that does not verify cannot be when a capture would go on with it.
-inline constexpr const char* kCapturedInto =
-    "captured into: nothing is added to it; 'leafdig sessions verify' shows it to a curator";
-}  // namespace detail
-
 class CaptureSession {
  public:
   // Creates the project/plant/leaf/operator/devices as needed and a new open session.
@@ -155,7 +132,7 @@ class CaptureSession {
 
   // `withMeshes` false: the preview's model without its meshes (buildPreview).
   [[nodiscard]] Snapshot snapshot(bool withPreview = true, bool withMeshes = true) const;
-  [[nodiscard]] std::int64_t id() const { return id_; }
+  [[nodiscard]] std::int64_t id() const { return log_.id(); }
   [[nodiscard]] const Engine& engine() const { return engine_; }
   [[nodiscard]] bool paused() const { return paused_; }
   // Paused because the store refused a write (not by the operator): retry resume() now and then.
@@ -182,8 +159,7 @@ class CaptureSession {
   void closeIfComplete(std::int64_t monoNs, std::vector<Feedback>& out);
   void rebuild();
 
-  db::Store& store_;
-  std::int64_t id_ = 0;
+  SessionLog log_;
   SessionSetup setup_;
   Engine engine_;
   std::map<std::tuple<int, int, int>, std::int64_t> seqs_;
