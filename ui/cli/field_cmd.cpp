@@ -14,10 +14,13 @@
 #include "capture/capture_console.hpp"
 #include "capture/stdin_commands.hpp"
 #include "commands.hpp"
+#include "leafdig/acquisition/field/field_study.hpp"
 #include "leafdig/acquisition/run/field_check_run.hpp"
 #include "leafdig/devices/sim/field_distortion.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/leaf/markers_json.hpp"
+#include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/version.hpp"
 #include "signals.hpp"
 #include "terminal_text.hpp"
@@ -40,13 +43,29 @@ struct FieldOptions {
   bool simulate = false, json = false;
   // show
   std::int64_t id = 0;
+  // study
+  std::string plantJigPose = "480,-100,-330,90";
+  double noiseMm = 0.25;
+  int repeats = 10;
+  std::vector<int> counts;
 };
 
-// The shipped sample jig: beside the sample leaves (data/fields/ in the source tree or the package).
-std::string defaultJig() {
+// The shipped data's folder (data/ in the source tree or the package): the sample jig, leaves and plant.
+std::string dataDir() {
   const std::string samples = samplesDir();
-  const std::string base = samples.empty() ? sourceDataDir() : std::filesystem::path(samples).parent_path().string();
-  return base + "/fields/three-level.jig.json";
+  return samples.empty() ? sourceDataDir() : std::filesystem::path(samples).parent_path().string();
+}
+
+std::string defaultJig() {
+  return dataDir() + "/fields/three-level.jig.json";
+}
+
+Eigen::Isometry3d poseOption(const std::string& text, const char* option) {
+  try {
+    return acq::parseJigPose(text);
+  } catch (const std::invalid_argument& e) {
+    throw model::InputError(std::string(option) + ": " + e.what());
+  }
 }
 
 // `field model steel-bench -o FILE`: the shipped preset is this command's output with its
@@ -106,11 +125,7 @@ int runFieldCheck(const FieldOptions& o) {
     request.simulation.seed = o.seed;
     request.simulation.mistakes = false;
     request.simulation.distortion = distortionOf(o.distortion);
-    try {
-      request.jigPose = acq::parseJigPose(o.jigPose);
-    } catch (const std::invalid_argument& e) {
-      throw model::InputError(e.what());
-    }
+    request.jigPose = poseOption(o.jigPose, "--jig-pose");
   }
   const std::size_t jigSize = request.jig.points.size();
   acq::FieldCheckListener listener;
@@ -216,6 +231,52 @@ int runFieldShow(const FieldOptions& o) {
                           ": 'leafdig field list' shows them");
 }
 
+// `field study`: the sample leaves and plant through a bent field, clean, uncorrected and
+// corrected, against their truth (field_study.hpp); the report is docs/field-study.md.
+int runFieldStudy(const FieldOptions& o) {
+  acq::FieldStudyInput in;
+  if (o.distortion.empty()) {
+    in.field = dev::sim::steelBench();
+    in.fieldName =
+        "the steel-bench preset (data/fields/steel-bench.field.json: a steel plate 250 mm below the "
+        "transmitter)";
+  } else {
+    in.field = dev::sim::readFieldDistortion(o.distortion);
+    in.fieldName = std::filesystem::path(o.distortion).filename().string();
+  }
+  in.jig = model::readJigFile(o.jig.empty() ? defaultJig() : o.jig);
+  in.leafJigPose = poseOption(o.jigPose, "--jig-pose");
+  in.plantJigPose = poseOption(o.plantJigPose, "--plant-jig-pose");
+  const std::string data = dataDir();
+  for (const char* leaf : {"lower-leaf-n10", "upper-curved-leaf-n14", "upper-small-leaf-n17"})
+    in.leaves.emplace_back(leaf, model::readMarkersFile(data + "/samples/" + leaf + ".markers.json"));
+  in.plant = std::make_pair(std::string("sample plant"),
+                            model::readPlantMarkersFile(data + "/plants/sample.plant-markers.json"));
+  in.noiseMm = o.noiseMm;
+  in.repeats = o.repeats;
+  in.seed = o.seed;
+  in.jigCounts = o.counts;
+  const acq::FieldStudyResult r = acq::runFieldStudy(in);
+  std::string command = "leafdig field study";
+  if (!o.distortion.empty()) command += " --distortion " + std::filesystem::path(o.distortion).filename().string();
+  if (o.noiseMm != 0.25) {
+    std::ostringstream v;
+    v << o.noiseMm;
+    command += " --noise-mm " + v.str();
+  }
+  if (o.repeats != 10) command += " --repeats " + std::to_string(o.repeats);
+  if (o.seed != 1) command += " --seed " + std::to_string(o.seed);
+  if (!o.out.empty()) command += " -o " + std::filesystem::path(o.out).filename().string();
+  const std::string report = acq::fieldStudyMarkdown(r, command);
+  if (o.out.empty()) {
+    std::cout << report;
+  } else {
+    model::writeFileAtomically(o.out, report);
+    std::cerr << "leafdig: wrote " << o.out << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 void addFieldCommands(CLI::App& app, CommandTable& table) {
@@ -263,7 +324,26 @@ void addFieldCommands(CLI::App& app, CommandTable& table) {
   show->add_option("--map", o->map, "Write its error map, an SVG figure, to this file");
   show->add_flag("--json", o->json, "Machine-readable output");
 
+  CLI::App* study = field->add_subcommand(
+      "study", "The sample leaves and plant through a bent field, uncorrected and corrected, against their truth");
+  study->add_option("--distortion", o->distortion,
+                    "A leafdig.field-distortion/1 file (default: the steel-bench preset)");
+  study->add_option("--jig", o->jig, "A leafdig.jig/1 file (default: the shipped three-level.jig.json)");
+  study->add_option("--jig-pose", o->jigPose,
+                    "Where the jig lies under the leaves, x,y,z,yaw_deg (default 200,-620,0,90)");
+  study->add_option("--plant-jig-pose", o->plantJigPose,
+                    "Where the jig lies by the plant, x,y,z,yaw_deg (default 480,-100,-330,90)");
+  study->add_option("--noise-mm", o->noiseMm, "The digitizer's noise, sigma per coordinate, mm (default 0.25)")
+      ->check(CLI::Range(0.0, 10.0));
+  study->add_option("--repeats", o->repeats, "Noise draws per number (default 10)")->check(CLI::Range(1, 1000));
+  study->add_option("--seed", o->seed, "Seed of the noise")->check(seedText());
+  study->add_option("--counts", o->counts, "Divot counts for the count table (default 6 8 12 16 and every one)")
+      ->check(CLI::Range(4, 1000));
+  study->add_option("-o,--out", o->out, "Write the report (Markdown) here instead of to the terminal");
+
   table.add(fieldModel, [o] { return runFieldModel(*o); });
+  table.add(
+      study, [o] { return runFieldStudy(*o); }, "cannot make the field study: ");
   table.add(
       check, [o] { return runFieldCheck(*o); }, "cannot check the field: ");
   table.add(list, [o] { return runFieldList(*o); });
