@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "leafdig/acquisition/field/field_applied.hpp"
+#include "leafdig/acquisition/session/plant_session.hpp"
+#include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/model/errors.hpp"
 
 namespace acq = leafdig::acquisition;
@@ -219,5 +221,59 @@ TEST(FieldApplied, ACaptureSaysWhichCheckCorrectsItOrThatTheFieldWasNotCheckedTo
         << e.what();
   }
   EXPECT_EQ(acq::resolveFieldCalibration(store, "1")->id, 1);
+  fs::remove_all(dir);
+}
+
+// The correction is the field around the transmitter where the check found it: a capture
+// through it takes no move of the transmitter, leaf or plant, and says why (a `rejected` event
+// that replays as nothing); without a check the engine answers the move as before.
+TEST(FieldApplied, ACaptureThroughACheckedFieldRefusesAMoveOfTheTransmitterInWords) {
+  const fs::path dir = fs::temp_directory_path() / ("leafdig-field-move-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  leafdig::db::Store store((dir / "s.sqlite").string());
+  acq::FieldApplied field;
+  field.id = 4;
+  field.hash = std::string(64, 'a');
+  field.createdUtc = "2026-11-29T06:00:00.000Z";
+  field.verdict = "correctable";
+  field.holdoutRmsMm = 0.4;
+  acq::SessionSetup leaf;
+  leaf.project = "p";
+  leaf.plant = "plant-1";
+  leaf.station = "bench";
+  leaf.field = field;
+  const std::int64_t corrected = acq::CaptureSession::create(store, leaf);
+  leaf.field.reset();
+  const std::int64_t plain = acq::CaptureSession::create(store, leaf);
+  {
+    acq::CaptureSession s(store, corrected);
+    const auto f = s.moveTransmitter();
+    ASSERT_EQ(f.size(), 1U);
+    EXPECT_EQ(f[0].kind, acq::Feedback::Kind::Rejected);
+    EXPECT_NE(f[0].text.find("the transmitter stays where field check 4 found the field"), std::string::npos)
+        << f[0].text;
+    EXPECT_GT(f[0].seq, 0);
+    EXPECT_EQ(s.engine().relocating(), 0);
+  }
+  EXPECT_EQ(store.events(corrected).back().kind, "rejected");
+  EXPECT_EQ(acq::CaptureSession(store, corrected).engine().relocating(), 0);  // replays as nothing
+  {
+    acq::CaptureSession s(store, plain);
+    const auto f = s.moveTransmitter();
+    ASSERT_FALSE(f.empty());  // the engine's own answer (before the board: its words), not the field's
+    EXPECT_EQ(f[0].text.find("field check"), std::string::npos) << f[0].text;
+  }
+  acq::PlantSessionSetup plant;
+  plant.project = "p";
+  plant.plant = "plant-2";
+  plant.station = "bench";
+  plant.field = field;
+  const std::int64_t plantId = acq::PlantCaptureSession::create(store, plant);
+  acq::PlantCaptureSession s(store, plantId);
+  const acq::PlantFeedback f = s.moveTransmitter();
+  EXPECT_EQ(f.decision.kind, acq::PlantDecision::Kind::Rejected);
+  EXPECT_NE(f.decision.reason.find("--field-calibration none"), std::string::npos) << f.decision.reason;
+  EXPECT_EQ(s.engine().relocating(), 0);
+  EXPECT_EQ(store.events(plantId).back().kind, "rejected");
   fs::remove_all(dir);
 }

@@ -26,6 +26,13 @@ std::string FieldApplied::words() const {
          " on divots it did not see";
 }
 
+std::string FieldApplied::moveRefusal() const {
+  return "the transmitter stays where field check " + std::to_string(id) +
+         " found the field: its correction holds only there, and moved it would bend good points. Finish "
+         "without moving it, or end this capture and check the field at the new place (leafdig field check), "
+         "or capture with --field-calibration none";
+}
+
 std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, const std::string& which) {
   if (which.empty() || which == "none") return std::nullopt;
   std::int64_t id = 0;

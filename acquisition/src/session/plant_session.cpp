@@ -493,6 +493,12 @@ PlantFeedback PlantCaptureSession::chooseLeaf(int node, LeafChoice choice, std::
 
 PlantFeedback PlantCaptureSession::moveTransmitter(std::int64_t monoNs) {
   if (ended() || paused_) return {};
+  if (setup_.field) {
+    PlantDecision refused;
+    refused.kind = PlantDecision::Kind::Rejected;
+    refused.reason = setup_.field->moveRefusal();
+    return commit(refused, monoNs, {});
+  }
   return commit(engine_.moveTransmitter(), monoNs, {});
 }
 

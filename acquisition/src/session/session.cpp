@@ -453,6 +453,12 @@ std::vector<Feedback> CaptureSession::endRows(std::int64_t monoNs) {
 
 std::vector<Feedback> CaptureSession::moveTransmitter(std::int64_t monoNs) {
   if (paused_ || ended_) return {};
+  if (setup_.field) {
+    Decision refused;
+    refused.kind = Decision::Kind::Rejected;
+    refused.reason = setup_.field->moveRefusal();
+    return commit(refused, monoNs, {});
+  }
   return commit(engine_.moveTransmitter(), monoNs, {});
 }
 

@@ -24,6 +24,11 @@ struct FieldApplied {
   [[nodiscard]] Vec3 apply(const Vec3& p) const;
   // "field check 3 of 2026-11-29T05:25Z: polynomial-2, 0.42 mm RMS on divots it did not see"
   [[nodiscard]] std::string words() const;
+  // Why a capture through this check takes no move of the transmitter: the correction is the
+  // field the jig found around the transmitter where it stood; moved, the metal is elsewhere in
+  // its frame and the correction would bend good points. The leaf's and the plant's sessions
+  // refuse the move with these words (a `rejected` event), before the engine hears of it.
+  [[nodiscard]] std::string moveRefusal() const;
 };
 
 // A check is trusted for captures this long after it was made; an older one is named in the

@@ -80,6 +80,8 @@ class PlantCaptureSession {
   PlantFeedback branch(int from, std::int64_t monoNs = 0);
   // PlantEngine::moveTransmitter made durable (`relocation` events: started, fitted, reopened,
   // cancelled; the landmarks taken again are `accepted` landmark_again items).
+  // Refused in words (a `rejected` event) for a capture through a checked field
+  // (FieldApplied::moveRefusal).
   PlantFeedback moveTransmitter(std::int64_t monoNs = 0);
   // PlantEngine::retake / retakeLeaf made durable (`retake` names the event that put the item
   // in; undo before the new one puts it back: `retake_cancelled` with the item).

@@ -120,7 +120,9 @@ class CaptureSession {
   std::vector<Feedback> undo(std::int64_t monoNs = 0);
   std::vector<Feedback> endRows(std::int64_t monoNs = 0);
   std::vector<Feedback> retake(What what, int row, int col, std::int64_t monoNs = 0);
-  std::vector<Feedback> moveTransmitter(std::int64_t monoNs = 0);  // Engine::moveTransmitter
+  // Engine::moveTransmitter; refused in words (a `rejected` event) for a capture through a
+  // checked field (FieldApplied::moveRefusal).
+  std::vector<Feedback> moveTransmitter(std::int64_t monoNs = 0);
   std::vector<Feedback> pause(const std::string& reason, std::int64_t monoNs = 0);
   // Resumes after pause() or a store failure; the store failure's message again if the
   // store still refuses.
