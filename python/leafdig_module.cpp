@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "leafdig/acquisition/field/field_check.hpp"
 #include "leafdig/acquisition/review/correction.hpp"
 #include "leafdig/acquisition/review/leaf_export.hpp"
 #include "leafdig/acquisition/review/plant_export.hpp"
@@ -595,6 +596,19 @@ PYBIND11_MODULE(_leafdig, mod) {
       .def("markers", &sessionMarkers, py::arg("id"), py::arg("node") = 0)
       .def("events", &sessionEvents, py::arg("id"))
       .def("plant_survey_json", &plantSurveyJson, py::arg("id"))
+      .def("field_checks_json",
+           [](const Store& s) {
+             py::gil_scoped_release free;
+             // A station's own record: the lab server does not hold field checks.
+             const auto* local = dynamic_cast<const db::Store*>(s.store.get());
+             if (!local)
+               throw m::InputError(
+                   "field checks are kept in the station's file, not on the lab server: open the station's file");
+             std::string out = "[";
+             for (const acq::FieldCalibration& c : acq::fieldCalibrations(*local))
+               out += (out.size() > 1 ? "," : "") + acq::fieldCheckSummaryJson(c);
+             return out + "]";
+           })
       .def(
           "history_json",
           [](const Store& s, std::int64_t id) {

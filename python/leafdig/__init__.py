@@ -252,6 +252,15 @@ class Store:
         ``{"value_mm": v}``) and, for a point, moved_mm — what ``leafdig sessions show`` lists."""
         return _json.loads(self._core.history_json(int(id)))
 
+    def field_checks(self):
+        """The station file's field checks, oldest first (``leafdig field list --json``): dicts
+        with calibration_id, created_utc, station, operator, device, jig, points, rms_mm, max_mm,
+        worst_point, tolerance_mm, verdict and correction (model, holdout_rms_mm,
+        holdout_max_mm). Each is trusted only when its numbers are what its presses give (else
+        InputError); the chain of checks is verified first (else StoreError). A station's file
+        only: the lab server holds no field checks."""
+        return _json.loads(self._core.field_checks_json())
+
     def approve(self, id, who, why=""):
         """Approves a complete session, saying why if you will (a curator's decision)."""
         return self._core.review(int(id), "approved", who, why)

@@ -521,6 +521,30 @@ def test_a_plant_stopped_before_its_first_node_is_named_not_a_crash(tmp_path):
         store.plant(1)
 
 
+def test_a_station_files_field_checks_are_read_as_field_list_reads_them(station, tmp_path):
+    db = tmp_path / "field.sqlite"
+    r = subprocess.run([CLI, "field", "check", "--simulate", "--speed", "20", "--json", "--db", str(db),
+                        "--distortion", str(SOURCE / "data/fields/steel-bench.field.json")],
+                       stdin=subprocess.DEVNULL, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    said = json.loads(r.stdout.strip().splitlines()[-1])
+    checks = leafdig.open(str(db)).field_checks()
+    assert len(checks) == 1
+    got = checks[0]
+    assert got["calibration_id"] == said["calibration_id"] == 1
+    assert got["verdict"] == said["verdict"] == "correctable"
+    assert got["rms_mm"] == pytest.approx(said["rms_mm"])
+    assert got["correction"]["model"] == said["correction"]["model"]
+    # An edited check (the append-only trigger dropped by an insider) is not trusted.
+    con = sqlite3.connect(str(db))
+    con.executescript("DROP TRIGGER field_checks_no_update; UPDATE field_checks SET verdict = 'pass';")
+    con.close()
+    with pytest.raises(leafdig.StoreError):
+        leafdig.open(str(db)).field_checks()
+    # A file without checks has none.
+    assert leafdig.open(str(station)).field_checks() == []
+
+
 def test_every_public_method_of_the_python_classes_says_what_it_does():
     # Issue 51: most of Store, Leaf and Plant had no docstring; help() is a modeller's first stop.
     for cls in (leafdig.Store, leafdig.Leaf, leafdig.Plant, leafdig.Mesh):
