@@ -170,6 +170,8 @@ TEST(FieldApplied, ACaptureSaysWhichCheckCorrectsItOrThatTheFieldWasNotCheckedTo
   leafdig::db::Store store((dir / "s.sqlite").string());
   EXPECT_EQ(acq::fieldBanner(store, std::nullopt),
             "field: not corrected, and no check of the field today (leafdig field check)");
+  EXPECT_EQ(acq::fieldBanner(store, std::nullopt, 48),
+            "field: not corrected, and no check of the field in the last 48 h (leafdig field check)");
   EXPECT_THROW((void)acq::resolveFieldCalibration(store, "latest"), std::invalid_argument);
   EXPECT_FALSE(acq::resolveFieldCalibration(store, "none"));
   EXPECT_THROW((void)acq::resolveFieldCalibration(store, "two"), std::invalid_argument);

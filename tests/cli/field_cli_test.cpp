@@ -5,6 +5,8 @@
 // with its own exit code, and what is wrong with the request is said before anything runs.
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -103,6 +105,33 @@ TEST_F(FieldCli, WhatIsWrongIsSaidBeforeAnythingRuns) {
   r = leafdig("field check --simulate --operator '' " + db());
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.err.find("--operator: a field check is signed"), std::string::npos) << r.err;
+  r = leafdig("field study --plant-jig-pose 1,2");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--plant-jig-pose is x,y,z,yaw_deg"), std::string::npos) << r.err;
+  // How old a check may be: the flag, else the station's settings file; refused in words, before
+  // a session is made.
+  r = leafdig("capture --simulate --field-check-max-age-hours 0" + db());
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--field-check-max-age-hours 0"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("from 1 to 8760"), std::string::npos) << r.err;
+  const fs::path config = dir_ / "config";
+  fs::create_directories(config / "leafdig");
+  std::ofstream(config / "leafdig" / "station.ini") << "[station]\nid=bench-9\n[field]\nmax_check_age_hours=a week\n";
+  const char* before = std::getenv("XDG_CONFIG_HOME");
+  const std::string saved = before ? before : "";
+  ::setenv("XDG_CONFIG_HOME", config.c_str(), 1);
+  const Result leaf = leafdig("capture --simulate" + db());
+  const Result plant = leafdig("plant capture --simulate" + db());
+  if (before)
+    ::setenv("XDG_CONFIG_HOME", saved.c_str(), 1);
+  else
+    ::unsetenv("XDG_CONFIG_HOME");
+  for (const Result* refused : {&leaf, &plant}) {
+    EXPECT_EQ(refused->exitCode, 2);
+    EXPECT_NE(refused->err.find("station.ini: [field] max_check_age_hours = a week is not a number of hours"),
+              std::string::npos)
+        << refused->err;
+  }
   EXPECT_FALSE(fs::exists(dir_ / "station.sqlite")) << "nothing was written";
   r = leafdig("field list" + db());
   EXPECT_NE(r.exitCode, 0);

@@ -60,11 +60,13 @@ std::string defaultJig() {
   return dataDir() + "/fields/three-level.jig.json";
 }
 
-Eigen::Isometry3d poseOption(const std::string& text, const char* option) {
+Eigen::Isometry3d poseOption(const std::string& text, const std::string& option) {
   try {
     return acq::parseJigPose(text);
   } catch (const std::invalid_argument& e) {
-    throw model::InputError(std::string(option) + ": " + e.what());
+    std::string words = e.what();  // parseJigPose's words name --jig-pose
+    if (words.rfind("--jig-pose", 0) == 0) words.replace(0, 10, option);
+    throw model::InputError(words);
   }
 }
 

@@ -125,6 +125,8 @@ StationSettings StationSettings::load(const QString& file, QStringList* problems
   }
   s.labSyncMinutes = static_cast<int>(number("lab/sync_minutes", s.labSyncMinutes, 0, 1440));
   s.confirmMoveAboveMm = number("review/confirm_move_above_mm", s.confirmMoveAboveMm, 0.1, 10000.0);
+  s.fieldCheckMaxAgeHours =
+      number("field/max_check_age_hours", s.fieldCheckMaxAgeHours, 1.0, acquisition::kFieldCheckMaxAgeLimitHours);
   return s;
 }
 
@@ -149,6 +151,7 @@ void StationSettings::save(const QString& file) const {
   q.setValue("lab/url", labUrlWithoutPassword(labUrl));
   q.setValue("lab/sync_minutes", labSyncMinutes);
   q.setValue("review/confirm_move_above_mm", confirmMoveAboveMm);
+  q.setValue("field/max_check_age_hours", fieldCheckMaxAgeHours);
   q.sync();
   // Only its owner reads the station's settings (they name the lab server and its login).
   QFile::setPermissions(file, QFileDevice::ReadOwner | QFileDevice::WriteOwner);

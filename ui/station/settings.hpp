@@ -9,6 +9,7 @@
 #include <QString>
 #include <map>
 
+#include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/protocol/engine.hpp"
 #include "leafdig/acquisition/review/correction.hpp"
 
@@ -36,6 +37,9 @@ struct StationSettings {
   // A curator's correction that would move a point further than this (mm) is asked about with a
   // warning before it is written (the CLI's --confirm-above; every correction shows its effect).
   double confirmMoveAboveMm = acquisition::kConfirmMoveAboveMm;
+  // How old a field check may be before the capture says the field was not checked (hours; the
+  // CLI's --field-check-max-age-hours reads the same key, field/max_check_age_hours).
+  double fieldCheckMaxAgeHours = acquisition::kFieldCheckMaxAgeHours;
 
   StationSettings();
   // Reads from the INI file (missing keys keep their defaults; out-of-range values are

@@ -19,6 +19,7 @@
 
 #include "capture/setup_dialog.hpp"
 #include "dialogs/settings_dialog.hpp"
+#include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/devices/transports/registry.hpp"
@@ -96,6 +97,12 @@ QWidget* StationWindow::buildCaptureTab() {
   chip(Role::Digitizer);
   chip(Role::Caliper);
   chipLayout->addStretch(1);
+  // The field the capture goes through (acquisition::fieldBanner): corrected by which check, or
+  // not, and whether the field was checked within the settings' age.
+  field_ = new QLabel(chipRow_);
+  field_->setObjectName("field");
+  field_->setWordWrap(true);
+  chipLayout->addWidget(field_, 2);
   outer->addWidget(chipRow_);
   auto* split = new QSplitter(capture);
   auto* left = new QSplitter(Qt::Vertical, split);
@@ -473,6 +480,8 @@ bool StationWindow::start() {
                                  .arg(run_->simulated() ? tr("simulated devices") : tr("devices")));
     review_->setDatabase(run_->dbPath());
     plant_->setDatabase(run_->dbPath());
+    field_->setText(QString::fromStdString(
+        acq::fieldBanner(db::Store(run_->dbPath(), true), run_->setup().field, settings_.fieldCheckMaxAgeHours)));
     tabs_->setCurrentIndex(0);
     return true;
   } catch (const std::exception& e) {

@@ -98,6 +98,8 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] QTabWidget* tabs() const { return tabs_; }
   [[nodiscard]] QString bannerText() const { return banner_->text(); }
   [[nodiscard]] QString feedbackText() const { return feedback_->text(); }
+  // What the Capture tab says of the field (acquisition::fieldBanner), once a capture started.
+  [[nodiscard]] QString fieldText() const { return field_->text(); }
   [[nodiscard]] QString chipText(acquisition::DeviceSet::Role role) const;
   // A device chip's text: name, state, rate and age; message and remedy wrapped into short
   // lines. Under a simulation running `simulationSpeed` times faster than real time, the rate
@@ -156,6 +158,7 @@ class StationWindow : public QMainWindow {
   QLabel* banner_ = nullptr;
   QLabel* feedback_ = nullptr;
   QLabel* lastPoint_ = nullptr;
+  QLabel* field_ = nullptr;
   QListWidget* steps_ = nullptr;
   LeafSchematic* schematic_ = nullptr;
   std::map<acquisition::DeviceSet::Role, QToolButton*> chips_;

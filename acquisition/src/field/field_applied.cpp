@@ -117,7 +117,7 @@ std::optional<FieldApplied> fieldAppliedFromSettings(const std::string& settings
   return f;
 }
 
-std::string fieldBanner(const db::Store& store, const std::optional<FieldApplied>& applied) {
+std::string fieldBanner(const db::Store& store, const std::optional<FieldApplied>& applied, double maxAgeHours) {
   const auto age = [](const std::string& utc) {
     char b[32];
     std::snprintf(b, sizeof b, "%.0f h", fieldCheckAgeHours(utc));
@@ -125,7 +125,7 @@ std::string fieldBanner(const db::Store& store, const std::optional<FieldApplied
   };
   if (applied) {
     std::string words = "field: corrected by " + applied->words();
-    if (fieldCheckAgeHours(applied->createdUtc) > kFieldCheckMaxAgeHours)
+    if (fieldCheckAgeHours(applied->createdUtc) > maxAgeHours)
       words += "; the check is " + age(applied->createdUtc) + " old: check the field again (leafdig field check)";
     return words;
   }
@@ -135,8 +135,14 @@ std::string fieldBanner(const db::Store& store, const std::optional<FieldApplied
   } catch (const std::exception& e) {
     return std::string("field: not corrected; the file's field checks do not verify (") + e.what() + ")";
   }
-  if (checks.empty() || fieldCheckAgeHours(checks.back().createdUtc) > kFieldCheckMaxAgeHours)
-    return "field: not corrected, and no check of the field today (leafdig field check)";
+  if (checks.empty() || fieldCheckAgeHours(checks.back().createdUtc) > maxAgeHours) {
+    if (maxAgeHours == kFieldCheckMaxAgeHours)
+      return "field: not corrected, and no check of the field today (leafdig field check)";
+    char within[48];
+    std::snprintf(within, sizeof within, "%.0f h", maxAgeHours);
+    return std::string("field: not corrected, and no check of the field in the last ") + within +
+           " (leafdig field check)";
+  }
   return "field: not corrected (check " + std::to_string(checks.back().id) + ", " + checks.back().result.verdict +
          ", is " + age(checks.back().createdUtc) + " old: --field-calibration latest applies it)";
 }

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 namespace leafdig::acquisition {
 namespace {
@@ -30,27 +31,31 @@ std::string stationSettingsFile() {
   return (base / "leafdig" / "station.ini").string();
 }
 
-std::string thisStation() {
-  // [station] id = … in the station's settings file (the INI the Qt station writes too).
+std::optional<std::string> stationSetting(std::string_view section, std::string_view key) {
+  // The INI the Qt station writes (QSettings): "[section]" lines, then "key=value".
   std::ifstream in(stationSettingsFile());
-  std::string line, section;
+  std::string line, current;
+  const auto trim = [](std::string t) {
+    const auto a = t.find_first_not_of(" \t\r");
+    const auto b = t.find_last_not_of(" \t\r");
+    return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+  };
   while (std::getline(in, line)) {
-    const auto trim = [](std::string t) {
-      const auto a = t.find_first_not_of(" \t\r");
-      const auto b = t.find_last_not_of(" \t\r");
-      return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
-    };
     line = trim(line);
     if (line.size() > 2 && line.front() == '[' && line.back() == ']') {
-      section = line.substr(1, line.size() - 2);
+      current = line.substr(1, line.size() - 2);
       continue;
     }
     const auto eq = line.find('=');
-    if (section == "station" && eq != std::string::npos && trim(line.substr(0, eq)) == "id") {
-      const std::string id = trim(line.substr(eq + 1));
-      if (!id.empty()) return id;
-    }
+    if (current == section && eq != std::string::npos && trim(line.substr(0, eq)) == key)
+      return trim(line.substr(eq + 1));
   }
+  return std::nullopt;
+}
+
+std::string thisStation() {
+  // [station] id = … in the station's settings file, else the host name.
+  if (const auto id = stationSetting("station", "id"); id && !id->empty()) return *id;
   char host[256] = {};
   return ::gethostname(host, sizeof host - 1) == 0 ? std::string(host) : std::string();
 }

@@ -199,6 +199,7 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   if (o.stylusNoiseMm) r.simulation.stylusNoiseMm = *o.stylusNoiseMm;
   r.simulation.distortion = distortionOf(o.distortion);
   r.fieldCalibration = o.fieldCalibration == "none" ? "" : o.fieldCalibration;
+  (void)fieldCheckMaxAge(o.fieldCheckMaxAgeHours);  // a bad setting refused before anything is written
   // The terminal draws no model: JSON lines need no preview at all, and the human terminal
   // only its "provisional thickness" note (the model, not its meshes). Building the preview's
   // meshes (two adaptive levels since issue 26, for the station's window) on the capture
@@ -269,7 +270,8 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
               << m::toString(run.setup().settings.mode) << " mode\n  digitizer "
               << run.devices().spec(acq::DeviceSet::Role::Digitizer) << " · caliper "
               << run.devices().spec(acq::DeviceSet::Role::Caliper) << "\n  "
-              << terminalText(acq::fieldBanner(db::Store(run.dbPath(), true), run.setup().field))
+              << terminalText(acq::fieldBanner(db::Store(run.dbPath(), true), run.setup().field,
+                                               fieldCheckMaxAge(o.fieldCheckMaxAgeHours)))
               << "\n  keys (then Enter): u undo · e end rows · r WHAT ROW POINT retake · p pause · resume · "
                  "abandon [why] · q quit\n";
   run.start();
@@ -499,6 +501,7 @@ void declareCaptureCommands(CLI::App& app, CommandTable& table, CaptureOptions& 
     c->add_option("--stylus-noise", o.stylusNoiseMm, "Noise of the simulated stylus per axis, σ in mm (default 0.3)");
     c->add_option("--distortion", o.distortion, kDistortionHelp);
     c->add_option("--field-calibration", o.fieldCalibration, kFieldCalibrationHelp);
+    c->add_option("--field-check-max-age-hours", o.fieldCheckMaxAgeHours, kFieldCheckMaxAgeHelp);
     c->add_option("--faults", o.faults,
                   "Digitizer faults, e.g. garbage=0.01,unplug=0.002:0.5 (see 'leafdig sim --help')");
     c->add_option("--caliper-faults", o.caliperFaults, "Caliper faults, same syntax");

@@ -28,10 +28,11 @@ struct CaptureOptions {
   // simulation
   bool simulate = false, noMistakes = false;
   std::string markers, faults, caliperFaults;
-  std::string synth;                    // a synthetic leaf (synth_cmd.hpp: parseSynthSpec)
-  std::optional<double> stylusNoiseMm;  // the simulated stylus's noise per axis
-  std::string distortion;               // the simulated field's leafdig.field-distortion/1 file (issue 50)
-  std::string fieldCalibration;         // --field-calibration ID|latest|none (issue 50)
+  std::string synth;                            // a synthetic leaf (synth_cmd.hpp: parseSynthSpec)
+  std::optional<double> stylusNoiseMm;          // the simulated stylus's noise per axis
+  std::string distortion;                       // the simulated field's leafdig.field-distortion/1 file (issue 50)
+  std::string fieldCalibration;                 // --field-calibration ID|latest|none (issue 50)
+  std::optional<double> fieldCheckMaxAgeHours;  // --field-check-max-age-hours (capture_console.hpp)
   std::uint64_t seed = 1;
   std::optional<double> speed;  // not given: 1 for a new capture, a resumed one's own, 8 for the demo
   double giveUpAfterS = 180;    // a simulated technician that gets nowhere this long is stopped

@@ -4,8 +4,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/protocol/point_rules.hpp"
+#include "leafdig/acquisition/session/session_log.hpp"
 #include "leafdig/db/store.hpp"
+#include "leafdig/model/errors.hpp"
 
 namespace leafdig::cli {
 
@@ -27,6 +30,30 @@ json stepJson(const acq::Step& s, const std::string& prompt) {
 std::shared_ptr<const devices::sim::FieldDistortion> distortionOf(const std::string& path) {
   if (path.empty()) return nullptr;
   return std::make_shared<const devices::sim::FieldDistortion>(devices::sim::readFieldDistortion(path));
+}
+
+double fieldCheckMaxAge(const std::optional<double>& flag) {
+  const auto inRange = [](double h) { return h >= 1 && h <= acq::kFieldCheckMaxAgeLimitHours; };
+  if (flag) {
+    if (!inRange(*flag))
+      throw model::InputError("--field-check-max-age-hours " + std::to_string(*flag) +
+                              ": give the hours a field check holds, from 1 to 8760");
+    return *flag;
+  }
+  const auto text = acq::stationSetting("field", "max_check_age_hours");
+  if (!text) return acq::kFieldCheckMaxAgeHours;
+  double hours = 0;
+  std::size_t used = 0;
+  try {
+    hours = std::stod(*text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text->size() || !inRange(hours))
+    throw model::InputError(acq::stationSettingsFile() + ": [field] max_check_age_hours = " + *text +
+                            " is not a number of hours from 1 to 8760: correct it in the station's settings or "
+                            "remove the line");
+  return hours;
 }
 
 std::string describe(const acq::Item& i) {

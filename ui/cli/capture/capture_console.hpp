@@ -36,6 +36,14 @@ inline constexpr const char* kDistortionHelp =
 inline constexpr const char* kFieldCalibrationHelp =
     "The field check whose correction every stylus sample goes through: a check's number (leafdig field list), "
     "latest, or none (default)";
+// --field-check-max-age-hours: how old a check may be before the banner says the field was not
+// checked today — the flag, else the station's settings file (`[field] max_check_age_hours`,
+// the station's dialog writes it), else 24 h. A value that is not a number of hours from 1 to
+// 8760 is refused in words, naming where it came from.
+inline constexpr const char* kFieldCheckMaxAgeHelp =
+    "How old a field check may be before the banner asks for a new one, hours (default: the station's settings "
+    "file, [field] max_check_age_hours, else 24)";
+[[nodiscard]] double fieldCheckMaxAge(const std::optional<double>& flag);
 
 // How far a simulated capture got, for --give-up-after: anything the station took (but a device
 // message) is progress, a refusal is not, and a pause is no lack of it. Thread-safe: the

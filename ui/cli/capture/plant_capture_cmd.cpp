@@ -54,9 +54,10 @@ struct PlantCaptureOptions {
   std::string plantMarkers, protocol, db, project = "plants", operatorName = "technician", station, date;
   std::string digitizer, caliper, plant;  // real devices
   double stylusNoiseMm = 0.3, speed = 1.0;
-  std::string distortion;        // --distortion: the simulated field (issue 50)
-  std::string fieldCalibration;  // --field-calibration ID|latest|none (issue 50)
-  double giveUpAfterS = 180;     // simulation: a technician that gets nowhere this long is stopped
+  std::string distortion;                       // --distortion: the simulated field (issue 50)
+  std::string fieldCalibration;                 // --field-calibration ID|latest|none (issue 50)
+  std::optional<double> fieldCheckMaxAgeHours;  // --field-check-max-age-hours (capture_console.hpp)
+  double giveUpAfterS = 180;                    // simulation: a technician that gets nowhere this long is stopped
   int relocateSourceAfter = 0;
   std::optional<double> relocationToleranceMm;  // --relocation-tolerance: a new session's
   bool referenceReceiver = false;
@@ -259,6 +260,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   if (!o.distortion.empty() && !o.simulate)
     throw std::invalid_argument(
         "--distortion bends the simulated digitizer's field: it goes with --simulate (a real field is what it is)");
+  (void)fieldCheckMaxAge(o.fieldCheckMaxAgeHours);  // a bad setting refused before anything is written
   if (o.resume != 0 && !o.fieldCalibration.empty() && o.fieldCalibration != "none")
     throw std::invalid_argument(
         "a resumed session goes on through the field check it began with (sessions show "
@@ -379,7 +381,8 @@ int runPlantCapture(const PlantCaptureOptions& o) {
                               : std::string("simulated FASTRAK and caliper"))
               << "\n  "
               << terminalText(acq::fieldBanner(
-                     *store, acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson).field))
+                     *store, acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson).field,
+                     fieldCheckMaxAge(o.fieldCheckMaxAgeHours)))
               << "\n";
   if (withDevices) {
     const acq::PlantRunStats stats = captureWithDevices(o, *store, id, digitizer, caliper);
@@ -544,6 +547,7 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   capture->add_option("--date", o->date, "The survey's day, YYYY-MM-DD (default: the plant-markers file's)");
   capture->add_option("--distortion", o->distortion, kDistortionHelp);
   capture->add_option("--field-calibration", o->fieldCalibration, kFieldCalibrationHelp);
+  capture->add_option("--field-check-max-age-hours", o->fieldCheckMaxAgeHours, kFieldCheckMaxAgeHelp);
   capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")
       ->capture_default_str();
   capture->add_option("--seed", o->seed, "Simulation seed")->check(seedText())->capture_default_str();

@@ -64,6 +64,8 @@ SettingsDialog::SettingsDialog(const StationSettings& s, QWidget* parent) : QDia
   cf->addRow(tr("Transmitter move: largest fit residual"), relocation_);
   cf->addRow(tr("Thinnest reading accepted"), minT_);
   cf->addRow(tr("Thickest reading accepted"), maxT_);
+  fieldAge_ = spin(s.fieldCheckMaxAgeHours, 1, acquisition::kFieldCheckMaxAgeLimitHours, 1, 0, " h");
+  cf->addRow(tr("A field check holds for"), fieldAge_);
 
   auto* lab = new QGroupBox(tr("Lab server"));
   auto* lf = new QFormLayout(lab);
@@ -118,6 +120,7 @@ StationSettings SettingsDialog::result() const {
   s.engine.maxThicknessMm = std::max(maxT_->value(), minT_->value() * 2);
   s.labUrl = labUrlWithoutPassword(labUrl_->text().trimmed());
   s.labSyncMinutes = labMinutes_->value();
+  s.fieldCheckMaxAgeHours = fieldAge_->value();
   return s;
 }
 

@@ -31,11 +31,12 @@ class SettingsDialog : public QDialog {
   QDoubleSpinBox* relocationToleranceMm() const { return relocation_; }
   QLineEdit* labUrl() const { return labUrl_; }
   QSpinBox* labSyncMinutes() const { return labMinutes_; }
+  QDoubleSpinBox* fieldCheckMaxAgeHours() const { return fieldAge_; }
 
  private:
   StationSettings base_;
   QComboBox *units_, *theme_;
-  QDoubleSpinBox *font_, *volume_, *still_, *stillTol_, *spacing_, *midrib_, *relocation_, *minT_, *maxT_;
+  QDoubleSpinBox *font_, *volume_, *still_, *stillTol_, *spacing_, *midrib_, *relocation_, *minT_, *maxT_, *fieldAge_;
   QCheckBox* sounds_;
   QLineEdit* labUrl_;
   QSpinBox* labMinutes_;

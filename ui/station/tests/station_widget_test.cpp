@@ -220,6 +220,7 @@ TEST(StationSettings, SaveLoadRoundTripsAndBadValuesAreNamedAndReplaced) {
   s.shortcuts[leafdig::station::Action::Undo] = QKeySequence(Qt::Key_F5);
   s.engine.stillWindowNs = 400'000'000;
   s.engine.relocationToleranceMm = 0.8;
+  s.fieldCheckMaxAgeHours = 48;
   s.save(file);
   QStringList problems;
   auto back = leafdig::station::StationSettings::load(file, &problems);
@@ -230,6 +231,7 @@ TEST(StationSettings, SaveLoadRoundTripsAndBadValuesAreNamedAndReplaced) {
   EXPECT_EQ(back.shortcuts[leafdig::station::Action::Undo], QKeySequence(Qt::Key_F5));
   EXPECT_EQ(back.engine.stillWindowNs, 400'000'000);
   EXPECT_DOUBLE_EQ(back.engine.relocationToleranceMm, 0.8);
+  EXPECT_DOUBLE_EQ(back.fieldCheckMaxAgeHours, 48);
   EXPECT_EQ(back.length(25.4, 2), "1.000 in");
   {
     QSettings q(file, QSettings::IniFormat);
@@ -237,9 +239,11 @@ TEST(StationSettings, SaveLoadRoundTripsAndBadValuesAreNamedAndReplaced) {
     q.setValue("display/font_scale", "huge");
     q.setValue("capture/still_window_ms", 99999);
     q.setValue("capture/relocation_tolerance_mm", 0);
+    q.setValue("field/max_check_age_hours", "a week");
   }
   back = leafdig::station::StationSettings::load(file, &problems);
-  EXPECT_EQ(problems.size(), 4) << problems.join("; ").toStdString();
+  EXPECT_EQ(problems.size(), 5) << problems.join("; ").toStdString();
+  EXPECT_DOUBLE_EQ(back.fieldCheckMaxAgeHours, acq::kFieldCheckMaxAgeHours);
   EXPECT_DOUBLE_EQ(back.engine.relocationToleranceMm, acq::Settings().relocationToleranceMm);
   EXPECT_EQ(back.theme, "light");
   EXPECT_DOUBLE_EQ(back.fontScale, leafdig::station::StationSettings().fontScale);
@@ -251,7 +255,9 @@ TEST(StationSettings, SaveLoadRoundTripsAndBadValuesAreNamedAndReplaced) {
   d.shortcut(leafdig::station::Action::Pause)->setKeySequence(QKeySequence(Qt::Key_F9));
   d.stillWindowMs()->setValue(300);
   d.relocationToleranceMm()->setValue(2.5);
+  d.fieldCheckMaxAgeHours()->setValue(72);
   const auto r = d.result();
+  EXPECT_DOUBLE_EQ(r.fieldCheckMaxAgeHours, 72);
   EXPECT_EQ(r.units, "mm");
   EXPECT_EQ(r.theme, "dark");
   EXPECT_FALSE(r.sounds);
@@ -911,6 +917,8 @@ TEST(StationWindow, ACaptureGoesThroughTheCheckedFieldItWasStartedWith) {
   }
   leafdig::station::StationWindow w(o);
   ASSERT_TRUE(w.start()) << w.bannerText().toStdString();
+  // The Capture tab says which check corrects it.
+  EXPECT_TRUE(w.fieldText().startsWith("field: corrected by field check 1 ")) << w.fieldText().toStdString();
   const std::int64_t id = w.sessionId();
   w.stopCapture();
   leafdig::db::Store store(o.db, true);

@@ -32,8 +32,10 @@ struct FieldApplied {
 };
 
 // A check is trusted for captures this long after it was made; an older one is named in the
-// capture's banner (the check of the day).
+// capture's banner (the check of the day). A setting: the station's `field/max_check_age_hours`,
+// the CLI's `--field-check-max-age-hours` (from 1 h to a year).
 inline constexpr double kFieldCheckMaxAgeHours = 24.0;
+inline constexpr double kFieldCheckMaxAgeLimitHours = 8760.0;
 
 // "none" or "": nothing; "latest": the newest check; a number: that check. Refused in words
 // (std::invalid_argument): no check in the file, no check of that number, a check that failed
@@ -49,9 +51,10 @@ inline constexpr double kFieldCheckMaxAgeHours = 24.0;
                                                                    const std::string& source);
 
 // What a capture's banner says of its field, in words: corrected by which check (and when it is
-// older than kFieldCheckMaxAgeHours, so); or not corrected, and whether the file holds a check of
-// the day; or that the file's checks do not verify.
-[[nodiscard]] std::string fieldBanner(const db::Store& store, const std::optional<FieldApplied>& applied);
+// older than `maxAgeHours`, so); or not corrected, and whether the file holds a check younger than
+// that; or that the file's checks do not verify.
+[[nodiscard]] std::string fieldBanner(const db::Store& store, const std::optional<FieldApplied>& applied,
+                                      double maxAgeHours = kFieldCheckMaxAgeHours);
 
 // Hours since a check was made (UTC ISO 8601 with milliseconds, as the store writes it); 0 for a
 // time that does not read.

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -26,6 +27,10 @@ namespace leafdig::acquisition {
 // $XDG_CONFIG_HOME/leafdig/station.ini (~/.config/leafdig/station.ini), shared with the Qt
 // station's settings.
 [[nodiscard]] std::string stationSettingsFile();
+// One value of the station's settings file ("[section]", then "key=value"), as written there;
+// nothing when the file, the section or the key is not there. The CLI reads the settings the
+// station's dialog writes through it (thisStation's id, the field check's age).
+[[nodiscard]] std::optional<std::string> stationSetting(std::string_view section, std::string_view key);
 
 class SessionError : public std::runtime_error {
  public:
