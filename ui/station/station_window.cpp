@@ -515,6 +515,7 @@ PlantCaptureView* StationWindow::plantCaptureTab() {
 bool StationWindow::startPlantCapture(const std::string& plantMarkers, const model::PlantProtocol& protocol) {
   if (!capturesIntoStationFile()) return false;
   plantCaptureTab()->setFieldCalibration(options_.fieldCalibration);
+  plantCaptureTab()->setFieldCheckMaxAgeHours(settings_.fieldCheckMaxAgeHours);
   acq::SimulationOptions sim;
   sim.speed = options_.speed;
   sim.seed = options_.seed;
@@ -536,6 +537,7 @@ bool StationWindow::startPlantCaptureWithDevices(acq::PlantSessionSetup setup) {
   if (!capturesIntoStationFile()) return false;
   if (setup.station.empty()) setup.station = options_.setup.station;
   plantCaptureTab()->setFieldCalibration(options_.fieldCalibration);
+  plantCaptureTab()->setFieldCheckMaxAgeHours(settings_.fieldCheckMaxAgeHours);
   const QString error = plantCaptureTab()->startWithDevices(dbPath(), setup);
   if (!error.isEmpty()) {
     banner_->setText(tr("Cannot start the plant capture: %1").arg(error));

@@ -151,6 +151,9 @@ PlantCaptureView::PlantCaptureView(QWidget* parent) : QWidget(parent) {
   leftLayout->setContentsMargins(0, 0, 0, 0);
   leftLayout->addWidget(tree_, 1);
   leftLayout->addWidget(summary_);
+  field_ = new QLabel;
+  field_->setWordWrap(true);
+  leftLayout->addWidget(field_);
   review_ = new QPushButton(tr("Review this plant"));
   review_->setToolTip(tr("Open the plant in the Plant view: as measured, its divergences, approve or reject"));
   review_->setEnabled(false);
@@ -372,6 +375,7 @@ void PlantCaptureView::readSession(db::Store& store) {
   library_ = acq::organLibrary(store).leaves;
   acq::PlantCaptureSession opened(store, session_);  // refuses what is not an open plant session
   engine_ = opened.engine();
+  field_->setText(QString::fromStdString(acq::fieldBanner(store, opened.setup().field, fieldCheckMaxAgeHours_)));
 }
 
 QString PlantCaptureView::startWithDevices(const std::string& db, const acq::PlantSessionSetup& setup) {
@@ -436,6 +440,10 @@ QString PlantCaptureView::bannerText() const {
 QString PlantCaptureView::feedbackText() const {
   return feedback_->text();
 }
+QString PlantCaptureView::fieldText() const {
+  return field_->text();
+}
+
 QString PlantCaptureView::summaryText() const {
   return summary_->text();
 }

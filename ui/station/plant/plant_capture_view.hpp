@@ -64,6 +64,10 @@ class PlantCaptureView : public QWidget {
   QString startWithDevices(const std::string& db, const acquisition::PlantSessionSetup& setup);
   // The field check a new session's samples go through (a check's number, latest, or none/empty).
   void setFieldCalibration(std::string which) { fieldCalibration_ = std::move(which); }
+  // How old a field check may be before the field's line says so (the settings' hours).
+  void setFieldCheckMaxAgeHours(double hours) { fieldCheckMaxAgeHours_ = hours; }
+  // The field the plant is captured through (acquisition::fieldBanner), once a capture started.
+  [[nodiscard]] QString fieldText() const;
   // Stops the capture (an unfinished session stays open: `leafdig plant capture --resume`
   // or the station goes on with it). Idempotent.
   void stop();
@@ -150,6 +154,8 @@ class PlantCaptureView : public QWidget {
 
   std::int64_t session_ = 0;
   std::string fieldCalibration_;  // setFieldCalibration
+  double fieldCheckMaxAgeHours_ = acquisition::kFieldCheckMaxAgeHours;
+  QLabel* field_ = nullptr;
   bool complete_ = false;
   std::optional<acquisition::PlantEngine> engine_;
   std::optional<acquisition::PlantPreview> shown_;

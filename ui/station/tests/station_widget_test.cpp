@@ -917,8 +917,14 @@ TEST(StationWindow, ACaptureGoesThroughTheCheckedFieldItWasStartedWith) {
   }
   leafdig::station::StationWindow w(o);
   ASSERT_TRUE(w.start()) << w.bannerText().toStdString();
-  // The Capture tab says which check corrects it.
+  // The Capture tab says which check corrects it (LEAFDIG_TEST_SCREENSHOTS=DIR: the tab, to look at).
   EXPECT_TRUE(w.fieldText().startsWith("field: corrected by field check 1 ")) << w.fieldText().toStdString();
+  if (const char* shots = std::getenv("LEAFDIG_TEST_SCREENSHOTS")) {
+    w.resize(1400, 900);
+    w.show();
+    QTest::qWait(300);
+    EXPECT_TRUE(w.grab().save(QString::fromStdString((fs::path(shots) / "capture-field.png").string())));
+  }
   const std::int64_t id = w.sessionId();
   w.stopCapture();
   leafdig::db::Store store(o.db, true);
@@ -1545,6 +1551,8 @@ TEST(PlantCaptureView, APlantIsDigitizedInTheStationAndReviewedThere) {
   leafdig::station::PlantCaptureView* v = w.plantCapture();
   ASSERT_NE(v, nullptr);
   EXPECT_EQ(w.tabs()->currentWidget(), v);
+  // The field's line: not corrected, and no check in this file.
+  EXPECT_EQ(v->fieldText(), "field: not corrected, and no check of the field today (leafdig field check)");
   // What the technician saw on the way: every prompt, the current entity of the tree at each.
   QStringList prompts, current;
   bool leafViewOpen = false;
