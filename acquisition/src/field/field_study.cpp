@@ -86,7 +86,7 @@ double angleOff(double a, double b) {
 
 struct Noise {
   std::mt19937_64 rng;
-  double sigma;
+  double sigma = 0;
   Vector3d operator()() {
     if (sigma <= 0) return Vector3d::Zero();
     std::normal_distribution<double> n(0.0, sigma);

@@ -35,7 +35,7 @@ std::optional<std::string> stationSetting(std::string_view section, std::string_
   // The INI the Qt station writes (QSettings): "[section]" lines, then "key=value".
   std::ifstream in(stationSettingsFile());
   std::string line, current;
-  const auto trim = [](std::string t) {
+  const auto trim = [](const std::string& t) {
     const auto a = t.find_first_not_of(" \t\r");
     const auto b = t.find_last_not_of(" \t\r");
     return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
