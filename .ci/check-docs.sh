@@ -6,7 +6,10 @@
 #  2. every C++ name docs/architecture.md cites — `A::b` anywhere on the page, a CamelCase
 #     name in backquotes — exists: A is declared (class, struct, enum, namespace, using) in a
 #     source, and b is declared in a file that declares A (followed by ( , = ; { or }: not a
-#     word in a comment).
+#     word in a comment);
+#  3. every docs/FILE.md a source or script names exists, and every section it cites as
+#     `docs/FILE.md, "Section"` is there: a heading of FILE, or the bold words that open one of
+#     its paragraphs or list items, that holds the cited words (case aside).
 # Usage: check-docs.sh [REPO_ROOT]
 set -u
 root=${1:-$(cd "$(dirname "$0")/.." && pwd)}
@@ -59,8 +62,20 @@ for name in $names; do
   done
 done
 
+mapfile -t citing < <(tracked '*.cpp' '*.hpp' '*.h' '*.py' '*.sh' | grep -v -e '^build/' -e 'docs_planted.sh$' -e '^\.ci/check-docs.sh$')
+while IFS= read -r file; do
+  [ -f "$file" ] || { echo "a source names $file: there is no such file"; fail=1; }
+done < <(grep -ohE '(^|[^A-Za-z0-9_./-])docs/[A-Za-z0-9_/-]+\.md' "${citing[@]}" | sed -E 's|^[^d]*||' | sort -u)
+while IFS= read -r ref; do
+  file=${ref%%, \"*}
+  section=${ref#*, \"}; section=${section%\"}
+  if [ ! -f "$file" ]; then echo "a source cites $ref: there is no $file"; fail=1; continue; fi
+  grep -E '^#+ |^(- )?\*\*' "$file" | grep -qiF -- "$section" ||
+    { echo "a source cites $ref: $file has no such section"; fail=1; }
+done < <(grep -ohE 'docs/[a-z0-9_-]+\.md, "[^"]+"' "${citing[@]}" | sort -u)
+
 if [ $fail -ne 0 ]; then
   echo "check-docs: the docs name what is not there (or leave out what is): write them from the tree"
   exit 1
 fi
-echo "docs ok: every module's files are in its README, every name docs/architecture.md cites exists"
+echo "docs ok: every module's files are in its README, every name docs/architecture.md cites exists, every docs section a source cites is there"

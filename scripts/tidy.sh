@@ -2,7 +2,7 @@
 # clang-tidy over the project's own sources with the checks of .clang-tidy, every warning an
 # error. Nightly, not in the test command: with clang-analyzer a translation unit takes
 # ~55 s here (Eigen, nlohmann-json, Qt), ~70 minutes for the tree on 2 cores, past CI's
-# 45-minute budget (docs/decisions.md, "Static checks").
+# 45-minute budget (docs/decisions.md, "clang-tidy is a nightly script").
 # Usage: scripts/tidy.sh [FILE|FOLDER...]   (default: every .cpp of the modules and ui/)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

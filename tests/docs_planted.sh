@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The docs check must fail when the docs and the tree part: in a copy of the tree (no git, so
 # the check reads every file), plant a source file no README names and a name on
-# docs/architecture.md that nothing declares, one at a time, and expect .ci/check-docs.sh to
+# docs/architecture.md that nothing declares, a section of the docs a source cites that is not
+# there, one at a time, and expect .ci/check-docs.sh to
 # name each (and to pass on the unplanted copy).
 # Usage: docs_planted.sh REPO_ROOT
 set -u
@@ -29,4 +30,9 @@ fresh; printf '\nThe engine decides in `Engine::decide`.\n' >>"$work/tree/docs/a
 expect "Engine::decide" "a member that does not exist"
 fresh; printf '\nThe loop is `PlantCaptureLoopz`.\n' >>"$work/tree/docs/architecture.md"
 expect "PlantCaptureLoopz" "a class that does not exist"
+fresh; printf '// The jig (docs/devices.md, "The jig"); its check (docs/devices.md, "Checking the feld").\n' \
+  >>"$work/tree/acquisition/src/field/field_check.cpp"
+expect 'docs/devices.md, "Checking the feld"' "a section of the docs that is not there"
+fresh; printf '// Its words (docs/fields.md).\n' >>"$work/tree/acquisition/src/field/field_check.cpp"
+expect "docs/fields.md: there is no such file" "a docs file that is not there"
 exit $failures

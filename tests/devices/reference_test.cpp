@@ -2,7 +2,7 @@
 // cases, the pairing of stylus and reference records (a turning pot, a dropped reference record,
 // a jump, a silent receiver), and the FASTRAK emulator with two receivers over a real
 // pseudo-terminal — read by our driver, and by VRPN's vrpn_Tracker_Fastrak command sequence and
-// record rules (docs/research/digitizers.md §2.5), parsed here as VRPN does.
+// record rules (docs/devices.md, "A reference receiver": VRPN), parsed here as VRPN does.
 #include "leafdig/devices/links/reference.hpp"
 
 #include <gtest/gtest.h>

@@ -172,7 +172,7 @@ TEST(AccuracyStudy, MeasuresWhatTheMethodPromisesAndTheThreadsChangeNothing) {
 TEST(AccuracyStudy, TheReportAnswersTheQuestionsAndHoldsEveryResult) {
   const m::AccuracyPlan plan = m::AccuracyPlan::quick();
   const std::vector<m::AccuracyResult> results = m::runAccuracyStudy(plan, 2);
-  const m::AccuracyReport report = m::accuracyReport(plan, results, "leafdig synth study --quick -o docs/x.md");
+  const m::AccuracyReport report = m::accuracyReport(plan, results, "leafdig synth study --quick -o docs/accuracy.md");
   EXPECT_NE(report.markdown.find("How many rows does a leaf need for 0.5 %"), std::string::npos);
   EXPECT_NE(report.markdown.find("blade kinds side by side"), std::string::npos);
   EXPECT_NE(report.markdown.find("## Toothed margins"), std::string::npos);

@@ -1,5 +1,5 @@
 // The one map from every failure the command line meets to the README's exit code and the
-// words it prints (docs/decisions.md, "Exit codes and signals"). Commands throw; the
+// words it prints (docs/decisions.md, "One error map, one command table, one signal handler"). Commands throw; the
 // command table (commands.hpp) catches once and reports through here.
 //
 //   family                        exit  words

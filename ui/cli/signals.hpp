@@ -1,7 +1,7 @@
 // The command line's one signal handler. SIGINT and SIGTERM set a flag that the long
 // commands (capture, demo, devices listen, sim) poll to stop in order; while no capture
 // loop is running, a signal also stops the SQLite statement that runs, so a doctored file
-// cannot hold the process (docs/decisions.md, "Exit codes and signals").
+// cannot hold the process (docs/decisions.md, "One error map, one command table, one signal handler").
 #pragma once
 
 namespace leafdig::cli {

@@ -1,4 +1,4 @@
-// The curl of a 2-D leaf across its width (docs/method.md, "2-D leaves"): the named profiles,
+// The curl of a 2-D leaf across its width (docs/method.md, "Leaves known only in 2-D"): the named profiles,
 // their five feature heights and the natural cubic spline through them.
 #include <Eigen/Core>
 #include <algorithm>

@@ -1,4 +1,4 @@
-// The plant protocol's engine (docs/plants.md, "Capturing a plant"): a state machine that takes
+// The plant protocol's engine (docs/plants.md, "The plant capture engine"): a state machine that takes
 // a plant where it stands in the order a plant protocol file (model::PlantProtocol) gives —
 // landmarks on the pot rim, the collar and its diameter, then node by node the axis entity's
 // points and readings and each node's leaf: in full (the leaf protocol, one leaf Engine per

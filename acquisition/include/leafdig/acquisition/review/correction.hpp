@@ -1,6 +1,6 @@
-// A curator's correction of a complete session, saying why (docs/review.md): a leaf's items, a
-// plant's own items and its full leaves' items (a landmark's correction carrying every point of
-// its transmitter move with it). Each is a `corrected` event, replayed like any other.
+// A curator's correction of a complete session, saying why (docs/decisions.md, "Corrections that cannot slip"): a
+// leaf's items, a plant's own items and its full leaves' items (a landmark's correction carrying every point of its
+// transmitter move with it). Each is a `corrected` event, replayed like any other.
 //
 // Thread contract: like the Store they take, one thread at a time.
 #pragma once

@@ -1,5 +1,5 @@
 // A stored leaf session (or a plant session's full leaf) written as files: meshes, the model,
-// its markers, the CSV of its items (docs/formats.md). The plant's own exports are
+// its markers, the CSV of its items (README.md, "Files"). The plant's own exports are
 // plant_export.hpp's.
 //
 // Thread contract: like the Store they take, one thread at a time.

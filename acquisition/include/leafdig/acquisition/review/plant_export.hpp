@@ -1,5 +1,5 @@
 #pragma once
-// A plant session's files (docs/plants.md, "A plant session's files"). The survey's own:
+// A plant session's files (docs/plants.md, "Simulated plant capture and the plant's files"). The survey's own:
 // `mtg` (the MTG in the AMAP conventions), `csv` (its entities one row each), `markers` (what
 // was digitized, a leafdig.plant-markers/1 document in the digitizer's frame), `json` (the
 // survey: frame, nodes, leaves, angles; once the transmitter was moved, its positions with each
