@@ -12,6 +12,7 @@
 #include "leafdig/model/field/correction.hpp"
 #include "leafdig/model/leaf/leaf_model.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/plant/marker_points.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
 
 namespace leafdig::acquisition {
@@ -21,34 +22,17 @@ namespace m = leafdig::model;
 using Eigen::Vector3d;
 using PointMap = std::function<Vector3d(const Vector3d&)>;
 
-// Every position of a leaf's markers through `f`.
-m::MarkerSet mapped(m::MarkerSet s, const PointMap& f) {
-  s.tipMm = f(s.tipMm);
-  for (m::MarkerRow& row : s.rows)
-    for (Vector3d& p : row.pointsMm) p = f(p);
+// A leaf's markers or a plant with every position through `f` (model::forEachPoint's order).
+template <class Set>
+Set mapped(Set s, const PointMap& f) {
+  m::forEachPoint(s, [&](Vector3d& p) { p = f(p); });
   return s;
 }
 
 std::vector<Vector3d> pointsOf(const m::MarkerSet& s) {
-  std::vector<Vector3d> out{s.tipMm};
-  for (const m::MarkerRow& row : s.rows) out.insert(out.end(), row.pointsMm.begin(), row.pointsMm.end());
+  std::vector<Vector3d> out;
+  m::forEachPoint(s, [&](const Vector3d& p) { out.push_back(p); });
   return out;
-}
-
-// Every position of a plant (landmarks, collar, nodes, leaves) through `f`.
-m::PlantMarkers mapped(m::PlantMarkers p, const PointMap& f) {
-  for (Vector3d& l : p.landmarksMm) l = f(l);
-  p.collarMm = f(p.collarMm);
-  for (m::PlantNode& n : p.nodes) {
-    n.pointMm = f(n.pointMm);
-    if (auto* full = std::get_if<m::MarkerSet>(&n.leaf)) *full = mapped(*full, f);
-    if (auto* quick = std::get_if<m::QuickLeaf>(&n.leaf)) {
-      quick->baseMm = f(quick->baseMm);
-      quick->tipMm = f(quick->tipMm);
-      quick->sideMm = f(quick->sideMm);
-    }
-  }
-  return p;
 }
 
 double rms(const std::vector<Vector3d>& got, const std::vector<Vector3d>& truth) {
@@ -281,10 +265,9 @@ FieldStudyResult runFieldStudy(const FieldStudyInput& in) {
       accumulate(r.plant->uncorrected, plantError(uncorrected, *plantTruth), share);
       accumulate(r.plant->corrected, plantError(mapped(uncorrected, correctPlant), *plantTruth), share);
       int outside = 0, all = 0;
-      (void)mapped(uncorrected, [&](const Vector3d& p) -> Vector3d {
+      m::forEachPoint(uncorrected, [&](const Vector3d& p) {
         outside += plantChoice.correction.inside(p) ? 0 : 1;
         ++all;
-        return p;
       });
       r.plant->outsidePercent += 100.0 * outside / std::max(all, 1) * share;
     }

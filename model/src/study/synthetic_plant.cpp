@@ -8,6 +8,7 @@
 #include "json_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/limits.hpp"
+#include "leafdig/model/plant/marker_points.hpp"
 #include "leafdig/model/plant/plant_frame.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
 
@@ -149,9 +150,7 @@ SyntheticPlant synthesizePlant(const SyntheticPlantSpec& spec) {
       const SyntheticLeaf synthetic(ls);
       MarkerSet exact = synthetic.markers(0.0, spec.seed + static_cast<std::uint64_t>(k));
       const auto place = [&](const Eigen::Vector3d& p) { return Eigen::Vector3d(base + rotation * p); };
-      exact.tipMm = place(exact.tipMm);
-      for (MarkerRow& row : exact.rows)
-        for (Eigen::Vector3d& p : row.pointsMm) p = place(p);
+      forEachPoint(exact, [&](Eigen::Vector3d& p) { p = place(p); });
       const LeafPose pose = leafPose(exact.rows.back().pointsMm[kMidribColumn], exact.tipMm);
       leaf.kind = LeafKind::Full;
       leaf.azimuthDeg = pose.azimuthDeg;
@@ -159,9 +158,7 @@ SyntheticPlant synthesizePlant(const SyntheticPlantSpec& spec) {
       leaf.lengthMm = synthetic.midribLengthMm();
       leaf.areaMm2 = synthetic.area();
       MarkerSet noisy = exact;
-      noisy.tipMm = seen(exact.tipMm);
-      for (MarkerRow& row : noisy.rows)
-        for (Eigen::Vector3d& p : row.pointsMm) p = seen(p);
+      forEachPoint(noisy, [&](Eigen::Vector3d& p) { p = seen(p); });
       pn.leaf = std::move(noisy);
     } else {
       const double width = 0.5 * length;
