@@ -114,9 +114,10 @@ void accumulate(CaptureError& into, const CaptureError& e, double share) {
   into.areaErrorPercent += e.areaErrorPercent * share;
 }
 
-CaptureError leafError(const m::MarkerSet& got, const m::MarkerSet& truth, double truthArea) {
-  const auto g = pointsOf(got), t = pointsOf(truth);
-  return {rms(g, t), shapeRms(g, t), percentOff(bladeArea(got), truthArea)};
+// `truth`: the true leaf's points (pointsOf) and its blade's area.
+CaptureError leafError(const m::MarkerSet& got, const std::vector<Vector3d>& truth, double truthArea) {
+  const auto g = pointsOf(got);
+  return {rms(g, truth), shapeRms(g, truth), percentOff(bladeArea(got), truthArea)};
 }
 
 struct PlantTruth {
@@ -192,9 +193,11 @@ FieldStudyResult runFieldStudy(const FieldStudyInput& in) {
 
   // The truths, once.
   std::vector<double> truthAreas;
+  std::vector<std::vector<Vector3d>> truthPoints;
   for (const auto& [name, leaf] : in.leaves) {
     truthAreas.push_back(bladeArea(leaf));
-    r.leaves.push_back({name, static_cast<int>(pointsOf(leaf).size()), {}, {}, {}});
+    truthPoints.push_back(pointsOf(leaf));
+    r.leaves.push_back({name, static_cast<int>(truthPoints.back().size()), {}, {}, {}});
   }
   std::optional<PlantTruth> plantTruth;
   if (in.plant) {
@@ -230,9 +233,9 @@ FieldStudyResult runFieldStudy(const FieldStudyInput& in) {
       const m::MarkerSet clean = mapped(truth, noisy);
       const m::MarkerSet uncorrected = mapped(mapped(truth, bent), noisy);
       const m::MarkerSet corrected = mapped(uncorrected, correct);
-      accumulate(r.leaves[i].clean, leafError(clean, truth, truthAreas[i]), share);
-      accumulate(r.leaves[i].uncorrected, leafError(uncorrected, truth, truthAreas[i]), share);
-      accumulate(r.leaves[i].corrected, leafError(corrected, truth, truthAreas[i]), share);
+      accumulate(r.leaves[i].clean, leafError(clean, truthPoints[i], truthAreas[i]), share);
+      accumulate(r.leaves[i].uncorrected, leafError(uncorrected, truthPoints[i], truthAreas[i]), share);
+      accumulate(r.leaves[i].corrected, leafError(corrected, truthPoints[i], truthAreas[i]), share);
       bentLeaves.push_back(pointsOf(uncorrected));
     }
 
@@ -248,7 +251,7 @@ FieldStudyResult runFieldStudy(const FieldStudyInput& in) {
       for (std::size_t i = 0; i < in.leaves.size(); ++i) {
         std::vector<Vector3d> got;
         for (const Vector3d& p : bentLeaves[i]) got.push_back(fewChoice.correction.apply(p));
-        const double e = shapeRms(got, pointsOf(in.leaves[i].second));
+        const double e = shapeRms(got, truthPoints[i]);
         sum += e * e * static_cast<double>(got.size());
         n += static_cast<double>(got.size());
       }

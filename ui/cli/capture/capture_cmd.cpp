@@ -199,7 +199,6 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   if (o.stylusNoiseMm) r.simulation.stylusNoiseMm = *o.stylusNoiseMm;
   r.simulation.distortion = distortionOf(o.distortion);
   r.fieldCalibration = o.fieldCalibration == "none" ? "" : o.fieldCalibration;
-  (void)fieldCheckMaxAge(o.fieldCheckMaxAgeHours);  // a bad setting refused before anything is written
   // The terminal draws no model: JSON lines need no preview at all, and the human terminal
   // only its "provisional thickness" note (the model, not its meshes). Building the preview's
   // meshes (two adaptive levels since issue 26, for the station's window) on the capture
@@ -225,6 +224,8 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
   RunResult result;
   std::string lastPrompt;
   std::int64_t id = 0;
+  // Read once, before the run makes a session: a bad setting is refused with nothing written.
+  const double maxCheckAgeHours = fieldCheckMaxAge(o.fieldCheckMaxAgeHours);
   // A simulated technician that gets nowhere (every input refused, or none made) is stopped
   // with words after --give-up-after seconds, not waited on for ever.
   GiveUpWatch progress(o.giveUpAfterS);
@@ -270,8 +271,7 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
               << m::toString(run.setup().settings.mode) << " mode\n  digitizer "
               << run.devices().spec(acq::DeviceSet::Role::Digitizer) << " · caliper "
               << run.devices().spec(acq::DeviceSet::Role::Caliper) << "\n  "
-              << terminalText(acq::fieldBanner(db::Store(run.dbPath(), true), run.setup().field,
-                                               fieldCheckMaxAge(o.fieldCheckMaxAgeHours)))
+              << terminalText(acq::fieldBanner(db::Store(run.dbPath(), true), run.setup().field, maxCheckAgeHours))
               << "\n  keys (then Enter): u undo · e end rows · r WHAT ROW POINT retake · p pause · resume · "
                  "abandon [why] · q quit\n";
   run.start();

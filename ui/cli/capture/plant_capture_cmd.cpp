@@ -260,7 +260,8 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   if (!o.distortion.empty() && !o.simulate)
     throw std::invalid_argument(
         "--distortion bends the simulated digitizer's field: it goes with --simulate (a real field is what it is)");
-  (void)fieldCheckMaxAge(o.fieldCheckMaxAgeHours);  // a bad setting refused before anything is written
+  // Read once; a bad setting is refused before anything is written.
+  const double maxCheckAgeHours = fieldCheckMaxAge(o.fieldCheckMaxAgeHours);
   if (o.resume != 0 && !o.fieldCalibration.empty() && o.fieldCalibration != "none")
     throw std::invalid_argument(
         "a resumed session goes on through the field check it began with (sessions show "
@@ -382,7 +383,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
               << "\n  "
               << terminalText(acq::fieldBanner(
                      *store, acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson).field,
-                     fieldCheckMaxAge(o.fieldCheckMaxAgeHours)))
+                     maxCheckAgeHours))
               << "\n";
   if (withDevices) {
     const acq::PlantRunStats stats = captureWithDevices(o, *store, id, digitizer, caliper);
