@@ -6,6 +6,7 @@
 #     may use and which uses none.
 # Usage: check-layering.sh [REPO_ROOT]
 set -u
+here=$(cd "$(dirname "$0")" && pwd)
 root=${1:-$(cd "$(dirname "$0")/.." && pwd)}
 cd "$root" || exit 2
 fail=0
@@ -109,5 +110,11 @@ roomCheck acquisition live review sim run
 roomCheck acquisition sim review run
 roomCheck acquisition run review
 rootCheck acquisition "nothing" protocol session review live sim run field
-[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, pybind11 only in python/leafdig_module.cpp, dependencies point one way, devices/, model/ and acquisition/ rooms in their directions"
+
+# 8. Sizes and cycles (issue 48): in the product's code (names, model, devices, db, acquisition,
+#    ui, python; tests excepted) no source file over 700 lines, no folder over 14 sources
+#    (.cpp), and no include cycle between files of a module (a file is its .hpp and .cpp
+#    together: x.cpp including y.hpp while y.cpp includes x.hpp is a cycle).
+if ! python3 "$here/check_sizes_cycles.py" .; then fail=1; fi
+[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, pybind11 only in python/leafdig_module.cpp, dependencies point one way, devices/, model/ and acquisition/ rooms in their directions, no file over 700 lines, no folder over 14 sources, no include cycle in a module"
 exit $fail

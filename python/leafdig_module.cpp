@@ -45,16 +45,17 @@
 #include "leafdig/model/plant/plant_survey.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
+#include "module_core.hpp"
 
 namespace py = pybind11;
 namespace m = leafdig::model;
 namespace acq = leafdig::acquisition;
 namespace db = leafdig::db;
+namespace core = leafdig::python;
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-const std::string kGenerator = std::string("leafdig ") + leafdig::kVersion;
 
 py::array_t<double> vec3(const Eigen::Vector3d& v) {
   py::array_t<double> a(3);
@@ -132,25 +133,11 @@ struct Leaf : m::BuiltLeaf {
   std::string source;  // the markers file as given (the simulation formats name it), else the leaf's id
 };
 
-m::MeshOptions meshOptions(const std::string& resolution, const std::string& method, std::optional<double> maxError) {
-  m::MeshOptions o;
-  o.method = m::meshMethodFromString(method);
-  o.resolution = m::MeshResolution::preset(resolution);
-  if (maxError) {
-    if (o.method != m::MeshMethod::Adaptive)
-      throw m::InputError("max_error is the adaptive mesh's parameter: add mesh=\"adaptive\"");
-    if (!(*maxError >= 0.005 && *maxError <= 50.0))
-      throw m::InputError("max_error must be between 0.005 and 50 mm, e.g. 0.1");
-    o.maxErrorMm = *maxError;
-  }
-  return o;
-}
-
 // `model build`'s path (ui/cli/model/model_build.cpp), step for step: the same model, mesh and metrics.
 Leaf buildLeaf(const m::MarkerSet& markers, const std::string& source, const std::string& blade,
                const std::string& resolution, const std::string& method, std::optional<double> maxError,
                const std::string& frame, const Eigen::Vector3d& light) {
-  const m::MeshOptions options = meshOptions(resolution, method, maxError);
+  const m::MeshOptions options = core::meshOptions(resolution, method, maxError);
   const m::BladeKind kind = m::bladeKindFromString(blade);
   py::gil_scoped_release free;
   Leaf out;
@@ -203,77 +190,20 @@ py::dict meshArrays(const m::LeafMesh& mesh) {
   return d;
 }
 
-void writeFiles(const std::vector<m::EncodedFile>& files) {
-  for (const auto& f : files) m::writeFileAtomically(f.path, f.bytes);
-}
-
-// A leaf's files by extension, as `model build -o` writes them (the simulation formats through
-// the leaf as a plant of one leaf; the model document for .json).
-// A light direction from Python: three finite numbers, not all zero; only its direction
-// counts, so it is scaled to a largest component of 1 (nan, or 1e200, would leave no light).
-Eigen::Vector3d lightOf(const std::array<double, 3>& light) {
-  const Eigen::Vector3d d(light[0], light[1], light[2]);
-  if (!d.allFinite() || d.cwiseAbs().maxCoeff() == 0.0)
-    throw std::invalid_argument("light must be three finite numbers (x, y, z), not all zero, e.g. (0, 0, 1)");
-  return d / d.cwiseAbs().maxCoeff();
-}
-
 std::vector<std::string> exportLeaf(const Leaf& leaf, const std::string& path, const Eigen::Vector3d& light) {
   py::gil_scoped_release free;
-  const std::filesystem::path p(path);
-  std::vector<m::EncodedFile> files;
-  const m::ExportHeader header{leaf.model.markers.leaf.id, leaf.frame, kGenerator};
-  if (p.extension() == ".json") {
-    files.push_back({p, m::modelToJson(leaf.model, leaf.frame, leaf.metrics)});
-  } else {
-    const m::PlantFormat f = m::plantFormatForPath(p);
-    if (f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv) {
-      const m::LeafAsPlant alone = m::leafAsPlant(leaf, leaf.source, light);
-      files = m::encodePlant(p, alone.plant, alone.mesh, alone.metrics, {m::CanUnit::Metre, kGenerator});
-    } else {
-      files.push_back({p, m::encodeMesh(leaf.mesh, m::meshFormatForPath(p), header)});
-    }
-  }
-  writeFiles(files);
-  std::vector<std::string> written;
-  for (const auto& f : files) written.push_back(f.path.string());
-  return written;
+  return core::exportLeaf(leaf, leaf.source, path, light);
 }
 
 // ---- plants -----------------------------------------------------------------------------
 
-struct Plant {
-  m::Plant plant;
-  m::LeafMesh mesh;
-  m::PlantMetrics metrics;
-};
-
-std::vector<m::LibraryLeaf> libraryOf(const m::PlantPlan& plan) {
-  if (!plan.libraryDb) return {};
-  if (!std::filesystem::exists(*plan.libraryDb))
-    throw m::InputError("library.db " + *plan.libraryDb + " does not exist: name the station's database");
-  db::Store store(*plan.libraryDb, true);
-  return acq::organLibrary(store).leaves;
-}
+using Plant = core::PlantModel;
 
 std::vector<Plant> buildPlants(const std::string& planText, const std::string& source, const std::string& baseDir,
                                const std::vector<std::optional<double>>& times, const std::string& resolution,
                                const Eigen::Vector3d& light) {
   py::gil_scoped_release free;
-  const m::PlantPlan plan = m::parsePlantPlan(planText, source, baseDir);
-  for (const auto& t : times)
-    if (t && !plan.growth) throw m::InputError(source + ": the plan has no \"growth\"; add one to build growth states");
-  const m::PlantBuilder builder(plan, libraryOf(plan));
-  const m::MeshOptions options = meshOptions(resolution, "uniform", std::nullopt);
-  std::vector<Plant> out;
-  for (const auto& t : times) {
-    Plant p;
-    p.plant = builder.build(t);
-    p.mesh = m::meshPlant(p.plant, options);
-    p.metrics = m::computePlantMetrics(p.plant, p.mesh, light);
-    out.push_back(std::move(p));
-  }
-  return out;
+  return core::buildPlants(planText, source, baseDir, times, resolution, light);
 }
 
 py::list plantLeaves(const Plant& p) {
@@ -300,8 +230,7 @@ py::list plantLeaves(const Plant& p) {
 
 std::string encodeOne(const Plant& p, const std::string& extension) {
   py::gil_scoped_release free;
-  const auto files = m::encodePlant("plant" + extension, p.plant, p.mesh, p.metrics, {m::CanUnit::Metre, kGenerator});
-  return files.front().bytes;
+  return core::encodeOne(p, extension);
 }
 
 // CARIBU's scene as CaribuScene takes it: {label: [((x,y,z),(x,y,z),(x,y,z)), …]} with the
@@ -376,19 +305,11 @@ py::list sessions(const Store& s) {
   return out;
 }
 
-// Nothing of a session whose chain does not recompute is handed to Python: the CLI's words.
-void requireVerified(const Store& s, std::int64_t id, const std::string& refused) {
-  const db::ChainReport chain = s.store->verify(id);
-  if (!chain.ok)
-    throw acq::SessionError("session " + std::to_string(id) + " fails 'sessions verify' (event " +
-                            std::to_string(chain.firstBadSeq.value_or(0)) + ": " + chain.problem + ")" + refused);
-}
-
 // A leaf session's markers, as `sessions export --format markers` writes them (verified first);
 // with `node` > 0, a plant session's full leaf at that node, as `sessions export --node` does.
 Markers sessionMarkers(const Store& s, std::int64_t id, int node) {
   py::gil_scoped_release free;
-  requireVerified(s, id, ": its markers are not given");
+  core::requireVerified(*s.store, id, ": its markers are not given");
   try {
     if (node > 0) return {acq::plantLeafMarkers(*s.store, id, node)};
   } catch (const std::invalid_argument& e) {
@@ -401,7 +322,7 @@ py::list sessionEvents(const Store& s, std::int64_t id) {
   std::vector<db::Event> events;
   {
     py::gil_scoped_release free;
-    requireVerified(s, id, "");
+    core::requireVerified(*s.store, id, "");
     events = s.store->events(id);
   }
   py::list out;
@@ -424,12 +345,7 @@ py::list sessionEvents(const Store& s, std::int64_t id) {
 // writes as GLB, CARIBU and plant-model JSON.
 Plant capturedPlant(const Store& s, std::int64_t id, const Eigen::Vector3d& light) {
   py::gil_scoped_release free;
-  const acq::CapturedSurvey survey = acq::capturedSurvey(*s.store, id);
-  Plant p;
-  p.plant = acq::capturedModel(*s.store, survey.survey).plant;
-  p.mesh = m::meshPlant(p.plant, m::MeshResolution::preset("export"));
-  p.metrics = m::computePlantMetrics(p.plant, p.mesh, light);
-  return p;
+  return core::capturedPlant(*s.store, id, light);
 }
 
 std::string plantSurveyJson(const Store& s, std::int64_t id) {
@@ -540,7 +456,7 @@ PYBIND11_MODULE(_leafdig, mod) {
       .def(
           "export",
           [](const Leaf& l, const std::string& path, const std::array<double, 3>& light) {
-            return exportLeaf(l, path, lightOf(light));
+            return exportLeaf(l, path, core::lightOf(light));
           },
           py::arg("path"), py::arg("light") = std::array<double, 3>{0, 0, 1});
   mod.def(
@@ -548,7 +464,7 @@ PYBIND11_MODULE(_leafdig, mod) {
       [](const Markers& markers, const std::string& source, const std::string& blade, const std::string& resolution,
          const std::string& mesh, std::optional<double> maxError, const std::string& frame,
          const std::array<double, 3>& light) {
-        return buildLeaf(markers.set, source, blade, resolution, mesh, maxError, frame, lightOf(light));
+        return buildLeaf(markers.set, source, blade, resolution, mesh, maxError, frame, core::lightOf(light));
       },
       py::arg("markers"), py::arg("source") = "", py::arg("blade") = "interp", py::arg("resolution") = "export",
       py::arg("mesh") = "uniform", py::arg("max_error") = py::none(), py::arg("frame") = "digitizer",
@@ -574,11 +490,7 @@ PYBIND11_MODULE(_leafdig, mod) {
           "export",
           [](const Plant& p, const std::string& path) {
             py::gil_scoped_release free;
-            const auto files = m::encodePlant(path, p.plant, p.mesh, p.metrics, {m::CanUnit::Metre, kGenerator});
-            writeFiles(files);
-            std::vector<std::string> written;
-            for (const auto& f : files) written.push_back(f.path.string());
-            return written;
+            return core::exportPlant(p, path);
           },
           py::arg("path"));
   mod.def(
@@ -586,7 +498,7 @@ PYBIND11_MODULE(_leafdig, mod) {
       [](const std::string& text, const std::string& source, const std::string& baseDir,
          const std::vector<std::optional<double>>& times, const std::string& resolution,
          const std::array<double, 3>& light) {
-        return buildPlants(text, source, baseDir, times, resolution, lightOf(light));
+        return buildPlants(text, source, baseDir, times, resolution, core::lightOf(light));
       },
       py::arg("text"), py::arg("source"), py::arg("base_dir"), py::arg("times"), py::arg("resolution") = "export",
       py::arg("light") = std::array<double, 3>{0, 0, 1});
@@ -613,14 +525,14 @@ PYBIND11_MODULE(_leafdig, mod) {
           "history_json",
           [](const Store& s, std::int64_t id) {
             py::gil_scoped_release free;
-            requireVerified(s, id, "");
+            core::requireVerified(*s.store, id, "");
             return db::reviewHistoryJson(db::reviewHistory(s.store->events(id)));
           },
           py::arg("id"))
       .def(
           "plant",
           [](const Store& s, std::int64_t id, const std::array<double, 3>& light) {
-            return capturedPlant(s, id, lightOf(light));
+            return capturedPlant(s, id, core::lightOf(light));
           },
           py::arg("id"), py::arg("light") = std::array<double, 3>{0, 0, 1})
       .def_property_readonly("where", [](const Store& s) { return s.where; })

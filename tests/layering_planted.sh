@@ -8,7 +8,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fresh() {
   rm -rf "$work/tree"; mkdir -p "$work/tree"
-  cp -r "$root"/{names,model,devices,db,acquisition,ui} "$work/tree/"
+  cp -r "$root"/{names,model,devices,db,acquisition,ui,python} "$work/tree/"
 }
 failures=0
 fresh
@@ -44,4 +44,27 @@ plant model/include/leafdig/model/synth/synthetic_leaf.hpp '#include "leafdig/mo
 plant model/src/io/model_json.cpp '#include "leafdig/model/study/accuracy.hpp"' "io using study"
 plant model/src/metrics/metrics.cpp '#include "leaf2d/outline_check.hpp"' "metrics using leaf2d's private header"
 plant model/include/leafdig/model/files.hpp '#include "leafdig/model/spline/bspline.hpp"' "model's root using a room"
+# Sizes and cycles (part 8): a change the check must name by its words.
+expect() {  # what it breaks, the words the check must print (after plantIn has changed the copy)
+  if "$root/.ci/check-layering.sh" "$work/tree" >"$work/out" 2>&1; then
+    echo "not caught: $1"; failures=1
+  elif ! grep -qF "$2" "$work/out"; then
+    echo "caught but not named: $1 (expected \"$2\"):"; cat "$work/out"; failures=1
+  else
+    echo "caught: $1"
+  fi
+}
+fresh
+printf '#include "model/mesh_cmd.hpp"\n' >>"$work/tree/ui/cli/model/model_build.cpp"
+expect "an include cycle between two command files" "ui/cli/model/mesh_cmd, ui/cli/model/model_build include each other"
+fresh
+printf '#include "leafdig/acquisition/review/review.hpp"\n' >>"$work/tree/acquisition/src/review/plant_export.cpp"
+printf '#include "leafdig/acquisition/review/plant_export.hpp"\n' >>"$work/tree/acquisition/src/review/review.cpp"
+expect "an include cycle inside a room" "include cycle in acquisition/: acquisition/src/review/plant_export"
+fresh
+for i in $(seq 1 701); do echo "// line $i"; done >>"$work/tree/model/src/spline/banded.cpp"
+expect "a source file over 700 lines" "model/src/spline/banded.cpp:"
+fresh
+for i in $(seq 1 15); do echo "// planted" >"$work/tree/ui/station/review/planted_$i.cpp"; done
+expect "a folder over 14 sources" "ui/station/review/: "
 exit $failures

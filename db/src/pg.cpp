@@ -1,10 +1,12 @@
 #include "pg.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstdlib>
+#include <map>
 
-#include "leafdig/db/lab.hpp"
+#include "leafdig/db/server_url.hpp"
 
 namespace leafdig::db::pg {
 
@@ -194,3 +196,96 @@ bool hasGenesisForms(Connection& c) {
 }
 
 }  // namespace leafdig::db::pg
+
+namespace leafdig::db {
+
+bool isServerUrl(const std::string& text) {
+  return text.rfind("postgresql://", 0) == 0 || text.rfind("postgres://", 0) == 0;
+}
+
+namespace {
+
+std::string percentEncoded(const std::string& text) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string out;
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (std::isalnum(c) != 0 || c == '-' || c == '.' || c == '_' || c == '~' || c == ',' || c == '/') {
+      out += ch;
+    } else {
+      out += '%';
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
+// The URL as libpq reads it, each secret (password, sslpassword) replaced by `secret`, or left
+// out when `secret` is null.
+std::string renderUrl(const std::string& url, const char* secret) {
+  const bool asUrl = isServerUrl(url);
+  if (!asUrl && url.find('=') == std::string::npos) return url;  // a file's path
+  const auto parsed = pg::parseConnection(url);
+  if (!parsed) {
+    if (asUrl)
+      return url.substr(0, url.find("://") + 3) + "(a URL libpq cannot read; not shown: it may hold a password)";
+    std::string lower = url;
+    for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return lower.find("password") == std::string::npos
+               ? url  // a file's path with '=' in its name
+               : "(a connection string libpq cannot read; not shown: it may hold a password)";
+  }
+  std::map<std::string, std::string> o(parsed->begin(), parsed->end());
+  const auto take = [&](const char* key) {
+    const auto at = o.find(key);
+    if (at == o.end()) return std::optional<std::string>();
+    std::string v = at->second;
+    o.erase(at);
+    return std::optional<std::string>(v);
+  };
+  if (!asUrl) {
+    std::string out;
+    for (const auto& [key, value] : *parsed) {
+      if (pg::isSecretOption(key) && !secret) continue;
+      out += (out.empty() ? "" : " ") + key + "=" + (pg::isSecretOption(key) ? std::string(secret) : value);
+    }
+    return out;
+  }
+  const auto user = take("user");
+  const bool password = take("password").has_value() && secret;
+  const auto host = take("host");
+  const auto port = take("port");
+  const auto dbname = take("dbname");
+  std::string out = url.substr(0, url.find("://") + 3);
+  if (user || password) out += percentEncoded(user.value_or("")) + (password ? std::string(":") + secret : "") + "@";
+  if (host) out += host->find(':') != std::string::npos ? "[" + *host + "]" : percentEncoded(*host);
+  if (port) out += ":" + percentEncoded(*port);
+  if (dbname) out += "/" + percentEncoded(*dbname);
+  std::string query;
+  for (const auto& [key, value] : o) {
+    if (pg::isSecretOption(key) && !secret) continue;
+    query += (query.empty() ? "?" : "&") + key + "=" +
+             (pg::isSecretOption(key) ? std::string(secret) : percentEncoded(value));
+  }
+  return out + query;
+}
+
+}  // namespace
+
+std::string redactUrl(const std::string& url) {
+  return renderUrl(url, "***");
+}
+
+std::optional<std::string> urlWithoutSecrets(const std::string& url) {
+  const bool asUrl = isServerUrl(url);
+  if (!asUrl && url.find('=') == std::string::npos) return url;
+  if (!pg::parseConnection(url)) return std::nullopt;
+  return renderUrl(url, nullptr);
+}
+
+}  // namespace leafdig::db

@@ -3,16 +3,7 @@
 #include <exception>
 #include <ostream>
 
-#include "capture/capture_cmd.hpp"
-#include "devices_cmd.hpp"
 #include "failure.hpp"
-#include "field_cmd.hpp"
-#include "lab_cmd.hpp"
-#include "model/leaf2d_cmd.hpp"
-#include "model/mesh_cmd.hpp"
-#include "model/model_build.hpp"
-#include "model/synth_cmd.hpp"
-#include "plant/plant_cmd.hpp"
 
 namespace leafdig::cli {
 
@@ -42,18 +33,6 @@ std::vector<std::string> CommandTable::names() const {
     out.push_back(name);
   }
   return out;
-}
-
-void addAllCommands(CLI::App& app, CommandTable& table) {
-  addModelCommands(app, table);
-  addPlantCommands(app, table);
-  addMeshCommands(app, table);
-  addSynthCommands(app, table);
-  addLeaf2dCommands(app, table);
-  addDevicesCommands(app, table);
-  addFieldCommands(app, table);
-  addCaptureCommands(app, table);
-  addLabCommands(app, table);
 }
 
 }  // namespace leafdig::cli

@@ -1,5 +1,6 @@
 // leafdig's commands in one table. Each command file registers its commands (the CLI11
-// subcommand and the function that runs it); main parses once, and the table runs the one
+// subcommand and the function that runs it; main.cpp calls every family's add…Commands, so
+// this file includes none of them); main parses once, and the table runs the one
 // command chosen inside the one error map (failure.hpp) and returns its exit code.
 #pragma once
 
@@ -48,9 +49,5 @@ inline CLI::Validator seedText() {
       },
       "SEED");
 }
-
-// Registers every command of leafdig on `app` and `table`. The options the commands parse
-// into live in `app` (CLI11 keeps them alive for the parse and the run).
-void addAllCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

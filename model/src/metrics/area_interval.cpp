@@ -9,7 +9,7 @@
 #include "draws.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/leaf/leaf_model.hpp"
-#include "leafdig/model/metrics/metrics.hpp"
+#include "leafdig/model/metrics/blade_area.hpp"
 
 namespace leafdig::model {
 

@@ -15,10 +15,6 @@ namespace leafdig::model {
 
 namespace {
 
-Eigen::Vector3d areaVector(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  return 0.5 * (b - a).cross(c - a);
-}
-
 // Kahan's numerically stable Heron formula (sides sorted a >= b >= c).
 double heronArea(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
   std::array<double, 3> s{(p - q).norm(), (q - r).norm(), (r - p).norm()};
@@ -30,38 +26,12 @@ double heronArea(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen
   return product > 0.0 ? 0.25 * std::sqrt(product) : 0.0;
 }
 
-struct GridAreas {
-  double area = 0.0;
-  double projected = 0.0;
-};
-
-GridAreas gridAreas(const BladeSurface& blade, int perRow, int across, const Eigen::Vector3d& direction) {
-  const int rowSpans = static_cast<int>(blade.rowParameters.size()) - 1;
-  const PointGrid g = sampleSurface(blade, subdivideSpans(blade.rowParameters, perRow * rowSpans),
-                                    subdivideSpans(blade.columnParameters, across));
-  GridAreas out;
-  for (std::size_t i = 0; i + 1 < g.size(); ++i) {
-    for (std::size_t j = 0; j + 1 < g[i].size(); ++j) {
-      for (const Eigen::Vector3d& av :
-           {areaVector(g[i][j], g[i][j + 1], g[i + 1][j + 1]), areaVector(g[i][j], g[i + 1][j + 1], g[i + 1][j])}) {
-        out.area += av.norm();
-        out.projected += std::abs(av.dot(direction));
-      }
-    }
-  }
-  return out;
-}
-
 }  // namespace
-
-double bladeGridArea(const BladeSurface& blade, int perRow, int across) {
-  return gridAreas(blade, perRow, across, Eigen::Vector3d::UnitZ()).area;
-}
 
 double meshArea(const Mesh& mesh) {
   double area = 0.0;
   for (const auto& t : mesh.triangles) {
-    area += areaVector(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]).norm();
+    area += triangleAreaVector(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]).norm();
   }
   return area;
 }
@@ -70,31 +40,9 @@ double projectedArea(const Mesh& mesh, const Eigen::Vector3d& lightDirection) {
   const Eigen::Vector3d d = lightDirection.normalized();
   double area = 0.0;
   for (const auto& t : mesh.triangles) {
-    area += std::abs(areaVector(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]).dot(d));
+    area += std::abs(triangleAreaVector(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]).dot(d));
   }
   return area;
-}
-
-BladeAreaEstimate convergedBladeArea(const BladeSurface& blade, const Eigen::Vector3d& lightDirection, double tolerance,
-                                     int maxDoublings) {
-  const Eigen::Vector3d d = lightDirection.normalized();
-  int perRow = 2;
-  int across = 12;
-  GridAreas previous = gridAreas(blade, perRow, across, d);
-  BladeAreaEstimate est;
-  for (int step = 0; step < maxDoublings; ++step) {
-    perRow *= 2;
-    across *= 2;
-    const GridAreas current = gridAreas(blade, perRow, across, d);
-    est = {current.area, current.projected, perRow, across, std::abs(current.area - previous.area) / current.area,
-           false};
-    if (est.relativeChange < tolerance) {
-      est.converged = true;
-      break;
-    }
-    previous = current;
-  }
-  return est;
 }
 
 double markerGridHeronArea(const MarkerGrid& grid) {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "model/mesh_cmd.hpp"
+#include "model/mesh_choice.hpp"
 
 namespace leafdig::cli {
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "leafdig/db/event_store.hpp"
+#include "leafdig/db/server_url.hpp"
 #include "leafdig/db/store.hpp"
 #include "leafdig/names/name_table.hpp"
 
@@ -23,17 +24,6 @@ namespace leafdig::db {
 namespace pg {
 class Connection;
 }
-
-// postgresql://… or postgres://… (a libpq connection URL).
-[[nodiscard]] bool isServerUrl(const std::string& text);
-// The URL as libpq reads it, with its password and sslpassword (wherever and however written:
-// user:PASSWORD@, ?password=, ?pass%77ord=, password = x) replaced by ***: the only form of a
-// URL leafdig prints or stores. A URL libpq cannot read is not shown at all (it may hold a
-// password); a file's path comes back as it is.
-[[nodiscard]] std::string redactUrl(const std::string& url);
-// The URL as libpq reads it without its password and sslpassword (a station stores no
-// password: it lives in ~/.pgpass); nothing when libpq cannot read it.
-[[nodiscard]] std::optional<std::string> urlWithoutSecrets(const std::string& url);
 
 // Creates the schema (or migrates it to this leafdig's version) and the three group roles
 // leafdig_technicians, leafdig_curators and leafdig_readers. Run by the lab's administrator

@@ -9,6 +9,7 @@
 #include "leafdig/model/leaf/blade.hpp"
 #include "leafdig/model/mesh/mesh.hpp"
 #include "leafdig/model/metrics/area_interval.hpp"
+#include "leafdig/model/metrics/blade_area.hpp"
 
 namespace leafdig::model {
 
@@ -24,24 +25,6 @@ namespace leafdig::model {
 // a 300 mm leaf at 2048 pixels). A mesh seen edge-on has zero silhouette.
 [[nodiscard]] double silhouetteArea(const std::vector<const Mesh*>& meshes, const Eigen::Vector3d& direction,
                                     int pixels = 2048);
-
-struct BladeAreaEstimate {
-  double areaMm2 = 0.0;
-  double projectedAreaMm2 = 0.0;
-  int segmentsPerRow = 0;  // resolution at which the area settled
-  int segmentsAcross = 0;
-  double relativeChange = 0.0;  // |A - A_previous| / A at that resolution
-  bool converged = false;
-};
-
-// Doubles the blade resolution from 2 per row x 12 across until the triangle-area sum
-// changes by less than `tolerance` (default 0.1 %), at most `maxDoublings` times.
-[[nodiscard]] BladeAreaEstimate convergedBladeArea(const BladeSurface& blade, const Eigen::Vector3d& lightDirection,
-                                                   double tolerance = 1e-3, int maxDoublings = 7);
-
-// The blade's triangle-area sum at a fixed resolution: `perRow` segments per marker-row
-// span, `across` over the width (what convergedBladeArea measures at each step).
-[[nodiscard]] double bladeGridArea(const BladeSurface& blade, int perRow, int across);
 
 // Seed 001's markers-only estimate: each grid cell split along both diagonals, triangle
 // areas by Kahan's stable Heron formula, the two splits averaged. A comparison figure
