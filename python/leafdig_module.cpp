@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/field/field_check.hpp"
+#include "leafdig/acquisition/field/tip_calibration.hpp"
 #include "leafdig/acquisition/review/correction.hpp"
 #include "leafdig/acquisition/review/leaf_export.hpp"
 #include "leafdig/acquisition/review/plant_export.hpp"
@@ -519,6 +520,18 @@ PYBIND11_MODULE(_leafdig, mod) {
              std::string out = "[";
              for (const acq::FieldCalibration& c : acq::fieldCalibrations(*local))
                out += (out.size() > 1 ? "," : "") + acq::fieldCheckSummaryJson(c);
+             return out + "]";
+           })
+      .def("tip_calibrations_json",
+           [](const Store& s) {
+             py::gil_scoped_release free;
+             const auto* local = dynamic_cast<const db::Store*>(s.store.get());
+             if (!local)
+               throw m::InputError(
+                   "tip calibrations are kept in the station's file, not on the lab server: open the station's file");
+             std::string out = "[";
+             for (const acq::TipCalibration& c : acq::tipCalibrations(*local))
+               out += (out.size() > 1 ? "," : "") + acq::tipCalibrationSummaryJson(c);
              return out + "]";
            })
       .def(

@@ -6,7 +6,7 @@
 
 namespace leafdig::db::detail {
 
-inline constexpr std::array<const char*, 4> kMigrations = {
+inline constexpr std::array<const char*, 5> kMigrations = {
     // ---- 1: the entities of docs/schema.md ----------------------------------------------------
     R"SQL(
 CREATE TABLE operators (
@@ -162,6 +162,26 @@ CREATE TRIGGER field_checks_no_update BEFORE UPDATE ON field_checks
   BEGIN SELECT RAISE(ABORT, 'field checks are append-only: run a new check'); END;
 CREATE TRIGGER field_checks_no_delete BEFORE DELETE ON field_checks
   BEGIN SELECT RAISE(ABORT, 'field checks are append-only: run a new check'); END;
+)SQL",
+    // ---- 5: the stylus' tip (issue 50) ---------------------------------------------------------
+    // Each tip (pivot) calibration of a digitizer's stylus, append-only and chained as the field
+    // checks are: its record holds every sample of the pivot, the fit and its residuals.
+    R"SQL(
+CREATE TABLE tip_calibrations (
+  id           INTEGER PRIMARY KEY,
+  station      TEXT NOT NULL,
+  operator_id  INTEGER NOT NULL REFERENCES operators(id),
+  device_id    INTEGER NOT NULL REFERENCES devices(id),
+  created_utc  TEXT NOT NULL,
+  verdict      TEXT NOT NULL CHECK (verdict IN ('pass', 'fail')),
+  record_json  TEXT NOT NULL,
+  prev_hash    TEXT NOT NULL,
+  hash         TEXT NOT NULL
+);
+CREATE TRIGGER tip_calibrations_no_update BEFORE UPDATE ON tip_calibrations
+  BEGIN SELECT RAISE(ABORT, 'tip calibrations are append-only: calibrate again'); END;
+CREATE TRIGGER tip_calibrations_no_delete BEFORE DELETE ON tip_calibrations
+  BEGIN SELECT RAISE(ABORT, 'tip calibrations are append-only: calibrate again'); END;
 )SQL",
 };
 

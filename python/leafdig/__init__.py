@@ -261,6 +261,14 @@ class Store:
         only: the lab server holds no field checks."""
         return _json.loads(self._core.field_checks_json())
 
+    def tip_calibrations(self):
+        """The station file's tip (pivot) calibrations of the stylus, oldest first (``leafdig
+        field tips --json``): dicts with calibration_id, created_utc, station, operator, device,
+        samples, rejected, tip_mm, pivot_mm, rms_mm, max_mm, tilt_spread_deg, tolerance_mm and
+        verdict. Each is trusted only when its samples give its numbers (else InputError); the
+        chain is verified first (else StoreError). A station's file only."""
+        return _json.loads(self._core.tip_calibrations_json())
+
     def approve(self, id, who, why=""):
         """Approves a complete session, saying why if you will (a curator's decision)."""
         return self._core.review(int(id), "approved", who, why)

@@ -212,8 +212,9 @@ TEST_F(FieldCli, ALeafAndAPlantCapturedThroughTheCheckedFieldAreCorrectedAgainst
   ASSERT_EQ(leafdig("sessions export 1 --format csv --out " + quote(dir_) + db()).exitCode, 0);
   EXPECT_NE(slurp(dir_ / "session-1.markers.csv").find("# field_calibration: field check 1 of "), std::string::npos);
   // A resumed session keeps its check: the flag is refused.
-  r = leafdig("capture --resume 1 --field-calibration none" + db());
-  EXPECT_NE(r.exitCode, 0);
+  r = leafdig("sessions resume 1 --field-calibration latest" + db());
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("goes on through the field check it began with"), std::string::npos) << r.err;
   // The plant: the jig laid where the plant stands (check 2), then its every point through the
   // field, corrected and not, against the simulated plant.
   ASSERT_EQ(leafdig("field check --simulate --speed 10 --json --jig-pose 480,-100,-330,90 --distortion " + bench() +
@@ -236,6 +237,72 @@ TEST_F(FieldCli, ALeafAndAPlantCapturedThroughTheCheckedFieldAreCorrectedAgainst
   std::cerr << "plant shape RMS (mm): corrected " << plantRms[0] << ", uncorrected " << plantRms[1] << "\n";
   EXPECT_LT(plantRms[0], plantRms[1]) << plantRms[0] << " vs " << plantRms[1];
   EXPECT_NE(leafdig("sessions show 4" + db()).out.find("field: field check 2 of "), std::string::npos);
+}
+
+// A stylus whose sensor sits up its shaft, away from the tip (issue 50's tip calibration): the
+// technician pivots it in a divot, leafdig fits the tip and keeps it, and every capture after goes
+// through it — a leaf captured without it is bent by the hand's tilt, with it it is the leaf.
+TEST_F(FieldCli, ATipCalibrationFindsTheStylusTipAndEveryCaptureGoesThroughIt) {
+  // A stylus 20 mm longer than its digitizer takes it for (a replacement tip), a little bent.
+  const std::string sim = " --simulate --sim-tip 2,-1,20 --speed 8";
+  Result r = leafdig("field tip" + sim + " --json --operator ana" + db() + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err << r.out;
+  const json tip = lastLine(r.out);
+  EXPECT_EQ(tip["verdict"], "pass");
+  EXPECT_EQ(tip["calibration_id"], 1);
+  EXPECT_EQ(tip["device"], "fastrak:simulated");
+  EXPECT_NEAR(tip["tip_mm"][0].get<double>(), 2.0, 0.5) << tip.dump();
+  EXPECT_NEAR(tip["tip_mm"][1].get<double>(), -1.0, 0.5) << tip.dump();
+  EXPECT_NEAR(tip["tip_mm"][2].get<double>(), 20.0, 0.5) << tip.dump();
+  EXPECT_LT(tip["rms_mm"].get<double>(), 1.0);
+  EXPECT_GE(tip["samples"].get<int>(), 20);
+  EXPECT_GT(tip["tilt_spread_deg"].get<double>(), 30.0);
+  EXPECT_NE(r.out.find("\"event\":\"prompt\""), std::string::npos);
+  const json listed = json::parse(leafdig("field tips --json" + db()).out);
+  ASSERT_EQ(listed.size(), 1U);
+  EXPECT_EQ(listed[0]["tip_mm"], tip["tip_mm"]);
+  EXPECT_NE(leafdig("field tips" + db()).out.find("fastrak:simulated  tip ("), std::string::npos);
+
+  // The same leaf through the tip (the newest passing calibration: the default) and without it.
+  const std::string run = sim + " --seed 4 --no-mistakes --json" + db();
+  ASSERT_EQ(leafdig("capture" + run + " </dev/null").exitCode, 0);
+  ASSERT_EQ(leafdig("capture" + run + " --tip-calibration none </dev/null").exitCode, 0);
+  std::vector<Eigen::Vector3d> truth;
+  triples(json::parse(slurp(sample("lower-leaf-n10.markers.json")))["rows"], truth);
+  std::vector<double> rms;
+  for (int id = 1; id <= 2; ++id) {
+    ASSERT_EQ(leafdig("sessions export " + std::to_string(id) + " --format markers --frame digitizer --out " +
+                      quote(dir_) + db())
+                  .exitCode,
+              0);
+    std::vector<Eigen::Vector3d> got;
+    triples(json::parse(slurp(dir_ / ("session-" + std::to_string(id) + ".markers.json")))["rows"], got);
+    rms.push_back(shapeRms(got, truth));
+  }
+  std::cerr << "leaf shape RMS (mm): through the tip " << rms[0] << ", without " << rms[1] << "\n";
+  EXPECT_LT(rms[0], 1.0) << rms[0];
+  EXPECT_GT(rms[1], 3.0 * rms[0]) << rms[1] << " vs " << rms[0];
+  // Which calibration applied, in sessions show (text and JSON) and the exports' provenance.
+  const json shown = json::parse(leafdig("sessions show 1 --json" + db()).out);
+  EXPECT_EQ(shown["tip_calibration"]["id"], 1);
+  EXPECT_EQ(shown["tip_calibration"]["device"], "fastrak:simulated");
+  EXPECT_FALSE(json::parse(leafdig("sessions show 2 --json" + db()).out).contains("tip_calibration"));
+  EXPECT_NE(leafdig("sessions show 1" + db()).out.find("stylus tip: tip calibration 1 of "), std::string::npos);
+  ASSERT_EQ(leafdig("sessions export 1 --format csv --out " + quote(dir_) + db()).exitCode, 0);
+  EXPECT_NE(slurp(dir_ / "session-1.markers.csv").find("# tip_calibration: tip calibration 1 of "), std::string::npos);
+  // A resumed session keeps its own; a calibration that is not there is refused in words.
+  r = leafdig("sessions resume 1 --tip-calibration none" + db());
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("goes on with the tip calibration it began with"), std::string::npos) << r.err;
+  r = leafdig("capture" + run + " --tip-calibration 7 </dev/null");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("there is no tip calibration 7"), std::string::npos) << r.err;
+  r = leafdig("capture --simulate --sim-tip 0,0,900" + db() + " </dev/null");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--sim-tip is x,y,z in mm, each within 500"), std::string::npos) << r.err;
+  // A plant captured with the same stylus goes through it too.
+  ASSERT_EQ(leafdig("plant capture" + sim + " --seed 3 --json" + db() + " </dev/null").exitCode, 0);
+  EXPECT_EQ(json::parse(leafdig("sessions show 3 --json" + db()).out)["tip_calibration"]["id"], 1);
 }
 
 namespace {

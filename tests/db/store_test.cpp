@@ -266,6 +266,40 @@ TEST_F(StoreTest, FieldChecksAreChainedAndAnEditedOneIsNamed) {
   }
 }
 
+TEST_F(StoreTest, TipCalibrationsHaveAChainOfTheirOwnAndAnEditedOneIsNamed) {
+  {
+    Store s(path_);
+    EXPECT_TRUE(s.tipCalibrations().empty());
+    EXPECT_EQ(s.addFieldCheck({"bench-1", "ana", "fastrak", "/dev/ttyUSB0", "pass", R"({"rms_mm": 0.4})"}), 1);
+    EXPECT_EQ(s.addTipCalibration({"bench-1", "ana", "fastrak", "/dev/ttyUSB0", "pass", R"({"rms_mm": 0.4})"}), 1);
+    EXPECT_EQ(s.addTipCalibration({"bench-1", "ben", "fastrak", "/dev/ttyUSB0", "fail", R"({"rms_mm": 2.5})"}), 2);
+    // A tip is passed or failed: no correction makes it good.
+    EXPECT_THROW(s.addTipCalibration({"bench-1", "ana", "fastrak", "/dev/ttyUSB0", "correctable", "{}"}), StoreError);
+    const auto tips = s.tipCalibrations();
+    ASSERT_EQ(tips.size(), 2U);
+    EXPECT_EQ(tips[1].prevHash, tips[0].hash);
+    // Its own chain: the same fields hash otherwise than a field check's.
+    EXPECT_NE(tips[0].hash, s.fieldChecks()[0].hash);
+    EXPECT_EQ(leafdig::db::tipCalibrationHash(tips[0]), tips[0].hash);
+  }
+  sql(path_, "UPDATE tip_calibrations SET verdict='pass' WHERE id=2", false);  // the trigger refuses
+  sql(path_, "DELETE FROM tip_calibrations WHERE id=1", false);
+  sql(path_,
+      "DROP TRIGGER tip_calibrations_no_update; UPDATE tip_calibrations SET verdict='pass' WHERE id=2; "
+      "CREATE TRIGGER tip_calibrations_no_update BEFORE UPDATE ON tip_calibrations\n"
+      "  BEGIN SELECT RAISE(ABORT, 'tip calibrations are append-only: calibrate again'); END");
+  Store s(path_);
+  EXPECT_EQ(s.fieldChecks().size(), 1U);  // the field checks' chain is not the tips'
+  try {
+    (void)s.tipCalibrations();
+    ADD_FAILURE() << "an edited tip calibration was read";
+  } catch (const StoreError& e) {
+    EXPECT_EQ(e.kind(), StoreErrorKind::Tampered);
+    EXPECT_NE(std::string(e.what()).find("tip calibration 2 is not what its contents hash to"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(StoreTest, TruncationIsFound) {
   std::int64_t id = 0;
   {

@@ -4,6 +4,7 @@ Run by ctest (test `Python.pytest`) with PYTHONPATH at the build's python/ folde
 LEAFDIG_CLI, LEAFDIG_SOURCE_DIR set; by hand:
     PYTHONPATH=build/ci/python LEAFDIG_CLI=build/ci/ui/cli/leafdig /usr/bin/python3 -m pytest tests/python
 """
+import hashlib
 import json
 import os
 import sqlite3
@@ -543,6 +544,39 @@ def test_a_station_files_field_checks_are_read_as_field_list_reads_them(station,
         leafdig.open(str(db)).field_checks()
     # A file without checks has none.
     assert leafdig.open(str(station)).field_checks() == []
+
+
+def test_a_tip_calibration_is_read_as_field_tips_reads_it_and_a_rehashed_edit_is_refused(tmp_path):
+    db = tmp_path / "tip.sqlite"
+    r = subprocess.run([CLI, "field", "tip", "--simulate", "--sim-tip", "0,0,60", "--speed", "20", "--json",
+                        "--db", str(db)], stdin=subprocess.DEVNULL, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    said = json.loads(r.stdout.strip().splitlines()[-1])
+    tips = leafdig.open(str(db)).tip_calibrations()
+    assert len(tips) == 1
+    assert tips[0]["verdict"] == said["verdict"] == "pass"
+    assert tips[0]["tip_mm"] == pytest.approx(said["tip_mm"])
+    assert tips[0]["tip_mm"][2] == pytest.approx(60.0, abs=0.5)
+    # An insider moves the tip and recomputes the chain's hash (docs/schema.md's formula): the
+    # chain verifies, but the samples do not give that tip, so the calibration is not trusted.
+    con = sqlite3.connect(str(db))
+    row = con.execute("SELECT c.id, c.station, o.name, d.kind, d.port, c.created_utc, c.verdict, c.record_json, "
+                      "c.prev_hash FROM tip_calibrations c JOIN operators o ON o.id = c.operator_id "
+                      "JOIN devices d ON d.id = c.device_id").fetchone()
+    record = json.loads(row[7])
+    record["tip_mm"] = [0.0, 0.0, 0.0]
+    text = json.dumps(record)
+    fields = [row[8], str(row[0]), row[1], row[2], row[3], row[4], row[5], row[6], text]
+    blob = "leafdig tip calibration/1\n" + "".join(f"{len(v.encode())}:{v}\n" for v in fields)
+    digest = hashlib.sha256(blob.encode()).hexdigest()
+    con.executescript("DROP TRIGGER tip_calibrations_no_update;")
+    con.execute("UPDATE tip_calibrations SET record_json = ?, hash = ?", (text, digest))
+    con.executescript("CREATE TRIGGER tip_calibrations_no_update BEFORE UPDATE ON tip_calibrations\n"
+                      "  BEGIN SELECT RAISE(ABORT, 'tip calibrations are append-only: calibrate again'); END;")
+    con.commit()
+    con.close()
+    with pytest.raises(leafdig.InputError, match="its tip is not what its samples give"):
+        leafdig.open(str(db)).tip_calibrations()
 
 
 def test_every_public_method_of_the_python_classes_says_what_it_does():

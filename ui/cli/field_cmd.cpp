@@ -16,6 +16,7 @@
 #include "commands.hpp"
 #include "leafdig/acquisition/field/field_study.hpp"
 #include "leafdig/acquisition/run/field_check_run.hpp"
+#include "leafdig/acquisition/run/tip_calibration_run.hpp"
 #include "leafdig/devices/sim/field_distortion.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
@@ -43,6 +44,9 @@ struct FieldOptions {
   bool simulate = false, json = false;
   // show
   std::int64_t id = 0;
+  // tip
+  std::string simTip, divot = "250,0,-50";
+  double tipToleranceMm = acq::kDefaultTipToleranceMm;
   // study
   std::string plantJigPose = "480,-100,-330,90";
   double noiseMm = 0.25;
@@ -93,6 +97,33 @@ void writeMap(const acq::FieldCalibration& c, const std::string& path) {
       path, model::fieldErrorMapSvg({&c.jig, &c.result.fit, c.result.toleranceMm, c.result.verdict, title}));
 }
 
+// Runs `run` with Ctrl-C stopping it through `stop` (the capture's signal handling), and gives
+// back what it returned.
+template <class Run>
+auto runStoppable(const std::function<void()>& stop, Run run) -> decltype(run()) {
+  std::atomic<bool> done{false};
+  setCaptureRunning(true);
+  std::thread watcher([&] {
+    while (!done) {
+      if (interrupted()) stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+  const auto finish = [&] {
+    done = true;
+    watcher.join();
+    setCaptureRunning(false);
+  };
+  try {
+    auto result = run();
+    finish();
+    return result;
+  } catch (...) {
+    finish();
+    throw;
+  }
+}
+
 // Exit 0 when the field passes or a correction brings it within tolerance, 3 when it fails.
 int verdictCode(const acq::FieldCalibration& c) {
   return c.result.verdict == "fail" ? 3 : 0;
@@ -120,13 +151,14 @@ int runFieldCheck(const FieldOptions& o) {
     throw model::InputError(
         "a field check reads a digitizer: give --digitizer KIND:PORT (fastrak:/dev/ttyUSB0), "
         "or --simulate");
-  if (!o.simulate && (!o.distortion.empty()))
-    throw model::InputError("--distortion bends a simulated field: it goes with --simulate");
+  if (!o.simulate && (!o.distortion.empty() || !o.simTip.empty()))
+    throw model::InputError("--distortion and --sim-tip describe a simulated digitizer: they go with --simulate");
   if (o.simulate) {
     request.simulation.speed = o.speed;
     request.simulation.seed = o.seed;
     request.simulation.mistakes = false;
     request.simulation.distortion = distortionOf(o.distortion);
+    request.simulation.stylusTipMm = simTipOf(o.simTip);
     request.jigPose = poseOption(o.jigPose, "--jig-pose");
   }
   const std::size_t jigSize = request.jig.points.size();
@@ -161,7 +193,6 @@ int runFieldCheck(const FieldOptions& o) {
   if (!o.json)
     std::cout << "leafdig field check · " << terminalText(run.store().path())
               << "\n  keys (then Enter): u undo · q quit\n";
-  std::atomic<bool> done{false};
   StdinCommands input([&](const std::string& line) {
     if (line == "u" || line == "undo")
       run.undo();
@@ -170,27 +201,8 @@ int runFieldCheck(const FieldOptions& o) {
     else
       std::cerr << "leafdig: '" << terminalText(line) << "'? type u (undo the last divot) or q (quit)\n";
   });
-  setCaptureRunning(true);
-  std::thread watcher([&] {
-    while (!done) {
-      if (interrupted()) run.stop();
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-  });
-  std::optional<acq::FieldCalibration> result;
-  try {
-    result = run.run();
-  } catch (...) {
-    done = true;
-    watcher.join();
-    input.stop();
-    setCaptureRunning(false);
-    throw;
-  }
-  done = true;
-  watcher.join();
+  const std::optional<acq::FieldCalibration> result = runStoppable([&] { run.stop(); }, [&] { return run.run(); });
   input.stop();
-  setCaptureRunning(false);
   if (!result) {
     std::cerr << "leafdig: the field check was stopped before every divot was taken: nothing was stored\n";
     return interrupted() ? 130 : 1;
@@ -231,6 +243,99 @@ int runFieldShow(const FieldOptions& o) {
   }
   throw model::InputError("no field check " + std::to_string(o.id) + " in " + store.path() +
                           ": 'leafdig field list' shows them");
+}
+
+void printTip(const acq::TipCalibration& c, bool asJson) {
+  if (asJson)
+    std::cout << acq::tipCalibrationSummaryJson(c) << "\n";
+  else
+    std::cout << terminalText(acq::tipCalibrationSummaryText(c), true);
+}
+
+// `field tip`: the stylus pivoting in a divot, its tip fitted and stored (tip_calibration_run.hpp).
+int runFieldTip(const FieldOptions& o) {
+  if (o.operatorName.empty())
+    throw model::InputError("--operator: a tip calibration is signed by who makes it; give a name");
+  if (!o.simulate && o.digitizer.empty())
+    throw model::InputError(
+        "a tip calibration reads a digitizer: give --digitizer KIND:PORT (fastrak:/dev/ttyUSB0), or --simulate");
+  if (!o.simulate && (!o.distortion.empty() || !o.simTip.empty()))
+    throw model::InputError("--distortion and --sim-tip describe a simulated digitizer: they go with --simulate");
+  acq::TipCalibrationRequest request;
+  request.db = stationDbPath(o.db);
+  request.station = o.station;
+  request.who = o.operatorName;
+  request.toleranceMm = o.tipToleranceMm;
+  request.digitizer = o.digitizer;
+  request.simulated = o.simulate;
+  if (o.simulate) {
+    request.simulation.speed = o.speed;
+    request.simulation.seed = o.seed;
+    request.simulation.mistakes = false;
+    request.simulation.distortion = distortionOf(o.distortion);
+    request.simulation.stylusTipMm = simTipOf(o.simTip);
+    request.divotMm = vec3Option(o.divot, "--divot", 2000, "250,0,-50");
+  }
+  acq::TipCalibrationListener listener;
+  const bool tty = ::isatty(1) != 0;
+  listener.onPrompt = [&](const std::string& prompt) {
+    if (o.json)
+      std::cout << json{{"event", "prompt"}, {"text", prompt}}.dump() << "\n" << std::flush;
+    else
+      std::cout << "  " << (tty ? "\033[1;7m ▶ " : "▶ ") << terminalText(prompt) << (tty ? " \033[0m" : "") << "\n"
+                << std::flush;
+  };
+  listener.onRefused = [&](const std::string& words) {
+    if (o.json)
+      std::cout << json{{"event", "rejected"}, {"text", words}}.dump() << "\n" << std::flush;
+    else
+      std::cout << "    rejected: " << terminalText(words) << "\n" << std::flush;
+  };
+  listener.onStatus = [&](const dev::DeviceStatus& s) {
+    // A lost or troubled digitizer is news; its start and its stop after the fit are not.
+    if (s.state != dev::LinkState::Warning && s.state != dev::LinkState::Error) return;
+    std::cerr << "leafdig: " << s.device << ": " << terminalText(s.message)
+              << (s.remedy.empty() ? "" : " — " + terminalText(s.remedy)) << "\n";
+  };
+  acq::TipCalibrationRun run(std::move(request), listener);
+  if (!o.json)
+    std::cout << "leafdig field tip · " << terminalText(stationDbPath(o.db)) << "\n  keys (then Enter): q quit\n";
+  StdinCommands input([&](const std::string& line) {
+    if (line == "q" || line == "quit")
+      run.stop();
+    else
+      std::cerr << "leafdig: '" << terminalText(line) << "'? type q (quit)\n";
+  });
+  const std::optional<acq::TipCalibration> result = runStoppable([&] { run.stop(); }, [&] { return run.run(); });
+  input.stop();
+  if (!result) {
+    std::cerr << "leafdig: the tip calibration was stopped before a pivot gave a tip: nothing was stored\n";
+    return interrupted() ? 130 : 1;
+  }
+  printTip(*result, o.json);
+  return result->result.verdict == "pass" ? 0 : 3;
+}
+
+int runFieldTips(const FieldOptions& o) {
+  const db::Store store(stationDbPath(o.db), true);
+  const auto tips = acq::tipCalibrations(store);
+  if (o.json) {
+    json list = json::array();
+    for (const auto& c : tips) list.push_back(json::parse(acq::tipCalibrationSummaryJson(c)));
+    std::cout << list.dump() << "\n";
+    return 0;
+  }
+  if (tips.empty())
+    std::cout << "no tip calibration in " << terminalText(store.path()) << ": run 'leafdig field tip'\n";
+  for (const auto& c : tips) {
+    const auto& f = c.result.fit;
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(2) << c.id << "  " << c.createdUtc << "  " << c.device << "  tip ("
+         << std::setprecision(1) << f.tipMm.x() << ", " << f.tipMm.y() << ", " << f.tipMm.z() << ") mm  RMS "
+         << std::setprecision(2) << f.rmsMm << " mm  " << c.result.verdict << "  by " << c.operatorName;
+    std::cout << terminalText(line.str()) << "\n";
+  }
+  return 0;
 }
 
 // `field study`: the sample leaves and plant through a bent field, clean, uncorrected and
@@ -309,6 +414,7 @@ void addFieldCommands(CLI::App& app, CommandTable& table) {
   check->add_option("--digitizer", o->digitizer, "KIND:PORT, e.g. fastrak:/dev/ttyUSB0 (patriot, liberty)");
   check->add_flag("--simulate", o->simulate, "The simulated FASTRAK and a virtual technician touching the jig");
   check->add_option("--distortion", o->distortion, kDistortionHelp);
+  check->add_option("--sim-tip", o->simTip, kSimTipHelp);
   check->add_option("--jig-pose", o->jigPose,
                     "Simulation: where the jig lies, x,y,z,yaw_deg in the transmitter's frame (default 200,-620,0,90: "
                     "under a leaf as the simulations lay it)");
@@ -343,7 +449,30 @@ void addFieldCommands(CLI::App& app, CommandTable& table) {
       ->check(CLI::Range(4, 1000));
   study->add_option("-o,--out", o->out, "Write the report (Markdown) here instead of to the terminal");
 
+  CLI::App* tip = field->add_subcommand(
+      "tip", "Tip (pivot) calibration of the stylus: pivot it in one divot; its tip is fitted and kept for captures");
+  tip->add_option("--tolerance-mm", o->tipToleranceMm, "The RMS residual a tip may leave, mm (default 1)")
+      ->check(CLI::Range(0.01, 20.0));
+  tip->add_option("--db", o->db, "SQLite file (default: the station's, under $XDG_DATA_HOME/leafdig)");
+  tip->add_option("--operator", o->operatorName, "Who calibrates");
+  tip->add_option("--station", o->station, "This station's id (default: the settings file's, else the host name)");
+  tip->add_option("--digitizer", o->digitizer, "KIND:PORT, e.g. fastrak:/dev/ttyUSB0 (patriot, liberty)");
+  tip->add_flag("--simulate", o->simulate, "The simulated FASTRAK and a virtual technician pivoting its stylus");
+  tip->add_option("--sim-tip", o->simTip, kSimTipHelp);
+  tip->add_option("--divot", o->divot,
+                  "Simulation: where the divot is, x,y,z mm from the transmitter (default 250,0,-50)");
+  tip->add_option("--distortion", o->distortion, kDistortionHelp);
+  tip->add_option("--speed", o->speed, "Simulation: time scale (default 4)")->check(CLI::Range(0.1, 50.0));
+  tip->add_option("--seed", o->seed, "Simulation: seed of the stylus noise")->check(seedText());
+  tip->add_flag("--json", o->json, "JSON lines while pivoting; the result as one JSON object");
+  CLI::App* tips = field->add_subcommand("tips", "The station file's tip calibrations, oldest first");
+  tips->add_option("--db", o->db, "SQLite file (default: the station's)");
+  tips->add_flag("--json", o->json, "Machine-readable output");
+
   table.add(fieldModel, [o] { return runFieldModel(*o); });
+  table.add(
+      tip, [o] { return runFieldTip(*o); }, "cannot calibrate the tip: ");
+  table.add(tips, [o] { return runFieldTips(*o); });
   table.add(
       study, [o] { return runFieldStudy(*o); }, "cannot make the field study: ");
   table.add(

@@ -186,6 +186,7 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
              {"operator", info.operatorName},
              {"date", setup.date ? json(model::toIso(*setup.date)) : json(nullptr)}};
     if (setup.field) out["field_calibration"] = acq::fieldAppliedJson(*setup.field);
+    if (setup.tip) out["tip_calibration"] = acq::tipAppliedJson(*setup.tip);
     std::cout << out.dump() << "\n";
     return 0;
   }
@@ -195,6 +196,7 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
             << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
             << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
   if (setup.field) std::cout << "  field: " << terminalText(setup.field->words()) << "\n";
+  if (setup.tip) std::cout << "  stylus tip: " << terminalText(setup.tip->words()) << "\n";
   printTransmitterPositions(transmitter, "landmark", "worst_landmark");
   if (survey)
     printSurvey(*survey, "  survey");
@@ -266,6 +268,7 @@ int runShow(const db::EventStore& store, const SessionsOptions& o) {
     if (!boardAgain.empty()) j["board_again"] = boardAgain;
     if (positions > 1) j["transmitter_positions"] = transmitter;
     if (const auto field = acq::sessionField(r.info)) j["field_calibration"] = acq::fieldAppliedJson(*field);
+    if (const auto tip = acq::sessionTip(r.info)) j["tip_calibration"] = acq::tipAppliedJson(*tip);
     j["history"] = historyJson(history);
     std::cout << j.dump() << "\n";
     return 0;
@@ -278,6 +281,7 @@ int runShow(const db::EventStore& store, const SessionsOptions& o) {
             << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem))
             << "\n";
   if (const auto field = acq::sessionField(r.info)) std::cout << "  field: " << terminalText(field->words()) << "\n";
+  if (const auto tip = acq::sessionTip(r.info)) std::cout << "  stylus tip: " << terminalText(tip->words()) << "\n";
   printTransmitterPositions(transmitter, "board point", "worst_point");
   printHistory(history);
   return 0;

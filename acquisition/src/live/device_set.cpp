@@ -1,5 +1,7 @@
 #include "leafdig/acquisition/live/device_set.hpp"
 
+#include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "leafdig/devices/links/driver.hpp"
@@ -31,19 +33,52 @@ dev::DigitizerConfig parseDigitizerSpec(const std::string& spec) {
     throw std::invalid_argument("--digitizer " + kind + " needs a port: " + kind +
                                 ":/dev/ttyUSB0 ('leafdig devices list')");
   c.port = port;
-  // ",reference=N": receiver N is a reference receiver fixed to the pot or the board.
-  if (const std::size_t comma = port.rfind(",reference="); comma != std::string::npos) {
-    c.port = port.substr(0, comma);
-    const std::string n = port.substr(comma + 11);
-    if (n.size() != 1 || n[0] < '2' || n[0] > '9' || c.port.empty())
-      throw std::invalid_argument("--digitizer " + spec + ": the reference receiver is a number from 2 (" + kind +
-                                  ":/dev/ttyUSB0,reference=2); the stylus is receiver 1");
-    if (c.kind == dev::DigitizerKind::MicroScribe)
-      throw std::invalid_argument("--digitizer " + spec +
-                                  ": a MicroScribe arm has no receivers; a reference "
-                                  "receiver needs a FASTRAK, Patriot or Liberty");
-    c.referenceStation = n[0] - '0';
+  // Options after the port, each ",key=value": ",reference=N" (receiver N is a reference receiver
+  // fixed to the pot or the board) and ",tip=x:y:z" (the stylus' tip in its sensor's frame, mm:
+  // a tip calibration, tip_calibration.hpp's withTip).
+  for (std::size_t comma = c.port.rfind(','); comma != std::string::npos; comma = c.port.rfind(',')) {
+    const std::string option = c.port.substr(comma + 1);
+    c.port = c.port.substr(0, comma);
+    if (option.rfind("reference=", 0) == 0) {
+      const std::string n = option.substr(10);
+      if (n.size() != 1 || n[0] < '2' || n[0] > '9' || c.port.empty())
+        throw std::invalid_argument(std::string("--digitizer ")
+                                        .append(spec)
+                                        .append(": the reference receiver is a number from 2 (")
+                                        .append(kind)
+                                        .append(":/dev/ttyUSB0,reference=2); the stylus is receiver 1"));
+      if (c.kind == dev::DigitizerKind::MicroScribe)
+        throw std::invalid_argument("--digitizer " + spec +
+                                    ": a MicroScribe arm has no receivers; a reference "
+                                    "receiver needs a FASTRAK, Patriot or Liberty");
+      c.referenceStation = n[0] - '0';
+    } else if (option.rfind("tip=", 0) == 0) {
+      if (c.tipOffsetMm)
+        throw std::invalid_argument("--digitizer " + spec +
+                                    ": the tip is given twice (a tip calibration applies one: leave tip= out, or "
+                                    "--tip-calibration none)");
+      std::istringstream in(option.substr(4));
+      Vec3 tip{};
+      char colon1 = 0, colon2 = 0;
+      std::string rest;
+      if (!(in >> tip[0] >> colon1 >> tip[1] >> colon2 >> tip[2]) || colon1 != ':' || colon2 != ':' || (in >> rest) ||
+          !(std::abs(tip[0]) <= 500 && std::abs(tip[1]) <= 500 && std::abs(tip[2]) <= 500))
+        throw std::invalid_argument("--digitizer " + spec +
+                                    ": the tip is x:y:z in mm, each within 500, in the stylus sensor's frame "
+                                    "(leafdig field tip finds it)");
+      if (c.kind == dev::DigitizerKind::MicroScribe)
+        throw std::invalid_argument("--digitizer " + spec +
+                                    ": a MicroScribe's tip is its arm's (its tip length); a tip calibration is a "
+                                    "FASTRAK's, Patriot's or Liberty's");
+      c.tipOffsetMm = tip;
+    } else {
+      throw std::invalid_argument("--digitizer " + spec + ": '" + option.substr(0, 40) +
+                                  "' is no option of a digitizer (reference=N, tip=x:y:z)");
+    }
   }
+  if (c.port.empty())
+    throw std::invalid_argument("--digitizer " + kind + " needs a port: " + kind +
+                                ":/dev/ttyUSB0 ('leafdig devices list')");
   return c;
 }
 
@@ -68,8 +103,8 @@ DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& calipe
                      double digitizerRateHz)
     : DeviceSet(digitizerSpec, caliperSpec, loop.sinks(), digitizerRateHz) {}
 
-DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, dev::Driver::Callbacks sinks,
-                     double digitizerRateHz)
+DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec,
+                     const dev::Driver::Callbacks& sinks, double digitizerRateHz)
     : onStatus_(sinks.onStatus), digitizerSpec_(digitizerSpec), caliperSpec_(caliperSpec) {
   dev::DigitizerConfig digitizer = parseDigitizerSpec(digitizerSpec);
   digitizer.recordRateHz = digitizerRateHz;

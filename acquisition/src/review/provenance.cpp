@@ -41,6 +41,9 @@ model::Provenance sessionProvenance(const db::EventStore& store, const db::Sessi
   // The field check its stylus samples went through (issue 50), when there was one.
   if (const std::optional<FieldApplied> field = sessionField(info))
     p.emplace_back("field_calibration", printable(field->words()));
+  // The stylus' tip calibration, when one applied.
+  if (const std::optional<TipApplied> tip = sessionTip(info))
+    p.emplace_back("tip_calibration", printable(tip->words()));
   return p;
 }
 

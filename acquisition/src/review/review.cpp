@@ -177,6 +177,14 @@ std::optional<FieldApplied> sessionField(const db::SessionInfo& info) {
   }
 }
 
+std::optional<TipApplied> sessionTip(const db::SessionInfo& info) {
+  try {
+    return tipAppliedFromSettings(info.settingsJson, "session " + std::to_string(info.id));
+  } catch (const model::InputError& e) {
+    throw SessionError(e.what());
+  }
+}
+
 void widenForCapture(const ReviewedSession& r, const model::LeafModel& leaf, model::LeafMetrics& metrics) {
   const Engine& engine = r.engine;
   const std::optional<FieldApplied> field = sessionField(r.info);

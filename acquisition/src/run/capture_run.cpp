@@ -71,7 +71,14 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
         "a resumed session goes on through the field check it began with (sessions show "
         "says which): leave out --field-calibration");
   store_ = std::make_unique<db::Store>(request.db.empty() ? db::Store::defaultPath() : request.db);
-  if (request.resume == 0) setup.field = resolveFieldCalibration(*store_, request.fieldCalibration);
+  if (request.resume > 0 && !request.tipCalibration.empty())
+    throw std::invalid_argument(
+        "a resumed session goes on with the tip calibration it began with (sessions show says which): leave out "
+        "--tip-calibration");
+  if (request.resume == 0) {
+    setup.field = resolveFieldCalibration(*store_, request.fieldCalibration);
+    setup.tip = resolveTipCalibration(*store_, request.tipCalibration, tipDevice(setup.digitizer, setup.simulated));
+  }
   id_ = request.resume > 0 ? request.resume : CaptureSession::create(*store_, setup);
   session_ = std::make_unique<CaptureSession>(*store_, id_);
   setup_ = session_->setup();
@@ -100,7 +107,9 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     digitizer = rig_->digitizerSpec();
     caliper = rig_->caliperSpec();
   }
-  devices_ = std::make_unique<DeviceSet>(digitizer, caliper, *loop_, rig_ ? rig_->digitizerRateHz() : 0.0);
+  // The stylus' tip, when a calibration applies: the digitizer's link turns every sample to it.
+  devices_ = std::make_unique<DeviceSet>(withTip(digitizer, setup_.tip), caliper, *loop_,
+                                         rig_ ? rig_->digitizerRateHz() : 0.0);
 }
 
 void CaptureRun::prepareSimulation(const RunRequest& request) {
@@ -122,6 +131,7 @@ void CaptureRun::prepareSimulation(const RunRequest& request) {
   }
   SimulationOptions so = request.simulation;
   so.speed = timeScale_;
+  if (setup_.tip) so.tipAppliedMm = setup_.tip->tipMm;
   // The session's own: with a reference receiver (fixed to the leaf's board) or without; the
   // board turns about the leaf's middle.
   so.referenceReceiver = parseDigitizerSpec(setup_.digitizer).referenceStation > 0;

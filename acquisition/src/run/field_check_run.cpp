@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "leafdig/acquisition/field/tip_calibration.hpp"
 #include "leafdig/acquisition/live/device_set.hpp"
 #include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/devices/links/links.hpp"
@@ -113,7 +114,10 @@ std::optional<FieldCalibration> FieldCheckRun::run() {
     rateHz = rig_->digitizerRateHz();
     technician_ = std::make_unique<Technician>(*rig_, request_.jig, request_.jigPose, request_.simulation.speed);
   }
-  dev::DigitizerConfig config = parseDigitizerSpec(spec);
+  // The divots are touched with the stylus' tip: the digitizer's newest passing tip calibration
+  // applies, as it does in a capture.
+  dev::DigitizerConfig config =
+      parseDigitizerSpec(withTip(spec, resolveTipCalibration(*store_, "latest", tipDevice(spec, request_.simulated))));
   config.recordRateHz = rateHz;
   digitizer_ =
       std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(config)), inputs_.sinks(listener_.onStatus));

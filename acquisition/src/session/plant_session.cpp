@@ -119,6 +119,7 @@ std::string PlantCaptureSession::setupToJson(const PlantSessionSetup& s) {
   if (s.date) j["date"] = m::toIso(*s.date);
   if (s.simulatedPlant) j["simulated_plant"] = json::parse(m::plantMarkersToJson(*s.simulatedPlant));
   if (s.field) j["field_calibration"] = fieldAppliedJson(*s.field);
+  if (s.tip) j["tip_calibration"] = tipAppliedJson(*s.tip);
   return j.dump();
 }
 
@@ -140,6 +141,7 @@ PlantSessionSetup PlantCaptureSession::setupFromJson(const std::string& text) {
     if (j.contains("simulated_plant"))
       s.simulatedPlant = m::parsePlantMarkersJson(j.at("simulated_plant").dump(), "the session's simulated plant");
     s.field = fieldAppliedFromSettings(text, "the plant session");
+    s.tip = tipAppliedFromSettings(text, "the plant session");
   } catch (const json::exception& e) {
     throw SessionError(std::string("the plant session's settings do not read: ") + e.what());
   } catch (const m::InputError& e) {

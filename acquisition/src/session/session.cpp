@@ -138,6 +138,7 @@ std::int64_t CaptureSession::create(db::Store& store, const SessionSetup& setup)
   if (setup.simulatedLeaf) settings["simulated_leaf"] = json::parse(model::markersToJson(*setup.simulatedLeaf));
   if (const auto margin = leafMarginJson(setup)) settings["leaf_margin"] = *margin;
   if (setup.field) settings["field_calibration"] = fieldAppliedJson(*setup.field);
+  if (setup.tip) settings["tip_calibration"] = tipAppliedJson(*setup.tip);
   return store.createSession(leaf, parties.operatorId, parties.station, toString(setup.settings.mode),
                              toString(setup.settings.order), settings.dump());
 }
@@ -290,6 +291,7 @@ CaptureSession::CaptureSession(db::Store& store, std::int64_t id) : log_(store, 
     if (j.contains("simulated_leaf"))
       setup_.simulatedLeaf = model::parseMarkersJson(j.at("simulated_leaf").dump(), "session " + std::to_string(id));
     setup_.field = fieldAppliedFromSettings(info.settingsJson, "session " + std::to_string(id));
+    setup_.tip = tipAppliedFromSettings(info.settingsJson, "session " + std::to_string(id));
   } catch (const std::exception& e) {
     throw SessionError("session " + std::to_string(id) + " has unreadable settings: " + e.what());
   }

@@ -216,6 +216,7 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
   SimulationOptions options = asked;
   options.referenceReceiver = parseDigitizerSpec(session.setup().digitizer).referenceStation > 0;
   options.potCentreMm = {plant.collarMm.x(), plant.collarMm.y(), plant.collarMm.z()};
+  if (session.setup().tip) options.tipAppliedMm = session.setup().tip->tipMm;
   Desk desk;
   const bool countPoints = options.relocateSourceAfter > 0;  // only a move of the transmitter waits on them
   const auto publish = [&desk, countPoints](const PlantCaptureSession& s) {
@@ -242,7 +243,8 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
 
   SimulatedRig rig(options);
   // The real drivers on the rig's pseudo-terminals: the simulated capture is the real one.
-  DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop.sinks(), rig.digitizerRateHz());
+  DeviceSet devices(withTip(rig.digitizerSpec(), session.setup().tip), rig.caliperSpec(), loop.sinks(),
+                    rig.digitizerRateHz());
   devices.start();
   PlantTechnician technician(rig, desk, loop, plant, options);
   // A session that moved the transmitter goes on from where it was: the rig reports every

@@ -159,7 +159,13 @@ Vec3 SimulatedRig::toStation(const Vec3& truthMm) const {
 }
 
 Vec3 SimulatedRig::seen(const Vec3& truthMm) const {
-  const Vec3 at = toStation(truthMm);
+  Vec3 at = toStation(truthMm);
+  if (sensor_) {  // what the capture's tip leaves of the sensor's offset
+    const Vec3& t = sensor_->tipMm();
+    const Vec3 left =
+        sensor_->turned(truthMm, {tipAppliedMm_[0] - t[0], tipAppliedMm_[1] - t[1], tipAppliedMm_[2] - t[2]});
+    for (std::size_t a = 0; a < 3; ++a) at[a] += left[a];
+  }
   if (!distortion_) return at;
   const Vec3 d = distortion_->displacementAt(truthMm);  // the transmitter's first frame: the hand's
   return {at[0] + d[0], at[1] + d[1], at[2] + d[2]};
@@ -196,6 +202,12 @@ SimulatedRig::SimulatedRig(const SimulationOptions& o) : reference_(o.referenceR
   }
   transmitter_ = std::make_shared<TransmitterMotion>(stylus);
   std::shared_ptr<const sim::StylusMotion> sensor = transmitter_;
+  // The sensor where the stylus carries it, before the field bends what it reports.
+  tipAppliedMm_ = o.tipAppliedMm;
+  if (o.stylusTipMm != Vec3{0, 0, 0}) {
+    sensor_ = std::make_shared<sim::StylusSensor>(sensor, o.stylusTipMm);
+    sensor = sensor_;
+  }
   if (o.distortion) {  // both receivers sit in the transmitter's bent field
     sensor = std::make_shared<sim::DistortedMotion>(sensor, o.distortion);
     if (reference) reference = std::make_shared<sim::DistortedMotion>(reference, o.distortion);

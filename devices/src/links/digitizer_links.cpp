@@ -131,6 +131,7 @@ class SerialDigitizer : public DeviceLink {
       s.t = t;
       // A streaming device's records by their count, per receiver (issue 26).
       if (recordPeriodS_) s.deviceTime = clocks_.try_emplace(s.station, *recordPeriodS_).first->second.stamp(t);
+      if (cfg_.tipOffsetMm && s.station == 1 && !toTip(s)) continue;
       if (!reference_) {
         out.emplace_back(std::move(s));
         continue;
@@ -140,6 +141,18 @@ class SerialDigitizer : public DeviceLink {
       for (auto& p : paired_) out.emplace_back(std::move(p));
     }
     noteStatus(out, from);
+  }
+
+  // The stylus' sample at its tip (cfg_.tipOffsetMm): p + R·t. False for a record without an
+  // orientation (withheld: the links' output lists always ask for one, so only a record the
+  // decoder could not read whole lacks it).
+  bool toTip(StylusSample& s) const {
+    const auto pose = poseOf(s);
+    if (!pose) return false;
+    const Vec3& t = *cfg_.tipOffsetMm;
+    const Rotation& r = pose->rotation;
+    for (std::size_t a = 0; a < 3; ++a) s.positionMm[a] += r[3 * a] * t[0] + r[3 * a + 1] * t[1] + r[3 * a + 2] * t[2];
+    return true;
   }
 
   // With a reference receiver (cfg_.referenceStation): checks its number against the tracker's

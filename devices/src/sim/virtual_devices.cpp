@@ -1,7 +1,10 @@
 // Virtual stylus and caliper: deterministic motion, noise, tremor, dwell and presses.
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "leafdig/devices/rotation_eigen.hpp"
 #include "leafdig/devices/sim/sim.hpp"
 
 namespace leafdig::devices::sim {
@@ -28,7 +31,18 @@ void addHandNoise(StylusMotion::State& s, const StylusOptions& o, double t, std:
   for (std::size_t a = 0; a < 3; ++a)
     s.positionMm[a] = s.truthMm[a] + o.sigmaMm * gauss(o.seed, k, static_cast<int>(a)) +
                       o.tremorMm * std::sin(w * t + 1.7 * static_cast<double>(a));
-  s.orientationDeg = {10.0 + 0.5 * gauss(o.seed, k, 3), -45.0 + 0.5 * gauss(o.seed, k, 4), 0.5 * gauss(o.seed, k, 5)};
+  s.orientationDeg = {kHandOrientationDeg[0] + 0.5 * gauss(o.seed, k, 3),
+                      kHandOrientationDeg[1] + 0.5 * gauss(o.seed, k, 4),
+                      kHandOrientationDeg[2] + 0.5 * gauss(o.seed, k, 5)};
+}
+
+// The orientation `deg` (azimuth, elevation, roll) turned by `angleDeg` about the horizontal axis
+// at azimuth `axisDeg`, on the transmitter's side.
+Vec3 tilted(const Vec3& deg, double angleDeg, double axisDeg) {
+  const double rad = std::numbers::pi / 180.0;
+  const Eigen::Vector3d axis(std::cos(axisDeg * rad), std::sin(axisDeg * rad), 0.0);
+  return eulerDegFromRotation(
+      rotationOf(Eigen::AngleAxisd(angleDeg * rad, axis).toRotationMatrix() * matrixOf(rotationFromEulerDeg(deg))));
 }
 
 }  // namespace
@@ -115,6 +129,7 @@ bool OperatorHand::idle() const {
 StylusMotion::State OperatorHand::at(double t, std::uint64_t k) const {
   const double now = speed_ * t;
   State s;
+  double pivotDeg = 0, pivotU = 0;  // a pivot under way: its tilt and how far it has gone (0…1)
   {
     std::lock_guard lock(mutex_);
     seenUntil_ = std::max(seenUntil_, now);
@@ -140,11 +155,61 @@ StylusMotion::State OperatorHand::at(double t, std::uint64_t k) const {
         s.truthMm = g.targetMm;
         s.target = 0;
         s.button = g.pressS > 0 && local >= g.travelS + g.settleS;
+        if (s.button && g.pivotDeg > 0) {
+          pivotDeg = g.pivotDeg;
+          pivotU = (local - g.travelS - g.settleS) / g.pressS;
+        }
       }
     }
   }
   for (std::size_t a = 0; a < 3; ++a) s.truthMm[a] += o_.offsetMm[a];
   addHandNoise(s, o_, now, k);
+  if (pivotDeg > 0) {
+    // Twice round, the tilt swinging between 60 % and all of pivotDeg; it starts upright.
+    const double ramp = std::min(1.0, pivotU * 10.0);
+    const double tilt = ramp * pivotDeg * (0.8 + 0.2 * std::sin(6.0 * std::numbers::pi * pivotU));
+    s.orientationDeg = tilted(s.orientationDeg, tilt, 720.0 * pivotU);
+  }
+  return s;
+}
+
+// ---- a stylus whose sensor is not at its tip -------------------------------------------------
+StylusSensor::StylusSensor(std::shared_ptr<const StylusMotion> tip, Vec3 tipMm, double tiltDegPerMm)
+    : tip_(std::move(tip)), tipMm_(tipMm), tiltDegPerMm_(tiltDegPerMm) {}
+
+namespace {
+
+// The hand leans the stylus towards where it presses: `deg` turned by the tip's place.
+Vec3 leaning(const Vec3& deg, const Vec3& tipTruthMm, double degPerMm) {
+  const auto lean = [&](double mm) { return std::clamp(degPerMm * mm, -30.0, 30.0); };
+  return {deg[0] + lean(tipTruthMm[0]), deg[1] + lean(tipTruthMm[1]), deg[2]};
+}
+
+Vec3 rotate(const Vec3& deg, const Vec3& v) {
+  const Eigen::Vector3d r = matrixOf(rotationFromEulerDeg(deg)) * Eigen::Vector3d(v[0], v[1], v[2]);
+  return {r.x(), r.y(), r.z()};
+}
+
+}  // namespace
+
+Vec3 StylusSensor::turned(const Vec3& tipTruthMm, const Vec3& v) const {
+  return rotate(leaning(kHandOrientationDeg, tipTruthMm, tiltDegPerMm_), v);
+}
+
+Vec3 StylusSensor::sensorFromTip(const Vec3& tipTruthMm) const {
+  const Vec3 o = turned(tipTruthMm, tipMm_);
+  return {-o[0], -o[1], -o[2]};
+}
+
+StylusMotion::State StylusSensor::at(double t, std::uint64_t k) const {
+  State s = tip_->at(t, k);
+  if (tipMm_ == Vec3{0, 0, 0}) return s;
+  s.orientationDeg = leaning(s.orientationDeg, s.truthMm, tiltDegPerMm_);
+  const Vec3 offset = rotate(s.orientationDeg, tipMm_);
+  for (std::size_t a = 0; a < 3; ++a) {
+    s.truthMm[a] -= offset[a];
+    s.positionMm[a] -= offset[a];
+  }
   return s;
 }
 

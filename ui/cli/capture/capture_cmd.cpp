@@ -199,6 +199,8 @@ acq::RunRequest requestFrom(const CaptureOptions& o, std::optional<std::int64_t>
   if (o.stylusNoiseMm) r.simulation.stylusNoiseMm = *o.stylusNoiseMm;
   r.simulation.distortion = distortionOf(o.distortion);
   r.fieldCalibration = o.fieldCalibration == "none" ? "" : o.fieldCalibration;
+  r.tipCalibration = o.tipCalibration;
+  r.simulation.stylusTipMm = simTipOf(o.simTip);
   // The terminal draws no model: JSON lines need no preview at all, and the human terminal
   // only its "provisional thickness" note (the model, not its meshes). Building the preview's
   // meshes (two adaptive levels since issue 26, for the station's window) on the capture
@@ -272,6 +274,7 @@ RunResult runSession(const acq::RunRequest& request, const CaptureOptions& o, bo
               << run.devices().spec(acq::DeviceSet::Role::Digitizer) << " · caliper "
               << run.devices().spec(acq::DeviceSet::Role::Caliper) << "\n  "
               << terminalText(acq::fieldBanner(db::Store(run.dbPath(), true), run.setup().field, maxCheckAgeHours))
+              << (run.setup().tip ? "\n  stylus tip: " + terminalText(run.setup().tip->words()) : std::string())
               << "\n  keys (then Enter): u undo · e end rows · r WHAT ROW POINT retake · p pause · resume · "
                  "abandon [why] · q quit\n";
   run.start();
@@ -330,6 +333,8 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
   if (!o.distortion.empty() && !o.simulate)
     throw std::invalid_argument(
         "--distortion bends the simulated digitizer's field: it goes with --simulate (a real field is what it is)");
+  if (!o.simTip.empty() && !o.simulate)
+    throw std::invalid_argument("--sim-tip describes the simulated stylus: it goes with --simulate");
   if (o.relocateSourceAfter != 0 && !o.simulate)
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
@@ -502,6 +507,8 @@ void declareCaptureCommands(CLI::App& app, CommandTable& table, CaptureOptions& 
     c->add_option("--distortion", o.distortion, kDistortionHelp);
     c->add_option("--field-calibration", o.fieldCalibration, kFieldCalibrationHelp);
     c->add_option("--field-check-max-age-hours", o.fieldCheckMaxAgeHours, kFieldCheckMaxAgeHelp);
+    c->add_option("--tip-calibration", o.tipCalibration, kTipCalibrationHelp);
+    c->add_option("--sim-tip", o.simTip, kSimTipHelp);
     c->add_option("--faults", o.faults,
                   "Digitizer faults, e.g. garbage=0.01,unplug=0.002:0.5 (see 'leafdig sim --help')");
     c->add_option("--caliper-faults", o.caliperFaults, "Caliper faults, same syntax");

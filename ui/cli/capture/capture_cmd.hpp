@@ -32,6 +32,8 @@ struct CaptureOptions {
   std::optional<double> stylusNoiseMm;          // the simulated stylus's noise per axis
   std::string distortion;                       // the simulated field's leafdig.field-distortion/1 file (issue 50)
   std::string fieldCalibration;                 // --field-calibration ID|latest|none (issue 50)
+  std::string tipCalibration;                   // --tip-calibration ID|latest|none (issue 50)
+  std::string simTip;                           // --sim-tip x,y,z: the simulated stylus' sensor offset
   std::optional<double> fieldCheckMaxAgeHours;  // --field-check-max-age-hours (capture_console.hpp)
   std::uint64_t seed = 1;
   std::optional<double> speed;  // not given: 1 for a new capture, a resumed one's own, 8 for the demo

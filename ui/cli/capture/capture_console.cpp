@@ -1,5 +1,7 @@
 #include "capture/capture_console.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -30,6 +32,26 @@ json stepJson(const acq::Step& s, const std::string& prompt) {
 std::shared_ptr<const devices::sim::FieldDistortion> distortionOf(const std::string& path) {
   if (path.empty()) return nullptr;
   return std::make_shared<const devices::sim::FieldDistortion>(devices::sim::readFieldDistortion(path));
+}
+
+devices::Vec3 vec3Option(const std::string& text, const std::string& option, double limitMm, const char* example) {
+  std::istringstream in(text);
+  devices::Vec3 v{};
+  char c1 = 0, c2 = 0;
+  std::string rest;
+  if (!(in >> v[0] >> c1 >> v[1] >> c2 >> v[2]) || c1 != ',' || c2 != ',' || (in >> rest) ||
+      !(std::abs(v[0]) <= limitMm && std::abs(v[1]) <= limitMm && std::abs(v[2]) <= limitMm)) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%.0f", limitMm);
+    throw model::InputError(option + " is x,y,z in mm, each within " + limit + ", e.g. " + example + "; got '" +
+                            text.substr(0, 60) + "'");
+  }
+  return v;
+}
+
+devices::Vec3 simTipOf(const std::string& text) {
+  if (text.empty()) return {0, 0, 0};
+  return vec3Option(text, "--sim-tip", 500, "0,0,120");
 }
 
 double fieldCheckMaxAge(const std::optional<double>& flag) {

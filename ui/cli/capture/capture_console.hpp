@@ -44,6 +44,19 @@ inline constexpr const char* kFieldCheckMaxAgeHelp =
     "How old a field check may be before the banner asks for a new one, hours (default: the station's settings "
     "file, [field] max_check_age_hours, else 24)";
 [[nodiscard]] double fieldCheckMaxAge(const std::optional<double>& flag);
+// --sim-tip x,y,z of a simulated digitizer (issue 50): its stylus' sensor that far from its tip,
+// in the sensor's frame (mm, each within 500); "" is none (the stylus reports its tip).
+inline constexpr const char* kSimTipHelp =
+    "Simulation: the stylus' sensor is this far from its tip, x,y,z mm in the sensor's frame (default: none, the "
+    "stylus reports its tip; docs/devices.md, \"The stylus tip\")";
+[[nodiscard]] devices::Vec3 simTipOf(const std::string& text);
+// Three numbers "x,y,z" in mm, each within limitMm: model::InputError naming `option` otherwise.
+[[nodiscard]] devices::Vec3 vec3Option(const std::string& text, const std::string& option, double limitMm,
+                                       const char* example);
+// --tip-calibration of a new capture: the stylus' tip calibration every sample goes through.
+inline constexpr const char* kTipCalibrationHelp =
+    "The tip calibration of the digitizer's stylus every sample goes through: a calibration's number (leafdig "
+    "field tips), latest (default: the newest that passed for this digitizer, if any) or none";
 
 // How far a simulated capture got, for --give-up-after: anything the station took (but a device
 // message) is progress, a refusal is not, and a pause is no lack of it. Thread-safe: the

@@ -56,6 +56,8 @@ struct PlantCaptureOptions {
   double stylusNoiseMm = 0.3, speed = 1.0;
   std::string distortion;                       // --distortion: the simulated field (issue 50)
   std::string fieldCalibration;                 // --field-calibration ID|latest|none (issue 50)
+  std::string tipCalibration;                   // --tip-calibration ID|latest|none (issue 50)
+  std::string simTip;                           // --sim-tip x,y,z: the simulated stylus' sensor offset
   std::optional<double> fieldCheckMaxAgeHours;  // --field-check-max-age-hours (capture_console.hpp)
   double giveUpAfterS = 180;                    // simulation: a technician that gets nowhere this long is stopped
   int relocateSourceAfter = 0;
@@ -266,6 +268,12 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     throw std::invalid_argument(
         "a resumed session goes on through the field check it began with (sessions show "
         "says which): leave out --field-calibration");
+  if (o.resume != 0 && !o.tipCalibration.empty())
+    throw std::invalid_argument(
+        "a resumed session goes on with the tip calibration it began with (sessions show says which): leave out "
+        "--tip-calibration");
+  if (!o.simTip.empty() && !o.simulate)
+    throw std::invalid_argument("--sim-tip describes the simulated stylus: it goes with --simulate");
   if (o.relocateSourceAfter > 0 && !o.simulate)
     throw std::invalid_argument(
         "--relocate-source-after moves the simulated transmitter: it goes with --simulate (with devices, type "
@@ -333,6 +341,8 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     }
     store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
     setup.field = acq::resolveFieldCalibration(*store, o.fieldCalibration);
+    setup.tip = acq::resolveTipCalibration(*store, o.tipCalibration,
+                                           acq::tipDevice(setup.digitizer, setup.simulatedPlant.has_value()));
     id = acq::PlantCaptureSession::create(*store, setup);
   };
   if (real) {
@@ -374,6 +384,8 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     }
   }
   const bool withDevices = !digitizer.empty();
+  const std::optional<acq::TipApplied> tip =
+      acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson).tip;
   if (o.json)
     std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
   else
@@ -384,9 +396,9 @@ int runPlantCapture(const PlantCaptureOptions& o) {
               << terminalText(acq::fieldBanner(
                      *store, acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson).field,
                      maxCheckAgeHours))
-              << "\n";
+              << (tip ? "\n  stylus tip: " + terminalText(tip->words()) : std::string()) << "\n";
   if (withDevices) {
-    const acq::PlantRunStats stats = captureWithDevices(o, *store, id, digitizer, caliper);
+    const acq::PlantRunStats stats = captureWithDevices(o, *store, id, acq::withTip(digitizer, tip), caliper);
     const auto info = store->session(id);
     const bool complete = info && info->status == "complete";
     if (!o.json)
@@ -404,6 +416,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   sim.seed = o.seed;
   sim.stylusNoiseMm = o.stylusNoiseMm;
   sim.distortion = distortionOf(o.distortion);
+  sim.stylusTipMm = simTipOf(o.simTip);
   sim.relocateSourceAfter = o.relocateSourceAfter;
   sim.potTurnDeg = o.potTurnDeg;  // the reference receiver: as the session was begun
   sim.mistakes = false;
@@ -549,6 +562,8 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   capture->add_option("--distortion", o->distortion, kDistortionHelp);
   capture->add_option("--field-calibration", o->fieldCalibration, kFieldCalibrationHelp);
   capture->add_option("--field-check-max-age-hours", o->fieldCheckMaxAgeHours, kFieldCheckMaxAgeHelp);
+  capture->add_option("--tip-calibration", o->tipCalibration, kTipCalibrationHelp);
+  capture->add_option("--sim-tip", o->simTip, kSimTipHelp);
   capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")
       ->capture_default_str();
   capture->add_option("--seed", o->seed, "Simulation seed")->check(seedText())->capture_default_str();

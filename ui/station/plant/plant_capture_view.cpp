@@ -386,6 +386,8 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
     db::Store store(db);
     acq::PlantSessionSetup withField = setup;
     withField.field = acq::resolveFieldCalibration(store, fieldCalibration_);
+    // The newest passing tip calibration of this digitizer, as every capture takes it.
+    withField.tip = acq::resolveTipCalibration(store, "latest", acq::tipDevice(setup.digitizer, false));
     session_ = acq::PlantCaptureSession::create(store, withField);
     readSession(store);
   } catch (const std::exception& e) {
@@ -399,7 +401,14 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
   leafType_->addItem(QString());
   for (const QString& t : types) leafType_->addItem(t);
   controls_->show();
-  const std::string digitizer = setup.digitizer, caliper = setup.caliper;
+  std::string digitizer = setup.digitizer;
+  const std::string caliper = setup.caliper;
+  try {
+    digitizer = acq::withTip(
+        digitizer, acq::PlantCaptureSession::setupFromJson(db::Store(db, true).session(session_)->settingsJson).tip);
+  } catch (const std::exception& e) {
+    return QString::fromStdString(e.what());
+  }
   startThreads([this, db, digitizer, caliper] {
     db::Store store(db);
     acq::PlantCaptureLoop loop(store, session_);
@@ -463,6 +472,7 @@ QString PlantCaptureView::startSimulated(const std::string& db, const std::strin
       setup.operatorName = operatorName;
       setup.station = station;
       setup.field = acq::resolveFieldCalibration(store, fieldCalibration_);
+      setup.tip = acq::resolveTipCalibration(store, "latest", acq::tipDevice(setup.digitizer, true));
       session_ = acq::PlantCaptureSession::create(store, setup);
     } else {
       session_ = resume;

@@ -18,24 +18,31 @@
 
 namespace leafdig::db {
 
-inline constexpr int kSchemaVersion = 4;  // 2: plant sessions; 3: the station in the chain; 4: field checks
+inline constexpr int kSchemaVersion = 5;  // 2: plant sessions; 3: the station in the chain; 4: field checks;
+                                          // 5: tip calibrations
 inline constexpr std::int32_t kApplicationId = 0x4C454146;  // "LEAF"
 
-// A check of the digitizer's field against a jig (issue 50; docs/devices.md, "Checking the
-// field"): what the station did, kept append-only in the station file with a hash chain of its
-// own. The record is JSON the acquisition layer writes and checks when it reads it back.
-struct FieldCheckInput {
+// A calibration of the station's digitizer, kept append-only in the station file with a hash
+// chain of its own per kind (docs/schema.md, "Calibrations"): a check of its field against a jig
+// (issue 50; docs/devices.md, "Checking the field") or a tip calibration of its stylus
+// (docs/devices.md, "The stylus tip"). The record is JSON the acquisition layer writes and checks
+// when it reads it back.
+struct CalibrationInput {
   std::string station, operatorName, deviceKind, devicePort;
-  std::string verdict;  // "pass", "correctable" or "fail"
+  std::string verdict;  // a field check: "pass", "correctable" or "fail"; a tip: "pass" or "fail"
   std::string recordJson;
 };
-struct FieldCheckRow {
+struct CalibrationRow {
   std::int64_t id = 0;
   std::string station, operatorName, deviceKind, devicePort, createdUtc, verdict, recordJson, prevHash, hash;
 };
+using FieldCheckInput = CalibrationInput;
+using FieldCheckRow = CalibrationRow;
 // The chain's hash of a check: each field with its length, after the previous check's hash.
-[[nodiscard]] std::string fieldCheckHash(const FieldCheckRow& row);
-// A field check's record is at most this long (a jig of 1000 points with every press fits).
+[[nodiscard]] std::string fieldCheckHash(const CalibrationRow& row);
+[[nodiscard]] std::string tipCalibrationHash(const CalibrationRow& row);
+// A field check's record is at most this long (a jig of 1000 points with every press fits), and
+// so is a tip calibration's (every sample of a pivot).
 inline constexpr std::size_t kMaxFieldCheckRecordBytes = 4 << 20;
 
 class Store final : public EventStore {
@@ -104,6 +111,10 @@ class Store final : public EventStore {
   // the first one whose hash is not what its contents and the one before give (a file edited
   // with sqlite3). A file from before field checks (schema 3, opened to read) has none.
   [[nodiscard]] std::vector<FieldCheckRow> fieldChecks() const;
+  // The same for the stylus' tip calibrations (verdict "pass" or "fail"); a file from before them
+  // (schema 4, opened to read) has none.
+  std::int64_t addTipCalibration(const CalibrationInput& calibration);
+  [[nodiscard]] std::vector<CalibrationRow> tipCalibrations() const;
   // No statement of one operation (opening, a read, a verify) runs longer than this: past it,
   // the operation stops with StoreError(Tampered) instead of never returning. Default 60 s.
   static constexpr double kDefaultTimeLimitSeconds = 60;
@@ -117,6 +128,13 @@ class Store final : public EventStore {
   std::int64_t insertSession(std::int64_t leafId, std::int64_t plantId, std::int64_t operatorId,
                              const std::string& station, const std::string& mode, const std::string& order,
                              const std::string& settingsJson);
+
+ public:
+  struct CalibrationKind;  // a kind of calibration's table and words (calibrations.cpp)
+
+ private:
+  std::int64_t addCalibration(const CalibrationKind& kind, const CalibrationInput& in);
+  [[nodiscard]] std::vector<CalibrationRow> calibrations(const CalibrationKind& kind) const;
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -54,7 +54,7 @@ class JigCapture {
   [[nodiscard]] const std::vector<JigPress>& taken() const { return taken_; }
 
  private:
-  Decision reject(std::string words) const;
+  [[nodiscard]] Decision reject(std::string words) const;
 
   model::Jig jig_;
   Settings settings_;

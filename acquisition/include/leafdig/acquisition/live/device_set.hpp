@@ -31,7 +31,7 @@ class DeviceSet {
             double digitizerRateHz = 0);
   // The same drivers delivering into `sinks` (their events and status changes, on the drivers'
   // threads): a plant capture's loop (plant_loop.hpp's PlantCaptureLoop::sinks).
-  DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, devices::Driver::Callbacks sinks,
+  DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, const devices::Driver::Callbacks& sinks,
             double digitizerRateHz = 0);
   DeviceSet(const DeviceSet&) = delete;
   DeviceSet& operator=(const DeviceSet&) = delete;

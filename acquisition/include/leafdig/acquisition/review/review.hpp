@@ -89,6 +89,8 @@ struct LeafSummary {
 void widenForCapture(const ReviewedSession& r, const model::LeafModel& leaf, model::LeafMetrics& metrics);
 // The field check a session's stylus samples went through, from its settings (none when none).
 [[nodiscard]] std::optional<FieldApplied> sessionField(const db::SessionInfo& info);
+// The tip calibration its stylus samples went through (field/tip_calibration.hpp; none when none).
+[[nodiscard]] std::optional<TipApplied> sessionTip(const db::SessionInfo& info);
 
 // A leaf taken across a move of the transmitter (engine.transmitterPositions() > 1): each
 // position, the first included, with how many of the leaf's points were pressed from it and,

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/field/field_applied.hpp"
+#include "leafdig/acquisition/field/tip_calibration.hpp"
 #include "leafdig/acquisition/protocol/plant_engine.hpp"
 #include "leafdig/acquisition/session/session_log.hpp"
 #include "leafdig/db/store.hpp"
@@ -48,6 +49,8 @@ struct PlantSessionSetup {
   std::optional<model::PlantMarkers> simulatedPlant;
   // The field check whose correction every stylus sample goes through (field_applied.hpp).
   std::optional<FieldApplied> field;
+  // The stylus' tip calibration the digitizer applies to every sample (tip_calibration.hpp).
+  std::optional<TipApplied> tip;
 };
 
 // What a front end announces, after it was committed (seq: the event's number; 0 for a

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "leafdig/acquisition/field/field_applied.hpp"
+#include "leafdig/acquisition/field/tip_calibration.hpp"
 #include "leafdig/acquisition/protocol/engine.hpp"
 #include "leafdig/acquisition/session/preview.hpp"
 #include "leafdig/acquisition/session/session_log.hpp"
@@ -50,6 +51,8 @@ struct SessionSetup {
   std::optional<model::MarkerSet> simulatedLeaf;
   // The field check whose correction every stylus sample goes through (field_applied.hpp).
   std::optional<FieldApplied> field;
+  // The stylus' tip calibration the digitizer applies to every sample (tip_calibration.hpp).
+  std::optional<TipApplied> tip;
 };
 // A field correction applies in the transmitter's frame: not with a reference receiver (whose
 // frame the stylus is read in). std::invalid_argument in words, for the leaf's and the plant's

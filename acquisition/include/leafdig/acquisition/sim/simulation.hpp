@@ -44,6 +44,14 @@ struct SimulationOptions {
   // The transmitter's field bent as by metal nearby (issue 50): every receiver reports through
   // it, in the transmitter's frame (none: a clean field).
   std::shared_ptr<const devices::sim::FieldDistortion> distortion;
+  // The simulated stylus' sensor is this far from its tip, in the sensor's frame (issue 50; 0:
+  // the stylus reports its tip, as a FASTRAK stylus does with its factory offset applied). A
+  // tip calibration (leafdig field tip) finds it; a capture without one is bent by it
+  // (devices::sim::StylusSensor: the hand tilts the stylus towards where it presses).
+  Vec3 stylusTipMm{0, 0, 0};
+  // The tip the capture applies (its session's tip calibration): what the station shows of a
+  // press, which the virtual technician judges by, is the sensor moved by it (0: none applied).
+  Vec3 tipAppliedMm{0, 0, 0};
 };
 
 class TransmitterMotion;
@@ -77,8 +85,9 @@ class SimulatedRig {
   // frame — fixed, however the pot turns. fromStation is the inverse (where to press).
   [[nodiscard]] Vec3 toStation(const Vec3& truthMm) const;
   // Where the station sees a point the hand touches at `truthMm` (as toStation), through the
-  // bent field when there is one (SimulationOptions::distortion): what a technician sees on the
-  // screen and judges a press by — nobody can tell a field's bend from the leaf.
+  // bent field when there is one (SimulationOptions::distortion), and moved by the stylus' sensor
+  // offset the capture does not take away (stylusTipMm less tipAppliedMm): what a technician sees
+  // on the screen and judges a press by — nobody can tell a field's bend from the leaf.
   [[nodiscard]] Vec3 seen(const Vec3& truthMm) const;
   [[nodiscard]] Vec3 fromStation(const Vec3& stationMm) const;
 
@@ -88,6 +97,8 @@ class SimulatedRig {
   std::shared_ptr<PotTurn> pot_;
   bool reference_ = false;
   std::shared_ptr<const devices::sim::FieldDistortion> distortion_;
+  std::shared_ptr<const devices::sim::StylusSensor> sensor_;  // a stylus whose sensor is off its tip
+  Vec3 tipAppliedMm_{};
   Eigen::Isometry3d receiver_ = Eigen::Isometry3d::Identity();  // the reference receiver before the pot turns
   std::shared_ptr<devices::sim::VirtualCaliper> caliper_;
   std::unique_ptr<devices::sim::Emulator> digitizer_, gauge_;

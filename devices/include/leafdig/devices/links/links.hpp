@@ -37,7 +37,12 @@ struct DigitizerConfig {
   // receiver 1 and every stylus sample is delivered in this receiver's frame (reference.hpp).
   int referenceStation = 0;
   double referenceJumpMm = 10.0, referenceJumpDeg = 5.0;  // a jump between two of its records
-  line::Config line;                                      // for DigitizerKind::Line
+  // The stylus' tip in its sensor's frame (a tip calibration, docs/devices.md, "The stylus tip"):
+  // every stylus sample is delivered at p + R·tip, its tip, before a reference receiver's frame
+  // is applied; a sample without an orientation is withheld (the link asks for one). FASTRAK,
+  // Patriot and Liberty; none: the digitizer reports the tip itself.
+  std::optional<Vec3> tipOffsetMm;
+  line::Config line;  // for DigitizerKind::Line
   // Opens the port; defaults to openSerialPort. Tests substitute their own.
   std::function<std::unique_ptr<SerialPort>(const std::string&, const SerialSettings&)> openPort;
 };

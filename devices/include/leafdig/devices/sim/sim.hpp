@@ -46,6 +46,9 @@ struct FaultLog {
 };
 
 // ---- virtual stylus and caliper -----------------------------------------------------------
+// How the virtual hand holds the stylus (azimuth, elevation, roll in degrees), before its tremor.
+inline constexpr Vec3 kHandOrientationDeg{10.0, -45.0, 0.0};
+
 struct StylusOptions {
   double sigmaMm = 0.3;       // Gaussian noise per axis
   double tremorMm = 0.15;     // hand tremor amplitude (8-12 Hz)
@@ -102,6 +105,10 @@ class OperatorHand final : public StylusMotion {
     double pressS = 0.35;   // button held this long once there (0: no press)
     double settleS = 0.45;  // still on the target before the press
     double travelS = 0.6;   // moving there (lifted off the leaf)
+    // A pivot (a tip calibration, docs/devices.md, "The stylus tip"): while the button is held
+    // the tip stays in the divot and the stylus tilts up to this many degrees (at least 60 % of
+    // it), twice round; 0: held still.
+    double pivotDeg = 0;
   };
   explicit OperatorHand(StylusOptions options = {}, double speed = 1.0);
   // Queues a gesture; it starts after the last one, and not before the latest record made.
@@ -119,6 +126,30 @@ class OperatorHand final : public StylusMotion {
   mutable Vec3 restMm_{};
   mutable double seenUntil_ = 0;  // the latest record's time (scaled)
   double busyUntil_ = 0;
+};
+
+// A stylus whose sensor is not at its tip (a receiver in a pen, or a stylus whose factory offset
+// the digitizer does not apply): the wrapped motion says where the tip is and how the stylus is
+// turned, and the digitizer reports the sensor, at tip − R·tipMm (R: the stylus' orientation,
+// tipMm: the tip in the sensor's frame). A hand beside the leaf tilts the stylus towards where it
+// presses: with `tiltDegPerMm`, the azimuth turns by that much per mm of the tip's x and the
+// elevation per mm of its y (each at most 30°), so a tip offset left uncorrected bends a leaf
+// instead of only moving it. A zero tipMm reports the tip (the wrapped motion as it is).
+class StylusSensor final : public StylusMotion {
+ public:
+  StylusSensor(std::shared_ptr<const StylusMotion> tip, Vec3 tipMm, double tiltDegPerMm = 0.1);
+  [[nodiscard]] State at(double t, std::uint64_t k) const override;
+  // Where the sensor is from a tip at `tipTruthMm` held as the hand holds it (kHandOrientationDeg,
+  // leaning): −R·tipMm, what a station without the tip calibration sees the tip moved by.
+  [[nodiscard]] Vec3 sensorFromTip(const Vec3& tipTruthMm) const;
+  [[nodiscard]] const Vec3& tipMm() const { return tipMm_; }
+  // R·v for the stylus held at `tipTruthMm` (the hand's orientation, leaning).
+  [[nodiscard]] Vec3 turned(const Vec3& tipTruthMm, const Vec3& v) const;
+
+ private:
+  std::shared_ptr<const StylusMotion> tip_;
+  Vec3 tipMm_;
+  double tiltDegPerMm_;
 };
 
 struct CaliperOptions {

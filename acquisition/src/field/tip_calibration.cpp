@@ -1,0 +1,284 @@
+#include "leafdig/acquisition/field/tip_calibration.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "leafdig/devices/pose.hpp"
+#include "leafdig/devices/rotation_eigen.hpp"
+#include "leafdig/model/errors.hpp"
+
+namespace leafdig::acquisition {
+
+using nlohmann::json;
+
+namespace {
+
+std::string mm(double v, int digits = 2) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.*f", digits, v);
+  return b;
+}
+
+std::string point(const Eigen::Vector3d& p) {
+  return "(" + mm(p.x(), 1) + ", " + mm(p.y(), 1) + ", " + mm(p.z(), 1) + ")";
+}
+
+bool near(double a, double b) {
+  return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b));
+}
+
+json vec(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
+
+// Three finite numbers within `limit`, or nothing.
+std::optional<Vec3> threeNumbers(const json& j, double limit) {
+  if (!j.is_array() || j.size() != 3) return std::nullopt;
+  Vec3 v{};
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!j[a].is_number()) return std::nullopt;
+    v[a] = j[a].get<double>();
+    if (!(std::abs(v[a]) <= limit)) return std::nullopt;
+  }
+  return v;
+}
+
+}  // namespace
+
+TipResult fitTip(const std::vector<TipSample>& samples, double toleranceMm) {
+  if (!(toleranceMm > 0 && toleranceMm <= 20))
+    throw model::InputError("a tip calibration's tolerance is a number of millimetres from 0 to 20, e.g. 1");
+  std::vector<model::PivotSample> pivot;
+  pivot.reserve(samples.size());
+  for (const TipSample& s : samples) {
+    model::PivotSample p;
+    p.rotation = devices::matrixOf(devices::rotationFromEulerDeg(s.orientationDeg));
+    p.positionMm = Eigen::Vector3d(s.positionMm[0], s.positionMm[1], s.positionMm[2]);
+    pivot.push_back(p);
+  }
+  TipResult r;
+  r.fit = model::fitPivot(pivot);
+  if (!(r.fit.tipMm.norm() <= kMaxTipOffsetMm))
+    throw model::InputError("the tip came out " + mm(r.fit.tipMm.norm(), 0) + " mm from the sensor, more than " +
+                            mm(kMaxTipOffsetMm, 0) +
+                            " mm: keep the tip in one divot while pivoting (the samples do not share a point)");
+  r.toleranceMm = toleranceMm;
+  r.verdict = r.fit.rmsMm <= toleranceMm ? "pass" : "fail";
+  return r;
+}
+
+std::string encodeTipCalibration(const std::vector<TipSample>& samples, const TipResult& r, const std::string& device) {
+  json ss = json::array();
+  for (const TipSample& s : samples)
+    ss.push_back({{"position_mm", s.positionMm}, {"orientation_deg", s.orientationDeg}, {"raw", s.raw}});
+  const json doc = {{"format", kTipCalibrationFormat},
+                    {"device", device},
+                    {"tolerance_mm", r.toleranceMm},
+                    {"samples", ss},
+                    {"tip_mm", vec(r.fit.tipMm)},
+                    {"pivot_mm", vec(r.fit.pivotMm)},
+                    {"rms_mm", r.fit.rmsMm},
+                    {"max_mm", r.fit.maxMm},
+                    {"rejected", r.fit.rejected},
+                    {"tilt_spread_deg", r.fit.tiltSpreadDeg},
+                    {"verdict", r.verdict}};
+  return doc.dump();
+}
+
+TipCalibration readTipCalibration(const db::CalibrationRow& row) {
+  const std::string source = "tip calibration " + std::to_string(row.id);
+  const auto fail = [&](const std::string& what) -> void {
+    throw model::InputError(source + ": " + what + "; the station file was edited or damaged: calibrate again");
+  };
+  TipCalibration c;
+  c.id = row.id;
+  c.station = row.station;
+  c.operatorName = row.operatorName;
+  c.device = row.deviceKind + ":" + row.devicePort;
+  c.createdUtc = row.createdUtc;
+  c.verdict = row.verdict;
+  c.hash = row.hash;
+  json doc;
+  try {
+    doc = json::parse(row.recordJson);
+  } catch (const json::exception&) {
+    fail("its record is not JSON");
+  }
+  if (!doc.is_object() || doc.value("format", "") != kTipCalibrationFormat)
+    fail("its record is not a leafdig tip calibration");
+  if (doc.value("device", "") != c.device) fail("its record names another device than its row");
+  const json tol = doc.value("tolerance_mm", json());
+  if (!tol.is_number() || !(tol.get<double>() > 0 && tol.get<double>() <= 20))
+    fail("its tolerance is not a number of millimetres from 0 to 20");
+  const json ss = doc.value("samples", json());
+  if (!ss.is_array() || ss.size() > kMaxTipSamples) fail("its samples are not a list of at most 2000");
+  for (std::size_t i = 0; i < ss.size(); ++i) {
+    const json& s = ss[i];
+    if (!s.is_object() || !s.value("raw", json()).is_string())
+      fail("sample " + std::to_string(i + 1) + " has no record");
+    const auto p = threeNumbers(s.value("position_mm", json()), 10'000);
+    const auto o = threeNumbers(s.value("orientation_deg", json()), 360);
+    if (!p || !o) fail("sample " + std::to_string(i + 1) + " is not a position within 10 m and three angles");
+    c.samples.push_back({*p, *o, s["raw"].get<std::string>()});
+  }
+  try {
+    c.result = fitTip(c.samples, tol.get<double>());
+  } catch (const model::InputError& e) {
+    fail(std::string("its samples give no tip (") + e.what() + ")");
+  }
+  // What it says must be what its samples give.
+  const auto tip = threeNumbers(doc.value("tip_mm", json()), kMaxTipOffsetMm);
+  if (!tip || !near((*tip)[0], c.result.fit.tipMm.x()) || !near((*tip)[1], c.result.fit.tipMm.y()) ||
+      !near((*tip)[2], c.result.fit.tipMm.z()))
+    fail("its tip is not what its samples give " + point(c.result.fit.tipMm));
+  if (!doc.value("rms_mm", json()).is_number() || !near(doc["rms_mm"].get<double>(), c.result.fit.rmsMm))
+    fail("its RMS is not what its samples give (" + mm(c.result.fit.rmsMm, 3) + " mm)");
+  if (doc.value("verdict", "") != c.result.verdict || row.verdict != c.result.verdict)
+    fail("its verdict is not what its samples give (" + c.result.verdict + ")");
+  return c;
+}
+
+std::vector<TipCalibration> tipCalibrations(const db::Store& store) {
+  std::vector<TipCalibration> out;
+  for (const db::CalibrationRow& row : store.tipCalibrations()) out.push_back(readTipCalibration(row));
+  return out;
+}
+
+std::string tipCalibrationSummaryJson(const TipCalibration& c) {
+  const model::PivotFit& f = c.result.fit;
+  return json{{"calibration_id", c.id},
+              {"created_utc", c.createdUtc},
+              {"station", c.station},
+              {"operator", c.operatorName},
+              {"device", c.device},
+              {"samples", f.samples},
+              {"rejected", f.rejected.size()},
+              {"tip_mm", vec(f.tipMm)},
+              {"pivot_mm", vec(f.pivotMm)},
+              {"rms_mm", f.rmsMm},
+              {"max_mm", f.maxMm},
+              {"tilt_spread_deg", f.tiltSpreadDeg},
+              {"tolerance_mm", c.result.toleranceMm},
+              {"verdict", c.result.verdict}}
+      .dump();
+}
+
+std::string tipCalibrationSummaryText(const TipCalibration& c) {
+  const model::PivotFit& f = c.result.fit;
+  std::ostringstream out;
+  out << "tip calibration " << c.id << " (" << c.createdUtc << ", " << c.device << ", by " << c.operatorName << ")\n"
+      << "  tip: " << point(f.tipMm) << " mm in the sensor's frame, " << mm(f.tipMm.norm(), 1) << " mm from it\n"
+      << "  " << f.samples << " samples, " << f.rejected.size() << " left out by the 3σ rule, tilted over "
+      << mm(f.tiltSpreadDeg, 0) << "°\n"
+      << "  residual: RMS " << mm(f.rmsMm) << " mm, largest " << mm(f.maxMm) << " mm; tolerance "
+      << mm(c.result.toleranceMm) << " mm RMS\n"
+      << "  verdict: " << c.result.verdict
+      << (c.result.verdict == "pass" ? " — captures with this digitizer use this tip"
+                                     : " — not used: seat the tip firmly in the divot and pivot again")
+      << "\n";
+  return out.str();
+}
+
+std::string TipApplied::words() const {
+  return "tip calibration " + std::to_string(id) + " of " + createdUtc.substr(0, 16) + "Z: tip at " +
+         point(Eigen::Vector3d(tipMm[0], tipMm[1], tipMm[2])) + " mm, " + mm(rmsMm) + " mm RMS";
+}
+
+std::optional<TipApplied> resolveTipCalibration(const db::Store& store, const std::string& which,
+                                                const std::string& device) {
+  if (which == "none") return std::nullopt;
+  const std::vector<TipCalibration> all = tipCalibrations(store);
+  const TipCalibration* chosen = nullptr;
+  if (which.empty() || which == "latest") {
+    for (const TipCalibration& c : all)
+      if (c.device == device && c.result.verdict == "pass") chosen = &c;
+    if (!chosen) return std::nullopt;
+  } else {
+    std::int64_t id = 0;
+    std::size_t used = 0;
+    try {
+      id = std::stoll(which, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != which.size() || id < 1)
+      throw std::invalid_argument(
+          "--tip-calibration is a calibration's number (leafdig field tips), latest or none; "
+          "got '" +
+          which.substr(0, 40) + "'");
+    for (const TipCalibration& c : all)
+      if (c.id == id) chosen = &c;
+    if (!chosen)
+      throw std::invalid_argument("there is no tip calibration " + which + " in " + store.path() +
+                                  ": 'leafdig field tips' lists them");
+    if (chosen->result.verdict != "pass")
+      throw std::invalid_argument("tip calibration " + which + " failed (its RMS " + mm(chosen->result.fit.rmsMm) +
+                                  " mm is over its tolerance): calibrate the tip again");
+    if (chosen->device != device)
+      throw std::invalid_argument("tip calibration " + which + " is of " + chosen->device + ", not " + device +
+                                  ": a tip is its own stylus's; calibrate this one (leafdig field tip)");
+  }
+  TipApplied t;
+  t.id = chosen->id;
+  t.hash = chosen->hash;
+  t.createdUtc = chosen->createdUtc;
+  t.device = chosen->device;
+  t.tipMm = {chosen->result.fit.tipMm.x(), chosen->result.fit.tipMm.y(), chosen->result.fit.tipMm.z()};
+  t.rmsMm = chosen->result.fit.rmsMm;
+  return t;
+}
+
+json tipAppliedJson(const TipApplied& t) {
+  return {{"id", t.id},         {"hash", t.hash},    {"created_utc", t.createdUtc},
+          {"device", t.device}, {"tip_mm", t.tipMm}, {"rms_mm", t.rmsMm}};
+}
+
+std::optional<TipApplied> tipAppliedFromSettings(const std::string& settingsJson, const std::string& source) {
+  json settings;
+  try {
+    settings = json::parse(settingsJson);
+  } catch (const json::exception&) {
+    throw model::InputError(source + ": its settings are not JSON");
+  }
+  if (!settings.is_object() || !settings.contains("tip_calibration")) return std::nullopt;
+  const json& j = settings["tip_calibration"];
+  const auto fail = [&](const std::string& what) -> void {
+    throw model::InputError(source + ": tip_calibration: " + what);
+  };
+  if (!j.is_object()) fail("is not an object");
+  TipApplied t;
+  if (!j.value("id", json()).is_number_integer() || j["id"].get<std::int64_t>() < 1)
+    fail("id is not a calibration's number");
+  t.id = j["id"].get<std::int64_t>();
+  for (const char* key : {"hash", "created_utc", "device"})
+    if (!j.value(key, json()).is_string() || j[key].get_ref<const std::string&>().size() > 300)
+      fail(std::string(key) + " is not text of at most 300 characters");
+  t.hash = j["hash"].get<std::string>();
+  t.createdUtc = j["created_utc"].get<std::string>();
+  t.device = j["device"].get<std::string>();
+  const auto tip = threeNumbers(j.value("tip_mm", json()), kMaxTipOffsetMm);
+  if (!tip) fail("tip_mm is not three numbers of millimetres within 500");
+  t.tipMm = *tip;
+  if (!j.value("rms_mm", json()).is_number() || !(j["rms_mm"].get<double>() >= 0 && j["rms_mm"].get<double>() <= 20))
+    fail("rms_mm is not a number of millimetres from 0 to 20");
+  t.rmsMm = j["rms_mm"].get<double>();
+  return t;
+}
+
+std::string withTip(const std::string& spec, const std::optional<TipApplied>& tip) {
+  if (!tip) return spec;
+  return spec + ",tip=" + mm(tip->tipMm[0], 3) + ":" + mm(tip->tipMm[1], 3) + ":" + mm(tip->tipMm[2], 3);
+}
+
+std::string tipDevice(const std::string& spec, bool simulated) {
+  const std::size_t colon = spec.find(':');
+  const std::string kind = spec.substr(0, colon);
+  if (simulated) return kind + ":simulated";
+  if (colon == std::string::npos) return spec;
+  const std::string port = spec.substr(colon + 1);
+  return kind + ":" + port.substr(0, port.find(','));
+}
+
+}  // namespace leafdig::acquisition
