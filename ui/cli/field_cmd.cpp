@@ -97,6 +97,40 @@ void writeMap(const acq::FieldCalibration& c, const std::string& path) {
       path, model::fieldErrorMapSvg({&c.jig, &c.result.fit, c.result.toleranceMm, c.result.verdict, title}));
 }
 
+// What a run asks the technician to do next: a JSON line with --json, else a line highlighted on
+// a terminal.
+std::function<void(const std::string&)> promptPrinter(bool asJson) {
+  const bool tty = ::isatty(1) != 0;
+  return [asJson, tty](const std::string& prompt) {
+    if (asJson)
+      std::cout << json{{"event", "prompt"}, {"text", prompt}}.dump() << "\n" << std::flush;
+    else
+      std::cout << "  " << (tty ? "\033[1;7m ▶ " : "▶ ") << terminalText(prompt) << (tty ? " \033[0m" : "") << "\n"
+                << std::flush;
+  };
+}
+
+// A list of the station file's calibrations: their summaries as one JSON array, or a line each
+// (`none` when there is none).
+template <class Calibration>
+int printCalibrations(const std::vector<Calibration>& all, bool asJson, std::string (*summary)(const Calibration&),
+                      const std::function<void(std::ostream&, const Calibration&)>& line, const std::string& none) {
+  if (asJson) {
+    json list = json::array();
+    for (const auto& c : all) list.push_back(json::parse(summary(c)));
+    std::cout << list.dump() << "\n";
+    return 0;
+  }
+  if (all.empty()) std::cout << none << "\n";
+  for (const auto& c : all) {
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(2);
+    line(text, c);
+    std::cout << terminalText(text.str()) << "\n";
+  }
+  return 0;
+}
+
 // Runs `run` with Ctrl-C stopping it through `stop` (the capture's signal handling), and gives
 // back what it returned.
 template <class Run>
@@ -152,7 +186,8 @@ int runFieldCheck(const FieldOptions& o) {
         "a field check reads a digitizer: give --digitizer KIND:PORT (fastrak:/dev/ttyUSB0), "
         "or --simulate");
   if (!o.simulate && (!o.distortion.empty() || !o.simTip.empty()))
-    throw model::InputError("--distortion and --sim-tip describe a simulated digitizer: they go with --simulate");
+    throw model::InputError(std::string(o.distortion.empty() ? "--sim-tip" : "--distortion") +
+                            " describes the simulated digitizer: it goes with --simulate");
   if (o.simulate) {
     request.simulation.speed = o.speed;
     request.simulation.seed = o.seed;
@@ -163,14 +198,7 @@ int runFieldCheck(const FieldOptions& o) {
   }
   const std::size_t jigSize = request.jig.points.size();
   acq::FieldCheckListener listener;
-  const bool tty = ::isatty(1) != 0;
-  listener.onPrompt = [&](const std::string& prompt) {
-    if (o.json)
-      std::cout << json{{"event", "prompt"}, {"text", prompt}}.dump() << "\n" << std::flush;
-    else
-      std::cout << "  " << (tty ? "\033[1;7m ▶ " : "▶ ") << terminalText(prompt) << (tty ? " \033[0m" : "") << "\n"
-                << std::flush;
-  };
+  listener.onPrompt = promptPrinter(o.json);
   listener.onDecision = [&](const acq::JigCapture::Decision& d) {
     using K = acq::JigCapture::Decision::Kind;
     const char* kind = d.kind == K::Accepted ? "accepted" : d.kind == K::Undone ? "undone" : "rejected";
@@ -214,23 +242,14 @@ int runFieldCheck(const FieldOptions& o) {
 
 int runFieldList(const FieldOptions& o) {
   const db::Store store(stationDbPath(o.db), true);
-  const auto checks = acq::fieldCalibrations(store);
-  if (o.json) {
-    json list = json::array();
-    for (const auto& c : checks) list.push_back(json::parse(acq::fieldCheckSummaryJson(c)));
-    std::cout << list.dump() << "\n";
-    return 0;
-  }
-  if (checks.empty())
-    std::cout << "no field check in " << terminalText(store.path()) << ": run 'leafdig field check'\n";
-  for (const auto& c : checks) {
-    std::ostringstream line;
-    line << std::fixed << std::setprecision(2) << c.id << "  " << c.createdUtc << "  " << c.device << "  RMS "
-         << c.result.fit.rmsMm << " mm  max " << c.result.fit.maxMm << " mm  " << c.result.verdict << "  correction "
-         << c.result.correction.correction.name() << "  by " << c.operatorName;
-    std::cout << terminalText(line.str()) << "\n";
-  }
-  return 0;
+  return printCalibrations<acq::FieldCalibration>(
+      acq::fieldCalibrations(store), o.json, acq::fieldCheckSummaryJson,
+      [](std::ostream& line, const acq::FieldCalibration& c) {
+        line << c.id << "  " << c.createdUtc << "  " << c.device << "  RMS " << c.result.fit.rmsMm << " mm  max "
+             << c.result.fit.maxMm << " mm  " << c.result.verdict << "  correction "
+             << c.result.correction.correction.name() << "  by " << c.operatorName;
+      },
+      "no field check in " + terminalText(store.path()) + ": run 'leafdig field check'");
 }
 
 int runFieldShow(const FieldOptions& o) {
@@ -260,7 +279,8 @@ int runFieldTip(const FieldOptions& o) {
     throw model::InputError(
         "a tip calibration reads a digitizer: give --digitizer KIND:PORT (fastrak:/dev/ttyUSB0), or --simulate");
   if (!o.simulate && (!o.distortion.empty() || !o.simTip.empty()))
-    throw model::InputError("--distortion and --sim-tip describe a simulated digitizer: they go with --simulate");
+    throw model::InputError(std::string(o.distortion.empty() ? "--sim-tip" : "--distortion") +
+                            " describes the simulated digitizer: it goes with --simulate");
   acq::TipCalibrationRequest request;
   request.db = stationDbPath(o.db);
   request.station = o.station;
@@ -277,14 +297,7 @@ int runFieldTip(const FieldOptions& o) {
     request.divotMm = vec3Option(o.divot, "--divot", 2000, "250,0,-50");
   }
   acq::TipCalibrationListener listener;
-  const bool tty = ::isatty(1) != 0;
-  listener.onPrompt = [&](const std::string& prompt) {
-    if (o.json)
-      std::cout << json{{"event", "prompt"}, {"text", prompt}}.dump() << "\n" << std::flush;
-    else
-      std::cout << "  " << (tty ? "\033[1;7m ▶ " : "▶ ") << terminalText(prompt) << (tty ? " \033[0m" : "") << "\n"
-                << std::flush;
-  };
+  listener.onPrompt = promptPrinter(o.json);
   listener.onRefused = [&](const std::string& words) {
     if (o.json)
       std::cout << json{{"event", "rejected"}, {"text", words}}.dump() << "\n" << std::flush;
@@ -318,24 +331,15 @@ int runFieldTip(const FieldOptions& o) {
 
 int runFieldTips(const FieldOptions& o) {
   const db::Store store(stationDbPath(o.db), true);
-  const auto tips = acq::tipCalibrations(store);
-  if (o.json) {
-    json list = json::array();
-    for (const auto& c : tips) list.push_back(json::parse(acq::tipCalibrationSummaryJson(c)));
-    std::cout << list.dump() << "\n";
-    return 0;
-  }
-  if (tips.empty())
-    std::cout << "no tip calibration in " << terminalText(store.path()) << ": run 'leafdig field tip'\n";
-  for (const auto& c : tips) {
-    const auto& f = c.result.fit;
-    std::ostringstream line;
-    line << std::fixed << std::setprecision(2) << c.id << "  " << c.createdUtc << "  " << c.device << "  tip ("
-         << std::setprecision(1) << f.tipMm.x() << ", " << f.tipMm.y() << ", " << f.tipMm.z() << ") mm  RMS "
-         << std::setprecision(2) << f.rmsMm << " mm  " << c.result.verdict << "  by " << c.operatorName;
-    std::cout << terminalText(line.str()) << "\n";
-  }
-  return 0;
+  return printCalibrations<acq::TipCalibration>(
+      acq::tipCalibrations(store), o.json, acq::tipCalibrationSummaryJson,
+      [](std::ostream& line, const acq::TipCalibration& c) {
+        const auto& f = c.result.fit;
+        line << c.id << "  " << c.createdUtc << "  " << c.device << "  tip (" << std::setprecision(1) << f.tipMm.x()
+             << ", " << f.tipMm.y() << ", " << f.tipMm.z() << ") mm  RMS " << std::setprecision(2) << f.rmsMm << " mm  "
+             << c.result.verdict << "  by " << c.operatorName;
+      },
+      "no tip calibration in " + terminalText(store.path()) + ": run 'leafdig field tip'");
 }
 
 // `field study`: the sample leaves and plant through a bent field, clean, uncorrected and

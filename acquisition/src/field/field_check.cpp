@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "field/stored_record.hpp"
 #include "leafdig/acquisition/protocol/point_rules.hpp"
 #include "leafdig/model/errors.hpp"
 
@@ -147,6 +148,7 @@ JigCapture::Decision JigCapture::onStylus(const StylusInput& s) {
 
 FieldCheckResult checkField(const model::Jig& jig, const std::vector<Vec3>& measured, double toleranceMm) {
   std::vector<Eigen::Vector3d> points;
+  points.reserve(measured.size());
   for (const Vec3& v : measured) points.push_back(eig(v));
   FieldCheckResult r;
   r.toleranceMm = toleranceMm;
@@ -181,24 +183,12 @@ std::string encodeFieldCheck(const model::Jig& jig, const std::vector<JigPress>&
 }
 
 FieldCalibration readFieldCheck(const db::FieldCheckRow& row) {
-  const std::string source = "field check " + std::to_string(row.id);
-  const auto fail = [&](const std::string& what) -> void {
-    throw model::InputError(source + ": " + what + "; the station file was edited or damaged: run a new check");
-  };
+  const detail::StoredRecord record(row, "field check", kFieldCheckFormat, "run a new check");
+  const std::string& source = record.source();
+  const json& doc = record.doc();
+  const auto fail = [&](const std::string& what) { record.fail(what); };
   FieldCalibration c;
-  c.id = row.id;
-  c.station = row.station;
-  c.operatorName = row.operatorName;
-  c.device = row.deviceKind + ":" + row.devicePort;
-  c.createdUtc = row.createdUtc;
-  c.verdict = row.verdict;
-  json doc;
-  try {
-    doc = json::parse(row.recordJson);
-  } catch (const json::exception&) {
-    fail("its record is not JSON");
-  }
-  if (!doc.is_object() || doc.value("format", "") != kFieldCheckFormat) fail("its record is not a leafdig field check");
+  detail::copyHeader(row, c);
   if (!doc.contains("jig") || !doc.contains("presses") || !doc["presses"].is_array())
     fail("its record has no jig or presses");
   c.jig = model::parseJig(doc["jig"].dump(), source + " (its jig)");

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "field/stored_record.hpp"
 #include "leafdig/devices/pose.hpp"
 #include "leafdig/devices/rotation_eigen.hpp"
 #include "leafdig/model/errors.hpp"
@@ -88,26 +89,12 @@ std::string encodeTipCalibration(const std::vector<TipSample>& samples, const Ti
 }
 
 TipCalibration readTipCalibration(const db::CalibrationRow& row) {
-  const std::string source = "tip calibration " + std::to_string(row.id);
-  const auto fail = [&](const std::string& what) -> void {
-    throw model::InputError(source + ": " + what + "; the station file was edited or damaged: calibrate again");
-  };
+  const detail::StoredRecord record(row, "tip calibration", kTipCalibrationFormat, "calibrate again");
+  const json& doc = record.doc();
+  const auto fail = [&](const std::string& what) { record.fail(what); };
   TipCalibration c;
-  c.id = row.id;
-  c.station = row.station;
-  c.operatorName = row.operatorName;
-  c.device = row.deviceKind + ":" + row.devicePort;
-  c.createdUtc = row.createdUtc;
-  c.verdict = row.verdict;
+  detail::copyHeader(row, c);
   c.hash = row.hash;
-  json doc;
-  try {
-    doc = json::parse(row.recordJson);
-  } catch (const json::exception&) {
-    fail("its record is not JSON");
-  }
-  if (!doc.is_object() || doc.value("format", "") != kTipCalibrationFormat)
-    fail("its record is not a leafdig tip calibration");
   if (doc.value("device", "") != c.device) fail("its record names another device than its row");
   const json tol = doc.value("tolerance_mm", json());
   if (!tol.is_number() || !(tol.get<double>() > 0 && tol.get<double>() <= 20))

@@ -82,6 +82,15 @@ dev::DigitizerConfig parseDigitizerSpec(const std::string& spec) {
   return c;
 }
 
+std::unique_ptr<dev::Driver> startDigitizer(const std::string& spec, double rateHz,
+                                            const dev::Driver::Callbacks& sinks) {
+  dev::DigitizerConfig config = parseDigitizerSpec(spec);
+  config.recordRateHz = rateHz;
+  auto driver = std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(config)), sinks);
+  driver->start();
+  return driver;
+}
+
 dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
   const auto [kind, rest] = splitSpec(spec, "--caliper", "sylvac:/dev/ttyUSB1 or hid:0fe7:4001");
   dev::CaliperConfig c;

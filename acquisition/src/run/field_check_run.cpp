@@ -116,12 +116,9 @@ std::optional<FieldCalibration> FieldCheckRun::run() {
   }
   // The divots are touched with the stylus' tip: the digitizer's newest passing tip calibration
   // applies, as it does in a capture.
-  dev::DigitizerConfig config =
-      parseDigitizerSpec(withTip(spec, resolveTipCalibration(*store_, "latest", tipDevice(spec, request_.simulated))));
-  config.recordRateHz = rateHz;
   digitizer_ =
-      std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(config)), inputs_.sinks(listener_.onStatus));
-  digitizer_->start();
+      startDigitizer(withTip(spec, resolveTipCalibration(*store_, "latest", tipDevice(spec, request_.simulated))),
+                     rateHz, inputs_.sinks(listener_.onStatus));
   const auto tell = [&](const JigCapture::Decision& d) {
     if (d.kind == JigCapture::Decision::Kind::Ignored) return;
     if (listener_.onDecision) listener_.onDecision(d);

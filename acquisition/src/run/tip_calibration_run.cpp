@@ -66,11 +66,7 @@ std::optional<TipCalibration> TipCalibrationRun::run() {
     rateHz = rig_->digitizerRateHz();
     technician_ = std::make_unique<Technician>(*rig_, request_);
   }
-  dev::DigitizerConfig config = parseDigitizerSpec(spec);
-  config.recordRateHz = rateHz;
-  digitizer_ =
-      std::make_unique<dev::Driver>(dev::makeDigitizerLink(std::move(config)), inputs_.sinks(listener_.onStatus));
-  digitizer_->start();
+  digitizer_ = startDigitizer(spec, rateHz, inputs_.sinks(listener_.onStatus));
   const auto prompt = [&] {
     if (listener_.onPrompt)
       listener_.onPrompt(

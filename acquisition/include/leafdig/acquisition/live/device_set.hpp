@@ -19,6 +19,11 @@ namespace leafdig::acquisition {
 // "usbitn" or "usbitn:VID:PID".
 [[nodiscard]] devices::CaliperConfig parseCaliperSpec(const std::string& spec);
 
+// A digitizer alone, started, delivering into `sinks` (a field check, a tip calibration):
+// `spec` as parseDigitizerSpec reads it, `rateHz` its record rate when not the device's own.
+[[nodiscard]] std::unique_ptr<devices::Driver> startDigitizer(const std::string& spec, double rateHz,
+                                                              const devices::Driver::Callbacks& sinks);
+
 // The two drivers of a capture, delivering into a loop (a leaf's CaptureLoop, or any sinks).
 // Thread contract: construct, start, stop, connect and disconnect from one owner thread;
 // connected(), status() and spec() from any thread.
