@@ -23,9 +23,9 @@ inline constexpr int kSchemaVersion = 5;  // 2: plant sessions; 3: the station i
 inline constexpr std::int32_t kApplicationId = 0x4C454146;  // "LEAF"
 
 // A calibration of the station's digitizer, kept append-only in the station file with a hash
-// chain of its own per kind (docs/schema.md, "Calibrations"): a check of its field against a jig
-// (issue 50; docs/devices.md, "Checking the field") or a tip calibration of its stylus
-// (docs/devices.md, "The stylus tip"). The record is JSON the acquisition layer writes and checks
+// chain of its own per kind (docs/schema.md, "Field checks" and "Tip calibrations"): a check of
+// its field against a jig (issue 50; docs/devices.md, "Checking the field") or a tip calibration
+// of its stylus (docs/devices.md, "The stylus tip"). The record is JSON the acquisition layer writes and checks
 // when it reads it back.
 struct CalibrationInput {
   std::string station, operatorName, deviceKind, devicePort;
