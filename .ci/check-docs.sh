@@ -4,7 +4,7 @@
 #     extension: `markers` names markers.hpp and markers.cpp); ui/cli and ui/station in
 #     ui/README.md;
 #  2. every C++ name docs/architecture.md cites — `A::b` anywhere on the page, a CamelCase
-#     name in backquotes — exists: A is declared (class, struct, enum, namespace, using) in a
+#     name in backquotes — exists: A is declared (class, struct, enum, namespace, using, concept) in a
 #     source, and b is declared in a file that declares A (followed by ( , = ; { or }: not a
 #     word in a comment);
 #  3. every docs/FILE.md a source or script names exists, and every section it cites as
@@ -43,7 +43,7 @@ done
 doc=docs/architecture.md
 mapfile -t sources < <(tracked '*.hpp' '*.cpp' '*.h' | grep -v -e '^tests/' -e '^build/')
 declared_in() {  # files that declare the name $1
-  grep -lE "(class|struct|enum class|enum|namespace|using)[[:space:]]+([A-Za-z_:]*::)?$1([^A-Za-z0-9_]|$)" "${sources[@]}"
+  grep -lE "(class|struct|enum class|enum|namespace|using|concept)[[:space:]]+([A-Za-z_:]*::)?$1([^A-Za-z0-9_]|$)" "${sources[@]}"
 }
 names=$( { grep -oE '[A-Za-z_][A-Za-z0-9_]*(::[A-Za-z_~][A-Za-z0-9_]*)+' "$doc";
            grep -oE '`[A-Z][a-z0-9]+[A-Z][A-Za-z0-9]*`' "$doc" | tr -d '`'; } | sort -u)

@@ -822,14 +822,14 @@ TEST_F(PlantSession, TheDevicesLoopTakesRecordsAndCommandsInOrderFromOtherThread
     sinks.onStatus(unplugged);
     loop.command(acq::parsePlantCommand("quit"));
   });
-  const acq::PlantRunStats stats = loop.run([&](const acq::PlantFeedback& f, const acq::PlantCaptureSession&) {
+  const acq::PlantRunStats stats = loop.run({[&](const acq::PlantFeedback& f, const acq::PlantCaptureSession&) {
     said.push_back(f.decision.kind == Kind::Accepted       ? "accepted"
                    : f.decision.kind == Kind::LeafChosen   ? "chosen"
                    : f.decision.kind == Kind::Rejected     ? "rejected: " + f.decision.reason
                    : f.decision.kind == Kind::ChoiceUndone ? "choice undone"
                    : f.decision.kind == Kind::Undone       ? "undone"
                                                            : "other");
-  });
+  }});
   devices.join();
   ASSERT_EQ(said.size(), 5u) << ::testing::PrintToString(said);
   EXPECT_EQ(said[0], "accepted");
@@ -881,11 +881,11 @@ TEST_F(PlantSession, TheLoopCountsTheCommandsAndPressesItHasDealtWithAfterSaying
   });
   // Told at each change: paused?, landmarks held, commands and releases taken by then.
   std::vector<std::tuple<bool, std::size_t, std::uint64_t, std::uint64_t>> changes;
-  (void)loop.run([](const acq::PlantFeedback&, const acq::PlantCaptureSession&) {},
-                 [&](const acq::PlantCaptureSession& s) {
-                   changes.emplace_back(s.paused(), s.engine().items().size(), loop.commandsTaken(),
-                                        loop.releasesTaken());
-                 });
+  (void)loop.run({[](const acq::PlantFeedback&, const acq::PlantCaptureSession&) {},
+                  [&](const acq::PlantCaptureSession& s) {
+                    changes.emplace_back(s.paused(), s.engine().items().size(), loop.commandsTaken(),
+                                         loop.releasesTaken());
+                  }});
   sender.join();
   EXPECT_TRUE(allTaken);
   EXPECT_EQ(loop.commandsTaken(), 3u) << "quit ends the loop; it is not counted";
@@ -914,7 +914,7 @@ TEST_F(PlantSession, AFootPedalHeldDownIsTheStylusButton) {
     record();
     loop.command(acq::parsePlantCommand("quit"));
   });
-  const acq::PlantRunStats stats = loop.run([](const acq::PlantFeedback&, const acq::PlantCaptureSession&) {});
+  const acq::PlantRunStats stats = loop.run({[](const acq::PlantFeedback&, const acq::PlantCaptureSession&) {}});
   devices.join();
   EXPECT_EQ(stats.accepted, 1);
   ASSERT_EQ(loop.session().engine().items().size(), 1u);

@@ -17,7 +17,7 @@
 #include <set>
 #include <thread>
 
-#include "leafdig/acquisition/live/capture_loop.hpp"
+#include "leafdig/acquisition/live/leaf_loop.hpp"
 #include "leafdig/acquisition/review/correction.hpp"
 #include "leafdig/acquisition/review/leaf_export.hpp"
 #include "leafdig/acquisition/review/review.hpp"
@@ -798,7 +798,7 @@ TEST_F(Session, APedalHeldDownIsTheStylusButton) {
     std::lock_guard lock(mutex);
     kinds.push_back(f.kind);
   };
-  acq::CaptureLoop loop(session, listener, 1.0, acq::PreviewDetail::None);
+  acq::LeafCaptureLoop loop(session, listener, 1.0, acq::PreviewDetail::None);
   std::thread capture([&] { (void)loop.run(); });
   const auto t0 = leafdig::devices::Clock::now();
   int n = 0;
@@ -837,7 +837,7 @@ TEST_F(Session, RawDeviceRecordsAreStoredAsTextWithRealLineEndsAndEscapedBinary)
   const auto id = create(store);
   acq::CaptureSession session(store, id);
   (void)session.pause("checking the raw column");
-  acq::CaptureLoop loop(session, {}, 1.0, acq::PreviewDetail::None);
+  acq::LeafCaptureLoop loop(session, acq::LoopListener{}, 1.0, acq::PreviewDetail::None);
   std::thread capture([&] { (void)loop.run(); });
   leafdig::devices::CaliperReading r;
   r.t = leafdig::devices::Clock::now();
@@ -882,7 +882,7 @@ TEST_F(Session, ThePreviewWorkerNeverHoldsUpTheCaptureThreadAndBuildsOnlyTheNewe
     released.wait();
     return acq::buildPreview(items, settings, {}, false);
   };
-  acq::CaptureLoop loop(session, listener, 1.0, acq::PreviewDetail::Meshes, builder);
+  acq::LeafCaptureLoop loop(session, listener, 1.0, acq::PreviewDetail::Meshes, builder);
   std::thread capture([&] { (void)loop.run(); });
   acq::Command pause = acq::parseCommand("pause checking the worker");
   acq::Command resume = acq::parseCommand("resume");
@@ -920,4 +920,81 @@ TEST_F(Session, ThePreviewWorkerNeverHoldsUpTheCaptureThreadAndBuildsOnlyTheNewe
   ASSERT_NE(last.preview, nullptr);
   EXPECT_EQ(last.previewVersion, last.version);
   EXPECT_EQ(last.version, session.snapshot(false).version);
+}
+
+// The capture loop is one for every kind of capture: a third kind is a LoopKind and nothing
+// else (docs/architecture.md, "Adding a kind of capture"). A kind that only writes down what it
+// is handed shows what the loop itself does: inputs in the order they were posted from another
+// thread, the pedal pressing the stylus, one `device` per change of state, commands and releases
+// counted once handed over, a refusing store retried until it takes, and quit ending the run.
+namespace {
+struct WritingDownKind {
+  struct Command {
+    int n = 0;  // 0: quit
+  };
+  using Result = std::vector<std::string>;
+  struct Listen {};
+  std::vector<std::string> told;
+  bool blocked = true;  // the store refuses until it is retried
+  double timeScale() const { return 1.0; }
+  void begin(Listen /*unused*/) { told.emplace_back("begin"); }
+  void stylus(const acq::StylusInput& s) { told.push_back(s.button ? "pressed" : "up"); }
+  void caliper(const acq::CaliperInput& c) { told.push_back("reading " + std::to_string(c.valueMm)); }
+  bool command(const Command& c, std::int64_t /*now*/) {
+    if (c.n == 0) return false;
+    told.push_back("command " + std::to_string(c.n));
+    return true;
+  }
+  void device(const std::string& device, const std::string& state, const std::string& /*message*/,
+              std::int64_t /*now*/) {
+    told.push_back(device + " " + state);
+  }
+  void retryStore(std::int64_t /*now*/) {
+    blocked = false;
+    told.emplace_back("retried");
+  }
+  bool storeBlocked() const { return blocked; }
+  bool ended() const { return false; }
+  Result finish() {
+    told.emplace_back("finish");
+    return told;
+  }
+  WritingDownKind& session() { return *this; }
+};
+}  // namespace
+
+TEST(CaptureLoop, AThirdKindOfCaptureIsOneLoopKindAndTheLoopDoesTheRest) {
+  acq::CaptureLoop<WritingDownKind> loop;
+  // Everything is posted before the run begins: the first batch has it all, in order.
+  namespace dev = leafdig::devices;
+  dev::StylusSample up;
+  up.t = dev::Clock::now();
+  loop.post(up);
+  loop.setPedal(true);
+  loop.post(up);  // pressed by the pedal
+  loop.setPedal(false);
+  loop.post(up);  // a release
+  dev::DeviceStatus lost;
+  lost.device = "FASTRAK";
+  lost.state = dev::LinkState::Warning;
+  loop.postStatus(lost);
+  loop.postStatus(lost);  // the same state again: not a change
+  dev::CaliperReading reading;
+  reading.valueMm = 0.25;
+  loop.post(reading);
+  loop.command({7});
+  std::vector<std::string> told;
+  std::thread capture([&] { told = loop.run(); });
+  for (int i = 0; i < 500 && (loop.commandsTaken() < 1 || loop.releasesTaken() < 1); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(loop.commandsTaken(), 1u);
+  EXPECT_EQ(loop.releasesTaken(), 1u);
+  // The store is retried a second after the run began (no sooner), whatever else arrives.
+  for (int i = 0; i < 300 && loop.session().blocked; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  loop.command({0});
+  capture.join();
+  EXPECT_EQ(loop.commandsTaken(), 1u) << "quit ends the run; it is not counted";
+  const std::vector<std::string> expected{
+      "begin", "up", "pressed", "up", "FASTRAK warning", "reading 0.250000", "command 7", "retried", "finish"};
+  EXPECT_EQ(told, expected);
 }

@@ -9,8 +9,8 @@
 #include <functional>
 #include <thread>
 
-#include "leafdig/acquisition/live/capture_loop.hpp"
 #include "leafdig/acquisition/live/device_set.hpp"
+#include "leafdig/acquisition/live/leaf_loop.hpp"
 #include "leafdig/acquisition/sim/simulation.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 
@@ -68,8 +68,8 @@ TEST(SimulatedCapture, TheVirtualOperatorCapturesALeafThroughRealDriversAndEvery
   // Snapshots without the live preview: its two adaptive levels are the station window's, and
   // under ThreadSanitizer they made each answer slower than the simulated technician's patience
   // (it then pressed the previous marker again). The preview is checked at the end.
-  acq::CaptureLoop loop(session, listener, so.speed, acq::PreviewDetail::None);
-  acq::DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop);
+  acq::LeafCaptureLoop loop(session, listener, so.speed, acq::PreviewDetail::None);
+  acq::DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop.sinks());
   devices.start();
   op.start();
   std::atomic<bool> finished{false};
@@ -111,8 +111,8 @@ TEST(SimulatedCapture, TheOperatorTakesADeviceOffLineAndBackAndTheCaptureRecords
   so.seed = 9;
   so.linkDir = dir.string();
   acq::SimulatedRig rig(so);
-  acq::CaptureLoop loop(session, {}, 1.0);
-  acq::DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop);
+  acq::LeafCaptureLoop loop(session, acq::LoopListener{}, 1.0);
+  acq::DeviceSet devices(rig.digitizerSpec(), rig.caliperSpec(), loop.sinks());
   using Role = acq::DeviceSet::Role;
   using leafdig::devices::LinkState;
   std::thread capture([&] { (void)loop.run(); });

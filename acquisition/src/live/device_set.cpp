@@ -58,7 +58,7 @@ dev::DigitizerConfig parseDigitizerSpec(const std::string& spec) {
                                     ": the tip is given twice (a tip calibration applies one: leave tip= out, or "
                                     "--tip-calibration none)");
       std::istringstream in(option.substr(4));
-      Vec3 tip{};
+      dev::Vec3 tip{};
       char colon1 = 0, colon2 = 0;
       std::string rest;
       if (!(in >> tip[0] >> colon1 >> tip[1] >> colon2 >> tip[2]) || colon1 != ':' || colon2 != ':' || (in >> rest) ||
@@ -107,10 +107,6 @@ dev::CaliperConfig parseCaliperSpec(const std::string& spec) {
   c.port = rest;
   return c;
 }
-
-DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop,
-                     double digitizerRateHz)
-    : DeviceSet(digitizerSpec, caliperSpec, loop.sinks(), digitizerRateHz) {}
 
 DeviceSet::DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec,
                      const dev::Driver::Callbacks& sinks, double digitizerRateHz)

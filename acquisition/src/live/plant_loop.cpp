@@ -4,12 +4,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include "leafdig/acquisition/live/capture_loop.hpp"
-#include "leafdig/devices/links/links.hpp"
+#include "leafdig/acquisition/live/leaf_loop.hpp"
 
 namespace leafdig::acquisition {
-
-namespace dev = leafdig::devices;
 
 PlantCommand parsePlantCommand(const std::string& line) {
   std::istringstream in(line);
@@ -123,65 +120,48 @@ PlantCommand parsePlantCommand(const std::string& line) {
   return c;
 }
 
-PlantCaptureLoop::PlantCaptureLoop(db::Store& store, std::int64_t id, double timeScale)
-    : session_(store, id), inputs_(timeScale) {}
-
-PlantRunStats PlantCaptureLoop::run(const Listener& onFeedback,
-                                    const std::function<void(const PlantCaptureSession&)>& onChange) {
-  PlantRunStats stats;
-  if (onChange) onChange(session_);
-  bool quit = false;
-  while (!session_.ended() && !inputs_.stopped() && !quit) {
-    for (const Input& in : inputs_.take(std::chrono::milliseconds(100))) {
-      const bool isCommand = std::holds_alternative<PlantCommand>(in);
-      bool released = false;  // the stylus button came up in this sample
-      PlantFeedback f;
-      if (const auto* c = std::get_if<PlantCommand>(&in)) {
-        const std::int64_t now = inputs_.now();
-        switch (c->kind) {
-          case PlantCommand::Kind::Undo: f = session_.undo(now); break;
-          case PlantCommand::Kind::End: f = session_.end(now); break;
-          case PlantCommand::Kind::Choose: f = session_.chooseLeaf(c->node, c->choice, now); break;
-          case PlantCommand::Kind::Branch: f = session_.branch(c->node, now); break;
-          case PlantCommand::Kind::MoveTransmitter: f = session_.moveTransmitter(now); break;
-          case PlantCommand::Kind::Retake:
-            f = c->node > 0 ? session_.retakeLeaf(c->node, c->leaf.what, c->leaf.row, c->leaf.col, now)
-                            : session_.retake(c->what, c->index, c->part, now);
-            break;
-          case PlantCommand::Kind::Pause: f = session_.pause(c->text.empty() ? "operator pause" : c->text, now); break;
-          case PlantCommand::Kind::Resume: f = session_.resume(now); break;
-          case PlantCommand::Kind::Quit: quit = true; break;
-        }
-        if (quit) break;
-      } else if (const auto* st = std::get_if<dev::DeviceStatus>(&in)) {
-        const auto state = inputs_.changedState(*st);
-        if (!state) continue;
-        f = session_.deviceStatus(st->device, *state, detail::statusMessage(*st), inputs_.now());
-        if (!f.storeRefused) continue;  // said by the devices' own callback; nothing for the technician
-      } else if (const auto* s = std::get_if<dev::StylusSample>(&std::get<dev::DeviceEvent>(in))) {
-        released = buttonDown_ && !s->button;
-        buttonDown_ = s->button;
-        f = session_.onStylus(inputs_.stylusInput(*s));
-      } else if (const auto* r = std::get_if<dev::CaliperReading>(&std::get<dev::DeviceEvent>(in))) {
-        f = session_.onCaliper(inputs_.caliperInput(*r));
-      }
-      // Anything to tell: a decision, a refused write, a control (pause, resume, a move).
-      if (f.decision.kind != PlantDecision::Kind::Ignored || f.storeRefused ||
-          f.control != PlantFeedback::Control::None) {
-        if (f.decision.kind == PlantDecision::Kind::Rejected)
-          ++stats.rejected;
-        else if (f.seq > 0 && f.control == PlantFeedback::Control::None)
-          ++stats.accepted;
-        if (onFeedback) onFeedback(f, session_);
-        if (onChange) onChange(session_);
-      }
-      // Counted once told: the technician waits for these before it acts again.
-      commandsTaken_ += isCommand;
-      releasesTaken_ += released;
-      if (session_.ended()) break;
-    }
-  }
-  return stats;
+void LivePlant::begin(Listen listen) {
+  listen_ = std::move(listen);
+  stats_ = {};
+  if (listen_.onChange) listen_.onChange(session_);
 }
+
+bool LivePlant::command(const PlantCommand& c, std::int64_t now) {
+  switch (c.kind) {
+    case PlantCommand::Kind::Undo: tell(session_.undo(now)); break;
+    case PlantCommand::Kind::End: tell(session_.end(now)); break;
+    case PlantCommand::Kind::Choose: tell(session_.chooseLeaf(c.node, c.choice, now)); break;
+    case PlantCommand::Kind::Branch: tell(session_.branch(c.node, now)); break;
+    case PlantCommand::Kind::MoveTransmitter: tell(session_.moveTransmitter(now)); break;
+    case PlantCommand::Kind::Retake:
+      tell(c.node > 0 ? session_.retakeLeaf(c.node, c.leaf.what, c.leaf.row, c.leaf.col, now)
+                      : session_.retake(c.what, c.index, c.part, now));
+      break;
+    case PlantCommand::Kind::Pause: tell(session_.pause(c.text.empty() ? "operator pause" : c.text, now)); break;
+    case PlantCommand::Kind::Resume: tell(session_.resume(now)); break;
+    case PlantCommand::Kind::Quit: return false;
+  }
+  return true;
+}
+
+void LivePlant::device(const std::string& device, const std::string& state, const std::string& message,
+                       std::int64_t now) {
+  const PlantFeedback f = session_.deviceStatus(device, state, message, now);
+  if (f.storeRefused) tell(f);  // else said by the devices' own callback; nothing for the technician
+}
+
+void LivePlant::tell(const PlantFeedback& f) {
+  // Anything to tell: a decision, a refused write, a control (pause, resume, a move).
+  if (f.decision.kind == PlantDecision::Kind::Ignored && !f.storeRefused && f.control == PlantFeedback::Control::None)
+    return;
+  if (f.decision.kind == PlantDecision::Kind::Rejected)
+    ++stats_.rejected;
+  else if (f.seq > 0 && f.control == PlantFeedback::Control::None)
+    ++stats_.accepted;
+  if (listen_.onFeedback) listen_.onFeedback(f, session_);
+  if (listen_.onChange) listen_.onChange(session_);
+}
+
+template class CaptureLoop<LivePlant>;
 
 }  // namespace leafdig::acquisition

@@ -98,7 +98,7 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     if (observer_.onSnapshot) observer_.onSnapshot(s);
   };
   preview_ = request.preview;
-  loop_ = std::make_unique<CaptureLoop>(*session_, listener, timeScale_, preview_);
+  loop_ = std::make_unique<LeafCaptureLoop>(*session_, listener, timeScale_, preview_);
 
   std::string digitizer = request.digitizer.empty() ? setup_.digitizer : request.digitizer;
   std::string caliper = request.caliper.empty() ? setup_.caliper : request.caliper;
@@ -108,7 +108,7 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
     caliper = rig_->caliperSpec();
   }
   // The stylus' tip, when a calibration applies: the digitizer's link turns every sample to it.
-  devices_ = std::make_unique<DeviceSet>(withTip(digitizer, setup_.tip), caliper, *loop_,
+  devices_ = std::make_unique<DeviceSet>(withTip(digitizer, setup_.tip), caliper, loop_->sinks(),
                                          rig_ ? rig_->digitizerRateHz() : 0.0);
 }
 
@@ -190,7 +190,7 @@ Snapshot CaptureRun::shutdown(const std::string& why) {
   // Every way out of a started capture that did not end it leaves the same trace: a pause
   // with its reason, so the session's log says why it stopped and a resume continues it.
   if (started_ && !session_->ended() && !session_->paused()) {
-    const auto feedback = session_->pause(why, loop_->monoNs(CaptureLoop::Clock::now()));
+    const auto feedback = session_->pause(why, loop_->monoNs(LeafCaptureLoop::Clock::now()));
     for (const Feedback& f : feedback)
       if (observer_.onFeedback) observer_.onFeedback(f);
     if (!feedback.empty() && observer_.onSnapshot)

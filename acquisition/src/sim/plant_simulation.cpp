@@ -276,7 +276,7 @@ PlantRunStats runSimulatedPlant(db::Store& store, std::int64_t id, const Simulat
   };
   PlantRunStats stats;
   try {
-    stats = loop.run(onFeedback, publish);
+    stats = loop.run({onFeedback, publish});
   } catch (...) {
     finish();
     throw;

@@ -227,10 +227,10 @@ acq::PlantRunStats captureWithDevices(const PlantCaptureOptions& o, db::Store& s
   });
   acq::PlantRunStats stats;
   try {
-    stats = loop.run([&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
+    stats = loop.run({[&](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) {
       const std::lock_guard lock(out);
       printFeedback(o, id, f, s);
-    });
+    }});
   } catch (...) {
     done = true;
     input.stop();

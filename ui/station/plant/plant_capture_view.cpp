@@ -426,7 +426,7 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
         devicesChanged_ = true;
       }));
       ports.start();
-      (void)loop.run([this](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) { committed(f, s); });
+      (void)loop.run({[this](const acq::PlantFeedback& f, const acq::PlantCaptureSession& s) { committed(f, s); }});
       ports.stop();
     } catch (...) {
       std::lock_guard lock(mutex_);

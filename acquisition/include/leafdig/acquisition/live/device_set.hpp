@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "leafdig/acquisition/live/capture_loop.hpp"
+#include "leafdig/devices/links/driver.hpp"
 #include "leafdig/devices/links/links.hpp"
 
 namespace leafdig::acquisition {
@@ -24,7 +24,7 @@ namespace leafdig::acquisition {
 [[nodiscard]] std::unique_ptr<devices::Driver> startDigitizer(const std::string& spec, double rateHz,
                                                               const devices::Driver::Callbacks& sinks);
 
-// The two drivers of a capture, delivering into a loop (a leaf's CaptureLoop, or any sinks).
+// The two drivers of a capture, delivering into a capture loop (or any sinks).
 // Thread contract: construct, start, stop, connect and disconnect from one owner thread;
 // connected(), status() and spec() from any thread.
 class DeviceSet {
@@ -32,10 +32,8 @@ class DeviceSet {
   enum class Role { Digitizer, Caliper };
   // Throws std::invalid_argument for a spec that does not parse (nothing is opened then).
   // digitizerRateHz: the digitizer's record rate when it is not the device's own (a simulator).
-  DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, CaptureLoop& loop,
-            double digitizerRateHz = 0);
-  // The same drivers delivering into `sinks` (their events and status changes, on the drivers'
-  // threads): a plant capture's loop (plant_loop.hpp's PlantCaptureLoop::sinks).
+  // The drivers deliver into `sinks` (their events and status changes, on the drivers'
+  // threads): a capture loop's (capture_loop.hpp's CaptureLoop::sinks).
   DeviceSet(const std::string& digitizerSpec, const std::string& caliperSpec, const devices::Driver::Callbacks& sinks,
             double digitizerRateHz = 0);
   DeviceSet(const DeviceSet&) = delete;

@@ -1,20 +1,19 @@
-// A plant capture from devices (docs/plants.md, "Real devices"): the digitizer's and the
-// caliper's events and the operator's commands arrive on one queue from any thread; one thread
-// (the caller of run()) feeds them to a PlantCaptureSession in the order they arrived, and hands
-// every committed decision to the front end. The same loop takes real devices (a DeviceSet on
-// the operator's ports) and the simulated rig with its virtual technician
-// (plant_simulation.hpp), so the simulated plant capture is the real one on pseudo-terminals.
+// A plant's capture on the capture loop (capture_loop.hpp; docs/plants.md, "Real devices"):
+// the plant's commands in words, and LivePlant, the loop's kind for a plant — it feeds a
+// PlantCaptureSession and hands every committed decision to the front end. The same loop takes
+// real devices (a DeviceSet on the operator's ports) and the simulated rig with its virtual
+// technician (plant_simulation.hpp), so the simulated plant capture is the real one on
+// pseudo-terminals.
 //
-// Thread contract: post(), command() and stop() from any thread; run() and session() on the
-// thread that owns the session (and its store). The listeners run on that thread.
+// Thread contract (the loop's): the listeners run on the loop's thread.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 
-#include "leafdig/acquisition/live/input_queue.hpp"
+#include "leafdig/acquisition/live/capture_loop.hpp"
 #include "leafdig/acquisition/session/plant_session.hpp"
 
 namespace leafdig::acquisition {
@@ -44,50 +43,50 @@ struct PlantRunStats {
   int accepted = 0, rejected = 0, gestures = 0, readings = 0, choices = 0;
 };
 
-class PlantCaptureLoop {
+// The loop's kind for a plant (a LoopKind): opens plant session `id` (SessionError when it is not
+// an open plant session). run() is given the listeners: after every committed decision (or
+// refusal) onFeedback, then onChange (what a technician reads next; also once as run() starts);
+// it returns the tally.
+class LivePlant {
  public:
-  using Clock = InputQueue<PlantCommand>::Clock;
-  using Listener = std::function<void(const PlantFeedback&, const PlantCaptureSession&)>;
-  // Opens plant session `id` (SessionError when it is not an open plant session). timeScale > 1
-  // runs a simulated capture faster: the engine sees device time × timeScale.
-  PlantCaptureLoop(db::Store& store, std::int64_t id, double timeScale = 1.0);
-  PlantCaptureLoop(const PlantCaptureLoop&) = delete;
-  PlantCaptureLoop& operator=(const PlantCaptureLoop&) = delete;
+  using Command = PlantCommand;
+  using Result = PlantRunStats;
+  struct Listen {
+    using OnFeedback = std::function<void(const PlantFeedback&, const PlantCaptureSession&)>;
+    using OnChange = std::function<void(const PlantCaptureSession&)>;
+    Listen(OnFeedback feedback = {}, OnChange change = {})  // NOLINT(google-explicit-constructor): run({…})
+        : onFeedback(std::move(feedback)), onChange(std::move(change)) {}
+    OnFeedback onFeedback;
+    OnChange onChange;
+  };
+  // timeScale > 1 runs a simulated capture faster: the engine sees device time × timeScale.
+  LivePlant(db::Store& store, std::int64_t id, double timeScale = 1.0) : session_(store, id), timeScale_(timeScale) {}
 
-  // The inputs (input_queue.hpp, shared with the leaf's loop), from any thread.
-  void post(const devices::DeviceEvent& e) { inputs_.post(e); }
-  // A foot pedal (the station's Accept key) held down is the stylus button, as in a leaf
-  // capture: every stylus sample while it is down is taken as pressed. From any thread.
-  void setPedal(bool down) { inputs_.setPedal(down); }
-  [[nodiscard]] bool pedal() const { return inputs_.pedal(); }
-  void command(const PlantCommand& c) { inputs_.command(c); }
-  // The latest stylus sample posted (a front end's cursor polls it).
-  [[nodiscard]] std::optional<devices::StylusSample> latestStylus() const { return inputs_.latestStylus(); }
-  // How many commands run() has dealt with (each after its onChange): a caller that sent n
-  // knows its last one is answered, or ignored, once this reaches n. From any thread.
-  [[nodiscard]] std::uint64_t commandsTaken() const { return commandsTaken_; }
-  // Likewise the stylus button's releases (a press is decided at its release).
-  [[nodiscard]] std::uint64_t releasesTaken() const { return releasesTaken_; }
-  void stop() { inputs_.stop(); }
-
-  // Runs until the session ends (complete or abandoned), a Quit command, or stop(). After every
-  // committed decision (or refusal): onFeedback, then onChange (what a technician reads next).
-  PlantRunStats run(const Listener& onFeedback, const std::function<void(const PlantCaptureSession&)>& onChange = {});
+  [[nodiscard]] double timeScale() const { return timeScale_; }
+  void begin(Listen listen);
+  void stylus(const StylusInput& s) { tell(session_.onStylus(s)); }
+  void caliper(const CaliperInput& c) { tell(session_.onCaliper(c)); }
+  bool command(const PlantCommand& c, std::int64_t now);
+  // A device's change of state is kept in the session's log (a `device` event per change, as a
+  // leaf capture keeps them); the technician hears of it only when the store refused it.
+  void device(const std::string& device, const std::string& state, const std::string& message, std::int64_t now);
+  // A plant session reports a refused write and stays as the store has it: nothing to retry.
+  void retryStore(std::int64_t /*now*/) {}
+  [[nodiscard]] bool storeBlocked() const { return false; }
+  [[nodiscard]] bool ended() const { return session_.ended(); }
+  PlantRunStats finish() { return stats_; }
   [[nodiscard]] PlantCaptureSession& session() { return session_; }
-  // What the devices deliver into (device_set.hpp's DeviceSet on the operator's ports): their
-  // records posted here, their status changes to `onStatus` (on the drivers' threads) and into
-  // the session's log (a `device` event per change of state, as a leaf capture keeps them).
-  [[nodiscard]] devices::Driver::Callbacks sinks(std::function<void(const devices::DeviceStatus&)> onStatus = {}) {
-    return inputs_.sinks(std::move(onStatus));
-  }
 
  private:
-  using Input = InputQueue<PlantCommand>::Input;
+  void tell(const PlantFeedback& f);  // to the listeners, when there is anything to tell
 
   PlantCaptureSession session_;
-  InputQueue<PlantCommand> inputs_;
-  std::atomic<std::uint64_t> commandsTaken_{0}, releasesTaken_{0};
-  bool buttonDown_ = false;  // the last stylus sample's button (run's thread)
+  double timeScale_;
+  Listen listen_;
+  PlantRunStats stats_;
 };
+
+extern template class CaptureLoop<LivePlant>;
+using PlantCaptureLoop = CaptureLoop<LivePlant>;
 
 }  // namespace leafdig::acquisition

@@ -20,8 +20,8 @@
 #include <thread>
 
 #include "leafdig/acquisition/field/field_applied.hpp"
-#include "leafdig/acquisition/live/capture_loop.hpp"
 #include "leafdig/acquisition/live/device_set.hpp"
+#include "leafdig/acquisition/live/leaf_loop.hpp"
 #include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/acquisition/sim/simulation.hpp"
 
@@ -116,7 +116,7 @@ class CaptureRun {
   double timeScale_ = 1.0;
   PreviewDetail preview_ = PreviewDetail::Meshes;
   std::unique_ptr<CaptureSession> session_;
-  std::unique_ptr<CaptureLoop> loop_;
+  std::unique_ptr<LeafCaptureLoop> loop_;
   std::unique_ptr<SimulatedRig> rig_;
   std::unique_ptr<VirtualOperator> operator_;
   std::unique_ptr<DeviceSet> devices_;

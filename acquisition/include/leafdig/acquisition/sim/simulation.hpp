@@ -16,7 +16,7 @@
 #include <string>
 #include <thread>
 
-#include "leafdig/acquisition/live/capture_loop.hpp"
+#include "leafdig/acquisition/live/leaf_loop.hpp"
 #include "leafdig/devices/sim/field_distortion.hpp"
 #include "leafdig/devices/sim/sim.hpp"
 #include "leafdig/model/leaf/markers.hpp"

@@ -1,4 +1,4 @@
-#include "leafdig/acquisition/live/capture_loop.hpp"
+#include "leafdig/acquisition/live/leaf_loop.hpp"
 
 #include <sstream>
 #include <stdexcept>
@@ -69,28 +69,28 @@ Command parseCommand(const std::string& line) {
   return c;
 }
 
-CaptureLoop::CaptureLoop(CaptureSession& session, LoopListener listener, double timeScale, PreviewDetail preview,
-                         PreviewBuilder builder)
+LiveLeaf::LiveLeaf(CaptureSession& session, LoopListener listener, double timeScale, PreviewDetail preview,
+                   PreviewBuilder builder)
     : session_(session),
       listener_(std::move(listener)),
+      timeScale_(timeScale),
       preview_(preview),
       builder_(builder ? std::move(builder)
                        : PreviewBuilder([](const std::vector<Item>& items, const Settings& settings) {
                            return buildPreview(items, settings, {}, true);
-                         })),
-      inputs_(timeScale) {}
+                         })) {}
 
-CaptureLoop::~CaptureLoop() {
+LiveLeaf::~LiveLeaf() {
   stopWorker();
 }
 
-void CaptureLoop::deliver(const std::vector<Feedback>& feedback) {
+void LiveLeaf::deliver(const std::vector<Feedback>& feedback) {
   for (const Feedback& f : feedback)
     if (listener_.onFeedback) listener_.onFeedback(f);
   if (!feedback.empty()) publish();
 }
 
-void CaptureLoop::publish() {
+void LiveLeaf::publish() {
   if (preview_ != PreviewDetail::Meshes) {
     if (listener_.onSnapshot) listener_.onSnapshot(session_.snapshot(preview_ == PreviewDetail::Model, false));
     return;
@@ -111,7 +111,7 @@ void CaptureLoop::publish() {
   jobCv_.notify_one();
 }
 
-void CaptureLoop::buildPreviews() {
+void LiveLeaf::buildPreviews() {
   for (;;) {
     PreviewJob job;
     {
@@ -139,7 +139,7 @@ void CaptureLoop::buildPreviews() {
   }
 }
 
-void CaptureLoop::stopWorker() {
+void LiveLeaf::stopWorker() {
   if (!worker_.joinable()) return;
   {
     std::lock_guard lock(jobMutex_);
@@ -149,21 +149,7 @@ void CaptureLoop::stopWorker() {
   worker_.join();
 }
 
-void CaptureLoop::handle(const Item_& item, bool& quit) {
-  if (const auto* e = std::get_if<devices::DeviceEvent>(&item)) {
-    if (const auto* s = std::get_if<devices::StylusSample>(e))
-      deliver(session_.onStylus(inputs_.stylusInput(*s)));
-    else if (const auto* r = std::get_if<devices::CaliperReading>(e))
-      deliver(session_.onCaliper(inputs_.caliperInput(*r)));
-    return;
-  }
-  if (const auto* st = std::get_if<devices::DeviceStatus>(&item)) {
-    if (const auto state = inputs_.changedState(*st))
-      deliver(session_.deviceStatus(st->device, *state, detail::statusMessage(*st), inputs_.now()));
-    return;
-  }
-  const Command& c = std::get<Command>(item);
-  const std::int64_t now = inputs_.now();
+bool LiveLeaf::command(const Command& c, std::int64_t now) {
   switch (c.kind) {
     case Command::Kind::Undo: deliver(session_.undo(now)); break;
     case Command::Kind::EndRows: deliver(session_.endRows(now)); break;
@@ -174,34 +160,26 @@ void CaptureLoop::handle(const Item_& item, bool& quit) {
     case Command::Kind::Abandon:
       deliver(session_.abandon(c.text.empty() ? "abandoned by the operator" : c.text, now));
       break;
-    case Command::Kind::Quit: quit = true; break;
+    case Command::Kind::Quit: return false;
   }
+  return true;
 }
 
-Snapshot CaptureLoop::run() {
+void LiveLeaf::begin(Listen /*unused*/) {
   if (preview_ == PreviewDetail::Meshes && !worker_.joinable()) {
     workerStop_ = false;
     worker_ = std::thread([this] { buildPreviews(); });
   }
   publish();
-  bool quit = false;
-  auto lastRetry = Clock::now();
-  while (!quit && !inputs_.stopped() && !session_.ended()) {
-    // The store refused a write (disk full, locked): try again every second; capture goes
-    // on by itself once space is back.
-    if (session_.storeBlocked() && Clock::now() - lastRetry >= std::chrono::seconds(1)) {
-      lastRetry = Clock::now();
-      deliver(session_.resume(monoNs(lastRetry)));
-    }
-    for (const Item_& i : inputs_.take(std::chrono::milliseconds(100))) {
-      handle(i, quit);
-      if (quit || session_.ended()) break;
-    }
-  }
+}
+
+Snapshot LiveLeaf::finish() {
   if (preview_ != PreviewDetail::Meshes) return session_.snapshot(preview_ == PreviewDetail::Model, false);
   stopWorker();  // builds the newest request first: latest_ has the preview of its version
   std::lock_guard lock(publishMutex_);
   return latest_;
 }
+
+template class CaptureLoop<LiveLeaf>;
 
 }  // namespace leafdig::acquisition
