@@ -6,6 +6,8 @@
 #include <ctime>
 #include <stdexcept>
 
+#include "field/numbers.hpp"
+#include "field/stored_record.hpp"
 #include "leafdig/model/errors.hpp"
 
 namespace leafdig::acquisition {
@@ -36,13 +38,7 @@ std::string FieldApplied::moveRefusal() const {
 std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, const std::string& which) {
   if (which.empty() || which == "none") return std::nullopt;
   std::int64_t id = 0;
-  if (which != "latest") {
-    if (which.size() > 12 || which.find_first_not_of("0123456789") != std::string::npos || std::stoll(which) < 1)
-      throw std::invalid_argument(
-          "--field-calibration is a check's number (leafdig field list), latest or none; got '" + which.substr(0, 40) +
-          "'");
-    id = std::stoll(which);
-  }
+  if (which != "latest") id = detail::calibrationNumber(which, "--field-calibration", "check", "leafdig field list");
   // The rows read once (their chain verified), every check trusted as every reader trusts one.
   const std::vector<db::FieldCheckRow> rows = store.fieldChecks();
   const db::FieldCheckRow* row = nullptr;
@@ -85,35 +81,18 @@ json fieldAppliedJson(const FieldApplied& f) {
 }
 
 std::optional<FieldApplied> fieldAppliedFromSettings(const std::string& settingsJson, const std::string& source) {
-  json settings;
-  try {
-    settings = json::parse(settingsJson);
-  } catch (const json::exception&) {
-    throw model::InputError(source + ": its settings are not JSON");
-  }
-  if (!settings.is_object() || !settings.contains("field_calibration")) return std::nullopt;
-  const json& j = settings["field_calibration"];
-  const auto fail = [&](const std::string& what) -> void {
-    throw model::InputError(source + ": field_calibration: " + what);
-  };
-  if (!j.is_object()) fail("is not an object");
+  const detail::SettingsEntry e(settingsJson, source, "field_calibration");
+  if (!e.present()) return std::nullopt;
   FieldApplied f;
-  if (!j.value("id", json()).is_number_integer() || j["id"].get<std::int64_t>() < 1) fail("id is not a check's number");
-  f.id = j["id"].get<std::int64_t>();
-  for (const char* key : {"hash", "created_utc", "verdict"})
-    if (!j.value(key, json()).is_string() || j[key].get_ref<const std::string&>().size() > 100)
-      fail(std::string(key) + " is not text of at most 100 characters");
-  f.hash = j["hash"].get<std::string>();
-  f.createdUtc = j["created_utc"].get<std::string>();
-  f.verdict = j["verdict"].get<std::string>();
-  if (f.verdict != "pass" && f.verdict != "correctable") fail("verdict is not pass or correctable");
-  for (const char* key : {"holdout_rms_mm", "holdout_max_mm"})
-    if (!j.value(key, json()).is_number() || !(j[key].get<double>() >= 0 && j[key].get<double>() <= 100))
-      fail(std::string(key) + " is not a number of millimetres from 0 to 100");
-  f.holdoutRmsMm = j["holdout_rms_mm"].get<double>();
-  f.holdoutMaxMm = j["holdout_max_mm"].get<double>();
-  if (!j.contains("correction")) fail("the correction is missing");
-  f.correction = model::parseCorrection(j["correction"].dump(), source + ": field_calibration.correction");
+  f.id = e.id("a check's number");
+  f.hash = e.text("hash", 100);
+  f.createdUtc = e.text("created_utc", 100);
+  f.verdict = e.text("verdict", 100);
+  if (f.verdict != "pass" && f.verdict != "correctable") e.fail("verdict is not pass or correctable");
+  f.holdoutRmsMm = e.millimetres("holdout_rms_mm", 100);
+  f.holdoutMaxMm = e.millimetres("holdout_max_mm", 100);
+  if (!e.doc().contains("correction")) e.fail("the correction is missing");
+  f.correction = model::parseCorrection(e.doc()["correction"].dump(), e.where() + ".correction");
   return f;
 }
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "field/numbers.hpp"
 #include "field/stored_record.hpp"
 #include "leafdig/acquisition/protocol/point_rules.hpp"
 #include "leafdig/model/errors.hpp"
@@ -19,12 +20,6 @@ using nlohmann::json;
 
 Eigen::Vector3d eig(const Vec3& v) {
   return {v[0], v[1], v[2]};
-}
-
-std::string mm(double v, int digits = 2) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
 }
 
 // The jig's points `upTo` and the presses for them, when they fix a pose (not all on one line).
@@ -67,10 +62,6 @@ json correctionJson(const FieldCheckResult& r) {
           {"corrected_rms_mm", r.correction.corrected.rmsMm},
           {"candidates", candidates},
           {"fitted", json::parse(model::encodeCorrection(r.correction.correction))}};
-}
-
-bool near(double a, double b) {
-  return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(a));
 }
 
 }  // namespace
@@ -130,8 +121,8 @@ JigCapture::Decision JigCapture::onStylus(const StylusInput& s) {
         if ((press.mean - *pose * jig_.points[i].pointMm).norm() <
             (press.mean - *pose * jig_.points[nearest].pointMm).norm())
           nearest = i;
-      std::string words =
-          "this is not divot " + want.id + ": it is " + mm(off, 0) + " mm from where " + want.id + " is on the jig";
+      std::string words = "this is not divot " + want.id + ": it is " + detail::fixed(off, 0) + " mm from where " +
+                          want.id + " is on the jig";
       if (nearest != taken_.size()) words += " (it is nearer " + jig_.points[nearest].id + ")";
       return reject(words + ". Touch " + want.id + " (press here again if it is " + want.id +
                     "), or take the last divot back if it was wrong");
@@ -217,11 +208,11 @@ FieldCalibration readFieldCheck(const db::FieldCheckRow& row) {
   const json said = doc.value("correction", json::object());
   if (doc.value("verdict", "") != c.result.verdict || row.verdict != c.result.verdict)
     fail("its verdict is not what its presses give (" + c.result.verdict + ")");
-  if (!doc.value("rms_mm", json()).is_number() || !near(doc["rms_mm"].get<double>(), c.result.fit.rmsMm))
-    fail("its RMS is not what its presses give (" + mm(c.result.fit.rmsMm, 3) + " mm)");
+  if (!doc.value("rms_mm", json()).is_number() || !detail::sameNumber(doc["rms_mm"].get<double>(), c.result.fit.rmsMm))
+    fail("its RMS is not what its presses give (" + detail::fixed(c.result.fit.rmsMm, 3) + " mm)");
   if (!said.is_object() || said.value("model", "") != c.result.correction.correction.name() ||
       !said.value("holdout_rms_mm", json()).is_number() ||
-      !near(said["holdout_rms_mm"].get<double>(), c.result.correction.holdoutRmsMm))
+      !detail::sameNumber(said["holdout_rms_mm"].get<double>(), c.result.correction.holdoutRmsMm))
     fail("its correction is not what its presses give (" + c.result.correction.correction.name() + ")");
   return c;
 }
@@ -258,12 +249,13 @@ std::string fieldCheckSummaryText(const FieldCalibration& c) {
   std::ostringstream out;
   out << "field check " << c.id << " (" << c.createdUtc << ", " << c.device << ", by " << c.operatorName << ")\n"
       << "  jig: " << c.jig.name << ", " << c.jig.points.size() << " divots\n"
-      << "  the field: RMS " << mm(r.fit.rmsMm) << " mm, largest " << mm(r.fit.maxMm) << " mm at " << r.fit.worstId
-      << "; tolerance " << mm(r.toleranceMm) << " mm RMS\n"
+      << "  the field: RMS " << detail::fixed(r.fit.rmsMm) << " mm, largest " << detail::fixed(r.fit.maxMm) << " mm at "
+      << r.fit.worstId << "; tolerance " << detail::fixed(r.toleranceMm) << " mm RMS\n"
       << "  correction: " << r.correction.correction.name();
   if (r.correction.correction.degree > 0)
-    out << ", on divots it did not see RMS " << mm(r.correction.holdoutRmsMm) << " mm, largest "
-        << mm(r.correction.holdoutMaxMm) << " mm (none: RMS " << mm(r.correction.candidates[0].holdoutRmsMm) << " mm)";
+    out << ", on divots it did not see RMS " << detail::fixed(r.correction.holdoutRmsMm) << " mm, largest "
+        << detail::fixed(r.correction.holdoutMaxMm) << " mm (none: RMS "
+        << detail::fixed(r.correction.candidates[0].holdoutRmsMm) << " mm)";
   else
     out << " (no polynomial did better on divots it did not see)";
   out << "\n  verdict: " << r.verdict;

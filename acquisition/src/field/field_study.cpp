@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <iomanip>
 #include <map>
 #include <random>
 #include <sstream>
 
+#include "field/numbers.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/field/correction.hpp"
 #include "leafdig/model/leaf/leaf_model.hpp"
@@ -280,16 +280,6 @@ FieldStudyResult runFieldStudy(const FieldStudyInput& in) {
   return r;
 }
 
-namespace {
-
-std::string fixed(double v, int digits) {
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
-}
-
-}  // namespace
-
 std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& command) {
   std::ostringstream o;
   o << "# Captures through a bent field\n\n"
@@ -297,7 +287,7 @@ std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& com
     << "lab checks its own).\n"
     << "The field: " << r.fieldName << ". The jig: " << r.jigName << ", " << r.jigPoints
     << " divots, laid where the leaves lie (and again where the plant stands). Every position the digitizer "
-    << "reports is the field's report of the truth plus noise of σ = " << fixed(r.noiseMm, 2)
+    << "reports is the field's report of the truth plus noise of σ = " << detail::fixed(r.noiseMm, 2)
     << " mm per coordinate; each number is the mean of " << r.repeats << " noise draws (seed " << r.seed
     << "). *Clean*: the truth plus noise. *Uncorrected*: the bent field's report. *Corrected*: that report "
     << "through the correction the simulated check chose. The marker is the sensor: a stylus's tip offset "
@@ -305,12 +295,13 @@ std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& com
 
   o << "## The check\n\n"
     << "| | RMS of the jig's rigid fit |\n|---|---|\n"
-    << "| the check reports (bent field, noise) | " << fixed(r.checkRmsMm, 2) << " mm |\n"
-    << "| the bent field's truth at the divots (no noise) | " << fixed(r.fieldRmsMm, 2) << " mm |\n"
-    << "| reported ÷ truth | " << fixed(r.fieldRmsMm > 0 ? r.checkRmsMm / r.fieldRmsMm : 0.0, 2)
+    << "| the check reports (bent field, noise) | " << detail::fixed(r.checkRmsMm, 2) << " mm |\n"
+    << "| the bent field's truth at the divots (no noise) | " << detail::fixed(r.fieldRmsMm, 2) << " mm |\n"
+    << "| reported ÷ truth | " << detail::fixed(r.fieldRmsMm > 0 ? r.checkRmsMm / r.fieldRmsMm : 0.0, 2)
     << " (target: within 0.8–1.2) |\n"
-    << "| the same check in a clean field | " << fixed(r.cleanCheckRmsMm, 2) << " mm |\n\n"
-    << "The correction chosen: " << r.model << ", held-out error " << fixed(r.holdoutRmsMm, 2) << " mm RMS.\n\n";
+    << "| the same check in a clean field | " << detail::fixed(r.cleanCheckRmsMm, 2) << " mm |\n\n"
+    << "The correction chosen: " << r.model << ", held-out error " << detail::fixed(r.holdoutRmsMm, 2)
+    << " mm RMS.\n\n";
 
   o << "## Leaves\n\n"
     << "Target: corrected within the clean field's error (markers ≤ 1 mm RMS, area ≤ 0.5 %) where the "
@@ -323,8 +314,8 @@ std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& com
     const std::pair<const char*, const CaptureError*> rows[] = {
         {"clean", &l.clean}, {"uncorrected", &l.uncorrected}, {"corrected", &l.corrected}};
     for (const auto& [name, e] : rows)
-      o << "| " << l.leaf << " | " << l.markers << " | " << name << " | " << fixed(e->markerRmsMm, 2) << " | "
-        << fixed(e->shapeRmsMm, 2) << " | " << fixed(e->areaErrorPercent, 3) << " |\n";
+      o << "| " << l.leaf << " | " << l.markers << " | " << name << " | " << detail::fixed(e->markerRmsMm, 2) << " | "
+        << detail::fixed(e->shapeRmsMm, 2) << " | " << detail::fixed(e->areaErrorPercent, 3) << " |\n";
   }
   if (r.plant) {
     o << "\n## The plant\n\n"
@@ -336,10 +327,10 @@ std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& com
         {"clean", &r.plant->clean}, {"uncorrected", &r.plant->uncorrected}, {"corrected", &r.plant->corrected}};
     for (const auto& [name, e] : rows)
       o << "| " << r.plant->plant << " | " << r.plant->nodes << " | " << r.plant->leaves << " | " << name << " | "
-        << fixed(e->nodeRmsMm, 2) << " | " << fixed(e->leafAngleDeg, 2) << " | " << fixed(e->areaErrorPercent, 3)
-        << " |\n";
+        << detail::fixed(e->nodeRmsMm, 2) << " | " << detail::fixed(e->leafAngleDeg, 2) << " | "
+        << detail::fixed(e->areaErrorPercent, 3) << " |\n";
     o << "\n"
-      << fixed(r.plant->outsidePercent, 0)
+      << detail::fixed(r.plant->outsidePercent, 0)
       << " % of the plant's points lay outside the box of the jig's divots, where the correction is held at its "
          "edge (clamped, as `field check` documents): a jig laid over the whole plant's volume corrects them too.\n";
   }
@@ -350,8 +341,8 @@ std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& com
     << "| divots | model | held-out RMS (mm) | held-out largest (mm) | leaves' shape after it (mm RMS) |\n"
     << "|---|---|---|---|---|\n";
   for (const JigCountRow& c : r.counts)
-    o << "| " << c.points << " | " << c.model << " | " << fixed(c.holdoutRmsMm, 2) << " | " << fixed(c.holdoutMaxMm, 2)
-      << " | " << fixed(c.leafShapeRmsMm, 2) << " |\n";
+    o << "| " << c.points << " | " << c.model << " | " << detail::fixed(c.holdoutRmsMm, 2) << " | "
+      << detail::fixed(c.holdoutMaxMm, 2) << " | " << detail::fixed(c.leafShapeRmsMm, 2) << " |\n";
   return o.str();
 }
 

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "field/numbers.hpp"
 #include "field/stored_record.hpp"
 #include "leafdig/devices/pose.hpp"
 #include "leafdig/devices/rotation_eigen.hpp"
@@ -16,18 +17,8 @@ using nlohmann::json;
 
 namespace {
 
-std::string mm(double v, int digits = 2) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
-}
-
 std::string point(const Eigen::Vector3d& p) {
-  return "(" + mm(p.x(), 1) + ", " + mm(p.y(), 1) + ", " + mm(p.z(), 1) + ")";
-}
-
-bool near(double a, double b) {
-  return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b));
+  return "(" + detail::fixed(p.x(), 1) + ", " + detail::fixed(p.y(), 1) + ", " + detail::fixed(p.z(), 1) + ")";
 }
 
 json vec(const Eigen::Vector3d& v) {
@@ -62,8 +53,8 @@ TipResult fitTip(const std::vector<TipSample>& samples, double toleranceMm) {
   TipResult r;
   r.fit = model::fitPivot(pivot);
   if (!(r.fit.tipMm.norm() <= kMaxTipOffsetMm))
-    throw model::InputError("the tip came out " + mm(r.fit.tipMm.norm(), 0) + " mm from the sensor, more than " +
-                            mm(kMaxTipOffsetMm, 0) +
+    throw model::InputError("the tip came out " + detail::fixed(r.fit.tipMm.norm(), 0) +
+                            " mm from the sensor, more than " + detail::fixed(kMaxTipOffsetMm, 0) +
                             " mm: keep the tip in one divot while pivoting (the samples do not share a point)");
   r.toleranceMm = toleranceMm;
   r.verdict = r.fit.rmsMm <= toleranceMm ? "pass" : "fail";
@@ -117,11 +108,11 @@ TipCalibration readTipCalibration(const db::CalibrationRow& row) {
   }
   // What it says must be what its samples give.
   const auto tip = threeNumbers(doc.value("tip_mm", json()), kMaxTipOffsetMm);
-  if (!tip || !near((*tip)[0], c.result.fit.tipMm.x()) || !near((*tip)[1], c.result.fit.tipMm.y()) ||
-      !near((*tip)[2], c.result.fit.tipMm.z()))
+  if (!tip || !detail::sameNumber((*tip)[0], c.result.fit.tipMm.x()) ||
+      !detail::sameNumber((*tip)[1], c.result.fit.tipMm.y()) || !detail::sameNumber((*tip)[2], c.result.fit.tipMm.z()))
     fail("its tip is not what its samples give " + point(c.result.fit.tipMm));
-  if (!doc.value("rms_mm", json()).is_number() || !near(doc["rms_mm"].get<double>(), c.result.fit.rmsMm))
-    fail("its RMS is not what its samples give (" + mm(c.result.fit.rmsMm, 3) + " mm)");
+  if (!doc.value("rms_mm", json()).is_number() || !detail::sameNumber(doc["rms_mm"].get<double>(), c.result.fit.rmsMm))
+    fail("its RMS is not what its samples give (" + detail::fixed(c.result.fit.rmsMm, 3) + " mm)");
   if (doc.value("verdict", "") != c.result.verdict || row.verdict != c.result.verdict)
     fail("its verdict is not what its samples give (" + c.result.verdict + ")");
   return c;
@@ -156,11 +147,12 @@ std::string tipCalibrationSummaryText(const TipCalibration& c) {
   const model::PivotFit& f = c.result.fit;
   std::ostringstream out;
   out << "tip calibration " << c.id << " (" << c.createdUtc << ", " << c.device << ", by " << c.operatorName << ")\n"
-      << "  tip: " << point(f.tipMm) << " mm in the sensor's frame, " << mm(f.tipMm.norm(), 1) << " mm from it\n"
+      << "  tip: " << point(f.tipMm) << " mm in the sensor's frame, " << detail::fixed(f.tipMm.norm(), 1)
+      << " mm from it\n"
       << "  " << f.samples << " samples, " << f.rejected.size() << " left out by the 3σ rule, tilted over "
-      << mm(f.tiltSpreadDeg, 0) << "°\n"
-      << "  residual: RMS " << mm(f.rmsMm) << " mm, largest " << mm(f.maxMm) << " mm; tolerance "
-      << mm(c.result.toleranceMm) << " mm RMS\n"
+      << detail::fixed(f.tiltSpreadDeg, 0) << "°\n"
+      << "  residual: RMS " << detail::fixed(f.rmsMm) << " mm, largest " << detail::fixed(f.maxMm) << " mm; tolerance "
+      << detail::fixed(c.result.toleranceMm) << " mm RMS\n"
       << "  verdict: " << c.result.verdict
       << (c.result.verdict == "pass" ? " — captures with this digitizer use this tip"
                                      : " — not used: seat the tip firmly in the divot and pivot again")
@@ -170,7 +162,7 @@ std::string tipCalibrationSummaryText(const TipCalibration& c) {
 
 std::string TipApplied::words() const {
   return "tip calibration " + std::to_string(id) + " of " + createdUtc.substr(0, 16) + "Z: tip at " +
-         point(Eigen::Vector3d(tipMm[0], tipMm[1], tipMm[2])) + " mm, " + mm(rmsMm) + " mm RMS";
+         point(Eigen::Vector3d(tipMm[0], tipMm[1], tipMm[2])) + " mm, " + detail::fixed(rmsMm) + " mm RMS";
 }
 
 std::optional<TipApplied> resolveTipCalibration(const db::Store& store, const std::string& which,
@@ -183,25 +175,15 @@ std::optional<TipApplied> resolveTipCalibration(const db::Store& store, const st
       if (c.device == device && c.result.verdict == "pass") chosen = &c;
     if (!chosen) return std::nullopt;
   } else {
-    std::int64_t id = 0;
-    std::size_t used = 0;
-    try {
-      id = std::stoll(which, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != which.size() || id < 1)
-      throw std::invalid_argument(
-          "--tip-calibration is a calibration's number (leafdig field tips), latest or none; "
-          "got '" +
-          which.substr(0, 40) + "'");
+    const std::int64_t id = detail::calibrationNumber(which, "--tip-calibration", "calibration", "leafdig field tips");
     for (const TipCalibration& c : all)
       if (c.id == id) chosen = &c;
     if (!chosen)
       throw std::invalid_argument("there is no tip calibration " + which + " in " + store.path() +
                                   ": 'leafdig field tips' lists them");
     if (chosen->result.verdict != "pass")
-      throw std::invalid_argument("tip calibration " + which + " failed (its RMS " + mm(chosen->result.fit.rmsMm) +
+      throw std::invalid_argument("tip calibration " + which + " failed (its RMS " +
+                                  detail::fixed(chosen->result.fit.rmsMm) +
                                   " mm is over its tolerance): calibrate the tip again");
     if (chosen->device != device)
       throw std::invalid_argument("tip calibration " + which + " is of " + chosen->device + ", not " + device +
@@ -223,40 +205,24 @@ json tipAppliedJson(const TipApplied& t) {
 }
 
 std::optional<TipApplied> tipAppliedFromSettings(const std::string& settingsJson, const std::string& source) {
-  json settings;
-  try {
-    settings = json::parse(settingsJson);
-  } catch (const json::exception&) {
-    throw model::InputError(source + ": its settings are not JSON");
-  }
-  if (!settings.is_object() || !settings.contains("tip_calibration")) return std::nullopt;
-  const json& j = settings["tip_calibration"];
-  const auto fail = [&](const std::string& what) -> void {
-    throw model::InputError(source + ": tip_calibration: " + what);
-  };
-  if (!j.is_object()) fail("is not an object");
+  const detail::SettingsEntry e(settingsJson, source, "tip_calibration");
+  if (!e.present()) return std::nullopt;
   TipApplied t;
-  if (!j.value("id", json()).is_number_integer() || j["id"].get<std::int64_t>() < 1)
-    fail("id is not a calibration's number");
-  t.id = j["id"].get<std::int64_t>();
-  for (const char* key : {"hash", "created_utc", "device"})
-    if (!j.value(key, json()).is_string() || j[key].get_ref<const std::string&>().size() > 300)
-      fail(std::string(key) + " is not text of at most 300 characters");
-  t.hash = j["hash"].get<std::string>();
-  t.createdUtc = j["created_utc"].get<std::string>();
-  t.device = j["device"].get<std::string>();
-  const auto tip = threeNumbers(j.value("tip_mm", json()), kMaxTipOffsetMm);
-  if (!tip) fail("tip_mm is not three numbers of millimetres within 500");
+  t.id = e.id("a calibration's number");
+  t.hash = e.text("hash", 300);
+  t.createdUtc = e.text("created_utc", 300);
+  t.device = e.text("device", 300);
+  const auto tip = threeNumbers(e.doc().value("tip_mm", json()), kMaxTipOffsetMm);
+  if (!tip) e.fail("tip_mm is not three numbers of millimetres within 500");
   t.tipMm = *tip;
-  if (!j.value("rms_mm", json()).is_number() || !(j["rms_mm"].get<double>() >= 0 && j["rms_mm"].get<double>() <= 20))
-    fail("rms_mm is not a number of millimetres from 0 to 20");
-  t.rmsMm = j["rms_mm"].get<double>();
+  t.rmsMm = e.millimetres("rms_mm", 20);
   return t;
 }
 
 std::string withTip(const std::string& spec, const std::optional<TipApplied>& tip) {
   if (!tip) return spec;
-  return spec + ",tip=" + mm(tip->tipMm[0], 3) + ":" + mm(tip->tipMm[1], 3) + ":" + mm(tip->tipMm[2], 3);
+  return spec + ",tip=" + detail::fixed(tip->tipMm[0], 3) + ":" + detail::fixed(tip->tipMm[1], 3) + ":" +
+         detail::fixed(tip->tipMm[2], 3);
 }
 
 std::string tipDevice(const std::string& spec, bool simulated) {

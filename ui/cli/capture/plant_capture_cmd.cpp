@@ -384,18 +384,16 @@ int runPlantCapture(const PlantCaptureOptions& o) {
     }
   }
   const bool withDevices = !digitizer.empty();
-  const std::optional<acq::TipApplied> tip =
-      acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson).tip;
+  // The session's field and tip as it keeps them (a new one's just resolved, a resumed one's own).
+  const acq::PlantSessionSetup kept = acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson);
+  const std::optional<acq::TipApplied>& tip = kept.tip;
   if (o.json)
     std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
   else
     std::cout << "leafdig plant capture · plant session " << id << " · "
               << (withDevices ? "digitizer " + terminalText(digitizer) + " · caliper " + terminalText(caliper)
                               : std::string("simulated FASTRAK and caliper"))
-              << "\n  "
-              << terminalText(acq::fieldBanner(
-                     *store, acq::PlantCaptureSession::setupFromJson(store->session(id)->settingsJson).field,
-                     maxCheckAgeHours))
+              << "\n  " << terminalText(acq::fieldBanner(*store, kept.field, maxCheckAgeHours))
               << (tip ? "\n  stylus tip: " + terminalText(tip->words()) : std::string()) << "\n";
   if (withDevices) {
     const acq::PlantRunStats stats = captureWithDevices(o, *store, id, acq::withTip(digitizer, tip), caliper);

@@ -380,6 +380,7 @@ void PlantCaptureView::readSession(db::Store& store) {
 
 QString PlantCaptureView::startWithDevices(const std::string& db, const acq::PlantSessionSetup& setup) {
   if (capture_.joinable()) return tr("A plant is being captured already.");
+  std::optional<acq::TipApplied> tip;
   try {
     (void)acq::parseDigitizerSpec(setup.digitizer);  // nothing is written for a spec that does not parse
     (void)acq::parseCaliperSpec(setup.caliper);
@@ -388,6 +389,7 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
     withField.field = acq::resolveFieldCalibration(store, fieldCalibration_);
     // The newest passing tip calibration of this digitizer, as every capture takes it.
     withField.tip = acq::resolveTipCalibration(store, "latest", acq::tipDevice(setup.digitizer, false));
+    tip = withField.tip;
     session_ = acq::PlantCaptureSession::create(store, withField);
     readSession(store);
   } catch (const std::exception& e) {
@@ -401,14 +403,9 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
   leafType_->addItem(QString());
   for (const QString& t : types) leafType_->addItem(t);
   controls_->show();
-  std::string digitizer = setup.digitizer;
+  // The stylus' tip the session keeps: the link turns every sample to it.
+  const std::string digitizer = acq::withTip(setup.digitizer, tip);
   const std::string caliper = setup.caliper;
-  try {
-    digitizer = acq::withTip(
-        digitizer, acq::PlantCaptureSession::setupFromJson(db::Store(db, true).session(session_)->settingsJson).tip);
-  } catch (const std::exception& e) {
-    return QString::fromStdString(e.what());
-  }
   startThreads([this, db, digitizer, caliper] {
     db::Store store(db);
     acq::PlantCaptureLoop loop(store, session_);
