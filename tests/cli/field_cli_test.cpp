@@ -303,6 +303,20 @@ TEST_F(FieldCli, ATipCalibrationFindsTheStylusTipAndEveryCaptureGoesThroughIt) {
   // A plant captured with the same stylus goes through it too.
   ASSERT_EQ(leafdig("plant capture" + sim + " --seed 3 --json" + db() + " </dev/null").exitCode, 0);
   EXPECT_EQ(json::parse(leafdig("sessions show 3 --json" + db()).out)["tip_calibration"]["id"], 1);
+  // A field check with the same stylus touches the divots through the tip and keeps which (its
+  // record, its JSON, its words); told not to, it keeps none — and its presses are the sensor's.
+  r = leafdig("field check" + sim + " --json" + db() + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err << r.out;
+  const json through = lastLine(r.out);
+  EXPECT_EQ(through["tip_calibration"], 1) << through.dump();
+  EXPECT_EQ(through["verdict"], "pass") << through.dump();
+  EXPECT_NE(leafdig("field show 1" + db()).out.find("stylus tip: tip calibration 1 of "), std::string::npos);
+  r = leafdig("field check" + sim + " --tip-calibration none --json" + db() + " </dev/null");
+  ASSERT_TRUE(r.exitCode == 0 || r.exitCode == 3) << r.err << r.out;
+  const json without = lastLine(r.out);
+  EXPECT_TRUE(without["tip_calibration"].is_null()) << without.dump();
+  EXPECT_GT(without["rms_mm"].get<double>(), through["rms_mm"].get<double>()) << without.dump();
+  EXPECT_NE(leafdig("field show 2" + db()).out.find("stylus tip: none"), std::string::npos);
 }
 
 namespace {

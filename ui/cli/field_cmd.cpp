@@ -45,7 +45,7 @@ struct FieldOptions {
   // show
   std::int64_t id = 0;
   // tip
-  std::string simTip, divot = "250,0,-50";
+  std::string simTip, divot = "250,0,-50", tipCalibration;
   double tipToleranceMm = acq::kDefaultTipToleranceMm;
   // study
   std::string plantJigPose = "480,-100,-330,90";
@@ -181,6 +181,7 @@ int runFieldCheck(const FieldOptions& o) {
   request.toleranceMm = o.toleranceMm;
   request.digitizer = o.digitizer;
   request.simulated = o.simulate;
+  request.tipCalibration = o.tipCalibration;
   if (!o.simulate && o.digitizer.empty())
     throw model::InputError(
         "a field check reads a digitizer: give --digitizer KIND:PORT (fastrak:/dev/ttyUSB0), "
@@ -419,6 +420,7 @@ void addFieldCommands(CLI::App& app, CommandTable& table) {
   check->add_flag("--simulate", o->simulate, "The simulated FASTRAK and a virtual technician touching the jig");
   check->add_option("--distortion", o->distortion, kDistortionHelp);
   check->add_option("--sim-tip", o->simTip, kSimTipHelp);
+  check->add_option("--tip-calibration", o->tipCalibration, kTipCalibrationHelp);
   check->add_option("--jig-pose", o->jigPose,
                     "Simulation: where the jig lies, x,y,z,yaw_deg in the transmitter's frame (default 200,-620,0,90: "
                     "under a leaf as the simulations lay it)");

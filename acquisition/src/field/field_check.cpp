@@ -150,7 +150,7 @@ FieldCheckResult checkField(const model::Jig& jig, const std::vector<Vec3>& meas
 }
 
 std::string encodeFieldCheck(const model::Jig& jig, const std::vector<JigPress>& presses, const FieldCheckResult& r,
-                             const std::string& device) {
+                             const std::string& device, const std::optional<TipApplied>& tip) {
   json ps = json::array();
   for (std::size_t i = 0; i < presses.size(); ++i) {
     const Vec3& p = presses[i].positionMm;
@@ -159,17 +159,18 @@ std::string encodeFieldCheck(const model::Jig& jig, const std::vector<JigPress>&
   }
   json residuals = json::array();
   for (const auto& v : r.fit.residualsMm) residuals.push_back({v.x(), v.y(), v.z()});
-  const json doc = {{"format", kFieldCheckFormat},
-                    {"device", device},
-                    {"jig", jigJson(jig)},
-                    {"tolerance_mm", r.toleranceMm},
-                    {"presses", ps},
-                    {"rms_mm", r.fit.rmsMm},
-                    {"max_mm", r.fit.maxMm},
-                    {"worst_point", r.fit.worstId},
-                    {"residuals_mm", residuals},
-                    {"verdict", r.verdict},
-                    {"correction", correctionJson(r)}};
+  json doc = {{"format", kFieldCheckFormat},
+              {"device", device},
+              {"jig", jigJson(jig)},
+              {"tolerance_mm", r.toleranceMm},
+              {"presses", ps},
+              {"rms_mm", r.fit.rmsMm},
+              {"max_mm", r.fit.maxMm},
+              {"worst_point", r.fit.worstId},
+              {"residuals_mm", residuals},
+              {"verdict", r.verdict},
+              {"correction", correctionJson(r)}};
+  if (tip) doc["tip_calibration"] = tipAppliedJson(*tip);
   return doc.dump();
 }
 
@@ -204,6 +205,7 @@ FieldCalibration readFieldCheck(const db::FieldCheckRow& row) {
     points.push_back(v);
   }
   c.result = checkField(c.jig, points, tol.get<double>());
+  c.tip = tipAppliedFromSettings(row.recordJson, source);
   // What it says must be what its presses give.
   const json said = doc.value("correction", json::object());
   if (doc.value("verdict", "") != c.result.verdict || row.verdict != c.result.verdict)
@@ -240,7 +242,8 @@ std::string fieldCheckSummaryJson(const FieldCalibration& c) {
                     {"correction",
                      {{"model", r.correction.correction.name()},
                       {"holdout_rms_mm", r.correction.holdoutRmsMm},
-                      {"holdout_max_mm", r.correction.holdoutMaxMm}}}};
+                      {"holdout_max_mm", r.correction.holdoutMaxMm}}},
+                    {"tip_calibration", c.tip ? json(c.tip->id) : json()}};
   return doc.dump();
 }
 
@@ -249,6 +252,7 @@ std::string fieldCheckSummaryText(const FieldCalibration& c) {
   std::ostringstream out;
   out << "field check " << c.id << " (" << c.createdUtc << ", " << c.device << ", by " << c.operatorName << ")\n"
       << "  jig: " << c.jig.name << ", " << c.jig.points.size() << " divots\n"
+      << "  stylus tip: " << (c.tip ? c.tip->words() : std::string("none (the sensor's own point)")) << "\n"
       << "  the field: RMS " << detail::fixed(r.fit.rmsMm) << " mm, largest " << detail::fixed(r.fit.maxMm) << " mm at "
       << r.fit.worstId << "; tolerance " << detail::fixed(r.toleranceMm) << " mm RMS\n"
       << "  correction: " << r.correction.correction.name();

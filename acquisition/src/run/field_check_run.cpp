@@ -108,17 +108,18 @@ void FieldCheckRun::stop() {
 std::optional<FieldCalibration> FieldCheckRun::run() {
   std::string spec = request_.digitizer;
   double rateHz = 0;
+  // The divots are touched with the stylus' tip: the request's tip calibration (by default the
+  // digitizer's newest that passed) applies, as it does in a capture, and the check keeps it.
+  const std::optional<TipApplied> tip = resolveTipCalibration(
+      *store_, request_.tipCalibration, tipDevice(request_.simulated ? "fastrak" : spec, request_.simulated));
   if (request_.simulated) {
+    if (tip) request_.simulation.tipAppliedMm = tip->tipMm;
     rig_ = std::make_unique<SimulatedRig>(request_.simulation);
     spec = rig_->digitizerSpec();
     rateHz = rig_->digitizerRateHz();
     technician_ = std::make_unique<Technician>(*rig_, request_.jig, request_.jigPose, request_.simulation.speed);
   }
-  // The divots are touched with the stylus' tip: the digitizer's newest passing tip calibration
-  // applies, as it does in a capture.
-  digitizer_ =
-      startDigitizer(withTip(spec, resolveTipCalibration(*store_, "latest", tipDevice(spec, request_.simulated))),
-                     rateHz, inputs_.sinks(listener_.onStatus));
+  digitizer_ = startDigitizer(withTip(spec, tip), rateHz, inputs_.sinks(listener_.onStatus));
   const auto tell = [&](const JigCapture::Decision& d) {
     if (d.kind == JigCapture::Decision::Kind::Ignored) return;
     if (listener_.onDecision) listener_.onDecision(d);
@@ -149,7 +150,7 @@ std::optional<FieldCalibration> FieldCheckRun::run() {
   const std::string port = request_.simulated ? "simulated" : spec.substr(colon + 1);
   const std::int64_t id =
       store_->addFieldCheck({request_.station, request_.who, kind, port, result.verdict,
-                             encodeFieldCheck(request_.jig, capture_.taken(), result, kind + ":" + port)});
+                             encodeFieldCheck(request_.jig, capture_.taken(), result, kind + ":" + port, tip)});
   for (const db::FieldCheckRow& row : store_->fieldChecks())
     if (row.id == id) return readFieldCheck(row);
   throw db::StoreError(db::StoreErrorKind::Io, "the field check just written is not in " + store_->path(),

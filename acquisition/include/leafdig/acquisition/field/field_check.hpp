@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "leafdig/acquisition/field/tip_calibration.hpp"
 #include "leafdig/acquisition/protocol/items.hpp"
 #include "leafdig/acquisition/protocol/point_rules.hpp"
 #include "leafdig/db/store.hpp"
@@ -77,9 +78,11 @@ struct FieldCheckResult {
 
 // What a check stores (docs/devices.md: format, jig, device, tolerance_mm, presses, rms_mm,
 // max_mm, worst_point, residuals_mm, verdict, correction {model, holdout_rms_mm, holdout_max_mm,
-// candidates, fitted}).
+// candidates, fitted}, and tip_calibration when the presses went through one — as a session's
+// settings keep it).
 [[nodiscard]] std::string encodeFieldCheck(const model::Jig& jig, const std::vector<JigPress>& presses,
-                                           const FieldCheckResult& result, const std::string& device);
+                                           const FieldCheckResult& result, const std::string& device,
+                                           const std::optional<TipApplied>& tip = std::nullopt);
 
 // A stored check, read back and trusted: its record parsed (model::InputError naming the check
 // and the field otherwise), its fit and correction recomputed from its presses and compared with
@@ -90,6 +93,7 @@ struct FieldCalibration {
   model::Jig jig;
   std::vector<JigPress> presses;
   FieldCheckResult result;
+  std::optional<TipApplied> tip;  // the stylus' tip calibration the presses went through
 };
 [[nodiscard]] FieldCalibration readFieldCheck(const db::FieldCheckRow& row);
 // Every check of the station file, oldest first (db::StoreError when the chain does not verify).
@@ -97,7 +101,7 @@ struct FieldCalibration {
 
 // The check as JSON for `field check --json` and `field show --json`: {id, rms_mm, max_mm,
 // worst_point, tolerance_mm, verdict, correction: {model, holdout_rms_mm, holdout_max_mm},
-// calibration_id, created_utc, operator, device, jig}.
+// calibration_id, created_utc, operator, device, jig, tip_calibration: its number or null}.
 [[nodiscard]] std::string fieldCheckSummaryJson(const FieldCalibration& c);
 // The same in a few lines for a person.
 [[nodiscard]] std::string fieldCheckSummaryText(const FieldCalibration& c);

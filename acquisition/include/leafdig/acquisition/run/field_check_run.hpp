@@ -30,6 +30,10 @@ struct FieldCheckRequest {
   SimulationOptions simulation;
   // Where the simulated jig lies in the transmitter's frame (its own frame's origin and turn).
   Eigen::Isometry3d jigPose = Eigen::Isometry3d::Identity();
+  // The stylus' tip calibration the divots are touched through (tip_calibration.hpp): "" or
+  // "latest" (the digitizer's newest that passed, if any), "none", or a calibration's number.
+  // The check keeps which applied.
+  std::string tipCalibration;
 };
 
 struct FieldCheckListener {
