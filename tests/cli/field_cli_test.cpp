@@ -237,6 +237,20 @@ TEST_F(FieldCli, ALeafAndAPlantCapturedThroughTheCheckedFieldAreCorrectedAgainst
   std::cerr << "plant shape RMS (mm): corrected " << plantRms[0] << ", uncorrected " << plantRms[1] << "\n";
   EXPECT_LT(plantRms[0], plantRms[1]) << plantRms[0] << " vs " << plantRms[1];
   EXPECT_NE(leafdig("sessions show 4" + db()).out.find("field: field check 2 of "), std::string::npos);
+  // Each node's tolerance takes in the correction's error on divots it did not see: in the survey
+  // sessions show gives, its words and the JSON export; the uncorrected plant's nodes have the
+  // digitizer's own, which goes unsaid as before.
+  const double heldOut = json::parse(leafdig("field show 2 --json" + db()).out)["correction"]["holdout_rms_mm"];
+  ASSERT_GT(heldOut, 0.0);
+  const json surveyed = json::parse(leafdig("sessions show 4 --json" + db()).out)["survey"];
+  ASSERT_FALSE(surveyed["nodes"].empty());
+  for (const json& n : surveyed["nodes"])
+    EXPECT_NEAR(n["position_tolerance_mm"].get<double>(), 2.7955 * std::hypot(0.762, heldOut), 1e-9) << n.dump();
+  EXPECT_FALSE(json::parse(leafdig("sessions show 5 --json" + db()).out)["survey"]["nodes"][0].contains(
+      "position_tolerance_mm"));
+  EXPECT_NE(leafdig("sessions show 4" + db()).out.find("node tolerance (95 %): up to "), std::string::npos);
+  ASSERT_EQ(leafdig("sessions export 4 --format json --out " + quote(dir_) + db()).exitCode, 0);
+  EXPECT_EQ(json::parse(slurp(dir_ / "session-4.survey.json"))["nodes"], surveyed["nodes"]);
 }
 
 // A stylus whose sensor sits up its shaft, away from the tip (issue 50's tip calibration): the

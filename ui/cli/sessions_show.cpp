@@ -2,6 +2,7 @@
 // survey table — with the curators' history (split from sessions_cmd.cpp, which registers it).
 #include "sessions_show.hpp"
 
+#include <algorithm>
 #include <array>
 #include <iomanip>
 #include <iostream>
@@ -16,6 +17,7 @@
 #include "leafdig/acquisition/session/plant_session.hpp"
 #include "leafdig/acquisition/session/session.hpp"
 #include "leafdig/db/history.hpp"
+#include "leafdig/model/metrics/area_interval.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
 #include "plant/plant_cmd.hpp"
 #include "terminal_text.hpp"
@@ -37,6 +39,21 @@ void printTransmitterPositions(const json& positions, const char* landmark, cons
                 << " mm (worst " << t.at("worst_mm").get<double>() << " mm at " << landmark << " "
                 << t.at(worst).get<int>() << ")\n"
                 << std::defaultfloat;
+}
+
+// How far a node's point may be off (acquisition::CapturedSurvey::nodeToleranceMm), said when
+// the field or a move makes it more than the digitizer's own: the widest, and what it is made of.
+void printNodeTolerance(const acq::CapturedSurvey& captured) {
+  if (captured.transmitter.size() < 2 && !captured.fieldHoldoutRmsMm) return;
+  double widest = 0, move = 0;
+  for (const auto& [node, mm] : captured.nodeToleranceMm) widest = std::max(widest, mm);
+  for (const acq::TransmitterPosition& t : captured.transmitter) move = std::max(move, t.rmsMm);
+  std::cout << std::fixed << std::setprecision(2) << "  node tolerance (95 %): up to " << widest
+            << " mm — the digitizer's " << m::kFastrakSigmaMm << " mm per coordinate";
+  if (captured.fieldHoldoutRmsMm)
+    std::cout << ", the field correction's " << *captured.fieldHoldoutRmsMm << " mm on divots it did not see";
+  if (move > 0) std::cout << ", the moves' fits up to " << move << " mm";
+  std::cout << "\n" << std::defaultfloat;
 }
 
 // The history as `sessions show --json` and `sessions list --json` give it (db/history.hpp).
@@ -103,10 +120,12 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
   // The plant as surveyed (docs/plants.md, "The survey"): its nodes with heights, internodes and
   // stem diameters, its leaves with angles, chords and areas — as soon as the landmarks and the
   // collar give it a frame; until then, why not.
+  std::optional<acq::CapturedSurvey> captured;
   std::optional<model::PlantSurvey> survey;
   std::string surveyProblem;
   try {
-    survey = acq::capturedSurvey(store, o.id).survey;
+    captured = acq::capturedSurvey(store, o.id);
+    survey = captured->survey;
   } catch (const model::InputError& e) {
     surveyProblem = e.what();
   } catch (const acq::SessionError& e) {
@@ -175,7 +194,7 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
              {"corrections", corrections},
              {"history", historyJson(history)},
              {"transmitter_positions", transmitter},
-             {"survey", survey ? json::parse(model::plantSurveyToJson(*survey)) : json(nullptr)},
+             {"survey", captured ? acq::capturedSurveyJson(*captured) : json(nullptr)},
              {"survey_problem", surveyProblem},
              {"relocating", engine.relocating() > 0},
              {"events", chain.events},
@@ -198,9 +217,10 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
   if (setup.field) std::cout << "  field: " << terminalText(setup.field->words()) << "\n";
   if (setup.tip) std::cout << "  stylus tip: " << terminalText(setup.tip->words()) << "\n";
   printTransmitterPositions(transmitter, "landmark", "worst_landmark");
-  if (survey)
+  if (survey) {
     printSurvey(*survey, "  survey");
-  else
+    printNodeTolerance(*captured);
+  } else
     std::cout << "  survey: not yet (" << terminalText(surveyProblem) << ")\n";
   printHistory(history);
   return 0;

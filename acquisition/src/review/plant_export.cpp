@@ -129,6 +129,15 @@ CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
     leaf.areaHigh95Mm2 = u.high95Mm2;
     out.leafSigmaMm[leaf.node] = options.sigmaMm;
   }
+  if (setup.field) out.fieldHoldoutRmsMm = setup.field->holdoutRmsMm;
+  for (const m::SurveyedNode& n : out.survey.nodes) {
+    const auto at = out.nodePosition.find(n.index);
+    const int r = at == out.nodePosition.end() ? 0 : at->second - 1;
+    const double rms = r > 0 ? engine.fitOf(r).rmsMm : 0.0;
+    out.nodeToleranceMm[n.index] =
+        kNodeTolerance95 * std::sqrt(m::kFastrakSigmaMm * m::kFastrakSigmaMm + rms * rms +
+                                     out.fieldHoldoutRmsMm.value_or(0) * out.fieldHoldoutRmsMm.value_or(0));
+  }
   return out;
 }
 
@@ -166,12 +175,25 @@ std::string transmitterPositionsJson(const std::vector<TransmitterPosition>& pos
 
 namespace {
 
-// The survey's JSON with where it came from, and once the transmitter was moved its positions
-// and each node's.
+// The survey's JSON with where it came from and what the capture adds.
 std::string surveyJson(const CapturedSurvey& captured, const m::Provenance& provenance) {
-  json doc = json::parse(m::plantSurveyToJson(captured.survey));
+  json doc = capturedSurveyJson(captured);
   doc["provenance"] = json::parse(provenanceJson(provenance));
-  if (captured.transmitter.size() < 2) return doc.dump(2) + "\n";
+  return doc.dump(2) + "\n";
+}
+
+}  // namespace
+
+json capturedSurveyJson(const CapturedSurvey& captured) {
+  json doc = json::parse(m::plantSurveyToJson(captured.survey));
+  const bool moved = captured.transmitter.size() >= 2;
+  // A node's tolerance is said where it is more than the digitizer's own: across a move or a
+  // checked field (the survey of a session with neither is as it always was).
+  if (moved || captured.fieldHoldoutRmsMm)
+    for (json& n : doc.at("nodes"))
+      if (const auto it = captured.nodeToleranceMm.find(n.at("node").get<int>()); it != captured.nodeToleranceMm.end())
+        n["position_tolerance_mm"] = it->second;
+  if (!moved) return doc;
   doc["transmitter_positions"] = json::parse(transmitterPositionsJson(captured.transmitter));
   for (json& n : doc.at("nodes")) {
     const auto it = captured.nodePosition.find(n.at("node").get<int>());
@@ -180,10 +202,8 @@ std::string surveyJson(const CapturedSurvey& captured, const m::Provenance& prov
   for (json& l : doc.at("leaves"))
     if (const auto it = captured.leafSigmaMm.find(l.at("node").get<int>()); it != captured.leafSigmaMm.end())
       l["area_interval_sigma_mm"] = it->second;  // taken across a move: the residual added to the noise
-  return doc.dump(2) + "\n";
+  return doc;
 }
-
-}  // namespace
 
 CapturedModel capturedModel(const db::EventStore& store, const m::PlantSurvey& survey) {
   const bool quick = std::any_of(survey.leaves.begin(), survey.leaves.end(),

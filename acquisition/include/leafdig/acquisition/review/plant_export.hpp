@@ -15,6 +15,8 @@
 // file is written atomically and recorded in `exports`.
 #include <cstdint>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,8 +55,21 @@ struct CapturedSurvey {
   // more): node → the digitizer noise their area interval was drawn with instead of the stated
   // accuracy, √(σ² + RMS²) with the largest RMS of the moves involved.
   std::map<int, double> leafSigmaMm;
+  // How far each node's point may be from where it is, 95 % of the time (issue 50): the radius
+  // kNodeTolerance95 × √(σ² + RMS² + H²) — σ the digitizer's stated accuracy per coordinate,
+  // RMS the fit of the transmitter position the node was taken from (0 for the first), H the
+  // checked field's correction's error on divots it did not see (0 without a field check).
+  std::map<int, double> nodeToleranceMm;
+  std::optional<double> fieldHoldoutRmsMm;  // H, when the session went through a checked field
 };
 [[nodiscard]] CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id);
+// √χ²₃(0.95): a 3-D normal error of σ per coordinate stays within 2.80 σ of the truth 95 % of
+// the time.
+inline constexpr double kNodeTolerance95 = 2.7955;
+// The survey as its JSON export says it (model::plantSurveyToJson) with what the capture adds:
+// once the transmitter moved, its positions, each node's position and a moved leaf's interval
+// noise; once it moved or went through a checked field, each node's position_tolerance_mm.
+[[nodiscard]] nlohmann::json capturedSurveyJson(const CapturedSurvey& captured);
 
 // The surveyed plant as a model (model/plant/surveyed_plant.hpp), its quick leaves shaped from
 // the organ library of `store` (read only when the plant has a quick leaf).
