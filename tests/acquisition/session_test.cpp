@@ -935,7 +935,7 @@ struct WritingDownKind {
   using Result = std::vector<std::string>;
   struct Listen {};
   std::vector<std::string> told;
-  bool blocked = true;  // the store refuses until it is retried
+  std::atomic<bool> blocked{true};  // the store refuses until it is retried (the test's thread polls it)
   double timeScale() const { return 1.0; }
   void begin(Listen /*unused*/) { told.emplace_back("begin"); }
   void stylus(const acq::StylusInput& s) { told.push_back(s.button ? "pressed" : "up"); }
@@ -953,7 +953,7 @@ struct WritingDownKind {
     blocked = false;
     told.emplace_back("retried");
   }
-  bool storeBlocked() const { return blocked; }
+  bool storeBlocked() const { return blocked.load(); }
   bool ended() const { return false; }
   Result finish() {
     told.emplace_back("finish");
