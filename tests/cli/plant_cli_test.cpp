@@ -1221,6 +1221,38 @@ TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlant
   std::set<int> leaves;
   for (const auto& t : can) leaves.insert(t.leaf);
   EXPECT_EQ(leaves, (std::set<int>{0, 2, 3, 4}));
+  // For a light model (issue 51): the blades alone at the preview resolution — no stem, no vein
+  // tubes, a fraction of the triangles — read by the same strict reader; the GLB of the same
+  // choice is valid and names no vein. The full leaf alone likewise (a leaf's export).
+  const fs::path light = dir_ / "light";
+  ASSERT_EQ(leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(light) +
+                    " --format can,glb --organs blade --resolution preview")
+                .exitCode,
+            0);
+  const std::string lightBase = (light / ("session-" + std::to_string(id))).string();
+  const auto blades = leafdig::test::readCanStrictly(slurp(lightBase + ".can"),
+                                                     leafdig::test::readOptStrictly(slurp(lightBase + ".opt")));
+  std::set<int> bladeLeaves;
+  for (const auto& t : blades) bladeLeaves.insert(t.leaf);
+  EXPECT_EQ(bladeLeaves, (std::set<int>{2, 3, 4}));
+  EXPECT_LT(blades.size() * 4, can.size()) << blades.size() << " of " << can.size();
+  const std::string lightGlb = slurp(lightBase + ".glb");
+  EXPECT_EQ(lightGlb.find("midrib"), std::string::npos);
+  EXPECT_NE(lightGlb.find("plant/leaf-2/blade"), std::string::npos);
+  ASSERT_EQ(leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(light) +
+                    " --node 2 --format obj --organs blade")
+                .exitCode,
+            0);
+  for (const auto& e : fs::directory_iterator(light))
+    if (e.path().extension() == ".obj") {
+      const std::string obj = slurp(e.path());
+      EXPECT_NE(obj.find("\no blade\n"), std::string::npos) << e.path();
+      EXPECT_EQ(obj.find("\no midrib\n"), std::string::npos) << e.path();
+    }
+  EXPECT_EQ(leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(light) +
+                    " --organs leaves")
+                .exitCode,
+            2);
 
   // The full leaf's area in the model is the survey's (the same markers, meshed).
   const json survey = json::parse(slurp(base + ".survey.json"));

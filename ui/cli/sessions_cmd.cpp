@@ -41,6 +41,7 @@
 #include "leafdig/model/plant/plant_survey.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
 #include "leafdig/version.hpp"
+#include "model/mesh_choice.hpp"
 #include "plant/plant_cmd.hpp"
 #include "sessions_show.hpp"
 #include "terminal_text.hpp"
@@ -314,7 +315,8 @@ int runExport(db::EventStore& store, const SessionsOptions& o) {
               << ")\n";
   };
   if (info && info->kind == "plant" && o.node == 0) {
-    const acq::PlantExport p = acq::exportPlantSession(store, o.id, o.formats, o.out);
+    const acq::PlantExport p =
+        acq::exportPlantSession(store, o.id, o.formats, o.out, {o.resolution, model::organChoiceFromString(o.organs)});
     if (o.json) {
       std::cout << json{{"session", o.id},
                         {"kind", "plant"},
@@ -336,6 +338,8 @@ int runExport(db::EventStore& store, const SessionsOptions& o) {
   request.formats = o.formats;
   request.frame = o.frame;
   request.blade = o.blade;
+  request.resolution = o.resolution;
+  request.organs = model::organChoiceFromString(o.organs);
   request.outDir = o.out;
   if (o.node != 0) request.node = o.node;
   const acq::ExportResult r = acq::exportSession(store, o.id, request);
@@ -456,6 +460,8 @@ CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
   exp->add_option("--frame", o->frame, "leaf (default) or digitizer")->check(CLI::IsMember({"leaf", "digitizer"}));
   exp->add_option("--blade", o->blade, "interp (default), approx, bezier, nurbs")
       ->check(CLI::IsMember(wordsIn(model::kBladeKindNames)));
+  exp->add_option("--resolution", o->resolution, kFileResolutionHelp)->check(CLI::IsMember(fileResolutionWords()));
+  exp->add_option("--organs", o->organs, kOrgansHelp)->check(CLI::IsMember(wordsIn(model::kOrganChoiceNames)));
   table.add(list, [o] { return withStore(*o, false, runList); });
   table.add(show, [o] { return withStore(*o, false, runShow); });
   table.add(verify, [o] { return withStore(*o, false, runVerify); });

@@ -22,6 +22,7 @@ struct SessionsOptions {
   std::vector<std::string> formats;
   int node = 0;  // export --node: a plant session's full leaf alone; correct: its node
   std::string frame = "leaf", blade = "interp";
+  std::string resolution = "export", organs = "all";  // export: how the meshes are made
   bool warnUnapproved = true;  // export: warn on stderr that the session is not approved (not the demo's)
   // correct
   std::string what;

@@ -96,7 +96,7 @@ ExportResult exportSession(db::EventStore& store, std::int64_t id, const ExportR
   meshOptions.resolution = model::MeshResolution::preset(request.resolution);
   meshOptions.maxErrorMm = request.maxErrorMm;
   meshOptions.seed = request.seed;
-  const model::LeafMesh mesh = model::meshLeaf(leaf, meshOptions);
+  const model::LeafMesh mesh = model::withOrgans(model::meshLeaf(leaf, meshOptions), request.organs);
   ExportResult result;
   result.metrics = model::computeLeafMetrics(leaf, Eigen::Vector3d(0, 0, 1), 5.0);
   if (reviewed) widenForCapture(*reviewed, leaf, result.metrics);

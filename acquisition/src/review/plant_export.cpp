@@ -218,7 +218,7 @@ CapturedModel capturedModel(const db::EventStore& store, const m::PlantSurvey& s
 }
 
 PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
-                               const std::string& outDir) {
+                               const std::string& outDir, const PlantMeshChoice& meshChoice) {
   detail::noteStoreAsInput(store);
   if (outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
   const std::vector<std::string>& all = plantExportFormats();
@@ -260,7 +260,9 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
     const m::Plant& model = made.plant;
     out.notes.insert(out.notes.end(), made.notes.begin(), made.notes.end());
     if (!meshPaths.empty()) {
-      const m::LeafMesh mesh = m::meshPlant(model, m::MeshOptions{});
+      m::MeshOptions meshOptions;
+      meshOptions.resolution = m::MeshResolution::preset(meshChoice.resolution);
+      const m::LeafMesh mesh = m::withOrgans(m::meshPlant(model, meshOptions), meshChoice.organs);
       const m::PlantMetrics metrics = m::computePlantMetrics(model, mesh, Eigen::Vector3d::UnitZ());
       const m::PlantExportOptions options{m::CanUnit::Metre, std::string("leafdig ") + kVersion};
       // The GLB's nodes are the MTG's entities (the survey's), encoded beside the model's other

@@ -20,6 +20,20 @@ MeshMethod meshMethodFromString(const std::string& word) {
   return parseName(kMeshMethodNames, word, "mesh method");
 }
 
+const char* toString(OrganChoice choice) {
+  return nameIn(kOrganChoiceNames, choice);
+}
+
+OrganChoice organChoiceFromString(const std::string& word) {
+  return parseName(kOrganChoiceNames, word, "choice of organs");
+}
+
+LeafMesh withOrgans(LeafMesh mesh, OrganChoice choice) {
+  if (choice == OrganChoice::Blades)
+    std::erase_if(mesh.organs, [](const Organ& o) { return o.kind != OrganKind::Blade; });
+  return mesh;
+}
+
 std::string describe(const MeshOptions& o) {
   std::ostringstream s;
   switch (o.method) {

@@ -1,18 +1,29 @@
 #pragma once
 // The `--mesh uniform|seed|adaptive` options that `model build`, `plant build` and `mesh
-// compare|study` share, and the mesh part of their --json reports (docs/meshing.md).
+// compare|study` share, the mesh part of their --json reports (docs/meshing.md), and the
+// resolution and organs a file is meshed with (`plant build`, `sessions export`).
 #include <CLI/CLI.hpp>
 #include <cstddef>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "leafdig/model/mesh/mesh_compare.hpp"
 #include "leafdig/model/mesh/mesh_method.hpp"
 #include "leafdig/model/study/mesh_study.hpp"
 
 namespace leafdig::cli {
+
+// --resolution of a file's meshes (model::kFileResolutionNames) and --organs (model::kOrganChoiceNames).
+inline constexpr const char* kFileResolutionHelp = "Mesh resolution preset: preview, export (default), paper";
+inline constexpr const char* kOrgansHelp =
+    "The organs the meshes keep: all (default) or blade (the leaves' blades alone: no vein tubes, no stem; a light "
+    "model's leaves)";
+[[nodiscard]] inline std::vector<std::string> fileResolutionWords() {
+  return {model::kFileResolutionNames.begin(), model::kFileResolutionNames.end()};
+}
 
 // What the user chose on the command line; checked by meshOptionsFrom.
 struct MeshChoice {

@@ -33,8 +33,7 @@ std::pair<CLI::App*, CLI::App*> declarePlantCommands(CLI::App& app, PlantOptions
   CLI::App* grow = plant->add_subcommand("grow", "Export the plant's growth states at a series of times");
   for (CLI::App* c : {build, grow}) {
     c->add_option("plan", o.planPath, "Plant plan (leafdig.plant/1 JSON)")->required();
-    c->add_option("--resolution", o.resolution, "Leaf mesh resolution preset: preview, export (default), paper")
-        ->check(CLI::IsMember({"paper", "preview", "export"}));
+    c->add_option("--resolution", o.resolution, kFileResolutionHelp)->check(CLI::IsMember(fileResolutionWords()));
     c->add_option("--light", o.light, "Light direction x,y,z (plant frame, +Z up) for silhouette and STAR");
     c->add_option("--can-unit", o.canUnit, "Unit of CARIBU .can geometry: m (default) or cm")
         ->check(CLI::IsMember({"m", "cm"}));
@@ -45,6 +44,7 @@ std::pair<CLI::App*, CLI::App*> declarePlantCommands(CLI::App& app, PlantOptions
       ->add_option("-o,--output", o.outputs,
                    "File to write, by extension: .glb .obj .ply .stl .can (+ .opt) .mtg .csv .json (repeat)")
       ->required();
+  build->add_option("--organs", o.organs, kOrgansHelp)->check(CLI::IsMember(wordsIn(m::kOrganChoiceNames)));
   build->add_option("--time", o.time, "Build the growth state at this time (the plan's growth unit)");
   grow->add_option("--times", o.times, "Times start:end:step, e.g. 0:60:5")->required();
   grow->add_option("-o,--output", o.outputs,
@@ -168,7 +168,7 @@ int runPlant(const PlantOptions& o, bool grow) {
     const m::Plant p = builder.build(t);
     if (o.animate) series.push_back(p);
     const auto b = Clock::now();
-    const m::LeafMesh mesh = m::meshPlant(p, meshOptions);
+    const m::LeafMesh mesh = m::withOrgans(m::meshPlant(p, meshOptions), m::organChoiceFromString(o.organs));
     const auto c = Clock::now();
     m::PlantMetrics metrics = m::computePlantMetrics(p, mesh, light);
     // The CSV's blade-area intervals (about 12 ms a leaf): for a single plant, not for every

@@ -18,6 +18,7 @@ struct PlantOptions {
   std::string planPath;
   std::vector<std::string> outputs;
   std::string resolution = "export";
+  std::string organs = "all";  // build: --organs (model::kOrganChoiceNames)
   std::string light = "0,0,1";
   std::string canUnit = "m";
   std::optional<double> time;

@@ -25,6 +25,8 @@ struct ExportRequest {
   double maxErrorMm = 0.1;
   model::SeedMeshParameters seed;
   std::string blade = "interp";  // approx, bezier, nurbs
+  // The meshes' organs (glb obj ply stl): all, or the blade alone (model::OrganChoice).
+  model::OrganChoice organs = model::OrganChoice::All;
   std::string outDir;
   // A plant session's full leaf, alone: the leaf digitized at this node (files
   // session-N.node-K.*, in the digitizer's or the leaf's frame, the CSV of that leaf's items).

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "leafdig/db/event_store.hpp"
+#include "leafdig/model/mesh/mesh_method.hpp"
 #include "leafdig/model/plant/plant.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
 
@@ -86,8 +87,15 @@ struct PlantExport {
 };
 // mtg, csv, markers, json, glb, obj, ply, stl, can, model, plan
 [[nodiscard]] const std::vector<std::string>& plantExportFormats();
+// How the model's formats (glb obj ply stl can model) are meshed: a resolution preset
+// (model::kFileResolutionNames) and which organs they keep — a light model's blades alone are a
+// fraction of the triangles and bytes.
+struct PlantMeshChoice {
+  std::string resolution = "export";
+  model::OrganChoice organs = model::OrganChoice::All;
+};
 PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
-                               const std::string& outDir);
+                               const std::string& outDir, const PlantMeshChoice& meshChoice = {});
 
 // The captured plant as a leafdig.plant/1 plan (`leaf markers` name each leaf's file relative to
 // the plan, in the order of `plant.leaves`): the stem's points with their diameters, each leaf's

@@ -3,6 +3,7 @@
 // adaptive rule (patent CN101650836: division length M, inter-segment angle α, Delaunay
 // blades), or ours, bounded by an error E in millimetres. See docs/meshing.md.
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,21 @@ inline constexpr NameTable<MeshMethod, 3> kMeshMethodNames{
 [[nodiscard]] const char* toString(MeshMethod method);
 // Throws InputError naming the accepted words.
 [[nodiscard]] MeshMethod meshMethodFromString(const std::string& word);
+
+// The resolution presets a file is meshed at (the CLI's --resolution choices; "reference" is for
+// measuring meshes, not for files).
+inline constexpr std::array<const char*, 3> kFileResolutionNames{"preview", "export", "paper"};
+
+// Which organs a file keeps (issue 51, --organs): every organ, or the leaves' blades alone — a
+// light model's leaves, without the veins' tubes and the stem (CARIBU, Helios).
+enum class OrganChoice { All, Blades };
+inline constexpr NameTable<OrganChoice, 2> kOrganChoiceNames{
+    {{OrganChoice::All, "all"}, {OrganChoice::Blades, "blade"}}};
+[[nodiscard]] const char* toString(OrganChoice choice);
+// Throws InputError naming the accepted words.
+[[nodiscard]] OrganChoice organChoiceFromString(const std::string& word);
+// `mesh` with only the organs `choice` keeps, in their order (its warnings kept).
+[[nodiscard]] LeafMesh withOrgans(LeafMesh mesh, OrganChoice choice);
 
 // The seed's parameters: skeleton curves divided every `minLengthMm` along their length,
 // then neighbouring segments merged while the angle between them at their shared point
