@@ -178,8 +178,7 @@ std::string EventStore::signature(const std::string& who) const {
 
 std::int64_t EventStore::setStatus(std::int64_t session, const std::string& status, const std::string& who,
                                    const std::string& why) {
-  static const char* const kAllowed[] = {"open", "complete", "approved", "rejected", "abandoned"};
-  if (std::find(std::begin(kAllowed), std::end(kAllowed), status) == std::end(kAllowed))
+  if (std::find(kSessionStatuses.begin(), kSessionStatuses.end(), status) == kSessionStatuses.end())
     throw StoreError(StoreErrorKind::Input, "unknown session status '" + status + "'",
                      "use open, complete, approved, rejected or abandoned");
   EventInput ev;

@@ -28,6 +28,7 @@
 #include "leafdig/acquisition/run/capture_run.hpp"
 #include "leafdig/acquisition/session/plant_session.hpp"
 #include "leafdig/acquisition/session/session.hpp"
+#include "leafdig/acquisition/session/session_log.hpp"
 #include "leafdig/db/history.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/db/store.hpp"
@@ -395,8 +396,10 @@ CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
   }
   for (CLI::App* c : {show, approve, reject, reopen, corr, exp}) c->add_option("id", o->id, "Session id")->required();
   list->add_option("--status", o->status, "Only sessions of this status")
-      ->check(CLI::IsMember({"open", "complete", "approved", "rejected", "abandoned"}));
-  list->add_option("--kind", o->kind, "Only leaves or only plants")->check(CLI::IsMember({"leaf", "plant"}));
+      ->check(CLI::IsMember(std::vector<std::string>(db::kSessionStatuses.begin(), db::kSessionStatuses.end())));
+  list->add_option("--kind", o->kind, "Only leaves or only plants")
+      ->check(CLI::IsMember(
+          std::vector<std::string>{std::string(acq::kLeafCapture.word), std::string(acq::kPlantCapture.word)}));
   list->add_option("--plant", o->plant, "Only this plant's sessions");
   list->add_option("--station", o->station, "Only the sessions this station captured");
   list->add_option("--since", o->since, "Only sessions created on this day (YYYY-MM-DD, UTC) or later")

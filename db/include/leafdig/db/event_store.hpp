@@ -76,6 +76,10 @@ struct Event {
   std::string kind, payloadJson, raw, prevHash, hash;
 };
 
+// A session's statuses: what the schemas' CHECK holds (released migrations keep their own SQL),
+// what setStatus takes and what `sessions list --status` offers.
+inline constexpr std::array<const char*, 5> kSessionStatuses{"open", "complete", "approved", "rejected", "abandoned"};
+
 struct SessionInfo {
   std::int64_t id = 0, leafId = 0;
   // The session's id at the station that captured it: the same as `id` in a station's file;
