@@ -205,7 +205,7 @@ FieldCalibration readFieldCheck(const db::FieldCheckRow& row) {
     points.push_back(v);
   }
   c.result = checkField(c.jig, points, tol.get<double>());
-  c.tip = tipAppliedFromSettings(row.recordJson, source);
+  c.tip = tipAppliedIn(doc, source);
   // What it says must be what its presses give.
   const json said = doc.value("correction", json::object());
   if (doc.value("verdict", "") != c.result.verdict || row.verdict != c.result.verdict)

@@ -54,15 +54,11 @@ void copyHeader(const db::CalibrationRow& row, Calibration& c) {
 class SettingsEntry {
  public:
   SettingsEntry(const std::string& settingsJson, const std::string& source, const char* key)
-      : where_(source + ": " + key) {
-    nlohmann::json settings;
-    try {
-      settings = nlohmann::json::parse(settingsJson);
-    } catch (const nlohmann::json::exception&) {
-      throw model::InputError(source + ": its settings are not JSON");
-    }
-    if (!settings.is_object() || !settings.contains(key)) return;
-    entry_ = std::move(settings[key]);
+      : SettingsEntry(parsed(settingsJson, source), source, key) {}
+  // The same in a document already parsed (a stored check's record keeps its tip this way).
+  SettingsEntry(const nlohmann::json& doc, const std::string& source, const char* key) : where_(source + ": " + key) {
+    if (!doc.is_object() || !doc.contains(key)) return;
+    entry_ = doc[key];
     if (!entry_.is_object()) fail("is not an object");
   }
   [[nodiscard]] bool present() const { return !entry_.is_null(); }
@@ -88,6 +84,14 @@ class SettingsEntry {
   }
 
  private:
+  static nlohmann::json parsed(const std::string& settingsJson, const std::string& source) {
+    try {
+      return nlohmann::json::parse(settingsJson);
+    } catch (const nlohmann::json::exception&) {
+      throw model::InputError(source + ": its settings are not JSON");
+    }
+  }
+
   std::string where_;
   nlohmann::json entry_;
 };

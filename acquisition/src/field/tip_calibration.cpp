@@ -204,8 +204,10 @@ json tipAppliedJson(const TipApplied& t) {
           {"device", t.device}, {"tip_mm", t.tipMm}, {"rms_mm", t.rmsMm}};
 }
 
-std::optional<TipApplied> tipAppliedFromSettings(const std::string& settingsJson, const std::string& source) {
-  const detail::SettingsEntry e(settingsJson, source, "tip_calibration");
+namespace {
+
+// The tip a session's settings (or a check's record) keep, read from its entry.
+std::optional<TipApplied> tipIn(const detail::SettingsEntry& e) {
   if (!e.present()) return std::nullopt;
   TipApplied t;
   t.id = e.id("a calibration's number");
@@ -217,6 +219,16 @@ std::optional<TipApplied> tipAppliedFromSettings(const std::string& settingsJson
   t.tipMm = *tip;
   t.rmsMm = e.millimetres("rms_mm", 20);
   return t;
+}
+
+}  // namespace
+
+std::optional<TipApplied> tipAppliedIn(const json& doc, const std::string& source) {
+  return tipIn(detail::SettingsEntry(doc, source, "tip_calibration"));
+}
+
+std::optional<TipApplied> tipAppliedFromSettings(const std::string& settingsJson, const std::string& source) {
+  return tipIn(detail::SettingsEntry(settingsJson, source, "tip_calibration"));
 }
 
 std::string withTip(const std::string& spec, const std::optional<TipApplied>& tip) {

@@ -89,6 +89,8 @@ struct TipApplied {
 // The session's, or nothing (model::InputError naming `source` and the key when it does not read).
 [[nodiscard]] std::optional<TipApplied> tipAppliedFromSettings(const std::string& settingsJson,
                                                                const std::string& source);
+// The same from a document already parsed (a stored field check's record keeps its tip so).
+[[nodiscard]] std::optional<TipApplied> tipAppliedIn(const nlohmann::json& doc, const std::string& source);
 // The digitizer spec a capture opens: `spec` with ",tip=x:y:z" (the tip in the sensor's frame, mm)
 // when a calibration applies (live/device_set.hpp's parseDigitizerSpec reads it).
 [[nodiscard]] std::string withTip(const std::string& spec, const std::optional<TipApplied>& tip);
