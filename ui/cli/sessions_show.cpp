@@ -121,11 +121,9 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
   // stem diameters, its leaves with angles, chords and areas — as soon as the landmarks and the
   // collar give it a frame; until then, why not.
   std::optional<acq::CapturedSurvey> captured;
-  std::optional<model::PlantSurvey> survey;
   std::string surveyProblem;
   try {
     captured = acq::capturedSurvey(store, o.id);
-    survey = captured->survey;
   } catch (const model::InputError& e) {
     surveyProblem = e.what();
   } catch (const acq::SessionError& e) {
@@ -143,11 +141,11 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
     }
     // The same point in the plant frame, as exports give it and `sessions correct` takes it by
     // default (a landmark taken again after a move is held in its own position's frame).
-    if (survey) {
+    if (captured) {
       Eigen::Vector3d p(mk.positionMm[0], mk.positionMm[1], mk.positionMm[2]);
       if (mk.what == "landmark_again" && position > 0 && position < static_cast<int>(engine.toFirst().size()))
         p = engine.toFirst()[static_cast<std::size_t>(position)] * p;
-      const Eigen::Vector3d q = survey->frame.point(p);
+      const Eigen::Vector3d q = captured->survey.frame.point(p);
       point["position_plant_mm"] = {q.x(), q.y(), q.z()};
     }
     points.push_back(point);
@@ -217,8 +215,8 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
   if (setup.field) std::cout << "  field: " << terminalText(setup.field->words()) << "\n";
   if (setup.tip) std::cout << "  stylus tip: " << terminalText(setup.tip->words()) << "\n";
   printTransmitterPositions(transmitter, "landmark", "worst_landmark");
-  if (survey) {
-    printSurvey(*survey, "  survey");
+  if (captured) {
+    printSurvey(captured->survey, "  survey");
     printNodeTolerance(*captured);
   } else
     std::cout << "  survey: not yet (" << terminalText(surveyProblem) << ")\n";
