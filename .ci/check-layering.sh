@@ -36,6 +36,13 @@ if [ -n "$py" ]; then
   echo "pybind11 outside python/leafdig_module.cpp:"; echo "$py"; fail=1
 fi
 
+# 5b. cpp-httplib only in ui/cli/web/http.cpp (the web review's one HTTP translation unit) and
+#     the web test that drives it as a client.
+hl=$(sources model devices db acquisition ui tests python | grep -v -e '^ui/cli/web/http.cpp$' -e '^tests/cli/web_cli_test.cpp$' | xargs -r grep -lE '#\s*include\s*[<"]httplib.h' || true)
+if [ -n "$hl" ]; then
+  echo "cpp-httplib outside ui/cli/web/http.cpp:"; echo "$hl"; fail=1
+fi
+
 check() {  # module, forbidden modules...
   local module=$1; shift
   for other in "$@"; do
@@ -116,5 +123,5 @@ rootCheck acquisition "nothing" protocol session review live sim run field
 #    (.cpp), and no include cycle between files of a module (a file is its .hpp and .cpp
 #    together: x.cpp including y.hpp while y.cpp includes x.hpp is a cycle).
 if ! python3 "$here/check_sizes_cycles.py" .; then fail=1; fi
-[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, pybind11 only in python/leafdig_module.cpp, dependencies point one way, devices/, model/ and acquisition/ rooms in their directions, no file over 700 lines, no folder over 14 sources, no include cycle in a module"
+[ $fail -eq 0 ] && echo "layering ok: Qt only in ui/, OpenCV only in leaf_scan.cpp, libpq only in db/src/pg.hpp, cpp-httplib only in ui/cli/web/http.cpp, pybind11 only in python/leafdig_module.cpp, dependencies point one way, devices/, model/ and acquisition/ rooms in their directions, no file over 700 lines, no folder over 14 sources, no include cycle in a module"
 exit $fail

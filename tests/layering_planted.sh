@@ -39,6 +39,7 @@ plant acquisition/src/protocol/plant_engine.cpp '#include "leafdig/acquisition/s
 plant acquisition/src/review/review.cpp '#include "leafdig/acquisition/live/capture_loop.hpp"' "the review using the live loops"
 plant acquisition/src/session/session.cpp '#include "review/review_checks.hpp"' "the session using the review's private header"
 plant model/src/leaf/blade.cpp '#include <opencv2/core.hpp>' "OpenCV outside leaf_scan.cpp"
+plant ui/cli/web/web_app.cpp '#include <httplib.h>' "cpp-httplib outside ui/cli/web/http.cpp"
 plant model/src/leaf/leaf_model.cpp '#include "leafdig/model/mesh/mesh.hpp"' "the leaf model using meshes"
 plant model/include/leafdig/model/synth/synthetic_leaf.hpp '#include "leafdig/model/plant/plant.hpp"' "synth using plant"
 plant model/src/io/model_json.cpp '#include "leafdig/model/study/accuracy.hpp"' "io using study"

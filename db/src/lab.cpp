@@ -334,6 +334,22 @@ LabStore::LabStore(const std::string& url) : conn_(std::make_unique<pg::Connecti
 
 LabStore::~LabStore() = default;
 
+std::optional<LabRole> LabStore::role() const {
+  for (const auto& [role, word] : kLabRoleNames) {
+    const std::string group = std::string("leafdig_") + std::string(word) + "s";
+    if (conn_
+            ->exec("SELECT pg_has_role(session_user, oid, 'MEMBER') FROM pg_catalog.pg_roles WHERE rolname = $1",
+                   {group})
+            .text(0, 0) == "t")
+      return role;
+  }
+  return std::nullopt;
+}
+
+bool LabStore::passwordChecked() const {
+  return conn_->usedPassword();
+}
+
 std::string LabStore::describe() const {
   return conn_->where();
 }

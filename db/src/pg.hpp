@@ -88,6 +88,8 @@ class Connection {
   [[nodiscard]] std::string encryptPassword(const std::string& password, const std::string& login) const;
   [[nodiscard]] const std::string& where() const { return where_; }  // the redacted URL
   [[nodiscard]] std::string user() const { return PQuser(conn_); }
+  // Whether the server asked for the password (a `trust` line in pg_hba.conf does not).
+  [[nodiscard]] bool usedPassword() const { return PQconnectionUsedPassword(conn_) == 1; }
 
  private:
   Result check(PGresult* r);

@@ -17,7 +17,8 @@ deb=$(ls "$work"/leafdig_*_amd64.deb 2>/dev/null | head -1)
 [ "$(dpkg-deb -f "$deb" Architecture)" = amd64 ] || fail "architecture"
 depends=$(dpkg-deb -f "$deb" Depends)
 echo "$depends" | grep -q "python3-numpy" || fail "Depends lacks python3-numpy (import leafdig): $depends"
-for lib in libqt6widgets6 libqt6opengl6 libqt6charts6 libqt6multimedia6 libserialport0 libhidapi libusb-1.0-0 libsqlite3-0 libssl3; do
+for lib in libqt6widgets6 libqt6opengl6 libqt6charts6 libqt6multimedia6 libserialport0 libhidapi libusb-1.0-0 libsqlite3-0 libssl3 \
+           libcpp-httplib0.11; do
   echo "$depends" | grep -q "$lib" || fail "Depends lacks $lib: $depends"
 done
 dpkg-deb -c "$deb" | awk '{print $6}' >"$work/contents.txt"
@@ -26,7 +27,7 @@ for f in ./usr/bin/leafdig ./usr/bin/leafdig-station ./usr/lib/udev/rules.d/70-l
          ./usr/share/leafdig/samples/lower-leaf-n10.markers.json \
          ./usr/share/leafdig/schema/leafdig.markers-1.schema.json ./usr/share/doc/leafdig/README.md \
          ./usr/share/leafdig/protocols/tobacco.plant-protocol.json ./usr/share/leafdig/protocols/maize.plant-protocol.json \
-         ./usr/share/leafdig/plants/sample.plant-markers.json ./usr/share/doc/leafdig/plants.md \
+         ./usr/share/leafdig/plants/sample.plant-markers.json ./usr/share/doc/leafdig/plants.md ./usr/share/doc/leafdig/web.md \
          ./usr/share/leafdig/fields/steel-bench.field.json ./usr/share/leafdig/fields/three-level.jig.json \
          ./usr/share/doc/leafdig/schema.md ./usr/lib/python3/dist-packages/leafdig/__init__.py \
          ./usr/lib/python3/dist-packages/leafdig/_leafdig.cpython-311-x86_64-linux-gnu.so; do

@@ -10,6 +10,7 @@
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/lab.hpp"
 #include "terminal_text.hpp"
+#include "web/web_cmd.hpp"
 
 namespace leafdig::cli {
 namespace {
@@ -162,6 +163,14 @@ int runInit(const LabOptions& o) {
   return 0;
 }
 
+int runWeb(const LabOptions& o) {
+  web::WebOptions options;
+  options.serverUrl = o.url;
+  options.idle = std::chrono::seconds(static_cast<std::int64_t>(o.idleMinutes * 60));
+  options.secureCookie = o.secureCookie;
+  return web::serve(options, o.listen);
+}
+
 int runAddUser(const LabOptions& o) {
   const db::LabRole role = db::labRoleFromString(o.role);
   std::optional<std::string> password;
@@ -199,6 +208,14 @@ void declareLabCommands(CLI::App& app, LabOptions& o) {
       ->check(CLI::IsMember(wordsIn(db::kLabRoleNames)));
   add->add_option("--station", o.station, "A technician's station id (required for technicians only)");
   add->add_option("--password-file", o.passwordFile, "File whose first line is the new login's password");
+  CLI::App* web = server->add_subcommand(
+      "web", "Serve the lab server's sessions to curators and readers in a browser (docs/web.md)");
+  web->add_option("--db", o.url, "postgresql://HOST[:PORT]/DATABASE: each browser logs in with its own login")
+      ->required();
+  web->add_option("--listen", o.listen, "HOST:PORT to serve on (default 127.0.0.1:8080; TLS is a proxy's)");
+  web->add_option("--idle-minutes", o.idleMinutes, "A browser session unused this long ends (default 30)")
+      ->check(CLI::Range(1.0, 24.0 * 60));
+  web->add_flag("--secure-cookie", o.secureCookie, "Send the session cookie over https only (behind a TLS proxy)");
 
   CLI::App* sync = app.add_subcommand("sync", "Send this station's sessions to the lab server, bring decisions back");
   sync->require_subcommand(1);
@@ -235,6 +252,7 @@ void addLabCommands(CLI::App& app, CommandTable& table) {
   };
   add(app.get_subcommand("server")->get_subcommand("init"), runInit);
   add(app.get_subcommand("server")->get_subcommand("add-user"), runAddUser);
+  add(app.get_subcommand("server")->get_subcommand("web"), runWeb);
   add(app.get_subcommand("sync")->get_subcommand("push"), runPush);
   add(app.get_subcommand("sync")->get_subcommand("pull"), runPull);
 }

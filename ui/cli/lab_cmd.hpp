@@ -1,5 +1,5 @@
-// leafdig server init|add-user, leafdig sync push|pull: the lab's PostgreSQL server
-// (docs/lab.md).
+// leafdig server init|add-user|web, leafdig sync push|pull: the lab's PostgreSQL server
+// (docs/lab.md; the web review: docs/web.md).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -13,12 +13,15 @@ struct LabOptions {
   std::string station;
   std::string login, role, passwordFile;
   std::size_t eventsPerTransaction = 2000;
-  double lockWaitSeconds = 30;  // server init
+  double lockWaitSeconds = 30;            // server init
+  std::string listen = "127.0.0.1:8080";  // server web
+  double idleMinutes = 30;
+  bool secureCookie = false;
   bool json = false;
 };
 
 class CommandTable;
-// Registers `server init`, `server add-user`, `sync push` and `sync pull`.
+// Registers `server init`, `server add-user`, `server web`, `sync push` and `sync pull`.
 void addLabCommands(CLI::App& app, CommandTable& table);
 
 }  // namespace leafdig::cli

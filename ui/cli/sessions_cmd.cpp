@@ -54,45 +54,12 @@ namespace acq = leafdig::acquisition;
 namespace m = leafdig::model;
 using nlohmann::json;
 
-// `sessions list`'s filters: every one given must hold.
-bool listed(const db::SessionInfo& s, const SessionsOptions& o) {
-  if (!o.status.empty() && s.status != o.status) return false;
-  if (!o.kind.empty() && s.kind != o.kind) return false;
-  if (!o.plant.empty() && s.plant != o.plant) return false;
-  if (!o.station.empty() && s.station != o.station) return false;
-  // created_utc is ISO 8601 (2026-11-28T10:00:00.000Z): a day compares as text.
-  if (!o.since.empty() && s.createdUtc.substr(0, o.since.size()) < o.since) return false;
-  return true;
-}
-
 int runList(const db::EventStore& store, const SessionsOptions& o) {
   std::vector<db::SessionInfo> sessions;
   for (auto& s : store.sessions())
     if (listed(s, o)) sessions.push_back(std::move(s));
   if (o.json) {
-    json a = json::array();
-    for (const auto& s : sessions)
-      a.push_back({{"id", s.id},
-                   {"station", s.station},
-                   {"station_session_id", s.stationSessionId},
-                   {"project", s.project},
-                   {"plant", s.plant},
-                   {"kind", s.kind},
-                   {"leaf_position", s.leafPosition},
-                   {"leaf_type", s.leafType},
-                   {"status", s.status},
-                   {"operator", s.operatorName},
-                   {"mode", s.mode},
-                   {"created_utc", s.createdUtc},
-                   {"events", s.headSeq},
-                   {"decision", [&] {
-                      // Only a decided session has a decision: the others' events are not read (a
-                      // lab server lists thousands). A reopened session is complete: no decision stands.
-                      if (s.status != "approved" && s.status != "rejected") return json(nullptr);
-                      const auto d = db::lastDecision(db::reviewHistory(store.events(s.id)));
-                      return d ? json::parse(db::reviewEntryJson(*d)) : json(nullptr);
-                    }()}});
-    std::cout << a.dump() << "\n";
+    std::cout << sessionListJson(store, sessions).dump() << "\n";
     return 0;
   }
   // On the lab server each session also carries its station and the id it has there.

@@ -94,7 +94,7 @@ void printHistory(const std::vector<db::ReviewEntry>& history) {
 
 // A plant session shown: its step, every point and reading as the events say (in the
 // digitizer's frame), each node's leaf as chosen, and the curators' corrections.
-int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db::SessionInfo& info) {
+int showPlant(const db::EventStore& store, const SessionsOptions& o, const db::SessionInfo& info, json* sink) {
   const db::ChainReport chain = store.verify(o.id);
   const std::vector<db::Event> events = store.events(o.id);
   const acq::PlantSessionSetup setup = acq::PlantCaptureSession::setupFromJson(info.settingsJson);
@@ -204,7 +204,10 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
              {"date", setup.date ? json(model::toIso(*setup.date)) : json(nullptr)}};
     if (setup.field) out["field_calibration"] = acq::fieldAppliedJson(*setup.field);
     if (setup.tip) out["tip_calibration"] = acq::tipAppliedJson(*setup.tip);
-    std::cout << out.dump() << "\n";
+    if (sink != nullptr)
+      *sink = std::move(out);
+    else
+      std::cout << out.dump() << "\n";
     return 0;
   }
   std::cout << "session " << o.id << " · plant " << terminalText(info.project + "/" + info.plant) << " · "
@@ -226,8 +229,11 @@ int runShowPlant(const db::EventStore& store, const SessionsOptions& o, const db
 
 }  // namespace
 
-int runShow(const db::EventStore& store, const SessionsOptions& o) {
-  if (const auto info = store.session(o.id); info && info->kind == "plant") return runShowPlant(store, o, *info);
+namespace {
+
+// The session shown: printed, or (sink, with o.json) its JSON handed back.
+int show(const db::EventStore& store, const SessionsOptions& o, json* sink) {
+  if (const auto info = store.session(o.id); info && info->kind == "plant") return showPlant(store, o, *info, sink);
   const acq::ReviewedSession r = acq::openForReview(store, o.id);
   const db::ChainReport chain = store.verify(o.id);
   // What the events say (a table edited behind them shows as chain_ok false, with the problem).
@@ -288,7 +294,10 @@ int runShow(const db::EventStore& store, const SessionsOptions& o) {
     if (const auto field = acq::sessionField(r.info)) j["field_calibration"] = acq::fieldAppliedJson(*field);
     if (const auto tip = acq::sessionTip(r.info)) j["tip_calibration"] = acq::tipAppliedJson(*tip);
     j["history"] = historyJson(history);
-    std::cout << j.dump() << "\n";
+    if (sink != nullptr)
+      *sink = std::move(j);
+    else
+      std::cout << j.dump() << "\n";
     return 0;
   }
   std::cout << "session " << o.id << " · " << terminalText(r.info.status) << " · "
@@ -303,6 +312,58 @@ int runShow(const db::EventStore& store, const SessionsOptions& o) {
   printTransmitterPositions(transmitter, "board point", "worst_point");
   printHistory(history);
   return 0;
+}
+
+}  // namespace
+
+int runShow(const db::EventStore& store, const SessionsOptions& o) {
+  return show(store, o, nullptr);
+}
+
+// `sessions list`'s filters: every one given must hold.
+bool listed(const db::SessionInfo& s, const SessionsOptions& o) {
+  if (!o.status.empty() && s.status != o.status) return false;
+  if (!o.kind.empty() && s.kind != o.kind) return false;
+  if (!o.plant.empty() && s.plant != o.plant) return false;
+  if (!o.station.empty() && s.station != o.station) return false;
+  // created_utc is ISO 8601 (2026-11-28T10:00:00.000Z): a day compares as text.
+  if (!o.since.empty() && s.createdUtc.substr(0, o.since.size()) < o.since) return false;
+  return true;
+}
+
+json sessionListJson(const db::EventStore& store, const std::vector<db::SessionInfo>& sessions) {
+  json a = json::array();
+  for (const auto& s : sessions)
+    a.push_back({{"id", s.id},
+                 {"station", s.station},
+                 {"station_session_id", s.stationSessionId},
+                 {"project", s.project},
+                 {"plant", s.plant},
+                 {"kind", s.kind},
+                 {"leaf_position", s.leafPosition},
+                 {"leaf_type", s.leafType},
+                 {"status", s.status},
+                 {"operator", s.operatorName},
+                 {"mode", s.mode},
+                 {"created_utc", s.createdUtc},
+                 {"events", s.headSeq},
+                 {"decision", [&] {
+                    // Only a decided session has a decision: the others' events are not read (a
+                    // lab server lists thousands). A reopened session is complete: no decision stands.
+                    if (s.status != "approved" && s.status != "rejected") return json(nullptr);
+                    const auto d = db::lastDecision(db::reviewHistory(store.events(s.id)));
+                    return d ? json::parse(db::reviewEntryJson(*d)) : json(nullptr);
+                  }()}});
+  return a;
+}
+
+json sessionJson(const db::EventStore& store, std::int64_t id) {
+  SessionsOptions o;
+  o.id = id;
+  o.json = true;
+  json out;
+  (void)show(store, o, &out);
+  return out;
 }
 
 }  // namespace leafdig::cli

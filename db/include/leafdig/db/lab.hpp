@@ -82,6 +82,11 @@ class LabStore final : public EventStore {
   std::int64_t ensureOperator(const std::string& name, const std::string& role) override;
   std::int64_t recordExport(std::int64_t session, const std::string& path, const std::string& format) override;
   [[nodiscard]] std::optional<std::string> login() const override { return login_; }
+  // The login's group on the server (none: a login in no leafdig group), asked of the server.
+  [[nodiscard]] std::optional<LabRole> role() const;
+  // Whether the server checked a password to let this connection in (the web review refuses a
+  // login the server let in on `trust`: its password would prove nothing).
+  [[nodiscard]] bool passwordChecked() const;
 
  private:
   std::unique_ptr<pg::Connection> conn_;

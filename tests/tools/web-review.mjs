@@ -1,0 +1,133 @@
+// The web review in a real browser: Debian's chromium, headless, driven by puppeteer-core (no
+// browser download). Run by WebCli.ACuratorAndATechnicianInHeadlessChromium
+// (tests/cli/web_cli_test.cpp), which sets up the lab server and the web server and passes:
+//   node web-review.mjs '{"base": "http://127.0.0.1:PORT", "curator": {"login", "password"},
+//     "technician": {"login", "password", "station"}, "leaf": ID, "plant": ID, "screenshots": DIR}'
+// Each check that fails is printed and the exit code is 1; the screenshots are written for a
+// person to look at (and for the README: scripts/update-screenshots.sh copies them).
+import http from 'node:http';
+import puppeteer from 'puppeteer-core';
+
+const config = JSON.parse(process.argv[2]);
+const failures = [];
+function check(condition, what) {
+  if (!condition) failures.push(what);
+  console.log(`${condition ? 'ok  ' : 'FAIL'} ${what}`);
+}
+
+async function logIn(page, who) {
+  await page.goto(`${config.base}/`, { waitUntil: 'networkidle0' });
+  await page.waitForSelector('#login-form');
+  await page.type('input[name=login]', who.login);
+  await page.type('input[name=password]', who.password);
+  await Promise.all([page.waitForSelector('#sessions, main .error'), page.click('#login-form button[type=submit]')]);
+}
+
+const browser = await puppeteer.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--use-gl=swiftshader', '--enable-unsafe-swiftshader'],
+});
+try {
+  // ---- a curator ------------------------------------------------------------------------
+  const curator = await browser.createBrowserContext();
+  const page = await curator.newPage();
+  await page.setViewport({ width: 1280, height: 860 });
+  const consoleErrors = [];
+  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+
+  await page.goto(`${config.base}/`, { waitUntil: 'networkidle0' });
+  check(await page.$('#login-form') !== null, 'a browser without a session is shown the login form');
+  await page.screenshot({ path: `${config.screenshots}/web-login.png` });
+  // A wrong password is said on the page, and the form stays.
+  await page.type('input[name=login]', config.curator.login);
+  await page.type('input[name=password]', 'not-the-password');
+  await page.click('#login-form button[type=submit]');
+  await page.waitForSelector('#login-form .error');
+  check((await page.$eval('#login-form .error', (e) => e.textContent)).includes('not right'), 'a wrong password is said on the page');
+
+  await logIn(page, config.curator);
+  await page.waitForSelector('#sessions');
+  const rows = await page.$$eval('#sessions tbody tr', (trs) => trs.map((tr) => tr.dataset.session));
+  check(rows.includes(String(config.leaf)) && rows.includes(String(config.plant)), 'the curator lists the leaf and the plant');
+  check((await page.$eval('#who', (e) => e.textContent)).includes('curator'), 'the header names the login and its role');
+  await page.screenshot({ path: `${config.screenshots}/web-sessions.png` });
+
+  // The leaf: approve with a reason, and see the history say so.
+  await page.goto(`${config.base}/sessions/${config.leaf}`, { waitUntil: 'networkidle0' });
+  await page.waitForSelector('#decide-approve');
+  check((await page.$eval('main h1', (e) => e.textContent)).startsWith(`Session ${config.leaf}`), 'the leaf page names its session');
+  await page.type('#why', 'checked against the photos <b>not bold</b>');
+  await page.click('#decide-approve');
+  await page.waitForSelector('#history tbody tr');
+  const history = await page.$$eval('#history tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+  const last = history[history.length - 1];
+  check(last[1] === 'approved' && last[3] === config.curator.login, 'the history names the approval and the curator');
+  check(last[5] === 'checked against the photos <b>not bold</b>', 'the reason is shown as text, not markup');
+  check(await page.$('#history b') === null, 'no markup from the reason reached the page');
+  check(await page.$('#decide-reopen') !== null && await page.$('#decide-approve') === null, 'an approved session offers only reopen');
+  await page.screenshot({ path: `${config.screenshots}/web-leaf.png` });
+
+  // The plant: its nodes.
+  await page.goto(`${config.base}/sessions/${config.plant}`, { waitUntil: 'networkidle0' });
+  await page.waitForSelector('main h1');
+  check((await page.$eval('main h1', (e) => e.textContent)).includes('Plant'), 'the plant page names a plant');
+  const headings = await page.$$eval('main h2', (hs) => hs.map((h) => h.textContent));
+  check(headings.includes('Nodes') && headings.includes('Leaves as surveyed (plant frame)'), 'the plant page shows its nodes and leaves');
+  await page.screenshot({ path: `${config.screenshots}/web-plant.png` });
+
+  // From the page's own origin, a change without the CSRF token is refused.
+  const noToken = await page.evaluate(async (id) => {
+    const r = await fetch(`/api/sessions/${id}/reject`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{"why":"x"}' });
+    return r.status;
+  }, config.plant);
+  check(noToken === 403, `a change without the CSRF token is refused (${noToken})`);
+  // The refusals above are the browser's "failed to load" lines; anything else is a fault.
+  const faults = consoleErrors.filter((e) => !/status of 40[13] /.test(e));
+  check(faults.length === 0, `no script errors and no missing resource (${faults.join(' | ')})`);
+
+  // ---- another site's page, in the curator's browser ------------------------------------------
+  // A form on another origin posts to the review: the cookie is SameSite=Strict and the body is
+  // not JSON, so nothing changes.
+  const evil = http.createServer((req, res) => {
+    res.writeHead(200, { 'Content-Type': 'text/html' });
+    res.end(`<form id="f" method="post" enctype="text/plain" action="${config.base}/api/sessions/${config.plant}/approve">` +
+      '<input name=\'{"why":"x","pad":"\' value=\'"}\'></form><script>document.getElementById("f").submit()</script>');
+  });
+  await new Promise((resolve) => evil.listen(0, '127.0.0.1', resolve));
+  const evilPage = await curator.newPage();
+  const answer = evilPage.waitForResponse((r) => r.url().includes('/approve'));
+  await evilPage.goto(`http://localhost:${evil.address().port}/`);
+  const posted = await answer;
+  check(posted.status() === 401 || posted.status() === 403 || posted.status() === 415, `a cross-site form post is refused (${posted.status()})`);
+  evil.close();
+  const plantAfter = await page.evaluate(async (id) => (await (await fetch(`/api/sessions/${id}`)).json()).status, config.plant);
+  check(plantAfter === 'complete', `the plant is still complete after the cross-site post (${plantAfter})`);
+
+  // ---- a technician ------------------------------------------------------------------------------
+  const techContext = await browser.createBrowserContext();
+  const tech = await techContext.newPage();
+  await tech.setViewport({ width: 1280, height: 860 });
+  await logIn(tech, config.technician);
+  await tech.waitForSelector('#sessions');
+  const stations = await tech.$$eval('#sessions tbody tr td:nth-child(2)', (tds) => tds.map((td) => td.textContent.split(':')[0]));
+  check(stations.length > 0 && stations.every((s) => s === config.technician.station), `the technician lists its own station only (${stations.join(', ')})`);
+  await tech.screenshot({ path: `${config.screenshots}/web-technician.png` });
+  const ownId = await tech.$eval('#sessions tbody tr', (tr) => tr.dataset.session);
+  await tech.goto(`${config.base}/sessions/${ownId}`, { waitUntil: 'networkidle0' });
+  await tech.waitForSelector('main h1');
+  check(await tech.$('[id^=decide-]') === null, 'the technician is offered no decision');
+  const refused = await tech.evaluate(async (id) => {
+    const me = await (await fetch('/api/me')).json();
+    const r = await fetch(`/api/sessions/${id}/approve`, {
+      method: 'POST', headers: { 'Content-Type': 'application/json', 'X-CSRF-Token': me.csrf }, body: '{"why":"mine"}',
+    });
+    return r.status;
+  }, ownId);
+  check(refused === 403, `the API refuses the technician's decision (${refused})`);
+} finally {
+  await browser.close();
+}
+console.log(failures.length === 0 ? 'web review: every check passed' : `web review: ${failures.length} check(s) failed`);
+process.exit(failures.length === 0 ? 0 : 1);
