@@ -61,6 +61,12 @@ if [ "$preset" != main ] &&
   echo "setup: installing the Khronos glTF validator, Ajv and puppeteer-core (npm)"
   (cd "$root/tests/tools" && npm ci --no-audit --no-fund --loglevel=error)
 fi
+# three.js for the web review's 3-D view (ui/cli/web/vendor, pinned by its package-lock.json),
+# embedded in leafdig at build time. The main job serves no web review: its build goes without.
+if [ "$preset" != main ] && [ ! -f "$root/ui/cli/web/vendor/node_modules/three/build/three.module.min.js" ]; then
+  echo "setup: installing three.js for the web review (npm)"
+  (cd "$root/ui/cli/web/vendor" && npm ci --no-audit --no-fund --loglevel=error)
+fi
 
 cd "$root"
 cmake --preset "$preset" >/dev/null

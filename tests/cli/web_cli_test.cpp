@@ -148,6 +148,20 @@ TEST_F(WebCli, ACuratorReviewsFromABrowserAndEveryRoleIsHeldToItsLimitsThroughTh
   ASSERT_EQ(cli.exitCode, 0) << cli.err;
   EXPECT_EQ(json::parse(curator.get("/api/sessions/" + id)->body), json::parse(cli.out));
   EXPECT_EQ(curator.get("/api/sessions/99999")->status, 404);
+  // Files and numbers: an unknown format named with the ones there are; a leaf without its
+  // margin thickness makes no model (409, in words), its metrics say why they are missing.
+  r = curator.get("/api/sessions/" + id + "/export?format=exe");
+  EXPECT_EQ(r->status, 400) << r->body;
+  EXPECT_NE(json::parse(r->body).at("what_to_do").get<std::string>().find("glb"), std::string::npos) << r->body;
+  r = curator.get("/api/sessions/" + id + "/export?format=glb&resolution=huge");
+  EXPECT_EQ(r->status, 400) << r->body;
+  r = curator.get("/api/sessions/" + id + "/export?format=glb");
+  EXPECT_EQ(r->status, 409) << r->body;
+  EXPECT_NE(r->body.find("edge_thickness"), std::string::npos) << r->body;
+  r = curator.get("/api/sessions/" + id + "/review");
+  ASSERT_EQ(r->status, 200) << r->body;
+  EXPECT_TRUE(json::parse(r->body).at("metrics").is_null());
+  EXPECT_NE(json::parse(r->body).at("metrics_problem").get<std::string>().find("edge_thickness"), std::string::npos);
   EXPECT_EQ(curator.get("/api/sessions/1e3")->status, 404);
 
   // A decision without the CSRF token, or from another site, changes nothing.
@@ -230,9 +244,14 @@ TEST_F(WebCli, ACuratorAndATechnicianInHeadlessChromium) {
   const std::string techPUrl = addUser(techP, "technician", "bench-p");
   const std::string carlaUrl = addUser(carla, "curator");
   const fs::path leaves = dir_ / "bench-a.sqlite", plant = dir_ / "bench-p.sqlite";
+  // A whole leaf captured through the simulated devices (its model drawn in 3-D), and one
+  // without its margin thickness (no model: the page says why).
+  const Result leaf = leafdig("capture --simulate --speed 20 --seed 2 --no-mistakes --station bench-a --db " +
+                              quote(leaves) + " --project trial --plant P7 --leaf-position 4 </dev/null");
+  ASSERT_EQ(leaf.exitCode, 0) << leaf.err;
   {
     leafdig::db::Store s(leaves.string());
-    for (int leaf = 1; leaf <= 2; ++leaf) (void)leafdig::test::captureSession(s, "bench-a", leaf);
+    (void)leafdig::test::captureSession(s, "bench-a", 5);
   }
   const Result captured =
       leafdig("plant capture --simulate --speed 20 --station bench-p --db " + quote(plant) + " </dev/null");
@@ -240,9 +259,16 @@ TEST_F(WebCli, ACuratorAndATechnicianInHeadlessChromium) {
   ASSERT_EQ(leafdig("sync push --db " + quote(leaves) + " --to " + quote(techAUrl)).exitCode, 0);
   ASSERT_EQ(leafdig("sync push --db " + quote(plant) + " --to " + quote(techPUrl)).exitCode, 0);
   const json list = json::parse(leafdig("sessions list --json --db " + quote(carlaUrl)).out);
-  std::int64_t leafId = 0, plantId = 0;
-  for (const json& s : list) (s.at("kind") == "plant" ? plantId : leafId) = s.at("id").get<std::int64_t>();
-  ASSERT_GT(leafId, 0);
+  // The plant, and the simulated leaf (the leaf of more events).
+  std::int64_t leafId = 0, plantId = 0, leafEvents = 0;
+  for (const json& s : list)
+    if (s.at("kind") == "plant") {
+      plantId = s.at("id").get<std::int64_t>();
+    } else if (s.at("events").get<std::int64_t>() > leafEvents) {
+      leafId = s.at("id").get<std::int64_t>();
+      leafEvents = s.at("events").get<std::int64_t>();
+    }
+  ASSERT_GT(leafId, 0) << list.dump();
   ASSERT_GT(plantId, 0);
   const int port = startWeb();
   ASSERT_GT(port, 0);
@@ -256,13 +282,13 @@ TEST_F(WebCli, ACuratorAndATechnicianInHeadlessChromium) {
                     {"screenshots", shots.string()}};
   const std::string script = std::string(LEAFDIG_SOURCE_DIR) + "/tests/tools/web-review.mjs";
   const Result browser = run("node " + quote(script) + " " + quote(config.dump()));
-  EXPECT_EQ(browser.exitCode, 0) << browser.out << browser.err;
+  EXPECT_EQ(browser.exitCode, 0) << browser.out << browser.err << "\nthe web server said: " << slurp(dir_ / "web.err");
   EXPECT_NE(browser.out.find("every check passed"), std::string::npos) << browser.out << browser.err;
   // What the browser did is on the server.
-  const json leaf =
+  const json shown =
       json::parse(leafdig("sessions show " + std::to_string(leafId) + " --json --db " + quote(carlaUrl)).out);
-  EXPECT_EQ(leaf.at("status"), "approved");
-  EXPECT_EQ(leaf.at("history").back().at("who"), carla);
+  EXPECT_EQ(shown.at("status"), "approved");
+  EXPECT_EQ(shown.at("history").back().at("who"), carla);
   EXPECT_EQ(json::parse(leafdig("sessions show " + std::to_string(plantId) + " --json --db " + quote(carlaUrl)).out)
                 .at("status"),
             "complete");

@@ -15,6 +15,29 @@ function check(condition, what) {
   console.log(`${condition ? 'ok  ' : 'FAIL'} ${what}`);
 }
 
+// How much of the 3-D view's canvas is drawn: the share of its pixels that are not the
+// background (the canvas keeps its drawing buffer, so it can be read back).
+async function drawnShare(page) {
+  await page.waitForSelector('#viewer[data-drawn=true], #viewer-note', { timeout: 60000 });
+  await page.waitForFunction(() => document.querySelector('#viewer[data-drawn=true]') ||
+    !document.querySelector('#viewer-note').textContent.startsWith('Loading'), { timeout: 60000 });
+  return page.evaluate(() => {
+    const canvas = document.querySelector('#viewer canvas');
+    if (!canvas) return { share: 0, note: document.querySelector('#viewer-note').textContent };
+    const copy = document.createElement('canvas');
+    copy.width = canvas.width;
+    copy.height = canvas.height;
+    const g = copy.getContext('2d');
+    g.drawImage(canvas, 0, 0);
+    const px = g.getImageData(0, 0, copy.width, copy.height).data;
+    let drawn = 0;
+    for (let i = 0; i < px.length; i += 4) {
+      if (Math.abs(px[i] - 0xf4) + Math.abs(px[i + 1] - 0xf7) + Math.abs(px[i + 2] - 0xf1) > 24) drawn += 1;
+    }
+    return { share: drawn / (px.length / 4), note: document.querySelector('#viewer-note').textContent };
+  });
+}
+
 async function logIn(page, who) {
   await page.goto(`${config.base}/`, { waitUntil: 'networkidle0' });
   await page.waitForSelector('#login-form');
@@ -57,6 +80,12 @@ try {
   // The leaf: approve with a reason, and see the history say so.
   await page.goto(`${config.base}/sessions/${config.leaf}`, { waitUntil: 'networkidle0' });
   await page.waitForSelector('#decide-approve');
+  const leafView = await drawnShare(page);
+  check(leafView.share > 0.01, `the leaf's 3-D view draws (${(100 * leafView.share).toFixed(1)} % of its pixels; ${leafView.note})`);
+  await page.waitForSelector('#metrics, #numbers .quiet:not(:first-child), #numbers .error', { timeout: 60000 });
+  const metrics = await page.$eval('#numbers', (e) => e.textContent);
+  check(metrics.includes('blade area') && metrics.includes('95 % interval'), `the leaf's metrics show the area and its interval (${metrics.slice(0, 120)})`);
+  check(await page.$$eval('#thickness-chart polyline', (p) => p.length) >= 2, 'the thickness chart draws a line per kind of reading');
   check((await page.$eval('main h1', (e) => e.textContent)).startsWith(`Session ${config.leaf}`), 'the leaf page names its session');
   await page.type('#why', 'checked against the photos <b>not bold</b>');
   await page.click('#decide-approve');
@@ -67,14 +96,25 @@ try {
   check(last[5] === 'checked against the photos <b>not bold</b>', 'the reason is shown as text, not markup');
   check(await page.$('#history b') === null, 'no markup from the reason reached the page');
   check(await page.$('#decide-reopen') !== null && await page.$('#decide-approve') === null, 'an approved session offers only reopen');
+  await drawnShare(page);
+  await page.evaluate(() => window.scrollTo(0, 0));
   await page.screenshot({ path: `${config.screenshots}/web-leaf.png` });
 
   // The plant: its nodes.
   await page.goto(`${config.base}/sessions/${config.plant}`, { waitUntil: 'networkidle0' });
   await page.waitForSelector('main h1');
   check((await page.$eval('main h1', (e) => e.textContent)).includes('Plant'), 'the plant page names a plant');
+  const plantView = await drawnShare(page);
+  check(plantView.share > 0.01, `the plant's 3-D view draws (${(100 * plantView.share).toFixed(1)} % of its pixels; ${plantView.note})`);
+  // Its files download from the page's links.
+  const mtg = await page.evaluate(async (id) => {
+    const r = await fetch(`/api/sessions/${id}/export?format=mtg`);
+    return { status: r.status, disposition: r.headers.get('Content-Disposition'), text: await r.text() };
+  }, config.plant);
+  check(mtg.status === 200 && mtg.disposition.includes('attachment') && mtg.text.includes('MTG'), `the plant's MTG downloads (${mtg.status})`);
   const headings = await page.$$eval('main h2', (hs) => hs.map((h) => h.textContent));
   check(headings.includes('Nodes') && headings.includes('Leaves as surveyed (plant frame)'), 'the plant page shows its nodes and leaves');
+  await page.evaluate(() => window.scrollTo(0, 0));
   await page.screenshot({ path: `${config.screenshots}/web-plant.png` });
 
   // From the page's own origin, a change without the CSRF token is refused.
@@ -114,7 +154,9 @@ try {
   const stations = await tech.$$eval('#sessions tbody tr td:nth-child(2)', (tds) => tds.map((td) => td.textContent.split(':')[0]));
   check(stations.length > 0 && stations.every((s) => s === config.technician.station), `the technician lists its own station only (${stations.join(', ')})`);
   await tech.screenshot({ path: `${config.screenshots}/web-technician.png` });
-  const ownId = await tech.$eval('#sessions tbody tr', (tr) => tr.dataset.session);
+  // One of its own sessions that takes a decision (complete): the server, not the session's
+  // state, must be what refuses the technician.
+  const ownId = await tech.$$eval('#sessions tbody tr', (trs) => trs.find((tr) => tr.querySelector('.status.complete')).dataset.session);
   await tech.goto(`${config.base}/sessions/${ownId}`, { waitUntil: 'networkidle0' });
   await tech.waitForSelector('main h1');
   check(await tech.$('[id^=decide-]') === null, 'the technician is offered no decision');

@@ -181,6 +181,168 @@ function decidePanel(session, redraw) {
   return el('section', { class: 'decide' }, el('h2', { text: 'Decide' }), why, el('div', { class: 'buttons' }, ...buttons), answer);
 }
 
+// The session's model in 3-D (three.js, served by leafdig from npm's package): the GLB that
+// `sessions export --format glb --resolution preview` writes, parsed by three's own glTF loader,
+// with the captured points on it. A leaf is drawn in the digitizer's frame (its markers'), a
+// plant in its own (its points' position_plant_mm).
+function viewer(session) {
+  const box = el('div', { class: 'viewer', id: 'viewer' });
+  const note = el('p', { class: 'quiet', id: 'viewer-note', text: 'Loading the 3-D model…' });
+  (async () => {
+    let THREE;
+    let GLTFLoader;
+    let OrbitControls;
+    try {
+      THREE = await import('/static/vendor/three.module.min.js');
+      ({ GLTFLoader } = await import('/static/vendor/GLTFLoader.js'));
+      ({ OrbitControls } = await import('/static/vendor/OrbitControls.js'));
+    } catch (error) {
+      note.textContent = 'The 3-D view is not built into this leafdig: three.js was not installed when it was built (scripts/setup.sh ci or release installs it).';
+      return;
+    }
+    const url = `/api/sessions/${session.id}/export?format=glb&resolution=preview${session.kind === 'plant' ? '' : '&frame=digitizer'}`;
+    let gltf;
+    try {
+      const response = await fetch(url, { credentials: 'same-origin' });
+      if (!response.ok) {
+        const body = await response.json().catch(() => ({}));
+        note.textContent = `No 3-D model: ${body.error || `the server answered ${response.status}`}`;
+        return;
+      }
+      gltf = await new GLTFLoader().parseAsync(await response.arrayBuffer(), '');
+    } catch (error) {
+      note.textContent = `No 3-D model: ${error}`;
+      return;
+    }
+    const scene = new THREE.Scene();
+    scene.background = new THREE.Color(0xf4f7f1);
+    scene.add(new THREE.HemisphereLight(0xffffff, 0x667755, 2.2));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+    sun.position.set(1, 2, 1);
+    scene.add(sun);
+    scene.add(gltf.scene);
+    let triangles = 0;
+    gltf.scene.traverse((o) => {
+      if (!o.isMesh) return;
+      o.material.side = THREE.DoubleSide;
+      triangles += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3;
+    });
+    const bounds = new THREE.Box3().setFromObject(gltf.scene);
+    const size = bounds.getSize(new THREE.Vector3()).length() || 0.1;
+    const center = bounds.getCenter(new THREE.Vector3());
+    const points = session.kind === 'plant'
+      ? (session.points || []).map((p) => p.position_plant_mm).filter(Boolean)
+      : (session.markers || []).map((m) => m.position_mm).concat(session.tip ? [session.tip] : []);
+    if (points.length > 0) {
+      const dots = new THREE.InstancedMesh(new THREE.SphereGeometry(size * 0.006, 10, 8),
+        new THREE.MeshBasicMaterial({ color: 0xc0392b }), points.length);
+      const m = new THREE.Matrix4();
+      // glTF's +Y is the frame's +Z (the GLB's asset says so): a frame point (x, y, z) in mm is (x, z, -y) in metres.
+      points.forEach((p, i) => dots.setMatrixAt(i, m.makeTranslation(p[0] / 1000, p[2] / 1000, -p[1] / 1000)));
+      scene.add(dots);
+    }
+    const width = Math.min(box.clientWidth || 900, 1100);
+    const height = Math.round(width * 0.45);
+    const camera = new THREE.PerspectiveCamera(35, width / height, size / 1000, size * 20);
+    camera.position.copy(center).add(new THREE.Vector3(size * 0.45, size * 0.35, size * 0.6));
+    const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    renderer.setPixelRatio(window.devicePixelRatio || 1);
+    renderer.setSize(width, height);
+    box.append(renderer.domElement);
+    const controls = new OrbitControls(camera, renderer.domElement);
+    controls.target.copy(center);
+    const draw = () => renderer.render(scene, camera);
+    controls.addEventListener('change', draw);
+    controls.update();
+    draw();
+    note.textContent = `${Math.round(triangles).toLocaleString('en')} triangles (preview resolution), ${points.length} captured points in red. Drag to turn, scroll to zoom.`;
+    box.dataset.drawn = 'true';
+  })();
+  return [box, note];
+}
+
+function downloads(session) {
+  const formats = session.kind === 'plant' ? ['mtg', 'csv', 'json', 'glb', 'can'] : ['glb', 'csv', 'model', 'markers'];
+  return el('p', { class: 'downloads' }, el('span', { class: 'quiet', text: 'Download: ' }),
+    ...formats.map((f) => el('a', { href: `/api/sessions/${session.id}/export?format=${f}`, download: '', text: f })));
+}
+
+// A leaf's numbers (GET /api/sessions/ID/review): its areas with the 95 % interval, the area
+// constraint, the warnings and the flags, filled in when they arrive.
+function leafNumbers(session) {
+  const box = el('section', { id: 'numbers' }, el('p', { class: 'quiet', text: 'Working out the metrics…' }));
+  (async () => {
+    try {
+      const review = await api('GET', `/api/sessions/${session.id}/review`);
+      const parts = [];
+      const m = review.metrics;
+      if (m) {
+        const area = (v) => `${Math.round(v).toLocaleString('en')} mm²`;
+        const rows = [['blade area', area(m.blade_area_mm2)]];
+        if (m.area_interval) rows.push(['95 % interval', `${area(m.area_interval.low_mm2)} – ${area(m.area_interval.high_mm2)}`]);
+        rows.push(['projected area', area(m.projected_area_mm2)]);
+        if (m.area_constraint) rows.push(['measured area', `${area(m.area_constraint.measured_mm2)} (${number(m.area_constraint.difference_percent)} % from the model${m.area_constraint.exceeded ? ', over its threshold' : ''})`]);
+        parts.push(el('dl', { class: 'facts', id: 'metrics' }, ...rows.flatMap(([k, v]) => [el('dt', { text: k }), el('dd', { text: v })])));
+        for (const w of m.warnings) parts.push(el('p', { class: 'error', text: `${w.name}: ${w.message}` }));
+      } else {
+        parts.push(el('p', { class: 'quiet', text: `No metrics: ${review.metrics_problem}` }));
+      }
+      parts.push(el('h2', { text: 'Flags' }), review.flags.length ? table(review.flags, ['what', 'row', 'col', 'text']) : el('p', { class: 'quiet', text: 'none' }));
+      box.replaceChildren(...parts);
+    } catch (error) {
+      box.replaceChildren(problem(error));
+    }
+  })();
+  return box;
+}
+
+// The thickness readings along the leaf: each kind a line over the rows (an SVG drawn here; the
+// margin thickness d a dashed level).
+function thicknessChart(readings) {
+  const ns = 'http://www.w3.org/2000/svg';
+  const svg = (tag, attrs) => {
+    const node = document.createElementNS(ns, tag);
+    for (const [k, v] of Object.entries(attrs)) node.setAttribute(k, String(v));
+    return node;
+  };
+  const rowed = (readings || []).filter((r) => r.row);
+  if (rowed.length === 0) return el('p', { class: 'quiet', text: 'No thickness readings by row.' });
+  const W = 640; const H = 220; const L = 48; const B = 30; const T = 12; const R = 150;
+  const rows = Math.max(...rowed.map((r) => r.row));
+  const all = (readings || []).map((r) => r.value_mm);
+  const top = Math.max(...all) * 1.1 || 1;
+  const x = (row) => L + (rows === 1 ? 0 : ((row - 1) / (rows - 1)) * (W - L - R));
+  const y = (v) => H - B - (v / top) * (H - B - T);
+  const chart = svg('svg', { viewBox: `0 0 ${W} ${H}`, width: W, height: H, id: 'thickness-chart', role: 'img' });
+  chart.append(svg('line', { x1: L, y1: H - B, x2: W - R, y2: H - B, stroke: '#889' }), svg('line', { x1: L, y1: T, x2: L, y2: H - B, stroke: '#889' }));
+  for (const v of [0, top / 2, top]) {
+    const t = svg('text', { x: L - 6, y: y(v) + 4, 'text-anchor': 'end', 'font-size': 11, fill: '#5b6b5d' });
+    t.textContent = v.toFixed(2);
+    chart.append(t);
+  }
+  const label = svg('text', { x: (L + W - R) / 2, y: H - 6, 'text-anchor': 'middle', 'font-size': 11, fill: '#5b6b5d' });
+  label.textContent = 'row (base → tip), thickness in mm';
+  chart.append(label);
+  const colours = ['#2f7d32', '#1f5fa3', '#a35f1f', '#7d2f6b'];
+  const kinds = [...new Set(rowed.map((r) => r.what))];
+  kinds.forEach((kind, k) => {
+    const pts = rowed.filter((r) => r.what === kind).sort((a, b) => a.row - b.row);
+    chart.append(svg('polyline', { points: pts.map((p) => `${x(p.row)},${y(p.value_mm)}`).join(' '), fill: 'none', stroke: colours[k % 4], 'stroke-width': 2 }));
+    for (const p of pts) chart.append(svg('circle', { cx: x(p.row), cy: y(p.value_mm), r: 3, fill: colours[k % 4] }));
+    const key = svg('text', { x: W - R + 10, y: T + 14 + 16 * k, 'font-size': 11, fill: colours[k % 4] });
+    key.textContent = kind.replaceAll('_', ' ');
+    chart.append(key);
+  });
+  const edge = (readings || []).find((r) => !r.row && r.what.startsWith('edge'));
+  if (edge) {
+    chart.append(svg('line', { x1: L, y1: y(edge.value_mm), x2: W - R, y2: y(edge.value_mm), stroke: '#999', 'stroke-dasharray': '4 3' }));
+    const key = svg('text', { x: W - R + 10, y: T + 14 + 16 * kinds.length, 'font-size': 11, fill: '#777' });
+    key.textContent = `margin d ${edge.value_mm.toFixed(2)}`;
+    chart.append(key);
+  }
+  return chart;
+}
+
 function sessionPage(session, notice) {
   const title = session.kind === 'plant' ? `Plant ${session.project}/${session.plant}` :
     `Leaf ${session.project}/${session.plant}/${session.leaf_position}`;
@@ -196,6 +358,8 @@ function sessionPage(session, notice) {
     el('h1', { text: `Session ${session.id} · ${title}` }),
     notice ? el('p', { class: 'ok', role: 'status', text: notice }) : null,
     el('dl', { class: 'facts' }, ...facts.flatMap(([k, v]) => [el('dt', { text: k }), el('dd', {}, v)])),
+    ...viewer(session), downloads(session),
+    session.kind === 'plant' ? null : leafNumbers(session),
     decidePanel(session, (updated, message) => sessionPage(updated, message)),
     el('h2', { text: 'History' }), historyTable(session.history),
   ];
@@ -211,7 +375,7 @@ function sessionPage(session, notice) {
     sections.push(el('h2', { text: 'Readings' }), table(session.readings, ['what', 'row', 'col', 'value_mm']));
   } else {
     sections.push(el('h2', { text: 'Markers' }), table(session.markers, ['row', 'col', 'position_mm']));
-    sections.push(el('h2', { text: 'Thickness' }), table(session.thickness, ['what', 'row', 'col', 'value_mm']));
+    sections.push(el('h2', { text: 'Thickness' }), thicknessChart(session.thickness), table(session.thickness, ['what', 'row', 'col', 'value_mm']));
   }
   show(...sections.filter(Boolean));
 }
