@@ -192,6 +192,52 @@ TEST_F(WebCli, ACuratorReviewsFromABrowserAndEveryRoleIsHeldToItsLimitsThroughTh
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(json::parse(r->body).at("status"), "complete");
 
+  // A correction: bad numbers refused by name (nothing at JSON's edge gets through), a dry run
+  // that says the move and the event it was worked out at, a write refused when the session
+  // moved on since, or unconfirmed beyond the limit; then written, and in the history.
+  const std::string correctPath = "/api/sessions/" + id + "/correct";
+  json fix{{"what", "marker"}, {"row", 2}, {"col", 3}, {"why", "the stylus slipped"}};
+  const json shownBefore = json::parse(curator.get("/api/sessions/" + id)->body);
+  json at;
+  for (const json& m : shownBefore.at("markers"))
+    if (m.at("row") == 2 && m.at("col") == 3) at = m.at("position_mm");
+  ASSERT_TRUE(at.is_array());
+  for (const std::string bad : {R"(["1", 2, 3])", "[1, 2]", "[1e400, 0, 0]", "[1, 2, 3, 4]", "{}"}) {
+    json b = fix;
+    b["position_mm"] = json::parse(bad, nullptr, false);
+    if (b["position_mm"].is_discarded()) b["position_mm"] = nullptr;
+    r = curator.http.Post(correctPath.c_str(), curator.headers({{"X-CSRF-Token", curator.csrf}}),
+                          R"({"what":"marker","row":2,"col":3,"why":"x","position_mm":)" + bad + "}",
+                          "application/json");
+    EXPECT_EQ(r->status, 400) << bad << ": " << r->body;
+  }
+  r = curator.post(correctPath, json{{"what", "nonsense"}, {"why", "x"}, {"position_mm", {1, 2, 3}}});
+  EXPECT_EQ(r->status, 400) << r->body;
+  fix["position_mm"] = {at[0].get<double>() + 50, at[1], at[2]};
+  fix["dry_run"] = true;
+  r = curator.post(correctPath, fix);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json dry = json::parse(r->body);
+  EXPECT_NEAR(dry.at("moved_mm").get<double>(), 50.0, 1e-6);
+  EXPECT_TRUE(dry.at("needs_confirm").get<bool>());
+  fix.erase("dry_run");
+  fix["seen_head"] = dry.at("head");
+  r = curator.post(correctPath, fix);
+  EXPECT_EQ(r->status, 409) << r->body;
+  EXPECT_TRUE(json::parse(r->body).at("needs_confirm").get<bool>());
+  fix["seen_head"] = dry.at("head").get<std::int64_t>() - 1;  // the session has moved on since
+  fix["confirm"] = true;
+  r = curator.post(correctPath, fix);
+  EXPECT_EQ(r->status, 409) << r->body;
+  EXPECT_EQ(json::parse(curator.get("/api/sessions/" + id)->body).at("events"), shownBefore.at("events"));
+  fix["seen_head"] = dry.at("head");
+  r = curator.post(correctPath, fix);
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json corrected = json::parse(r->body).at("history").back();
+  EXPECT_EQ(corrected.at("action"), "corrected");
+  EXPECT_EQ(corrected.at("who"), carla);
+  EXPECT_NEAR(corrected.at("moved_mm").get<double>(), 50.0, 1e-6);
+
   // A technician sees its own station only and decides nothing: the server refuses, the API says 403.
   Browser tech(port);
   ASSERT_EQ(tech.login(techA, passwordOf(techA))->status, 200);
@@ -209,6 +255,9 @@ TEST_F(WebCli, ACuratorReviewsFromABrowserAndEveryRoleIsHeldToItsLimitsThroughTh
   Browser reader(port);
   ASSERT_EQ(reader.login(rita, passwordOf(rita))->status, 200);
   r = reader.post("/api/sessions/" + id + "/reject", json{{"why", "no"}});
+  EXPECT_EQ(r->status, 403) << r->body;
+  r = reader.post("/api/sessions/" + id + "/correct",
+                  json{{"what", "marker"}, {"row", 1}, {"col", 1}, {"why", "x"}, {"position_mm", {1, 2, 3}}});
   EXPECT_EQ(r->status, 403) << r->body;
   EXPECT_EQ(json::parse(reader.get("/api/sessions/" + id)->body).at("status"), "complete");
   // Every role limit above is the server's: the same through plain SQL.

@@ -87,9 +87,33 @@ try {
   check(metrics.includes('blade area') && metrics.includes('95 % interval'), `the leaf's metrics show the area and its interval (${metrics.slice(0, 120)})`);
   check(await page.$$eval('#thickness-chart polyline', (p) => p.length) >= 2, 'the thickness chart draws a line per kind of reading');
   check((await page.$eval('main h1', (e) => e.textContent)).startsWith(`Session ${config.leaf}`), 'the leaf page names its session');
+  // A correction picked from the markers table: previewed (the move and the area's change),
+  // then written against what was previewed; the history says it.
+  await page.click('#items + table tbody tr:nth-child(10)');
+  await page.waitForSelector('#correct');
+  const x = await page.$eval('#correct-x', (i) => Number(i.value));
+  await page.$eval('#correct-x', (i, v) => { i.value = String(v); }, x + 60);
+  await page.type('#correct-why', 'the stylus slipped');
+  await page.click('#correct-preview');
+  await page.waitForSelector('#correct-effect li, #correct-effect .error');
+  const effect = await page.$eval('#correct-effect', (e) => e.textContent);
+  check(/moves 60\.0 mm/.test(effect) && effect.includes('area'), `a correction's preview says the move and the area's change (${effect})`);
+  check(!(await page.$eval('#correct-confirm', (c) => c.parentElement.hidden)), 'a 60 mm move asks to be checked before it is written');
+  await page.click('#correct-write');
+  await page.waitForFunction(() => !document.querySelector('#correct-effect').textContent.startsWith('Writing'));
+  check((await page.$eval('#correct-effect', (e) => e.textContent)).includes('"confirm": true'), 'unchecked, the 60 mm move is refused in words');
+  await page.$eval('#correct-x', (i, v) => { i.value = String(v); }, x + 4);
+  await page.click('#correct-preview');
+  await page.waitForFunction(() => /moves 4\.0 mm/.test(document.querySelector('#correct-effect').textContent));
+  await page.click('#correct-write');
+  await page.waitForFunction(() => [...document.querySelectorAll('#history tbody tr')].some((tr) => tr.cells[1].textContent === 'corrected'));
+  const corrected = await page.$$eval('#history tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)).find((r) => r[1] === 'corrected'));
+  check(corrected[2].includes('moved 4.0 mm') && corrected[3] === config.curator.login && corrected[5] === 'the stylus slipped',
+    `the history shows the correction: item, old → new, who, why (${corrected.join(' | ')})`);
+  await page.waitForSelector('#decide-approve');
   await page.type('#why', 'checked against the photos <b>not bold</b>');
   await page.click('#decide-approve');
-  await page.waitForSelector('#history tbody tr');
+  await page.waitForFunction(() => [...document.querySelectorAll('#history tbody tr')].some((tr) => tr.cells[1].textContent === 'approved'));
   const history = await page.$$eval('#history tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
   const last = history[history.length - 1];
   check(last[1] === 'approved' && last[3] === config.curator.login, 'the history names the approval and the curator');
@@ -123,8 +147,9 @@ try {
     return r.status;
   }, config.plant);
   check(noToken === 403, `a change without the CSRF token is refused (${noToken})`);
-  // The refusals above are the browser's "failed to load" lines; anything else is a fault.
-  const faults = consoleErrors.filter((e) => !/status of 40[13] /.test(e));
+  // The refusals above (401, 403, the unchecked move's 409) are the browser's "failed to load"
+  // lines; anything else is a fault.
+  const faults = consoleErrors.filter((e) => !/status of 40[139] /.test(e));
   check(faults.length === 0, `no script errors and no missing resource (${faults.join(' | ')})`);
 
   // ---- another site's page, in the curator's browser ------------------------------------------

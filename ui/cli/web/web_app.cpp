@@ -4,30 +4,25 @@
 #include <array>
 #include <cctype>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <thread>
 #include <variant>
 
-#include "leafdig/acquisition/review/leaf_export.hpp"
-#include "leafdig/acquisition/review/plant_export.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/acquisition/session/session_log.hpp"
 #include "leafdig/db/lab.hpp"
 #include "leafdig/model/errors.hpp"
-#include "leafdig/model/mesh/mesh_method.hpp"
-#include "leafdig/model/metrics/metrics.hpp"
+#include "session_api.hpp"
 #include "sessions_show.hpp"
 #include "web_assets.hpp"
 
 namespace leafdig::cli::web {
 
 namespace acq = leafdig::acquisition;
+using namespace detail;  // the API's answers and one session's endpoints (session_api.hpp)
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
@@ -49,7 +44,6 @@ namespace {
 constexpr const char* kCookie = "leafdig_session";
 constexpr std::size_t kLongestLogin = 63;  // PostgreSQL's NAMEDATALEN - 1
 constexpr std::size_t kLongestPassword = 1024;
-constexpr std::size_t kLongestReason = 4000;
 
 // Every answer, page or API: nothing inline, nothing from another origin, never in a frame.
 constexpr std::array<std::pair<const char*, const char*>, 7> kSecurityHeaders{
@@ -62,17 +56,6 @@ constexpr std::array<std::pair<const char*, const char*>, 7> kSecurityHeaders{
      {"Cache-Control", "no-store"},
      {"Cross-Origin-Opener-Policy", "same-origin"},
      {"Cross-Origin-Resource-Policy", "same-origin"}}};
-
-HttpResponse jsonAnswer(int status, const json& body) {
-  HttpResponse r;
-  r.status = status;
-  r.body = body.dump(-1, ' ', false, json::error_handler_t::replace);
-  return r;
-}
-
-HttpResponse problem(int status, const std::string& error, const std::string& whatToDo) {
-  return jsonAnswer(status, json{{"error", error}, {"what_to_do", whatToDo}});
-}
 
 std::string randomToken() {
   unsigned char bytes[32];
@@ -180,11 +163,6 @@ std::variant<json, HttpResponse> bodyObject(const HttpRequest& request) {
   return body;
 }
 
-std::optional<std::string> textField(const json& body, const char* key) {
-  if (!body.contains(key) || !body.at(key).is_string()) return std::nullopt;
-  return body.at(key).get<std::string>();
-}
-
 // A store's or a capture's refusal, in the API's words and status.
 HttpResponse refusal(const std::exception& e) {
   if (const auto* s = dynamic_cast<const db::StoreError*>(&e)) {
@@ -206,89 +184,6 @@ HttpResponse refusal(const std::exception& e) {
   if (dynamic_cast<const acq::SessionError*>(&e) != nullptr)
     return problem(409, e.what(), "the session's events do not replay: verify it (leafdig sessions verify)");
   return problem(500, e.what(), "see the web server's log");
-}
-
-// A leaf's numbers for its curator: the metrics with the 95 % area interval (as `model build
-// --json` gives them; null with the reason while the capture is not a whole leaf) and the
-// flags the station's review shows.
-HttpResponse leafReview(const db::EventStore& store, std::int64_t id) {
-  if (store.session(id)->kind == acq::kPlantCapture.word)
-    return problem(400, "a plant's numbers are its survey", "read GET /api/sessions/" + std::to_string(id));
-  const acq::ReviewedSession r = acq::openForReview(store, id);
-  json out{{"metrics", nullptr}, {"metrics_problem", nullptr}, {"flags", json::array()}};
-  try {
-    out["metrics"] = json::parse(model::metricsToJson(acq::summarize(r).metrics));
-  } catch (const model::InputError& e) {
-    out["metrics_problem"] = e.what();
-  }
-  for (const acq::ReviewFlag& f : acq::reviewFlags(r.engine.items()))
-    out["flags"].push_back({{"what", acq::toString(f.what)}, {"row", f.row}, {"col", f.col}, {"text", f.text}});
-  return jsonAnswer(200, out);
-}
-
-// A file of a session as `sessions export` writes it, one format per request: written into a
-// directory of its own (the exporters write whole files atomically), read back, removed.
-HttpResponse exportFile(db::EventStore& store, std::int64_t id, const HttpRequest& request) {
-  const auto param = [&](const char* key, const std::string& otherwise) {
-    const auto it = request.query.find(key);
-    return it == request.query.end() ? otherwise : it->second;
-  };
-  const bool plant = store.session(id)->kind == acq::kPlantCapture.word;
-  const std::vector<std::string>& formats = plant ? acq::plantExportFormats() : acq::exportFormats();
-  const std::string format = param("format", "");
-  const std::string resolution = param("resolution", "export");
-  const std::string frame = param("frame", "leaf");
-  const auto join = [](const auto& words) {
-    std::string out;
-    for (const auto& w : words) out += (out.empty() ? "" : ", ") + std::string(w);
-    return out;
-  };
-  if (std::find(formats.begin(), formats.end(), format) == formats.end())
-    return problem(400, "no export format '" + format + "' for a " + (plant ? "plant" : "leaf"),
-                   "give format= one of " + join(formats));
-  if (std::find(model::kFileResolutionNames.begin(), model::kFileResolutionNames.end(), resolution) ==
-      model::kFileResolutionNames.end())
-    return problem(400, "no resolution '" + resolution + "'",
-                   "give resolution= one of " + join(model::kFileResolutionNames));
-  if (frame != "leaf" && frame != "digitizer")
-    return problem(400, "no frame '" + frame + "'", "give frame=leaf or frame=digitizer (a leaf's files)");
-  char dirTemplate[] = "/tmp/leafdig-web-XXXXXX";
-  if (::mkdtemp(dirTemplate) == nullptr) throw std::runtime_error("cannot make a directory for an export in /tmp");
-  const std::filesystem::path dir = dirTemplate;
-  std::vector<std::string> written;
-  try {
-    if (plant) {
-      written =
-          acq::exportPlantSession(store, id, {format}, dir.string(), {resolution, model::OrganChoice::All}).written;
-    } else {
-      acq::ExportRequest r;
-      r.formats = {format};
-      r.resolution = resolution;
-      r.frame = frame;
-      r.outDir = dir.string();
-      written = acq::exportSession(store, id, r).written;
-    }
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir, ignored);
-    throw;
-  }
-  HttpResponse out;
-  if (written.size() != 1) {
-    out = problem(400, "format " + format + " writes " + std::to_string(written.size()) + " files",
-                  "the web review gives one file per format: use leafdig sessions export for this one");
-  } else {
-    std::ifstream in(written.front(), std::ios::binary);
-    out.body.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    const std::string name = std::filesystem::path(written.front()).filename().string();
-    out.contentType = format == "glb"                                                  ? "model/gltf-binary"
-                      : (format == "json" || format == "model" || format == "markers") ? "application/json"
-                                                                                       : "text/plain; charset=utf-8";
-    out.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + name + "\"");
-  }
-  std::error_code ignored;
-  std::filesystem::remove_all(dir, ignored);
-  return out;
 }
 
 }  // namespace
@@ -521,6 +416,11 @@ HttpResponse WebApp::api(const HttpRequest& request, Call& call) {
   if (action.empty() && request.method == "GET") return jsonAnswer(200, sessionJson(*s.store, *id));
   if (action == "export" && request.method == "GET") return exportFile(*s.store, *id, request);
   if (action == "review" && request.method == "GET") return leafReview(*s.store, *id);
+  if (request.method == "POST" && action == "correct") {
+    auto parsed = bodyObject(request);
+    if (auto* bad = std::get_if<HttpResponse>(&parsed)) return *bad;
+    return correction(*s.store, *id, std::get<json>(parsed));
+  }
   if (request.method == "POST" && (action == "approve" || action == "reject" || action == "reopen")) {
     auto parsed = bodyObject(request);
     if (auto* bad = std::get_if<HttpResponse>(&parsed)) return *bad;

@@ -60,14 +60,19 @@ function cellText(value) {
   return String(value);
 }
 
-// A table of objects: a column per key whose values are plain (numbers, text, a point).
-function table(rows, columns) {
+// A table of objects: a column per key whose values are plain (numbers, text, a point). With
+// `pick`, a click on a row hands that row's object to it (a curator picking an item to correct).
+function table(rows, columns, pick) {
   if (!rows || rows.length === 0) return el('p', { class: 'quiet', text: 'none' });
   const keys = columns || [...new Set(rows.flatMap((r) => Object.keys(r)))].filter(
     (k) => rows.some((r) => r[k] !== null && (typeof r[k] !== 'object' || Array.isArray(r[k]))));
   return el('table', {},
     el('thead', {}, el('tr', {}, ...keys.map((k) => el('th', { text: k.replaceAll('_', ' ') })))),
-    el('tbody', {}, ...rows.map((r) => el('tr', {}, ...keys.map((k) => el('td', { text: cellText(r[k]) }))))));
+    el('tbody', {}, ...rows.map((r) => {
+      const tr = el('tr', pick ? { class: 'link', title: 'Correct this item' } : {}, ...keys.map((k) => el('td', { text: cellText(r[k]) })));
+      if (pick) tr.addEventListener('click', () => pick(r));
+      return tr;
+    })));
 }
 
 function statusBadge(status) {
@@ -343,6 +348,67 @@ function thicknessChart(readings) {
   return chart;
 }
 
+// A curator's correction of one item (a row picked in a table): the new position or value and a
+// reason; Preview asks the server what it would change (the move, the areas, a plant's heights
+// and lengths) and only then may it be written, against the very state previewed (seen_head);
+// a move beyond the server's limit needs a tick that the curator checked it.
+function correctionPanel(session, item, redraw) {
+  const isPoint = Array.isArray(item.position_plant_mm) || Array.isArray(item.position_mm);
+  const start = isPoint ? (session.kind === 'plant' && item.position_plant_mm ? item.position_plant_mm : item.position_mm) : null;
+  const frame = session.kind === 'plant' && isPoint ? 'plant' : 'digitizer';
+  const inputs = isPoint ? start.map((v, i) => el('input', { type: 'number', step: '0.1', value: v.toFixed(2), id: `correct-${'xyz'[i]}`, 'aria-label': 'xyz'[i] }))
+    : [el('input', { type: 'number', step: '0.01', value: String(item.value_mm), id: 'correct-value', 'aria-label': 'value in mm' })];
+  const why = el('textarea', { id: 'correct-why', placeholder: 'Why (kept in the history)' });
+  const effect = el('div', { id: 'correct-effect' });
+  const confirm = el('input', { type: 'checkbox', id: 'correct-confirm' });
+  const confirmLine = el('label', { hidden: '' }, confirm, ' I checked the position: write this move');
+  const write = el('button', { type: 'button', id: 'correct-write', text: 'Write correction', disabled: '' });
+  let head = null;
+  const body = (dryRun) => {
+    const b = { what: item.what, why: why.value, dry_run: dryRun };
+    if (item.row !== null && item.row !== undefined) b.row = item.row;
+    if (item.col !== null && item.col !== undefined) b.col = item.col;
+    if (isPoint) { b.position_mm = inputs.map((i) => Number(i.value)); b.frame = frame; } else b.value_mm = Number(inputs[0].value);
+    if (!dryRun) { b.seen_head = head; b.confirm = confirm.checked; }
+    return b;
+  };
+  const preview = el('button', {
+    type: 'button', id: 'correct-preview', text: 'Preview',
+    onclick: async () => {
+      write.disabled = true;
+      if (!why.value.trim()) { effect.replaceChildren(el('p', { class: 'error', text: 'Say why first.' })); return; }
+      try {
+        const e = await api('POST', `/api/sessions/${session.id}/correct`, body(true));
+        head = e.head;
+        const lines = [];
+        if (e.moved_mm !== null) lines.push(`the point moves ${number(e.moved_mm)} mm (${e.frame} frame)`);
+        for (const c of e.changes) lines.push(`${c.what}: ${number(c.before)} → ${number(c.after)}${c.before ? ` (${c.after >= c.before ? '+' : ''}${number(100 * (c.after - c.before) / c.before)} %)` : ''}`);
+        if (lines.length === 0) lines.push('nothing measured changes');
+        effect.replaceChildren(el('ul', {}, ...lines.map((t) => el('li', { text: t }))));
+        confirmLine.hidden = !e.needs_confirm;
+        if (e.needs_confirm) effect.append(el('p', { class: 'error', text: `That is more than the ${number(e.confirm_above_mm)} mm a correction moves unchecked.` }));
+        write.disabled = false;
+      } catch (error) {
+        effect.replaceChildren(problem(error));
+      }
+    },
+  });
+  write.addEventListener('click', async () => {
+    effect.replaceChildren(el('p', { class: 'quiet', text: 'Writing…' }));
+    try {
+      const updated = await api('POST', `/api/sessions/${session.id}/correct`, body(false));
+      redraw(updated, `Corrected ${item.what}${item.row ? ` row ${item.row}` : ''}${item.col ? ` col ${item.col}` : ''}: recorded in the history below.`);
+    } catch (error) {
+      effect.replaceChildren(problem(error));
+    }
+  });
+  const where = [item.what, item.row ? `row ${item.row}` : '', item.col ? `col ${item.col}` : ''].filter(Boolean).join(' ');
+  return el('section', { class: 'decide', id: 'correct' },
+    el('h2', { text: `Correct ${where}` }),
+    el('p', { class: 'quiet', text: isPoint ? `New position in mm (${frame} frame), now ${cellText(start)}` : `New value in mm, now ${number(item.value_mm, 3)}` }),
+    el('div', { class: 'buttons' }, ...inputs), why, el('div', { class: 'buttons' }, preview, write), confirmLine, effect);
+}
+
 function sessionPage(session, notice) {
   const title = session.kind === 'plant' ? `Plant ${session.project}/${session.plant}` :
     `Leaf ${session.project}/${session.plant}/${session.leaf_position}`;
@@ -371,13 +437,27 @@ function sessionPage(session, notice) {
       sections.push(el('p', { class: 'quiet', text: `No survey yet: ${session.survey_problem || ''}` }));
     }
     sections.push(el('h2', { text: 'Leaves as captured' }), table(session.leaves, ['node', 'kind', 'state', 'complete', 'type']));
-    sections.push(el('h2', { text: 'Points' }), table(session.points, ['what', 'row', 'col', 'position_plant_mm', 'position_mm', 'transmitter_position']));
-    sections.push(el('h2', { text: 'Readings' }), table(session.readings, ['what', 'row', 'col', 'value_mm']));
+    sections.push(el('h2', { text: 'Points', id: 'items' }), table(session.points, ['what', 'row', 'col', 'position_plant_mm', 'position_mm', 'transmitter_position'], picker(session)));
+    sections.push(el('h2', { text: 'Readings' }), table(session.readings, ['what', 'row', 'col', 'value_mm'], picker(session)));
   } else {
-    sections.push(el('h2', { text: 'Markers' }), table(session.markers, ['row', 'col', 'position_mm']));
-    sections.push(el('h2', { text: 'Thickness' }), thicknessChart(session.thickness), table(session.thickness, ['what', 'row', 'col', 'value_mm']));
+    const markers = (session.markers || []).map((m) => ({ what: 'marker', ...m }));
+    sections.push(el('h2', { text: 'Markers', id: 'items' }), table(markers, ['row', 'col', 'position_mm'], picker(session)));
+    sections.push(el('h2', { text: 'Thickness' }), thicknessChart(session.thickness), table(session.thickness, ['what', 'row', 'col', 'value_mm'], picker(session)));
   }
+  if (picker(session)) sections.splice(sections.findIndex((n) => n && n.id === 'items'), 0, el('p', { class: 'quiet', text: 'Click an item below to correct it.' }));
   show(...sections.filter(Boolean));
+}
+
+// The item a curator picked, in a correction panel at the head of the tables (none for a
+// session that takes no correction, or a login that may not make one).
+function picker(session) {
+  if (!me || me.role !== 'curator' || session.status !== 'complete') return undefined;
+  return (item) => {
+    const old = document.getElementById('correct');
+    const panel = correctionPanel(session, item, (updated, message) => sessionPage(updated, message));
+    if (old) old.replaceWith(panel); else document.getElementById('items').before(panel);
+    panel.scrollIntoView();
+  };
 }
 
 async function start() {
