@@ -37,8 +37,8 @@ if [ -n "$py" ]; then
 fi
 
 # 5b. cpp-httplib only in ui/cli/web/http.cpp (the web review's one HTTP translation unit) and
-#     the web test that drives it as a client.
-hl=$(sources model devices db acquisition ui tests python | grep -v -e '^ui/cli/web/http.cpp$' -e '^tests/cli/web_cli_test.cpp$' | xargs -r grep -lE '#\s*include\s*[<"]httplib.h' || true)
+#     the web test and the lab benchmark that drive it as a client.
+hl=$(sources model devices db acquisition ui tests python | grep -v -e '^ui/cli/web/http.cpp$' -e '^tests/cli/web_cli_test.cpp$' -e '^tests/bench/lab_bench.cpp$' | xargs -r grep -lE '#\s*include\s*[<"]httplib.h' || true)
 if [ -n "$hl" ]; then
   echo "cpp-httplib outside ui/cli/web/http.cpp:"; echo "$hl"; fail=1
 fi

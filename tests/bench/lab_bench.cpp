@@ -1,17 +1,29 @@
 // The lab server (issue 17 targets): pushing a station of 1 000 leaves (events per second),
-// an incremental push with nothing new (≤ 200 ms), listing 10 000 sessions from the server.
+// an incremental push with nothing new (≤ 200 ms), listing 10 000 sessions from the server;
+// and the web review (issue 49): 50 readers at once listing those 10 000 sessions through
+// `leafdig server web` (p50/p99/max of each request, as a browser sees it).
 // A real PostgreSQL cluster started by the benchmark (tests/support/pg_cluster.hpp).
 // LEAFDIG_BENCH_LEAVES scales both files down for the smoke run. Results: docs/benchmarks.md.
 #include <benchmark/benchmark.h>
+#include <httplib.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sqlite3.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
 
 #include "../support/pg_cluster.hpp"
 #include "../support/station_sessions.hpp"
+#include "latency_counters.hpp"
 #include "leafdig/db/lab.hpp"
 
 namespace {
@@ -225,6 +237,101 @@ void BM_ListSessionsFromServer(benchmark::State& state) {
   state.counters["sessions"] = static_cast<double>(n);
 }
 BENCHMARK(BM_ListSessionsFromServer)->Arg(10000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// 50 readers of the web review, each logged in in a browser session of its own (13 reader
+// logins: a login keeps at most 4), listing the 10 000 sessions at once, 10 times each. The web
+// server is `leafdig server web` as a lab runs it, on loopback, with the lab server on the same
+// two cores. Reports each request's latency (p50, p99, max) and the requests per second.
+void BM_WebReadersListSessions(benchmark::State& state) {
+  const int leaves = scaled(static_cast<int>(state.range(0)));
+  const int readers = 50, logins = 13, rounds = 10;
+  const fs::path file = stationFile(leaves, 1);
+  db::Store local(file.string(), true);
+  const std::string url = freshServer();
+  (void)db::push(local, url);
+  const std::string database = url.substr(url.rfind('/') + 1);
+  for (int i = 0; i < logins; ++i)
+    (void)db::addUser(cluster().adminUrl(database), "reader_" + database + "_" + std::to_string(i), db::LabRole::Reader,
+                      "", std::string("pw"));
+  const fs::path out = fs::temp_directory_path() / ("leafdig-webbench-" + std::to_string(::getpid()) + ".out");
+  const std::string server = "postgresql://127.0.0.1:" + std::to_string(cluster().port()) + "/" + database;
+  std::vector<std::string> args{LEAFDIG_CLI, "server", "web", "--db", server, "--listen", "127.0.0.1:0"};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, LEAFDIG_CLI, &fa, nullptr, argv.data(), environ) != 0) {
+    state.SkipWithError("cannot start leafdig server web");
+    return;
+  }
+  posix_spawn_file_actions_destroy(&fa);
+  int port = 0;
+  for (int wait = 0; wait < 600 && port == 0; ++wait) {
+    std::ifstream in(out);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (const auto at = text.str().find("http://127.0.0.1:");
+        at != std::string::npos && text.str().find('\n') != std::string::npos)
+      port = std::stoi(text.str().substr(at + 17));
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  std::vector<std::string> cookies(readers);
+  for (int r = 0; r < readers && port != 0; ++r) {
+    httplib::Client c("127.0.0.1", port);
+    const nlohmann::json body{{"login", "reader_" + database + "_" + std::to_string(r % logins)}, {"password", "pw"}};
+    const auto answer = c.Post("/api/login", body.dump(), "application/json");
+    if (answer && answer->status == 200) {
+      const std::string set = answer->get_header_value("Set-Cookie");
+      cookies[r] = set.substr(0, set.find(';'));
+    }
+  }
+  std::vector<double> ms;
+  std::mutex msMutex;
+  std::size_t listed = 0, failed = 0;
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<std::thread> threads;
+    for (int r = 0; r < readers; ++r)
+      threads.emplace_back([&, r] {
+        httplib::Client c("127.0.0.1", port);
+        c.set_read_timeout(120, 0);
+        for (int k = 0; k < rounds; ++k) {
+          const auto start = std::chrono::steady_clock::now();
+          // As a browser asks: any encoding it knows (the web server answers gzip).
+          const auto answer =
+              c.Get("/api/sessions", {{"Cookie", cookies[r]}, {"Accept-Encoding", "gzip, deflate, br"}});
+          const double took =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+          const std::lock_guard lock(msMutex);
+          if (!answer || answer->status != 200) {
+            ++failed;
+            continue;
+          }
+          ms.push_back(took);
+          listed = nlohmann::json::parse(answer->body).size();
+        }
+      });
+    for (auto& t : threads) t.join();
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  ::kill(pid, SIGTERM);
+  ::waitpid(pid, nullptr, 0);
+  fs::remove(out);
+  if (port == 0 || failed > 0 || listed != static_cast<std::size_t>(leaves)) {
+    state.SkipWithError("the web review did not list every session to every reader");
+    return;
+  }
+  (void)leafdig::bench::reportLatency(state, ms);
+  state.counters["readers"] = readers;
+  state.counters["sessions"] = static_cast<double>(listed);
+  state.counters["requests_per_s"] = static_cast<double>(ms.size()) / seconds;
+}
+BENCHMARK(BM_WebReadersListSessions)->Arg(10000)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

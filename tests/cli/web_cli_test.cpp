@@ -103,6 +103,12 @@ TEST_F(WebCli, ACuratorReviewsFromABrowserAndEveryRoleIsHeldToItsLimitsThroughTh
   EXPECT_EQ(page->body.find("<script>"), std::string::npos) << "no inline script";
   EXPECT_EQ(page->body.find("http"), std::string::npos) << "nothing from another origin";
   EXPECT_EQ(anyone.get("/static/app.js")->status, 200);
+  // A browser that takes brotli too is answered gzip (docs/web.md, "Sizes and speed").
+  const auto three = anyone.http.Get("/static/vendor/three.module.min.js", {{"Accept-Encoding", "gzip, deflate, br"}});
+  ASSERT_TRUE(three);
+  EXPECT_EQ(three->status, 200);
+  EXPECT_EQ(three->get_header_value("Content-Encoding"), "gzip");
+  EXPECT_NE(three->body.find("REVISION"), std::string::npos);
   EXPECT_EQ(anyone.get("/static/index.html")->status, 404);
   EXPECT_EQ(anyone.get("/../../etc/passwd")->status, 404);
 

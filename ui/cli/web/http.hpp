@@ -32,8 +32,12 @@ using HttpHandler = std::function<HttpResponse(const HttpRequest&)>;
 
 struct HttpLimits {
   std::size_t maxBodyBytes = 1 << 20;  // a larger request body is refused (413) unread
-  int threads = 16;                    // requests handled at once
-  int readTimeoutSeconds = 10;         // a client that stalls mid-request is dropped
+  // Connections served at once: httplib gives each open connection a thread while it is kept
+  // alive, so this is how many browsers (up to six connections each) and scripts are answered
+  // without waiting for another's connection to close (docs/benchmarks.md, the web review).
+  int threads = 96;
+  int keepAliveSeconds = 2;     // an idle kept-alive connection gives its thread back after this
+  int readTimeoutSeconds = 10;  // a client that stalls mid-request is dropped
 };
 
 class HttpServer {
