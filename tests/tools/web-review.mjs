@@ -18,9 +18,9 @@ function check(condition, what) {
 // How much of the 3-D view's canvas is drawn: the share of its pixels that are not the
 // background (the canvas keeps its drawing buffer, so it can be read back).
 async function drawnShare(page) {
-  await page.waitForSelector('#viewer[data-drawn=true], #viewer-note', { timeout: 60000 });
+  await page.waitForSelector('#viewer[data-drawn=true], #viewer-note', { timeout: kWaitMs });
   await page.waitForFunction(() => document.querySelector('#viewer[data-drawn=true]') ||
-    !document.querySelector('#viewer-note').textContent.startsWith('Loading'), { timeout: 60000 });
+    !document.querySelector('#viewer-note').textContent.startsWith('Loading'), { timeout: kWaitMs });
   return page.evaluate(() => {
     const canvas = document.querySelector('#viewer canvas');
     if (!canvas) return { share: 0, note: document.querySelector('#viewer-note').textContent };
@@ -37,6 +37,10 @@ async function drawnShare(page) {
     return { share: drawn / (px.length / 4), note: document.querySelector('#viewer-note').textContent };
   });
 }
+
+// Generous waits: the suite runs this beside other tests on two cores, and under ASan the web
+// server's exports take seconds; the checks are about what is drawn and said, never how fast.
+const kWaitMs = 180000;
 
 async function logIn(page, who) {
   await page.goto(`${config.base}/`, { waitUntil: 'networkidle0' });
@@ -55,6 +59,8 @@ try {
   // ---- a curator ------------------------------------------------------------------------
   const curator = await browser.createBrowserContext();
   const page = await curator.newPage();
+  page.setDefaultTimeout(kWaitMs);
+  page.setDefaultNavigationTimeout(kWaitMs);
   await page.setViewport({ width: 1280, height: 860 });
   const consoleErrors = [];
   page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
@@ -82,7 +88,7 @@ try {
   await page.waitForSelector('#decide-approve');
   const leafView = await drawnShare(page);
   check(leafView.share > 0.01, `the leaf's 3-D view draws (${(100 * leafView.share).toFixed(1)} % of its pixels; ${leafView.note})`);
-  await page.waitForSelector('#metrics, #numbers .quiet:not(:first-child), #numbers .error', { timeout: 60000 });
+  await page.waitForSelector('#metrics, #numbers .quiet:not(:first-child), #numbers .error', { timeout: kWaitMs });
   const metrics = await page.$eval('#numbers', (e) => e.textContent);
   check(metrics.includes('blade area') && metrics.includes('95 % interval'), `the leaf's metrics show the area and its interval (${metrics.slice(0, 120)})`);
   check(await page.$$eval('#thickness-chart polyline', (p) => p.length) >= 2, 'the thickness chart draws a line per kind of reading');
@@ -162,6 +168,8 @@ try {
   });
   await new Promise((resolve) => evil.listen(0, '127.0.0.1', resolve));
   const evilPage = await curator.newPage();
+  evilPage.setDefaultTimeout(kWaitMs);
+  evilPage.setDefaultNavigationTimeout(kWaitMs);
   const answer = evilPage.waitForResponse((r) => r.url().includes('/approve'));
   await evilPage.goto(`http://localhost:${evil.address().port}/`);
   const posted = await answer;
@@ -173,6 +181,8 @@ try {
   // ---- a technician ------------------------------------------------------------------------------
   const techContext = await browser.createBrowserContext();
   const tech = await techContext.newPage();
+  tech.setDefaultTimeout(kWaitMs);
+  tech.setDefaultNavigationTimeout(kWaitMs);
   await tech.setViewport({ width: 1280, height: 860 });
   await logIn(tech, config.technician);
   await tech.waitForSelector('#sessions');
