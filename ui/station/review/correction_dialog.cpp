@@ -1,6 +1,5 @@
 #include "review/correction_dialog.hpp"
 
-#include <QComboBox>
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QDoubleSpinBox>
@@ -8,6 +7,8 @@
 #include <QLineEdit>
 #include <QMessageBox>
 #include <QPushButton>
+#include <QTreeWidget>
+#include <map>
 
 namespace leafdig::station {
 
@@ -18,8 +19,33 @@ std::optional<acquisition::Correction> askCorrection(QWidget* parent, const QStr
   QDialog d(parent);
   d.setWindowTitle(title);
   auto* form = new QFormLayout(&d);
-  auto* which = new QComboBox;
-  for (const CorrectionChoice& c : choices) which->addItem(c.label);
+  // The items as a tree, each label's " · " parts its levels ("Node 3 · leaf marker · row 2 ·
+  // point 1 (…)" sits under Node 3, leaf marker, row 2): a plant's hundred items are found by
+  // opening the node, not by scrolling a list. Groups are not items; the first item is chosen.
+  auto* which = new QTreeWidget;
+  which->setObjectName("correctionItems");
+  which->setHeaderHidden(true);
+  which->setMinimumHeight(choices.size() > 8 ? 280 : 120);
+  std::map<QString, QTreeWidgetItem*> groups;
+  QTreeWidgetItem* first = nullptr;
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    const QStringList parts = choices[i].label.split(QStringLiteral(" · "));
+    QTreeWidgetItem* parent = nullptr;
+    QString path;
+    for (qsizetype k = 0; k + 1 < parts.size(); ++k) {
+      path += parts[k] + QChar(0x1f);
+      auto it = groups.find(path);
+      if (it == groups.end()) {
+        auto* g = parent ? new QTreeWidgetItem(parent, {parts[k]}) : new QTreeWidgetItem(which, {parts[k]});
+        g->setFlags(Qt::ItemIsEnabled);
+        it = groups.emplace(path, g).first;
+      }
+      parent = it->second;
+    }
+    auto* item = parent ? new QTreeWidgetItem(parent, {parts.back()}) : new QTreeWidgetItem(which, {parts.back()});
+    item->setData(0, Qt::UserRole, static_cast<int>(i));
+    if (first == nullptr) first = item;
+  }
   if (choices.size() > 1) form->addRow(QObject::tr("Item"), which);
   std::vector<QDoubleSpinBox*> boxes;
   const QStringList names{QObject::tr("x"), QObject::tr("y"), QObject::tr("z"), valueName};
@@ -41,7 +67,14 @@ std::optional<acquisition::Correction> askCorrection(QWidget* parent, const QStr
     boxes[3]->setValue(c.valueMm.value_or(0.0));
   };
   fill(0);
-  QObject::connect(which, qOverload<int>(&QComboBox::currentIndexChanged), &d, fill);
+  int chosen = 0;
+  QObject::connect(which, &QTreeWidget::currentItemChanged, &d, [&](QTreeWidgetItem* current) {
+    if (current == nullptr || !current->data(0, Qt::UserRole).isValid()) return;  // a group
+    chosen = current->data(0, Qt::UserRole).toInt();
+    fill(chosen);
+  });
+  for (QTreeWidgetItem* up = first ? first->parent() : nullptr; up != nullptr; up = up->parent()) up->setExpanded(true);
+  which->setCurrentItem(first);
   auto* reason = new QLineEdit;
   reason->setPlaceholderText(QObject::tr("why (required)"));
   form->addRow(QObject::tr("Reason"), reason);
@@ -49,8 +82,12 @@ std::optional<acquisition::Correction> askCorrection(QWidget* parent, const QStr
   QObject::connect(buttons, &QDialogButtonBox::accepted, &d, &QDialog::accept);
   QObject::connect(buttons, &QDialogButtonBox::rejected, &d, &QDialog::reject);
   form->addRow(buttons);
-  if (d.exec() != QDialog::Accepted) return std::nullopt;
-  acquisition::Correction c = choices[static_cast<std::size_t>(which->currentIndex())].item;
+  const int answer = d.exec();
+  // The tree may say its current item changed while it is destroyed with the dialog, after the
+  // locals the handler writes to are gone: it says nothing more.
+  QObject::disconnect(which, nullptr, &d, nullptr);
+  if (answer != QDialog::Accepted) return std::nullopt;
+  acquisition::Correction c = choices[static_cast<std::size_t>(chosen)].item;
   if (c.positionMm)
     c.positionMm = acquisition::Vec3{boxes[0]->value(), boxes[1]->value(), boxes[2]->value()};
   else

@@ -1,6 +1,6 @@
 // The curator's correction dialog, one for a leaf's review and a plant's (Plant view): the items
-// offered (one, or a list to choose from), the stored position (x, y, z) or value of the one
-// chosen to edit, and the reason, which the correction needs.
+// offered (one, or a tree to choose from: each label's " · " parts are its levels), the stored
+// position (x, y, z) or value of the one chosen to edit, and the reason, which the correction needs.
 #pragma once
 
 #include <QString>
@@ -15,7 +15,7 @@ class QWidget;
 namespace leafdig::station {
 
 struct CorrectionChoice {
-  QString label;                 // "Node 3 · stem diameter (17.10 mm)"; empty for a single item
+  QString label;                 // "Node 3 · stem diameter 1 (17.10 mm)": levels of the tree; empty for a single item
   acquisition::Correction item;  // what, row, col, … and the stored position or value
 };
 

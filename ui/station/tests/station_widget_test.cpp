@@ -2052,13 +2052,21 @@ TEST(CorrectionDialog, TheChosenItemIsEditedWithItsReasonAndCancelGivesNothing) 
     auto* d = qobject_cast<QDialog*>(QApplication::activeModalWidget());
     ASSERT_NE(d, nullptr);
     shown = true;
-    auto* which = d->findChild<QComboBox*>();
+    // The items as a tree: "Landmark 2" at the top, "Node 3 · stem" under Node 3.
+    auto* which = d->findChild<QTreeWidget*>("correctionItems");
     ASSERT_NE(which, nullptr);
+    ASSERT_EQ(which->topLevelItemCount(), 2);
+    EXPECT_EQ(which->topLevelItem(0)->text(0), "Landmark 2");
+    EXPECT_EQ(which->topLevelItem(1)->text(0), "Node 3");
+    ASSERT_EQ(which->topLevelItem(1)->childCount(), 1);
+    EXPECT_EQ(which->topLevelItem(1)->child(0)->text(0), "stem");
     const auto boxes = d->findChildren<QDoubleSpinBox*>();
     ASSERT_EQ(boxes.size(), 4);
     EXPECT_EQ(boxes[0]->value(), 1.0);  // the first item's stored position
     EXPECT_FALSE(boxes[3]->isEnabled());
-    which->setCurrentIndex(1);  // the reading: its value, the position boxes off
+    which->setCurrentItem(which->topLevelItem(1));  // a group: nothing chosen, nothing changes
+    EXPECT_EQ(boxes[0]->value(), 1.0);
+    which->setCurrentItem(which->topLevelItem(1)->child(0));  // the reading: its value, the position boxes off
     EXPECT_DOUBLE_EQ(boxes[3]->value(), 17.1);
     EXPECT_FALSE(boxes[0]->isEnabled());
     boxes[3]->setValue(16.4);
