@@ -164,6 +164,7 @@ TEST_F(WebCli, ACuratorReviewsFromABrowserAndEveryRoleIsHeldToItsLimitsThroughTh
   r = curator.get("/api/sessions/" + id + "/export?format=glb");
   EXPECT_EQ(r->status, 409) << r->body;
   EXPECT_NE(r->body.find("edge_thickness"), std::string::npos) << r->body;
+  EXPECT_EQ(curator.get("/api/sessions/" + id + "/surveys")->status, 400);  // a leaf has no surveys
   r = curator.get("/api/sessions/" + id + "/review");
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_TRUE(json::parse(r->body).at("metrics").is_null());

@@ -143,6 +143,11 @@ try {
   }, config.plant);
   check(mtg.status === 200 && mtg.disposition.includes('attachment') && mtg.text.includes('MTG'), `the plant's MTG downloads (${mtg.status})`);
   const headings = await page.$$eval('main h2', (hs) => hs.map((h) => h.textContent));
+  const tree = await page.$$eval('#plant-tree li', (lis) => lis.length);
+  check(tree >= 6, `the plant page draws the plant as a tree of its nodes and leaves (${tree} entries)`);
+  await page.waitForSelector('#surveys table', { timeout: kWaitMs });
+  const surveys = await page.$eval('#surveys', (e) => e.textContent);
+  check(surveys.includes('(this one)') && surveys.includes('2026-06-12'), `the plant page lists the plant's surveys (${surveys.slice(0, 100)})`);
   check(headings.includes('Nodes') && headings.includes('Leaves as surveyed (plant frame)'), 'the plant page shows its nodes and leaves');
   await page.evaluate(() => window.scrollTo(0, 0));
   await page.screenshot({ path: `${config.screenshots}/web-plant.png` });

@@ -357,6 +357,24 @@ json sessionListJson(const db::EventStore& store, const std::vector<db::SessionI
   return a;
 }
 
+json plantSurveysJson(const db::EventStore& store, const std::string& plant) {
+  json list = json::array();
+  for (const acq::PlantSurveyEntry& e : acq::plantSurveys(store, plant))
+    list.push_back({{"session", e.session},
+                    {"date", e.date},
+                    {"status", e.status},
+                    {"project", e.project},
+                    {"operator", e.operatorName},
+                    {"station", e.station},
+                    {"created", e.createdUtc},
+                    {"events", e.events},
+                    {"verified", e.verified},
+                    {"problem", e.problem.empty() ? json(nullptr) : json(e.problem)},
+                    {"nodes", e.nodes},
+                    {"leaves", {{"full", e.full}, {"quick", e.quick}, {"none", e.noLeaf}}}});
+  return json{{"plant", plant}, {"surveys", list}};
+}
+
 json sessionJson(const db::EventStore& store, std::int64_t id) {
   SessionsOptions o;
   o.id = id;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "leafdig/db/event_store.hpp"
@@ -17,6 +18,9 @@ int runShow(const db::EventStore& store, const SessionsOptions& o);
 
 // `sessions list`'s filters (--status, --kind, --plant, --station, --since): every one given holds.
 [[nodiscard]] bool listed(const db::SessionInfo& s, const SessionsOptions& o);
+// What `plant surveys PLANT --json` prints: the plant and every dated survey of it.
+[[nodiscard]] nlohmann::json plantSurveysJson(const db::EventStore& store, const std::string& plant);
+
 // What `sessions list --json` prints of these sessions (each decided one's decision included).
 [[nodiscard]] nlohmann::json sessionListJson(const db::EventStore& store, const std::vector<db::SessionInfo>& sessions);
 

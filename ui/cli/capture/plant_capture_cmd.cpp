@@ -37,6 +37,7 @@
 #include "leafdig/model/plant/plant_protocol.hpp"
 #include "leafdig/version.hpp"
 #include "plant/plant_cmd.hpp"
+#include "sessions_show.hpp"
 #include "signals.hpp"
 #include "terminal_text.hpp"
 
@@ -447,25 +448,11 @@ int runSurveys(const SurveysOptions& o) {
   if (path.rfind("postgresql://", 0) != 0 && !std::filesystem::exists(path))
     throw std::invalid_argument("no station database at " + path + ": name it with --db (leafdig capture writes it)");
   const std::unique_ptr<db::EventStore> store = db::openEventStore(path, true);
-  const std::vector<acq::PlantSurveyEntry> surveys = acq::plantSurveys(*store, o.plant);
   if (o.json) {
-    json list = json::array();
-    for (const acq::PlantSurveyEntry& e : surveys)
-      list.push_back({{"session", e.session},
-                      {"date", e.date},
-                      {"status", e.status},
-                      {"project", e.project},
-                      {"operator", e.operatorName},
-                      {"station", e.station},
-                      {"created", e.createdUtc},
-                      {"events", e.events},
-                      {"verified", e.verified},
-                      {"problem", e.problem.empty() ? json(nullptr) : json(e.problem)},
-                      {"nodes", e.nodes},
-                      {"leaves", {{"full", e.full}, {"quick", e.quick}, {"none", e.noLeaf}}}});
-    std::cout << json{{"plant", o.plant}, {"surveys", list}}.dump() << "\n";
+    std::cout << plantSurveysJson(*store, o.plant).dump() << "\n";
     return 0;
   }
+  const std::vector<acq::PlantSurveyEntry> surveys = acq::plantSurveys(*store, o.plant);
   std::cout << "plant " << terminalText(o.plant) << ": " << surveys.size() << " survey(s) in " << terminalText(path)
             << "\n";
   for (const acq::PlantSurveyEntry& e : surveys) {

@@ -59,6 +59,13 @@ HttpResponse leafReview(const db::EventStore& store, std::int64_t id) {
   return jsonAnswer(200, out);
 }
 
+HttpResponse plantSurveys(const db::EventStore& store, std::int64_t id) {
+  const std::optional<db::SessionInfo> info = store.session(id);
+  if (info->kind != acq::kPlantCapture.word)
+    return problem(400, "a leaf's session has no surveys", "ask a plant session's: GET /api/sessions?kind=plant");
+  return jsonAnswer(200, plantSurveysJson(store, info->plant));
+}
+
 namespace {
 
 // A whole number of a body, in range, or why not.

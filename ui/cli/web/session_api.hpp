@@ -26,6 +26,8 @@ inline constexpr std::size_t kLongestReason = 4000;  // characters of a decision
 [[nodiscard]] HttpResponse exportFile(db::EventStore& store, std::int64_t id, const HttpRequest& request);
 // GET /api/sessions/ID/review: a leaf's metrics (with the 95 % area interval) and flags.
 [[nodiscard]] HttpResponse leafReview(const db::EventStore& store, std::int64_t id);
+// GET /api/sessions/ID/surveys: a plant session's plant, every dated survey of it (`plant surveys --json`).
+[[nodiscard]] HttpResponse plantSurveys(const db::EventStore& store, std::int64_t id);
 // POST /api/sessions/ID/correct: a dry run or a correction, as `sessions correct` makes them.
 [[nodiscard]] HttpResponse correction(db::EventStore& store, std::int64_t id, const nlohmann::json& body);
 

@@ -416,6 +416,7 @@ HttpResponse WebApp::api(const HttpRequest& request, Call& call) {
   if (action.empty() && request.method == "GET") return jsonAnswer(200, sessionJson(*s.store, *id));
   if (action == "export" && request.method == "GET") return exportFile(*s.store, *id, request);
   if (action == "review" && request.method == "GET") return leafReview(*s.store, *id);
+  if (action == "surveys" && request.method == "GET") return plantSurveys(*s.store, *id);
   if (request.method == "POST" && action == "correct") {
     auto parsed = bodyObject(request);
     if (auto* bad = std::get_if<HttpResponse>(&parsed)) return *bad;

@@ -409,6 +409,46 @@ function correctionPanel(session, item, redraw) {
     el('div', { class: 'buttons' }, ...inputs), why, el('div', { class: 'buttons' }, preview, write), confirmLine, effect);
 }
 
+// A plant as a tree: its stem, node by node from the base, each node's leaf under it (the
+// survey's numbers; a leaf's kind and state when it has none).
+function plantTree(survey) {
+  const mm = (v) => (typeof v === 'number' ? `${number(v)} mm` : '—');
+  const leafText = (l) => {
+    const parts = [`${l.kind} leaf`, l.state];
+    if (typeof l.midrib_length_mm === 'number') parts.push(`length ${mm(l.midrib_length_mm)}`);
+    if (typeof l.area_mm2 === 'number') parts.push(`area ${Math.round(l.area_mm2).toLocaleString('en')} mm²`);
+    if (typeof l.inclination_deg === 'number') parts.push(`inclination ${number(l.inclination_deg)}°`);
+    return parts.join(', ');
+  };
+  const nodes = (survey.nodes || []).map((n) => {
+    const leaves = (survey.leaves || []).filter((l) => l.node === n.node);
+    return el('li', { text: `Node ${n.node}: height ${mm(n.height_mm)}, internode ${mm(n.internode_mm)}, stem Ø ${mm(n.diameter_mm)}` },
+      leaves.length ? el('ul', {}, ...leaves.map((l) => el('li', { text: leafText(l) }))) : null);
+  });
+  return el('ul', { class: 'tree', id: 'plant-tree' },
+    el('li', { text: `${survey.plant || 'plant'}: collar Ø ${mm(survey.collar_diameter_mm)}` }, el('ul', {}, ...nodes)));
+}
+
+// The plant's other surveys (the same plant on other dates), each a link to its page.
+function plantSurveys(session) {
+  const box = el('section', { id: 'surveys' }, el('p', { class: 'quiet', text: 'Looking for this plant\'s other surveys…' }));
+  (async () => {
+    try {
+      const answer = await api('GET', `/api/sessions/${session.id}/surveys`);
+      box.replaceChildren(el('table', {},
+        el('thead', {}, el('tr', {}, ...['session', 'date', 'status', 'station', 'nodes', 'leaves (full/quick/none)', 'verified'].map((t) => el('th', { text: t })))),
+        el('tbody', {}, ...answer.surveys.map((v) => el('tr', {},
+          el('td', {}, v.session === session.id ? el('strong', { text: `${v.session} (this one)` }) : el('a', { href: `/sessions/${v.session}`, text: String(v.session) })),
+          el('td', { text: v.date }), el('td', {}, statusBadge(v.status)), el('td', { text: v.station }),
+          el('td', { text: String(v.nodes) }), el('td', { text: `${v.leaves.full}/${v.leaves.quick}/${v.leaves.none}` }),
+          el('td', { text: v.verified ? 'yes' : `no: ${v.problem || ''}` }))))));
+    } catch (error) {
+      box.replaceChildren(problem(error));
+    }
+  })();
+  return box;
+}
+
 function sessionPage(session, notice) {
   const title = session.kind === 'plant' ? `Plant ${session.project}/${session.plant}` :
     `Leaf ${session.project}/${session.plant}/${session.leaf_position}`;
@@ -431,11 +471,13 @@ function sessionPage(session, notice) {
   ];
   if (session.kind === 'plant') {
     if (session.survey && Array.isArray(session.survey.nodes)) {
+      sections.push(el('h2', { text: 'The plant' }), plantTree(session.survey));
       sections.push(el('h2', { text: 'Nodes' }), table(session.survey.nodes, ['node', 'height_mm', 'internode_mm', 'diameter_mm', 'point_mm']));
       if (Array.isArray(session.survey.leaves)) sections.push(el('h2', { text: 'Leaves as surveyed (plant frame)' }), table(session.survey.leaves));
     } else {
       sections.push(el('p', { class: 'quiet', text: `No survey yet: ${session.survey_problem || ''}` }));
     }
+    sections.push(el('h2', { text: 'Surveys of this plant' }), plantSurveys(session));
     sections.push(el('h2', { text: 'Leaves as captured' }), table(session.leaves, ['node', 'kind', 'state', 'complete', 'type']));
     sections.push(el('h2', { text: 'Points', id: 'items' }), table(session.points, ['what', 'row', 'col', 'position_plant_mm', 'position_mm', 'transmitter_position'], picker(session)));
     sections.push(el('h2', { text: 'Readings' }), table(session.readings, ['what', 'row', 'col', 'value_mm'], picker(session)));
