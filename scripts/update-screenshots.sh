@@ -40,7 +40,7 @@ cp "$out/plant-captured.png" "$root/docs/station-plant-captured.png"
 cp "$out/plant-capture.png" "$root/docs/station-plant-capture.png"
 echo "update-screenshots: docs/station-capture.png, docs/station-review.png, docs/station-plant.png," \
   "docs/station-plant-captured.png and docs/station-plant-capture.png regenerated"
-# The web review in headless Chromium, as its browser test leaves them (a curator's list, a
-# leaf after its approval, a plant; a technician's list of its own station).
+# The web review in headless Chromium, as its browser test leaves them (the login, a curator's
+# list, a leaf after its approval, a plant; a technician's list of its own station).
 (cd "$root/build/ci" && ./tests/leafdig_lab_cli_tests --gtest_filter=WebCli.ACuratorAndATechnicianInHeadlessChromium >/dev/null)
-for page in sessions leaf plant technician; do cp "$root/build/ci/web-screenshots/web-$page.png" "$root/docs/web-$page.png"; done
+for page in login sessions leaf plant technician; do cp "$root/build/ci/web-screenshots/web-$page.png" "$root/docs/web-$page.png"; done
