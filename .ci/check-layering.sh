@@ -92,18 +92,19 @@ rootCheck devices "errors, samples" codecs transports links sim
 
 # 6. Rooms inside model/ (model/README.md), each using only the rooms before it:
 #    field, spline, leaf, mesh, metrics, then synth, leaf2d and plant (never each other), then
-#    io and study (never each other).
-roomCheck model field spline leaf mesh metrics synth leaf2d plant io study
-roomCheck model spline leaf mesh metrics synth leaf2d plant io study
-roomCheck model leaf mesh metrics synth leaf2d plant io study
-roomCheck model mesh metrics synth leaf2d plant io study
-roomCheck model metrics synth leaf2d plant io study
-roomCheck model synth leaf2d plant io study
-roomCheck model leaf2d synth plant io study
-roomCheck model plant synth leaf2d io study
+#    archive (the archives' plants, read into plants), then io and study (never each other).
+roomCheck model field spline leaf mesh metrics synth leaf2d plant archive io study
+roomCheck model spline leaf mesh metrics synth leaf2d plant archive io study
+roomCheck model leaf mesh metrics synth leaf2d plant archive io study
+roomCheck model mesh metrics synth leaf2d plant archive io study
+roomCheck model metrics synth leaf2d plant archive io study
+roomCheck model synth leaf2d plant archive io study
+roomCheck model leaf2d synth plant archive io study
+roomCheck model plant synth leaf2d archive io study
+roomCheck model archive io study
 roomCheck model io study
 roomCheck model study io
-rootCheck model "errors, limits, files, image headers, JSON text" field spline leaf mesh metrics synth leaf2d plant io study
+rootCheck model "errors, limits, files, image headers, JSON text" field spline leaf mesh metrics synth leaf2d plant archive io study
 
 # 7. Rooms inside acquisition/ (acquisition/README.md): protocol, then session, then review; live
 #    after session, sim after live, run after sim; review never uses live, sim or run, and they

@@ -43,6 +43,7 @@ plant ui/cli/web/web_app.cpp '#include <httplib.h>' "cpp-httplib outside ui/cli/
 plant model/src/leaf/leaf_model.cpp '#include "leafdig/model/mesh/mesh.hpp"' "the leaf model using meshes"
 plant model/include/leafdig/model/synth/synthetic_leaf.hpp '#include "leafdig/model/plant/plant.hpp"' "synth using plant"
 plant model/src/io/model_json.cpp '#include "leafdig/model/study/accuracy.hpp"' "io using study"
+plant model/src/archive/mtg_archive.cpp '#include "leafdig/model/io/plant_export.hpp"' "archive using io"
 plant model/src/metrics/metrics.cpp '#include "leaf2d/outline_check.hpp"' "metrics using leaf2d's private header"
 plant model/include/leafdig/model/files.hpp '#include "leafdig/model/spline/bspline.hpp"' "model's root using a room"
 # Sizes and cycles (part 8): a change the check must name by its words.

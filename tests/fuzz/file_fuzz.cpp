@@ -1,8 +1,8 @@
 // libFuzzer targets for the files a user hands us (issue 26), one per kind, chosen at compile
 // time (LEAFDIG_FUZZ_FILE): markers, plant plans, plants digitized in place, plant protocols, outlines (JSON and CSV)
-// and scans' headers. Each input is read as that file: it is either refused with InputError or read into values within
-// the bounds of limits.hpp; anything else (a crash, another exception, a number out of bounds, a hang past libFuzzer's
-// timeout) is a finding.
+// scans' headers and archives' MTG files. Each input is read as that file: it is either refused with InputError or read
+// into values within the bounds of limits.hpp; anything else (a crash, another exception, a number out of bounds, a
+// hang past libFuzzer's timeout) is a finding.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -11,6 +11,8 @@
 #include <variant>
 #include <vector>
 
+#include "leafdig/model/archive/mtg_archive.hpp"
+#include "leafdig/model/archive/plant_import.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/field/correction.hpp"
 #include "leafdig/model/field/jig.hpp"
@@ -123,6 +125,30 @@ void outline(const std::string& text, bool json) {
   require(m::polygonArea(o.pointsMm) > 0);
 }
 
+// An archive's MTG: read into a tree whose every link points back (a complex one scale up, a
+// parent at the same scale, both made before), then drawn; refused in words otherwise.
+void mtgArchive(const std::string& text) {
+  const m::MtgArchive a = m::parseMtgArchive(text, "fuzz");
+  require(!a.vertices.empty() && a.vertices[0].scale == 0 && a.vertices.size() <= m::kMaxMtgVertices);
+  for (std::size_t v = 1; v < a.vertices.size(); ++v) {
+    const m::MtgVertex& x = a.vertices[v];
+    require(x.complex >= 0 && static_cast<std::size_t>(x.complex) < v);
+    require(x.scale == a.vertices[static_cast<std::size_t>(x.complex)].scale + 1);
+    require(x.parent < static_cast<int>(v));
+    if (x.parent >= 0) require(a.vertices[static_cast<std::size_t>(x.parent)].scale == x.scale);
+    require(x.cells.size() == a.features.size());
+  }
+  m::ArchiveImportOptions o;
+  o.mmPerUnit = 1;
+  const m::ImportedPlant p = m::importMtgPlant(a, o);
+  std::size_t drawn = 0;
+  for (const m::ImportedAxis& axis : p.axes) {
+    require(axis.balls.size() == axis.vertices.size() && axis.order >= 1);
+    drawn += axis.vertices.size();
+  }
+  require(drawn == p.points && p.points > 0);
+}
+
 void imageHeader(const std::string& bytes) {
   std::istringstream in(bytes);
   const auto h = m::readImageHeader(in);
@@ -144,6 +170,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (kind == "image_header") imageHeader(text);
     if (kind == "jig") jig(text);
     if (kind == "correction") correction(text);
+    if (kind == "mtg_archive") mtgArchive(text);
   } catch (const m::InputError&) {
     // refused in words: what a bad file should get
   }

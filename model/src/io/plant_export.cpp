@@ -108,6 +108,10 @@ CanFile encodeCan(const LeafMesh& mesh, CanUnit unit, int plantNumber) {
       element = 0;
     }
     ++element;
+    // The wood (leaf field 000: the stem and every axis) of a tree can have more than 999 axes
+    // (an archive's walnut has 1 500): the 999th and later share element 999. A leaf's organs
+    // stay one element each.
+    if (organ.leafRank == 0) element = std::min(element, 999);
     if (organ.leafRank > 999 || element > 999) throw InputError("a CARIBU label has 3 digits for leaf and element");
     char label[32];
     std::snprintf(label, sizeof label, "1%05d%03d%03d", plantNumber, organ.leafRank, element);

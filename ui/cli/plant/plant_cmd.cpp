@@ -258,6 +258,7 @@ void addPlantCommands(CLI::App& app, CommandTable& table) {
   table.add(build, [o] { return runPlant(*o, false); });
   table.add(grow, [o] { return runPlant(*o, true); });
   addPlantMeasureCommand(*app.get_subcommand("plant"), table);
+  addPlantImportCommand(*app.get_subcommand("plant"), table);
   addPlantProtocolCommand(*app.get_subcommand("plant"), table);
   addPlantCaptureCommand(*app.get_subcommand("plant"), table);
   addPlantSurveysCommand(*app.get_subcommand("plant"), table);

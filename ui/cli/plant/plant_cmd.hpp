@@ -29,7 +29,7 @@ struct PlantOptions {
 };
 
 class CommandTable;
-// Registers `plant build`, `plant grow`, `plant measure`, `plant protocol` and `plant capture`.
+// Registers `plant build`, `plant grow`, `plant measure`, `plant import`, `plant protocol` and `plant capture`.
 void addPlantCommands(CLI::App& app, CommandTable& table);
 // `plant measure` under the `plant` command (plant_measure_cmd.cpp).
 void addPlantMeasureCommand(CLI::App& plant, CommandTable& table);
@@ -41,6 +41,8 @@ void printSurvey(const model::PlantSurvey& survey, const std::string& label);
 void addPlantCaptureCommand(CLI::App& plant, CommandTable& table);
 // `leafdig plant surveys ID --db DB`: every dated survey of one plant (plant_capture_cmd.cpp).
 void addPlantSurveysCommand(CLI::App& plant, CommandTable& table);
+// `plant import` (plant_import_cmd.cpp).
+void addPlantImportCommand(CLI::App& plant, CommandTable& table);
 // `plant protocol` (plant_protocol_cmd.cpp).
 void addPlantProtocolCommand(CLI::App& plant, CommandTable& table);
 
