@@ -76,7 +76,8 @@ std::vector<std::string> exportLeaf(const m::BuiltLeaf& leaf, const std::string&
     files.push_back({p, m::modelToJson(leaf.model, leaf.frame, leaf.metrics)});
   } else {
     const m::PlantFormat f = m::plantFormatForPath(p);
-    if (f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv) {
+    if (f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv ||
+        f == m::PlantFormat::HeliosXml || f == m::PlantFormat::Vgx) {
       const m::LeafAsPlant alone = m::leafAsPlant(leaf, source, light);
       files = m::encodePlant(p, alone.plant, alone.mesh, alone.metrics, {m::CanUnit::Metre, generator()});
     } else {

@@ -59,7 +59,7 @@ class Leaf:
     leafdig.model/1 document (veins as 4-D B-splines, the blade surface) as a dict;
     ``vein(i, t)`` evaluates vein i (``vein_names``) at parameters t in [0, 1] as an array of
     (x, y, z, radius); ``blade(u, v)`` the blade surface. ``export(path)`` writes the file its
-    extension names (.glb .obj .ply .stl, .can .mtg .csv, .json the model document) and
+    extension names (.glb .obj .ply .stl, .can .mtg .csv .xml .vgx, .json the model document) and
     returns the paths written."""
 
     def __init__(self, core):
@@ -117,7 +117,7 @@ class Leaf:
         return self._mesh
 
     def export(self, path, light=(0.0, 0.0, 1.0)):
-        """Writes the file ``path``'s extension names (.glb .obj .ply .stl, .can .mtg .csv, .json
+        """Writes the file ``path``'s extension names (.glb .obj .ply .stl, .can .mtg .csv .xml .vgx, .json
         the model document; ``light`` is the direction the silhouette is taken along) and returns
         the paths written."""
         return self._core.export(_os.fspath(path), tuple(float(x) for x in light))
@@ -184,7 +184,7 @@ class Plant:
         return {label: [list(t) for t in triangles] for label, triangles in self._core.caribu_scene().items()}
 
     def export(self, path):
-        """Writes the file ``path``'s extension names (.glb .obj .ply .stl .can .mtg .csv .json)
+        """Writes the file ``path``'s extension names (.glb .obj .ply .stl .can .mtg .csv .json, .xml Helios, .vgx VegeSTAR)
         and returns the paths written."""
         return self._core.export(_os.fspath(path))
 

@@ -109,6 +109,56 @@ TEST_F(PlantCli, EveryExportOfTheSamplePlantOpensInAnIndependentReader) {
   EXPECT_NEAR(doc["leaves"][3]["bend_deg"].get<double>(), 10.0, 1e-12);
 }
 
+// Helios XML and VegeSTAR (issue 51): each read by a strict reader of its reader's rules (Helios's
+// loadXML: each triangle from its transform of the unit triangle; PlantGL's and PyRATP's VGX),
+// every triangle there with its organ, and the two files the same triangles (metres against
+// centimetres with Z down) as the leaf areas the command reported.
+TEST_F(PlantCli, TheSamplePlantGoesToHeliosAndVegestarWithItsOrgans) {
+  const fs::path plan = samplePlan();
+  const Result r = leafdig("plant build " + quote(plan) + " -o " + quote(dir_ / "p07.xml") + " -o " +
+                           quote(dir_ / "p07.vgx") + " --resolution preview --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json state = json::parse(r.out)["states"][0];
+  const auto helios = leafdig::test::readHeliosStrictly(slurp(dir_ / "p07.xml"));
+  const auto vgx = leafdig::test::readVgxStrictly(slurp(dir_ / "p07.vgx"));
+  ASSERT_EQ(static_cast<long>(helios.triangles.size()), state["triangles"].get<long>());
+  ASSERT_EQ(vgx.size(), helios.triangles.size());
+  std::set<long> leaves;
+  std::map<long, double> bladeArea;  // by leaf, m²
+  for (std::size_t i = 0; i < helios.triangles.size(); ++i) {
+    const auto& t = helios.triangles[i];
+    leaves.insert(t.data.at("leafID"));
+    EXPECT_EQ(t.data.at("plantID"), 1);
+    const auto& object = helios.objects.at(t.objID);
+    EXPECT_EQ(object.at("leafID"), std::to_string(t.data.at("leafID")));
+    const auto v = vgx[i].triangle();
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_NEAR(v[k][0], t.v[k][0] * 100, 2e-4) << "triangle " << i;
+      EXPECT_NEAR(v[k][1], t.v[k][1] * 100, 2e-4) << "triangle " << i;
+      EXPECT_NEAR(v[k][2], -t.v[k][2] * 100, 2e-4) << "triangle " << i << ": VegeSTAR's Z points down";
+    }
+    EXPECT_EQ(vgx[i].value.at("Grp2"), 1);
+    const std::string& organ = object.at("organ");
+    if (organ.size() > 6 && organ.compare(organ.size() - 6, 6, "/blade") == 0) {
+      const std::array<double, 3> a{t.v[1][0] - t.v[0][0], t.v[1][1] - t.v[0][1], t.v[1][2] - t.v[0][2]};
+      const std::array<double, 3> b{t.v[2][0] - t.v[0][0], t.v[2][1] - t.v[0][1], t.v[2][2] - t.v[0][2]};
+      const std::array<double, 3> n{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+      bladeArea[t.data.at("leafID")] += 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      // A leaf row's area for RATP: EchX · EchY · 0.7 in cm².
+      EXPECT_NEAR(vgx[i].value.at("EchX") * vgx[i].value.at("EchY") * 0.7,
+                  0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * 1e4, 2e-3);
+    }
+  }
+  EXPECT_EQ(leaves, (std::set<long>{0, 1, 2, 3, 4, 5, 6}));
+  for (const auto& leaf : state["leaves"]) {
+    const long rank = leaf["rank"];
+    EXPECT_NEAR(bladeArea[rank] * 1e6, leaf["area_mm2"].get<double>(), 1e-4 * leaf["area_mm2"].get<double>())
+        << "leaf " << rank;
+  }
+  // Every plant above the ground is below VegeSTAR's zero.
+  for (const auto& row : vgx) EXPECT_LE(row.value.at("TransZ"), 1e-9);
+}
+
 TEST_F(PlantCli, TheSamePlanTwiceGivesByteIdenticalFiles) {
   const fs::path plan = samplePlan();
   for (const char* run : {"a", "b"}) {
@@ -727,6 +777,15 @@ TEST_F(PlantCli, APlantDigitizedThroughTheSimulatedDevicesIsStoredVerifiedAndExp
     }
   }
   EXPECT_EQ(stem, 9);  // the collar and 8 nodes
+  // Helios and VegeSTAR on request, the blades alone: the leaves' triangles, by leaf.
+  const Result light = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " + quote(out) +
+                               " --format xml,vgx --organs blade --resolution preview --json");
+  ASSERT_EQ(light.exitCode, 0) << light.err;
+  const auto helios = leafdig::test::readHeliosStrictly(slurp(base + ".helios.xml"));
+  const auto vgx = leafdig::test::readVgxStrictly(slurp(base + ".vgx"));
+  ASSERT_FALSE(helios.triangles.empty());
+  EXPECT_EQ(vgx.size(), helios.triangles.size());
+  for (const auto& t : helios.triangles) EXPECT_GT(t.data.at("leafID"), 0) << "the wood is left out";
   const json got = json::parse(slurp(base + ".survey.json"));
   const Result measured = leafdig("plant measure " + quote(markers) + " --json");
   ASSERT_EQ(measured.exitCode, 0) << measured.err;
@@ -1302,7 +1361,8 @@ TEST_F(PlantCli, ACapturedPlantIsExportedAsAModelEveryReaderOpensAndAsAPlanPlant
   const Result bad = leafdig("sessions export " + std::to_string(id) + " --db " + quote(db) + " --out " +
                              quote(dir_ / "bad") + " --format gltf");
   EXPECT_EQ(bad.exitCode, 2);
-  EXPECT_NE(bad.err.find("glb, obj, ply, stl, can, model or plan"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("glb, obj, ply, stl, can, model, plan, xml (Helios) or vgx (VegeSTAR)"), std::string::npos)
+      << bad.err;
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 

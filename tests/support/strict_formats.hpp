@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <sstream>
@@ -348,6 +350,214 @@ inline std::vector<CanTriangle> readCanStrictly(const std::string& text, const C
     out.push_back(t);
   }
   return out;
+}
+
+// ---------------------------------------------------------------------------------------
+// Helios XML (core/src/Context_fileIO.cpp's loadXML, as docs/plants.md "Formats" states its rules):
+// a <helios> root; each <triangle> made from its <transform> (16 numbers, row-major) of the unit
+// triangle (0,0,0), (0,1,0), (1,1,0); <objID> a non-negative integer, each one above 0 claimed by
+// exactly one <polymesh> (loadXML stops at a polymesh whose objID no triangle uses) and numbered
+// 1, 2, … as they first appear (a fresh Context gives them those numbers); <data_int> integers.
+
+struct HeliosTriangle {
+  unsigned objID = 0;
+  std::map<std::string, long> data;  // <data_int label=…>
+  std::array<std::array<double, 3>, 3> v{};
+  std::array<double, 3> color{};
+};
+struct HeliosFile {
+  std::vector<HeliosTriangle> triangles;
+  std::map<unsigned, std::map<std::string, std::string>> objects;  // polymesh objID -> its data (as text)
+};
+
+inline HeliosFile readHeliosStrictly(const std::string& text) {
+  const auto fail = [](const std::string& what) { throw std::runtime_error("Helios XML: " + what); };
+  // Tokens: tags (with their attributes) and the text between them; comments and the
+  // declaration skipped.
+  struct Tag {
+    std::string name, label;
+    bool close = false;
+  };
+  std::size_t at = 0;
+  const auto skipSpace = [&] {
+    while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at])) != 0) ++at;
+  };
+  const auto nextTag = [&](std::string& before) -> Tag {
+    const std::size_t open = text.find('<', at);
+    if (open == std::string::npos) fail("the file ends inside <helios>");
+    before = text.substr(at, open - at);
+    if (text.compare(open, 4, "<!--") == 0) {
+      const std::size_t end = text.find("-->", open);
+      if (end == std::string::npos) fail("a comment never ends");
+      at = end + 3;
+      Tag t = Tag{};
+      t.name = "!--";
+      return t;
+    }
+    const std::size_t close = text.find('>', open);
+    if (close == std::string::npos) fail("a tag never ends");
+    std::string inside = text.substr(open + 1, close - open - 1);
+    at = close + 1;
+    Tag t;
+    if (!inside.empty() && inside[0] == '/') {
+      t.close = true;
+      inside.erase(0, 1);
+    }
+    const std::size_t space = inside.find(' ');
+    t.name = inside.substr(0, space);
+    if (space != std::string::npos) {
+      const std::string attrs = inside.substr(space + 1);
+      const std::string key = "label=\"";
+      if (attrs.rfind(key, 0) != 0 || attrs.back() != '"') fail("<" + t.name + "> has an attribute other than label");
+      t.label = attrs.substr(key.size(), attrs.size() - key.size() - 1);
+    }
+    return t;
+  };
+  const auto numbers = [&](const std::string& s, const std::string& what) {
+    std::vector<double> out;
+    std::istringstream in(s);
+    for (std::string w; in >> w;) {
+      char* end = nullptr;
+      const float f = std::strtof(w.c_str(), &end);
+      if (end != w.c_str() + w.size() || !std::isfinite(f)) fail(what + " holds \"" + w + "\", not a number");
+      out.push_back(std::strtod(w.c_str(), nullptr));
+    }
+    return out;
+  };
+  skipSpace();
+  if (text.compare(at, 5, "<?xml") == 0) at = text.find("?>", at) + 2;
+  std::string between;
+  Tag t;
+  do {
+    t = nextTag(between);
+  } while (t.name == "!--");
+  if (t.name != "helios" || t.close) fail("the root element is <helios>");
+  HeliosFile file;
+  std::set<unsigned> claimed;
+  std::vector<unsigned> firstSeen;
+  for (;;) {
+    do {
+      t = nextTag(between);
+    } while (t.name == "!--");
+    if (t.close && t.name == "helios") break;
+    if (t.close || (t.name != "triangle" && t.name != "polymesh")) fail("<" + t.name + "> is not written by leafdig");
+    const bool triangle = t.name == "triangle";
+    HeliosTriangle tri;
+    std::map<std::string, std::string> data;
+    bool haveTransform = false, haveObj = false;
+    std::vector<double> transform;
+    for (;;) {
+      Tag child = nextTag(between);
+      if (child.close && child.name == (triangle ? "triangle" : "polymesh")) break;
+      if (child.close) fail("</" + child.name + "> closes nothing");
+      std::string value;
+      const Tag end = nextTag(value);
+      if (!end.close || end.name != child.name) fail("<" + child.name + "> holds another element");
+      if (child.name == "objID") {
+        const auto n = numbers(value, "<objID>");
+        if (n.size() != 1 || n[0] < 0 || n[0] != std::floor(n[0])) fail("<objID> is a non-negative integer");
+        tri.objID = static_cast<unsigned>(n[0]);
+        haveObj = true;
+      } else if (child.name == "transform" && triangle) {
+        transform = numbers(value, "<transform>");
+        if (transform.size() != 16) fail("<transform> holds 16 numbers, not " + std::to_string(transform.size()));
+        haveTransform = true;
+      } else if (child.name == "color" && triangle) {
+        const auto c = numbers(value, "<color>");
+        if (c.size() != 3 && c.size() != 4) fail("<color> is r g b [a]");
+        for (double x : c)
+          if (x < 0 || x > 1) fail("a colour component lies in [0, 1]");
+        tri.color = {c[0], c[1], c[2]};
+      } else if (child.name == "data_int") {
+        if (child.label.empty()) fail("<data_int> needs a label");
+        const auto n = numbers(value, "<data_int>");
+        if (n.size() != 1 || n[0] != std::floor(n[0])) fail("<data_int label=\"" + child.label + "\"> is one integer");
+        tri.data[child.label] = static_cast<long>(n[0]);
+        data[child.label] = value;
+      } else if (child.name == "data_string" && !triangle) {
+        if (child.label.empty() || value.find_first_of("<&") != std::string::npos) fail("a bad <data_string>");
+        data[child.label] = value;
+      } else {
+        fail("<" + child.name + "> is not expected in <" + (triangle ? "triangle" : "polymesh") + ">");
+      }
+    }
+    if (triangle) {
+      if (!haveTransform) fail("a triangle without <transform> is the unit triangle");
+      if (transform[12] != 0 || transform[13] != 0 || transform[14] != 0 || transform[15] != 1)
+        fail("a transform's last row is 0 0 0 1");
+      const std::array<std::array<double, 3>, 3> unit{{{0, 0, 0}, {0, 1, 0}, {1, 1, 0}}};
+      for (std::size_t k = 0; k < 3; ++k)
+        for (std::size_t r = 0; r < 3; ++r)
+          tri.v[k][r] = transform[4 * r] * unit[k][0] + transform[4 * r + 1] * unit[k][1] +
+                        transform[4 * r + 2] * unit[k][2] + transform[4 * r + 3];
+      if (tri.objID > 0 && std::find(firstSeen.begin(), firstSeen.end(), tri.objID) == firstSeen.end()) {
+        if (tri.objID != firstSeen.size() + 1) fail("objIDs are numbered 1, 2, … as they first appear");
+        firstSeen.push_back(tri.objID);
+      }
+      file.triangles.push_back(tri);
+    } else {
+      if (!haveObj || tri.objID == 0) fail("a <polymesh> names its objID (above 0)");
+      if (!claimed.insert(tri.objID).second) fail("two <polymesh> claim objID " + std::to_string(tri.objID));
+      file.objects[tri.objID] = data;
+    }
+  }
+  skipSpace();
+  if (at != text.size()) fail("text after </helios>");
+  for (unsigned id : firstSeen)
+    if (!claimed.count(id)) fail("objID " + std::to_string(id) + " has triangles but no <polymesh>");
+  for (unsigned id : claimed)
+    if (std::find(firstSeen.begin(), firstSeen.end(), id) == firstSeen.end())
+      fail("<polymesh> " + std::to_string(id) + " has no triangle (loadXML stops there)");
+  return file;
+}
+
+// ---------------------------------------------------------------------------------------
+// VegeSTAR .vgx (PlantGL's vgsfile.cpp and PyRATP's vege3D.py): a title row of known column
+// names, one separator (a tab), then rows of numbers only (PyRATP stops at the first that is
+// not), as many as the titles; Obj 0 an explicit triangle X1 … Z3.
+
+struct VgxRow {
+  std::map<std::string, double> value;
+  [[nodiscard]] std::array<std::array<double, 3>, 3> triangle() const {
+    return {{{value.at("X1"), value.at("Y1"), value.at("Z1")},
+             {value.at("X2"), value.at("Y2"), value.at("Z2")},
+             {value.at("X3"), value.at("Y3"), value.at("Z3")}}};
+  }
+};
+
+inline std::vector<VgxRow> readVgxStrictly(const std::string& text) {
+  const std::vector<std::string> lines = linesOf(text);
+  if (lines.empty()) throw std::runtime_error(".vgx: no title row");
+  static const std::set<std::string> known{"Obj",  "EchX", "EchY",  "EchZ", "TransX", "TransY", "TransZ", "RotX",
+                                           "RotY", "RotZ", "R",     "G",    "B",      "X1",     "Y1",     "Z1",
+                                           "X2",   "Y2",   "Z2",    "X3",   "Y3",     "Z3",     "Mask",   "Grp1",
+                                           "Grp2", "Pmax", "Alpha", "Teta", "Resp",   "VCmax",  "Jmax"};
+  const std::vector<std::string> titles = splitExact(lines[0], '\t');
+  for (const auto& t : titles)
+    if (!known.count(t)) throw std::runtime_error(".vgx: unknown column " + t);
+  for (const char* needed : {"Obj", "X1", "Y1", "Z1", "X2", "Y2", "Z2", "X3", "Y3", "Z3"})
+    if (std::find(titles.begin(), titles.end(), needed) == titles.end())
+      throw std::runtime_error(std::string(".vgx: no column ") + needed);
+  std::vector<VgxRow> rows;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    if (lines[i].empty() && i + 1 == lines.size()) break;
+    const std::vector<std::string> cells = splitExact(lines[i], '\t');
+    if (cells.size() != titles.size())
+      throw std::runtime_error(".vgx line " + std::to_string(i + 1) + ": " + std::to_string(cells.size()) +
+                               " values for " + std::to_string(titles.size()) + " titles");
+    VgxRow row;
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      char* end = nullptr;
+      const double v = std::strtod(cells[k].c_str(), &end);
+      if (cells[k].empty() || end != cells[k].c_str() + cells[k].size() || !std::isfinite(v))
+        throw std::runtime_error(".vgx line " + std::to_string(i + 1) + ": \"" + cells[k] + "\" is not a number");
+      row.value[titles[k]] = v;
+    }
+    if (row.value["Obj"] != 0)
+      throw std::runtime_error(".vgx line " + std::to_string(i + 1) + ": leafdig writes Obj 0");
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 }  // namespace leafdig::test

@@ -421,7 +421,7 @@ CLI::App* addSessionsCommands(CLI::App& app, CommandTable& table) {
   exp->add_option("--out", o->out, "Directory to write into")->required();
   exp->add_option("--format", o->formats,
                   "glb, obj, ply, stl, model, markers, csv (default: all); a plant session: mtg, csv, markers, json, "
-                  "glb, obj, ply, stl, can, model, plan")
+                  "glb, obj, ply, stl, can, model, plan (default: all of these), xml (Helios), vgx (VegeSTAR)")
       ->delimiter(',');
   exp->add_option("--node", o->node,
                   "A plant session's full leaf alone, the one at this node (the leaf's formats: glb, obj, ply, stl, "

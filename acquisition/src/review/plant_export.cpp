@@ -34,8 +34,9 @@ namespace m = leafdig::model;
 // The plant as a model: mesh files by their extension (encodePlant's), the plant-model JSON.
 const std::vector<std::pair<std::string, std::string>>& modelFormats() {
   static const std::vector<std::pair<std::string, std::string>> formats{
-      {"glb", ".glb"}, {"obj", ".obj"}, {"ply", ".ply"},
-      {"stl", ".stl"}, {"can", ".can"}, {"model", ".plant-model.json"}};
+      {"glb", ".glb"},        {"obj", ".obj"}, {"ply", ".ply"},
+      {"stl", ".stl"},        {"can", ".can"}, {"model", ".plant-model.json"},
+      {"xml", ".helios.xml"}, {"vgx", ".vgx"}};
   return formats;
 }
 
@@ -222,12 +223,14 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
   detail::noteStoreAsInput(store);
   if (outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
   const std::vector<std::string>& all = plantExportFormats();
+  // Helios and VegeSTAR when asked for: a default export keeps the files it always wrote.
+  const std::vector<std::string> onRequest{"xml", "vgx"};
   std::vector<std::string> chosen = formats.empty() ? all : formats;
   for (const std::string& f : chosen)
-    if (!wants(all, f))
+    if (!wants(all, f) && !wants(onRequest, f))
       throw std::invalid_argument("unknown export format '" + f +
                                   "' for a plant session: use mtg, csv, markers, json, glb, obj, ply, stl, can, "
-                                  "model or plan");
+                                  "model, plan, xml (Helios) or vgx (VegeSTAR)");
   const CapturedSurvey captured = capturedSurvey(store, id);
   const m::PlantMarkers& plant = captured.markers;
   // Which session, station, status, operator and curator: in every file's header or metadata.

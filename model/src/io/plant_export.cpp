@@ -12,6 +12,7 @@
 #include "leafdig/model/files.hpp"
 #include "leafdig/model/io/csv_text.hpp"
 #include "leafdig/model/io/model_json.hpp"
+#include "leafdig/model/io/simulator_export.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
 #include "parallel.hpp"
 
@@ -49,8 +50,11 @@ PlantFormat plantFormatForPath(const std::filesystem::path& path) {
   if (ext == ".mtg") return PlantFormat::Mtg;
   if (ext == ".csv") return PlantFormat::Csv;
   if (ext == ".json") return PlantFormat::Json;
-  throw InputError("output " + path.string() + ": unknown format \"" + ext +
-                   "\"; name the file .glb, .obj, .ply, .stl, .can, .mtg, .csv or .json");
+  if (ext == ".xml") return PlantFormat::HeliosXml;
+  if (ext == ".vgx") return PlantFormat::Vgx;
+  throw InputError(
+      "output " + path.string() + ": unknown format \"" + ext +
+      "\"; name the file .glb, .obj, .ply, .stl, .can, .mtg, .csv, .json, .xml (Helios) or .vgx (VegeSTAR)");
 }
 
 PlantMetrics computePlantMetrics(const Plant& plant, const LeafMesh& mesh, const Eigen::Vector3d& lightDirection) {
@@ -335,6 +339,8 @@ std::vector<EncodedFile> encodePlant(const std::filesystem::path& path, const Pl
     case PlantFormat::Mtg: return {{path, encodeMtg(plant, metrics)}};
     case PlantFormat::Csv: return {{path, encodePlantCsv(plant, metrics)}};
     case PlantFormat::Json: return {{path, encodePlantJson(plant, metrics)}};
+    case PlantFormat::HeliosXml: return {{path, encodeHeliosXml(mesh, options.generator)}};
+    case PlantFormat::Vgx: return {{path, encodeVgx(mesh)}};
   }
   return {};
 }

@@ -126,7 +126,8 @@ int runModelBuild(const ModelBuildOptions& o) {
     if (f == m::PlantFormat::Json) {
       throw m::InputError("output " + out + ": write the model document with --model-json");
     }
-    const bool simulation = f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv;
+    const bool simulation = f == m::PlantFormat::Can || f == m::PlantFormat::Mtg || f == m::PlantFormat::Csv ||
+                            f == m::PlantFormat::HeliosXml || f == m::PlantFormat::Vgx;
     formats.push_back(simulation ? std::nullopt : std::optional<m::MeshFormat>(m::meshFormatForPath(out)));
   }
   const Eigen::Vector3d light = parseLight(o.light);

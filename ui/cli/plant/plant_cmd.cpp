@@ -42,7 +42,8 @@ std::pair<CLI::App*, CLI::App*> declarePlantCommands(CLI::App& app, PlantOptions
   }
   build
       ->add_option("-o,--output", o.outputs,
-                   "File to write, by extension: .glb .obj .ply .stl .can (+ .opt) .mtg .csv .json (repeat)")
+                   "File to write, by extension: .glb .obj .ply .stl .can (+ .opt) .mtg .csv .json .xml (Helios) .vgx "
+                   "(VegeSTAR) (repeat)")
       ->required();
   build->add_option("--organs", o.organs, kOrgansHelp)->check(CLI::IsMember(wordsIn(m::kOrganChoiceNames)));
   build->add_option("--time", o.time, "Build the growth state at this time (the plan's growth unit)");

@@ -153,7 +153,8 @@ void addPlantImportCommand(CLI::App& plant, CommandTable& table) {
   c->add_option("--plant", o->plant, "Which plant of the file (1, the first, by default)")
       ->check(CLI::Range(1, 1000000));
   c->add_option("-o,--output", o->outputs,
-                "File to write, by extension: .glb .obj .ply .stl .can (+ .opt) .mtg .csv .json (repeat; none: "
+                "File to write, by extension: .glb .obj .ply .stl .can (+ .opt) .mtg .csv .json .xml (Helios) .vgx "
+                "(VegeSTAR) (repeat; none: "
                 "the report alone)");
   c->add_option("--resolution", o->resolution, kFileResolutionHelp)->check(CLI::IsMember(fileResolutionWords()));
   c->add_option("--can-unit", o->canUnit, "Unit of CARIBU .can geometry: m (default) or cm")

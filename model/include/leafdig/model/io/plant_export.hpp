@@ -13,9 +13,9 @@
 
 namespace leafdig::model {
 
-enum class PlantFormat { Glb, Obj, Ply, Stl, Can, Mtg, Csv, Json };
+enum class PlantFormat { Glb, Obj, Ply, Stl, Can, Mtg, Csv, Json, HeliosXml, Vgx };
 
-// From the extension (.glb .obj .ply .stl .can .mtg .csv .json). Throws InputError.
+// From the extension (.glb .obj .ply .stl .can .mtg .csv .json, .xml Helios, .vgx VegeSTAR). Throws InputError.
 [[nodiscard]] PlantFormat plantFormatForPath(const std::filesystem::path& path);
 
 struct LeafLight {
