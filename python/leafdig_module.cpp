@@ -504,6 +504,36 @@ PYBIND11_MODULE(_leafdig, mod) {
       py::arg("text"), py::arg("source"), py::arg("base_dir"), py::arg("times"), py::arg("resolution") = "export",
       py::arg("light") = std::array<double, 3>{0, 0, 1});
 
+  mod.def(
+      "import_plant",
+      [](const std::string& path, const std::string& drf, const std::string& units, int plant,
+         const std::string& resolution) {
+        py::gil_scoped_release free;
+        return core::importPlant(path, drf, units, plant, resolution);
+      },
+      py::arg("path"), py::arg("drf"), py::arg("units"), py::arg("plant") = 1, py::arg("resolution") = "export");
+  // An imported plant's reading: the file's entities, the plant's points and axes by order.
+  mod.def("import_report", [](const Plant& p) {
+    py::dict d;
+    if (!p.imported) return d;
+    const auto& i = p.imported->plant;
+    d["source"] = i.source;
+    d["plant"] = i.plantLabel;
+    d["vertices"] = i.vertices;
+    d["plant_vertices"] = i.plantVertices;
+    d["points"] = i.points;
+    py::dict classes, orders;
+    for (const auto& [symbol, count] : i.perClass) classes[py::str(symbol)] = count;
+    for (const auto& axis : i.axes) {
+      const py::int_ order(axis.order);
+      orders[order] = orders.contains(order) ? py::cast<int>(orders[order]) + 1 : 1;
+    }
+    d["classes"] = classes;
+    d["axes_by_order"] = orders;
+    d["notes"] = i.notes;
+    return d;
+  });
+
   py::class_<Store>(mod, "Store")
       .def("sessions", &sessions)
       .def("markers", &sessionMarkers, py::arg("id"), py::arg("node") = 0)

@@ -10,6 +10,7 @@
 #include "leafdig/db/store.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
+#include "leafdig/model/io/archive_export.hpp"
 #include "leafdig/model/io/mesh_export.hpp"
 #include "leafdig/model/io/model_json.hpp"
 #include "leafdig/model/io/plant_export.hpp"
@@ -106,14 +107,43 @@ std::vector<PlantModel> buildPlants(const std::string& planText, const std::stri
   return out;
 }
 
+namespace {
+std::vector<m::EncodedFile> encodeFor(const PlantModel& p, const std::filesystem::path& path) {
+  const m::PlantExportOptions options{m::CanUnit::Metre, generator()};
+  if (p.imported)
+    return m::encodeImportedFiles({path}, p.imported->plant, p.imported->archive, p.mesh, p.metrics, options);
+  return m::encodePlant(path, p.plant, p.mesh, p.metrics, options);
+}
+}  // namespace
+
 std::vector<std::string> exportPlant(const PlantModel& p, const std::string& path) {
-  return writeFiles(m::encodePlant(path, p.plant, p.mesh, p.metrics, {m::CanUnit::Metre, generator()}));
+  return writeFiles(encodeFor(p, path));
 }
 
 std::string encodeOne(const PlantModel& p, const std::string& extension) {
-  return m::encodePlant("plant" + extension, p.plant, p.mesh, p.metrics, {m::CanUnit::Metre, generator()})
-      .front()
-      .bytes;
+  return encodeFor(p, "plant" + extension).front().bytes;
+}
+
+PlantModel importPlant(const std::string& path, const std::string& drf, const std::string& units, int plant,
+                       const std::string& resolution) {
+  if (units != "mm" && units != "cm" && units != "m")
+    throw m::InputError("units \"" + units +
+                        "\": an MTG file does not say the unit of its coordinates: give mm, cm or m");
+  if (m::lowerExtension(path) != ".mtg")
+    throw m::InputError(path + ": leafdig imports AMAP / OpenAlea MTG files (.mtg)");
+  m::ArchiveImportOptions options;
+  options.mmPerUnit = units == "m" ? 1000.0 : units == "cm" ? 10.0 : 1.0;
+  options.plant = plant;
+  if (!drf.empty()) options.dressing = m::readMtgDressing(drf);
+  auto imported = std::make_shared<ImportedArchive>();
+  imported->archive = m::readMtgArchive(path);
+  imported->plant = m::importMtgPlant(imported->archive, options);
+  PlantModel p;
+  p.plant = imported->plant.plant;
+  p.mesh = m::meshPlant(p.plant, meshOptions(resolution, "uniform", std::nullopt));
+  p.metrics = m::computePlantMetrics(p.plant, p.mesh, Eigen::Vector3d::UnitZ());
+  p.imported = std::move(imported);
+  return p;
 }
 
 void requireVerified(const db::EventStore& store, std::int64_t id, const std::string& refused) {

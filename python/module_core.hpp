@@ -7,11 +7,13 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "leafdig/db/event_store.hpp"
+#include "leafdig/model/archive/plant_import.hpp"
 #include "leafdig/model/io/leaf_build.hpp"
 #include "leafdig/model/mesh/mesh.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
@@ -36,11 +38,22 @@ namespace leafdig::python {
                                                   const std::string& path, const Eigen::Vector3d& light);
 
 // A plant model with its mesh and metrics.
+// An archive's plant keeps its reading, so its MTG and CSV are the import's (as `plant import`
+// writes them).
+struct ImportedArchive {
+  model::MtgArchive archive;
+  model::ImportedPlant plant;
+};
 struct PlantModel {
   model::Plant plant;
   model::LeafMesh mesh;
   model::PlantMetrics metrics;
+  std::shared_ptr<const ImportedArchive> imported;  // null: built or captured
 };
+// A digitized plant from the archives (`leafdig plant import`): the MTG file, its dressing file
+// (empty: none), the unit of its coordinates (mm, cm, m), which plant, meshed at `resolution`.
+[[nodiscard]] PlantModel importPlant(const std::string& path, const std::string& drf, const std::string& units,
+                                     int plant, const std::string& resolution);
 // A plant plan's plants, one per growth time (nullopt: the plan as written), meshed at
 // `resolution`: the plant build command's path.
 [[nodiscard]] std::vector<PlantModel> buildPlants(const std::string& planText, const std::string& source,

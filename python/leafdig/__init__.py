@@ -26,7 +26,7 @@ from ._leafdig import InputError, StoreError, Markers  # noqa: F401  (re-exporte
 
 __version__ = _core.__version__
 __all__ = ["__version__", "InputError", "StoreError", "Markers", "Leaf", "Plant", "Store", "Mesh",
-           "read_markers", "build_leaf", "open", "build_plant", "grow", "synth_leaf"]
+           "read_markers", "build_leaf", "open", "build_plant", "grow", "import_plant", "synth_leaf"]
 
 
 class Mesh:
@@ -153,6 +153,14 @@ class Plant:
     def id(self):
         """The plant's id, from its plan."""
         return self._core.id
+
+    @property
+    def report(self):
+        """For a plant from ``import_plant``: what was read — the file's entities (``vertices``, the
+        root included, as OpenAlea counts them), the plant's by class, its ``points`` and
+        ``axes_by_order``, and ``notes`` (what was kept in the file but not drawn); ``{}`` for
+        a plant built or captured."""
+        return _core.import_report(self._core)
 
     @property
     def time(self):
@@ -371,6 +379,17 @@ def build_plant(plan, time=None, resolution="export"):
     taken from the working directory), at growth time ``time`` (days) when given."""
     text, source, base = _plan_text(plan)
     return Plant(_core.build_plants(text, source, base, [time], resolution=resolution)[0])
+
+
+def import_plant(path, units, drf=None, plant=1, resolution="export"):
+    """A digitized plant from the archives — an AMAP / OpenAlea MTG file — as a ``Plant``, read
+    as ``leafdig plant import`` reads it (docs/plants.md, "Archives"): ``units`` is the unit of
+    the file's coordinates after the dressing file's LengthUnit (``"mm"``, ``"cm"`` or ``"m"``: an
+    MTG does not say it), ``drf`` its dressing file, ``plant`` which plant of the file (1 the
+    first). Its ``mtg()`` and ``csv()`` are the import's (axes ``A<n>`` of points ``E<k>``, each
+    naming its entity and line in the archive); ``report`` says what was read."""
+    core = _core.import_plant(_os.fspath(path), "" if drf is None else _os.fspath(drf), units, plant, resolution)
+    return Plant(core)
 
 
 def grow(plan, times, resolution="export"):

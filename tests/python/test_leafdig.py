@@ -265,6 +265,27 @@ def test_a_plant_is_the_one_plant_build_makes(tmp_path, monkeypatch):
     assert leafdig.build_plant(as_dict).metrics == plant.metrics
 
 
+def test_an_archived_plant_is_the_one_plant_import_makes(tmp_path):
+    # Issue 51: OpenAlea's apple tree (tests/data/archives, CeCILL-C) through Python as through
+    # the command: the same report, the same MTG and CSV, and every format written.
+    archives = SOURCE / "tests/data/archives"
+    tree = leafdig.import_plant(archives / "agraf.mtg", "mm", drf=archives / "agraf.drf", resolution="preview")
+    made = cli_json("plant", "import", archives / "agraf.mtg", "--drf", archives / "agraf.drf", "--units", "mm",
+                    "--resolution", "preview", "-o", tmp_path / "a.mtg", "-o", tmp_path / "a.csv")
+    report = tree.report
+    assert report["vertices"] == made["vertices"] and report["points"] == made["points"]
+    assert report["classes"] == made["classes"]
+    assert {str(k): v for k, v in report["axes_by_order"].items()} == made["axes_by_order"]
+    assert tree.mtg() == (tmp_path / "a.mtg").read_text()
+    assert tree.csv() == (tmp_path / "a.csv").read_text()
+    assert tree.id == "P1" and tree.leaves == []
+    for ext in ("glb", "xml", "vgx"):
+        assert Path(tree.export(tmp_path / ("b." + ext))[0]).stat().st_size > 1000
+    assert leafdig.build_plant(PLAN).report == {}
+    with pytest.raises(leafdig.InputError, match="give mm, cm or m"):
+        leafdig.import_plant(archives / "agraf.mtg", "inches")
+
+
 def test_a_plant_grows():
     plants = leafdig.grow(PLAN, [10, 30, 60])
     areas = [p.metrics["area_mm2"] for p in plants]

@@ -120,4 +120,23 @@ std::string encodeImportedCsv(const ImportedPlant& plant, const MtgArchive& arch
   return out.str();
 }
 
+std::vector<EncodedFile> encodeImportedFiles(const std::vector<std::filesystem::path>& paths,
+                                             const ImportedPlant& plant, const MtgArchive& archive,
+                                             const LeafMesh& mesh, const PlantMetrics& metrics,
+                                             const PlantExportOptions& options) {
+  std::vector<EncodedFile> files;
+  std::vector<std::filesystem::path> others;
+  for (const auto& path : paths) {
+    const PlantFormat f = plantFormatForPath(path);
+    if (f == PlantFormat::Mtg)
+      files.push_back({path, encodeImportedMtg(plant, archive, options.generator)});
+    else if (f == PlantFormat::Csv)
+      files.push_back({path, encodeImportedCsv(plant, archive)});
+    else
+      others.push_back(path);
+  }
+  for (auto& f : encodePlantFiles(others, plant.plant, mesh, metrics, options)) files.push_back(std::move(f));
+  return files;
+}
+
 }  // namespace leafdig::model

@@ -67,19 +67,9 @@ int runImport(const ImportOptions& o) {
   const m::PlantExportOptions exportOptions{o.canUnit == "cm" ? m::CanUnit::Centimetre : m::CanUnit::Metre,
                                             std::string("leafdig ") + kVersion};
   // Encode everything first, then write: a failure never leaves some files written.
-  std::vector<m::EncodedFile> files;
-  std::vector<std::filesystem::path> meshPaths;
-  for (const auto& out : o.outputs) {
-    const m::PlantFormat f = m::plantFormatForPath(out);
-    if (f == m::PlantFormat::Mtg)
-      files.push_back({out, m::encodeImportedMtg(imported, archive, exportOptions.generator)});
-    else if (f == m::PlantFormat::Csv)
-      files.push_back({out, m::encodeImportedCsv(imported, archive)});
-    else
-      meshPaths.emplace_back(out);
-  }
-  for (auto& f : m::encodePlantFiles(meshPaths, imported.plant, mesh, metrics, exportOptions))
-    files.push_back(std::move(f));
+  const std::vector<std::filesystem::path> paths(o.outputs.begin(), o.outputs.end());
+  const std::vector<m::EncodedFile> files =
+      m::encodeImportedFiles(paths, imported, archive, mesh, metrics, exportOptions);
   for (const auto& f : files) m::writeFileAtomically(f.path, f.bytes);
 
   std::map<int, int> orders;
