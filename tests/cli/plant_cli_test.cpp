@@ -548,7 +548,7 @@ TEST_F(PlantCli, APlantDigitizedInPlaceIsWrittenAsAnMtgInTheAmapConventions) {
   ASSERT_EQ(table.size(), 1 + mtg.entities.size() - 1);  // the header; every entity but the plant P1
   for (const auto& fields : table) EXPECT_EQ(fields.size(), table[0].size()) << fields[0];
   EXPECT_EQ(table[0][0], "entity");
-  EXPECT_EQ(table[0].back(), "kind");
+  EXPECT_EQ(table[0].back(), "base_z_mm");
   EXPECT_EQ(table[1][0], "I0");
   for (std::size_t k = 1; k < table.size(); ++k) {
     const auto& e = mtg.entities[k];  // entities[0] is P1
@@ -559,6 +559,17 @@ TEST_F(PlantCli, APlantDigitizedInPlaceIsWrittenAsAnMtgInTheAmapConventions) {
     }
     if (e.features.count("Azimuth")) {
       EXPECT_EQ(table[k][15], e.features.at("Azimuth"));
+    }
+    // A leaf's XX YY ZZ is its tip (PlantFrame draws it from its node to there), BaseX… its base:
+    // the two a chord apart (issue 51: the base alone made every leaf a stub in PlantFrame).
+    if (e.symbol == 'L' && e.features.count("BaseX")) {
+      EXPECT_EQ(table[k][21], e.features.at("BaseX"));
+      const double dx = number(e, "XX") - number(e, "BaseX"), dy = number(e, "YY") - number(e, "BaseY"),
+                   dz = number(e, "ZZ") - number(e, "BaseZ");
+      const auto leaf = std::find_if(j["leaves"].begin(), j["leaves"].end(),
+                                     [&](const json& l) { return l["node"].get<int>() == e.index; });
+      ASSERT_NE(leaf, j["leaves"].end());
+      EXPECT_NEAR(std::sqrt(dx * dx + dy * dy + dz * dz), (*leaf)["chord_mm"].get<double>(), 2e-3) << "L" << e.index;
     }
   }
 

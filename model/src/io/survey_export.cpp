@@ -18,7 +18,7 @@ using detail::mtgReal;
 
 enum Column { kDate };
 
-constexpr std::size_t kColumns = 12;  // one per Column, the MTG's features in their order
+constexpr std::size_t kColumns = 15;  // one per Column, the MTG's features in their order
 using Values = std::array<std::string, kColumns>;
 
 std::string ddmmyyyy(const SurveyDate& d) {
@@ -91,10 +91,12 @@ std::vector<SurveyEntity> surveyEntities(const PlantSurvey& survey) {
       // A posed leaf's length: along the midrib for a full leaf, base to tip for a quick one.
       if (l.pose) f.emplace_back("Length", l.midribLengthMm.value_or(l.pose->lengthMm));
       f.emplace_back("State", std::string(toString(l.state)));
-      if (l.baseMm) {
-        f.emplace_back("XX", l.baseMm->x());
-        f.emplace_back("YY", l.baseMm->y());
-        f.emplace_back("ZZ", l.baseMm->z());
+      // An entity's XX YY ZZ is its top, which PlantFrame draws it to from its parent's: a
+      // leaf's is its tip (from the node), its base in BaseX BaseY BaseZ.
+      if (const auto& top = l.tipMm ? l.tipMm : l.baseMm) {
+        f.emplace_back("XX", top->x());
+        f.emplace_back("YY", top->y());
+        f.emplace_back("ZZ", top->z());
       }
       if (l.pose && l.pose->widthMm) f.emplace_back("Width", *l.pose->widthMm);
       if (l.areaMm2) f.emplace_back("Area", *l.areaMm2);
@@ -105,6 +107,11 @@ std::vector<SurveyEntity> surveyEntities(const PlantSurvey& survey) {
         f.emplace_back("Inclination", l.pose->inclinationDeg);
       }
       f.emplace_back("Kind", std::string(toString(l.kind)));
+      if (l.tipMm && l.baseMm) {
+        f.emplace_back("BaseX", l.baseMm->x());
+        f.emplace_back("BaseY", l.baseMm->y());
+        f.emplace_back("BaseZ", l.baseMm->z());
+      }
       out.push_back(std::move(leaf));
     }
   }
@@ -118,8 +125,9 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       << "# plant frame: origin at the collar, +Z the upward normal of the pot rim's landmarks, +X towards the "
          "first landmark\n"
       << "# I0 is the collar, I<k> the internode that ends at node k (XX YY ZZ the node, TopDia the stem there)\n"
-      << "# L<k> the leaf of node k: XX YY ZZ its base, Azimuth counterclockwise from +X seen from above in [0, 360), "
-         "Inclination of the base-to-tip chord from +Z\n"
+      << "# L<k> the leaf of node k: XX YY ZZ its tip (PlantFrame draws it from the node to there), BaseX BaseY BaseZ "
+         "its base, Azimuth counterclockwise from +X seen from above in [0, 360), Inclination of the base-to-tip chord "
+         "from +Z\n"
       << "# Length of a full leaf along its midrib, of a quick leaf base to tip; Area of full leaves only\n";
   const std::vector<SurveyEntity> entities = surveyEntities(survey);
   int columns = 2;  // TOPO's: the deepest line's depth + 1
@@ -134,9 +142,9 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
   // AMAP's reserved features first, in their order (Date, Length, State), then the
   // coordinates and sizes PlantFrame reads, then ours.
   static const std::vector<std::pair<const char*, const char*>> kFeatures{
-      {"Date", "DD/MM/YYYY"}, {"Length", "REAL"},  {"State", "ALPHA"},      {"XX", "REAL"},
-      {"YY", "REAL"},         {"ZZ", "REAL"},      {"TopDia", "REAL"},      {"Width", "REAL"},
-      {"Area", "REAL"},       {"Azimuth", "REAL"}, {"Inclination", "REAL"}, {"Kind", "ALPHA"}};
+      {"Date", "DD/MM/YYYY"},  {"Length", "REAL"}, {"State", "ALPHA"}, {"XX", "REAL"},    {"YY", "REAL"},
+      {"ZZ", "REAL"},          {"TopDia", "REAL"}, {"Width", "REAL"},  {"Area", "REAL"},  {"Azimuth", "REAL"},
+      {"Inclination", "REAL"}, {"Kind", "ALPHA"},  {"BaseX", "REAL"},  {"BaseY", "REAL"}, {"BaseZ", "REAL"}};
   detail::writeMtgHeader(out, kFeatures, branched, columns);
   const std::string day = ddmmyyyy(date);
   for (const SurveyEntity& e : entities) {
@@ -157,22 +165,26 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
 std::string encodeSurveyCsv(const PlantSurvey& survey, const SurveyDate& date) {
   std::ostringstream out;
   out << "entity,class,index,parent,relation,date,x_mm,y_mm,z_mm,top_diameter_mm,length_mm,width_mm,area_mm2,"
-         "area_low95_mm2,area_high95_mm2,azimuth_deg,inclination_deg,roll_deg,divergence_deg,state,kind\n";
+         "area_low95_mm2,area_high95_mm2,azimuth_deg,inclination_deg,roll_deg,divergence_deg,state,kind,base_x_mm,"
+         "base_y_mm,base_z_mm\n";
   const std::string day = toIso(date);
   const auto xyz = [](const Eigen::Vector3d& p) {
     return mtgReal(p.x()) + "," + mtgReal(p.y()) + "," + mtgReal(p.z());
   };
   out << "I0,I,0,,," << day << "," << xyz(Eigen::Vector3d::Zero()) << "," << mtgReal(survey.collarDiameterMm)
-      << ",,,,,,,,,,,\n";
+      << ",,,,,,,,,,,,,,\n";
   for (const auto& [k, depth] : mtgOrder(survey)) {
     const SurveyedNode& n = survey.nodes[k];
     const std::string entity = "I" + std::to_string(n.index);
     out << entity << ",I," << n.index << ",I" << n.link.parent << "," << n.link.relation << "," << day << ","
-        << xyz(n.pointMm) << "," << mtgReal(n.diameterMm) << "," << mtgReal(n.internodeMm) << ",,,,,,,,,,\n";
+        << xyz(n.pointMm) << "," << mtgReal(n.diameterMm) << "," << mtgReal(n.internodeMm) << ",,,,,,,,,,,,,\n";
     for (const SurveyedLeaf& l : survey.leaves) {
       if (l.node != n.index) continue;
       out << "L" << n.index << ",L," << n.index << "," << entity << ",+," << day << ","
-          << (l.baseMm ? xyz(*l.baseMm) : std::string(",,")) << ",,";
+          << (l.tipMm    ? xyz(*l.tipMm)
+              : l.baseMm ? xyz(*l.baseMm)
+                         : std::string(",,"))
+          << ",,";
       if (l.pose) {
         out << lengthText(l) << "," << optionalReal(l.pose->widthMm) << "," << optionalReal(l.areaMm2) << ","
             << optionalReal(l.areaLow95Mm2) << "," << optionalReal(l.areaHigh95Mm2) << "," << azimuthText(*l.pose)
@@ -181,7 +193,8 @@ std::string encodeSurveyCsv(const PlantSurvey& survey, const SurveyDate& date) {
       } else {
         out << ",,,,,,,,";
       }
-      out << "," << toString(l.state) << "," << toString(l.kind) << "\n";
+      out << "," << toString(l.state) << "," << toString(l.kind) << ","
+          << (l.tipMm && l.baseMm ? xyz(*l.baseMm) : std::string(",,")) << "\n";
     }
   }
   return out.str();
