@@ -110,6 +110,8 @@ std::vector<PlantModel> buildPlants(const std::string& planText, const std::stri
 namespace {
 std::vector<m::EncodedFile> encodeFor(const PlantModel& p, const std::filesystem::path& path) {
   const m::PlantExportOptions options{m::CanUnit::Metre, generator()};
+  if (p.surveyMtgCsv && m::plantFormatForPath(path) == m::PlantFormat::Mtg) return {{path, p.surveyMtgCsv->first}};
+  if (p.surveyMtgCsv && m::plantFormatForPath(path) == m::PlantFormat::Csv) return {{path, p.surveyMtgCsv->second}};
   if (p.imported)
     return m::encodeImportedFiles({path}, p.imported->plant, p.imported->archive, p.mesh, p.metrics, options);
   return m::encodePlant(path, p.plant, p.mesh, p.metrics, options);
@@ -157,6 +159,8 @@ PlantModel capturedPlant(const db::EventStore& store, std::int64_t id, const Eig
   const acq::CapturedSurvey survey = acq::capturedSurvey(store, id);
   PlantModel p;
   p.plant = acq::capturedModel(store, survey.survey).plant;
+  acq::SurveyTexts texts = acq::surveyTexts(store, id, survey);
+  p.surveyMtgCsv.emplace(std::move(texts.mtg), std::move(texts.csv));
   p.mesh = m::meshPlant(p.plant, m::MeshResolution::preset("export"));
   p.metrics = m::computePlantMetrics(p.plant, p.mesh, light);
   return p;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "leafdig/db/event_store.hpp"
@@ -49,6 +50,9 @@ struct PlantModel {
   model::LeafMesh mesh;
   model::PlantMetrics metrics;
   std::shared_ptr<const ImportedArchive> imported;  // null: built or captured
+  // A captured plant's MTG and CSV: the survey's, as `sessions export` writes them (one MTG for a
+  // plant whichever way it is asked for).
+  std::optional<std::pair<std::string, std::string>> surveyMtgCsv;
 };
 // A digitized plant from the archives (`leafdig plant import`): the MTG file, its dressing file
 // (empty: none), the unit of its coordinates (mm, cm, m), which plant, meshed at `resolution`.

@@ -175,13 +175,14 @@ class Plant:
         return self._mesh
 
     def mtg(self):
-        """The plant as MTG text, as ``leafdig plant build -o p.mtg`` writes it (OpenAlea's reader
-        takes it)."""
+        """The plant as MTG text (OpenAlea's reader takes it): a built plant's as ``leafdig plant
+        build -o p.mtg`` writes it, a captured plant's (``Store.plant``) the survey's as
+        ``leafdig sessions export`` writes it, an imported one's as ``leafdig plant import``."""
         return self._core.encode(".mtg")
 
     def csv(self):
-        """The plant as CSV text, one row per MTG entity, as ``leafdig plant build -o p.csv``
-        writes it."""
+        """The plant as CSV text, one row per MTG entity, as the command that makes the plant's
+        MTG writes it (``plant build``, ``sessions export``, ``plant import``)."""
         return self._core.encode(".csv")
 
     def caribu_scene(self):

@@ -178,6 +178,12 @@ def test_a_captured_plant_is_the_model_its_session_export_writes(station, tmp_pa
     assert plant.metrics["area_mm2"] == pytest.approx(model["metrics"]["area_mm2"], rel=1e-12)
     lines = [l for l in (tmp_path / "session-2.can").read_text().splitlines() if l.startswith("p ")]
     assert sum(len(t) for t in plant.caribu_scene().values()) == len(lines)
+    # One MTG for a captured plant (issue 51: Python gave the plan's, the export the survey's):
+    # the survey's, byte for byte what `sessions export` writes, and its CSV likewise.
+    cli("sessions", "export", 2, "--db", station, "--out", tmp_path, "--format", "mtg,csv")
+    assert plant.mtg() == (tmp_path / "session-2.mtg").read_text()
+    assert plant.csv() == (tmp_path / "session-2.plant.csv").read_text()
+    assert "\n/P1/I0\t" in plant.mtg()
     with pytest.raises(leafdig.StoreError, match="one leaf"):
         leafdig.open(station).plant(1)
     # A full leaf of the captured plant is a Leaf like a leaf session's: the markers

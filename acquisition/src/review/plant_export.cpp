@@ -218,6 +218,12 @@ CapturedModel capturedModel(const db::EventStore& store, const m::PlantSurvey& s
   return out;
 }
 
+SurveyTexts surveyTexts(const db::EventStore& store, std::int64_t id, const CapturedSurvey& captured) {
+  const std::string comments = provenanceComments(sessionProvenance(store, detail::infoOrThrow(store, id)));
+  const m::SurveyDate day = captured.markers.date.value_or(m::SurveyDate{2000, 1, 1});
+  return {comments + m::encodeSurveyMtg(captured.survey, day), comments + m::encodeSurveyCsv(captured.survey, day)};
+}
+
 PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std::vector<std::string>& formats,
                                const std::string& outDir, const PlantMeshChoice& meshChoice) {
   detail::noteStoreAsInput(store);
@@ -235,7 +241,6 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
   const m::PlantMarkers& plant = captured.markers;
   // Which session, station, status, operator and curator: in every file's header or metadata.
   const m::Provenance provenance = sessionProvenance(store, detail::infoOrThrow(store, id));
-  const std::string comments = provenanceComments(provenance);
   PlantExport out;
   out.survey = captured.survey;
   // Every format by default: a branched plant's plan is left out (a plan holds one stem), said.
@@ -247,9 +252,11 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
   const std::string name = "session-" + std::to_string(id);
   const std::string base = outDir + "/" + name;
   std::vector<m::EncodedFile> files;
+  const bool texts = wants(chosen, "mtg") || wants(chosen, "csv");
+  const SurveyTexts survey = texts ? surveyTexts(store, id, captured) : SurveyTexts{};
   for (const std::string& f : chosen) {
-    if (f == "mtg") files.push_back({base + ".mtg", comments + m::encodeSurveyMtg(out.survey, day)});
-    if (f == "csv") files.push_back({base + ".plant.csv", comments + m::encodeSurveyCsv(out.survey, day)});
+    if (f == "mtg") files.push_back({base + ".mtg", survey.mtg});
+    if (f == "csv") files.push_back({base + ".plant.csv", survey.csv});
     if (f == "markers") files.push_back({base + ".plant-markers.json", m::plantMarkersToJson(plant)});
     if (f == "json") files.push_back({base + ".survey.json", surveyJson(captured, provenance)});
   }

@@ -80,6 +80,14 @@ struct CapturedModel {
 };
 [[nodiscard]] CapturedModel capturedModel(const db::EventStore& store, const model::PlantSurvey& survey);
 
+// The survey's MTG and CSV of a plant session, as `sessions export` writes them (its provenance
+// in their header comments): what a captured plant's `mtg()` and `csv()` give in Python, so a
+// plant has one MTG whichever way it is asked for.
+struct SurveyTexts {
+  std::string mtg, csv;
+};
+[[nodiscard]] SurveyTexts surveyTexts(const db::EventStore& store, std::int64_t id, const CapturedSurvey& captured);
+
 struct PlantExport {
   std::vector<std::string> written;
   model::PlantSurvey survey;
