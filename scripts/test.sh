@@ -114,7 +114,7 @@ bench_smoke build/ci/tests/leafdig_bench --benchmark_filter='Rebuild(Preview|Pap
 LEAFDIG_BENCH_ROUNDS=1 PYTHONPATH=build/ci/python /usr/bin/python3 tests/bench/python_bench.py build/ci/tests/leafdig_bench 3 >/dev/null
 bench_smoke build/ci/tests/leafdig_codec_bench
 bench_smoke build/ci/tests/leafdig_leaf2d_bench
-bench_smoke build/ci/tests/leafdig_plant_bench --benchmark_filter='PlantAssemble|PlantSilhouette/0|PlantEncode/(5|6)|SurveyedPlantExport/0'
+bench_smoke build/ci/tests/leafdig_plant_bench --benchmark_filter='PlantAssemble|PlantSilhouette/0|PlantEncode/(5|6)|SurveyedPlantExport/0|ArchiveWalnutImport'
 bench_smoke build/ci/tests/leafdig_mesh_bench --benchmark_filter='AdaptiveLeaf/30|SeedLeaf|SeedAxisOrgan/170'
 bench_smoke env LEAFDIG_BENCH_LEAVES=200 LEAFDIG_BENCH_PLANT_NODES=4 build/ci/tests/leafdig_capture_bench
 # The lab server's push, incremental push and listing, on a PostgreSQL cluster of its own.

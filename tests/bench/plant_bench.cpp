@@ -7,6 +7,10 @@
 #include <chrono>
 #include <future>
 
+#include "leafdig/model/archive/mtg_archive.hpp"
+#include "leafdig/model/archive/plant_import.hpp"
+#include "leafdig/model/files.hpp"
+#include "leafdig/model/io/archive_export.hpp"
 #include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/io/survey_export.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
@@ -231,6 +235,47 @@ void BM_SurveyedPlantExport(benchmark::State& state) {
   state.counters["nodes"] = spec.nodes;
 }
 BENCHMARK(BM_SurveyedPlantExport)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// An archive's tree (issue 51): OpenAlea's walnut (tests/data/archives/noylum2.mtg, 8 303
+// entities, 6 426 points on 1 875 axes): read as OpenAlea reads it, drawn, meshed at preview,
+// written as MTG and GLB — `leafdig plant import noylum2.mtg --units cm --resolution preview`.
+void BM_ArchiveWalnutImport(benchmark::State& state) {
+  const std::string text = m::readFile(std::string(LEAFDIG_SOURCE_DIR) + "/tests/data/archives/noylum2.mtg");
+  using Clock = std::chrono::steady_clock;
+  const auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  };
+  double readMs = 0, drawMs = 0, meshMs = 0, encodeMs = 0;
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    auto t = Clock::now();
+    const m::MtgArchive archive = m::parseMtgArchive(text, "noylum2.mtg");
+    readMs += since(t);
+    t = Clock::now();
+    m::ArchiveImportOptions o;
+    o.mmPerUnit = 10;
+    o.dressing.diameterUnit = 10;
+    const m::ImportedPlant imported = m::importMtgPlant(archive, o);
+    drawMs += since(t);
+    t = Clock::now();
+    const m::LeafMesh mesh = m::meshPlant(imported.plant, m::MeshResolution::preset("preview"));
+    meshMs += since(t);
+    t = Clock::now();
+    const m::PlantMetrics metrics = m::computePlantMetrics(imported.plant, mesh, Eigen::Vector3d::UnitZ());
+    benchmark::DoNotOptimize(
+        m::encodeImportedFiles({"w.mtg", "w.glb"}, imported, archive, mesh, metrics, {m::CanUnit::Metre, "bench"}));
+    encodeMs += since(t);
+    triangles = 0;
+    for (const auto& organ : mesh.organs) triangles += organ.mesh.triangles.size();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["read_ms"] = readMs / n;
+  state.counters["draw_ms"] = drawMs / n;
+  state.counters["mesh_ms"] = meshMs / n;
+  state.counters["encode_ms"] = encodeMs / n;
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+BENCHMARK(BM_ArchiveWalnutImport)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
