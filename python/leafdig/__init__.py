@@ -185,6 +185,17 @@ class Plant:
         MTG writes it (``plant build``, ``sessions export``, ``plant import``)."""
         return self._core.encode(".csv")
 
+    def to_openalea(self):
+        """The plant as an ``openalea.mtg.MTG``, read by OpenAlea's own reader from ``mtg()``
+        (the text every MTG reader leafdig is tested against takes). Needs OpenAlea: without it,
+        an ``ImportError`` saying so."""
+        try:
+            from openalea.mtg import io as _mtg_io
+        except ImportError as e:
+            raise ImportError("Plant.to_openalea needs OpenAlea's MTG package (openalea.mtg); without it, "
+                              "write plant.mtg() to a file and read it where OpenAlea is installed") from e
+        return _mtg_io.read_mtg(self.mtg())
+
     def caribu_scene(self):
         """CARIBU's scene, ready for ``caribu.CaribuScene(scene=...)``: ``{label: [[(x, y, z),
         (x, y, z), (x, y, z)], …]}`` in metres — each triangle a list of three point tuples, as

@@ -292,6 +292,28 @@ def test_an_archived_plant_is_the_one_plant_import_makes(tmp_path):
         leafdig.import_plant(archives / "agraf.mtg", "inches")
 
 
+def test_to_openalea_hands_the_plants_mtg_to_openaleas_reader(monkeypatch):
+    # Issue 51: Plant.to_openalea() when OpenAlea is importable. OpenAlea is not a Debian
+    # package: a stand-in module records what leafdig hands its reader, and without one the
+    # error says what to do.
+    import sys
+    import types
+    plant = leafdig.build_plant(PLAN, resolution="preview")
+    monkeypatch.setitem(sys.modules, "openalea", None)
+    with pytest.raises(ImportError, match="needs OpenAlea's MTG package"):
+        plant.to_openalea()
+    given = []
+    io = types.SimpleNamespace(read_mtg=lambda text: given.append(text) or "an MTG")
+    package = types.ModuleType("openalea")
+    mtg = types.ModuleType("openalea.mtg")
+    mtg.io = io
+    package.mtg = mtg
+    monkeypatch.setitem(sys.modules, "openalea", package)
+    monkeypatch.setitem(sys.modules, "openalea.mtg", mtg)
+    assert plant.to_openalea() == "an MTG"
+    assert given == [plant.mtg()]
+
+
 def test_a_plant_grows():
     plants = leafdig.grow(PLAN, [10, 30, 60])
     areas = [p.metrics["area_mm2"] for p in plants]
