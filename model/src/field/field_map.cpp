@@ -6,25 +6,14 @@
 #include <sstream>
 
 #include "leafdig/model/field/correction.hpp"
+#include "xml_text.hpp"
 
 namespace leafdig::model {
 namespace {
 
 constexpr double kPanel = 360.0, kPad = 30.0, kTop = 56.0;
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
+using detail::xmlText;
 
 // Green within half the tolerance, amber within it, red beyond.
 const char* colourOf(double mm, double tolerance) {
@@ -66,12 +55,12 @@ std::string fieldErrorMapSvg(const FieldMapInput& in) {
   svg << R"(<rect width="100%" height="100%" fill="white"/>)" << '\n';
   svg << R"(<defs><marker id="head" markerUnits="userSpaceOnUse" markerWidth="7" markerHeight="7" refX="6" refY="3.5" orient="auto">)"
       << R"(<path d="M0,0 L7,3.5 L0,7 z" fill="context-stroke"/></marker></defs>)" << '\n';
-  svg << R"(<text x="10" y="20" font-size="15" font-weight="bold">)" << escape(in.title) << "</text>\n";
+  svg << R"(<text x="10" y="20" font-size="15" font-weight="bold">)" << xmlText(in.title) << "</text>\n";
   std::ostringstream line;
   line << std::fixed << std::setprecision(2) << "RMS " << fit.rmsMm << " mm, largest " << fit.maxMm << " mm at "
        << fit.worstId << "; tolerance " << in.toleranceMm << " mm RMS: " << in.verdict << ". Arrows ×"
        << std::setprecision(0) << exaggeration << '.';
-  svg << R"(<text x="10" y="40">)" << escape(line.str()) << "</text>\n";
+  svg << R"(<text x="10" y="40">)" << xmlText(line.str()) << "</text>\n";
   for (const Panel& p : panels) {
     // The points centred in the panel.
     const double midX = p.x0 + kPanel / 2, midY = kTop + kPanel / 2 + 8;
@@ -81,7 +70,7 @@ std::string fieldErrorMapSvg(const FieldMapInput& in) {
     };
     svg << R"(<rect x=")" << p.x0 << R"(" y=")" << kTop << R"(" width=")" << kPanel << R"(" height=")" << kPanel
         << R"(" fill="none" stroke="#999"/>)" << '\n';
-    svg << R"(<text x=")" << p.x0 + 6 << R"(" y=")" << kTop + 16 << R"(">)" << escape(p.title) << "</text>\n";
+    svg << R"(<text x=")" << p.x0 + 6 << R"(" y=")" << kTop + 16 << R"(">)" << xmlText(p.title) << "</text>\n";
     for (std::size_t i = 0; i < at.size(); ++i) {
       const Eigen::Vector3d& r = fit.residualsMm[i];
       const auto [x, y] = px(at[i]);
@@ -92,7 +81,7 @@ std::string fieldErrorMapSvg(const FieldMapInput& in) {
           << colour << R"svg(" stroke-width="1.6" marker-end="url(#head)"/>)svg";
       if (p.labels)
         svg << R"(<text x=")" << x + 4 << R"(" y=")" << y - 4 << R"(" font-size="9" fill="#555">)"
-            << escape(jig.points[i].id) << "</text>";
+            << xmlText(jig.points[i].id) << "</text>";
       svg << '\n';
     }
   }
@@ -107,7 +96,7 @@ std::string fieldErrorMapSvg(const FieldMapInput& in) {
   double lx = 10;
   for (const auto& [colour, words] : legend) {
     svg << R"(<rect x=")" << lx << R"(" y=")" << ly - 9 << R"(" width="12" height="12" fill=")" << colour << R"("/>)";
-    svg << R"(<text x=")" << lx + 16 << R"(" y=")" << ly + 1 << R"(">)" << escape(words) << "</text>\n";
+    svg << R"(<text x=")" << lx + 16 << R"(" y=")" << ly + 1 << R"(">)" << xmlText(words) << "</text>\n";
     lx += 110;
   }
   svg << R"(<line x1=")" << lx + 10 << R"(" y1=")" << ly - 3 << R"(" x2=")" << lx + 10 + 100 * scale << R"(" y2=")"

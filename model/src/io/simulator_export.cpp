@@ -1,9 +1,10 @@
 #include "leafdig/model/io/simulator_export.hpp"
 
 #include <cmath>
-#include <cstdio>
 
+#include "fixed_text.hpp"
 #include "leafdig/model/errors.hpp"
+#include "xml_text.hpp"
 
 namespace leafdig::model {
 
@@ -19,28 +20,10 @@ Colour colourOf(const Organ& organ) {
   return {0.55, 0.70, 0.35};
 }
 
-void append(std::string& out, const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  if (std::string_view(buffer) == "-0.000000000" || std::string_view(buffer) == "-0.0000") buffer[0] = ' ';
-  out += buffer[0] == ' ' ? buffer + 1 : buffer;
-}
-
-// XML text: the five characters XML reserves escaped (an organ's name is ours, but a plant id
-// reaches the comment).
-std::string xmlText(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += (static_cast<unsigned char>(c) < 0x20 && c != '\t') ? ' ' : c;
-    }
-  }
-  return out;
+// Fixed notation with `decimals` digits (never an exponent, never "-0"), as the other mesh writers.
+void append(std::string& out, double value, int decimals) {
+  char buffer[32];
+  out.append(buffer, detail::writeFixed(buffer, value, decimals));
 }
 
 }  // namespace
@@ -49,7 +32,8 @@ std::string encodeHeliosXml(const LeafMesh& mesh, const std::string& generator, 
   std::string out;
   out += "<?xml version=\"1.0\"?>\n<!-- ";
   // "--" may not appear inside an XML comment.
-  std::string note = xmlText(generator) + ": metres; each triangle's transform maps Helios's unit triangle onto it";
+  std::string note =
+      detail::xmlText(generator) + ": metres; each triangle's transform maps Helios's unit triangle onto it";
   for (std::size_t at; (at = note.find("--")) != std::string::npos;) note.replace(at, 2, "- ");
   out += note + " -->\n<helios>\n";
   int objID = 0;
@@ -61,11 +45,11 @@ std::string encodeHeliosXml(const LeafMesh& mesh, const std::string& generator, 
     ++objID;
     const Colour c = colourOf(organ);
     std::string colour;
-    append(colour, "%.3f", c.r);
+    append(colour, c.r, 3);
     colour += ' ';
-    append(colour, "%.3f", c.g);
+    append(colour, c.g, 3);
     colour += ' ';
-    append(colour, "%.3f", c.b);
+    append(colour, c.b, 3);
     const std::string data = "\t\t<data_int label=\"plantID\">" + std::to_string(plantNumber) +
                              "</data_int>\n\t\t<data_int label=\"leafID\">" + std::to_string(organ.leafRank) +
                              "</data_int>\n\t\t<data_int label=\"organID\">" + std::to_string(organID) +
@@ -78,14 +62,14 @@ std::string encodeHeliosXml(const LeafMesh& mesh, const std::string& generator, 
       out.append(colour).append("</color>\n").append(data).append("\t\t<transform>");
       for (int row = 0; row < 3; ++row) {
         for (const double value : {a[row], b[row], d[row], v0[row]}) {
-          append(out, "%.9f", value);
+          append(out, value, 9);
           out += ' ';
         }
       }
       out += "0 0 0 1</transform>\n\t</triangle>\n";
     }
     objects += "\t<polymesh>\n\t\t<objID>" + std::to_string(objID) + "</objID>\n" + data +
-               "\t\t<data_string label=\"organ\">" + xmlText(organ.name) + "</data_string>\n\t</polymesh>\n";
+               "\t\t<data_string label=\"organ\">" + detail::xmlText(organ.name) + "</data_string>\n\t</polymesh>\n";
   }
   out += objects + "</helios>\n";
   return out;
@@ -113,19 +97,19 @@ std::string encodeVgx(const LeafMesh& mesh, int plantNumber) {
       const double area = 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).norm();
       const double ech = std::sqrt(area / 0.7);
       out += "0\t";
-      append(out, "%.4f", ech);
+      append(out, ech, 4);
       out += '\t';
-      append(out, "%.4f", ech);
+      append(out, ech, 4);
       out += "\t0";
       for (int k = 0; k < 3; ++k) {
         out += '\t';
-        append(out, "%.4f", centroid[k]);
+        append(out, centroid[k], 4);
       }
       out += "\t0\t0\t0\t" + rgb;
       for (const auto& p : v)
         for (int k = 0; k < 3; ++k) {
           out += '\t';
-          append(out, "%.4f", p[k]);
+          append(out, p[k], 4);
         }
       out += "\t" + std::to_string(organID) + "\t" + std::to_string(plantNumber) + "\n";
     }

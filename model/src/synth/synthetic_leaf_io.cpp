@@ -7,6 +7,7 @@
 
 #include "json_text.hpp"
 #include "leafdig/model/synth/synthetic_leaf.hpp"
+#include "xml_text.hpp"
 
 namespace leafdig::model {
 
@@ -149,11 +150,7 @@ std::string figureSvg(const std::vector<FigurePanel>& panels, int columns) {
       const auto c = a.find(',');
       out << "<circle cx=\"" << a.substr(0, c) << "\" cy=\"" << a.substr(c + 1) << "\" r=\"1.6\" fill=\"#c0392b\"/>\n";
     }
-    std::string text = p.caption;
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{"&", "&amp;"}, {"<", "&lt;"}, {">", "&gt;"}}) {
-      for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
-        text.replace(at, from.size(), to);
-    }
+    const std::string text = detail::xmlText(p.caption);
     out << "<text x=\"" << ox << "\" y=\"" << oy + pad + caption / 2 << "\" font-size=\"12\" text-anchor=\"middle\">"
         << text << "</text>\n</g>\n";
   }
