@@ -110,8 +110,9 @@ std::vector<PlantModel> buildPlants(const std::string& planText, const std::stri
 namespace {
 std::vector<m::EncodedFile> encodeFor(const PlantModel& p, const std::filesystem::path& path) {
   const m::PlantExportOptions options{m::CanUnit::Metre, generator()};
-  if (p.surveyMtgCsv && m::plantFormatForPath(path) == m::PlantFormat::Mtg) return {{path, p.surveyMtgCsv->first}};
-  if (p.surveyMtgCsv && m::plantFormatForPath(path) == m::PlantFormat::Csv) return {{path, p.surveyMtgCsv->second}};
+  const m::PlantFormat format = m::plantFormatForPath(path);
+  if (p.surveyMtgCsv && format == m::PlantFormat::Mtg) return {{path, p.surveyMtgCsv->first}};
+  if (p.surveyMtgCsv && format == m::PlantFormat::Csv) return {{path, p.surveyMtgCsv->second}};
   if (p.imported)
     return m::encodeImportedFiles({path}, p.imported->plant, p.imported->archive, p.mesh, p.metrics, options);
   return m::encodePlant(path, p.plant, p.mesh, p.metrics, options);
@@ -128,18 +129,7 @@ std::string encodeOne(const PlantModel& p, const std::string& extension) {
 
 PlantModel importPlant(const std::string& path, const std::string& drf, const std::string& units, int plant,
                        const std::string& resolution) {
-  if (units != "mm" && units != "cm" && units != "m")
-    throw m::InputError("units \"" + units +
-                        "\": an MTG file does not say the unit of its coordinates: give mm, cm or m");
-  if (m::lowerExtension(path) != ".mtg")
-    throw m::InputError(path + ": leafdig imports AMAP / OpenAlea MTG files (.mtg)");
-  m::ArchiveImportOptions options;
-  options.mmPerUnit = units == "m" ? 1000.0 : units == "cm" ? 10.0 : 1.0;
-  options.plant = plant;
-  if (!drf.empty()) options.dressing = m::readMtgDressing(drf);
-  auto imported = std::make_shared<ImportedArchive>();
-  imported->archive = m::readMtgArchive(path);
-  imported->plant = m::importMtgPlant(imported->archive, options);
+  auto imported = std::make_shared<const m::ImportedFile>(m::importMtgFile(path, drf, units, plant));
   PlantModel p;
   p.plant = imported->plant.plant;
   p.mesh = m::meshPlant(p.plant, meshOptions(resolution, "uniform", std::nullopt));

@@ -39,17 +39,13 @@ namespace leafdig::python {
                                                   const std::string& path, const Eigen::Vector3d& light);
 
 // A plant model with its mesh and metrics.
-// An archive's plant keeps its reading, so its MTG and CSV are the import's (as `plant import`
-// writes them).
-struct ImportedArchive {
-  model::MtgArchive archive;
-  model::ImportedPlant plant;
-};
 struct PlantModel {
   model::Plant plant;
   model::LeafMesh mesh;
   model::PlantMetrics metrics;
-  std::shared_ptr<const ImportedArchive> imported;  // null: built or captured
+  // An archive's plant keeps its reading, so its MTG and CSV are the import's (as `plant import`
+  // writes them); null: built or captured.
+  std::shared_ptr<const model::ImportedFile> imported;
   // A captured plant's MTG and CSV: the survey's, as `sessions export` writes them (one MTG for a
   // plant whichever way it is asked for).
   std::optional<std::pair<std::string, std::string>> surveyMtgCsv;

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "leafdig/model/errors.hpp"
+#include "leafdig/model/files.hpp"
 
 namespace leafdig::model {
 
@@ -17,9 +18,8 @@ std::string metres(double mm) {
 }
 
 struct Pred {
-  int vertex = -1;                              // the entity whose point the base is
-  std::optional<Eigen::Vector3d> complexPoint;  // or a complex's own coordinates
-  int complexVertex = -1;                       // (that complex)
+  int vertex = -1;   // the entity whose point the base is
+  int complex = -1;  // or the complex whose own coordinates it is
   char edge = '<';
 };
 
@@ -152,8 +152,7 @@ class Importer {
         const int c = v.complex;
         if (c < 1 || !inPlant_[static_cast<std::size_t>(c)]) return p;
         if (hasXyz_[static_cast<std::size_t>(c)]) {
-          p.complexPoint = points_[static_cast<std::size_t>(c)];
-          p.complexVertex = c;
+          p.complex = c;
           return p;
         }
         if (components_[static_cast<std::size_t>(c)].front() != x) return p;
@@ -250,12 +249,13 @@ class Importer {
       if (base.vertex >= 0) {
         axis.base = Ball{points_[static_cast<std::size_t>(base.vertex)], firstGiven.value_or(bearerRadius)};
         axis.baseVertex = base.vertex;
-      } else if (base.complexPoint) {
+      } else if (base.complex >= 0) {
         // The base's diameter: the first entity's BottomDiameter, else the complex's own (read
         // like its coordinates: at the base), else the first given along the axis.
         auto bottom = diameter(axis.vertices.front(), "BottomDiameter");
-        if (!bottom) bottom = topDiameter(base.complexVertex);
-        axis.base = Ball{*base.complexPoint, bottom ? *bottom / 2 : firstGiven.value_or(bearerRadius)};
+        if (!bottom) bottom = topDiameter(base.complex);
+        axis.base = Ball{points_[static_cast<std::size_t>(base.complex)],
+                         bottom ? *bottom / 2 : firstGiven.value_or(bearerRadius)};
       }
       if (axis.base) add(axis.base->center, axis.base->radius);
       for (std::size_t i = 0; i < axis.vertices.size(); ++i) {
@@ -314,6 +314,24 @@ ImportedPlant importMtgPlant(const MtgArchive& archive, const ArchiveImportOptio
   if (!(options.mmPerUnit > 0) || !std::isfinite(options.mmPerUnit))
     throw InputError("the archive's length unit must be a number of millimetres above 0");
   return Importer(archive, options).run();
+}
+
+ImportedFile importMtgFile(const std::filesystem::path& path, const std::filesystem::path& drf,
+                           const std::string& units, int plant) {
+  if (lowerExtension(path) != ".mtg")
+    throw InputError(
+        path.string() +
+        ": leafdig imports AMAP / OpenAlea MTG files (.mtg); a HydroShoot digitizing table is not read yet");
+  if (units != "mm" && units != "cm" && units != "m")
+    throw InputError("units \"" + units + "\": an MTG file does not say the unit of its coordinates: give mm, cm or m");
+  ArchiveImportOptions options;
+  options.mmPerUnit = units == "m" ? 1000.0 : units == "cm" ? 10.0 : 1.0;
+  options.plant = plant;
+  if (!drf.empty()) options.dressing = readMtgDressing(drf);
+  ImportedFile out;
+  out.archive = readMtgArchive(path);
+  out.plant = importMtgPlant(out.archive, options);
+  return out;
 }
 
 }  // namespace leafdig::model

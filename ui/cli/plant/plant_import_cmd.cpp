@@ -32,28 +32,16 @@ struct ImportOptions {
   bool json = false;
 };
 
-double mmPer(const std::string& units) {
-  return units == "m" ? 1000.0 : units == "cm" ? 10.0 : 1.0;
-}
-
 int runImport(const ImportOptions& o) {
   // Every output named before anything is read or written.
   for (const auto& out : o.outputs) (void)m::plantFormatForPath(out);
-  const std::string ext = m::lowerExtension(o.input);
-  if (ext != ".mtg")
-    throw m::InputError(o.input +
-                        ": leafdig imports AMAP / OpenAlea MTG files (.mtg); a HydroShoot digitizing table "
-                        "is not read yet");
-  if (o.units.empty())
+  if (o.units.empty() && m::lowerExtension(o.input) == ".mtg")
     throw m::InputError(o.input +
                         ": an MTG file does not say the unit of its coordinates: give --units mm, cm or m "
                         "(after the dressing file's LengthUnit; AMAP's stations mostly wrote cm)");
-  m::ArchiveImportOptions options;
-  options.mmPerUnit = mmPer(o.units);
-  options.plant = o.plant;
-  if (!o.drf.empty()) options.dressing = m::readMtgDressing(o.drf);
-  const m::MtgArchive archive = m::readMtgArchive(o.input);
-  const m::ImportedPlant imported = m::importMtgPlant(archive, options);
+  const m::ImportedFile file = m::importMtgFile(o.input, o.drf, o.units, o.plant);
+  const m::MtgArchive& archive = file.archive;
+  const m::ImportedPlant& imported = file.plant;
 
   // Meshed only for the files that need it (a report or an MTG alone does not).
   bool meshes = false;
@@ -99,7 +87,7 @@ int runImport(const ImportOptions& o) {
                                 {"axes_by_order", byOrder},
                                 {"axes_not_drawn", notDrawn},
                                 {"second_followers", imported.secondFollowers},
-                                {"diameters_taken_from_elsewhere", imported.diametersMissing.value_or(0)},
+                                {"diameters_taken_from_elsewhere", imported.diametersMissing},
                                 {"box_mm", {{"low", point(imported.low)}, {"high", point(imported.high)}}},
                                 {"triangles", triangles},
                                 {"notes", imported.notes},

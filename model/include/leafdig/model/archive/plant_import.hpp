@@ -20,6 +20,7 @@
 //   kNoDiameterMm;
 // - the file's origin and axes are kept (+Z up, as AMAP's stations wrote it), in millimetres.
 #include <cstddef>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -65,8 +66,8 @@ struct ImportedPlant {
   std::size_t points = 0;                                     // entities drawn as points
   std::size_t withoutPoint = 0;  // entities of the plant with no coordinates of their own or below
   std::vector<ImportedAxis> axes;
-  std::size_t secondFollowers = 0;              // '<' from an entity that already had one: drawn as a branch
-  std::optional<std::size_t> diametersMissing;  // entities drawn with a diameter taken from elsewhere
+  std::size_t secondFollowers = 0;   // '<' from an entity that already had one: drawn as a branch
+  std::size_t diametersMissing = 0;  // entities drawn with a diameter taken from elsewhere
   Eigen::Vector3d low = Eigen::Vector3d::Zero(), high = Eigen::Vector3d::Zero();  // bounding box, mm
   std::vector<std::string> notes;  // what was read past (dressing keys, features not drawn)
 };
@@ -74,5 +75,15 @@ struct ImportedPlant {
 // Throws InputError naming the file and what to do: no plant n, no coordinates at all, a
 // diameter below zero.
 [[nodiscard]] ImportedPlant importMtgPlant(const MtgArchive& archive, const ArchiveImportOptions& options);
+
+// An MTG file read and its plant drawn: what `leafdig plant import` and Python's import_plant do.
+// `drf` the dressing file (empty: none), `units` the coordinates' unit after its LengthUnit (mm,
+// cm or m). InputError in words for another file kind, another unit, and every refusal above.
+struct ImportedFile {
+  MtgArchive archive;
+  ImportedPlant plant;
+};
+[[nodiscard]] ImportedFile importMtgFile(const std::filesystem::path& path, const std::filesystem::path& drf,
+                                         const std::string& units, int plant = 1);
 
 }  // namespace leafdig::model
