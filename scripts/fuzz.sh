@@ -37,6 +37,20 @@ cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j"$(nproc)"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+# One short run: the target for `seconds` on one core, then its executions (or the log's tail).
+runShort() {
+  local target=$1 corpus=$2
+  mkdir -p "$work/$target"
+  if ! (cd "$work" && "$root/build/fuzz/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -print_final_stats=1 \
+        "$work/$target" "$root/$corpus" 2>"$work/$target.log"); then
+    echo "fuzz: $target FAILED:"; tail -40 "$work/$target.log"
+    return 1
+  fi
+  echo "fuzz: $target for ${seconds}s, $(grep -E "stat::number_of_executed_units" "$work/$target.log" | awk '{print $2}') executions"
+}
+# The short runs go one per core at a time (each target still has its seconds of one core).
+cores=$(nproc)
+running=0
 for corpus in tests/fuzz/corpus/*/; do
   target=$(basename "$corpus")
   if [ "${#only[@]}" -gt 0 ] && [[ " ${only[*]} " != *" $target "* ]]; then
@@ -53,11 +67,16 @@ for corpus in tests/fuzz/corpus/*/; do
     executed=$(grep -E "stat::number_of_executed_units" "$work/$target.log" | awk '{print $2}')
     echo "  $target: $executed executions in $((end - start)) s, corpus $(ls "$kept" | wc -l) inputs, clean"
   else
-    mkdir -p "$work/$target"
-    echo "fuzz: $target for ${seconds}s"
-    (cd "$work" && "$root/build/fuzz/tests/fuzz/fuzz_$target" -max_total_time="$seconds" -print_final_stats=1 \
-       "$work/$target" "$root/$corpus" 2>"$work/$target.log") || { tail -40 "$work/$target.log"; exit 1; }
-    grep -E "stat::number_of_executed_units" "$work/$target.log" | sed "s/^/  /"
+    if [ "$running" -ge "$cores" ]; then
+      wait -n || { kill $(jobs -p) 2>/dev/null; wait; exit 1; }
+      running=$((running - 1))
+    fi
+    runShort "$target" "$corpus" &
+    running=$((running + 1))
   fi
+done
+while [ "$running" -gt 0 ]; do
+  wait -n || { kill $(jobs -p) 2>/dev/null; wait; exit 1; }
+  running=$((running - 1))
 done
 echo "fuzz: every target clean"

@@ -55,14 +55,18 @@ const browser = await puppeteer.launch({
   headless: true,
   args: ['--no-sandbox', '--disable-gpu', '--use-gl=swiftshader', '--enable-unsafe-swiftshader'],
 });
+// The page a failed wait leaves behind is described (its text, the browser's console errors) and
+// photographed, so that a failure says what the page showed instead of only "timeout".
+let current = null;
+const consoleErrors = [];
 try {
   // ---- a curator ------------------------------------------------------------------------
   const curator = await browser.createBrowserContext();
   const page = await curator.newPage();
+  current = page;
   page.setDefaultTimeout(kWaitMs);
   page.setDefaultNavigationTimeout(kWaitMs);
   await page.setViewport({ width: 1280, height: 860 });
-  const consoleErrors = [];
   page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
   page.on('pageerror', (e) => consoleErrors.push(String(e)));
 
@@ -116,6 +120,11 @@ try {
   const corrected = await page.$$eval('#history tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)).find((r) => r[1] === 'corrected'));
   check(corrected[2].includes('moved 4.0 mm') && corrected[3] === config.curator.login && corrected[5] === 'the stylus slipped',
     `the history shows the correction: item, old → new, who, why (${corrected.join(' | ')})`);
+  // The page drawn again after the correction, as the curator looks at it before deciding (and
+  // the server's answers for the redrawn page are in before the decision queues behind them).
+  const redrawn = await drawnShare(page);
+  check(redrawn.share > 0.01, `the corrected leaf draws again (${(100 * redrawn.share).toFixed(1)} % of its pixels; ${redrawn.note})`);
+  await page.waitForSelector('#metrics, #numbers .quiet:not(:first-child), #numbers .error', { timeout: kWaitMs });
   await page.waitForSelector('#decide-approve');
   await page.type('#why', 'checked against the photos <b>not bold</b>');
   await page.click('#decide-approve');
@@ -173,6 +182,7 @@ try {
   });
   await new Promise((resolve) => evil.listen(0, '127.0.0.1', resolve));
   const evilPage = await curator.newPage();
+  current = evilPage;
   evilPage.setDefaultTimeout(kWaitMs);
   evilPage.setDefaultNavigationTimeout(kWaitMs);
   const answer = evilPage.waitForResponse((r) => r.url().includes('/approve'));
@@ -186,6 +196,7 @@ try {
   // ---- a technician ------------------------------------------------------------------------------
   const techContext = await browser.createBrowserContext();
   const tech = await techContext.newPage();
+  current = tech;
   tech.setDefaultTimeout(kWaitMs);
   tech.setDefaultNavigationTimeout(kWaitMs);
   await tech.setViewport({ width: 1280, height: 860 });
@@ -208,6 +219,14 @@ try {
     return r.status;
   }, ownId);
   check(refused === 403, `the API refuses the technician's decision (${refused})`);
+} catch (error) {
+  if (current) {
+    const shown = await current.evaluate(() => document.querySelector('main')?.innerText ?? '').catch(() => '');
+    console.log(`the page showed:\n${shown.slice(0, 4000)}`);
+    console.log(`the browser's console errors: ${consoleErrors.length ? consoleErrors.join('\n') : 'none'}`);
+    await current.screenshot({ path: `${config.screenshots}/web-failure.png` }).catch(() => {});
+  }
+  throw error;
 } finally {
   await browser.close();
 }

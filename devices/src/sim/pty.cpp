@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 
 #include "leafdig/devices/errors.hpp"
 #include "leafdig/devices/sim/sim.hpp"
@@ -276,16 +277,17 @@ void Emulator::run() {
       nextTick = now();  // the device was off: no records are owed for that time
       continue;
     }
+    // Wait for the host's bytes until the next record is due, to the nanosecond: at the
+    // simulations' rates (up to 960 Hz) a record is due in less than a millisecond, and a
+    // poll() timeout in whole milliseconds would spin the thread on a zero timeout.
     const double t = now();
-    int timeoutMs = 20;
-    if (streaming()) {
-      if (options_.burst)
-        timeoutMs = 0;
-      else
-        timeoutMs = std::clamp(static_cast<int>((nextTick - t) * 1000.0), 0, 20);
-    }
+    double waitS = 0.020;
+    if (streaming()) waitS = options_.burst ? 0.0 : std::clamp(nextTick - t, 0.0, 0.020);
+    const auto waitNs = static_cast<long>(waitS * 1e9);
+    const timespec timeout{0, waitNs};
+    const int timeoutMs = static_cast<int>(waitNs / 1000000);
     pollfd p{master_, POLLIN, 0};
-    const int r = ::poll(&p, 1, timeoutMs);
+    const int r = ::ppoll(&p, 1, &timeout, nullptr);
     if (r > 0 && (p.revents & POLLIN)) {
       const ssize_t n = ::read(master_, buf, sizeof buf);
       if (n > 0) {
