@@ -522,6 +522,7 @@ PYBIND11_MODULE(_leafdig, mod) {
     d["vertices"] = i.vertices;
     d["plant_vertices"] = i.plantVertices;
     d["points"] = i.points;
+    d["units"] = p.imported->unit;
     py::dict classes, orders;
     for (const auto& [symbol, count] : i.perClass) classes[py::str(symbol)] = count;
     for (const auto& axis : i.axes) {

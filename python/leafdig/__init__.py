@@ -393,14 +393,16 @@ def build_plant(plan, time=None, resolution="export"):
     return Plant(_core.build_plants(text, source, base, [time], resolution=resolution)[0])
 
 
-def import_plant(path, units, drf=None, plant=1, resolution="export"):
-    """A digitized plant from the archives — an AMAP / OpenAlea MTG file — as a ``Plant``, read
-    as ``leafdig plant import`` reads it (docs/plants.md, "Archives"): ``units`` is the unit of
-    the file's coordinates after the dressing file's LengthUnit (``"mm"``, ``"cm"`` or ``"m"``: an
-    MTG does not say it), ``drf`` its dressing file, ``plant`` which plant of the file (1 the
-    first). Its ``mtg()`` and ``csv()`` are the import's (axes ``A<n>`` of points ``E<k>``, each
-    naming its entity and line in the archive); ``report`` says what was read."""
-    core = _core.import_plant(_os.fspath(path), "" if drf is None else _os.fspath(drf), units, plant, resolution)
+def import_plant(path, units=None, drf=None, plant=1, resolution="export"):
+    """A digitized plant from the archives — an AMAP / OpenAlea MTG file or a HydroShoot digitizing
+    table — as a ``Plant``, read as ``leafdig plant import`` reads it (docs/plants.md, "Archives"):
+    ``units`` is the unit of the file's coordinates after the dressing file's LengthUnit (``"mm"``,
+    ``"cm"`` or ``"m"``: an MTG does not say it; a HydroShoot table is in cm unless given), ``drf``
+    an MTG's dressing file, ``plant`` which plant of the file (1 the first). Its ``mtg()`` and
+    ``csv()`` are the import's (axes ``A<n>`` of points ``E<k>``, each naming its entity and line in
+    the archive); ``report`` says what was read."""
+    core = _core.import_plant(_os.fspath(path), "" if drf is None else _os.fspath(drf),
+                              "" if units is None else units, plant, resolution)
     return Plant(core)
 
 

@@ -1,5 +1,6 @@
 // `leafdig plant import` driven as a modeller would (docs/plants.md, "Archives"): the public
-// archives in tests/data/archives (OpenAlea's walnut and apple tree, CeCILL-C) into every format,
+// archives in tests/data/archives (OpenAlea's walnut and apple tree, HydroShoot's grapevine,
+// CeCILL-C) into every format,
 // each opened by an independent reader — the Khronos glTF validator, assimp, the strict MTG and
 // CARIBU readers of docs/plants.md "Formats" — and the refusals a bad file or option gets.
 #include <set>
@@ -152,10 +153,12 @@ TEST_F(PlantImportCli, ABadFileOrOptionExitsTwoNamingWhatToDoAndWritesNothing) {
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.err.find("shifted.mtg, line 50: column 23"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("past the last feature (bidon)"), std::string::npos) << r.err;
-  // A format leafdig does not read yet, and an output it cannot write.
-  r = leafdig("plant import " + quote(archive("grapevine_gdc_can1.digit.input")) + " --units cm -o " + quote(out));
+  // A file that is no archive, and an output leafdig cannot write.
+  const fs::path notes = dir_ / "notes.txt";
+  std::ofstream(notes) << "the walnut by the gate\n";
+  r = leafdig("plant import " + quote(notes) + " --units cm -o " + quote(out));
   EXPECT_EQ(r.exitCode, 2);
-  EXPECT_NE(r.err.find("HydroShoot"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("MTG files (.mtg) and HydroShoot's digitizing tables"), std::string::npos) << r.err;
   r = leafdig("plant import " + quote(archive("agraf.mtg")) + " --units mm -o " + quote(dir_ / "tree.docx"));
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_FALSE(fs::exists(out));
@@ -167,4 +170,50 @@ TEST_F(PlantImportCli, ABadFileOrOptionExitsTwoNamingWhatToDoAndWritesNothing) {
   EXPECT_NE(r.err.find("bad.drf, line 2: DiameterUnit = \"ten\": a unit is a number above 0"), std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(PlantImportCli, TheHydroShootGrapevineImportsInCentimetresAndOpensInEveryReader) {
+  const std::string table = archive("grapevine_gdc_can1.digit.input");
+  std::string outputs;
+  for (const char* ext : {"glb", "mtg", "csv", "xml", "vgx"})
+    outputs += " -o " + quote(dir_ / (std::string("vine.") + ext));
+  const Result r = leafdig("plant import " + quote(table) + " --resolution preview --json" + outputs);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json report = json::parse(r.out);
+  EXPECT_EQ(report["units"], "cm");  // the table's unit, unless --units says otherwise
+  EXPECT_EQ(report["plant"], "plant1");
+  EXPECT_EQ(report["classes"]["trunk"], 1);
+  EXPECT_EQ(report["classes"]["arm"], 2);
+  // Every digitized entity is a point: the internodes of every kind and the pruning complexes.
+  int internodes = 0, all = 0;
+  for (const auto& [symbol, count] : report["classes"].items()) {
+    all += count.get<int>();
+    if (symbol.rfind("in", 0) == 0 || symbol == "cx") internodes += count.get<int>();
+  }
+  EXPECT_EQ(all, report["plant_vertices"].get<int>());
+  EXPECT_EQ(report["points"], internodes);
+  EXPECT_EQ(report["without_point"], 0);
+  // The trunk's foot at 24.5 mm, the canopy about 2.3 m high.
+  EXPECT_NEAR(report["box_mm"]["low"][2].get<double>(), 24.5, 1e-9);
+  EXPECT_NEAR(report["box_mm"]["high"][2].get<double>(), 2294.2, 1e-9);
+
+  const std::string validator = std::string(LEAFDIG_SOURCE_DIR) + "/tests/tools/validate-gltf.mjs";
+  const Result check = run("node " + quote(validator) + " " + quote(dir_ / "vine.glb"));
+  ASSERT_EQ(check.exitCode, 0) << check.out << check.err;
+  EXPECT_EQ(json::parse(check.out)["numErrors"], 0) << check.out;
+  const auto mtg = leafdig::test::readMtgStrictly(slurp(dir_ / "vine.mtg"));
+  int e = 0;
+  for (const auto& entity : mtg.entities) e += entity.symbol == 'E' ? 1 : 0;
+  EXPECT_EQ(e, internodes);
+  const auto helios = leafdig::test::readHeliosStrictly(slurp(dir_ / "vine.xml"));
+  EXPECT_FALSE(helios.triangles.empty());
+  EXPECT_FALSE(leafdig::test::readVgxStrictly(slurp(dir_ / "vine.vgx")).empty());
+  // The CSV names each point's row in the table: the trunk's first internode on line 2.
+  EXPECT_NE(slurp(dir_ / "vine.csv").find("\n1,1,0,point,inT1,2,-25.400,6.800,24.500,70.000\n"), std::string::npos);
+
+  // A table written in millimetres says so.
+  const Result mm = leafdig("plant import " + quote(table) + " --units mm --json");
+  ASSERT_EQ(mm.exitCode, 0) << mm.err;
+  EXPECT_EQ(json::parse(mm.out)["units"], "mm");
+  EXPECT_NEAR(json::parse(mm.out)["box_mm"]["high"][2].get<double>(), 229.42, 1e-9);
 }

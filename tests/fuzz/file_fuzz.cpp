@@ -1,8 +1,8 @@
 // libFuzzer targets for the files a user hands us (issue 26), one per kind, chosen at compile
 // time (LEAFDIG_FUZZ_FILE): markers, plant plans, plants digitized in place, plant protocols, outlines (JSON and CSV)
-// scans' headers and archives' MTG files. Each input is read as that file: it is either refused with InputError or read
-// into values within the bounds of limits.hpp; anything else (a crash, another exception, a number out of bounds, a
-// hang past libFuzzer's timeout) is a finding.
+// scans' headers, archives' MTG files and HydroShoot's digitizing tables. Each input is read as that file: it is either
+// refused with InputError or read into values within the bounds of limits.hpp; anything else (a crash, another
+// exception, a number out of bounds, a hang past libFuzzer's timeout) is a finding.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "leafdig/model/archive/hydroshoot_table.hpp"
 #include "leafdig/model/archive/mtg_archive.hpp"
 #include "leafdig/model/archive/plant_import.hpp"
 #include "leafdig/model/errors.hpp"
@@ -127,8 +128,10 @@ void outline(const std::string& text, bool json) {
 
 // An archive's MTG: read into a tree whose every link points back (a complex one scale up, a
 // parent at the same scale, both made before), then drawn; refused in words otherwise.
-void mtgArchive(const std::string& text) {
-  const m::MtgArchive a = m::parseMtgArchive(text, "fuzz");
+// An MTG file (hydroshoot false) or a HydroShoot digitizing table: either is a tree whose
+// complexes and parents come before their vertices, on the scales they must be on.
+void mtgArchive(const std::string& text, bool hydroshoot) {
+  const m::MtgArchive a = hydroshoot ? m::parseHydroShootTable(text, "fuzz") : m::parseMtgArchive(text, "fuzz");
   require(!a.vertices.empty() && a.vertices[0].scale == 0 && a.vertices.size() <= m::kMaxMtgVertices);
   for (std::size_t v = 1; v < a.vertices.size(); ++v) {
     const m::MtgVertex& x = a.vertices[v];
@@ -170,7 +173,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (kind == "image_header") imageHeader(text);
     if (kind == "jig") jig(text);
     if (kind == "correction") correction(text);
-    if (kind == "mtg_archive") mtgArchive(text);
+    if (kind == "mtg_archive") mtgArchive(text, false);
+    if (kind == "hydroshoot_table") mtgArchive(text, true);
   } catch (const m::InputError&) {
     // refused in words: what a bad file should get
   }

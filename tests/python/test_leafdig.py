@@ -292,6 +292,20 @@ def test_an_archived_plant_is_the_one_plant_import_makes(tmp_path):
         leafdig.import_plant(archives / "agraf.mtg", "inches")
 
 
+def test_a_hydroshoot_table_imports_in_centimetres_without_being_told(tmp_path):
+    # Issue 51: HydroShoot's grapevine digitizing table (tests/data/archives, CeCILL-C): no unit
+    # given (the table's own, cm), the same report and CSV as the command's; an MTG still needs one.
+    table = SOURCE / "tests/data/archives/grapevine_gdc_can1.digit.input"
+    vine = leafdig.import_plant(table, resolution="preview")
+    made = cli_json("plant", "import", table, "--resolution", "preview", "-o", tmp_path / "v.csv")
+    assert vine.report["units"] == "cm" == made["units"]
+    assert vine.report["classes"] == made["classes"] and vine.report["points"] == made["points"]
+    assert vine.csv() == (tmp_path / "v.csv").read_text()
+    assert vine.id == "plant1"
+    with pytest.raises(leafdig.InputError, match="does not say the unit"):
+        leafdig.import_plant(SOURCE / "tests/data/archives/agraf.mtg")
+
+
 def test_to_openalea_hands_the_plants_mtg_to_openaleas_reader(monkeypatch):
     # Issue 51: Plant.to_openalea() when OpenAlea is importable. OpenAlea is not a Debian
     # package: a stand-in module records what leafdig hands its reader, and without one the

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <map>
 
+#include "archive/archive_text.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 
@@ -14,23 +15,10 @@ namespace leafdig::model {
 
 namespace {
 
-std::string trimmed(std::string_view s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a])) != 0) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1])) != 0) --b;
-  return std::string(s.substr(a, b - a));
-}
-
-std::vector<std::string> splitOn(std::string_view s, char sep) {
-  std::vector<std::string> out;
-  std::size_t at = 0;
-  for (;;) {
-    const std::size_t next = s.find(sep, at);
-    out.emplace_back(s.substr(at, next == std::string_view::npos ? std::string_view::npos : next - at));
-    if (next == std::string_view::npos) return out;
-    at = next + 1;
-  }
-}
+using detail::isInteger;
+using detail::realOf;
+using detail::splitOn;
+using detail::trimmed;
 
 std::vector<std::string> words(std::string_view s) {
   std::vector<std::string> out;
@@ -53,26 +41,6 @@ std::string withoutComment(const std::string& line) {
 
 bool startsWith(std::string_view s, std::string_view prefix) {
   return s.substr(0, prefix.size()) == prefix;
-}
-
-bool isInteger(const std::string& s) {
-  std::size_t i = (!s.empty() && (s[0] == '+' || s[0] == '-')) ? 1 : 0;
-  if (i == s.size()) return false;
-  for (; i < s.size(); ++i)
-    if (std::isdigit(static_cast<unsigned char>(s[i])) == 0) return false;
-  return true;
-}
-
-std::optional<double> realOf(const std::string& s) {
-  if (s.empty() || s.size() > 64) return std::nullopt;
-  // strtod, not from_chars: a leading '+' ("+12.5") is written by some stations.
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end != s.c_str() + s.size() || !std::isfinite(v)) return std::nullopt;
-  // Words strtod would take ("inf", "nan", hexadecimal) are no digitized number.
-  for (char c : s)
-    if (std::string_view("0123456789+-.eE").find(c) == std::string_view::npos) return std::nullopt;
-  return v;
 }
 
 const char* const kFeatureTypes[] = {"INT", "REAL", "ALPHA", "STRING", "DD/MM", "DD/MM/YY", "DD/MM/YYYY"};

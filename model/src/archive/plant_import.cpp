@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "leafdig/model/archive/hydroshoot_table.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/files.hpp"
 
@@ -49,6 +50,7 @@ class Importer {
     drawAxes(out);
     for (const MtgFeature& f : a_.features)
       if (!used(f.name)) out.notes.push_back("feature " + f.name + " is kept in the file, not drawn");
+    out.notes.insert(out.notes.end(), a_.notes.begin(), a_.notes.end());
     std::set<std::string> keys;
     for (const std::string& k : o_.dressing.ignored)
       if (keys.insert(k).second) out.notes.push_back("dressing key " + k + " is read past");
@@ -318,19 +320,32 @@ ImportedPlant importMtgPlant(const MtgArchive& archive, const ArchiveImportOptio
 
 ImportedFile importMtgFile(const std::filesystem::path& path, const std::filesystem::path& drf,
                            const std::string& units, int plant) {
-  if (lowerExtension(path) != ".mtg")
-    throw InputError(
-        path.string() +
-        ": leafdig imports AMAP / OpenAlea MTG files (.mtg); a HydroShoot digitizing table is not read yet");
-  if (units != "mm" && units != "cm" && units != "m")
-    throw InputError("units \"" + units + "\": an MTG file does not say the unit of its coordinates: give mm, cm or m");
+  // The file's kind: an MTG by its extension, a HydroShoot table by its header.
+  const bool mtg = lowerExtension(path) == ".mtg";
+  std::string text;
+  if (!mtg) {
+    text = readFile(path);
+    if (!looksLikeHydroShootTable(text))
+      throw InputError(path.string() +
+                       ": leafdig imports AMAP / OpenAlea MTG files (.mtg) and HydroShoot's digitizing tables "
+                       "(a header Souche;tronc;element;sarment;rameau;rang;X;Y;Z[;Diam]); this is neither");
+    if (!drf.empty())
+      throw InputError(drf.string() + ": a dressing file goes with an MTG file; a HydroShoot table has none");
+  }
+  // A HydroShoot table is in cm unless said otherwise; an MTG does not say its unit.
+  const std::string unit = !mtg && units.empty() ? "cm" : units;
+  if (unit != "mm" && unit != "cm" && unit != "m")
+    throw InputError("units \"" + unit + "\": " +
+                     (mtg ? "an MTG file does not say the unit of its coordinates: give mm, cm or m"
+                          : "give mm, cm or m (a HydroShoot table is in cm)"));
   ArchiveImportOptions options;
-  options.mmPerUnit = units == "m" ? 1000.0 : units == "cm" ? 10.0 : 1.0;
+  options.mmPerUnit = unit == "m" ? 1000.0 : unit == "cm" ? 10.0 : 1.0;
   options.plant = plant;
   if (!drf.empty()) options.dressing = readMtgDressing(drf);
   ImportedFile out;
-  out.archive = readMtgArchive(path);
+  out.archive = mtg ? readMtgArchive(path) : parseHydroShootTable(text, path.string());
   out.plant = importMtgPlant(out.archive, options);
+  out.unit = unit;
   return out;
 }
 

@@ -1,6 +1,6 @@
 // `leafdig plant import FILE --units cm -o tree.glb …`: a digitized plant from the archives (an
-// AMAP / OpenAlea MTG file and its dressing file) drawn and exported as a leafdig plant
-// (docs/plants.md, "Archives").
+// AMAP / OpenAlea MTG file and its dressing file, or a HydroShoot digitizing table) drawn and
+// exported as a leafdig plant (docs/plants.md, "Archives").
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -77,7 +77,7 @@ int runImport(const ImportOptions& o) {
     const auto point = [](const Eigen::Vector3d& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
     std::cout << nlohmann::json{{"source", o.input},
                                 {"plant", imported.plantLabel},
-                                {"units", o.units},
+                                {"units", file.unit},
                                 {"vertices", imported.vertices},
                                 {"plant_vertices", imported.plantVertices},
                                 {"classes", classes},
@@ -123,10 +123,15 @@ int runImport(const ImportOptions& o) {
 void addPlantImportCommand(CLI::App& plant, CommandTable& table) {
   auto o = std::make_shared<ImportOptions>();
   CLI::App* c = plant.add_subcommand(
-      "import", "Import a digitized plant from the archives (an AMAP / OpenAlea MTG file) and export it");
-  c->add_option("input", o->input, "The archive's file (.mtg)")->required();
+      "import",
+      "Import a digitized plant from the archives (an AMAP / OpenAlea MTG file, a HydroShoot digitizing table) and "
+      "export it");
+  c->add_option("input", o->input, "The archive's file (.mtg, or a HydroShoot table: Souche;tronc;…;X;Y;Z;Diam)")
+      ->required();
   c->add_option("--drf", o->drf, "Its dressing file (.drf): LengthUnit, DiameterUnit, AlphaUnit");
-  c->add_option("--units", o->units, "The unit of the file's coordinates after the dressing's LengthUnit: mm, cm, m")
+  c->add_option("--units", o->units,
+                "The unit of the file's coordinates after the dressing's LengthUnit: mm, cm, m (a HydroShoot table: cm "
+                "unless given)")
       ->check(CLI::IsMember({"mm", "cm", "m"}));
   c->add_option("--plant", o->plant, "Which plant of the file (1, the first, by default)")
       ->check(CLI::Range(1, 1000000));

@@ -55,6 +55,7 @@ struct MtgArchive {
   std::vector<MtgClass> classes;
   std::vector<MtgFeature> features;
   std::vector<MtgVertex> vertices;  // [0] the root
+  std::vector<std::string> notes;   // what the reader read past (the import's report repeats it)
   // The feature's column, or -1 when the file has none of that name.
   [[nodiscard]] int feature(std::string_view name) const;
   // Vertex v's value of feature f as a number (its column is INT or REAL), when given.

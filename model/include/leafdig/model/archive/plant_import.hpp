@@ -76,12 +76,15 @@ struct ImportedPlant {
 // diameter below zero.
 [[nodiscard]] ImportedPlant importMtgPlant(const MtgArchive& archive, const ArchiveImportOptions& options);
 
-// An MTG file read and its plant drawn: what `leafdig plant import` and Python's import_plant do.
-// `drf` the dressing file (empty: none), `units` the coordinates' unit after its LengthUnit (mm,
-// cm or m). InputError in words for another file kind, another unit, and every refusal above.
+// An archive read and its plant drawn: what `leafdig plant import` and Python's import_plant do.
+// The file is an MTG (.mtg) or a HydroShoot digitizing table (by its header: hydroshoot_table.hpp).
+// `drf` the MTG's dressing file (empty: none), `units` the coordinates' unit after its LengthUnit
+// (mm, cm or m; an MTG does not say it, a HydroShoot table is in cm unless said). InputError in
+// words for another file kind, another unit, and every refusal above.
 struct ImportedFile {
   MtgArchive archive;
   ImportedPlant plant;
+  std::string unit;  // the unit the coordinates were read in
 };
 [[nodiscard]] ImportedFile importMtgFile(const std::filesystem::path& path, const std::filesystem::path& drf,
                                          const std::string& units, int plant = 1);
