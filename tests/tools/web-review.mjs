@@ -151,6 +151,17 @@ try {
     return { status: r.status, disposition: r.headers.get('Content-Disposition'), text: await r.text() };
   }, config.plant);
   check(mtg.status === 200 && mtg.disposition.includes('attachment') && mtg.text.includes('MTG'), `the plant's MTG downloads (${mtg.status})`);
+  // Helios XML and VegeSTAR, the light models' formats, from the page's own links.
+  const links = await page.$$eval('.downloads a', (as) => as.map((a) => a.getAttribute('href')));
+  const simulators = await page.evaluate(async (hrefs) => Promise.all(hrefs.filter((h) => /format=(xml|vgx)$/.test(h)).map(async (h) => {
+    const r = await fetch(h);
+    return { href: h, status: r.status, type: r.headers.get('Content-Type'), text: await r.text() };
+  })), links);
+  const helios = simulators.find((d) => d.href.endsWith('format=xml'));
+  const vgx = simulators.find((d) => d.href.endsWith('format=vgx'));
+  check(helios && helios.status === 200 && helios.type.startsWith('application/xml') && helios.text.includes('<helios>') && helios.text.includes('<triangle>'),
+    `the plant's Helios XML downloads from its link (${helios ? helios.status : 'no link'})`);
+  check(vgx && vgx.status === 200 && /^Obj\s+EchX/m.test(vgx.text), `the plant's VegeSTAR file downloads from its link (${vgx ? vgx.status : 'no link'})`);
   const headings = await page.$$eval('main h2', (hs) => hs.map((h) => h.textContent));
   const tree = await page.$$eval('#plant-tree li', (lis) => lis.length);
   check(tree >= 6, `the plant page draws the plant as a tree of its nodes and leaves (${tree} entries)`);

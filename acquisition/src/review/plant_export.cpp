@@ -59,6 +59,11 @@ const std::vector<std::string>& plantExportFormats() {
   return formats;
 }
 
+const std::vector<std::string>& plantRequestedFormats() {
+  static const std::vector<std::string> formats{"xml", "vgx"};
+  return formats;
+}
+
 std::string plantPlanJson(const m::Plant& plant, const m::PlantSurvey& survey,
                           const std::vector<std::string>& leafMarkers) {
   if (const auto branch = firstBranch(survey))
@@ -230,7 +235,7 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
   if (outDir.empty()) throw std::invalid_argument("choose a destination directory for the export");
   const std::vector<std::string>& all = plantExportFormats();
   // Helios and VegeSTAR when asked for: a default export keeps the files it always wrote.
-  const std::vector<std::string> onRequest{"xml", "vgx"};
+  const std::vector<std::string>& onRequest = plantRequestedFormats();
   std::vector<std::string> chosen = formats.empty() ? all : formats;
   for (const std::string& f : chosen)
     if (!wants(all, f) && !wants(onRequest, f))

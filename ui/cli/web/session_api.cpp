@@ -192,7 +192,9 @@ HttpResponse exportFile(db::EventStore& store, std::int64_t id, const HttpReques
     return it == request.query.end() ? otherwise : it->second;
   };
   const bool plant = store.session(id)->kind == acq::kPlantCapture.word;
-  const std::vector<std::string>& formats = plant ? acq::plantExportFormats() : acq::exportFormats();
+  std::vector<std::string> formats = plant ? acq::plantExportFormats() : acq::exportFormats();
+  if (plant)  // Helios and VegeSTAR too: one file each, asked for by name here as everywhere
+    formats.insert(formats.end(), acq::plantRequestedFormats().begin(), acq::plantRequestedFormats().end());
   const std::string format = param("format", "");
   const std::string resolution = param("resolution", "export");
   const std::string frame = param("frame", "leaf");
@@ -241,6 +243,7 @@ HttpResponse exportFile(db::EventStore& store, std::int64_t id, const HttpReques
     const std::string name = std::filesystem::path(written.front()).filename().string();
     out.contentType = format == "glb"                                                  ? "model/gltf-binary"
                       : (format == "json" || format == "model" || format == "markers") ? "application/json"
+                      : format == "xml"                                                ? "application/xml"
                                                                                        : "text/plain; charset=utf-8";
     out.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + name + "\"");
   }

@@ -267,7 +267,7 @@ function viewer(session) {
 }
 
 function downloads(session) {
-  const formats = session.kind === 'plant' ? ['mtg', 'csv', 'json', 'glb', 'can'] : ['glb', 'csv', 'model', 'markers'];
+  const formats = session.kind === 'plant' ? ['mtg', 'csv', 'json', 'glb', 'can', 'xml', 'vgx'] : ['glb', 'csv', 'model', 'markers'];
   return el('p', { class: 'downloads' }, el('span', { class: 'quiet', text: 'Download: ' }),
     ...formats.map((f) => el('a', { href: `/api/sessions/${session.id}/export?format=${f}`, download: '', text: f })));
 }

@@ -93,8 +93,11 @@ struct PlantExport {
   model::PlantSurvey survey;
   std::vector<std::string> notes;  // what a reader should know (a quick leaf's borrowed shape)
 };
-// mtg, csv, markers, json, glb, obj, ply, stl, can, model, plan
+// mtg, csv, markers, json, glb, obj, ply, stl, can, model, plan: what an export writes by default
 [[nodiscard]] const std::vector<std::string>& plantExportFormats();
+// xml (Helios), vgx (VegeSTAR): written when asked for by name (a default export keeps the files
+// it always wrote)
+[[nodiscard]] const std::vector<std::string>& plantRequestedFormats();
 // How the model's formats (glb obj ply stl can model) are meshed: a resolution preset
 // (model::kFileResolutionNames) and which organs they keep — a light model's blades alone are a
 // fraction of the triangles and bytes.
