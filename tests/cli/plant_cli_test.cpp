@@ -530,6 +530,15 @@ TEST_F(PlantCli, APlantDigitizedInPlaceIsWrittenAsAnMtgInTheAmapConventions) {
       EXPECT_EQ(e.features.count("Area"), 0u);
     else
       EXPECT_NEAR(number(e, "Area"), leaf["area_mm2"].get<double>(), 5e-4);
+    // Issue 51: a quick leaf's area is its drawn shape's, which the MTG names; a full leaf's is
+    // its digitized blade's.
+    if (leaf["kind"] == "quick") {
+      EXPECT_GT(leaf["area_mm2"].get<double>(), 0.0);
+      EXPECT_TRUE(leaf["area_95_mm2"].is_null());
+      EXPECT_EQ(e.features.at("Shape").rfind("built-in_sample_shape", 0), 0U) << e.features.at("Shape");
+    } else {
+      EXPECT_EQ(e.features.count("Shape"), 0u);
+    }
   }
 
   // The same entities as a CSV, one row each in the MTG's order, every row the header's width.
@@ -539,16 +548,28 @@ TEST_F(PlantCli, APlantDigitizedInPlaceIsWrittenAsAnMtgInTheAmapConventions) {
   std::string row;
   std::vector<std::vector<std::string>> table;
   while (std::getline(rows, row)) {
-    std::vector<std::string> fields;
-    std::stringstream cells(row);
-    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
-    if (!row.empty() && row.back() == ',') fields.emplace_back();
+    // RFC 4180 cells: a quoted cell may hold commas (a quick leaf's shape source does).
+    std::vector<std::string> fields(1);
+    bool quoted = false;
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      const char c = row[i];
+      if (quoted && c == '"' && i + 1 < row.size() && row[i + 1] == '"') {
+        fields.back() += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = !quoted;
+      } else if (c == ',' && !quoted) {
+        fields.emplace_back();
+      } else {
+        fields.back() += c;
+      }
+    }
     table.push_back(fields);
   }
   ASSERT_EQ(table.size(), 1 + mtg.entities.size() - 1);  // the header; every entity but the plant P1
   for (const auto& fields : table) EXPECT_EQ(fields.size(), table[0].size()) << fields[0];
   EXPECT_EQ(table[0][0], "entity");
-  EXPECT_EQ(table[0].back(), "base_z_mm");
+  EXPECT_EQ(table[0].back(), "area_shape");
   EXPECT_EQ(table[1][0], "I0");
   for (std::size_t k = 1; k < table.size(); ++k) {
     const auto& e = mtg.entities[k];  // entities[0] is P1
@@ -560,6 +581,10 @@ TEST_F(PlantCli, APlantDigitizedInPlaceIsWrittenAsAnMtgInTheAmapConventions) {
     if (e.features.count("Azimuth")) {
       EXPECT_EQ(table[k][15], e.features.at("Azimuth"));
     }
+    // The drawn shape's source, as written (the MTG's is the same text made an MTG word).
+    EXPECT_EQ(table[k].back().rfind("built-in sample shape (synthetic tobacco leaf), no approved leaf", 0) == 0,
+              e.features.count("Shape") == 1)
+        << table[k].back();
     // A leaf's XX YY ZZ is its tip (PlantFrame draws it from its node to there), BaseX… its base:
     // the two a chord apart (issue 51: the base alone made every leaf a stub in PlantFrame).
     if (e.symbol == 'L' && e.features.count("BaseX")) {

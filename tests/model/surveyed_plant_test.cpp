@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "leafdig/model/io/plant_export.hpp"
 #include "leafdig/model/mesh/mesh.hpp"
 #include "leafdig/model/metrics/metrics.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
@@ -133,4 +134,35 @@ TEST(SurveyedPlant, AQuickLeafTakesTheLibraryLeafOfItsTypeWhoseAspectIsNearest) 
   PlantSurvey anyType = s;
   for (SurveyedLeaf& l : anyType.leaves) l.type.clear();
   EXPECT_EQ(placed(surveyedPlant(anyType, {library[2]}, sample()), 3).source, "library: session 13");
+}
+
+// Issue 51: the survey's areas add up to the plant's leaves — a quick leaf's is its drawn
+// shape's (named), the same as the plant's mesh of it, and no interval; a full leaf's unchanged.
+TEST(SurveyedPlant, AQuickLeafsAreaIsItsDrawnShapesAndTheSurveysAreasAddUpToThePlants) {
+  PlantSurvey s = sampleSurvey();
+  const double fullBefore = *surveyed(s, 2).areaMm2;
+  ASSERT_FALSE(surveyed(s, 3).areaMm2.has_value());
+  const std::vector<LibraryLeaf> library{libraryLeaf("session 12", "lower", 1.1)};
+  addDrawnAreas(s, library, sample());
+  EXPECT_EQ(*surveyed(s, 2).areaMm2, fullBefore);
+  EXPECT_TRUE(surveyed(s, 2).areaShape.empty());
+  for (int node : {3, 4}) {
+    EXPECT_EQ(surveyed(s, node).areaShape, "library: session 12");
+    EXPECT_FALSE(surveyed(s, node).areaLow95Mm2.has_value());
+  }
+  const Plant p = surveyedPlant(s, library, sample());
+  const LeafMesh mesh = meshPlant(p, MeshResolution::preset("export"));
+  const PlantMetrics metrics = computePlantMetrics(p, mesh, Vector3d::UnitZ());
+  double survey = 0, plant = 0;
+  for (const SurveyedLeaf& l : s.leaves) survey += l.areaMm2.value_or(0.0);
+  for (const LeafLight& l : metrics.leaves) {
+    plant += l.areaMm2;
+    EXPECT_NEAR(*surveyed(s, l.rank).areaMm2, l.areaMm2, 0.005 * l.areaMm2) << "leaf " << l.rank;
+  }
+  EXPECT_NEAR(survey, plant, 0.005 * plant);
+  // Without a library, the built-in shape's, named.
+  PlantSurvey alone = sampleSurvey();
+  addDrawnAreas(alone, {}, sample());
+  EXPECT_EQ(surveyed(alone, 3).areaShape.rfind(kSampleShapeSource, 0), 0U);
+  EXPECT_GT(*surveyed(alone, 3).areaMm2, 0.0);
 }

@@ -118,6 +118,12 @@ CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
     throw m::InputError("plant session " + std::to_string(id) + " holds no whole plant yet (" + e.what() +
                         "): go on with `leafdig plant capture --resume " + std::to_string(id) + "`");
   }
+  // A quick leaf's area is its drawn shape's, from the organ library as the model draws it.
+  const bool quick = std::any_of(out.survey.leaves.begin(), out.survey.leaves.end(),
+                                 [](const m::SurveyedLeaf& l) { return l.kind == m::LeafKind::Quick; });
+  if (quick)
+    m::addDrawnAreas(out.survey, organLibrary(store).leaves,
+                     m::LibraryLeaf{m::kSampleShapeSource, m::sampleLeafShape()});
   // A full leaf taken across a move of the transmitter: its points before and after stand in
   // frames related by a fit with a residual, which the interval's draws add to the noise.
   // A checked field's correction adds its error on divots it did not see to every full leaf's.

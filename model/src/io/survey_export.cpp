@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "io/mtg_text.hpp"
+#include "leafdig/model/io/csv_text.hpp"
 
 namespace leafdig::model {
 
@@ -18,7 +19,7 @@ using detail::mtgReal;
 
 enum Column { kDate };
 
-constexpr std::size_t kColumns = 15;  // one per Column, the MTG's features in their order
+constexpr std::size_t kColumns = 16;  // one per Column, the MTG's features in their order
 using Values = std::array<std::string, kColumns>;
 
 std::string ddmmyyyy(const SurveyDate& d) {
@@ -112,6 +113,7 @@ std::vector<SurveyEntity> surveyEntities(const PlantSurvey& survey) {
         f.emplace_back("BaseY", l.baseMm->y());
         f.emplace_back("BaseZ", l.baseMm->z());
       }
+      if (!l.areaShape.empty()) f.emplace_back("Shape", mtgAlpha(l.areaShape));
       out.push_back(std::move(leaf));
     }
   }
@@ -128,7 +130,8 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
       << "# L<k> the leaf of node k: XX YY ZZ its tip (PlantFrame draws it from the node to there), BaseX BaseY BaseZ "
          "its base, Azimuth counterclockwise from +X seen from above in [0, 360), Inclination of the base-to-tip chord "
          "from +Z\n"
-      << "# Length of a full leaf along its midrib, of a quick leaf base to tip; Area of full leaves only\n";
+      << "# Length of a full leaf along its midrib, of a quick leaf base to tip; Area of a full leaf its digitized "
+         "blade's, of a quick leaf its drawn shape's (Shape: where that shape came from; no interval)\n";
   const std::vector<SurveyEntity> entities = surveyEntities(survey);
   int columns = 2;  // TOPO's: the deepest line's depth + 1
   bool branched = false;
@@ -142,9 +145,10 @@ std::string encodeSurveyMtg(const PlantSurvey& survey, const SurveyDate& date) {
   // AMAP's reserved features first, in their order (Date, Length, State), then the
   // coordinates and sizes PlantFrame reads, then ours.
   static const std::vector<std::pair<const char*, const char*>> kFeatures{
-      {"Date", "DD/MM/YYYY"},  {"Length", "REAL"}, {"State", "ALPHA"}, {"XX", "REAL"},    {"YY", "REAL"},
-      {"ZZ", "REAL"},          {"TopDia", "REAL"}, {"Width", "REAL"},  {"Area", "REAL"},  {"Azimuth", "REAL"},
-      {"Inclination", "REAL"}, {"Kind", "ALPHA"},  {"BaseX", "REAL"},  {"BaseY", "REAL"}, {"BaseZ", "REAL"}};
+      {"Date", "DD/MM/YYYY"}, {"Length", "REAL"},  {"State", "ALPHA"},      {"XX", "REAL"},
+      {"YY", "REAL"},         {"ZZ", "REAL"},      {"TopDia", "REAL"},      {"Width", "REAL"},
+      {"Area", "REAL"},       {"Azimuth", "REAL"}, {"Inclination", "REAL"}, {"Kind", "ALPHA"},
+      {"BaseX", "REAL"},      {"BaseY", "REAL"},   {"BaseZ", "REAL"},       {"Shape", "ALPHA"}};
   detail::writeMtgHeader(out, kFeatures, branched, columns);
   const std::string day = ddmmyyyy(date);
   for (const SurveyEntity& e : entities) {
@@ -166,18 +170,18 @@ std::string encodeSurveyCsv(const PlantSurvey& survey, const SurveyDate& date) {
   std::ostringstream out;
   out << "entity,class,index,parent,relation,date,x_mm,y_mm,z_mm,top_diameter_mm,length_mm,width_mm,area_mm2,"
          "area_low95_mm2,area_high95_mm2,azimuth_deg,inclination_deg,roll_deg,divergence_deg,state,kind,base_x_mm,"
-         "base_y_mm,base_z_mm\n";
+         "base_y_mm,base_z_mm,area_shape\n";
   const std::string day = toIso(date);
   const auto xyz = [](const Eigen::Vector3d& p) {
     return mtgReal(p.x()) + "," + mtgReal(p.y()) + "," + mtgReal(p.z());
   };
   out << "I0,I,0,,," << day << "," << xyz(Eigen::Vector3d::Zero()) << "," << mtgReal(survey.collarDiameterMm)
-      << ",,,,,,,,,,,,,,\n";
+      << ",,,,,,,,,,,,,,,\n";
   for (const auto& [k, depth] : mtgOrder(survey)) {
     const SurveyedNode& n = survey.nodes[k];
     const std::string entity = "I" + std::to_string(n.index);
     out << entity << ",I," << n.index << ",I" << n.link.parent << "," << n.link.relation << "," << day << ","
-        << xyz(n.pointMm) << "," << mtgReal(n.diameterMm) << "," << mtgReal(n.internodeMm) << ",,,,,,,,,,,,,\n";
+        << xyz(n.pointMm) << "," << mtgReal(n.diameterMm) << "," << mtgReal(n.internodeMm) << ",,,,,,,,,,,,,,\n";
     for (const SurveyedLeaf& l : survey.leaves) {
       if (l.node != n.index) continue;
       out << "L" << n.index << ",L," << n.index << "," << entity << ",+," << day << ","
@@ -194,7 +198,7 @@ std::string encodeSurveyCsv(const PlantSurvey& survey, const SurveyDate& date) {
         out << ",,,,,,,,";
       }
       out << "," << toString(l.state) << "," << toString(l.kind) << ","
-          << (l.tipMm && l.baseMm ? xyz(*l.baseMm) : std::string(",,")) << "\n";
+          << (l.tipMm && l.baseMm ? xyz(*l.baseMm) : std::string(",,")) << "," << csvText(l.areaShape) << "\n";
     }
   }
   return out.str();

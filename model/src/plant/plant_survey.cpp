@@ -145,6 +145,7 @@ std::string plantSurveyToJson(const PlantSurvey& s) {
     j["midrib_length_mm"] = optional(l.midribLengthMm);
     j["area_mm2"] = optional(l.areaMm2);
     j["area_95_mm2"] = l.areaLow95Mm2 && l.areaHigh95Mm2 ? json::array({*l.areaLow95Mm2, *l.areaHigh95Mm2}) : json();
+    j["area_shape"] = l.areaShape.empty() ? json() : json(l.areaShape);
     j["divergence_deg"] = optional(l.divergenceDeg);
     if (l.divergenceDeg) {
       sum += *l.divergenceDeg;

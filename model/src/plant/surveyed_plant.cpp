@@ -1,5 +1,6 @@
 #include "leafdig/model/plant/surveyed_plant.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -7,6 +8,7 @@
 #include "leaf_shaping.hpp"
 #include "leafdig/model/errors.hpp"
 #include "leafdig/model/mesh/mesh.hpp"
+#include "leafdig/model/metrics/blade_area.hpp"
 
 namespace leafdig::model {
 
@@ -152,6 +154,21 @@ Plant surveyedPlant(const PlantSurvey& survey, const std::vector<LibraryLeaf>& l
     plant.leaves.push_back(std::move(leaf));
   }
   return plant;
+}
+
+void addDrawnAreas(PlantSurvey& survey, const std::vector<LibraryLeaf>& library, const LibraryLeaf& fallback) {
+  const bool quick = std::any_of(survey.leaves.begin(), survey.leaves.end(),
+                                 [](const SurveyedLeaf& l) { return l.kind == LeafKind::Quick; });
+  if (!quick) return;
+  const Plant drawn = surveyedPlant(survey, library, fallback);
+  for (const PlacedLeaf& placed : drawn.leaves) {
+    if (placed.shapeDigitized) continue;
+    for (SurveyedLeaf& leaf : survey.leaves)
+      if (leaf.node == placed.rank && leaf.kind == LeafKind::Quick) {
+        leaf.areaMm2 = convergedBladeArea(placed.model.blade, Eigen::Vector3d::UnitZ()).areaMm2;
+        leaf.areaShape = placed.source;
+      }
+  }
 }
 
 }  // namespace leafdig::model

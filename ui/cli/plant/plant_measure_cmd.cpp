@@ -15,6 +15,8 @@
 #include "leafdig/model/io/survey_export.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
 #include "leafdig/model/plant/plant_survey.hpp"
+#include "leafdig/model/plant/surveyed_plant.hpp"
+#include "leafdig/model/synth/synthetic_leaf.hpp"
 #include "plant/plant_cmd.hpp"
 #include "terminal_text.hpp"
 
@@ -55,6 +57,8 @@ std::string fixed(double v, int digits) {
 int runMeasure(const MeasureOptions& o) {
   const m::PlantMarkers markers = m::readPlantMarkersFile(o.input);
   m::PlantSurvey survey = m::surveyPlant(markers);
+  // A quick leaf's area is the sample shape's as the plant's model draws it from this file alone.
+  m::addDrawnAreas(survey, {}, m::LibraryLeaf{m::kSampleShapeSource, m::sampleLeafShape()});
   if (!o.mtg.empty() || !o.csv.empty() || !o.date.empty()) survey.date = surveyDay(o, survey);
   if (!o.mtg.empty()) m::writeFileAtomically(o.mtg, m::encodeSurveyMtg(survey, *survey.date));
   if (!o.csv.empty()) m::writeFileAtomically(o.csv, m::encodeSurveyCsv(survey, *survey.date));

@@ -32,7 +32,8 @@ struct SurveyedLeaf {
   std::optional<Eigen::Vector3d> sideMm;  // quick: the widest point of one margin, in the plant frame
   std::string type;                       // quick: the organ library's type it asks for ("" any)
   std::optional<double> midribLengthMm;   // full: along the midrib
-  std::optional<double> areaMm2;          // full: the blade's area
+  std::optional<double> areaMm2;          // full: the blade's area; quick: its drawn shape's (addDrawnAreas)
+  std::string areaShape;                  // quick: where the drawn shape came from ("" a full leaf)
   std::optional<double> areaLow95Mm2, areaHigh95Mm2;
   std::optional<double> divergenceDeg;  // from the previous leaf with a pose on its axis, counterclockwise
   std::optional<MarkerSet> markers;     // full: the markers in the plant frame

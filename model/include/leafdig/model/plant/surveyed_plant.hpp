@@ -26,4 +26,11 @@ namespace leafdig::model {
 [[nodiscard]] Plant surveyedPlant(const PlantSurvey& survey, const std::vector<LibraryLeaf>& library,
                                   const LibraryLeaf& fallback);
 
+// Each quick leaf's area as surveyedPlant draws it — its shape stretched to its length and
+// width — into its `areaMm2`, with `areaShape` naming where the shape came from ("library:
+// session 12", the fallback's source), so that the survey's areas add up to the plant's leaves
+// (docs/plants.md, "Quick leaves' areas"). No interval: a drawn shape is not a measurement. Full
+// leaves keep their digitized blade's area.
+void addDrawnAreas(PlantSurvey& survey, const std::vector<LibraryLeaf>& library, const LibraryLeaf& fallback);
+
 }  // namespace leafdig::model
