@@ -183,6 +183,10 @@ TEST(HydroShootTable, WhatVineMtgWouldFailOnIsRefusedByLine) {
   EXPECT_NE(refusal("1;1;1;0;0;0;0;0;1;1\n").find("line 2: the first row of plant 1 is on arm 1"), std::string::npos);
   EXPECT_NE(refusal("1;0;1;0;0;0;0;0;1\n").find("line 2: 9 fields where the header has 10"), std::string::npos);
   EXPECT_NE(refusal("1;0;1;0;0;0;x;0;1;1\n").find("line 2: X \"x\" is not a number"), std::string::npos);
+  EXPECT_NE(refusal("1;0;1;0;0;0;0;1e300;1;1\n").find("line 2: Y \"1e300\" is not a number of at most"),
+            std::string::npos);
+  EXPECT_NE(refusal("1;0;1;0;0;1e300;0;0;1;1\n").find("line 2: rang \"1e300\" is not a whole number"),
+            std::string::npos);
   EXPECT_NE(refusal("1;0;1;0;0;0;1;0;1;1\n1;0;1;0;;0;1;0;1;1\n").find("line 3: the rameau column is empty"),
             std::string::npos);
   EXPECT_NE(refusal("1;0;1;0;0;0;0;0;1;1\n1;0;1;0;1;1.5;0;0;1;1\n").find("line 3: rang \"1.5\" is not a whole"),

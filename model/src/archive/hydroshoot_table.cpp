@@ -225,16 +225,20 @@ void checkRow(const std::vector<std::string>& cells, std::size_t width, int line
     if (trimmed(cells[c]).empty())
       throw InputError(source + ", line " + std::to_string(line) + ": the " + std::string(fieldName(c)) +
                        " column is empty; every row names its plant, axes and point");
+  // Numbers within a kilometre (1e5 cm: a plant is far smaller; past it a unit is wrong, and
+  // the import's own bound refuses it in words) and ranks within a million.
   const auto notANumber = [&](std::size_t c, const std::string& cell) {
     throw InputError(source + ", line " + std::to_string(line) + ": " + std::string(fieldName(c)) + " \"" + cell +
-                     "\" is not a number (decimals with a point, in cm)");
+                     "\" is not a number of at most 100000 (decimals with a point, in cm)");
   };
   for (std::size_t c = 6; c < width; ++c) {
     const std::string cell = trimmed(cells[c]);
     if (c == 9 && cell.empty()) continue;  // no diameter
-    if (!realOf(cell)) notANumber(c, cell);
+    const auto v = realOf(cell);
+    if (!v || std::abs(*v) > 1e5) notANumber(c, cell);
   }
-  if (!realOf(trimmed(cells[5])) || std::floor(*realOf(trimmed(cells[5]))) != *realOf(trimmed(cells[5])))
+  const auto rank = realOf(trimmed(cells[5]));
+  if (!rank || std::floor(*rank) != *rank || std::abs(*rank) > 1e6)
     throw InputError(source + ", line " + std::to_string(line) + ": rang \"" + trimmed(cells[5]) +
                      "\" is not a whole number (0 a spur's internode, 1, 2… a shoot's)");
 }
