@@ -148,7 +148,7 @@ void requireVerified(const db::EventStore& store, std::int64_t id, const std::st
 PlantModel capturedPlant(const db::EventStore& store, std::int64_t id, const Eigen::Vector3d& light) {
   const acq::CapturedSurvey survey = acq::capturedSurvey(store, id);
   PlantModel p;
-  p.plant = acq::capturedModel(store, survey.survey).plant;
+  p.plant = acq::capturedModel(survey).plant;
   acq::SurveyTexts texts = acq::surveyTexts(store, id, survey);
   p.surveyMtgCsv.emplace(std::move(texts.mtg), std::move(texts.csv));
   p.mesh = m::meshPlant(p.plant, m::MeshResolution::preset("export"));

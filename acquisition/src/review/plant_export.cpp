@@ -119,11 +119,10 @@ CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id) {
                         "): go on with `leafdig plant capture --resume " + std::to_string(id) + "`");
   }
   // A quick leaf's area is its drawn shape's, from the organ library as the model draws it.
-  const bool quick = std::any_of(out.survey.leaves.begin(), out.survey.leaves.end(),
-                                 [](const m::SurveyedLeaf& l) { return l.kind == m::LeafKind::Quick; });
-  if (quick)
-    m::addDrawnAreas(out.survey, organLibrary(store).leaves,
-                     m::LibraryLeaf{m::kSampleShapeSource, m::sampleLeafShape()});
+  if (m::hasQuickLeaf(out.survey)) {
+    out.library = organLibrary(store).leaves;
+    m::addDrawnAreas(out.survey, out.library, m::LibraryLeaf{m::kSampleShapeSource, m::sampleLeafShape()});
+  }
   // A full leaf taken across a move of the transmitter: its points before and after stand in
   // frames related by a fit with a residual, which the interval's draws add to the noise.
   // A checked field's correction adds its error on divots it did not see to every full leaf's.
@@ -217,13 +216,10 @@ json capturedSurveyJson(const CapturedSurvey& captured) {
   return doc;
 }
 
-CapturedModel capturedModel(const db::EventStore& store, const m::PlantSurvey& survey) {
-  const bool quick = std::any_of(survey.leaves.begin(), survey.leaves.end(),
-                                 [](const m::SurveyedLeaf& l) { return l.kind == m::LeafKind::Quick; });
-  std::vector<m::LibraryLeaf> library;
-  if (quick) library = organLibrary(store).leaves;
+CapturedModel capturedModel(const CapturedSurvey& captured) {
   CapturedModel out;
-  out.plant = m::surveyedPlant(survey, library, m::LibraryLeaf{m::kSampleShapeSource, m::sampleLeafShape()});
+  out.plant =
+      m::surveyedPlant(captured.survey, captured.library, m::LibraryLeaf{m::kSampleShapeSource, m::sampleLeafShape()});
   for (const m::PlacedLeaf& l : out.plant.leaves)
     if (!l.shapeDigitized) out.notes.push_back("leaf " + std::to_string(l.rank) + " (quick): shape from " + l.source);
   return out;
@@ -277,7 +273,7 @@ PlantExport exportPlantSession(db::EventStore& store, std::int64_t id, const std
   for (const auto& [f, extension] : modelFormats())
     if (wants(chosen, f)) meshPaths.emplace_back(base + extension);
   if (!meshPaths.empty() || wants(chosen, "plan")) {
-    CapturedModel made = capturedModel(store, out.survey);
+    CapturedModel made = capturedModel(captured);
     const m::Plant& model = made.plant;
     out.notes.insert(out.notes.end(), made.notes.begin(), made.notes.end());
     if (!meshPaths.empty()) {

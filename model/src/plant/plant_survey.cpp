@@ -1,5 +1,6 @@
 #include "leafdig/model/plant/plant_survey.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -30,6 +31,11 @@ std::string at(int node) {
 }
 
 }  // namespace
+
+bool hasQuickLeaf(const PlantSurvey& survey) {
+  return std::any_of(survey.leaves.begin(), survey.leaves.end(),
+                     [](const SurveyedLeaf& l) { return l.kind == LeafKind::Quick; });
+}
 
 PlantSurvey surveyPlant(const PlantMarkers& p) {
   // The plant frame's axis runs from the collar to the first node: no node, no plant yet.

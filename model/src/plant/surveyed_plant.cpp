@@ -1,6 +1,5 @@
 #include "leafdig/model/plant/surveyed_plant.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -157,9 +156,7 @@ Plant surveyedPlant(const PlantSurvey& survey, const std::vector<LibraryLeaf>& l
 }
 
 void addDrawnAreas(PlantSurvey& survey, const std::vector<LibraryLeaf>& library, const LibraryLeaf& fallback) {
-  const bool quick = std::any_of(survey.leaves.begin(), survey.leaves.end(),
-                                 [](const SurveyedLeaf& l) { return l.kind == LeafKind::Quick; });
-  if (!quick) return;
+  if (!hasQuickLeaf(survey)) return;
   const Plant drawn = surveyedPlant(survey, library, fallback);
   for (const PlacedLeaf& placed : drawn.leaves) {
     if (placed.shapeDigitized) continue;

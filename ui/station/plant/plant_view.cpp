@@ -290,7 +290,7 @@ QString PlantView::openCapturedPlant(std::int64_t session) {
   try {
     const auto store = db::openEventStore(db_, true);
     const acquisition::CapturedSurvey captured = acquisition::capturedSurvey(*store, session);
-    acquisition::CapturedModel made = acquisition::capturedModel(*store, captured.survey);
+    acquisition::CapturedModel made = acquisition::capturedModel(captured);
     plan_.reset();
     library_.clear();
     plant_ = std::move(made.plant);

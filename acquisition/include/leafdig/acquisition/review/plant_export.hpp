@@ -61,6 +61,9 @@ struct CapturedSurvey {
   // RMS the fit of the transmitter position the node was taken from (0 for the first), H the
   // checked field's correction's error on divots it did not see (0 without a field check).
   std::map<int, double> nodeToleranceMm;
+  // The organ library's leaves, read once when the plant has a quick leaf (empty otherwise): the
+  // shapes its quick leaves are drawn with, for their areas here and capturedModel's drawing.
+  std::vector<model::LibraryLeaf> library;
   std::optional<double> fieldHoldoutRmsMm;  // H, when the session went through a checked field
 };
 [[nodiscard]] CapturedSurvey capturedSurvey(const db::EventStore& store, std::int64_t id);
@@ -73,12 +76,12 @@ inline constexpr double kNodeTolerance95 = 2.7955;
 [[nodiscard]] nlohmann::json capturedSurveyJson(const CapturedSurvey& captured);
 
 // The surveyed plant as a model (model/plant/surveyed_plant.hpp), its quick leaves shaped from
-// the organ library of `store` (read only when the plant has a quick leaf).
+// the organ library capturedSurvey read (its `library`).
 struct CapturedModel {
   model::Plant plant;
   std::vector<std::string> notes;  // where each quick leaf's shape came from
 };
-[[nodiscard]] CapturedModel capturedModel(const db::EventStore& store, const model::PlantSurvey& survey);
+[[nodiscard]] CapturedModel capturedModel(const CapturedSurvey& captured);
 
 // The survey's MTG and CSV of a plant session, as `sessions export` writes them (its provenance
 // in their header comments): what a captured plant's `mtg()` and `csv()` give in Python, so a

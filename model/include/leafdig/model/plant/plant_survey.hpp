@@ -52,6 +52,8 @@ struct PlantSurvey {
 // and leaf measured in it. Throws InputError for a frame that cannot be made or a leaf whose
 // points do not make one (with the node's number).
 [[nodiscard]] PlantSurvey surveyPlant(const PlantMarkers& plant);
+// Whether a leaf of the survey is a quick one (drawn from a library shape, not digitized).
+[[nodiscard]] bool hasQuickLeaf(const PlantSurvey& survey);
 
 // The survey as JSON: {"plant", "frame": {"flatness_mm", "from_digitizer": 4×4 row-major},
 // "collar_diameter_mm", "nodes": [...], "leaves": [...], "divergence": {"count", "mean_deg"}},
