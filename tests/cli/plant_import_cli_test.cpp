@@ -211,6 +211,16 @@ TEST_F(PlantImportCli, TheHydroShootGrapevineImportsInCentimetresAndOpensInEvery
   // The CSV names each point's row in the table: the trunk's first internode on line 2.
   EXPECT_NE(slurp(dir_ / "vine.csv").find("\n1,1,0,point,inT1,2,-25.400,6.800,24.500,70.000\n"), std::string::npos);
 
+  // A plant named with a terminal's control sequence in the table is printed as text.
+  const fs::path hostile = dir_ / "hostile.input";
+  std::ofstream(hostile) << "Souche;tronc;element;sarment;rameau;rang;X;Y;Z;Diam\n"
+                         << "\x1b[31mowned\x07;0;1;0;0;0;0;0;10;3\n\x1b[31mowned\x07;0;2;0;0;0;0;0;20;3\n";
+  const Result named = leafdig("plant import " + quote(hostile));
+  ASSERT_EQ(named.exitCode, 0) << named.err;
+  EXPECT_EQ(named.out.find('\x1b'), std::string::npos) << named.out;
+  EXPECT_EQ(named.out.find('\x07'), std::string::npos) << named.out;
+  EXPECT_NE(named.out.find("owned"), std::string::npos) << named.out;
+
   // A table written in millimetres says so.
   const Result mm = leafdig("plant import " + quote(table) + " --units mm --json");
   ASSERT_EQ(mm.exitCode, 0) << mm.err;

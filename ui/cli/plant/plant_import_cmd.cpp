@@ -18,6 +18,7 @@
 #include "leafdig/version.hpp"
 #include "model/mesh_choice.hpp"
 #include "plant/plant_cmd.hpp"
+#include "terminal_text.hpp"
 
 namespace leafdig::cli {
 
@@ -97,8 +98,9 @@ int runImport(const ImportOptions& o) {
     return 0;
   }
   const Eigen::Vector3d size = imported.high - imported.low;
-  std::cout << "plant " << imported.plantLabel << " of " << o.input << ": " << imported.plantVertices << " entities, "
-            << imported.points << " digitized points on " << imported.axes.size() << " axes (";
+  std::cout << "plant " << terminalText(imported.plantLabel) << " of " << terminalText(o.input) << ": "
+            << imported.plantVertices << " entities, " << imported.points << " digitized points on "
+            << imported.axes.size() << " axes (";
   bool first = true;
   for (const auto& [order, count] : orders) {
     std::cout << (first ? "" : ", ") << count << " of order " << order;
