@@ -88,4 +88,25 @@ struct FieldMapInput {
 };
 [[nodiscard]] std::string fieldErrorMapSvg(const FieldMapInput& in);
 
+// The same figure as shapes in pixels, for a front end that paints it (the station's Field tab):
+// what fieldErrorMapSvg writes, one layout for both.
+struct FieldMapArrow {
+  double x = 0, y = 0, tipX = 0, tipY = 0;  // from where the jig puts the divot to the exaggerated report
+  std::string colour;                       // "#1a9850" within half the tolerance, "#f39c12" within it, "#d73027"
+  std::string label;                        // the divot's id, or "" where ids would stand on each other
+};
+struct FieldMapPanel {
+  double x0 = 0, y0 = 0, size = 0;
+  std::string title;
+  std::vector<FieldMapArrow> arrows;
+};
+struct FieldMapLayout {
+  double width = 0, height = 0;
+  std::string title, summary;  // the summary: RMS, the largest, tolerance, verdict, the arrows' factor
+  std::vector<FieldMapPanel> panels;
+  std::vector<std::pair<std::string, std::string>> legend;  // colour, words
+  double legendY = 0, scaleBarPx = 0;                       // the scale bar is 100 mm of positions
+};
+[[nodiscard]] FieldMapLayout fieldErrorMapLayout(const FieldMapInput& in);
+
 }  // namespace leafdig::model
