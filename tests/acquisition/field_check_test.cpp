@@ -279,3 +279,102 @@ TEST(FieldApplied, ACaptureThroughACheckedFieldRefusesAMoveOfTheTransmitterInWor
   EXPECT_EQ(store.events(plantId).back().kind, "rejected");
   fs::remove_all(dir);
 }
+
+// Sentinel divots (issue 50): a few of the check's divots, spread over the jig, taken again before
+// a capture; each compared with where the check found it; kept with the check in a session's
+// settings and read back only when their numbers are their own and they held.
+TEST(FieldSentinels, DivotsSpreadOverTheJigAreComparedWithTheCheckAndKeptOnlyWhenTheyHeld) {
+  const m::Jig j = jig();
+  // The cube's eight corners: four spread ones are never four of one face.
+  const m::Jig four = acq::sentinelJig(j, 4);
+  ASSERT_EQ(four.points.size(), 4U);
+  double zs = 0, xs = 0, ys = 0;
+  for (const auto& p : four.points) {
+    zs += p.pointMm.z();
+    xs += p.pointMm.x();
+    ys += p.pointMm.y();
+  }
+  EXPECT_EQ(zs, 200.0) << "two on each level";
+  EXPECT_EQ(xs, 600.0);
+  EXPECT_EQ(ys, 400.0);
+  for (std::size_t i = 1; i < four.points.size(); ++i)
+    EXPECT_LT(std::stoi(four.points[i - 1].id.substr(1)), std::stoi(four.points[i].id.substr(1))) << "the jig's order";
+  EXPECT_EQ(acq::sentinelJig(j, 4).points[0].id, four.points[0].id) << "the same choice every time";
+  EXPECT_THROW((void)acq::sentinelJig(j, 2), std::invalid_argument);
+  EXPECT_THROW((void)acq::sentinelJig(j, 6), std::invalid_argument);
+  m::Jig small{"three", {j.points[0], j.points[3], j.points[5]}};
+  EXPECT_EQ(acq::sentinelJig(small, 5).points.size(), 3U) << "at most the jig's divots";
+
+  acq::FieldCalibration check;
+  check.id = 7;
+  check.jig = j;
+  check.result.toleranceMm = 1.5;
+  for (const auto& p : j.points) check.presses.push_back({{p.pointMm.x(), p.pointMm.y(), p.pointMm.z()}, "01", 0});
+  // Taken again: the first three where they were (within noise), the last 2.5 mm higher.
+  std::vector<acq::JigPress> again;
+  for (std::size_t i = 0; i < four.points.size(); ++i) {
+    const Eigen::Vector3d at = four.points[i].pointMm + Eigen::Vector3d(0.05, 0, i == 3 ? 2.5 : 0.0);
+    again.push_back({{at.x(), at.y(), at.z()}, "01", 0});
+  }
+  const acq::FieldSentinels moved = acq::compareSentinels(check, four, again, "2026-11-30T06:00:00.000Z");
+  EXPECT_NEAR(moved.divots[0].movedMm, 0.05, 1e-12);
+  EXPECT_NEAR(moved.worst().movedMm, std::hypot(0.05, 2.5), 1e-12);
+  EXPECT_EQ(moved.worst().id, four.points[3].id);
+  EXPECT_TRUE(moved.moved());
+  EXPECT_NE(moved.words().find("beyond its 1.50 mm: the field moved since the check"), std::string::npos)
+      << moved.words();
+  EXPECT_NE(moved.words().find("leafdig field check"), std::string::npos);
+  again[3].positionMm[2] -= 2.5;
+  const acq::FieldSentinels held = acq::compareSentinels(check, four, again, "2026-11-30T06:00:00.000Z");
+  EXPECT_FALSE(held.moved());
+  EXPECT_EQ(held.words(), "4 sentinel divots of field check 7 taken again: the largest move 0.05 mm (" +
+                              held.worst().id + "), within its 1.50 mm");
+  m::Jig stranger = four;
+  stranger.points[0].id = "Z9";
+  EXPECT_THROW((void)acq::compareSentinels(check, stranger, again, "t"), std::invalid_argument);
+
+  // Kept with the check a session applies, and read back the same.
+  std::optional<acq::FieldApplied> applied = acq::FieldApplied{};
+  applied->id = 7;
+  applied->hash = "h";
+  applied->createdUtc = "2026-11-30T05:00:00.000Z";
+  applied->verdict = "pass";
+  EXPECT_THROW(acq::attachSentinels(applied, moved), std::invalid_argument) << "moved: no session";
+  std::optional<acq::FieldApplied> none;
+  EXPECT_THROW(acq::attachSentinels(none, held), std::invalid_argument) << "sentinels of no check applied";
+  acq::attachSentinels(applied, held);
+  nlohmann::json settings = {{"field_calibration", acq::fieldAppliedJson(*applied)}};
+  EXPECT_EQ(settings["field_calibration"]["sentinels"]["verdict"], "held");
+  const auto back = acq::fieldAppliedFromSettings(settings.dump(), "session 3");
+  ASSERT_TRUE(back && back->sentinels);
+  EXPECT_EQ(back->sentinels->words(), held.words());
+  EXPECT_EQ(acq::sentinelsJson(*back->sentinels), acq::sentinelsJson(held));
+  // Edited with sqlite3: a smaller move than the divots', a verdict of its own, a moved set, a key
+  // leafdig does not read — each refused by name.
+  const auto refused = [&](nlohmann::json edited, const std::string& words) {
+    try {
+      (void)acq::fieldAppliedFromSettings(edited.dump(), "session 3");
+      ADD_FAILURE() << "taken: " << edited.dump();
+    } catch (const m::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  nlohmann::json edited = settings;
+  edited["field_calibration"]["sentinels"]["max_mm"] = 0.01;
+  refused(edited, "session 3: field_calibration.sentinels: max_mm and worst_point are not the divots' own");
+  edited = settings;
+  edited["field_calibration"]["sentinels"]["verdict"] = "moved";
+  refused(edited, "the verdict is not the divots' own");
+  edited = settings;
+  edited["field_calibration"]["sentinels"]["divots"][1]["moved_mm"] = 9.0;
+  edited["field_calibration"]["sentinels"]["max_mm"] = 9.0;
+  edited["field_calibration"]["sentinels"]["worst_point"] = held.divots[1].id;
+  edited["field_calibration"]["sentinels"]["verdict"] = "moved";
+  refused(edited, "a session does not begin through a moved field");
+  edited = settings;
+  edited["field_calibration"]["sentinels"]["note"] = "x";
+  refused(edited, "has a key leafdig does not read: note");
+  edited = settings;
+  edited["field_calibration"]["sentinels"]["divots"][0]["position_mm"][2] = 1e300;
+  refused(edited, "divots[0].position_mm is not three numbers");
+}

@@ -394,3 +394,51 @@ TEST_F(FieldCli, TheFieldStudyShowsTheCorrectionBringingLeavesBackToTheCleanFiel
   EXPECT_EQ(tooMany.exitCode, 2);
   EXPECT_NE(tooMany.err.find("a jig count of 40 divots: the jig has 22"), std::string::npos) << tooMany.err;
 }
+
+// Sentinel divots (issue 50): before the first leaf, a few of the check's divots taken again where
+// the jig lay for the check. In the field the check found they hold, and the session keeps them
+// with its check; with the metal moved nearer (the plate 150 mm below instead of 250) they do not,
+// and the capture stops in words before a session is made.
+TEST_F(FieldCli, SentinelDivotsConfirmTheCheckBeforeACaptureAndStopItWhenTheFieldMoved) {
+  ASSERT_EQ(leafdig("field check --simulate --speed 10 --json --distortion " + bench() + db() + " </dev/null").exitCode,
+            0);
+  const std::string run = " --simulate --speed 12 --seed 4 --no-mistakes --json" + db();
+  Result r =
+      leafdig("capture" + run + " --field-calibration latest --sentinels 4 --distortion " + bench() + " </dev/null");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  // Prompted as the check's divots are, then the capture's own prompts.
+  EXPECT_NE(r.out.find(" (1 of 4) and press"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" (4 of 4) and press"), std::string::npos);
+  EXPECT_LT(r.out.find(R"("event":"sentinels")"), r.out.find(R"("event":"session")")) << "before the session";
+  const json shown = json::parse(leafdig("sessions show 1 --json" + db()).out);
+  const json& sentinels = shown["field_calibration"]["sentinels"];
+  EXPECT_EQ(shown["field_calibration"]["id"], 1);
+  EXPECT_EQ(sentinels["verdict"], "held");
+  ASSERT_EQ(sentinels["divots"].size(), 4U);
+  EXPECT_LT(sentinels["max_mm"].get<double>(), 0.5) << "the same field, the same places";
+  const std::string text = leafdig("sessions show 1" + db()).out;
+  EXPECT_NE(text.find("sentinels: 4 sentinel divots of field check 1 taken again: the largest move "),
+            std::string::npos)
+      << text;
+  // The metal moved: the plate 150 mm below. A plant capture through check 1 stops before it begins.
+  ASSERT_EQ(leafdig("field model steel-bench --below-mm 150 -o " + quote(dir_ / "moved.field.json")).exitCode, 0);
+  r = leafdig("plant capture --simulate --speed 12 --seed 3 --json --field-calibration 1 --sentinels 3 --distortion " +
+              quote(dir_ / "moved.field.json") + db() + " </dev/null");
+  EXPECT_EQ(r.exitCode, 3) << r.err;
+  EXPECT_NE(r.err.find("beyond its 1.50 mm: the field moved since the check"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no session was made"), std::string::npos) << r.err;
+  EXPECT_EQ(json::parse(leafdig("sessions list --json" + db()).out).size(), 1U) << "nothing was made";
+  // What is wrong is said before anything runs: sentinels of no check, a count the rule does not
+  // take, sentinels on a resumed session; a station setting of sentinels without a check is moot.
+  r = leafdig("capture" + run + " --sentinels 4 </dev/null");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--sentinels takes a field check's divots again: they go with --field-calibration"),
+            std::string::npos)
+      << r.err;
+  r = leafdig("plant capture --simulate --field-calibration 1 --sentinels 2" + db() + " </dev/null");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--sentinels 2: take 3 to 5"), std::string::npos) << r.err;
+  r = leafdig("sessions resume 1 --sentinels 3" + db());
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_EQ(json::parse(leafdig("sessions list --json" + db()).out).size(), 1U);
+}

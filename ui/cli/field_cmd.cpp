@@ -14,6 +14,7 @@
 #include "capture/capture_console.hpp"
 #include "capture/stdin_commands.hpp"
 #include "commands.hpp"
+#include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/field/field_study.hpp"
 #include "leafdig/acquisition/run/field_check_run.hpp"
 #include "leafdig/acquisition/run/tip_calibration_run.hpp"
@@ -163,6 +164,45 @@ int verdictCode(const acq::FieldCalibration& c) {
   return c.result.verdict == "fail" ? 3 : 0;
 }
 
+// Drives a run of divots on the terminal — the prompts, each decision, a troubled digitizer, `u`
+// and `q` typed, Ctrl-C — and gives back what `go` returned (nothing when stopped).
+template <class Result>
+std::optional<Result> driveDivots(acq::FieldCheckRequest request, bool asJson, const std::string& title,
+                                  const std::function<std::optional<Result>(acq::FieldCheckRun&)>& go) {
+  const std::size_t jigSize = request.jig.points.size();
+  acq::FieldCheckListener listener;
+  listener.onPrompt = promptPrinter(asJson);
+  std::atomic<bool> finished{false};  // the digitizer stopping after the last divot is no news
+  listener.onDecision = [&](const acq::JigCapture::Decision& d) {
+    using K = acq::JigCapture::Decision::Kind;
+    const char* kind = d.kind == K::Accepted ? "accepted" : d.kind == K::Undone ? "undone" : "rejected";
+    if (asJson)
+      std::cout << json{{"event", kind}, {"text", d.words}}.dump() << "\n" << std::flush;
+    else
+      std::cout << "    " << kind << ": " << terminalText(d.words) << "\n" << std::flush;
+    if (d.kind == K::Accepted && d.index + 1 == jigSize) finished = true;
+  };
+  listener.onStatus = [&](const dev::DeviceStatus& s) {
+    if (finished || s.state == dev::LinkState::Streaming || s.state == dev::LinkState::Connecting) return;
+    std::cerr << "leafdig: " << s.device << ": " << terminalText(s.message)
+              << (s.remedy.empty() ? "" : " — " + terminalText(s.remedy)) << "\n";
+  };
+  acq::FieldCheckRun run(std::move(request), listener);
+  if (!asJson)
+    std::cout << title << " · " << terminalText(run.store().path()) << "\n  keys (then Enter): u undo · q quit\n";
+  StdinCommands input([&](const std::string& line) {
+    if (line == "u" || line == "undo")
+      run.undo();
+    else if (line == "q" || line == "quit")
+      run.stop();
+    else
+      std::cerr << "leafdig: '" << terminalText(line) << "'? type u (undo the last divot) or q (quit)\n";
+  });
+  std::optional<Result> result = runStoppable([&] { run.stop(); }, [&] { return go(run); });
+  input.stop();
+  return result;
+}
+
 void printCheck(const acq::FieldCalibration& c, const FieldOptions& o) {
   if (o.json)
     std::cout << acq::fieldCheckSummaryJson(c) << "\n";
@@ -197,41 +237,8 @@ int runFieldCheck(const FieldOptions& o) {
     request.simulation.stylusTipMm = simTipOf(o.simTip);
     request.jigPose = poseOption(o.jigPose, "--jig-pose");
   }
-  const std::size_t jigSize = request.jig.points.size();
-  acq::FieldCheckListener listener;
-  listener.onPrompt = promptPrinter(o.json);
-  listener.onDecision = [&](const acq::JigCapture::Decision& d) {
-    using K = acq::JigCapture::Decision::Kind;
-    const char* kind = d.kind == K::Accepted ? "accepted" : d.kind == K::Undone ? "undone" : "rejected";
-    if (o.json)
-      std::cout << json{{"event", kind}, {"text", d.words}}.dump() << "\n" << std::flush;
-    else
-      std::cout << "    " << kind << ": " << terminalText(d.words) << "\n" << std::flush;
-  };
-  std::atomic<bool> finished{false};  // the digitizer stopping after the last divot is no news
-  listener.onStatus = [&](const dev::DeviceStatus& s) {
-    if (finished || s.state == dev::LinkState::Streaming || s.state == dev::LinkState::Connecting) return;
-    std::cerr << "leafdig: " << s.device << ": " << terminalText(s.message)
-              << (s.remedy.empty() ? "" : " — " + terminalText(s.remedy)) << "\n";
-  };
-  listener.onDecision = [&, told = listener.onDecision](const acq::JigCapture::Decision& d) {
-    told(d);
-    if (d.kind == acq::JigCapture::Decision::Kind::Accepted && d.index + 1 == jigSize) finished = true;
-  };
-  acq::FieldCheckRun run(std::move(request), listener);
-  if (!o.json)
-    std::cout << "leafdig field check · " << terminalText(run.store().path())
-              << "\n  keys (then Enter): u undo · q quit\n";
-  StdinCommands input([&](const std::string& line) {
-    if (line == "u" || line == "undo")
-      run.undo();
-    else if (line == "q" || line == "quit")
-      run.stop();
-    else
-      std::cerr << "leafdig: '" << terminalText(line) << "'? type u (undo the last divot) or q (quit)\n";
-  });
-  const std::optional<acq::FieldCalibration> result = runStoppable([&] { run.stop(); }, [&] { return run.run(); });
-  input.stop();
+  const std::optional<acq::FieldCalibration> result = driveDivots<acq::FieldCalibration>(
+      std::move(request), o.json, "leafdig field check", [](acq::FieldCheckRun& run) { return run.run(); });
   if (!result) {
     std::cerr << "leafdig: the field check was stopped before every divot was taken: nothing was stored\n";
     return interrupted() ? 130 : 1;
@@ -345,7 +352,7 @@ int runFieldTips(const FieldOptions& o) {
 
 // `field study`: the sample leaves and plant through a bent field, clean, uncorrected and
 // corrected, against their truth (field_study.hpp); the report is docs/field-study.md.
-int runFieldStudy(const FieldOptions& o) {
+acq::FieldStudyInput studyInput(const FieldOptions& o) {
   acq::FieldStudyInput in;
   if (o.distortion.empty()) {
     in.field = dev::sim::steelBench();
@@ -368,7 +375,11 @@ int runFieldStudy(const FieldOptions& o) {
   in.repeats = o.repeats;
   in.seed = o.seed;
   in.jigCounts = o.counts;
-  const acq::FieldStudyResult r = acq::runFieldStudy(in);
+  return in;
+}
+
+int runFieldStudy(const FieldOptions& o) {
+  const acq::FieldStudyResult r = acq::runFieldStudy(studyInput(o));
   std::string command = "leafdig field study";
   if (!o.distortion.empty()) command += " --distortion " + std::filesystem::path(o.distortion).filename().string();
   if (o.noiseMm != 0.25) {
@@ -485,6 +496,74 @@ void addFieldCommands(CLI::App& app, CommandTable& table) {
       check, [o] { return runFieldCheck(*o); }, "cannot check the field: ");
   table.add(list, [o] { return runFieldList(*o); });
   table.add(show, [o] { return runFieldShow(*o); });
+}
+
+SentinelOutcome takeSentinels(const SentinelAsk& a) {
+  SentinelOutcome out;
+  out.fieldCalibration = a.fieldCalibration;
+  const bool throughCheck = !a.fieldCalibration.empty() && a.fieldCalibration != "none";
+  const int count = a.count || throughCheck ? sentinelCount(a.count) : 0;
+  if (count == 0) return out;
+  const std::string db = stationDbPath(a.db);
+  std::optional<acq::FieldApplied> applied;
+  {
+    const db::Store store(db, true);
+    applied = acq::resolveFieldCalibration(store, a.fieldCalibration);
+    if (!applied)
+      throw model::InputError(
+          "--sentinels takes a field check's divots again: they go with --field-calibration ID|latest");
+    for (auto& c : acq::fieldCalibrations(store))
+      if (c.id == applied->id) {
+        acq::FieldCheckRequest request;
+        request.db = db;
+        request.station = a.station;
+        request.who = a.who;
+        request.jig = acq::sentinelJig(c.jig, count);
+        request.toleranceMm = c.result.toleranceMm;
+        request.digitizer = a.digitizer;
+        request.simulated = a.simulate;
+        if (a.simulate) {
+          request.simulation.speed = a.speed;
+          request.simulation.seed = a.seed;
+          request.simulation.mistakes = false;
+          request.simulation.distortion = distortionOf(a.distortion);
+          request.simulation.stylusTipMm = simTipOf(a.simTip);
+          request.jigPose = poseOption(a.jigPose, "--jig-pose");
+        }
+        out.fieldCalibration = std::to_string(c.id);
+        out.sentinels = driveDivots<acq::FieldSentinels>(
+            std::move(request), a.json, "leafdig: sentinel divots of field check " + std::to_string(c.id),
+            [&c](acq::FieldCheckRun& run) { return run.runSentinels(c); });
+        break;
+      }
+  }
+  if (!out.sentinels) {
+    std::cerr << "leafdig: the sentinel divots were stopped before every one was taken: no session was made\n";
+    out.exitCode = interrupted() ? 130 : 1;
+    return out;
+  }
+  if (a.json)
+    std::cout << json{{"event", "sentinels"},
+                      {"text", out.sentinels->words()},
+                      {"sentinels", acq::sentinelsJson(*out.sentinels)}}
+                     .dump()
+              << "\n"
+              << std::flush;
+  else
+    std::cout << "  " << terminalText(out.sentinels->words()) << "\n" << std::flush;
+  if (out.sentinels->moved()) {
+    std::cerr << "leafdig: " << terminalText(out.sentinels->words()) << "; no session was made\n";
+    out.exitCode = 3;
+  }
+  return out;
+}
+
+std::string fieldAccuracySection() {
+  FieldOptions o;  // the study's defaults: the steel bench, the sample jig where the leaves lie
+  acq::FieldStudyInput in = studyInput(o);
+  in.plant.reset();  // the leaves alone
+  in.jigCounts = {static_cast<int>(in.jig.points.size())};
+  return acq::fieldStudyAccuracySection(acq::runFieldStudy(in), "leafdig field study");
 }
 
 }  // namespace leafdig::cli

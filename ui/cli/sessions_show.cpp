@@ -29,6 +29,12 @@ namespace acq = leafdig::acquisition;
 namespace m = leafdig::model;
 using nlohmann::json;
 
+// A session's field check, and the sentinel divots that confirmed it when they were taken.
+void printField(const acq::FieldApplied& field) {
+  std::cout << "  field: " << terminalText(field.words()) << "\n";
+  if (field.sentinels) std::cout << "  sentinels: " << terminalText(field.sentinels->words()) << "\n";
+}
+
 // `sessions show`'s lines for a moved transmitter: each position after the first with its
 // points and its fit (`worst` names the landmark — a plant's, or a leaf's board point).
 void printTransmitterPositions(const json& positions, const char* landmark, const char* worst) {
@@ -215,7 +221,7 @@ int showPlant(const db::EventStore& store, const SessionsOptions& o, const db::S
             << "  step: " << engine.prompt() << "\n  " << engine.nodes() << " nodes, " << points.size() << " points, "
             << readings.size() << " readings, " << corrections.size() << " corrections, " << chain.events
             << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem)) << "\n";
-  if (setup.field) std::cout << "  field: " << terminalText(setup.field->words()) << "\n";
+  if (setup.field) printField(*setup.field);
   if (setup.tip) std::cout << "  stylus tip: " << terminalText(setup.tip->words()) << "\n";
   printTransmitterPositions(transmitter, "landmark", "worst_landmark");
   if (captured) {
@@ -307,7 +313,7 @@ int show(const db::EventStore& store, const SessionsOptions& o, json* sink) {
             << (tip.is_null() ? ", no tip" : " + tip") << ", " << thickness.size() << " thickness readings, "
             << chain.events << " events, chain " << (chain.ok ? "OK" : "BROKEN: " + terminalText(chain.problem))
             << "\n";
-  if (const auto field = acq::sessionField(r.info)) std::cout << "  field: " << terminalText(field->words()) << "\n";
+  if (const auto field = acq::sessionField(r.info)) printField(*field);
   if (const auto tip = acq::sessionTip(r.info)) std::cout << "  stylus tip: " << terminalText(tip->words()) << "\n";
   printTransmitterPositions(transmitter, "board point", "worst_point");
   printHistory(history);

@@ -70,14 +70,27 @@ std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, cons
   return f;
 }
 
+void attachSentinels(std::optional<FieldApplied>& applied, const std::optional<FieldSentinels>& sentinels) {
+  if (!sentinels) return;
+  if (!applied || applied->id != sentinels->checkId)
+    throw std::invalid_argument("the sentinel divots confirm field check " + std::to_string(sentinels->checkId) +
+                                ", and this capture applies " +
+                                (applied ? "field check " + std::to_string(applied->id) : std::string("none")) +
+                                ": take them again through the check the capture applies");
+  if (sentinels->moved()) throw std::invalid_argument(sentinels->words());
+  applied->sentinels = sentinels;
+}
+
 json fieldAppliedJson(const FieldApplied& f) {
-  return {{"id", f.id},
-          {"hash", f.hash},
-          {"created_utc", f.createdUtc},
-          {"verdict", f.verdict},
-          {"holdout_rms_mm", f.holdoutRmsMm},
-          {"holdout_max_mm", f.holdoutMaxMm},
-          {"correction", json::parse(model::encodeCorrection(f.correction))}};
+  json j = {{"id", f.id},
+            {"hash", f.hash},
+            {"created_utc", f.createdUtc},
+            {"verdict", f.verdict},
+            {"holdout_rms_mm", f.holdoutRmsMm},
+            {"holdout_max_mm", f.holdoutMaxMm},
+            {"correction", json::parse(model::encodeCorrection(f.correction))}};
+  if (f.sentinels) j["sentinels"] = sentinelsJson(*f.sentinels);
+  return j;
 }
 
 std::optional<FieldApplied> fieldAppliedFromSettings(const std::string& settingsJson, const std::string& source) {
@@ -93,6 +106,11 @@ std::optional<FieldApplied> fieldAppliedFromSettings(const std::string& settings
   f.holdoutMaxMm = e.millimetres("holdout_max_mm", 100);
   if (!e.doc().contains("correction")) e.fail("the correction is missing");
   f.correction = model::parseCorrection(e.doc()["correction"].dump(), e.where() + ".correction");
+  if (e.doc().contains("sentinels")) {
+    f.sentinels = sentinelsFromJson(e.doc()["sentinels"], f.id, e.where() + ".sentinels");
+    // A session begins only when its sentinels held.
+    if (f.sentinels->moved()) e.fail("sentinels: they moved, and a session does not begin through a moved field");
+  }
   return f;
 }
 

@@ -280,6 +280,39 @@ FieldStudyResult runFieldStudy(const FieldStudyInput& in) {
   return r;
 }
 
+namespace {
+
+// The leaves' table's rows: each leaf clean, uncorrected and corrected.
+void leafRows(std::ostream& o, const FieldStudyResult& r) {
+  for (const LeafStudyRow& l : r.leaves) {
+    const std::pair<const char*, const CaptureError*> rows[] = {
+        {"clean", &l.clean}, {"uncorrected", &l.uncorrected}, {"corrected", &l.corrected}};
+    for (const auto& [name, e] : rows)
+      o << "| " << l.leaf << " | " << l.markers << " | " << name << " | " << detail::fixed(e->markerRmsMm, 2) << " | "
+        << detail::fixed(e->shapeRmsMm, 2) << " | " << detail::fixed(e->areaErrorPercent, 3) << " |\n";
+  }
+}
+
+}  // namespace
+
+std::string fieldStudyAccuracySection(const FieldStudyResult& r, const std::string& command) {
+  std::ostringstream o;
+  o << "\n## Through a bent field\n\n"
+    << "Everything above assumes a clean magnetic field. Metal near the transmitter bends it, and every point is "
+       "then off by a static error no noise model holds (docs/devices.md, \"The field\"). The sample leaves "
+       "through "
+    << r.fieldName << ", captured in a clean field, through the bent one uncorrected, and through the correction a "
+    << "check of the " << r.jigPoints << "-divot jig chose (" << r.model << ", held out "
+    << detail::fixed(r.holdoutRmsMm, 2) << " mm RMS); σ = " << detail::fixed(r.noiseMm, 2) << " mm, the mean of "
+    << r.repeats << " noise draws (`" << command << "`: [field-study.md](field-study.md) has the plant and the "
+    << "jig's count too). The shape RMS is after the best rigid fit, what a leaf's model feels.\n\n"
+    << "| leaf | markers | capture | marker RMS (mm) | shape RMS (mm) | area error (%) |\n|---|---|---|---|---|---|\n";
+  leafRows(o, r);
+  o << "\nA capture through a check states it: its area interval widens by the correction's held-out error in "
+       "quadrature with the digitizer's noise (docs/devices.md, \"Captures through a checked field\").\n";
+  return o.str();
+}
+
 std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& command) {
   std::ostringstream o;
   o << "# Captures through a bent field\n\n"
@@ -310,13 +343,7 @@ std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& com
        "corrected points keep that common shift (the corrected marker RMS); a leaf's model and measures are made in "
        "its own frame and do not feel it. The shape RMS (after the best rigid fit) is the error they feel.\n\n"
     << "| leaf | markers | capture | marker RMS (mm) | shape RMS (mm) | area error (%) |\n|---|---|---|---|---|---|\n";
-  for (const LeafStudyRow& l : r.leaves) {
-    const std::pair<const char*, const CaptureError*> rows[] = {
-        {"clean", &l.clean}, {"uncorrected", &l.uncorrected}, {"corrected", &l.corrected}};
-    for (const auto& [name, e] : rows)
-      o << "| " << l.leaf << " | " << l.markers << " | " << name << " | " << detail::fixed(e->markerRmsMm, 2) << " | "
-        << detail::fixed(e->shapeRmsMm, 2) << " | " << detail::fixed(e->areaErrorPercent, 3) << " |\n";
-  }
+  leafRows(o, r);
   if (r.plant) {
     o << "\n## The plant\n\n"
       << "In the plant frame (made from its landmarks, bent with the rest): the nodes' positions, the leaves' "

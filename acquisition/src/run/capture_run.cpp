@@ -77,6 +77,7 @@ CaptureRun::CaptureRun(RunRequest request, RunObserver observer) : observer_(std
         "--tip-calibration");
   if (request.resume == 0) {
     setup.field = resolveFieldCalibration(*store_, request.fieldCalibration);
+    attachSentinels(setup.field, request.sentinels);
     setup.tip = resolveTipCalibration(*store_, request.tipCalibration, tipDevice(setup.digitizer, setup.simulated));
   }
   id_ = request.resume > 0 ? request.resume : CaptureSession::create(*store_, setup);

@@ -10,6 +10,7 @@
 #include "leafdig/acquisition/field/tip_calibration.hpp"
 #include "leafdig/acquisition/live/device_set.hpp"
 #include "leafdig/acquisition/session/session.hpp"
+#include "leafdig/db/event_store.hpp"
 #include "leafdig/devices/links/links.hpp"
 
 namespace leafdig::acquisition {
@@ -105,21 +106,21 @@ void FieldCheckRun::stop() {
   inputs_.stop();
 }
 
-std::optional<FieldCalibration> FieldCheckRun::run() {
-  std::string spec = request_.digitizer;
+bool FieldCheckRun::takeDivots() {
+  spec_ = request_.digitizer;
   double rateHz = 0;
   // The divots are touched with the stylus' tip: the request's tip calibration (by default the
   // digitizer's newest that passed) applies, as it does in a capture, and the check keeps it.
-  const std::optional<TipApplied> tip = resolveTipCalibration(
-      *store_, request_.tipCalibration, tipDevice(request_.simulated ? "fastrak" : spec, request_.simulated));
+  tip_ = resolveTipCalibration(*store_, request_.tipCalibration,
+                               tipDevice(request_.simulated ? "fastrak" : spec_, request_.simulated));
   if (request_.simulated) {
-    if (tip) request_.simulation.tipAppliedMm = tip->tipMm;
+    if (tip_) request_.simulation.tipAppliedMm = tip_->tipMm;
     rig_ = std::make_unique<SimulatedRig>(request_.simulation);
-    spec = rig_->digitizerSpec();
+    spec_ = rig_->digitizerSpec();
     rateHz = rig_->digitizerRateHz();
     technician_ = std::make_unique<Technician>(*rig_, request_.jig, request_.jigPose, request_.simulation.speed);
   }
-  digitizer_ = startDigitizer(withTip(spec, tip), rateHz, inputs_.sinks(listener_.onStatus));
+  digitizer_ = startDigitizer(withTip(spec_, tip_), rateHz, inputs_.sinks(listener_.onStatus));
   const auto tell = [&](const JigCapture::Decision& d) {
     if (d.kind == JigCapture::Decision::Kind::Ignored) return;
     if (listener_.onDecision) listener_.onDecision(d);
@@ -140,17 +141,28 @@ std::optional<FieldCalibration> FieldCheckRun::run() {
   }
   if (technician_) technician_->stop();
   digitizer_->stop();
-  if (!capture_.done()) return std::nullopt;
+  return capture_.done();
+}
+
+std::optional<FieldSentinels> FieldCheckRun::runSentinels(const FieldCalibration& check) {
+  // Through the tip the check's presses went through, whatever the capture's: like with like.
+  request_.tipCalibration = check.tip ? std::to_string(check.tip->id) : "none";
+  if (!takeDivots()) return std::nullopt;
+  return compareSentinels(check, request_.jig, capture_.taken(), db::utcNow());
+}
+
+std::optional<FieldCalibration> FieldCheckRun::run() {
+  if (!takeDivots()) return std::nullopt;
   std::vector<Vec3> points;
   for (const JigPress& p : capture_.taken()) points.push_back(p.positionMm);
   const FieldCheckResult result = checkField(request_.jig, points, request_.toleranceMm);
-  const auto colon = spec.find(':');
-  const std::string kind = spec.substr(0, colon);
+  const auto colon = spec_.find(':');
+  const std::string kind = spec_.substr(0, colon);
   // A simulation's pseudo-terminal is a new path each run: it is recorded as "simulated".
-  const std::string port = request_.simulated ? "simulated" : spec.substr(colon + 1);
+  const std::string port = request_.simulated ? "simulated" : spec_.substr(colon + 1);
   const std::int64_t id =
       store_->addFieldCheck({request_.station, request_.who, kind, port, result.verdict,
-                             encodeFieldCheck(request_.jig, capture_.taken(), result, kind + ":" + port, tip)});
+                             encodeFieldCheck(request_.jig, capture_.taken(), result, kind + ":" + port, tip_)});
   for (const db::FieldCheckRow& row : store_->fieldChecks())
     if (row.id == id) return readFieldCheck(row);
   throw db::StoreError(db::StoreErrorKind::Io, "the field check just written is not in " + store_->path(),

@@ -21,6 +21,7 @@
 #include "capture/plant_capture_cmd.hpp"
 #include "capture/stdin_commands.hpp"
 #include "commands.hpp"
+#include "field_cmd.hpp"
 #include "leafdig/acquisition/review/plant_export.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/acquisition/run/capture_run.hpp"
@@ -343,7 +344,32 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
     throw std::invalid_argument("--relocate-source-after must be a number of points, 1 to 10000 (0: never)");
   checkRelocationTolerance(o.relocationToleranceMm, resumeId.has_value());
   installSignalHandlers();
-  const RunResult r = runSession(requestFrom(o, resumeId), o, false, [&](std::int64_t id) {
+  acq::RunRequest request = requestFrom(o, resumeId);
+  if (resumeId && o.sentinels.value_or(0) != 0)
+    throw std::invalid_argument(
+        "a resumed session goes on through the field check it began with: leave out --sentinels");
+  if (!resumeId) {
+    // Sentinel divots of the field check, before the session is made (field_cmd.hpp).
+    const SentinelOutcome s = takeSentinels(SentinelAsk{.db = o.db,
+                                                        .station = o.station,
+                                                        .who = o.operatorName,
+                                                        .fieldCalibration = o.fieldCalibration,
+                                                        .digitizer = o.digitizer,
+                                                        .distortion = o.distortion,
+                                                        .simTip = o.simTip,
+                                                        .jigPose = o.jigPose,
+                                                        .count = o.sentinels,
+                                                        .simulate = o.simulate,
+                                                        .json = o.json,
+                                                        .speed = o.speed.value_or(1.0),
+                                                        .seed = o.seed});
+    if (s.exitCode != 0) return s.exitCode;
+    if (s.sentinels) {
+      request.sentinels = s.sentinels;
+      request.fieldCalibration = s.fieldCalibration;
+    }
+  }
+  const RunResult r = runSession(request, o, false, [&](std::int64_t id) {
     if (o.json) std::cout << json{{"event", "session"}, {"session", id}}.dump() << "\n" << std::flush;
   });
   return r.exitCode;
@@ -525,6 +551,11 @@ void declareCaptureCommands(CLI::App& app, CommandTable& table, CaptureOptions& 
   };
   CLI::App* capture = app.add_subcommand("capture", "Guided capture of one leaf into the station's database");
   addCaptureOptions(capture);
+  capture->add_option("--sentinels", o.sentinels, kSentinelsHelp);
+  capture
+      ->add_option("--jig-pose", o.jigPose,
+                   "Simulation: where the jig lies for the sentinel divots, x,y,z,yaw_deg (as leafdig field check's)")
+      ->capture_default_str();
   capture->add_option("--project", o.project, "Project name (created when new)");
   capture->add_option("--plant", o.plant, "Plant name (created when new)");
   capture->add_option("--leaf-position", o.leafPosition, "Leaf position on the stem, from the base (1, 2, …)")

@@ -35,6 +35,8 @@ struct CaptureOptions {
   std::string tipCalibration;                   // --tip-calibration ID|latest|none (issue 50)
   std::string simTip;                           // --sim-tip x,y,z: the simulated stylus' sensor offset
   std::optional<double> fieldCheckMaxAgeHours;  // --field-check-max-age-hours (capture_console.hpp)
+  std::optional<int> sentinels;                 // --sentinels N (capture_console.hpp)
+  std::string jigPose = "200,-620,0,90";        // simulation: where the jig lies for the sentinels
   std::uint64_t seed = 1;
   std::optional<double> speed;  // not given: 1 for a new capture, a resumed one's own, 8 for the demo
   double giveUpAfterS = 180;    // a simulated technician that gets nowhere this long is stopped

@@ -78,6 +78,21 @@ double fieldCheckMaxAge(const std::optional<double>& flag) {
   return hours;
 }
 
+int sentinelCount(const std::optional<int>& flag) {
+  const auto allowed = [](int n) { return n == 0 || (n >= acq::kMinSentinels && n <= acq::kMaxSentinels); };
+  if (flag) {
+    if (!allowed(*flag))
+      throw model::InputError("--sentinels " + std::to_string(*flag) +
+                              ": take 3 to 5 of the field check's divots again, or 0 for none");
+    return *flag;
+  }
+  const auto text = acq::stationSetting("field", "sentinels");
+  if (!text) return 0;
+  if (*text == "0" || *text == "3" || *text == "4" || *text == "5") return std::stoi(*text);
+  throw model::InputError(acq::stationSettingsFile() + ": [field] sentinels = " + *text +
+                          " is not 0, 3, 4 or 5: correct it in the station's settings or remove the line");
+}
+
 std::string describe(const acq::Item& i) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(1);

@@ -44,6 +44,14 @@ inline constexpr const char* kFieldCheckMaxAgeHelp =
     "How old a field check may be before the banner asks for a new one, hours (default: the station's settings "
     "file, [field] max_check_age_hours, else 24)";
 [[nodiscard]] double fieldCheckMaxAge(const std::optional<double>& flag);
+// --sentinels N: how many of the check's divots a capture through a field check takes again
+// before its first leaf (acquisition/field/sentinels.hpp) — the flag, else the station's settings
+// file (`[field] sentinels`), else 0 (none). 0 or 3 to 5; anything else is refused in words.
+inline constexpr const char* kSentinelsHelp =
+    "Sentinel divots: take this many of the field check's divots again before the first leaf, the jig where it "
+    "lay for the check; a divot moved beyond the check's tolerance stops the capture (0: none, or 3 to 5; "
+    "default: the station's settings file, [field] sentinels, else 0)";
+[[nodiscard]] int sentinelCount(const std::optional<int>& flag);
 // --sim-tip x,y,z of a simulated digitizer (issue 50): its stylus' sensor that far from its tip,
 // in the sensor's frame (mm, each within 500); "" is none (the stylus reports its tip).
 inline constexpr const char* kSimTipHelp =

@@ -24,6 +24,7 @@
 #include "capture/capture_console.hpp"
 #include "capture/stdin_commands.hpp"
 #include "commands.hpp"
+#include "field_cmd.hpp"
 #include "leafdig/acquisition/live/device_set.hpp"
 #include "leafdig/acquisition/live/plant_loop.hpp"
 #include "leafdig/acquisition/protocol/plant_engine.hpp"
@@ -60,6 +61,8 @@ struct PlantCaptureOptions {
   std::string tipCalibration;                   // --tip-calibration ID|latest|none (issue 50)
   std::string simTip;                           // --sim-tip x,y,z: the simulated stylus' sensor offset
   std::optional<double> fieldCheckMaxAgeHours;  // --field-check-max-age-hours (capture_console.hpp)
+  std::optional<int> sentinels;                 // --sentinels N (capture_console.hpp)
+  std::string jigPose = "200,-620,0,90";        // simulation: where the jig lies for the sentinels
   double giveUpAfterS = 180;                    // simulation: a technician that gets nowhere this long is stopped
   int relocateSourceAfter = 0;
   std::optional<double> relocationToleranceMm;  // --relocation-tolerance: a new session's
@@ -290,6 +293,29 @@ int runPlantCapture(const PlantCaptureOptions& o) {
   // With devices, --reference-receiver is the spec's ",reference=2" (receiver 2 on the pot).
   if (o.referenceReceiver && !digitizer.empty() && digitizer.find(",reference=") == std::string::npos)
     digitizer += ",reference=2";
+  // Sentinel divots of the field check, before the session is made (field_cmd.hpp).
+  SentinelOutcome sentinels;
+  sentinels.fieldCalibration = o.fieldCalibration;
+  if (o.resume != 0 && o.sentinels.value_or(0) != 0)
+    throw std::invalid_argument(
+        "a resumed session goes on through the field check it began with: leave out --sentinels");
+  if (o.resume == 0) {
+    installSignalHandlers();
+    sentinels = takeSentinels(SentinelAsk{.db = o.db,
+                                          .station = o.station,
+                                          .who = o.operatorName,
+                                          .fieldCalibration = o.fieldCalibration,
+                                          .digitizer = digitizer,
+                                          .distortion = o.distortion,
+                                          .simTip = o.simTip,
+                                          .jigPose = o.jigPose,
+                                          .count = o.sentinels,
+                                          .simulate = o.simulate,
+                                          .json = o.json,
+                                          .speed = o.speed,
+                                          .seed = o.seed});
+    if (sentinels.exitCode != 0) return sentinels.exitCode;
+  }
   // A new session: what the operator typed, read before the store is touched.
   const auto createSession = [&](acq::PlantSessionSetup setup) {
     setup.project = o.project;
@@ -341,7 +367,8 @@ int runPlantCapture(const PlantCaptureOptions& o) {
       if (!setup.date) throw std::invalid_argument("--date " + o.date + ": give the survey's day as YYYY-MM-DD");
     }
     store = std::make_unique<db::Store>(o.db.empty() ? db::Store::defaultPath() : o.db);
-    setup.field = acq::resolveFieldCalibration(*store, o.fieldCalibration);
+    setup.field = acq::resolveFieldCalibration(*store, sentinels.fieldCalibration);
+    acq::attachSentinels(setup.field, sentinels.sentinels);
     setup.tip = acq::resolveTipCalibration(*store, o.tipCalibration,
                                            acq::tipDevice(setup.digitizer, setup.simulatedPlant.has_value()));
     id = acq::PlantCaptureSession::create(*store, setup);
@@ -547,6 +574,11 @@ void addPlantCaptureCommand(CLI::App& plant, CommandTable& table) {
   capture->add_option("--distortion", o->distortion, kDistortionHelp);
   capture->add_option("--field-calibration", o->fieldCalibration, kFieldCalibrationHelp);
   capture->add_option("--field-check-max-age-hours", o->fieldCheckMaxAgeHours, kFieldCheckMaxAgeHelp);
+  capture->add_option("--sentinels", o->sentinels, kSentinelsHelp);
+  capture
+      ->add_option("--jig-pose", o->jigPose,
+                   "Simulation: where the jig lies for the sentinel divots, x,y,z,yaw_deg (as leafdig field check's)")
+      ->capture_default_str();
   capture->add_option("--tip-calibration", o->tipCalibration, kTipCalibrationHelp);
   capture->add_option("--sim-tip", o->simTip, kSimTipHelp);
   capture->add_option("--stylus-noise", o->stylusNoiseMm, "Simulated stylus noise, mm (σ per axis)")

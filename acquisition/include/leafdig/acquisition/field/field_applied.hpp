@@ -13,6 +13,7 @@
 #include <string>
 
 #include "leafdig/acquisition/field/field_check.hpp"
+#include "leafdig/acquisition/field/sentinels.hpp"
 
 namespace leafdig::acquisition {
 
@@ -21,6 +22,9 @@ struct FieldApplied {
   std::string hash, createdUtc, verdict;
   double holdoutRmsMm = 0, holdoutMaxMm = 0;
   model::FieldCorrection correction;
+  // The check's divots taken again at the session's start, when they were (sentinels.hpp): they
+  // held, or the session would not have begun.
+  std::optional<FieldSentinels> sentinels;
   [[nodiscard]] Vec3 apply(const Vec3& p) const;
   // "field check 3 of 2026-11-29T05:25Z: polynomial-2, 0.42 mm RMS on divots it did not see"
   [[nodiscard]] std::string words() const;
@@ -43,9 +47,14 @@ inline constexpr double kFieldCheckMaxAgeLimitHours = 8760.0;
 // (model::InputError) or a chain that does not verify (db::StoreError) is refused as such.
 [[nodiscard]] std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, const std::string& which);
 
+// Sentinels taken before a new session, kept with the check the session applies: refused
+// (std::invalid_argument, in words) when they are another check's, when the session applies none,
+// or when they moved. Nothing to do without sentinels.
+void attachSentinels(std::optional<FieldApplied>& applied, const std::optional<FieldSentinels>& sentinels);
+
 // As a session's settings keep it ("field_calibration": {id, hash, created_utc, verdict,
-// holdout_rms_mm, holdout_max_mm, correction}) and read back, checked (model::InputError naming
-// `source` and the key).
+// holdout_rms_mm, holdout_max_mm, correction, and sentinels when they were taken}) and read back, checked
+// (model::InputError naming `source` and the key).
 [[nodiscard]] nlohmann::json fieldAppliedJson(const FieldApplied& f);
 [[nodiscard]] std::optional<FieldApplied> fieldAppliedFromSettings(const std::string& settingsJson,
                                                                    const std::string& source);

@@ -97,5 +97,8 @@ struct FieldStudyResult {
 // The report (Markdown): how it was made (`command`), the check, the leaves, the plant, the
 // counts, with the issue's targets beside the numbers.
 [[nodiscard]] std::string fieldStudyMarkdown(const FieldStudyResult& r, const std::string& command);
+// The leaves' rows as docs/accuracy.md's section "Through a bent field" (issue 50): clean,
+// uncorrected and corrected, what the study was and where the rest is.
+[[nodiscard]] std::string fieldStudyAccuracySection(const FieldStudyResult& r, const std::string& command);
 
 }  // namespace leafdig::acquisition

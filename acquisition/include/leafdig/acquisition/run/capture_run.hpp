@@ -59,6 +59,9 @@ struct RunRequest {
   PreviewDetail preview = PreviewDetail::Meshes;
   // A new session's field check (field_applied.hpp): "" or "none", "latest", or a check's number.
   std::string fieldCalibration;
+  // Sentinel divots of that check taken again just before (field/sentinels.hpp): kept with it in
+  // the session's settings. They must be the applied check's and must have held.
+  std::optional<FieldSentinels> sentinels;
   // A new session's tip calibration (tip_calibration.hpp): "" or "latest" (the newest that passed
   // for its digitizer, if any), "none", or a calibration's number. A resumed session keeps its own.
   std::string tipCalibration;

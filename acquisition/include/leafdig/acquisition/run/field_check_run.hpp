@@ -14,6 +14,7 @@
 #include <string>
 
 #include "leafdig/acquisition/field/field_check.hpp"
+#include "leafdig/acquisition/field/sentinels.hpp"
 #include "leafdig/acquisition/live/input_queue.hpp"
 #include "leafdig/acquisition/sim/simulation.hpp"
 
@@ -59,10 +60,16 @@ class FieldCheckRun {
   void stop();  // run() returns soon, nothing stored
   // Until every divot is taken (then the check is fitted, stored and returned) or stop().
   std::optional<FieldCalibration> run();
+  // Sentinel divots before a capture (sentinels.hpp): the request's jig is sentinelJig(check.jig,
+  // n); until every one is taken (then they are compared with the check's presses and returned —
+  // nothing is stored: a session keeps them) or stop(). The divots are touched through the tip
+  // calibration the check's were (the request's own is not used), so like is compared with like.
+  std::optional<FieldSentinels> runSentinels(const FieldCalibration& check);
   [[nodiscard]] const db::Store& store() const { return *store_; }
 
  private:
   enum class FieldCommand { Undo };
+  bool takeDivots();  // true when every divot of the request's jig is taken
   class Technician;
 
   FieldCheckRequest request_;
@@ -73,6 +80,8 @@ class FieldCheckRun {
   std::unique_ptr<SimulatedRig> rig_;
   std::unique_ptr<Technician> technician_;
   std::unique_ptr<devices::Driver> digitizer_;
+  std::string spec_;  // the digitizer as opened (a simulation's pseudo-terminal)
+  std::optional<TipApplied> tip_;
 };
 
 }  // namespace leafdig::acquisition
