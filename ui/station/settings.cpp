@@ -127,6 +127,15 @@ StationSettings StationSettings::load(const QString& file, QStringList* problems
   s.confirmMoveAboveMm = number("review/confirm_move_above_mm", s.confirmMoveAboveMm, 0.1, 10000.0);
   s.fieldCheckMaxAgeHours =
       number("field/max_check_age_hours", s.fieldCheckMaxAgeHours, 1.0, acquisition::kFieldCheckMaxAgeLimitHours);
+  if (q.contains("field/sentinels")) {
+    bool ok = false;
+    const int n = q.value("field/sentinels").toString().toInt(&ok);
+    if (ok && (n == 0 || (n >= acquisition::kMinSentinels && n <= acquisition::kMaxSentinels)))
+      s.sentinels = n;
+    else
+      note(QObject::tr("field/sentinels = %1 is not 0, 3, 4 or 5; no sentinel divots")
+               .arg(q.value("field/sentinels").toString()));
+  }
   return s;
 }
 
@@ -152,6 +161,7 @@ void StationSettings::save(const QString& file) const {
   q.setValue("lab/sync_minutes", labSyncMinutes);
   q.setValue("review/confirm_move_above_mm", confirmMoveAboveMm);
   q.setValue("field/max_check_age_hours", fieldCheckMaxAgeHours);
+  q.setValue("field/sentinels", sentinels);
   q.sync();
   // Only its owner reads the station's settings (they name the lab server and its login).
   QFile::setPermissions(file, QFileDevice::ReadOwner | QFileDevice::WriteOwner);

@@ -40,6 +40,9 @@ struct StationSettings {
   // How old a field check may be before the capture says the field was not checked (hours; the
   // CLI's --field-check-max-age-hours reads the same key, field/max_check_age_hours).
   double fieldCheckMaxAgeHours = acquisition::kFieldCheckMaxAgeHours;
+  // How many of the field check's divots a capture through it takes again before its first leaf
+  // (0: none, else 3 to 5; the CLI's --sentinels reads the same key, field/sentinels).
+  int sentinels = 0;
 
   StationSettings();
   // Reads from the INI file (missing keys keep their defaults; out-of-range values are

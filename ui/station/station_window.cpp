@@ -16,9 +16,11 @@
 #include <QVBoxLayout>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include "capture/setup_dialog.hpp"
 #include "dialogs/settings_dialog.hpp"
+#include "field/field_view.hpp"
 #include "leafdig/acquisition/field/field_applied.hpp"
 #include "leafdig/acquisition/review/review.hpp"
 #include "leafdig/db/lab.hpp"
@@ -52,6 +54,9 @@ StationWindow::StationWindow(StationOptions options, QWidget* parent)
   // opens it at once when it is there (the lab server is opened by reviewLabServer).
   if (!db::isServerUrl(dbPath()) && std::filesystem::exists(dbPath())) review_->setDatabase(dbPath());
   tabs_->addTab(plant_, tr("Plant"));
+  fieldView_ = new FieldView(tabs_);
+  tabs_->addTab(fieldView_, tr("Field"));
+  updateFieldSource();
   connect(tabs_, &QTabWidget::currentChanged, this, [this](int index) {
     if (tabs_->widget(index) == plant_) plant_->refreshLibrary();  // leaves approved since
   });
@@ -436,6 +441,58 @@ bool StationWindow::capturesIntoStationFile() {
   return false;
 }
 
+void StationWindow::updateFieldSource() {
+  FieldSource f;
+  f.db = dbPath();
+  f.station = options_.setup.station;
+  if (!options_.setup.operatorName.empty()) f.operatorName = options_.setup.operatorName;
+  f.simulate = options_.simulate;
+  f.simulation.speed = options_.speed;
+  f.simulation.seed = options_.seed;
+  f.simulation.distortion = options_.distortion;
+  f.digitizer = options_.setup.digitizer;
+  fieldView_->setSource(f);
+}
+
+bool StationWindow::sentinelsFirst(const std::function<void()>& then) {
+  if (settings_.sentinels == 0 || options_.fieldCalibration.empty() || options_.fieldCalibration == "none")
+    return false;
+  updateFieldSource();
+  QString error;
+  try {
+    const db::Store store(dbPath(), true);
+    const auto applied = acq::resolveFieldCalibration(store, options_.fieldCalibration);
+    for (const auto& c : acq::fieldCalibrations(store))
+      if (applied && c.id == applied->id) {
+        const std::int64_t id = c.id;
+        error = fieldView_->startSentinels(c, settings_.sentinels, [this, then, id](auto held) {
+          if (!held) {
+            banner_->setText(tr("The sentinel divots were stopped: no capture began."));
+          } else if (held->moved()) {
+            banner_->setText(tr("Not started: %1. The Field tab checks the field again.")
+                                 .arg(QString::fromStdString(held->words())));
+            sounds_->play(Cue::Reject);
+          } else {
+            sentinels_ = std::move(held);
+            statusBar()->showMessage(tr("sentinel divots of field check %1 held").arg(id));
+            then();
+          }
+        });
+      }
+  } catch (const std::exception& e) {
+    error = QString::fromStdString(e.what());
+  }
+  if (!error.isEmpty()) {
+    banner_->setText(tr("Cannot start: %1").arg(error));
+    return true;
+  }
+  banner_->setText(
+      tr("Before the first leaf: touch the sentinel divots the Field tab asks for (the jig where it lay "
+         "for the check)."));
+  tabs_->setCurrentWidget(fieldView_);
+  return true;
+}
+
 bool StationWindow::start() {
   if (!capturesIntoStationFile()) return false;
   stopCapture();
@@ -463,6 +520,12 @@ bool StationWindow::start() {
     r.simulation.seed = options_.seed;
     r.simulation.distortion = options_.distortion;
     if (options_.resume == 0 && options_.fieldCalibration != "none") r.fieldCalibration = options_.fieldCalibration;
+    if (options_.resume == 0 && sentinels_) {
+      r.sentinels = std::exchange(sentinels_, std::nullopt);
+      r.fieldCalibration = std::to_string(r.sentinels->checkId);
+    } else if (options_.resume == 0 && sentinelsFirst([this] { (void)start(); })) {
+      return true;
+    }
     r.leafFile = options_.markers;
     acq::RunObserver observer;
     // Called on the capture thread: hand over to the UI thread.
@@ -514,7 +577,11 @@ PlantCaptureView* StationWindow::plantCaptureTab() {
 
 bool StationWindow::startPlantCapture(const std::string& plantMarkers, const model::PlantProtocol& protocol) {
   if (!capturesIntoStationFile()) return false;
-  plantCaptureTab()->setFieldCalibration(options_.fieldCalibration);
+  if (!sentinels_ &&
+      sentinelsFirst([this, plantMarkers, protocol] { (void)startPlantCapture(plantMarkers, protocol); }))
+    return true;
+  plantCaptureTab()->setFieldCalibration(sentinels_ ? std::to_string(sentinels_->checkId) : options_.fieldCalibration);
+  plantCapture_->setSentinels(std::exchange(sentinels_, std::nullopt));
   plantCaptureTab()->setFieldCheckMaxAgeHours(settings_.fieldCheckMaxAgeHours);
   acq::SimulationOptions sim;
   sim.speed = options_.speed;
@@ -536,7 +603,9 @@ bool StationWindow::startPlantCapture(const std::string& plantMarkers, const mod
 bool StationWindow::startPlantCaptureWithDevices(acq::PlantSessionSetup setup) {
   if (!capturesIntoStationFile()) return false;
   if (setup.station.empty()) setup.station = options_.setup.station;
-  plantCaptureTab()->setFieldCalibration(options_.fieldCalibration);
+  if (!sentinels_ && sentinelsFirst([this, setup] { (void)startPlantCaptureWithDevices(setup); })) return true;
+  plantCaptureTab()->setFieldCalibration(sentinels_ ? std::to_string(sentinels_->checkId) : options_.fieldCalibration);
+  plantCapture_->setSentinels(std::exchange(sentinels_, std::nullopt));
   plantCaptureTab()->setFieldCheckMaxAgeHours(settings_.fieldCheckMaxAgeHours);
   const QString error = plantCaptureTab()->startWithDevices(dbPath(), setup);
   if (!error.isEmpty()) {

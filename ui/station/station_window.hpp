@@ -13,6 +13,7 @@
 #include <QTimer>
 #include <QToolButton>
 #include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -30,6 +31,7 @@ namespace leafdig::station {
 
 class ReviewView;
 class PlantView;
+class FieldView;
 class PlantCaptureView;
 
 struct StationOptions {
@@ -95,6 +97,9 @@ class StationWindow : public QMainWindow {
   [[nodiscard]] LeafSchematic* schematic() const { return schematic_; }
   [[nodiscard]] ReviewView* review() const { return review_; }
   [[nodiscard]] PlantView* plantView() const { return plant_; }
+  // The Field tab (field/field_view.hpp): checks of the field, the stylus' tip, sentinel divots.
+  // Its runs read the station's digitizer, or the simulated one in --distortion's field.
+  [[nodiscard]] FieldView* fieldView() const { return fieldView_; }
   [[nodiscard]] QTabWidget* tabs() const { return tabs_; }
   [[nodiscard]] QString bannerText() const { return banner_->text(); }
   [[nodiscard]] QString feedbackText() const { return feedback_->text(); }
@@ -144,6 +149,11 @@ class StationWindow : public QMainWindow {
   // False, with the reason in the banner, when --db is the lab server (capture writes this
   // station's own file).
   bool capturesIntoStationFile();
+  void updateFieldSource();
+  // A new capture through a field check, with the settings' sentinel divots: they are taken in
+  // the Field tab first and `then` runs when they held (false: none to take; `then` not called —
+  // true: taken, or refused with the reason in the banner).
+  bool sentinelsFirst(const std::function<void()>& then);
   void buildToolBar();
   void connectPreviewAndTimers();
   void command(acquisition::Command c);
@@ -167,6 +177,9 @@ class StationWindow : public QMainWindow {
   ReviewView* review_ = nullptr;
   PlantView* plant_ = nullptr;
   PlantCaptureView* plantCapture_ = nullptr;
+  FieldView* fieldView_ = nullptr;
+  // Sentinels that held, for the capture they were taken for (taken by the next start).
+  std::optional<acquisition::FieldSentinels> sentinels_;
   Sounds* sounds_ = nullptr;
   QTimer deviceTimer_, cursorTimer_, syncTimer_;
   // Takes the newest snapshot from the mailbox every 5 ms on the GUI thread: no call crosses

@@ -66,6 +66,15 @@ SettingsDialog::SettingsDialog(const StationSettings& s, QWidget* parent) : QDia
   cf->addRow(tr("Thickest reading accepted"), maxT_);
   fieldAge_ = spin(s.fieldCheckMaxAgeHours, 1, acquisition::kFieldCheckMaxAgeLimitHours, 1, 0, " h");
   cf->addRow(tr("A field check holds for"), fieldAge_);
+  sentinels_ = new QComboBox;
+  sentinels_->addItem(tr("none"), 0);
+  for (int n = acquisition::kMinSentinels; n <= acquisition::kMaxSentinels; ++n)
+    sentinels_->addItem(tr("%1 divots").arg(n), n);
+  sentinels_->setCurrentIndex(std::max(0, sentinels_->findData(s.sentinels)));
+  sentinels_->setToolTip(
+      tr("Before a capture through a field check, this many of its divots are taken again (the jig where it lay "
+         "for the check); a divot that moved beyond the check's tolerance stops the capture for a new check"));
+  cf->addRow(tr("Sentinel divots before a capture"), sentinels_);
 
   auto* lab = new QGroupBox(tr("Lab server"));
   auto* lf = new QFormLayout(lab);
@@ -121,6 +130,7 @@ StationSettings SettingsDialog::result() const {
   s.labUrl = labUrlWithoutPassword(labUrl_->text().trimmed());
   s.labSyncMinutes = labMinutes_->value();
   s.fieldCheckMaxAgeHours = fieldAge_->value();
+  s.sentinels = sentinels_->currentData().toInt();
   return s;
 }
 

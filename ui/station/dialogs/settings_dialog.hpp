@@ -32,10 +32,11 @@ class SettingsDialog : public QDialog {
   QLineEdit* labUrl() const { return labUrl_; }
   QSpinBox* labSyncMinutes() const { return labMinutes_; }
   QDoubleSpinBox* fieldCheckMaxAgeHours() const { return fieldAge_; }
+  QComboBox* sentinels() const { return sentinels_; }
 
  private:
   StationSettings base_;
-  QComboBox *units_, *theme_;
+  QComboBox *units_, *theme_, *sentinels_;
   QDoubleSpinBox *font_, *volume_, *still_, *stillTol_, *spacing_, *midrib_, *relocation_, *minT_, *maxT_, *fieldAge_;
   QCheckBox* sounds_;
   QLineEdit* labUrl_;

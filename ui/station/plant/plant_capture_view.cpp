@@ -387,6 +387,7 @@ QString PlantCaptureView::startWithDevices(const std::string& db, const acq::Pla
     db::Store store(db);
     acq::PlantSessionSetup withField = setup;
     withField.field = acq::resolveFieldCalibration(store, fieldCalibration_);
+    acq::attachSentinels(withField.field, std::exchange(sentinels_, std::nullopt));
     // The newest passing tip calibration of this digitizer, as every capture takes it.
     withField.tip = acq::resolveTipCalibration(store, "latest", acq::tipDevice(setup.digitizer, false));
     tip = withField.tip;
@@ -469,6 +470,7 @@ QString PlantCaptureView::startSimulated(const std::string& db, const std::strin
       setup.operatorName = operatorName;
       setup.station = station;
       setup.field = acq::resolveFieldCalibration(store, fieldCalibration_);
+      acq::attachSentinels(setup.field, std::exchange(sentinels_, std::nullopt));
       setup.tip = acq::resolveTipCalibration(store, "latest", acq::tipDevice(setup.digitizer, true));
       session_ = acq::PlantCaptureSession::create(store, setup);
     } else {

@@ -64,6 +64,9 @@ class PlantCaptureView : public QWidget {
   QString startWithDevices(const std::string& db, const acquisition::PlantSessionSetup& setup);
   // The field check a new session's samples go through (a check's number, latest, or none/empty).
   void setFieldCalibration(std::string which) { fieldCalibration_ = std::move(which); }
+  // Sentinel divots of that check taken just before (the Field tab), kept with it by the next
+  // new session.
+  void setSentinels(std::optional<acquisition::FieldSentinels> s) { sentinels_ = std::move(s); }
   // How old a field check may be before the field's line says so (the settings' hours).
   void setFieldCheckMaxAgeHours(double hours) { fieldCheckMaxAgeHours_ = hours; }
   // The field the plant is captured through (acquisition::fieldBanner), once a capture started.
@@ -153,7 +156,8 @@ class PlantCaptureView : public QWidget {
   QWidget* leafPane_;
 
   std::int64_t session_ = 0;
-  std::string fieldCalibration_;  // setFieldCalibration
+  std::string fieldCalibration_;                          // setFieldCalibration
+  std::optional<acquisition::FieldSentinels> sentinels_;  // setSentinels
   double fieldCheckMaxAgeHours_ = acquisition::kFieldCheckMaxAgeHours;
   QLabel* field_ = nullptr;
   bool complete_ = false;

@@ -23,6 +23,7 @@
 #include <QListWidget>
 #include <QMessageBox>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QScrollBar>
 #include <QSettings>
 #include <QShortcut>
@@ -47,6 +48,7 @@
 #include "../../../tests/support/pg_cluster.hpp"
 #include "capture/setup_dialog.hpp"
 #include "dialogs/settings_dialog.hpp"
+#include "field/field_view.hpp"
 #include "leafdig/acquisition/review/correction.hpp"
 #include "leafdig/acquisition/review/leaf_export.hpp"
 #include "leafdig/acquisition/review/plant_export.hpp"
@@ -56,6 +58,7 @@
 #include "leafdig/acquisition/sim/plant_simulation.hpp"
 #include "leafdig/acquisition/sim/simulation.hpp"
 #include "leafdig/db/lab.hpp"
+#include "leafdig/devices/sim/field_distortion.hpp"
 #include "leafdig/model/leaf/markers_json.hpp"
 #include "leafdig/model/leaf2d/leaf_scan.hpp"
 #include "leafdig/model/plant/plant_markers.hpp"
@@ -2115,4 +2118,104 @@ TEST(CorrectionDialog, TheEffectIsShownAndTheCuratorWritesItOrNot) {
   answer("Cancel", &warned);
   EXPECT_FALSE(leafdig::station::confirmCorrection(nullptr, near, 20.0));
   EXPECT_FALSE(warned);
+}
+
+// Issue 50: the Field tab. The technician checks the field with the sample jig in the simulated
+// steel bench's field — every divot prompted and answered, the verdict and the error map shown,
+// the check stored as `leafdig field check` stores it — calibrates the stylus' tip by pivoting it,
+// and, with sentinel divots in the settings, a capture through the check takes three of its divots
+// again first and begins only when they held; with the metal moved nearer it does not begin.
+TEST(StationWindow, TheFieldTabChecksTheFieldDrawsItsMapAndTakesSentinelsBeforeACapture) {
+  const fs::path dir = freshDir("field-tab");
+  std::ofstream(dir / "station.ini") << "[field]\nsentinels=3\n";
+  leafdig::station::StationOptions o;
+  o.audio = audio();
+  o.db = (dir / "s.sqlite").string();
+  o.simulate = true;
+  o.speed = 20;
+  o.setup.project = "p";
+  o.setup.plant = "pl";
+  o.settingsFile = QString::fromStdString((dir / "station.ini").string());
+  o.distortion =
+      std::make_shared<const leafdig::devices::sim::FieldDistortion>(leafdig::devices::sim::readFieldDistortion(
+          (fs::path(LEAFDIG_SOURCE_DIR) / "data/fields/steel-bench.field.json").string()));
+  leafdig::station::StationWindow w(o);
+  EXPECT_EQ(w.settings().sentinels, 3);
+  leafdig::station::FieldView* field = w.fieldView();
+  ASSERT_NE(field, nullptr);
+  w.tabs()->setCurrentWidget(field);
+  const auto waitFor = [&](const std::function<bool()>& ok, int seconds = 120) {
+    for (int i = 0; i < seconds * 50 && !ok(); ++i) QTest::qWait(20);
+    return ok();
+  };
+  field->checkButton()->click();  // as the technician presses it
+  ASSERT_TRUE(field->running()) << field->resultText().toStdString();
+  EXPECT_FALSE(field->checkButton()->isEnabled()) << "one run at a time";
+  ASSERT_TRUE(waitFor([&] { return field->promptText().startsWith("touch divot "); }));
+  ASSERT_TRUE(waitFor([&] { return !field->running(); })) << field->promptText().toStdString();
+  const QStringList decisions = field->decisions();
+  EXPECT_EQ(decisions.filter(QRegularExpression("^accepted: ")).size(), 22) << decisions.join("\n").toStdString();
+  EXPECT_TRUE(decisions.last().startsWith("accepted: C4 taken (22 of 22)")) << decisions.last().toStdString();
+  EXPECT_TRUE(field->promptText().contains("the correction brings it within tolerance"))
+      << field->promptText().toStdString();
+  EXPECT_TRUE(field->resultText().contains("verdict: correctable")) << field->resultText().toStdString();
+  // The map: both views, an arrow per divot, the bench's worst beyond the tolerance in red.
+  ASSERT_TRUE(field->map()->map());
+  const auto& map = *field->map()->map();
+  ASSERT_EQ(map.panels.size(), 2U);
+  EXPECT_EQ(map.panels[0].arrows.size(), 22U);
+  EXPECT_TRUE(std::any_of(map.panels[0].arrows.begin(), map.panels[0].arrows.end(),
+                          [](const leafdig::model::FieldMapArrow& a) { return a.colour == "#d73027"; }));
+  EXPECT_NE(map.summary.find(": correctable."), std::string::npos) << map.summary;
+  {
+    leafdig::db::Store store(o.db, true);
+    const auto checks = acq::fieldCalibrations(store);
+    ASSERT_EQ(checks.size(), 1U);
+    EXPECT_EQ(checks[0].result.verdict, "correctable");
+    EXPECT_EQ(checks[0].device, "fastrak:simulated");
+  }
+  if (const char* shots = std::getenv("LEAFDIG_TEST_SCREENSHOTS")) {
+    w.resize(1400, 900);
+    w.show();
+    QTest::qWait(300);
+    EXPECT_TRUE(w.grab().save(QString::fromStdString((fs::path(shots) / "field-check.png").string())));
+  }
+  // A capture through the check: the sentinel divots first, in the Field tab, then the leaf.
+  w.options().fieldCalibration = "latest";
+  ASSERT_TRUE(w.start()) << w.bannerText().toStdString();
+  EXPECT_EQ(w.tabs()->currentWidget(), field);
+  EXPECT_TRUE(w.bannerText().contains("touch the sentinel divots")) << w.bannerText().toStdString();
+  ASSERT_TRUE(waitFor([&] { return w.sessionId() != 0; }))
+      << w.bannerText().toStdString() << " / " << field->resultText().toStdString();
+  EXPECT_TRUE(field->resultText().startsWith("3 sentinel divots of field check 1 taken again: the largest move "))
+      << field->resultText().toStdString();
+  EXPECT_EQ(field->decisions().filter(QRegularExpression("^accepted: ")).size(), 3);
+  const std::int64_t id = w.sessionId();
+  w.stopCapture();
+  {
+    leafdig::db::Store store(o.db, true);
+    const auto applied = acq::fieldAppliedFromSettings(store.session(id)->settingsJson, "session");
+    ASSERT_TRUE(applied && applied->sentinels);
+    EXPECT_EQ(applied->id, 1);
+    EXPECT_EQ(applied->sentinels->divots.size(), 3U);
+    EXPECT_FALSE(applied->sentinels->moved());
+  }
+  // The metal moved nearer: the sentinels say so and no capture begins.
+  leafdig::devices::sim::SteelBenchModel nearer;
+  nearer.belowMm = 150;
+  w.options().distortion =
+      std::make_shared<const leafdig::devices::sim::FieldDistortion>(leafdig::devices::sim::steelBench(nearer));
+  ASSERT_TRUE(w.start()) << w.bannerText().toStdString();
+  ASSERT_TRUE(waitFor([&] { return !field->running(); }));
+  QTest::qWait(100);
+  EXPECT_TRUE(w.bannerText().contains("Not started: ")) << w.bannerText().toStdString();
+  EXPECT_TRUE(w.bannerText().contains("the field moved since the check")) << w.bannerText().toStdString();
+  EXPECT_EQ(field->promptText(), "The field moved since the check: check it again.");
+  EXPECT_EQ(leafdig::db::Store(o.db, true).sessions().size(), 1U) << "no session was made";
+  // The tip: a stylus whose sensor is 20 mm up its shaft, pivoted in a divot.
+  ASSERT_TRUE(field->startTipCalibration({2, -1, 20}).isEmpty());
+  ASSERT_TRUE(waitFor([&] { return !field->running(); })) << field->promptText().toStdString();
+  EXPECT_TRUE(field->resultText().contains("verdict: pass")) << field->resultText().toStdString();
+  EXPECT_EQ(field->promptText(), "The stylus tip is calibrated.");
+  fs::remove_all(dir);
 }
