@@ -62,3 +62,19 @@ kind, status = db.execute("SELECT kind, status FROM sessions WHERE id=1").fetcho
 assert (kind, status) == ("plant", "complete"), (kind, status)
 print("station e2e: plant session complete")
 PY
+# The Field tab: a check of the simulated steel bench's field with the sample jig, the window saved
+# with its verdict and error map once every divot is taken (issue 50).
+report=$(timeout 300 xvfb-run -a -s "-screen 0 ${LEAFDIG_E2E_SCREEN:-1366x768}x24" "$station" --simulate --speed 20 \
+  --no-audio --db "$out/field.sqlite" --settings "$out/station.ini" --distortion "$src/data/fields/steel-bench.field.json" \
+  --check-field --screenshot "$out/field-check.png" --quit-when-complete 2>"$out/field-stderr.txt")
+echo "$report"
+echo "$report" | grep -q '^field check done map_arrows 44$' || { echo "no field check with its map"; cat "$out/field-stderr.txt"; exit 1; }
+echo "$report" | grep -q '^field:   verdict: correctable' || { echo "the bent field is not correctable"; exit 1; }
+[ -s "$out/field-check.png" ] || { echo "no field check screenshot"; exit 1; }
+python3 - "$out/field.sqlite" <<'PY'
+import sqlite3, sys
+db = sqlite3.connect(f"file:{sys.argv[1]}?mode=ro", uri=True)
+rows = db.execute("SELECT verdict FROM field_checks").fetchall()
+assert rows == [("correctable",)], rows
+print("station e2e: the field checked and stored")
+PY

@@ -82,13 +82,17 @@ int main(int argc, char** argv) {
   const QCommandLineOption noAudio("no-audio",
                                    "No sound cues (nothing loaded through Qt Multimedia); the system beep still marks "
                                    "a rejection and a device error");
+  const QCommandLineOption checkField(
+      "check-field",
+      "Check the field in the Field tab with the sample jig (with --simulate: the simulated FASTRAK touching it); "
+      "with --screenshot, the window once the check is done; with --quit-when-complete, leave then");
   const QCommandLineOption station(
       "station",
       "This station's id, stored with every session (default: [station] id= in the settings, or the host name)", "ID");
   p.addOptions({simulate,       db,           speed,      seed,          markers,      digitizer,         caliper,
                 resume,         screenshot,   reviewShot, quit,          setupDialog,  settingsFile,      firstFrame,
                 plantPlan,      plantSession, plantShot,  plantMarkers,  capturePlant, referenceReceiver, potTurn,
-                screenshotWhen, noAudio,      station,    plantProtocol, distortion,   fieldCalibration});
+                screenshotWhen, noAudio,      station,    plantProtocol, distortion,   fieldCalibration,  checkField});
   p.process(app);
 
   leafdig::station::StationOptions o;
@@ -189,6 +193,14 @@ int main(int argc, char** argv) {
       return 2;
     }
     leafdig::station::reportWhenPlantComplete(app, w, {p.value(screenshot), p.value(screenshotWhen), p.isSet(quit)});
+    return QApplication::exec();
+  }
+  if (p.isSet(checkField)) {
+    // The Field tab alone: a check of the field, no capture.
+    if (!leafdig::station::checkFieldNow(app, w, {p.value(screenshot), QString(), p.isSet(quit)})) {
+      std::fprintf(stderr, "leafdig-station: %s\n", qPrintable(w.bannerText()));
+      return 2;
+    }
     return QApplication::exec();
   }
   if (interactive && o.resume == 0 && !p.isSet(plantShot)) w.offerResume();

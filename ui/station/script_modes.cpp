@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "field/field_view.hpp"
 #include "plant/plant_capture_view.hpp"
 #include "plant/plant_view.hpp"
 #include "review/review_view.hpp"
@@ -125,6 +126,29 @@ void reportWhenPlantComplete(QApplication& app, StationWindow& w, const PlantCom
       }
     });
   });
+}
+
+bool checkFieldNow(QApplication& app, StationWindow& w, const CompletionReport& report) {
+  FieldView* field = w.fieldView();
+  w.tabs()->setCurrentWidget(field);
+  QObject::connect(field, &FieldView::finished, &app, [&app, &w, field, report] {
+    QTimer::singleShot(300, &app, [&app, &w, field, report] {
+      if (!report.screenshot.isEmpty()) w.grab().save(report.screenshot);
+      if (const auto& map = field->map()->map()) {
+        std::size_t arrows = 0;
+        for (const auto& panel : map->panels) arrows += panel.arrows.size();
+        std::printf("field check done map_arrows %zu\n", arrows);
+        for (const QString& line : field->resultText().split('\n')) std::printf("field: %s\n", qPrintable(line));
+      } else {
+        std::printf("field check stopped: %s\n", qPrintable(field->resultText()));
+      }
+      std::fflush(stdout);
+      if (report.quit) app.quit();
+    });
+  });
+  const QString error = field->startCheck();
+  if (!error.isEmpty()) return false;
+  return true;
 }
 
 }  // namespace leafdig::station

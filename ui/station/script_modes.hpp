@@ -40,4 +40,10 @@ struct PlantCompletionReport {
 };
 void reportWhenPlantComplete(QApplication& app, StationWindow& w, const PlantCompletionReport& report);
 
+// A check of the field in the Field tab (--check-field), started now: when it ends, the window to
+// `report.screenshot`, a line "field check done map_arrows N" and the check's summary, each line
+// after "field: " (or "field check stopped: …"), then quit if asked. False (the reason in the banner) when it cannot
+// start.
+bool checkFieldNow(QApplication& app, StationWindow& w, const CompletionReport& report);
+
 }  // namespace leafdig::station
