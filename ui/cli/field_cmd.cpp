@@ -75,6 +75,19 @@ Eigen::Isometry3d poseOption(const std::string& text, const std::string& option)
   }
 }
 
+// The simulated FASTRAK of a check, a tip calibration or sentinel divots: its speed and seed, the
+// field of --distortion and the stylus of --sim-tip; its virtual technician makes no mistakes.
+acq::SimulationOptions simulationOf(double speed, std::uint64_t seed, const std::string& distortion,
+                                    const std::string& simTip) {
+  acq::SimulationOptions s;
+  s.speed = speed;
+  s.seed = seed;
+  s.mistakes = false;
+  s.distortion = distortionOf(distortion);
+  s.stylusTipMm = simTipOf(simTip);
+  return s;
+}
+
 // `field model steel-bench -o FILE`: the shipped preset is this command's output with its
 // defaults (data/fields/steel-bench.field.json; a test regenerates it byte for byte).
 int runFieldModel(const FieldOptions& o) {
@@ -230,11 +243,7 @@ int runFieldCheck(const FieldOptions& o) {
     throw model::InputError(std::string(o.distortion.empty() ? "--sim-tip" : "--distortion") +
                             " describes the simulated digitizer: it goes with --simulate");
   if (o.simulate) {
-    request.simulation.speed = o.speed;
-    request.simulation.seed = o.seed;
-    request.simulation.mistakes = false;
-    request.simulation.distortion = distortionOf(o.distortion);
-    request.simulation.stylusTipMm = simTipOf(o.simTip);
+    request.simulation = simulationOf(o.speed, o.seed, o.distortion, o.simTip);
     request.jigPose = poseOption(o.jigPose, "--jig-pose");
   }
   const std::optional<acq::FieldCalibration> result = driveDivots<acq::FieldCalibration>(
@@ -297,11 +306,7 @@ int runFieldTip(const FieldOptions& o) {
   request.digitizer = o.digitizer;
   request.simulated = o.simulate;
   if (o.simulate) {
-    request.simulation.speed = o.speed;
-    request.simulation.seed = o.seed;
-    request.simulation.mistakes = false;
-    request.simulation.distortion = distortionOf(o.distortion);
-    request.simulation.stylusTipMm = simTipOf(o.simTip);
+    request.simulation = simulationOf(o.speed, o.seed, o.distortion, o.simTip);
     request.divotMm = vec3Option(o.divot, "--divot", 2000, "250,0,-50");
   }
   acq::TipCalibrationListener listener;
@@ -523,11 +528,7 @@ SentinelOutcome takeSentinels(const SentinelAsk& a) {
         request.digitizer = a.digitizer;
         request.simulated = a.simulate;
         if (a.simulate) {
-          request.simulation.speed = a.speed;
-          request.simulation.seed = a.seed;
-          request.simulation.mistakes = false;
-          request.simulation.distortion = distortionOf(a.distortion);
-          request.simulation.stylusTipMm = simTipOf(a.simTip);
+          request.simulation = simulationOf(a.speed, a.seed, a.distortion, a.simTip);
           request.jigPose = poseOption(a.jigPose, "--jig-pose");
         }
         out.fieldCalibration = std::to_string(c.id);

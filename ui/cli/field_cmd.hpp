@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "leafdig/acquisition/field/sentinels.hpp"
 
@@ -35,6 +36,24 @@ struct SentinelOutcome {
 // Nothing is taken (and the outcome says go on as asked) when the count is 0 or no check applies;
 // --sentinels without a check is refused (model::InputError), a setting without one is moot.
 [[nodiscard]] SentinelOutcome takeSentinels(const SentinelAsk& ask);
+// The ask from a capture's options (a leaf's or a plant's: the same names), its digitizer as the
+// capture opens it and its simulation's speed.
+template <class Options>
+[[nodiscard]] SentinelAsk sentinelAskOf(const Options& o, std::string digitizer, double speed) {
+  return {.db = o.db,
+          .station = o.station,
+          .who = o.operatorName,
+          .fieldCalibration = o.fieldCalibration,
+          .digitizer = std::move(digitizer),
+          .distortion = o.distortion,
+          .simTip = o.simTip,
+          .jigPose = o.jigPose,
+          .count = o.sentinels,
+          .simulate = o.simulate,
+          .json = o.json,
+          .speed = speed,
+          .seed = o.seed};
+}
 
 // docs/accuracy.md's section on captures through a bent field: the field study's leaves with its
 // defaults (`leafdig synth study` appends it to the accuracy report).

@@ -350,19 +350,7 @@ int runCapture(const CaptureOptions& o, std::optional<std::int64_t> resumeId) {
         "a resumed session goes on through the field check it began with: leave out --sentinels");
   if (!resumeId) {
     // Sentinel divots of the field check, before the session is made (field_cmd.hpp).
-    const SentinelOutcome s = takeSentinels(SentinelAsk{.db = o.db,
-                                                        .station = o.station,
-                                                        .who = o.operatorName,
-                                                        .fieldCalibration = o.fieldCalibration,
-                                                        .digitizer = o.digitizer,
-                                                        .distortion = o.distortion,
-                                                        .simTip = o.simTip,
-                                                        .jigPose = o.jigPose,
-                                                        .count = o.sentinels,
-                                                        .simulate = o.simulate,
-                                                        .json = o.json,
-                                                        .speed = o.speed.value_or(1.0),
-                                                        .seed = o.seed});
+    const SentinelOutcome s = takeSentinels(sentinelAskOf(o, o.digitizer, o.speed.value_or(1.0)));
     if (s.exitCode != 0) return s.exitCode;
     if (s.sentinels) {
       request.sentinels = s.sentinels;

@@ -301,19 +301,7 @@ int runPlantCapture(const PlantCaptureOptions& o) {
         "a resumed session goes on through the field check it began with: leave out --sentinels");
   if (o.resume == 0) {
     installSignalHandlers();
-    sentinels = takeSentinels(SentinelAsk{.db = o.db,
-                                          .station = o.station,
-                                          .who = o.operatorName,
-                                          .fieldCalibration = o.fieldCalibration,
-                                          .digitizer = digitizer,
-                                          .distortion = o.distortion,
-                                          .simTip = o.simTip,
-                                          .jigPose = o.jigPose,
-                                          .count = o.sentinels,
-                                          .simulate = o.simulate,
-                                          .json = o.json,
-                                          .speed = o.speed,
-                                          .seed = o.seed});
+    sentinels = takeSentinels(sentinelAskOf(o, digitizer, o.speed));
     if (sentinels.exitCode != 0) return sentinels.exitCode;
   }
   // A new session: what the operator typed, read before the store is touched.

@@ -198,29 +198,24 @@ void FieldView::launch(const QString& what, std::function<void()> body) {
   });
 }
 
-QString FieldView::startCheck() {
+acq::FieldCheckRequest FieldView::divotRequest(model::Jig jig, double toleranceMm) const {
   acq::FieldCheckRequest r;
-  try {
-    r.jig = model::readJigFile(jig_->text().trimmed().isEmpty() ? sampleJig() : jig_->text().trimmed().toStdString());
-    r.jigPose = acq::parseJigPose(source_.jigPose);
-  } catch (const std::exception& e) {
-    return tr("Cannot check the field: %1").arg(QString::fromStdString(e.what()));
-  }
+  r.jig = std::move(jig);
+  r.jigPose = acq::parseJigPose(source_.jigPose);
   r.db = source_.db;
   r.station = source_.station;
   r.who = source_.operatorName;
-  r.toleranceMm = tolerance_->value();
+  r.toleranceMm = toleranceMm;
   r.digitizer = source_.digitizer;
   r.simulated = source_.simulate;
   r.simulation = source_.simulation;
   r.simulation.mistakes = false;
-  if (!r.simulated && r.digitizer.empty())
-    return tr(
-        "Cannot check the field: no digitizer — choose one in the capture's set-up, or start the station "
-        "with --simulate");
-  map_->setMap(std::nullopt);
-  const QString what = tr("Checking the field with %1 divots…").arg(r.jig.points.size());
-  launch(what, [this, r = std::move(r)]() mutable {
+  return r;
+}
+
+void FieldView::launchDivots(const QString& what, acq::FieldCheckRequest r,
+                             std::function<void(acq::FieldCheckRun&, Mail&)> go) {
+  launch(what, [this, r = std::move(r), go = std::move(go)]() mutable {
     acq::FieldCheckListener l;
     l.onPrompt = [this](const std::string& text) {
       post([&](Mail& m) { m.prompts.push_back(QString::fromStdString(text)); });
@@ -234,13 +229,33 @@ QString FieldView::startCheck() {
       undoRun_ = [&run] { run.undo(); };
       if (stopAsked_) run.stop();
     });
-    std::optional<acq::FieldCalibration> result = run.run();
+    Mail result;
+    go(run, result);
     post([&](Mail& m) {
       stopRun_ = nullptr;
       undoRun_ = nullptr;
-      m.check = std::move(result);
+      m.check = std::move(result.check);
+      m.sentinels = std::move(result.sentinels);
     });
   });
+}
+
+QString FieldView::startCheck() {
+  acq::FieldCheckRequest r;
+  try {
+    r = divotRequest(
+        model::readJigFile(jig_->text().trimmed().isEmpty() ? sampleJig() : jig_->text().trimmed().toStdString()),
+        tolerance_->value());
+  } catch (const std::exception& e) {
+    return tr("Cannot check the field: %1").arg(QString::fromStdString(e.what()));
+  }
+  if (!r.simulated && r.digitizer.empty())
+    return tr(
+        "Cannot check the field: no digitizer — choose one in the capture's set-up, or start the station "
+        "with --simulate");
+  map_->setMap(std::nullopt);
+  const QString what = tr("Checking the field with %1 divots…").arg(r.jig.points.size());
+  launchDivots(what, std::move(r), [](acq::FieldCheckRun& run, Mail& result) { result.check = run.run(); });
   return {};
 }
 
@@ -285,42 +300,13 @@ QString FieldView::startSentinels(const acq::FieldCalibration& check, int count,
                                   std::function<void(std::optional<acq::FieldSentinels>)> done) {
   acq::FieldCheckRequest r;
   try {
-    r.jig = acq::sentinelJig(check.jig, count);
-    r.jigPose = acq::parseJigPose(source_.jigPose);
+    r = divotRequest(acq::sentinelJig(check.jig, count), check.result.toleranceMm);
   } catch (const std::exception& e) {
     return QString::fromStdString(e.what());
   }
-  r.db = source_.db;
-  r.station = source_.station;
-  r.who = source_.operatorName;
-  r.toleranceMm = check.result.toleranceMm;
-  r.digitizer = source_.digitizer;
-  r.simulated = source_.simulate;
-  r.simulation = source_.simulation;
-  r.simulation.mistakes = false;
   sentinelsDone_ = std::move(done);
-  launch(tr("Sentinel divots of field check %1, before the capture…").arg(check.id),
-         [this, r = std::move(r), check]() mutable {
-           acq::FieldCheckListener l;
-           l.onPrompt = [this](const std::string& text) {
-             post([&](Mail& m) { m.prompts.push_back(QString::fromStdString(text)); });
-           };
-           l.onDecision = [this](const acq::JigCapture::Decision& d) {
-             post([&](Mail& m) { m.decisions.push_back(decisionText(d)); });
-           };
-           acq::FieldCheckRun run(std::move(r), l);
-           post([&](Mail&) {
-             stopRun_ = [&run] { run.stop(); };
-             undoRun_ = [&run] { run.undo(); };
-             if (stopAsked_) run.stop();
-           });
-           std::optional<acq::FieldSentinels> result = run.runSentinels(check);
-           post([&](Mail& m) {
-             stopRun_ = nullptr;
-             undoRun_ = nullptr;
-             m.sentinels = std::move(result);
-           });
-         });
+  launchDivots(tr("Sentinel divots of field check %1, before the capture…").arg(check.id), std::move(r),
+               [check](acq::FieldCheckRun& run, Mail& result) { result.sentinels = run.runSentinels(check); });
   return {};
 }
 

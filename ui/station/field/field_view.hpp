@@ -23,6 +23,7 @@
 
 #include "leafdig/acquisition/field/sentinels.hpp"
 #include "leafdig/acquisition/field/tip_calibration.hpp"
+#include "leafdig/acquisition/run/field_check_run.hpp"
 #include "leafdig/acquisition/sim/simulation.hpp"
 #include "leafdig/model/field/correction.hpp"
 
@@ -103,6 +104,11 @@ class FieldView : public QWidget {
     bool ended = false;
   };
   void launch(const QString& what, std::function<void()> body);
+  // A run of divots (a check, sentinels) through the tab's source: the request, and on the worker
+  // its prompts and decisions posted, Stop and Undo wired to it, `go` run and its result posted.
+  [[nodiscard]] acquisition::FieldCheckRequest divotRequest(model::Jig jig, double toleranceMm) const;
+  void launchDivots(const QString& what, acquisition::FieldCheckRequest r,
+                    std::function<void(acquisition::FieldCheckRun&, Mail&)> go);
   void drain();
   void showCheck(const acquisition::FieldCalibration& c);
   void post(const std::function<void(Mail&)>& write);
