@@ -510,34 +510,28 @@ SentinelOutcome takeSentinels(const SentinelAsk& a) {
   const int count = a.count || throughCheck ? sentinelCount(a.count) : 0;
   if (count == 0) return out;
   const std::string db = stationDbPath(a.db);
-  std::optional<acq::FieldApplied> applied;
-  {
-    const db::Store store(db, true);
-    applied = acq::resolveFieldCalibration(store, a.fieldCalibration);
-    if (!applied)
-      throw model::InputError(
-          "--sentinels takes a field check's divots again: they go with --field-calibration ID|latest");
-    for (auto& c : acq::fieldCalibrations(store))
-      if (c.id == applied->id) {
-        acq::FieldCheckRequest request;
-        request.db = db;
-        request.station = a.station;
-        request.who = a.who;
-        request.jig = acq::sentinelJig(c.jig, count);
-        request.toleranceMm = c.result.toleranceMm;
-        request.digitizer = a.digitizer;
-        request.simulated = a.simulate;
-        if (a.simulate) {
-          request.simulation = simulationOf(a.speed, a.seed, a.distortion, a.simTip);
-          request.jigPose = poseOption(a.jigPose, "--jig-pose");
-        }
-        out.fieldCalibration = std::to_string(c.id);
-        out.sentinels = driveDivots<acq::FieldSentinels>(
-            std::move(request), a.json, "leafdig: sentinel divots of field check " + std::to_string(c.id),
-            [&c](acq::FieldCheckRun& run) { return run.runSentinels(c); });
-        break;
-      }
+  const std::optional<acq::ResolvedFieldCheck> resolved =
+      acq::resolveFieldCheck(db::Store(db, true), a.fieldCalibration);
+  if (!resolved)
+    throw model::InputError(
+        "--sentinels takes a field check's divots again: they go with --field-calibration ID|latest");
+  const acq::FieldCalibration& c = resolved->check;
+  acq::FieldCheckRequest request;
+  request.db = db;
+  request.station = a.station;
+  request.who = a.who;
+  request.jig = acq::sentinelJig(c.jig, count);
+  request.toleranceMm = c.result.toleranceMm;
+  request.digitizer = a.digitizer;
+  request.simulated = a.simulate;
+  if (a.simulate) {
+    request.simulation = simulationOf(a.speed, a.seed, a.distortion, a.simTip);
+    request.jigPose = poseOption(a.jigPose, "--jig-pose");
   }
+  out.fieldCalibration = std::to_string(c.id);
+  out.sentinels = driveDivots<acq::FieldSentinels>(std::move(request), a.json,
+                                                   "leafdig: sentinel divots of field check " + std::to_string(c.id),
+                                                   [&c](acq::FieldCheckRun& run) { return run.runSentinels(c); });
   if (!out.sentinels) {
     std::cerr << "leafdig: the sentinel divots were stopped before every one was taken: no session was made\n";
     out.exitCode = interrupted() ? 130 : 1;

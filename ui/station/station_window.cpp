@@ -460,25 +460,23 @@ bool StationWindow::sentinelsFirst(const std::function<void()>& then) {
   updateFieldSource();
   QString error;
   try {
-    const db::Store store(dbPath(), true);
-    const auto applied = acq::resolveFieldCalibration(store, options_.fieldCalibration);
-    for (const auto& c : acq::fieldCalibrations(store))
-      if (applied && c.id == applied->id) {
-        const std::int64_t id = c.id;
-        error = fieldView_->startSentinels(c, settings_.sentinels, [this, then, id](auto held) {
-          if (!held) {
-            banner_->setText(tr("The sentinel divots were stopped: no capture began."));
-          } else if (held->moved()) {
-            banner_->setText(tr("Not started: %1. The Field tab checks the field again.")
-                                 .arg(QString::fromStdString(held->words())));
-            sounds_->play(Cue::Reject);
-          } else {
-            sentinels_ = std::move(held);
-            statusBar()->showMessage(tr("sentinel divots of field check %1 held").arg(id));
-            then();
-          }
-        });
-      }
+    const auto resolved = acq::resolveFieldCheck(db::Store(dbPath(), true), options_.fieldCalibration);
+    if (resolved) {
+      const std::int64_t id = resolved->check.id;
+      error = fieldView_->startSentinels(resolved->check, settings_.sentinels, [this, then, id](auto held) {
+        if (!held) {
+          banner_->setText(tr("The sentinel divots were stopped: no capture began."));
+        } else if (held->moved()) {
+          banner_->setText(
+              tr("Not started: %1. The Field tab checks the field again.").arg(QString::fromStdString(held->words())));
+          sounds_->play(Cue::Reject);
+        } else {
+          sentinels_ = std::move(held);
+          statusBar()->showMessage(tr("sentinel divots of field check %1 held").arg(id));
+          then();
+        }
+      });
+    }
   } catch (const std::exception& e) {
     error = QString::fromStdString(e.what());
   }

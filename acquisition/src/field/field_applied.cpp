@@ -35,7 +35,7 @@ std::string FieldApplied::moveRefusal() const {
          "or capture with --field-calibration none";
 }
 
-std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, const std::string& which) {
+std::optional<ResolvedFieldCheck> resolveFieldCheck(const db::Store& store, const std::string& which) {
   if (which.empty() || which == "none") return std::nullopt;
   std::int64_t id = 0;
   if (which != "latest") id = detail::calibrationNumber(which, "--field-calibration", "check", "leafdig field list");
@@ -67,7 +67,13 @@ std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, cons
   f.holdoutRmsMm = chosen->result.correction.holdoutRmsMm;
   f.holdoutMaxMm = chosen->result.correction.holdoutMaxMm;
   f.correction = chosen->result.correction.correction;
-  return f;
+  return ResolvedFieldCheck{std::move(*chosen), std::move(f)};
+}
+
+std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, const std::string& which) {
+  auto resolved = resolveFieldCheck(store, which);
+  if (!resolved) return std::nullopt;
+  return std::move(resolved->applied);
 }
 
 void attachSentinels(std::optional<FieldApplied>& applied, const std::optional<FieldSentinels>& sentinels) {

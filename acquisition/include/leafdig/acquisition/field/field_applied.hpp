@@ -46,6 +46,13 @@ inline constexpr double kFieldCheckMaxAgeLimitHours = 8760.0;
 // (the field is beyond correcting: move the metal, check again). A check that does not read
 // (model::InputError) or a chain that does not verify (db::StoreError) is refused as such.
 [[nodiscard]] std::optional<FieldApplied> resolveFieldCalibration(const db::Store& store, const std::string& which);
+// The same, with the check itself as read (its jig and presses: what sentinel divots are taken
+// against), from the one reading of the file.
+struct ResolvedFieldCheck {
+  FieldCalibration check;
+  FieldApplied applied;
+};
+[[nodiscard]] std::optional<ResolvedFieldCheck> resolveFieldCheck(const db::Store& store, const std::string& which);
 
 // Sentinels taken before a new session, kept with the check the session applies: refused
 // (std::invalid_argument, in words) when they are another check's, when the session applies none,
